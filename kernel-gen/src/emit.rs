@@ -1,0 +1,237 @@
+//! Emission of traced kernels as flat Rust: one `let` per live node of the expression
+//! graph, in topological order, built with `quote` and formatted by `prettyplease`.
+//! No loops, no heap, no jets at run time. Output is deterministic: node order is
+//! creation order, constants print in Rust's shortest round-trip form.
+
+use crate::expr::{Graph, Id, Op};
+use crate::scene::{ArgKind, Traced};
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::quote;
+use std::str::FromStr;
+
+/// The floating-point type a kernel is emitted in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Float {
+    /// Double precision.
+    F64,
+    /// Single precision (constants are rounded to f32 by the compiler).
+    F32,
+}
+
+impl Float {
+    fn ty(self) -> TokenStream {
+        match self {
+            Float::F64 => quote!(f64),
+            Float::F32 => quote!(f32),
+        }
+    }
+}
+
+/// A kernel function ready to print.
+pub struct KernelFn<'a> {
+    /// Function name.
+    pub name: String,
+    /// Documentation paragraphs (inputs and outputs are appended automatically).
+    pub doc: Vec<String>,
+    /// Return type: a struct with one field per output block.
+    pub ret: String,
+    /// The traced kernel.
+    pub traced: &'a Traced,
+    /// Floating-point type.
+    pub float: Float,
+}
+
+fn ident(s: &str) -> Ident {
+    Ident::new(s, Span::call_site())
+}
+
+fn literal(c: f64) -> TokenStream {
+    let s = format!("{:?}", c.abs());
+    let lit = Literal::from_str(&s).expect("float literal");
+    if c < 0.0 || (c == 0.0 && c.is_sign_negative()) {
+        quote!((-#lit))
+    } else {
+        quote!(#lit)
+    }
+}
+
+/// Input `k`'s Rust expression, e.g. `xa[0]` or `eta`.
+fn input_expr(g: &Graph, k: u32) -> TokenStream {
+    let name = &g.input_names()[k as usize];
+    TokenStream::from_str(name).expect("input name is a Rust expression")
+}
+
+/// Emit one kernel function.
+pub fn function(k: &KernelFn) -> TokenStream {
+    let g = &k.traced.graph;
+    let outputs = k.traced.output_ids();
+    let live = g.live(&outputs);
+    let count = g.op_count(&outputs);
+    let ty = k.float.ty();
+
+    // Dense names for live interior nodes: t0, t1, ... in topological order.
+    let mut name: Vec<Option<TokenStream>> = vec![None; g.len()];
+    let mut stmts = Vec::new();
+    let mut next = 0usize;
+    for id in 0..g.len() {
+        if !live[id] {
+            continue;
+        }
+        let op = g.op(id as Id);
+        let v = |a: &Id| name[*a as usize].clone().expect("operand named before use");
+        let rhs = match op {
+            Op::Input(i) => {
+                name[id] = Some(input_expr(g, i));
+                continue;
+            }
+            Op::Const(b) => {
+                name[id] = Some(literal(f64::from_bits(b)));
+                continue;
+            }
+            Op::Add(a, b) => {
+                let (a, b) = (v(&a), v(&b));
+                quote!(#a + #b)
+            }
+            Op::Sub(a, b) => {
+                let (a, b) = (v(&a), v(&b));
+                quote!(#a - #b)
+            }
+            Op::Mul(a, b) => {
+                let (a, b) = (v(&a), v(&b));
+                quote!(#a * #b)
+            }
+            Op::Div(a, b) => {
+                let (a, b) = (v(&a), v(&b));
+                quote!(#a / #b)
+            }
+            Op::Neg(a) => {
+                let a = v(&a);
+                quote!(-#a)
+            }
+            Op::Sqrt(a) => {
+                let a = v(&a);
+                quote!(#a.sqrt())
+            }
+            Op::Powi(a, n) => {
+                let a = v(&a);
+                let n = Literal::i32_unsuffixed(n);
+                quote!(#a.powi(#n))
+            }
+        };
+        let t = ident(&format!("t{next}"));
+        next += 1;
+        stmts.push(quote!(let #t: #ty = #rhs;));
+        name[id] = Some(quote!(#t));
+    }
+
+    // Arguments; those the kernel does not read are bound to `_` so the signature stays
+    // uniform across a family.
+    let mut params = Vec::new();
+    let mut unused = Vec::new();
+    for a in &k.traced.args {
+        let n = ident(&a.name);
+        let used = (0..g.len()).any(|id| {
+            live[id]
+                && matches!(g.op(id as Id), Op::Input(i)
+                    if g.input_names()[i as usize] == a.name
+                        || g.input_names()[i as usize].starts_with(&format!("{}[", a.name)))
+        });
+        if !used {
+            unused.push(quote!(let _ = #n;));
+        }
+        params.push(match a.kind {
+            ArgKind::Point => quote!(#n: [#ty; 3]),
+            ArgKind::Scalar => quote!(#n: #ty),
+        });
+    }
+
+    let fields: Vec<TokenStream> = k
+        .traced
+        .outputs
+        .iter()
+        .map(|b| {
+            let f = ident(&b.name);
+            let vals: Vec<TokenStream> = b
+                .ids
+                .iter()
+                .map(|id| name[*id as usize].clone().expect("output is live"))
+                .collect();
+            let arr = nest(&vals, &b.shape);
+            quote!(#f: #arr)
+        })
+        .collect();
+
+    let mut doc = k.doc.clone();
+    doc.push(String::new());
+    doc.push("# Arguments".into());
+    for a in &k.traced.args {
+        doc.push(format!("- `{}`: {}", a.name, a.doc));
+    }
+    doc.push(String::new());
+    doc.push(format!(
+        "Operation count (after dead-code elimination): {count}."
+    ));
+    let doc_attrs: Vec<TokenStream> = doc
+        .iter()
+        .map(|d| {
+            let d = format!(" {d}");
+            quote!(#[doc = #d])
+        })
+        .collect();
+    let fname = ident(&k.name);
+    let ret = TokenStream::from_str(&k.ret).expect("return type");
+    quote! {
+        #(#doc_attrs)*
+        #[inline]
+        pub fn #fname(#(#params),*) -> #ret {
+            #(#unused)*
+            #(#stmts)*
+            #ret { #(#fields),* }
+        }
+    }
+}
+
+/// Nested array literal of `vals` (row-major) with the given shape.
+fn nest(vals: &[TokenStream], shape: &[usize]) -> TokenStream {
+    if shape.len() <= 1 {
+        return quote!([#(#vals),*]);
+    }
+    let inner: usize = shape[1..].iter().product();
+    let parts: Vec<TokenStream> = vals.chunks(inner).map(|c| nest(c, &shape[1..])).collect();
+    quote!([#(#parts),*])
+}
+
+/// A whole generated file: the header that marks it generated, then `items`.
+pub fn file(module_doc: &[String], items: TokenStream) -> String {
+    let docs: Vec<TokenStream> = module_doc
+        .iter()
+        .map(|d| {
+            let d = format!(" {d}");
+            quote!(#![doc = #d])
+        })
+        .collect();
+    let ts = quote! {
+        #(#docs)*
+        #items
+    };
+    let parsed: syn::File = syn::parse2(ts).expect("emitted tokens parse as a Rust file");
+    let body = prettyplease::unparse(&parsed);
+    format!(
+        "// @generated by `cargo xtask gen` from kernel-gen. Do not edit by hand: edit the\n\
+         // generator and regenerate; `cargo xtask gen --check` fails when this file is stale.\n\n{body}"
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn literals_round_trip() {
+        for c in [1.0 / 3.0, -2.5, 1e-300, 6.02e23, 0.1] {
+            let s = literal(c).to_string().replace([' ', '(', ')'], "");
+            let back: f64 = s.parse().unwrap();
+            assert_eq!(back, c, "{s}");
+        }
+    }
+}

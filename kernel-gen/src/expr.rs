@@ -1,0 +1,569 @@
+//! Hash-consed expression graph: the trace that the jets build and the emitter prints.
+//!
+//! A [`Trace`] owns a [`Graph`] for the current thread while a kernel is being traced.
+//! [`Ex`] is a `Copy` handle to a node of that graph, and implements
+//! [`Scalar`], so a Green's function, a jet or an operator run on `Ex` records its
+//! arithmetic instead of performing it.
+//!
+//! Nodes are hash-consed (an identical node is never stored twice), so shared
+//! subexpressions are shared by construction. Simplifications are applied as nodes
+//! are built, each one rule: constant folding, `x+0`, `x-0`, `0-x`, `x-x`, `x*1`,
+//! `x*0`, `x*(-1)`, `x/1`, `0/x`, `-(-x)`, the pushing of negations outward (so that
+//! `a*(-b)` and `-(a*b)` are one node), and the merging of constant factors
+//! `c*(d*x) = (cd)*x`. Operands of `+` and `*` are stored in canonical order.
+//!
+//! The graph is evaluated by an interpreter generic over [`Scalar`] (so in `f64` and in
+//! double-double), pruned to the nodes that a chosen set of outputs needs
+//! ([`Graph::live`]), and counted ([`Graph::op_count`]).
+
+use crate::scalar::Scalar;
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::fmt;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Index of a node in its graph. Children always have smaller ids than their parents,
+/// so id order is a topological order.
+pub type Id = u32;
+
+/// One node of the graph.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Op {
+    /// The `k`-th input of the traced function.
+    Input(u32),
+    /// A constant, stored by its bit pattern (`-0.0` is stored as `+0.0`).
+    Const(u64),
+    /// `a + b`, operands in canonical order.
+    Add(Id, Id),
+    /// `a - b`.
+    Sub(Id, Id),
+    /// `a * b`, operands in canonical order.
+    Mul(Id, Id),
+    /// `a / b`.
+    Div(Id, Id),
+    /// `-a`.
+    Neg(Id),
+    /// `sqrt(a)`.
+    Sqrt(Id),
+    /// `a^n` for an integer `n` outside `{0, 1}`.
+    Powi(Id, i32),
+}
+
+/// A hash-consed expression graph.
+#[derive(Clone, Debug, Default)]
+pub struct Graph {
+    nodes: Vec<Op>,
+    index: HashMap<Op, Id>,
+    inputs: Vec<String>,
+}
+
+/// Operation counts of the part of a graph that a set of outputs needs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct OpCount {
+    /// Additions and subtractions.
+    pub add: usize,
+    /// Multiplications.
+    pub mul: usize,
+    /// Divisions.
+    pub div: usize,
+    /// Square roots.
+    pub sqrt: usize,
+    /// Integer powers.
+    pub powi: usize,
+    /// Negations.
+    pub neg: usize,
+}
+
+impl OpCount {
+    /// All floating-point operations (a negation counts as one).
+    pub fn total(&self) -> usize {
+        self.add + self.mul + self.div + self.sqrt + self.powi + self.neg
+    }
+}
+
+impl fmt::Display for OpCount {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} flops ({} add/sub, {} mul, {} div, {} sqrt, {} powi, {} neg)",
+            self.total(),
+            self.add,
+            self.mul,
+            self.div,
+            self.sqrt,
+            self.powi,
+            self.neg
+        )
+    }
+}
+
+fn cbits(c: f64) -> u64 {
+    if c == 0.0 {
+        0.0f64.to_bits()
+    } else {
+        c.to_bits()
+    }
+}
+
+impl Graph {
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// True for a graph with no nodes.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// The node with id `id`.
+    pub fn op(&self, id: Id) -> Op {
+        self.nodes[id as usize]
+    }
+
+    /// Names of the inputs, in input order.
+    pub fn input_names(&self) -> &[String] {
+        &self.inputs
+    }
+
+    /// The constant value of a node, if it is a constant.
+    pub fn as_const(&self, id: Id) -> Option<f64> {
+        match self.nodes[id as usize] {
+            Op::Const(b) => Some(f64::from_bits(b)),
+            _ => None,
+        }
+    }
+
+    fn intern(&mut self, op: Op) -> Id {
+        if let Some(&id) = self.index.get(&op) {
+            return id;
+        }
+        let id = Id::try_from(self.nodes.len()).expect("expression graph exceeds u32 nodes");
+        self.nodes.push(op);
+        self.index.insert(op, id);
+        id
+    }
+
+    /// A new named input.
+    pub fn input(&mut self, name: &str) -> Id {
+        let k = self.inputs.len() as u32;
+        self.inputs.push(name.to_string());
+        self.intern(Op::Input(k))
+    }
+
+    /// The constant `c`.
+    pub fn constant(&mut self, c: f64) -> Id {
+        self.intern(Op::Const(cbits(c)))
+    }
+
+    fn neg_of(&self, id: Id) -> Option<Id> {
+        match self.nodes[id as usize] {
+            Op::Neg(a) => Some(a),
+            _ => None,
+        }
+    }
+
+    /// `a + b`.
+    pub fn add(&mut self, a: Id, b: Id) -> Id {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x + y),
+            (Some(x), None) if x == 0.0 => return b,
+            (None, Some(y)) if y == 0.0 => return a,
+            _ => {}
+        }
+        match (self.neg_of(a), self.neg_of(b)) {
+            (Some(u), Some(v)) => {
+                let s = self.add(u, v);
+                return self.neg(s);
+            }
+            (None, Some(v)) => return self.sub(a, v),
+            (Some(u), None) => return self.sub(b, u),
+            _ => {}
+        }
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        self.intern(Op::Add(a, b))
+    }
+
+    /// `a - b`.
+    pub fn sub(&mut self, a: Id, b: Id) -> Id {
+        if a == b {
+            return self.constant(0.0);
+        }
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x - y),
+            (None, Some(y)) if y == 0.0 => return a,
+            (Some(x), None) if x == 0.0 => return self.neg(b),
+            _ => {}
+        }
+        if let Some(v) = self.neg_of(b) {
+            return self.add(a, v);
+        }
+        if let Some(u) = self.neg_of(a) {
+            let s = self.add(u, b);
+            return self.neg(s);
+        }
+        self.intern(Op::Sub(a, b))
+    }
+
+    /// `a * b`.
+    pub fn mul(&mut self, a: Id, b: Id) -> Id {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x * y),
+            (Some(x), None) | (None, Some(x)) if x == 0.0 => return self.constant(0.0),
+            (Some(x), None) if x == 1.0 => return b,
+            (None, Some(y)) if y == 1.0 => return a,
+            (Some(x), None) if x == -1.0 => return self.neg(b),
+            (None, Some(y)) if y == -1.0 => return self.neg(a),
+            _ => {}
+        }
+        if let Some(u) = self.neg_of(a) {
+            let p = self.mul(u, b);
+            return self.neg(p);
+        }
+        if let Some(v) = self.neg_of(b) {
+            let p = self.mul(a, v);
+            return self.neg(p);
+        }
+        // c * (d * x) = (c d) * x: constant factors merge.
+        let (c, x) = match (self.as_const(a), self.as_const(b)) {
+            (Some(c), None) => (Some(c), b),
+            (None, Some(c)) => (Some(c), a),
+            _ => (None, a),
+        };
+        if let Some(c) = c {
+            if let Op::Mul(p, q) = self.nodes[x as usize] {
+                let inner = match (self.as_const(p), self.as_const(q)) {
+                    (Some(d), None) => Some((d, q)),
+                    (None, Some(d)) => Some((d, p)),
+                    _ => None,
+                };
+                if let Some((d, y)) = inner {
+                    let cd = self.constant(c * d);
+                    return self.mul(cd, y);
+                }
+            }
+        }
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        self.intern(Op::Mul(a, b))
+    }
+
+    /// `a / b`.
+    pub fn div(&mut self, a: Id, b: Id) -> Id {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x / y),
+            (Some(x), None) if x == 0.0 => return self.constant(0.0),
+            (None, Some(y)) if y == 1.0 => return a,
+            (None, Some(y)) if y == -1.0 => return self.neg(a),
+            _ => {}
+        }
+        if a == b {
+            return self.constant(1.0);
+        }
+        if let Some(u) = self.neg_of(a) {
+            let q = self.div(u, b);
+            return self.neg(q);
+        }
+        if let Some(v) = self.neg_of(b) {
+            let q = self.div(a, v);
+            return self.neg(q);
+        }
+        self.intern(Op::Div(a, b))
+    }
+
+    /// `-a`.
+    pub fn neg(&mut self, a: Id) -> Id {
+        if let Some(x) = self.as_const(a) {
+            return self.constant(-x);
+        }
+        match self.nodes[a as usize] {
+            Op::Neg(u) => u,
+            Op::Sub(u, v) => self.sub(v, u),
+            _ => self.intern(Op::Neg(a)),
+        }
+    }
+
+    /// `sqrt(a)`.
+    pub fn sqrt(&mut self, a: Id) -> Id {
+        if let Some(x) = self.as_const(a) {
+            return self.constant(x.sqrt());
+        }
+        self.intern(Op::Sqrt(a))
+    }
+
+    /// `a^n`.
+    pub fn powi(&mut self, a: Id, n: i32) -> Id {
+        match n {
+            0 => return self.constant(1.0),
+            1 => return a,
+            _ => {}
+        }
+        if let Some(x) = self.as_const(a) {
+            return self.constant(x.powi(n));
+        }
+        self.intern(Op::Powi(a, n))
+    }
+
+    /// Which nodes the outputs depend on (dead-code elimination).
+    pub fn live(&self, outputs: &[Id]) -> Vec<bool> {
+        let mut live = vec![false; self.nodes.len()];
+        let mut stack: Vec<Id> = outputs.to_vec();
+        while let Some(id) = stack.pop() {
+            if live[id as usize] {
+                continue;
+            }
+            live[id as usize] = true;
+            match self.nodes[id as usize] {
+                Op::Input(_) | Op::Const(_) => {}
+                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => {
+                    stack.push(a);
+                    stack.push(b);
+                }
+                Op::Neg(a) | Op::Sqrt(a) | Op::Powi(a, _) => stack.push(a),
+            }
+        }
+        live
+    }
+
+    /// Operation counts of the nodes that `outputs` need.
+    pub fn op_count(&self, outputs: &[Id]) -> OpCount {
+        let live = self.live(outputs);
+        let mut c = OpCount::default();
+        for (op, _) in self.nodes.iter().zip(&live).filter(|(_, l)| **l) {
+            match op {
+                Op::Add(..) | Op::Sub(..) => c.add += 1,
+                Op::Mul(..) => c.mul += 1,
+                Op::Div(..) => c.div += 1,
+                Op::Sqrt(_) => c.sqrt += 1,
+                Op::Powi(..) => c.powi += 1,
+                Op::Neg(_) => c.neg += 1,
+                Op::Input(_) | Op::Const(_) => {}
+            }
+        }
+        c
+    }
+
+    /// The interpreter: evaluate `outputs` for the given inputs, in any [`Scalar`]
+    /// (`f64` to compare with the emitted code, double-double for a reference).
+    /// Only the live nodes are evaluated, in id (topological) order.
+    pub fn eval<S: Scalar>(&self, inputs: &[S], outputs: &[Id]) -> Vec<S> {
+        assert_eq!(inputs.len(), self.inputs.len(), "wrong number of inputs");
+        let live = self.live(outputs);
+        let mut val: Vec<Option<S>> = vec![None; self.nodes.len()];
+        for (k, op) in self.nodes.iter().enumerate() {
+            if !live[k] {
+                continue;
+            }
+            let v = |i: &Id| val[*i as usize].clone().expect("topological order");
+            let x = match op {
+                Op::Input(i) => inputs[*i as usize].clone(),
+                Op::Const(b) => S::cst(f64::from_bits(*b)),
+                Op::Add(a, b) => v(a) + v(b),
+                Op::Sub(a, b) => v(a) - v(b),
+                Op::Mul(a, b) => v(a) * v(b),
+                Op::Div(a, b) => v(a) / v(b),
+                Op::Neg(a) => -v(a),
+                Op::Sqrt(a) => v(a).sqrt(),
+                Op::Powi(a, n) => v(a).powi(*n),
+            };
+            val[k] = Some(x);
+        }
+        outputs
+            .iter()
+            .map(|o| val[*o as usize].clone().expect("live output"))
+            .collect()
+    }
+}
+
+thread_local! {
+    static CURRENT: RefCell<Option<Graph>> = const { RefCell::new(None) };
+}
+
+fn with_graph<R>(f: impl FnOnce(&mut Graph) -> R) -> R {
+    CURRENT.with(|g| {
+        let mut g = g.borrow_mut();
+        let g = g
+            .as_mut()
+            .expect("expression arithmetic outside a kernel_gen::expr::Trace");
+        f(g)
+    })
+}
+
+/// A handle to a node of the graph being traced on this thread.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Ex(pub Id);
+
+impl fmt::Debug for Ex {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "t{}", self.0)
+    }
+}
+
+/// Records arithmetic on [`Ex`] into a fresh graph for as long as it lives on this
+/// thread; [`Trace::finish`] hands the graph back.
+pub struct Trace {
+    _private: (),
+}
+
+impl Trace {
+    /// Start tracing on this thread. Panics if a trace is already running here.
+    pub fn begin() -> Trace {
+        CURRENT.with(|g| {
+            let mut g = g.borrow_mut();
+            assert!(g.is_none(), "a Trace is already running on this thread");
+            *g = Some(Graph::default());
+        });
+        Trace { _private: () }
+    }
+
+    /// A new named input of the traced function.
+    pub fn input(&self, name: &str) -> Ex {
+        Ex(with_graph(|g| g.input(name)))
+    }
+
+    /// Stop tracing and return the graph.
+    pub fn finish(self) -> Graph {
+        let g = CURRENT
+            .with(|g| g.borrow_mut().take())
+            .expect("trace running");
+        std::mem::forget(self);
+        g
+    }
+}
+
+impl Drop for Trace {
+    fn drop(&mut self) {
+        CURRENT.with(|g| g.borrow_mut().take());
+    }
+}
+
+impl Ex {
+    /// The constant value of this node, if it is one.
+    pub fn as_const(self) -> Option<f64> {
+        with_graph(|g| g.as_const(self.0))
+    }
+}
+
+impl Add for Ex {
+    type Output = Ex;
+    fn add(self, b: Ex) -> Ex {
+        Ex(with_graph(|g| g.add(self.0, b.0)))
+    }
+}
+impl Sub for Ex {
+    type Output = Ex;
+    fn sub(self, b: Ex) -> Ex {
+        Ex(with_graph(|g| g.sub(self.0, b.0)))
+    }
+}
+impl Mul for Ex {
+    type Output = Ex;
+    fn mul(self, b: Ex) -> Ex {
+        Ex(with_graph(|g| g.mul(self.0, b.0)))
+    }
+}
+impl Div for Ex {
+    type Output = Ex;
+    fn div(self, b: Ex) -> Ex {
+        Ex(with_graph(|g| g.div(self.0, b.0)))
+    }
+}
+impl Neg for Ex {
+    type Output = Ex;
+    fn neg(self) -> Ex {
+        Ex(with_graph(|g| g.neg(self.0)))
+    }
+}
+
+impl Scalar for Ex {
+    fn cst(c: f64) -> Self {
+        Ex(with_graph(|g| g.constant(c)))
+    }
+    fn sqrt(&self) -> Self {
+        Ex(with_graph(|g| g.sqrt(self.0)))
+    }
+    fn powi(&self, n: i32) -> Self {
+        Ex(with_graph(|g| g.powi(self.0, n)))
+    }
+    fn to_f64(&self) -> f64 {
+        self.as_const().unwrap_or(f64::NAN)
+    }
+    fn is_known_zero(&self) -> bool {
+        self.as_const() == Some(0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dd::Dd;
+
+    #[test]
+    fn hash_consing_shares_subexpressions() {
+        let t = Trace::begin();
+        let x = t.input("x");
+        let y = t.input("y");
+        let a = x * y + x;
+        let b = y * x + x; // commuted: same nodes
+        assert_eq!(a, b);
+        let g = t.finish();
+        // inputs x, y; x*y; x*y + x
+        assert_eq!(g.len(), 4);
+    }
+
+    #[test]
+    fn identities_fold_as_nodes_are_built() {
+        let t = Trace::begin();
+        let x = t.input("x");
+        let zero = Ex::cst(0.0);
+        let one = Ex::cst(1.0);
+        assert_eq!(x + zero, x);
+        assert_eq!(x * one, x);
+        assert_eq!(x * zero, zero);
+        assert_eq!(-(-x), x);
+        assert_eq!(x - x, zero);
+        assert_eq!(x / one, x);
+        assert_eq!((Ex::cst(2.0) + Ex::cst(3.0)).as_const(), Some(5.0));
+        // negations are pushed outward: a*(-b) is -(a*b)
+        let y = t.input("y");
+        assert_eq!(x * (-y), -(x * y));
+        assert_eq!(x + (-y), x - y);
+        // constant factors merge
+        assert_eq!(Ex::cst(2.0) * (Ex::cst(3.0) * x), Ex::cst(6.0) * x);
+        drop(t);
+    }
+
+    #[test]
+    fn dead_code_elimination_and_counts() {
+        let t = Trace::begin();
+        let x = t.input("x");
+        let y = t.input("y");
+        let used = (x + y).sqrt() * x;
+        let _dead = x / y - y.powi(3);
+        let g = t.finish();
+        let c = g.op_count(&[used.0]);
+        assert_eq!(
+            c,
+            OpCount {
+                add: 1,
+                mul: 1,
+                sqrt: 1,
+                ..OpCount::default()
+            }
+        );
+        assert!(g.len() > 5);
+    }
+
+    #[test]
+    fn interpreter_in_f64_and_double_double() {
+        let t = Trace::begin();
+        let x = t.input("x");
+        let y = t.input("y");
+        let out = (x * x - y * y) / (x - y); // = x + y, computed with cancellation
+        let g = t.finish();
+        let v: Vec<f64> = g.eval(&[3.0, 2.0], &[out.0]);
+        assert_eq!(v[0], 5.0);
+        let xd = Dd::new(1.0) + Dd::new(1e-20);
+        let w: Vec<Dd> = g.eval(&[xd, Dd::new(1.0)], &[out.0]);
+        assert!((w[0] - Dd::new(2.0)).to_f64().abs() < 1e-30);
+    }
+}

@@ -1,0 +1,181 @@
+//! The nine blocks of the grand mobility for one ordered pair of particles (or one
+//! particle with itself), and their conversions.
+
+use nalgebra::SMatrix;
+
+/// The orthonormal basis of symmetric traceless tensors in which strains and
+/// stresslets are stored (DESIGN.md): `B1 = (e1e2 + e2e1)/sqrt2`,
+/// `B2 = (e1e3 + e3e1)/sqrt2`, `B3 = (e2e3 + e3e2)/sqrt2`, `B4 = (e1e1 - e2e2)/sqrt2`,
+/// `B5 = (2e3e3 - e1e1 - e2e2)/sqrt6`. A symmetric traceless `E` has components
+/// `E_m = B_m : E`, and `E = sum_m E_m B_m`.
+pub const STRAIN_BASIS: [[[f64; 3]; 3]; 5] = {
+    const S2: f64 = std::f64::consts::FRAC_1_SQRT_2;
+    const S6: f64 = 0.408_248_290_463_863_016_366_214_012_450_981_698_8;
+    const S6X2: f64 = 0.816_496_580_927_726_032_732_428_024_901_963_797_3;
+    [
+        [[0.0, S2, 0.0], [S2, 0.0, 0.0], [0.0, 0.0, 0.0]],
+        [[0.0, 0.0, S2], [0.0, 0.0, 0.0], [S2, 0.0, 0.0]],
+        [[0.0, 0.0, 0.0], [0.0, 0.0, S2], [0.0, S2, 0.0]],
+        [[S2, 0.0, 0.0], [0.0, -S2, 0.0], [0.0, 0.0, 0.0]],
+        [[-S6, 0.0, 0.0], [0.0, -S6, 0.0], [0.0, 0.0, S6X2]],
+    ]
+};
+
+/// The blocks `M^{ab}` of the grand mobility: rows are the velocity `U`, angular
+/// velocity `Omega` and strain `E` of particle `a`; columns the force `F`, torque `L`
+/// and stresslet `S` that particle `b` exerts on the fluid. Strain and stresslet in the
+/// 5-component basis [`STRAIN_BASIS`]. Row-major: `uf[i][j] = dU_i / dF_j`.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Grand {
+    /// Velocity from force, 3x3.
+    pub uf: [[f64; 3]; 3],
+    /// Velocity from torque, 3x3.
+    pub ul: [[f64; 3]; 3],
+    /// Velocity from stresslet, 3x5.
+    pub us: [[f64; 5]; 3],
+    /// Angular velocity from force, 3x3.
+    pub of: [[f64; 3]; 3],
+    /// Angular velocity from torque, 3x3.
+    pub ol: [[f64; 3]; 3],
+    /// Angular velocity from stresslet, 3x5.
+    pub os: [[f64; 5]; 3],
+    /// Strain from force, 5x3.
+    pub ef: [[f64; 3]; 5],
+    /// Strain from torque, 5x3.
+    pub el: [[f64; 3]; 5],
+    /// Strain from stresslet, 5x5.
+    pub es: [[f64; 5]; 5],
+}
+
+fn mat<const R: usize, const C: usize>(a: &[[f64; C]; R]) -> SMatrix<f64, R, C> {
+    SMatrix::from_fn(|i, j| a[i][j])
+}
+
+impl Grand {
+    /// The 11x11 grand block `[[UF, UL, US], [OF, OL, OS], [EF, EL, ES]]`.
+    pub fn matrix(&self) -> SMatrix<f64, 11, 11> {
+        let mut m = SMatrix::<f64, 11, 11>::zeros();
+        m.fixed_view_mut::<3, 3>(0, 0).copy_from(&mat(&self.uf));
+        m.fixed_view_mut::<3, 3>(0, 3).copy_from(&mat(&self.ul));
+        m.fixed_view_mut::<3, 5>(0, 6).copy_from(&mat(&self.us));
+        m.fixed_view_mut::<3, 3>(3, 0).copy_from(&mat(&self.of));
+        m.fixed_view_mut::<3, 3>(3, 3).copy_from(&mat(&self.ol));
+        m.fixed_view_mut::<3, 5>(3, 6).copy_from(&mat(&self.os));
+        m.fixed_view_mut::<5, 3>(6, 0).copy_from(&mat(&self.ef));
+        m.fixed_view_mut::<5, 3>(6, 3).copy_from(&mat(&self.el));
+        m.fixed_view_mut::<5, 5>(6, 6).copy_from(&mat(&self.es));
+        m
+    }
+
+    /// `UF` as a static matrix.
+    pub fn uf_matrix(&self) -> SMatrix<f64, 3, 3> {
+        mat(&self.uf)
+    }
+    /// `ES` as a static matrix.
+    pub fn es_matrix(&self) -> SMatrix<f64, 5, 5> {
+        mat(&self.es)
+    }
+
+    /// The blocks of `M^{ba}` from those of `M^{ab}` (reciprocity: the grand mobility
+    /// is symmetric, so `M^{ba}_{XY} = (M^{ab}_{YX})^T`).
+    pub fn transposed(&self) -> Grand {
+        let t = self.matrix().transpose();
+        Grand::from_matrix(&t)
+    }
+
+    /// Inverse of [`Grand::matrix`].
+    pub fn from_matrix(m: &SMatrix<f64, 11, 11>) -> Grand {
+        fn get<const R: usize, const C: usize>(
+            m: &SMatrix<f64, 11, 11>,
+            r0: usize,
+            c0: usize,
+        ) -> [[f64; C]; R] {
+            std::array::from_fn(|i| std::array::from_fn(|j| m[(r0 + i, c0 + j)]))
+        }
+        Grand {
+            uf: get(m, 0, 0),
+            ul: get(m, 0, 3),
+            us: get(m, 0, 6),
+            of: get(m, 3, 0),
+            ol: get(m, 3, 3),
+            os: get(m, 3, 6),
+            ef: get(m, 6, 0),
+            el: get(m, 6, 3),
+            es: get(m, 6, 6),
+        }
+    }
+
+    /// The Cartesian forms of the strain and stresslet blocks: the strain index pair
+    /// `(p, q)` is `sum_m B_m[p][q] E_m` and a stresslet pair `(k, l)` acts as
+    /// `sum_n B_n[k][l] S_n`. These are the symmetric traceless parts of the paper's
+    /// appendix tensors (trace parts there act on zero, since strain and stresslet
+    /// are traceless).
+    pub fn cartesian(&self) -> GrandCartesian {
+        let b = &STRAIN_BASIS;
+        let e3 = |blk: &[[f64; 3]; 5]| -> [[[f64; 3]; 3]; 3] {
+            std::array::from_fn(|p| {
+                std::array::from_fn(|q| {
+                    std::array::from_fn(|j| (0..5).map(|m| b[m][p][q] * blk[m][j]).sum())
+                })
+            })
+        };
+        let s3 = |blk: &[[f64; 5]; 3]| -> [[[f64; 3]; 3]; 3] {
+            std::array::from_fn(|i| {
+                std::array::from_fn(|k| {
+                    std::array::from_fn(|l| (0..5).map(|n| blk[i][n] * b[n][k][l]).sum())
+                })
+            })
+        };
+        let es = std::array::from_fn(|p| {
+            std::array::from_fn(|q| {
+                std::array::from_fn(|k| {
+                    std::array::from_fn(|l| {
+                        let mut s = 0.0;
+                        for m in 0..5 {
+                            for n in 0..5 {
+                                s += b[m][p][q] * self.es[m][n] * b[n][k][l];
+                            }
+                        }
+                        s
+                    })
+                })
+            })
+        });
+        GrandCartesian {
+            uf: self.uf,
+            ul: self.ul,
+            us: s3(&self.us),
+            of: self.of,
+            ol: self.ol,
+            os: s3(&self.os),
+            ef: e3(&self.ef),
+            el: e3(&self.el),
+            es,
+        }
+    }
+}
+
+/// The blocks with Cartesian strain and stresslet indices, as in the paper's
+/// appendices: `us[i][k][l]`, `os[m][k][l]`, `ef[p][q][j]`, `el[p][q][m]`,
+/// `es[p][q][k][l]`.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct GrandCartesian {
+    /// Velocity from force.
+    pub uf: [[f64; 3]; 3],
+    /// Velocity from torque.
+    pub ul: [[f64; 3]; 3],
+    /// Velocity `i` from stresslet `(k, l)`.
+    pub us: [[[f64; 3]; 3]; 3],
+    /// Angular velocity from force.
+    pub of: [[f64; 3]; 3],
+    /// Angular velocity from torque.
+    pub ol: [[f64; 3]; 3],
+    /// Angular velocity `m` from stresslet `(k, l)`.
+    pub os: [[[f64; 3]; 3]; 3],
+    /// Strain `(p, q)` from force `j`.
+    pub ef: [[[f64; 3]; 3]; 3],
+    /// Strain `(p, q)` from torque `m`.
+    pub el: [[[f64; 3]; 3]; 3],
+    /// Strain `(p, q)` from stresslet `(k, l)`.
+    pub es: [[[[f64; 3]; 3]; 3]; 3],
+}

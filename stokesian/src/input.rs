@@ -1,0 +1,193 @@
+//! Validation of particles, viscosity and confinement parameters.
+
+use kernels::Confinement;
+use thiserror::Error;
+
+/// A sphere: centre and radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Particle {
+    /// Centre `[x1, x2, x3]`.
+    pub x: [f64; 3],
+    /// Radius.
+    pub a: f64,
+}
+
+/// Why an input cannot be used. Particles are numbered from 0 in input order.
+#[derive(Debug, Error, PartialEq)]
+pub enum InputError {
+    /// No particles were given.
+    #[error("no particles given")]
+    Empty,
+    /// A coordinate is NaN or infinite.
+    #[error("particle {index}: coordinate {axis} is {value}, not a finite number")]
+    NonFinitePosition {
+        /// Particle index.
+        index: usize,
+        /// Axis name (`x`, `y`, `z`).
+        axis: char,
+        /// The value.
+        value: f64,
+    },
+    /// The radius is not a positive finite number.
+    #[error("particle {index}: radius {value} must be a positive finite number")]
+    BadRadius {
+        /// Particle index.
+        index: usize,
+        /// The value.
+        value: f64,
+    },
+    /// The viscosity is not a positive finite number.
+    #[error("viscosity {0} must be a positive finite number")]
+    BadViscosity(f64),
+    /// A confinement parameter is out of range.
+    #[error("{name} = {value}: {why}")]
+    BadParameter {
+        /// Parameter name.
+        name: &'static str,
+        /// The value.
+        value: f64,
+        /// What it must be.
+        why: &'static str,
+    },
+    /// The centre is at or beyond a boundary.
+    #[error("particle {index}: centre z = {z} is not inside the fluid (boundary at z = {boundary})")]
+    OutsideFluid {
+        /// Particle index.
+        index: usize,
+        /// Its height coordinate.
+        z: f64,
+        /// The boundary it crosses.
+        boundary: f64,
+    },
+    /// The sphere cuts a boundary: distance from centre to boundary below its radius.
+    #[error("particle {index}: sphere of radius {a} overlaps the boundary at z = {boundary} (centre-to-boundary distance {distance})")]
+    OverlapsBoundary {
+        /// Particle index.
+        index: usize,
+        /// Radius.
+        a: f64,
+        /// Distance from centre to boundary.
+        distance: f64,
+        /// The boundary.
+        boundary: f64,
+    },
+    /// Two spheres overlap.
+    #[error("particles {first} and {second} overlap: centre distance {distance} < sum of radii {sum}")]
+    Overlap {
+        /// First particle.
+        first: usize,
+        /// Second particle.
+        second: usize,
+        /// Centre distance.
+        distance: f64,
+        /// Sum of radii.
+        sum: f64,
+    },
+}
+
+/// The boundary planes of a confinement: `(z, fluid is above)`.
+fn planes(conf: &Confinement) -> Result<Vec<(f64, bool)>, InputError> {
+    let finite = |name: &'static str, value: f64| {
+        if value.is_finite() {
+            Ok(value)
+        } else {
+            Err(InputError::BadParameter {
+                name,
+                value,
+                why: "must be a finite number",
+            })
+        }
+    };
+    Ok(match *conf {
+        Confinement::Free => vec![],
+        Confinement::Wall { height } | Confinement::FreeSurface { height } => {
+            vec![(finite("boundary height", height)?, true)]
+        }
+        Confinement::Interface { height, lambda } => {
+            if !(lambda >= 0.0 && lambda.is_finite()) {
+                return Err(InputError::BadParameter {
+                    name: "lambda",
+                    value: lambda,
+                    why: "the viscosity ratio must be a non-negative finite number",
+                });
+            }
+            vec![(finite("boundary height", height)?, true)]
+        }
+        Confinement::Slit { height, gap } => {
+            let h = finite("boundary height", height)?;
+            if !(gap > 0.0 && gap.is_finite()) {
+                return Err(InputError::BadParameter {
+                    name: "gap",
+                    value: gap,
+                    why: "the slit width must be a positive finite number",
+                });
+            }
+            vec![(h, true), (h + gap, false)]
+        }
+    })
+}
+
+/// Check everything the kernels assume: finite positions, positive radii and
+/// viscosity, centres inside the fluid, spheres clear of the boundaries, and (unless
+/// `allow_overlap`) spheres clear of each other.
+pub fn validate(
+    conf: &Confinement,
+    eta: f64,
+    particles: &[Particle],
+    allow_overlap: bool,
+) -> Result<(), InputError> {
+    if particles.is_empty() {
+        return Err(InputError::Empty);
+    }
+    if !(eta > 0.0 && eta.is_finite()) {
+        return Err(InputError::BadViscosity(eta));
+    }
+    let planes = planes(conf)?;
+    for (index, p) in particles.iter().enumerate() {
+        for (k, &value) in p.x.iter().enumerate() {
+            if !value.is_finite() {
+                let axis = ['x', 'y', 'z'][k];
+                return Err(InputError::NonFinitePosition { index, axis, value });
+            }
+        }
+        if !(p.a > 0.0 && p.a.is_finite()) {
+            return Err(InputError::BadRadius { index, value: p.a });
+        }
+        for &(boundary, above) in &planes {
+            let distance = if above { p.x[2] - boundary } else { boundary - p.x[2] };
+            if distance <= 0.0 {
+                return Err(InputError::OutsideFluid {
+                    index,
+                    z: p.x[2],
+                    boundary,
+                });
+            }
+            if distance < p.a && !allow_overlap {
+                return Err(InputError::OverlapsBoundary {
+                    index,
+                    a: p.a,
+                    distance,
+                    boundary,
+                });
+            }
+        }
+    }
+    if !allow_overlap {
+        for i in 0..particles.len() {
+            for j in i + 1..particles.len() {
+                let (p, q) = (&particles[i], &particles[j]);
+                let d2: f64 = (0..3).map(|k| (p.x[k] - q.x[k]).powi(2)).sum();
+                let sum = p.a + q.a;
+                if d2 < sum * sum {
+                    return Err(InputError::Overlap {
+                        first: i,
+                        second: j,
+                        distance: d2.sqrt(),
+                        sum,
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}

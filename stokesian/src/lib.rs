@@ -1,0 +1,14 @@
+//! stokesian: Stokesian dynamics near walls and interfaces, linking the generated
+//! kernels of the `kernels` crate.
+//!
+//! [`grand_mobility`] assembles the dense grand mobility of `N` spheres in the layout of
+//! Eq. 1 (moment-major: all `U` (3N), then all `Omega` (3N), then all `E` (5N); within a
+//! moment, particle-major), truncated to `F`, `FT` or `FTS`. Input is validated first:
+//! a typed [`InputError`] names the offending particle, and nothing is computed.
+
+mod assembly;
+mod input;
+
+pub use assembly::{grand_mobility, Moments};
+pub use input::{validate, InputError, Particle};
+pub use kernels::Confinement;
