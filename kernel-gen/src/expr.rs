@@ -167,8 +167,8 @@ impl Graph {
     pub fn add(&mut self, a: Id, b: Id) -> Id {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x + y),
-            (Some(x), None) if x == 0.0 => return b,
-            (None, Some(y)) if y == 0.0 => return a,
+            (Some(0.0), None) => return b,
+            (None, Some(0.0)) => return a,
             _ => {}
         }
         match (self.neg_of(a), self.neg_of(b)) {
@@ -191,8 +191,8 @@ impl Graph {
         }
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x - y),
-            (None, Some(y)) if y == 0.0 => return a,
-            (Some(x), None) if x == 0.0 => return self.neg(b),
+            (None, Some(0.0)) => return a,
+            (Some(0.0), None) => return self.neg(b),
             _ => {}
         }
         if let Some(v) = self.neg_of(b) {
@@ -209,11 +209,11 @@ impl Graph {
     pub fn mul(&mut self, a: Id, b: Id) -> Id {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x * y),
-            (Some(x), None) | (None, Some(x)) if x == 0.0 => return self.constant(0.0),
-            (Some(x), None) if x == 1.0 => return b,
-            (None, Some(y)) if y == 1.0 => return a,
-            (Some(x), None) if x == -1.0 => return self.neg(b),
-            (None, Some(y)) if y == -1.0 => return self.neg(a),
+            (Some(0.0), None) | (None, Some(0.0)) => return self.constant(0.0),
+            (Some(1.0), None) => return b,
+            (None, Some(1.0)) => return a,
+            (Some(-1.0), None) => return self.neg(b),
+            (None, Some(-1.0)) => return self.neg(a),
             _ => {}
         }
         if let Some(u) = self.neg_of(a) {
@@ -251,9 +251,9 @@ impl Graph {
     pub fn div(&mut self, a: Id, b: Id) -> Id {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x / y),
-            (Some(x), None) if x == 0.0 => return self.constant(0.0),
-            (None, Some(y)) if y == 1.0 => return a,
-            (None, Some(y)) if y == -1.0 => return self.neg(a),
+            (Some(0.0), None) => return self.constant(0.0),
+            (None, Some(1.0)) => return a,
+            (None, Some(-1.0)) => return self.neg(a),
             _ => {}
         }
         if a == b {

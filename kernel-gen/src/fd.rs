@@ -90,7 +90,7 @@ impl<G: Green> Derivatives<Dd> for FiniteDifferences<'_, G> {
         let stencils: Vec<Vec<(i32, f64)>> = orders.iter().map(|&n| stencil(n)).collect();
         let mut acc = Dd::new(0.0);
         // odometer over the tensor-product stencil
-        let mut idx = vec![0usize; 6];
+        let mut idx = [0usize; 6];
         loop {
             let mut w = 1.0;
             let mut off = [0i32; 6];
@@ -126,7 +126,10 @@ mod tests {
     fn stencils_are_the_textbook_ones() {
         assert_eq!(stencil(1), vec![(-1, -0.5), (1, 0.5)]);
         assert_eq!(stencil(2), vec![(-1, 1.0), (0, -2.0), (1, 1.0)]);
-        assert_eq!(stencil(4), vec![(-2, 1.0), (-1, -4.0), (0, 6.0), (1, -4.0), (2, 1.0)]);
+        assert_eq!(
+            stencil(4),
+            vec![(-2, 1.0), (-1, -4.0), (0, 6.0), (1, -4.0), (2, 1.0)]
+        );
         assert_eq!(stencil(3), vec![(-2, -0.5), (-1, 1.0), (1, -1.0), (2, 0.5)]);
     }
 }

@@ -42,7 +42,8 @@ fn place(m: &mut DMatrix<f64>, n: usize, moments: Moments, a: usize, b: usize, g
         for (ci, &(coff, cd)) in parts.iter().enumerate() {
             for i in 0..rd {
                 for j in 0..cd {
-                    m[(roff + a * rd + i, coff + b * cd + j)] = full[(starts[ri] + i, starts[ci] + j)];
+                    m[(roff + a * rd + i, coff + b * cd + j)] =
+                        full[(starts[ri] + i, starts[ci] + j)];
                 }
             }
         }

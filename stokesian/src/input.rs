@@ -50,7 +50,9 @@ pub enum InputError {
         why: &'static str,
     },
     /// The centre is at or beyond a boundary.
-    #[error("particle {index}: centre z = {z} is not inside the fluid (boundary at z = {boundary})")]
+    #[error(
+        "particle {index}: centre z = {z} is not inside the fluid (boundary at z = {boundary})"
+    )]
     OutsideFluid {
         /// Particle index.
         index: usize,
@@ -72,7 +74,9 @@ pub enum InputError {
         boundary: f64,
     },
     /// Two spheres overlap.
-    #[error("particles {first} and {second} overlap: centre distance {distance} < sum of radii {sum}")]
+    #[error(
+        "particles {first} and {second} overlap: centre distance {distance} < sum of radii {sum}"
+    )]
     Overlap {
         /// First particle.
         first: usize,
@@ -154,7 +158,11 @@ pub fn validate(
             return Err(InputError::BadRadius { index, value: p.a });
         }
         for &(boundary, above) in &planes {
-            let distance = if above { p.x[2] - boundary } else { boundary - p.x[2] };
+            let distance = if above {
+                p.x[2] - boundary
+            } else {
+                boundary - p.x[2]
+            };
             if distance <= 0.0 {
                 return Err(InputError::OutsideFluid {
                     index,

@@ -8,9 +8,9 @@ Run:   python3 tests/derivations/appendix_check.py [--dump FILE] [--coefficients
   --dump FILE      also write the derived blocks at every configuration to FILE (plain
                    text, one block per line) so that tests/src/paper.rs can be checked
                    against the same numbers (see ERRATA.md).
-  --coefficients   also extract, exactly (rational arithmetic), the coefficient of every
-                   printed tensor structure of C5, C6 and C7 from the derivation and print
-                   the ones that differ from the printed coefficients (about 1-2 min more).
+  --coefficients   also extract, exactly (rational arithmetic), the derived coefficient of
+                   every printed tensor structure of C5, C6 and C7 and print them all, for
+                   term-by-term comparison with the paper (about 20 s more).
 
 Conventions (tests/ERRATA.md, shared/DESIGN.md): wall x3 = 0, fluid x3 > 0, Levi-Civita
 right-handed, the mobility maps the force/torque/stresslet exerted ON THE FLUID to
@@ -33,7 +33,7 @@ recursion D_k (P / r^m) = (r^2 D_k P - m R_k P) / r^(m+2), in 40-digit arithmeti
 
 That machinery is cross-checked against a literal transcription of Eq. 5 in the six
 variables (x, y) (sympy expression, z-derivatives then z = y', differentiated
-numerically by mpmath.diff at 30 digits), and the derived blocks are checked for the
+numerically by mpmath.diff at 50 digits), and the derived blocks are checked for the
 no-slip condition, reciprocity/symmetry and the physical sign (a force +x makes the
 sphere roll, Omega_y > 0; a torque +y makes it translate +x).
 
@@ -159,7 +159,6 @@ def to_terms(t):
 
 BLOCKS = {"UF": UF, "OF": OF, "OL": OL, "EF": EF, "EL": EL, "ES": ES, "UL": UL}
 TERMS = {k: to_terms(v) for k, v in BLOCKS.items()}
-GTERMS = to_terms(G)
 T_DERIVED = time.time() - T_START
 
 
@@ -524,7 +523,7 @@ def rel(a, b):
 
 # ----------------------------------------------------------------------------------
 # 5. Independent cross-check of the operator calculus: literal Eq. 5 in (x, y),
-#    differentiated numerically (mpmath.diff, 30 digits).
+#    differentiated numerically (mpmath.diff, 50 digits).
 # ----------------------------------------------------------------------------------
 def literal_crosscheck():
     xs, ys, zs = sp.symbols("x1:4"), sp.symbols("y1:4"), sp.symbols("z1:4")
@@ -542,7 +541,7 @@ def literal_crosscheck():
     fw = [[sp.lambdify(xs + ys, jw[i][l], "mpmath") for l in R3] for i in R3]
     f0 = [[sp.lambdify(xs + ys, jfree[i][l], "mpmath") for l in R3] for i in R3]
     old = mp.mp.dps
-    mp.mp.dps = 30
+    mp.mp.dps = 50
     # (a) no-slip: J + Jw = 0 on the wall, also for source derivatives (Eq. 11)
     noslip = 0.0
     for pt in ([0.3, 1.2, 0, 2.1, -0.7, 1.7], [-4.0, 0.5, 0, 0.0, 0.0, 1.0001]):
@@ -722,13 +721,14 @@ def main():
         if h == 2.0:
             print("  self, h = 2: OF[y][x] = %+.6f (rolling: must be > 0), UL[x][y] = %+.6f (torque +y -> +x)"
                   % (b["OF"][1, 0], b["UL"][0, 1]))
+    tr = 0.0
     for xa, xb in ([[0.3, 1.2, 2.5], [2.1, -0.7, 1.7]], [[0.0, 0.0, 1.2], [4.0, 3.0, 6.0]]):
         ab = {k: to_np(v) for k, v in derived_pair(xa, xb).items()}
         ba = {k: to_np(v) for k, v in derived_pair(xb, xa).items()}
         sym = max(sym, np.abs(ab["UF"] - ba["UF"].T).max(), np.abs(ab["OL"] - ba["OL"].T).max(),
                   np.abs(ab["UL"] - ba["OF"].T).max(),
                   np.abs(ab["ES"] - ba["ES"].transpose(2, 3, 0, 1)).max())
-        tr = max(np.abs(np.einsum("ppj->j", ab["EF"])).max(), np.abs(np.einsum("ppn->n", ab["EL"])).max(),
+        tr = max(tr, np.abs(np.einsum("ppj->j", ab["EF"])).max(), np.abs(np.einsum("ppn->n", ab["EL"])).max(),
                  np.abs(np.einsum("ppkl->kl", ab["ES"])).max(), np.abs(np.einsum("pqkk->pq", ab["ES"])).max())
     print("  reciprocity M^ab = (M^ba)^T for UF, OL, UL/OF, ES (self and pairs): max |diff| = %.1e" % sym)
     print("  derived EF, EL, ES traceless in pq and in kl: max |trace| = %.1e" % tr)

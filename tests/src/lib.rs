@@ -1,1 +1,159 @@
-//! placeholder during bootstrap
+//! Shared helpers for the integration tests: configurations, norms, and the mapping
+//! between the generator's Green's functions and the kernels' confinements.
+//!
+//! The independent references live here too: [`closed_forms`] (free-space far-field
+//! couplings from the literature) and [`paper`] (Appendices B and C of Swan & Brady,
+//! as printed and as corrected).
+
+pub mod closed_forms;
+pub mod paper;
+
+use kernels::{Confinement, Grand};
+use rand::Rng;
+
+/// The confinement a generated family stands for, with parameters `p` in the
+/// generator's order (`height`, then `lambda` or `gap`).
+pub fn confinement(name: &str, p: &[f64]) -> Confinement {
+    match name {
+        "free" => Confinement::Free,
+        "wall" => Confinement::Wall { height: p[0] },
+        "free_surface" => Confinement::FreeSurface { height: p[0] },
+        "interface" => Confinement::Interface {
+            height: p[0],
+            lambda: p[1],
+        },
+        "slit" => Confinement::Slit {
+            height: p[0],
+            gap: p[1],
+        },
+        other => panic!("no confinement named {other}"),
+    }
+}
+
+/// Parameters to test a family with: boundary at `x3 = 0.3`, `lambda = 2.5`, slit gap 12.
+pub fn sample_params(name: &str) -> Vec<f64> {
+    match name {
+        "free" => vec![],
+        "wall" | "free_surface" => vec![0.3],
+        "interface" => vec![0.3, 2.5],
+        "slit" => vec![0.3, 12.0],
+        other => panic!("no confinement named {other}"),
+    }
+}
+
+/// Every confinement with sample parameters.
+pub fn all_confinements() -> Vec<(&'static str, Confinement)> {
+    ["free", "wall", "free_surface", "interface", "slit"]
+        .into_iter()
+        .map(|n| (n, confinement(n, &sample_params(n))))
+        .collect()
+}
+
+/// The lower boundary and (for the slit) the upper one.
+pub fn bounds(c: &Confinement) -> (f64, f64) {
+    match *c {
+        Confinement::Free => (f64::NEG_INFINITY, f64::INFINITY),
+        Confinement::Wall { height }
+        | Confinement::FreeSurface { height }
+        | Confinement::Interface { height, .. } => (height, f64::INFINITY),
+        Confinement::Slit { height, gap } => (height, height + gap),
+    }
+}
+
+/// All entries of the nine blocks in the generator's output order (`BLOCKS`, each
+/// row-major).
+pub fn flat(g: &Grand) -> Vec<f64> {
+    let mut v = Vec::new();
+    let mut push = |rows: &[&[f64]]| rows.iter().for_each(|r| v.extend_from_slice(r));
+    push(&g.uf.iter().map(|r| &r[..]).collect::<Vec<_>>());
+    push(&g.ul.iter().map(|r| &r[..]).collect::<Vec<_>>());
+    push(&g.us.iter().map(|r| &r[..]).collect::<Vec<_>>());
+    push(&g.of.iter().map(|r| &r[..]).collect::<Vec<_>>());
+    push(&g.ol.iter().map(|r| &r[..]).collect::<Vec<_>>());
+    push(&g.os.iter().map(|r| &r[..]).collect::<Vec<_>>());
+    push(&g.ef.iter().map(|r| &r[..]).collect::<Vec<_>>());
+    push(&g.el.iter().map(|r| &r[..]).collect::<Vec<_>>());
+    push(&g.es.iter().map(|r| &r[..]).collect::<Vec<_>>());
+    v
+}
+
+/// The nine blocks as (name, entries), so that each block can be compared on its own
+/// scale (blocks carry different powers of the radius).
+pub fn blocks(g: &Grand) -> Vec<(&'static str, Vec<f64>)> {
+    let f = flat(g);
+    let sizes = [
+        ("uf", 9),
+        ("ul", 9),
+        ("us", 15),
+        ("of", 9),
+        ("ol", 9),
+        ("os", 15),
+        ("ef", 15),
+        ("el", 15),
+        ("es", 25),
+    ];
+    let mut out = Vec::new();
+    let mut k = 0;
+    for (n, s) in sizes {
+        out.push((n, f[k..k + s].to_vec()));
+        k += s;
+    }
+    out
+}
+
+/// Frobenius norm.
+pub fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// `||a - b|| / ||b||` (Frobenius).
+pub fn rel_diff(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
+    norm(&d) / norm(b)
+}
+
+/// `n` non-overlapping spheres with radii in `[amin, amax]` and surface gaps at least
+/// `gap_min * a` from each other and from the boundaries, in a box of side `side`
+/// above the lower boundary (and below the upper one).
+pub fn random_spheres(
+    rng: &mut impl Rng,
+    conf: &Confinement,
+    n: usize,
+    (amin, amax): (f64, f64),
+    gap_min: f64,
+    side: f64,
+) -> Vec<stokesian::Particle> {
+    let (lo, hi) = bounds(conf);
+    let base = if lo.is_finite() { lo } else { 0.0 };
+    let mut ps: Vec<stokesian::Particle> = Vec::new();
+    while ps.len() < n {
+        let a = rng.gen_range(amin..=amax);
+        let z_hi = if hi.is_finite() {
+            hi - a * (1.0 + gap_min)
+        } else {
+            base + side
+        };
+        let z_lo = if lo.is_finite() {
+            lo + a * (1.0 + gap_min)
+        } else {
+            base - side
+        };
+        if z_hi <= z_lo {
+            continue;
+        }
+        let x = [
+            rng.gen_range(0.0..side),
+            rng.gen_range(0.0..side),
+            rng.gen_range(z_lo..z_hi),
+        ];
+        let clear = ps.iter().all(|q| {
+            let d: f64 = (0..3).map(|k| (x[k] - q.x[k]).powi(2)).sum::<f64>().sqrt();
+            d >= (a + q.a) * (1.0 + gap_min)
+        });
+        if clear {
+            ps.push(stokesian::Particle { x, a });
+        }
+    }
+    ps
+}

@@ -1,0 +1,240 @@
+//! Checks written once and run on every registered confinement (the registry in
+//! `kernel_gen::green::for_each`): a new Green's function gets them without new code.
+
+use integration_tests::{blocks, confinement, norm, rel_diff, sample_params};
+use kernel_gen::derivatives::Structured;
+use kernel_gen::green::{Boundary, Green, Visitor};
+use kernel_gen::operators::{Deriv, Derivatives};
+use kernels::{pair, self_mobility, Confinement};
+
+/// All multi-indices of total order <= n in three variables.
+fn multi_indices(n: u8) -> Vec<[u8; 3]> {
+    let mut v = Vec::new();
+    for a in 0..=n {
+        for b in 0..=n - a {
+            for c in 0..=n - a - b {
+                v.push([a, b, c]);
+            }
+        }
+    }
+    v
+}
+
+/// Eqs. 3 and 11: on the boundary the Stokeslet plus its reflection, and every source
+/// derivative of it up to third order, satisfy the boundary condition. No slip:
+/// `d_y^n G = 0`. Free surface: no penetration `d_y^n G_3j = 0` and no tangential
+/// stress `d_y^n d_x3 G_1j = d_y^n d_x3 G_2j = 0`. Evaluated by the structured (Eq. 10)
+/// path that the kernels are emitted from. Tolerance: 1e-13 of the largest derivative
+/// of the same order of the free-space part (the image cancels it to round-off).
+struct BoundaryConditions {
+    checked: Vec<&'static str>,
+}
+
+impl Visitor for BoundaryConditions {
+    fn visit<G: Green>(&mut self, g: &G) {
+        let b = g.boundary();
+        if b == Boundary::None {
+            return;
+        }
+        let p = sample_params(g.name());
+        let wall = p[0];
+        for (x, y) in [
+            ([0.7, -0.2, wall], [0.1, 0.3, wall + 1.3]),
+            ([4.0, 2.5, wall], [-0.6, 0.2, wall + 0.4]),
+        ] {
+            let mut full = Structured::new(g, &x, &y, &p, 4, true, true);
+            let mut free =
+                Structured::new(&kernel_gen::green::free::Free, &x, &y, &[], 4, true, true);
+            for n in 0..=3u8 {
+                let betas: Vec<[u8; 3]> = multi_indices(n)
+                    .into_iter()
+                    .filter(|m| m.iter().sum::<u8>() == n)
+                    .collect();
+                // (row i, x-derivative) pairs that must vanish
+                let conditions: Vec<(usize, [u8; 3])> = match b {
+                    Boundary::NoSlip => (0..3).map(|i| (i, [0, 0, 0])).collect(),
+                    Boundary::FreeSurface => vec![(2, [0, 0, 0]), (0, [0, 0, 1]), (1, [0, 0, 1])],
+                    Boundary::None => unreachable!(),
+                };
+                let mut scale: f64 = 0.0;
+                let mut worst: f64 = 0.0;
+                for beta in &betas {
+                    for &(i, dx) in &conditions {
+                        for j in 0..3 {
+                            let d = Deriv {
+                                i,
+                                j,
+                                dx,
+                                dy: *beta,
+                            };
+                            scale = scale.max(free.get(&d).abs());
+                            worst = worst.max(full.get(&d).abs());
+                        }
+                    }
+                }
+                assert!(
+                    worst <= 1e-13 * scale,
+                    "{}: boundary condition violated at source-derivative order {n}: {worst:e} (scale {scale:e})",
+                    g.name()
+                );
+            }
+        }
+        self.checked.push(g.name());
+    }
+}
+
+#[test]
+fn boundary_conditions_hold_for_the_image_and_its_source_derivatives() {
+    let mut v = BoundaryConditions { checked: vec![] };
+    kernel_gen::green::for_each(&mut v);
+    assert_eq!(v.checked, ["wall", "free_surface"]);
+}
+
+/// Far from the boundary (h = 1e6 a) every block of the self and pair kernels tends to
+/// free space: the image corrections are O(a/h) = 1e-6 relative at most (UF self:
+/// 9/16 a/h), so 1e-5 relative per block, and each block's relative difference must
+/// also shrink from h = 1e4 a to h = 1e6 a.
+struct FarField {
+    checked: usize,
+}
+
+impl Visitor for FarField {
+    fn visit<G: Green>(&mut self, g: &G) {
+        if g.name() == "free" {
+            return;
+        }
+        let conf_at = |h: f64| {
+            let mut p = sample_params(g.name());
+            p[0] = 0.0;
+            if g.name() == "slit" {
+                p[1] = 2.0 * h;
+            }
+            confinement(g.name(), &p)
+        };
+        let diff = |h: f64| -> Vec<f64> {
+            let c = conf_at(h);
+            let (xa, xb) = ([0.5, 0.1, h], [2.5, 2.1, h + 0.7]);
+            let s = self_mobility(&c, 1.0, xa, 1.0);
+            let s0 = self_mobility(&Confinement::Free, 1.0, xa, 1.0);
+            let q = pair(&c, 1.0, xa, 1.0, xb, 0.6);
+            let q0 = pair(&Confinement::Free, 1.0, xa, 1.0, xb, 0.6);
+            let mut out = Vec::new();
+            for (x, y) in blocks(&s).into_iter().zip(blocks(&s0)) {
+                if norm(&y.1) > 0.0 {
+                    out.push(rel_diff(&x.1, &y.1));
+                } else {
+                    // blocks that vanish in free space: compare to the matching
+                    // diagonal block's size
+                    out.push(norm(&x.1) / norm(&blocks(&s0)[0].1));
+                }
+            }
+            for (x, y) in blocks(&q).into_iter().zip(blocks(&q0)) {
+                out.push(rel_diff(&x.1, &y.1));
+            }
+            out
+        };
+        let (near, far) = (diff(1e4), diff(1e6));
+        for (k, (n, f)) in near.iter().zip(&far).enumerate() {
+            assert!(
+                *f < 1e-5,
+                "{}: block {k} differs from free space by {f:e} at h = 1e6 a",
+                g.name()
+            );
+            assert!(
+                f <= n,
+                "{}: block {k} does not approach free space ({n:e} -> {f:e})",
+                g.name()
+            );
+        }
+        self.checked += 1;
+    }
+}
+
+#[test]
+fn far_from_the_boundary_every_block_tends_to_free_space() {
+    let mut v = FarField { checked: 0 };
+    kernel_gen::green::for_each(&mut v);
+    assert_eq!(v.checked, 4);
+}
+
+/// Physical signs, wall below the sphere (DESIGN.md). A force +x parallel to the wall
+/// makes the sphere rotate in the rolling sense, Omega_y > 0 (the image flow is slower
+/// nearer the wall, so its vorticity at the sphere is +y); a torque +y makes it
+/// translate +x (reciprocity of the same coupling).
+///
+/// Strain from a force pushing the sphere away from the wall (F = +z): the image flow
+/// opposes the motion (u_z^image < 0 at the sphere) and weakens with distance from
+/// the wall, so d u_z / d z > 0: the image strain at the sphere is a uniaxial
+/// extension along z, E_33 > 0, with E_11 = E_22 = -E_33 / 2 (axisymmetry and
+/// incompressibility). In the orthonormal basis only the B5 component is non-zero,
+/// and it is positive.
+#[test]
+fn physical_signs_above_a_wall() {
+    let wall = Confinement::Wall { height: 0.0 };
+    for h in [1.0001, 1.5, 3.0, 10.0] {
+        let s = self_mobility(&wall, 1.0, [0.0, 0.0, h], 1.0);
+        assert!(
+            s.of[1][0] > 0.0,
+            "h = {h}: force +x must give Omega_y > 0, got {}",
+            s.of[1][0]
+        );
+        assert!(
+            s.ul[0][1] > 0.0,
+            "h = {h}: torque +y must give U_x > 0, got {}",
+            s.ul[0][1]
+        );
+        let c = s.cartesian();
+        let e33 = c.ef[2][2][2];
+        assert!(e33 > 0.0, "h = {h}: force +z must give E_33 > 0, got {e33}");
+        for (p, q) in [(0, 0), (1, 1)] {
+            let rel = (c.ef[p][q][2] + 0.5 * e33).abs() / e33;
+            assert!(
+                rel < 1e-13,
+                "h = {h}: E_{p}{q} = {} is not -E_33/2",
+                c.ef[p][q][2]
+            );
+        }
+        assert!(s.ef[4][2] > 0.0);
+        for m in 0..4 {
+            assert!(
+                s.ef[m][2].abs() < 1e-14 * s.ef[4][2],
+                "h = {h}: component B{} = {}",
+                m + 1,
+                s.ef[m][2]
+            );
+        }
+    }
+}
+
+/// The interface reduces to the free surface at lambda = 0 and to the wall as
+/// lambda -> infinity (Eq. 22); at lambda = 1e12 the difference from the wall is
+/// 1e-12 relative (the weights are 1/(1 + lambda) and lambda/(1 + lambda)).
+#[test]
+fn interface_limits() {
+    let (xa, xb) = ([0.3, 0.2, 1.4], [2.6, -0.9, 2.1]);
+    let cases = [
+        (0.0, Confinement::FreeSurface { height: 0.0 }, 1e-14),
+        (1e12, Confinement::Wall { height: 0.0 }, 1e-11),
+    ];
+    for (lambda, limit, tol) in cases {
+        let i = Confinement::Interface {
+            height: 0.0,
+            lambda,
+        };
+        for (a, b) in [
+            (
+                self_mobility(&i, 1.0, xa, 1.0),
+                self_mobility(&limit, 1.0, xa, 1.0),
+            ),
+            (
+                pair(&i, 1.0, xa, 1.0, xb, 0.7),
+                pair(&limit, 1.0, xa, 1.0, xb, 0.7),
+            ),
+        ] {
+            for ((n, x), (_, y)) in blocks(&a).into_iter().zip(blocks(&b)) {
+                let e = rel_diff(&x, &y);
+                assert!(e < tol, "lambda = {lambda}, block {n}: {e:e}");
+            }
+        }
+    }
+}
