@@ -22,7 +22,160 @@ pub struct GeneratedFile {
 
 struct Family {
     name: &'static str,
+    title: &'static str,
+    params: &'static [&'static str],
+    /// `(height expression, fluid above)` of each boundary plane.
+    boundaries: Vec<(TokenStream, bool)>,
     file: GeneratedFile,
+}
+
+fn camel(snake: &str) -> String {
+    snake
+        .split('_')
+        .map(|w| {
+            let mut c = w.chars();
+            c.next()
+                .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
+                .unwrap_or_default()
+        })
+        .collect()
+}
+
+fn ident(s: &str) -> proc_macro2::Ident {
+    proc_macro2::Ident::new(s, proc_macro2::Span::call_site())
+}
+
+/// The `Confinement` enum, one variant per family with its run-time parameters as
+/// fields, and the dispatching entry points `pair`, `pair_equal`, `self_mobility`.
+fn dispatch(families: &[Family]) -> TokenStream {
+    let mut variants = Vec::new();
+    let mut names = Vec::new();
+    let mut name_arms = Vec::new();
+    let mut from_arms = Vec::new();
+    let mut param_arms = Vec::new();
+    let mut bound_arms = Vec::new();
+    let mut pair_arms = Vec::new();
+    let mut equal_arms = Vec::new();
+    let mut self_arms = Vec::new();
+    for f in families {
+        let v = ident(&camel(f.name));
+        let m = ident(f.name);
+        let name = f.name;
+        let doc = format!(" {}", f.title);
+        let fields: Vec<proc_macro2::Ident> = f.params.iter().map(|p| ident(p)).collect();
+        let field_docs: Vec<String> = f
+            .params
+            .iter()
+            .map(|p| format!(" {}", green::param_doc(p)))
+            .collect();
+        let idx: Vec<usize> = (0..f.params.len()).collect();
+        let nparams = f.params.len();
+        let (fpair, fequal, fself) = (
+            ident(&format!("{}_pair", f.name)),
+            ident(&format!("{}_pair_equal", f.name)),
+            ident(&format!("{}_self", f.name)),
+        );
+        let pname: Vec<&str> = f.params.to_vec();
+        let bounds: Vec<TokenStream> = f
+            .boundaries
+            .iter()
+            .map(|(h, above)| quote!((#h, #above)))
+            .collect();
+        if fields.is_empty() {
+            variants.push(quote!(#[doc = #doc] #v));
+            name_arms.push(quote!(Confinement::#v => #name));
+            from_arms.push(quote!(#name if params.is_empty() => Some(Confinement::#v)));
+            param_arms.push(quote!(Confinement::#v => vec![]));
+            bound_arms.push(quote!(Confinement::#v => vec![#(#bounds),*]));
+            pair_arms.push(quote!(Confinement::#v => #m::#fpair(xa, xb, aa, ab, eta)));
+            equal_arms.push(quote!(Confinement::#v => #m::#fequal(xa, xb, a, eta)));
+            self_arms.push(quote!(Confinement::#v => #m::#fself(x, a, eta)));
+        } else {
+            variants.push(quote!(#[doc = #doc] #v { #(#[doc = #field_docs] #fields: f64),* }));
+            name_arms.push(quote!(Confinement::#v { .. } => #name));
+            from_arms.push(quote!(#name if params.len() == #nparams => Some(Confinement::#v { #(#fields: params[#idx]),* })));
+            param_arms
+                .push(quote!(Confinement::#v { #(#fields),* } => vec![#((#pname, #fields)),*]));
+            bound_arms.push(quote!(Confinement::#v { #(#fields),* } => {
+                let _ = (#(#fields,)*);
+                vec![#(#bounds),*]
+            }));
+            pair_arms.push(quote!(Confinement::#v { #(#fields),* } => #m::#fpair(xa, xb, aa, ab, eta, #(#fields),*)));
+            equal_arms.push(quote!(Confinement::#v { #(#fields),* } => #m::#fequal(xa, xb, a, eta, #(#fields),*)));
+            self_arms.push(
+                quote!(Confinement::#v { #(#fields),* } => #m::#fself(x, a, eta, #(#fields),*)),
+            );
+        }
+        names.push(name);
+    }
+    quote! {
+        use crate::blocks::Grand;
+
+        /// The confinement and its run-time parameters, one variant per registered
+        /// Green's function. Boundaries are planes `x3 = const` ([`Confinement::boundaries`]).
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub enum Confinement {
+            #(#variants),*
+        }
+
+        impl Confinement {
+            /// Names of all confinements, as in [`Confinement::name`].
+            pub const NAMES: &'static [&'static str] = &[#(#names),*];
+
+            /// The family name (`wall`, `free_surface`, ...).
+            pub fn name(&self) -> &'static str {
+                match *self {
+                    #(#name_arms),*
+                }
+            }
+
+            /// The confinement called `name` with run-time parameters `params` in the
+            /// order of [`Confinement::params`]; `None` for an unknown name or the wrong
+            /// number of parameters.
+            pub fn from_name(name: &str, params: &[f64]) -> Option<Confinement> {
+                match name {
+                    #(#from_arms,)*
+                    _ => None,
+                }
+            }
+
+            /// The run-time parameters, named.
+            pub fn params(&self) -> Vec<(&'static str, f64)> {
+                match *self {
+                    #(#param_arms),*
+                }
+            }
+
+            /// The boundary planes: `(height, fluid is above it)`.
+            pub fn boundaries(&self) -> Vec<(f64, bool)> {
+                match *self {
+                    #(#bound_arms),*
+                }
+            }
+        }
+
+        /// `M^{ab}` for two distinct particles: the response of particle `a` (centre
+        /// `xa`, radius `aa`) to the force, torque and stresslet of particle `b`.
+        pub fn pair(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64) -> Grand {
+            match *conf {
+                #(#pair_arms),*
+            }
+        }
+
+        /// `M^{ab}` for two distinct particles of the same radius `a`.
+        pub fn pair_equal(conf: &Confinement, eta: f64, xa: [f64; 3], xb: [f64; 3], a: f64) -> Grand {
+            match *conf {
+                #(#equal_arms),*
+            }
+        }
+
+        /// `M^{aa}`: the isolated sphere plus its reflected field (Eq. 17).
+        pub fn self_mobility(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Grand {
+            match *conf {
+                #(#self_arms),*
+            }
+        }
+    }
 }
 
 struct Collect {
@@ -122,8 +275,24 @@ pub fn family<G: Green>(g: &G) -> GeneratedFile {
 
 impl Visitor for Collect {
     fn visit<G: Green>(&mut self, g: &G) {
+        // The boundary heights as expressions of the parameters, traced and inlined.
+        let t = crate::expr::Trace::begin();
+        let p: Vec<crate::expr::Ex> = g.params().iter().map(|n| t.input(n)).collect();
+        let b: Vec<(crate::expr::Id, bool)> = g
+            .boundaries(&p)
+            .into_iter()
+            .map(|(h, up)| (h.0, up))
+            .collect();
+        let graph = t.finish();
+        let boundaries = b
+            .into_iter()
+            .map(|(id, up)| (emit::inline(&graph, id), up))
+            .collect();
         self.families.push(Family {
             name: g.name(),
+            title: g.title(),
+            params: g.params(),
+            boundaries,
             file: family(g),
         });
     }
@@ -139,11 +308,12 @@ pub fn generate() -> Vec<GeneratedFile> {
         .families
         .iter()
         .map(|f| {
-            let n = proc_macro2::Ident::new(f.name, proc_macro2::Span::call_site());
+            let n = ident(f.name);
             let d = format!(" Kernels of the `{}` family.", f.name);
             quote!(#[doc = #d] pub mod #n;)
         })
         .collect();
+    let dispatch = dispatch(&c.families);
     let module_doc = vec![
         "Generated kernels, one module per Green's function.".to_string(),
         String::new(),
@@ -151,7 +321,7 @@ pub fn generate() -> Vec<GeneratedFile> {
     ];
     let mut files = vec![GeneratedFile {
         name: "mod.rs".into(),
-        contents: emit::file(&module_doc, quote!(#(#mods)*)),
+        contents: emit::file(&module_doc, quote!(#(#mods)* #dispatch)),
         op_counts: Vec::new(),
     }];
     files.extend(c.families.into_iter().map(|f| f.file));

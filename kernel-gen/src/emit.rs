@@ -191,6 +191,45 @@ pub fn function(k: &KernelFn) -> TokenStream {
     }
 }
 
+/// A small expression of the graph inlined as one Rust expression (for the handful of
+/// nodes in, e.g., a boundary height such as `height + gap`).
+pub fn inline(g: &Graph, id: Id) -> TokenStream {
+    let v = |a: Id| inline(g, a);
+    match g.op(id) {
+        Op::Input(i) => input_expr(g, i),
+        Op::Const(b) => literal(f64::from_bits(b)),
+        Op::Add(a, b) => {
+            let (a, b) = (v(a), v(b));
+            quote!((#a + #b))
+        }
+        Op::Sub(a, b) => {
+            let (a, b) = (v(a), v(b));
+            quote!((#a - #b))
+        }
+        Op::Mul(a, b) => {
+            let (a, b) = (v(a), v(b));
+            quote!((#a * #b))
+        }
+        Op::Div(a, b) => {
+            let (a, b) = (v(a), v(b));
+            quote!((#a / #b))
+        }
+        Op::Neg(a) => {
+            let a = v(a);
+            quote!((-#a))
+        }
+        Op::Sqrt(a) => {
+            let a = v(a);
+            quote!(#a.sqrt())
+        }
+        Op::Powi(a, n) => {
+            let a = v(a);
+            let n = Literal::i32_unsuffixed(n);
+            quote!(#a.powi(#n))
+        }
+    }
+}
+
 /// Nested array literal of `vals` (row-major) with the given shape.
 fn nest(vals: &[TokenStream], shape: &[usize]) -> TokenStream {
     if shape.len() <= 1 {

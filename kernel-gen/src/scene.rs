@@ -160,15 +160,7 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
     let params: Vec<Ex> = g
         .params()
         .iter()
-        .map(|p| {
-            let doc = match *p {
-                "height" => "height H of the boundary plane x3 = H (the fluid is x3 > H)",
-                "lambda" => "viscosity ratio lambda of the liquid beyond the interface to this one",
-                "gap" => "distance from the lower wall to the upper wall",
-                _ => "parameter of the Green's function",
-            };
-            scalar(&t, p, doc)
-        })
+        .map(|p| scalar(&t, p, crate::green::param_doc(p)))
         .collect();
 
     let order = spec

@@ -89,46 +89,25 @@ pub enum InputError {
     },
 }
 
-/// The boundary planes of a confinement: `(z, fluid is above)`.
+/// The confinement's parameters checked, and its boundary planes `(z, fluid is above)`.
 fn planes(conf: &Confinement) -> Result<Vec<(f64, bool)>, InputError> {
-    let finite = |name: &'static str, value: f64| {
-        if value.is_finite() {
-            Ok(value)
-        } else {
-            Err(InputError::BadParameter {
-                name,
-                value,
-                why: "must be a finite number",
-            })
+    for (name, value) in conf.params() {
+        let (ok, why) = match name {
+            "lambda" => (
+                value >= 0.0 && value.is_finite(),
+                "the viscosity ratio must be a non-negative finite number",
+            ),
+            "gap" => (
+                value > 0.0 && value.is_finite(),
+                "the slit width must be a positive finite number",
+            ),
+            _ => (value.is_finite(), "must be a finite number"),
+        };
+        if !ok {
+            return Err(InputError::BadParameter { name, value, why });
         }
-    };
-    Ok(match *conf {
-        Confinement::Free => vec![],
-        Confinement::Wall { height } | Confinement::FreeSurface { height } => {
-            vec![(finite("boundary height", height)?, true)]
-        }
-        Confinement::Interface { height, lambda } => {
-            if !(lambda >= 0.0 && lambda.is_finite()) {
-                return Err(InputError::BadParameter {
-                    name: "lambda",
-                    value: lambda,
-                    why: "the viscosity ratio must be a non-negative finite number",
-                });
-            }
-            vec![(finite("boundary height", height)?, true)]
-        }
-        Confinement::Slit { height, gap } => {
-            let h = finite("boundary height", height)?;
-            if !(gap > 0.0 && gap.is_finite()) {
-                return Err(InputError::BadParameter {
-                    name: "gap",
-                    value: gap,
-                    why: "the slit width must be a positive finite number",
-                });
-            }
-            vec![(h, true), (h + gap, false)]
-        }
-    })
+    }
+    Ok(conf.boundaries())
 }
 
 /// Check everything the kernels assume: finite positions, positive radii and

@@ -14,50 +14,55 @@ use rand::Rng;
 /// The confinement a generated family stands for, with parameters `p` in the
 /// generator's order (`height`, then `lambda` or `gap`).
 pub fn confinement(name: &str, p: &[f64]) -> Confinement {
-    match name {
-        "free" => Confinement::Free,
-        "wall" => Confinement::Wall { height: p[0] },
-        "free_surface" => Confinement::FreeSurface { height: p[0] },
-        "interface" => Confinement::Interface {
-            height: p[0],
-            lambda: p[1],
-        },
-        "slit" => Confinement::Slit {
-            height: p[0],
-            gap: p[1],
-        },
-        other => panic!("no confinement named {other}"),
+    Confinement::from_name(name, p).unwrap_or_else(|| panic!("no confinement {name} with {p:?}"))
+}
+
+/// A sample value of a run-time parameter: boundary at `x3 = 0.3`, `lambda = 2.5`,
+/// slit gap 12.
+pub fn sample_value(param: &str) -> f64 {
+    match param {
+        "height" => 0.3,
+        "lambda" => 2.5,
+        "gap" => 12.0,
+        other => panic!("no sample value for parameter {other}"),
     }
 }
 
-/// Parameters to test a family with: boundary at `x3 = 0.3`, `lambda = 2.5`, slit gap 12.
+/// Sample parameters of a registered family, in the generator's order.
 pub fn sample_params(name: &str) -> Vec<f64> {
-    match name {
-        "free" => vec![],
-        "wall" | "free_surface" => vec![0.3],
-        "interface" => vec![0.3, 2.5],
-        "slit" => vec![0.3, 12.0],
-        other => panic!("no confinement named {other}"),
+    struct Find<'a>(&'a str, Option<Vec<f64>>);
+    impl kernel_gen::green::Visitor for Find<'_> {
+        fn visit<G: kernel_gen::green::Green>(&mut self, g: &G) {
+            if g.name() == self.0 {
+                self.1 = Some(g.params().iter().map(|p| sample_value(p)).collect());
+            }
+        }
     }
+    let mut f = Find(name, None);
+    kernel_gen::green::for_each(&mut f);
+    f.1.unwrap_or_else(|| panic!("no registered Green's function {name}"))
 }
 
-/// Every confinement with sample parameters.
+/// Every registered confinement with sample parameters.
 pub fn all_confinements() -> Vec<(&'static str, Confinement)> {
-    ["free", "wall", "free_surface", "interface", "slit"]
-        .into_iter()
-        .map(|n| (n, confinement(n, &sample_params(n))))
+    Confinement::NAMES
+        .iter()
+        .map(|&n| (n, confinement(n, &sample_params(n))))
         .collect()
 }
 
-/// The lower boundary and (for the slit) the upper one.
+/// The lower and upper limits of the fluid in x3.
 pub fn bounds(c: &Confinement) -> (f64, f64) {
-    match *c {
-        Confinement::Free => (f64::NEG_INFINITY, f64::INFINITY),
-        Confinement::Wall { height }
-        | Confinement::FreeSurface { height }
-        | Confinement::Interface { height, .. } => (height, f64::INFINITY),
-        Confinement::Slit { height, gap } => (height, height + gap),
+    let mut lo = f64::NEG_INFINITY;
+    let mut hi = f64::INFINITY;
+    for (h, above) in c.boundaries() {
+        if above {
+            lo = lo.max(h);
+        } else {
+            hi = hi.min(h);
+        }
     }
+    (lo, hi)
 }
 
 /// All entries of the nine blocks in the generator's output order (`BLOCKS`, each

@@ -125,6 +125,11 @@ pub trait Green {
     fn planes<S: Scalar>(&self, _p: &[S]) -> Vec<S> {
         Vec::new()
     }
+    /// The boundary planes that confine the fluid: `(height, fluid is above)`. By
+    /// default the mirror planes, with the fluid above each.
+    fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<(S, bool)> {
+        self.planes(p).into_iter().map(|h| (h, true)).collect()
+    }
     /// Run-time weights of image terms, from the run-time parameters.
     fn weights<S: Scalar>(&self, _p: &[S]) -> Vec<S> {
         vec![S::cst(1.0)]
@@ -142,6 +147,16 @@ pub trait Green {
                     .unwrap_or(0)
             })
             .unwrap_or(0)
+    }
+}
+
+/// Documentation of a run-time parameter, by name.
+pub fn param_doc(name: &str) -> &'static str {
+    match name {
+        "height" => "height H of the boundary plane x3 = H (the fluid is x3 > H)",
+        "lambda" => "viscosity ratio lambda of the liquid beyond the interface to this one",
+        "gap" => "distance from the lower wall to the upper wall",
+        _ => "parameter of the Green's function",
     }
 }
 

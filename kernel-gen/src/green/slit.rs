@@ -35,6 +35,11 @@ impl Green for Slit {
     fn planes<S: Scalar>(&self, p: &[S]) -> Vec<S> {
         vec![p[0].clone(), p[0].clone() + p[1].clone()]
     }
+    /// The fluid is above the lower wall and below the upper one.
+    fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<(S, bool)> {
+        let pl = self.planes(p);
+        vec![(pl[0].clone(), true), (pl[1].clone(), false)]
+    }
     fn boundary(&self) -> Boundary {
         Boundary::None
     }

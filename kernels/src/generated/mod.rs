@@ -14,3 +14,180 @@ pub mod free_surface;
 pub mod interface;
 /// Kernels of the `slit` family.
 pub mod slit;
+use crate::blocks::Grand;
+/// The confinement and its run-time parameters, one variant per registered
+/// Green's function. Boundaries are planes `x3 = const` ([`Confinement::boundaries`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Confinement {
+    /// unbounded fluid: the Stokeslet J of Eq. 4
+    Free,
+    /// plane no-slip wall at x3 = height: Stokeslet plus Blake's image (Eqs. 5, 7)
+    Wall {
+        /// height H of the boundary plane x3 = H (the fluid is x3 > H)
+        height: f64,
+    },
+    /// flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)
+    FreeSurface {
+        /// height H of the boundary plane x3 = H (the fluid is x3 > H)
+        height: f64,
+    },
+    /// flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)
+    Interface {
+        /// height H of the boundary plane x3 = H (the fluid is x3 > H)
+        height: f64,
+        /// viscosity ratio lambda of the liquid beyond the interface to this one
+        lambda: f64,
+    },
+    /// slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)
+    Slit {
+        /// height H of the boundary plane x3 = H (the fluid is x3 > H)
+        height: f64,
+        /// distance from the lower wall to the upper wall
+        gap: f64,
+    },
+}
+impl Confinement {
+    /// Names of all confinements, as in [`Confinement::name`].
+    pub const NAMES: &'static [&'static str] = &[
+        "free",
+        "wall",
+        "free_surface",
+        "interface",
+        "slit",
+    ];
+    /// The family name (`wall`, `free_surface`, ...).
+    pub fn name(&self) -> &'static str {
+        match *self {
+            Confinement::Free => "free",
+            Confinement::Wall { .. } => "wall",
+            Confinement::FreeSurface { .. } => "free_surface",
+            Confinement::Interface { .. } => "interface",
+            Confinement::Slit { .. } => "slit",
+        }
+    }
+    /// The confinement called `name` with run-time parameters `params` in the
+    /// order of [`Confinement::params`]; `None` for an unknown name or the wrong
+    /// number of parameters.
+    pub fn from_name(name: &str, params: &[f64]) -> Option<Confinement> {
+        match name {
+            "free" if params.is_empty() => Some(Confinement::Free),
+            "wall" if params.len() == 1usize => {
+                Some(Confinement::Wall {
+                    height: params[0usize],
+                })
+            }
+            "free_surface" if params.len() == 1usize => {
+                Some(Confinement::FreeSurface {
+                    height: params[0usize],
+                })
+            }
+            "interface" if params.len() == 2usize => {
+                Some(Confinement::Interface {
+                    height: params[0usize],
+                    lambda: params[1usize],
+                })
+            }
+            "slit" if params.len() == 2usize => {
+                Some(Confinement::Slit {
+                    height: params[0usize],
+                    gap: params[1usize],
+                })
+            }
+            _ => None,
+        }
+    }
+    /// The run-time parameters, named.
+    pub fn params(&self) -> Vec<(&'static str, f64)> {
+        match *self {
+            Confinement::Free => vec![],
+            Confinement::Wall { height } => vec![("height", height)],
+            Confinement::FreeSurface { height } => vec![("height", height)],
+            Confinement::Interface { height, lambda } => {
+                vec![("height", height), ("lambda", lambda)]
+            }
+            Confinement::Slit { height, gap } => vec![("height", height), ("gap", gap)],
+        }
+    }
+    /// The boundary planes: `(height, fluid is above it)`.
+    pub fn boundaries(&self) -> Vec<(f64, bool)> {
+        match *self {
+            Confinement::Free => vec![],
+            Confinement::Wall { height } => {
+                let _ = (height,);
+                vec![(height, true)]
+            }
+            Confinement::FreeSurface { height } => {
+                let _ = (height,);
+                vec![(height, true)]
+            }
+            Confinement::Interface { height, lambda } => {
+                let _ = (height, lambda);
+                vec![(height, true)]
+            }
+            Confinement::Slit { height, gap } => {
+                let _ = (height, gap);
+                vec![(height, true), ((height + gap), false)]
+            }
+        }
+    }
+}
+/// `M^{ab}` for two distinct particles: the response of particle `a` (centre
+/// `xa`, radius `aa`) to the force, torque and stresslet of particle `b`.
+pub fn pair(
+    conf: &Confinement,
+    eta: f64,
+    xa: [f64; 3],
+    aa: f64,
+    xb: [f64; 3],
+    ab: f64,
+) -> Grand {
+    match *conf {
+        Confinement::Free => free::free_pair(xa, xb, aa, ab, eta),
+        Confinement::Wall { height } => wall::wall_pair(xa, xb, aa, ab, eta, height),
+        Confinement::FreeSurface { height } => {
+            free_surface::free_surface_pair(xa, xb, aa, ab, eta, height)
+        }
+        Confinement::Interface { height, lambda } => {
+            interface::interface_pair(xa, xb, aa, ab, eta, height, lambda)
+        }
+        Confinement::Slit { height, gap } => {
+            slit::slit_pair(xa, xb, aa, ab, eta, height, gap)
+        }
+    }
+}
+/// `M^{ab}` for two distinct particles of the same radius `a`.
+pub fn pair_equal(
+    conf: &Confinement,
+    eta: f64,
+    xa: [f64; 3],
+    xb: [f64; 3],
+    a: f64,
+) -> Grand {
+    match *conf {
+        Confinement::Free => free::free_pair_equal(xa, xb, a, eta),
+        Confinement::Wall { height } => wall::wall_pair_equal(xa, xb, a, eta, height),
+        Confinement::FreeSurface { height } => {
+            free_surface::free_surface_pair_equal(xa, xb, a, eta, height)
+        }
+        Confinement::Interface { height, lambda } => {
+            interface::interface_pair_equal(xa, xb, a, eta, height, lambda)
+        }
+        Confinement::Slit { height, gap } => {
+            slit::slit_pair_equal(xa, xb, a, eta, height, gap)
+        }
+    }
+}
+/// `M^{aa}`: the isolated sphere plus its reflected field (Eq. 17).
+pub fn self_mobility(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Grand {
+    match *conf {
+        Confinement::Free => free::free_self(x, a, eta),
+        Confinement::Wall { height } => wall::wall_self(x, a, eta, height),
+        Confinement::FreeSurface { height } => {
+            free_surface::free_surface_self(x, a, eta, height)
+        }
+        Confinement::Interface { height, lambda } => {
+            interface::interface_self(x, a, eta, height, lambda)
+        }
+        Confinement::Slit { height, gap } => slit::slit_self(x, a, eta, height, gap),
+    }
+}

@@ -1,0 +1,93 @@
+//! Bad input gets a typed error with a clear message, never a panic and never a
+//! partial result.
+
+use stokesian::{grand_mobility, Confinement, InputError, Moments, Particle};
+
+fn p(x: [f64; 3], a: f64) -> Particle {
+    Particle { x, a }
+}
+
+fn err(conf: Confinement, eta: f64, ps: &[Particle]) -> InputError {
+    grand_mobility(&conf, eta, ps, Moments::FTS).expect_err("input must be rejected")
+}
+
+const WALL: Confinement = Confinement::Wall { height: 0.0 };
+
+#[test]
+fn each_bad_input_is_named() {
+    let good = p([0.0, 0.0, 2.0], 1.0);
+    let cases: Vec<(InputError, &str)> = vec![
+        (err(WALL, 1.0, &[]), "no particles given"),
+        (
+            err(WALL, 1.0, &[good, p([5.0, f64::NAN, 2.0], 1.0)]),
+            "particle 1: coordinate y is NaN, not a finite number",
+        ),
+        (
+            err(WALL, 1.0, &[p([0.0, 0.0, f64::INFINITY], 1.0)]),
+            "particle 0: coordinate z is inf, not a finite number",
+        ),
+        (
+            err(WALL, 1.0, &[good, p([5.0, 0.0, 2.0], -1.0)]),
+            "particle 1: radius -1 must be a positive finite number",
+        ),
+        (err(WALL, 1.0, &[p([0.0, 0.0, 2.0], 0.0)]), "particle 0: radius 0 must be a positive finite number"),
+        (err(WALL, 0.0, &[good]), "viscosity 0 must be a positive finite number"),
+        (err(WALL, f64::NAN, &[good]), "viscosity NaN must be a positive finite number"),
+        (
+            err(WALL, 1.0, &[p([0.0, 0.0, -0.5], 0.2)]),
+            "particle 0: centre z = -0.5 is not inside the fluid (boundary at z = 0)",
+        ),
+        (
+            err(WALL, 1.0, &[p([0.0, 0.0, 0.0], 0.2)]),
+            "particle 0: centre z = 0 is not inside the fluid (boundary at z = 0)",
+        ),
+        (
+            err(WALL, 1.0, &[p([0.0, 0.0, 0.5], 1.0)]),
+            "particle 0: sphere of radius 1 overlaps the boundary at z = 0 (centre-to-boundary distance 0.5)",
+        ),
+        (
+            err(WALL, 1.0, &[good, p([1.5, 0.0, 2.0], 1.0)]),
+            "particles 0 and 1 overlap: centre distance 1.5 < sum of radii 2",
+        ),
+        (
+            err(Confinement::Slit { height: 0.0, gap: 3.0 }, 1.0, &[p([0.0, 0.0, 2.5], 1.0)]),
+            "particle 0: sphere of radius 1 overlaps the boundary at z = 3 (centre-to-boundary distance 0.5)",
+        ),
+        (
+            err(Confinement::Slit { height: 0.0, gap: -3.0 }, 1.0, &[good]),
+            "gap = -3: the slit width must be a positive finite number",
+        ),
+        (
+            err(Confinement::Interface { height: 0.0, lambda: -1.0 }, 1.0, &[good]),
+            "lambda = -1: the viscosity ratio must be a non-negative finite number",
+        ),
+        (
+            err(Confinement::Wall { height: f64::NAN }, 1.0, &[good]),
+            "height = NaN: must be a finite number",
+        ),
+    ];
+    for (e, msg) in cases {
+        assert_eq!(e.to_string(), msg);
+    }
+}
+
+#[test]
+fn valid_input_gives_the_full_matrix() {
+    let ps = [p([0.0, 0.0, 2.0], 1.0), p([3.0, 0.0, 2.0], 0.5)];
+    let m = grand_mobility(&WALL, 1.0, &ps, Moments::FTS).unwrap();
+    assert_eq!(m.shape(), (22, 22));
+    let m = grand_mobility(&WALL, 1.0, &ps, Moments::FT).unwrap();
+    assert_eq!(m.shape(), (12, 12));
+    let m = grand_mobility(&WALL, 1.0, &ps, Moments::F).unwrap();
+    assert_eq!(m.shape(), (6, 6));
+    // layout: all U, then all Omega; M_UL^{01} = (M_OmegaF^{10})^T
+    let ft = grand_mobility(&WALL, 1.0, &ps, Moments::FT).unwrap();
+    let n = 2;
+    for i in 0..3 {
+        for j in 0..3 {
+            let ul01 = ft[(i, 3 * n + 3 + j)];
+            let of10 = ft[(3 * n + 3 + j, i)];
+            assert_eq!(ul01, of10);
+        }
+    }
+}
