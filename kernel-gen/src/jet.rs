@@ -326,22 +326,25 @@ impl<S: Scalar> Jet<S> {
             return Jet::constant(pow0);
         };
         let x = &self.c;
+        // 1/a_0 once; the weights (alpha i_v - (m-i)_v) / m_v are folded constants.
+        let inv_a0 = x[0].recip();
         let mut c: Vec<S> = vec![S::cst(0.0); l.len()];
         c[0] = pow0;
         for m in 1..l.len() {
             let mm = &l.monos[m];
             let v = mm.iter().position(|&e| e > 0).expect("m != 0");
+            let mv = mm[v] as f64;
             let s = Self::cauchy_sum(
                 &l,
                 m,
                 x,
                 &c,
                 |i, _| i != 0,
-                |i, j| alpha * l.monos[i as usize][v] as f64 - l.monos[j as usize][v] as f64,
+                |i, j| (alpha * l.monos[i as usize][v] as f64 - l.monos[j as usize][v] as f64) / mv,
             );
             c[m] = match s {
                 None => S::cst(0.0),
-                Some(s) => s / (S::cst(mm[v] as f64) * x[0].clone()),
+                Some(s) => s * inv_a0.clone(),
             };
         }
         Jet { layout: Some(l), c }

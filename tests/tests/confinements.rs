@@ -140,8 +140,10 @@ impl Visitor for FarField {
                 "{}: block {k} differs from free space by {f:e} at h = 1e6 a",
                 g.name()
             );
+            // Decrease is only meaningful above round-off (blocks that vanish by
+            // symmetry, e.g. the slit's self US with the sphere midway, are noise).
             assert!(
-                f <= n,
+                f <= n || *n < 1e-14,
                 "{}: block {k} does not approach free space ({n:e} -> {f:e})",
                 g.name()
             );
