@@ -162,7 +162,8 @@ impl<S: Scalar> Structured<S> {
             return u.clone();
         }
         let c = self.centres[centre].clone();
-        let s = c[0].clone() * c[0].clone() + c[1].clone() * c[1].clone() + c[2].clone() * c[2].clone();
+        let s =
+            c[0].clone() * c[0].clone() + c[1].clone() * c[1].clone() + c[2].clone() * c[2].clone();
         let norm = s.sqrt();
         let inv = norm.recip();
         let e: [S; 3] = std::array::from_fn(|k| c[k].clone() * inv.clone());
@@ -184,7 +185,9 @@ impl<S: Scalar> Structured<S> {
             let d: [Jet<S>; 3] = std::array::from_fn(|k| Jet::variable(&l, k, S::cst(0.0)));
             let mut s = Jet::cst(1.0);
             for k in 0..3 {
-                s = s + Jet::constant(S::cst(2.0) * e[k].clone()) * d[k].clone() + d[k].clone() * d[k].clone();
+                s = s
+                    + Jet::constant(S::cst(2.0) * e[k].clone()) * d[k].clone()
+                    + d[k].clone() * d[k].clone();
             }
             match pot {
                 Potential::R => s.powf(0.5, S::cst(1.0)),
@@ -273,7 +276,10 @@ impl<S: Scalar> Structured<S> {
         for (a, &c) in atoms {
             if c != 0.0 {
                 let n = a.nu.iter().map(|&k| k as usize).sum();
-                groups.entry((a.centre, a.pot, n)).or_default().push((*a, c));
+                groups
+                    .entry((a.centre, a.pot, n))
+                    .or_default()
+                    .push((*a, c));
             }
         }
         let mut acc: Option<S> = None;

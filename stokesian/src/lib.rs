@@ -9,6 +9,6 @@
 mod assembly;
 mod input;
 
-pub use assembly::{grand_mobility, Moments};
+pub use assembly::{grand_mobility, Moments, System};
 pub use input::{validate, InputError, Particle};
 pub use kernels::Confinement;
