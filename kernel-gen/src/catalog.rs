@@ -1,12 +1,14 @@
-//! The catalogue of generated kernels: for every registered Green's function, the
-//! self and pair kernels of all nine blocks, in the orthonormal strain basis and in
-//! Cartesian form. [`generate`] returns every generated file's path and contents;
-//! `cargo xtask gen` writes them, `--check` compares.
+//! The catalogue of generated kernels. For every registered Green's function: the self
+//! and pair kernels of all nine blocks (a family file). For every scene (`scenes/`):
+//! only the blocks its truncation needs, and, if asked, the fused pair products. In
+//! `mod.rs`: the `Confinement` enum and the entry points that dispatch on it, using a
+//! scene's kernels where one exists and the family's otherwise. [`generate`] returns
+//! every file; `cargo xtask gen` writes them, `--check` compares.
 
 use crate::emit::{self, Float, KernelFn};
 use crate::green::{self, Green, Visitor};
 use crate::operators::{Basis, BLOCKS};
-use crate::scene::{trace, Interaction, KernelSpec, Path};
+use crate::scene::{trace, Interaction, KernelSpec, Moments, Path, Radii, Scene, Traced};
 use proc_macro2::TokenStream;
 use quote::quote;
 
@@ -27,6 +29,10 @@ struct Family {
     /// `(height expression, fluid above)` of each boundary plane.
     boundaries: Vec<(TokenStream, bool)>,
     file: GeneratedFile,
+    /// Scenes of this confinement that serve the dispatch: `(moments, scene name)` of
+    /// those with unequal radii and both outputs.
+    serving: Vec<(Moments, String)>,
+    scene_files: Vec<GeneratedFile>,
 }
 
 fn camel(snake: &str) -> String {
@@ -57,6 +63,7 @@ fn dispatch(families: &[Family]) -> TokenStream {
     let mut pair_arms = Vec::new();
     let mut equal_arms = Vec::new();
     let mut self_arms = Vec::new();
+    let mut truncated: Vec<Vec<TokenStream>> = Vec::new();
     for f in families {
         let v = ident(&camel(f.name));
         let m = ident(f.name);
@@ -107,9 +114,51 @@ fn dispatch(families: &[Family]) -> TokenStream {
             );
         }
         names.push(name);
+        let pattern = if fields.is_empty() {
+            quote!(Confinement::#v)
+        } else {
+            quote!(Confinement::#v { #(#fields),* })
+        };
+        truncated.push(truncated_arms(f, &pattern, &m, &fields));
+    }
+    let mut truncated_fns = Vec::new();
+    for (k, moments) in [Moments::F, Moments::FT].into_iter().enumerate() {
+        let lo = moments.lower();
+        let ty = ident(blocks_type(moments));
+        let n = moments.per_particle();
+        let (fpair, fself, fprod) = (
+            ident(&format!("pair_{lo}")),
+            ident(&format!("self_{lo}")),
+            ident(&format!("product_{lo}")),
+        );
+        let arms_pair: Vec<TokenStream> = truncated.iter().map(|t| t[3 * k].clone()).collect();
+        let arms_self: Vec<TokenStream> = truncated.iter().map(|t| t[3 * k + 1].clone()).collect();
+        let arms_prod: Vec<TokenStream> = truncated.iter().map(|t| t[3 * k + 2].clone()).collect();
+        let upper = moments_label(moments);
+        let d_pair =
+            format!(" The {upper} blocks of `M^{{ab}}` (equal-radius kernels when `aa == ab`).");
+        let d_self = format!(" The {upper} blocks of `M^{{aa}}` (Eq. 17).");
+        let d_prod =
+            format!(" The fused pair product for {upper}: `a = M^{{ab}} vb`, `b = M^{{ba}} va`.");
+        truncated_fns.push(quote! {
+            #[doc = #d_pair]
+            pub fn #fpair(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64) -> #ty {
+                match *conf { #(#arms_pair),* }
+            }
+            #[doc = #d_self]
+            pub fn #fself(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> #ty {
+                match *conf { #(#arms_self),* }
+            }
+            #[doc = #d_prod]
+            pub fn #fprod(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64, va: [f64; #n], vb: [f64; #n]) -> Product<#n> {
+                match *conf { #(#arms_prod),* }
+            }
+        });
     }
     quote! {
-        use crate::blocks::Grand;
+        use crate::blocks::{BlocksF, BlocksFT, Grand, Product};
+
+        #(#truncated_fns)*
 
         /// The confinement and its run-time parameters, one variant per registered
         /// Green's function. Boundaries are planes `x3 = const` ([`Confinement::boundaries`]).
@@ -178,8 +227,9 @@ fn dispatch(families: &[Family]) -> TokenStream {
     }
 }
 
-struct Collect {
+struct Collect<'a> {
     families: Vec<Family>,
+    scenes: &'a [Scene],
 }
 
 /// One generated function per family: name suffix, what it computes, and a phrase for
@@ -201,6 +251,7 @@ pub fn variants() -> Vec<Variant> {
         equal_radii,
         blocks: BLOCKS.to_vec(),
         path: Path::Structured,
+        product: false,
     };
     vec![
         Variant {
@@ -253,6 +304,7 @@ pub fn family<G: Green>(g: &G) -> GeneratedFile {
             name,
             doc,
             ret: "Grand".into(),
+            ctor: "Grand".into(),
             traced: &traced,
             float: Float::F64,
         }));
@@ -273,7 +325,7 @@ pub fn family<G: Green>(g: &G) -> GeneratedFile {
     }
 }
 
-impl Visitor for Collect {
+impl Visitor for Collect<'_> {
     fn visit<G: Green>(&mut self, g: &G) {
         // The boundary heights as expressions of the parameters, traced and inlined.
         let t = crate::expr::Trace::begin();
@@ -288,31 +340,52 @@ impl Visitor for Collect {
             .into_iter()
             .map(|(id, up)| (emit::inline(&graph, id), up))
             .collect();
+        let mine: Vec<&Scene> = self
+            .scenes
+            .iter()
+            .filter(|s| s.confinement == g.name())
+            .collect();
+        let mut serving: Vec<(Moments, String)> = Vec::new();
+        for s in &mine {
+            let serves =
+                s.radii == Radii::Unequal && s.dense && s.product && s.moments != Moments::FTS;
+            if serves && !serving.iter().any(|(m, _)| *m == s.moments) {
+                serving.push((s.moments, s.name.clone()));
+            }
+        }
         self.families.push(Family {
             name: g.name(),
             title: g.title(),
             params: g.params(),
             boundaries,
             file: family(g),
+            serving,
+            scene_files: mine.iter().map(|s| scene_file(g, s, false)).collect(),
         });
     }
 }
 
 /// Every generated file, including `mod.rs`.
-pub fn generate() -> Vec<GeneratedFile> {
+pub fn generate(scenes: &[Scene]) -> Vec<GeneratedFile> {
     let mut c = Collect {
         families: Vec::new(),
+        scenes,
     };
     green::for_each(&mut c);
-    let mods: Vec<TokenStream> = c
-        .families
-        .iter()
-        .map(|f| {
-            let n = ident(f.name);
-            let d = format!(" Kernels of the `{}` family.", f.name);
-            quote!(#[doc = #d] pub mod #n;)
-        })
-        .collect();
+    let mut mods: Vec<TokenStream> = Vec::new();
+    for f in &c.families {
+        let n = ident(f.name);
+        let d = format!(" Kernels of the `{}` family.", f.name);
+        mods.push(quote!(#[doc = #d] pub mod #n;));
+        for sf in &f.scene_files {
+            let m = ident(sf.name.trim_end_matches(".rs"));
+            let d = format!(
+                " Kernels of the scene `{}` (`scenes/`).",
+                sf.name.trim_start_matches("scene_").trim_end_matches(".rs")
+            );
+            mods.push(quote!(#[doc = #d] pub mod #m;));
+        }
+    }
     let dispatch = dispatch(&c.families);
     let module_doc = vec![
         "Generated kernels, one module per Green's function.".to_string(),
@@ -324,6 +397,240 @@ pub fn generate() -> Vec<GeneratedFile> {
         contents: emit::file(&module_doc, quote!(#(#mods)* #dispatch)),
         op_counts: Vec::new(),
     }];
-    files.extend(c.families.into_iter().map(|f| f.file));
+    for f in c.families {
+        files.push(f.file);
+        files.extend(f.scene_files);
+    }
     files
+}
+
+/// The kernels' return type for a truncation.
+fn blocks_type(m: Moments) -> &'static str {
+    match m {
+        Moments::F => "BlocksF",
+        Moments::FT => "BlocksFT",
+        Moments::FTS => "Grand",
+    }
+}
+
+fn moments_label(m: Moments) -> &'static str {
+    match m {
+        Moments::F => "F",
+        Moments::FT => "FT",
+        Moments::FTS => "FTS",
+    }
+}
+
+/// Match arms of the truncated entry points for one family, in the order
+/// `[pair_f, self_f, product_f, pair_ft, self_ft, product_ft]`: a serving scene's
+/// kernels when the family has one, else the family's FTS kernels, truncated.
+fn truncated_arms(
+    f: &Family,
+    pattern: &TokenStream,
+    family_mod: &proc_macro2::Ident,
+    fields: &[proc_macro2::Ident],
+) -> Vec<TokenStream> {
+    let mut arms = Vec::new();
+    for moments in [Moments::F, Moments::FT] {
+        let ty = ident(blocks_type(moments));
+        let scene = f
+            .serving
+            .iter()
+            .find(|(m, _)| *m == moments)
+            .map(|(_, n)| n.clone());
+        match scene {
+            Some(name) => {
+                let m = ident(&format!("scene_{name}"));
+                let (p, pe, s, pp, ppe) = (
+                    ident(&format!("{name}_pair")),
+                    ident(&format!("{name}_pair_equal")),
+                    ident(&format!("{name}_self")),
+                    ident(&format!("{name}_pair_product")),
+                    ident(&format!("{name}_pair_equal_product")),
+                );
+                arms.push(quote!(#pattern => if aa == ab { #m::#pe(xa, xb, aa, eta, #(#fields),*) } else { #m::#p(xa, xb, aa, ab, eta, #(#fields),*) }));
+                arms.push(quote!(#pattern => #m::#s(x, a, eta, #(#fields),*)));
+                arms.push(quote!(#pattern => if aa == ab { #m::#ppe(xa, xb, aa, eta, #(#fields,)* va, vb) } else { #m::#pp(xa, xb, aa, ab, eta, #(#fields,)* va, vb) }));
+            }
+            None => {
+                let (p, pe, s) = (
+                    ident(&format!("{}_pair", f.name)),
+                    ident(&format!("{}_pair_equal", f.name)),
+                    ident(&format!("{}_self", f.name)),
+                );
+                let fm = family_mod;
+                let pair = quote!(if aa == ab { #fm::#pe(xa, xb, aa, eta, #(#fields),*) } else { #fm::#p(xa, xb, aa, ab, eta, #(#fields),*) });
+                arms.push(quote!(#pattern => #ty::from(&#pair)));
+                arms.push(quote!(#pattern => #ty::from(&#fm::#s(x, a, eta, #(#fields),*))));
+                arms.push(quote!(#pattern => #ty::from(&#pair).product(va, vb)));
+            }
+        }
+    }
+    arms
+}
+
+/// The kernels of one scene as one file (`scene_<name>.rs`). With `standalone`, the
+/// return types are defined in the file (for `cargo xtask gen --scene FILE --out`),
+/// otherwise they come from the kernels crate.
+pub fn scene_file<G: Green>(g: &G, scene: &Scene, standalone: bool) -> GeneratedFile {
+    let mut items = TokenStream::new();
+    let mut op_counts = Vec::new();
+    let mut kinds: Vec<(&str, Interaction, bool, bool)> =
+        vec![("self", Interaction::SelfTerm, false, false)];
+    if scene.dense {
+        if scene.radii == Radii::Unequal {
+            kinds.push(("pair", Interaction::Pair, false, false));
+        }
+        kinds.push(("pair_equal", Interaction::Pair, true, false));
+    }
+    if scene.product {
+        if scene.radii == Radii::Unequal {
+            kinds.push(("pair_product", Interaction::Pair, false, true));
+        }
+        kinds.push(("pair_equal_product", Interaction::Pair, true, true));
+    }
+    let ty = blocks_type(scene.moments);
+    let n = scene.moments.per_particle();
+    // (type name, its fields with their shapes), for standalone definitions
+    type Fields = Vec<(String, Vec<usize>)>;
+    let mut types: Vec<(String, Fields)> = Vec::new();
+    for (suffix, interaction, equal, product) in kinds {
+        let spec = KernelSpec {
+            interaction,
+            basis: Basis::Orthonormal,
+            equal_radii: equal,
+            blocks: scene.moments.blocks(),
+            path: Path::Structured,
+            product,
+        };
+        let traced: Traced = trace(g, &spec);
+        let name = format!("{}_{suffix}", scene.name);
+        let (ret, ctor) = if product {
+            (format!("Product<{n}>"), format!("Product::<{n}>"))
+        } else {
+            (ty.to_string(), ty.to_string())
+        };
+        let shape_fields = traced
+            .outputs
+            .iter()
+            .map(|b| (b.name.clone(), b.shape.clone()))
+            .collect();
+        let tyname = if product {
+            "Product".to_string()
+        } else {
+            ty.to_string()
+        };
+        if !types.iter().any(|(t, _)| *t == tyname) {
+            types.push((tyname, shape_fields));
+        }
+        let what = if product {
+            format!(
+                "the fused pair product a = M^{{ab}} vb, b = M^{{ba}} va, {} moments",
+                moments_label(scene.moments)
+            )
+        } else {
+            format!("the {} blocks", moments_label(scene.moments))
+        };
+        let doc = vec![
+            format!(
+                "Scene `{}` ({}): {what}, {}.",
+                scene.name,
+                g.title(),
+                suffix.replace('_', " ")
+            ),
+            String::new(),
+            if scene.description.is_empty() {
+                "Pruned to what the scene needs.".to_string()
+            } else {
+                scene.description.clone()
+            },
+            format!("Jets truncated at derivative order {} of G.", traced.order),
+        ];
+        let count = traced.graph.op_count(&traced.output_ids());
+        op_counts.push((name.clone(), count.total()));
+        items.extend(emit::function(&KernelFn {
+            name,
+            doc,
+            ret,
+            ctor,
+            traced: &traced,
+            float: Float::F64,
+        }));
+    }
+    let header = if standalone {
+        let defs: Vec<TokenStream> = types
+            .iter()
+            .map(|(t, fields)| {
+                let (tname, generic) = if t == "Product" { (ident("Product"), quote!(<const K: usize>)) } else { (ident(t), quote!()) };
+                let fs: Vec<TokenStream> = fields
+                    .iter()
+                    .map(|(f, shape)| {
+                        let fi = ident(f);
+                        let mut ty = quote!(f64);
+                        for &d in shape.iter().rev() {
+                            ty = if t == "Product" { quote!([#ty; K]) } else { quote!([#ty; #d]) };
+                        }
+                        let d = format!(" Block `{f}`, row-major.");
+                        quote!(#[doc = #d] pub #fi: #ty)
+                    })
+                    .collect();
+                let d = format!(" Output of the scene's kernels ({t}).");
+                quote!(#[doc = #d] #[derive(Clone, Copy, Debug, PartialEq)] pub struct #tname #generic { #(#fs),* })
+            })
+            .collect();
+        quote!(#(#defs)*)
+    } else {
+        let used: Vec<proc_macro2::Ident> = types.iter().map(|(t, _)| ident(t)).collect();
+        quote!(use crate::blocks::{#(#used),*};)
+    };
+    let module_doc = vec![
+        format!(
+            "Kernels of scene `{}`: {}, {} moments, {} radii.",
+            scene.name,
+            g.title(),
+            moments_label(scene.moments),
+            match scene.radii {
+                Radii::Equal => "equal",
+                Radii::Unequal => "unequal",
+            }
+        ),
+        String::new(),
+        "Generated: see the header comment.".into(),
+    ];
+    GeneratedFile {
+        name: format!("scene_{}.rs", scene.name),
+        contents: emit::file(&module_doc, quote!(#header #items)),
+        op_counts,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::green::wall::Wall;
+
+    /// A standalone scene module defines its own return types and parses as Rust;
+    /// an F-only scene has no torque, rotation or stresslet code at all.
+    #[test]
+    fn standalone_scene_is_self_contained_and_pruned() {
+        let text = "name = \"w\"\nconfinement = \"wall\"\nmoments = \"F\"\nradii = \"equal\"\noutputs = [\"dense\", \"product\"]\n";
+        let scene = Scene::parse("w.toml", text, &["wall"]).unwrap();
+        let f = scene_file(&Wall, &scene, true);
+        let parsed: syn::File = syn::parse_str(&f.contents).expect("valid Rust");
+        let structs: Vec<String> = parsed
+            .items
+            .iter()
+            .filter_map(|i| match i {
+                syn::Item::Struct(s) => Some(s.ident.to_string()),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(structs, ["BlocksF", "Product"]);
+        assert!(!f.contents.contains("crate::"));
+        for absent in ["ul:", "of:", "os:", "es:"] {
+            assert!(!f.contents.contains(absent), "{absent} in an F-only scene");
+        }
+        let names: Vec<&str> = f.op_counts.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["w_self", "w_pair_equal", "w_pair_equal_product"]);
+    }
 }

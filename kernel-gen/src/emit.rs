@@ -35,6 +35,9 @@ pub struct KernelFn<'a> {
     pub doc: Vec<String>,
     /// Return type: a struct with one field per output block.
     pub ret: String,
+    /// The struct's constructor path (the return type without generic arguments, with
+    /// turbofish if needed, e.g. `Product::<3>`).
+    pub ctor: String,
     /// The traced kernel.
     pub traced: &'a Traced,
     /// Floating-point type.
@@ -142,6 +145,7 @@ pub fn function(k: &KernelFn) -> TokenStream {
         params.push(match a.kind {
             ArgKind::Point => quote!(#n: [#ty; 3]),
             ArgKind::Scalar => quote!(#n: #ty),
+            ArgKind::Vector(len) => quote!(#n: [#ty; #len]),
         });
     }
 
@@ -180,13 +184,14 @@ pub fn function(k: &KernelFn) -> TokenStream {
         .collect();
     let fname = ident(&k.name);
     let ret = TokenStream::from_str(&k.ret).expect("return type");
+    let ctor = TokenStream::from_str(&k.ctor).expect("constructor");
     quote! {
         #(#doc_attrs)*
         #[inline]
         pub fn #fname(#(#params),*) -> #ret {
             #(#unused)*
             #(#stmts)*
-            #ret { #(#fields),* }
+            #ctor { #(#fields),* }
         }
     }
 }

@@ -49,6 +49,10 @@ pub struct KernelSpec {
     pub blocks: Vec<(Response, Moment)>,
     /// Derivative path.
     pub path: Path,
+    /// Instead of the blocks, the fused symmetric pair product: inputs `va`, `vb` (the
+    /// moments of particles a and b, `[F, L, S]` truncated to the blocks' moments) and
+    /// outputs `a = M^{ab} vb`, `b = M^{ba} va = (M^{ab})^T va` (pair kernels only).
+    pub product: bool,
 }
 
 /// Shape of a kernel argument.
@@ -58,6 +62,8 @@ pub enum ArgKind {
     Point,
     /// `f64`.
     Scalar,
+    /// `[f64; n]`.
+    Vector(usize),
 }
 
 /// A kernel argument and its meaning.
@@ -76,12 +82,24 @@ pub struct Arg {
 pub struct BlockOut {
     /// Block name (`uf`, `es`, ...).
     pub name: String,
-    /// Response and moment.
-    pub block: (Response, Moment),
+    /// Response and moment (`None` for the fused product's vectors).
+    pub block: Option<(Response, Moment)>,
     /// Nested array shape, outermost first (e.g. `[3, 3]`, `[3, 3, 3, 3]`).
     pub shape: Vec<usize>,
     /// Graph outputs, row-major.
     pub ids: Vec<Id>,
+}
+
+/// Components of a response or moment kept when the blocks are `blocks`, in grand
+/// order `[U|F (3), Omega|L (3), E|S (5)]`.
+fn kept(blocks: &[(Response, Moment)]) -> (bool, bool) {
+    let l = blocks
+        .iter()
+        .any(|&(r, m)| r == Response::Omega || m == Moment::L);
+    let s = blocks
+        .iter()
+        .any(|&(r, m)| r == Response::E || m == Moment::S);
+    (l, s)
 }
 
 /// A traced kernel: the graph, its arguments and its outputs.
@@ -92,6 +110,9 @@ pub struct Traced {
     pub args: Vec<Arg>,
     /// Output blocks.
     pub outputs: Vec<BlockOut>,
+    /// Highest derivative order of `G` the operators needed (the jets are truncated
+    /// accordingly).
+    pub order: usize,
 }
 
 impl Traced {
@@ -172,6 +193,30 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
     let mut src = Source::new(g, spec, &xa, &xb, &params, order);
     let (aa2, ab2) = (aa * aa, ab * ab);
     let scale = Ex::cst(1.0 / (8.0 * std::f64::consts::PI)) / eta;
+    // Moment vectors of the fused product, declared before any block is traced so the
+    // argument order is fixed.
+    let dim = {
+        let (l, s) = kept(&spec.blocks);
+        3 + if l { 3 } else { 0 } + if s { 5 } else { 0 }
+    };
+    let vectors = if spec.product {
+        let mut v = |name: &str, doc: &str| -> Vec<Ex> {
+            args.push(Arg {
+                name: name.into(),
+                kind: ArgKind::Vector(dim),
+                doc: doc.into(),
+            });
+            (0..dim).map(|k| t.input(&format!("{name}[{k}]"))).collect()
+        };
+        let va = v(
+            "va",
+            "moments of particle a: force, then torque, then stresslet (as kept)",
+        );
+        let vb = v("vb", "moments of particle b, same layout");
+        Some((va, vb))
+    } else {
+        None
+    };
     let mut outputs = Vec::new();
     for &(r, m) in &spec.blocks {
         let terms = operators::block(r, m, spec.basis);
@@ -191,17 +236,68 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
         }
         outputs.push(BlockOut {
             name: block_name(r, m),
-            block: (r, m),
+            block: Some((r, m)),
             shape: shape(r, m, spec.basis),
             ids,
         });
     }
     drop(src);
+    if let Some((va, vb)) = vectors {
+        outputs = product_outputs(&outputs, &va, &vb);
+    }
     Traced {
         graph: t.finish(),
         args,
         outputs,
+        order,
     }
+}
+
+/// The fused product from the traced blocks of `M^{ab}`: `a = M^{ab} vb`,
+/// `b = (M^{ab})^T va`, in the grand order of the moments kept.
+fn product_outputs(blocks: &[BlockOut], va: &[Ex], vb: &[Ex]) -> Vec<BlockOut> {
+    let n = va.len();
+    // [F|U (3), L|Omega (3), S|E (5)], truncated: the last five are S|E when kept.
+    let offset = |k: usize| [0, 3, n.saturating_sub(5)][k];
+    let row_of = |r: Response| offset(r as usize);
+    let col_of = |m: Moment| offset(m as usize);
+    let mut a: Vec<Option<Ex>> = vec![None; n];
+    let mut b: Vec<Option<Ex>> = vec![None; n];
+    let add = |acc: &mut Option<Ex>, v: Ex| {
+        *acc = Some(match acc.take() {
+            None => v,
+            Some(s) => s + v,
+        })
+    };
+    for blk in blocks {
+        let (r, m) = blk.block.expect("block outputs");
+        let (r0, c0) = (row_of(r), col_of(m));
+        let cols = blk.ids.len() / response_dim(r, Basis::Orthonormal);
+        for (k, id) in blk.ids.iter().enumerate() {
+            let (i, j) = (r0 + k / cols, c0 + k % cols);
+            add(&mut a[i], Ex(*id) * vb[j]);
+            add(&mut b[j], Ex(*id) * va[i]);
+        }
+    }
+    let ids = |v: Vec<Option<Ex>>| {
+        v.into_iter()
+            .map(|e| e.unwrap_or_else(|| Ex::cst(0.0)).0)
+            .collect()
+    };
+    vec![
+        BlockOut {
+            name: "a".into(),
+            block: None,
+            shape: vec![n],
+            ids: ids(a),
+        },
+        BlockOut {
+            name: "b".into(),
+            block: None,
+            shape: vec![n],
+            ids: ids(b),
+        },
+    ]
 }
 
 /// The derivative source for a kernel: structured when the Green's function has image
@@ -235,5 +331,215 @@ impl Source {
             Source::Structured(s) => apply(terms, aa2, ab2, s),
             Source::Generic(s) => apply(terms, aa2, ab2, s),
         }
+    }
+}
+
+/// Truncation of the multipole expansion a scene needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Moments {
+    /// Forces and velocities only.
+    F,
+    /// Forces and torques; velocities and angular velocities.
+    FT,
+    /// Forces, torques and stresslets; velocities, angular velocities and strains.
+    FTS,
+}
+
+impl Moments {
+    /// The blocks, in output order.
+    pub fn blocks(self) -> Vec<(Response, Moment)> {
+        use Moment::*;
+        use Response::*;
+        match self {
+            Moments::F => vec![(U, F)],
+            Moments::FT => vec![(U, F), (U, L), (Omega, F), (Omega, L)],
+            Moments::FTS => operators::BLOCKS.to_vec(),
+        }
+    }
+
+    /// Components per particle (3, 6 or 11).
+    pub fn per_particle(self) -> usize {
+        match self {
+            Moments::F => 3,
+            Moments::FT => 6,
+            Moments::FTS => 11,
+        }
+    }
+
+    /// Lower-case name (`f`, `ft`, `fts`).
+    pub fn lower(self) -> &'static str {
+        match self {
+            Moments::F => "f",
+            Moments::FT => "ft",
+            Moments::FTS => "fts",
+        }
+    }
+}
+
+/// Whether a scene's particles all share one radius.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Radii {
+    /// One radius: only equal-radius kernels are generated.
+    Equal,
+    /// Any radii: unequal-radius kernels, plus the equal-radius ones as a fast path.
+    Unequal,
+}
+
+/// What a simulation needs, read from a TOML file in `scenes/`:
+///
+/// ```toml
+/// name = "wall_f"            # identifier: functions are wall_f_self, wall_f_pair, ...
+/// confinement = "wall"       # a registered Green's function
+/// moments = "F"              # F, FT or FTS
+/// radii = "unequal"          # equal or unequal
+/// outputs = ["dense", "product"]   # block kernels, fused pair-product kernels
+/// description = "..."        # optional
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// Identifier, prefix of the generated functions.
+    pub name: String,
+    /// Name of a registered Green's function.
+    pub confinement: String,
+    /// Truncation.
+    pub moments: Moments,
+    /// Radii.
+    pub radii: Radii,
+    /// Generate block kernels (for dense matrices).
+    pub dense: bool,
+    /// Generate fused pair-product kernels (`u_a += M^{ab} x_b`, `u_b += M^{ba} x_a`).
+    pub product: bool,
+    /// Free text for the generated documentation.
+    pub description: String,
+}
+
+/// Why a scene file cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// Not valid TOML or not the scene schema.
+    #[error("{file}: {message}")]
+    Parse {
+        /// File name.
+        file: String,
+        /// What the parser said.
+        message: String,
+    },
+    /// A field has a value outside its set.
+    #[error("{file}: {field} = {value:?}: {why}")]
+    Value {
+        /// File name.
+        file: String,
+        /// Field.
+        field: &'static str,
+        /// Value found.
+        value: String,
+        /// What is allowed.
+        why: String,
+    },
+}
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneToml {
+    name: String,
+    confinement: String,
+    moments: String,
+    radii: String,
+    outputs: Vec<String>,
+    #[serde(default)]
+    description: String,
+}
+
+impl Scene {
+    /// Parse a scene description; `file` names it in errors. `registered` lists the
+    /// Green's functions the confinement may name.
+    pub fn parse(file: &str, text: &str, registered: &[&str]) -> Result<Scene, SceneError> {
+        let t: SceneToml = toml::from_str(text).map_err(|e| SceneError::Parse {
+            file: file.into(),
+            message: e.to_string(),
+        })?;
+        let bad = |field: &'static str, value: &str, why: &str| SceneError::Value {
+            file: file.into(),
+            field,
+            value: value.into(),
+            why: why.into(),
+        };
+        let ident_ok = !t.name.is_empty()
+            && t.name
+                .chars()
+                .next()
+                .is_some_and(|c| c.is_ascii_lowercase())
+            && t.name
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+        if !ident_ok {
+            return Err(bad(
+                "name",
+                &t.name,
+                "must be a lower-case identifier (a-z, 0-9, _)",
+            ));
+        }
+        if !registered.contains(&t.confinement.as_str()) {
+            return Err(bad(
+                "confinement",
+                &t.confinement,
+                &format!("must be one of {registered:?}"),
+            ));
+        }
+        let moments = match t.moments.as_str() {
+            "F" => Moments::F,
+            "FT" => Moments::FT,
+            "FTS" => Moments::FTS,
+            other => return Err(bad("moments", other, "must be F, FT or FTS")),
+        };
+        let radii = match t.radii.as_str() {
+            "equal" => Radii::Equal,
+            "unequal" => Radii::Unequal,
+            other => return Err(bad("radii", other, "must be equal or unequal")),
+        };
+        let mut dense = false;
+        let mut product = false;
+        for o in &t.outputs {
+            match o.as_str() {
+                "dense" => dense = true,
+                "product" => product = true,
+                other => return Err(bad("outputs", other, "entries must be dense or product")),
+            }
+        }
+        if !dense && !product {
+            return Err(bad("outputs", "[]", "ask for dense, product or both"));
+        }
+        Ok(Scene {
+            name: t.name,
+            confinement: t.confinement,
+            moments,
+            radii,
+            dense,
+            product,
+            description: t.description,
+        })
+    }
+}
+
+#[cfg(test)]
+mod scene_tests {
+    use super::*;
+
+    #[test]
+    fn parses_and_rejects() {
+        let ok = "name = \"wall_f\"\nconfinement = \"wall\"\nmoments = \"F\"\nradii = \"equal\"\noutputs = [\"product\"]\n";
+        let s = Scene::parse("a.toml", ok, &["wall"]).unwrap();
+        assert_eq!(s.moments, Moments::F);
+        assert!(s.product && !s.dense);
+        let e = Scene::parse("a.toml", &ok.replace("\"F\"", "\"FX\""), &["wall"]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "a.toml: moments = \"FX\": must be F, FT or FTS"
+        );
+        let e =
+            Scene::parse("a.toml", &ok.replace("wall\"\nm", "moon\"\nm"), &["wall"]).unwrap_err();
+        assert!(e.to_string().contains("confinement = \"moon\""), "{e}");
+        let e = Scene::parse("a.toml", "name = 3", &["wall"]).unwrap_err();
+        assert!(e.to_string().starts_with("a.toml: "), "{e}");
     }
 }

@@ -179,3 +179,92 @@ pub struct GrandCartesian {
     /// Strain `(p, q)` from stresslet `(k, l)`.
     pub es: [[[[f64; 3]; 3]; 3]; 3],
 }
+
+/// The force-velocity block alone (F-only scenes).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct BlocksF {
+    /// Velocity from force, 3x3.
+    pub uf: [[f64; 3]; 3],
+}
+
+/// The force/torque blocks (FT scenes).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct BlocksFT {
+    /// Velocity from force.
+    pub uf: [[f64; 3]; 3],
+    /// Velocity from torque.
+    pub ul: [[f64; 3]; 3],
+    /// Angular velocity from force.
+    pub of: [[f64; 3]; 3],
+    /// Angular velocity from torque.
+    pub ol: [[f64; 3]; 3],
+}
+
+/// The fused pair product: `a = M^{ab} vb` and `b = M^{ba} va = (M^{ab})^T va`, the
+/// contributions of one pair to both particles' velocities, in grand order (`U`, then
+/// `Omega`, then `E` as kept).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Product<const K: usize> {
+    /// Contribution to particle a.
+    pub a: [f64; K],
+    /// Contribution to particle b.
+    pub b: [f64; K],
+}
+
+impl From<&Grand> for BlocksF {
+    fn from(g: &Grand) -> Self {
+        BlocksF { uf: g.uf }
+    }
+}
+
+impl From<&Grand> for BlocksFT {
+    fn from(g: &Grand) -> Self {
+        BlocksFT {
+            uf: g.uf,
+            ul: g.ul,
+            of: g.of,
+            ol: g.ol,
+        }
+    }
+}
+
+/// `(M x, M^T y)` for a small dense block stored row-major.
+fn mat_products<const K: usize>(m: &[[f64; K]; K], x: &[f64; K], y: &[f64; K]) -> Product<K> {
+    let mut a = [0.0; K];
+    let mut b = [0.0; K];
+    for i in 0..K {
+        for j in 0..K {
+            a[i] += m[i][j] * x[j];
+            b[j] += m[i][j] * y[i];
+        }
+    }
+    Product { a, b }
+}
+
+impl BlocksF {
+    /// The pair product from the blocks (`va`, `vb`: forces on a and b).
+    pub fn product(&self, va: [f64; 3], vb: [f64; 3]) -> Product<3> {
+        mat_products(&self.uf, &vb, &va)
+    }
+}
+
+impl BlocksFT {
+    /// The 6x6 block `[[UF, UL], [OF, OL]]`.
+    pub fn matrix(&self) -> [[f64; 6]; 6] {
+        let mut m = [[0.0; 6]; 6];
+        for i in 0..3 {
+            for j in 0..3 {
+                m[i][j] = self.uf[i][j];
+                m[i][j + 3] = self.ul[i][j];
+                m[i + 3][j] = self.of[i][j];
+                m[i + 3][j + 3] = self.ol[i][j];
+            }
+        }
+        m
+    }
+
+    /// The pair product from the blocks (`va`, `vb`: force then torque of a and b).
+    pub fn product(&self, va: [f64; 6], vb: [f64; 6]) -> Product<6> {
+        mat_products(&self.matrix(), &vb, &va)
+    }
+}

@@ -22,5 +22,8 @@ pub mod blocks;
 #[allow(clippy::all, missing_docs)]
 pub mod generated;
 
-pub use blocks::{Grand, GrandCartesian, STRAIN_BASIS};
-pub use generated::{pair, pair_equal, self_mobility, Confinement};
+pub use blocks::{BlocksF, BlocksFT, Grand, GrandCartesian, Product, STRAIN_BASIS};
+pub use generated::{
+    pair, pair_equal, pair_f, pair_ft, product_f, product_ft, self_f, self_ft, self_mobility,
+    Confinement,
+};

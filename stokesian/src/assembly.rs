@@ -2,7 +2,10 @@
 //! without forming the matrix.
 
 use crate::input::{validate, InputError, Particle};
-use kernels::{pair, pair_equal, self_mobility, Confinement, Grand};
+use kernels::{
+    pair, pair_equal, pair_f, pair_ft, product_f, product_ft, self_f, self_ft, self_mobility,
+    Confinement, Grand, Product,
+};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
@@ -102,102 +105,184 @@ impl System {
         }
     }
 
+    /// `M^{ab}` truncated to `moments`, row-major `K x K` (`K` = 3, 6 or 11, grand
+    /// order), from the scene kernels of that truncation (F and FT skip every block
+    /// they do not need).
+    pub fn block(&self, moments: Moments, a: usize, b: usize) -> Vec<f64> {
+        let (p, q) = (&self.particles[a], &self.particles[b]);
+        let (c, eta) = (&self.confinement, self.viscosity);
+        let flat = |rows: &[&[f64]]| {
+            rows.iter()
+                .flat_map(|r| r.iter().copied())
+                .collect::<Vec<f64>>()
+        };
+        match moments {
+            Moments::F => {
+                let m = if a == b {
+                    self_f(c, eta, p.x, p.a)
+                } else {
+                    pair_f(c, eta, p.x, p.a, q.x, q.a)
+                };
+                flat(&m.uf.iter().map(|r| &r[..]).collect::<Vec<_>>())
+            }
+            Moments::FT => {
+                let m = if a == b {
+                    self_ft(c, eta, p.x, p.a)
+                } else {
+                    pair_ft(c, eta, p.x, p.a, q.x, q.a)
+                };
+                flat(&m.matrix().iter().map(|r| &r[..]).collect::<Vec<_>>())
+            }
+            Moments::FTS => {
+                let g = self.pair_blocks(a, b).matrix();
+                (0..11)
+                    .flat_map(|i| (0..11).map(move |j| g[(i, j)]))
+                    .collect()
+            }
+        }
+    }
+
     /// The dense grand mobility in the layout of Eq. 1 (moment-major: all `U`, then
     /// all `Omega`, then all `E`; particle-major within a moment). Each unordered pair
     /// is evaluated once, in parallel; `M^{ba} = (M^{ab})^T` (reciprocity).
     pub fn mobility(&self, moments: Moments) -> DMatrix<f64> {
         let n = self.len();
-        let dim = moments.per_particle() * n;
-        let blocks: Vec<(usize, usize, Grand)> = (0..n)
+        let k = moments.per_particle();
+        let blocks: Vec<(usize, usize, Vec<f64>)> = (0..n)
             .into_par_iter()
-            .flat_map_iter(|a| (a..n).map(move |b| (a, b, self.pair_blocks(a, b))))
+            .flat_map_iter(|a| (a..n).map(move |b| (a, b, self.block(moments, a, b))))
             .collect();
-        let mut m = DMatrix::zeros(dim, dim);
-        for (a, b, g) in &blocks {
-            place(&mut m, n, moments, *a, *b, g);
-            if a != b {
-                place(&mut m, n, moments, *b, *a, &g.transposed());
+        let mut m = DMatrix::zeros(k * n, k * n);
+        let parts = moments.parts();
+        for (a, b, blk) in &blocks {
+            for (i, j, v) in (0..k)
+                .flat_map(|i| (0..k).map(move |j| (i, j)))
+                .map(|(i, j)| (i, j, blk[i * k + j]))
+            {
+                let (r, c) = (global(parts, n, *a, i), global(parts, n, *b, j));
+                m[(r, c)] = v;
+                if a != b {
+                    m[(c, r)] = v;
+                }
             }
         }
         m
     }
 
     /// `M x` without forming `M`: `x` and the result in the layout of
-    /// [`System::mobility`]. Parallel over particles `a`; each thread sums
-    /// `M^{ab} x_b` for its rows, so no two threads write the same entry.
+    /// [`System::mobility`]. Each unordered pair is evaluated once by a fused pair
+    /// kernel that returns both `M^{ab} x_b` and `M^{ba} x_a`; threads accumulate into
+    /// their own vectors, which are summed at the end.
     pub fn apply(&self, moments: Moments, x: &[f64]) -> Vec<f64> {
+        let (c, eta) = (&self.confinement, self.viscosity);
+        let ps = &self.particles;
+        match moments {
+            Moments::F => self.apply_pairs::<3>(
+                x,
+                |a, b, va, vb| product_f(c, eta, ps[a].x, ps[a].a, ps[b].x, ps[b].a, va, vb),
+                |a, va| self_f(c, eta, ps[a].x, ps[a].a).product(va, va).a,
+            ),
+            Moments::FT => self.apply_pairs::<6>(
+                x,
+                |a, b, va, vb| product_ft(c, eta, ps[a].x, ps[a].a, ps[b].x, ps[b].a, va, vb),
+                |a, va| self_ft(c, eta, ps[a].x, ps[a].a).product(va, va).a,
+            ),
+            Moments::FTS => self.apply_pairs::<11>(
+                x,
+                |a, b, va, vb| grand_product(&self.pair_blocks(a, b), va, vb),
+                |a, va| grand_product(&self.pair_blocks(a, a), va, va).a,
+            ),
+        }
+    }
+
+    fn apply_pairs<const K: usize>(
+        &self,
+        x: &[f64],
+        pair: impl Fn(usize, usize, [f64; K], [f64; K]) -> Product<K> + Sync,
+        diag: impl Fn(usize, [f64; K]) -> [f64; K] + Sync,
+    ) -> Vec<f64> {
         let n = self.len();
-        let dim = moments.per_particle() * n;
+        let moments = match K {
+            3 => Moments::F,
+            6 => Moments::FT,
+            _ => Moments::FTS,
+        };
+        let parts = moments.parts();
         assert_eq!(
             x.len(),
-            dim,
-            "vector length must be {dim} for {n} particles"
+            K * n,
+            "vector length must be {} for {n} particles",
+            K * n
         );
-        let parts = moments.parts();
-        // gather particle b's components of x into grand-block order
-        let local = |b: usize| -> [f64; 11] {
-            let mut v = [0.0; 11];
-            let mut moff = 0;
-            for &(o, d) in parts {
-                for k in 0..d {
-                    v[o + k] = x[moff + b * d + k];
-                }
-                moff += d * n;
-            }
-            v
-        };
-        let rows: Vec<[f64; 11]> = (0..n)
+        let xs: Vec<[f64; K]> = (0..n)
+            .map(|a| std::array::from_fn(|i| x[global(parts, n, a, i)]))
+            .collect();
+        let acc = (0..n)
             .into_par_iter()
-            .map(|a| {
-                let mut acc = [0.0; 11];
-                for b in 0..n {
-                    let g = self.pair_blocks(a, b).matrix();
-                    let xb = local(b);
-                    for &(ro, rd) in parts {
-                        for i in ro..ro + rd {
-                            let mut s = 0.0;
-                            for &(co, cd) in parts {
-                                for j in co..co + cd {
-                                    s += g[(i, j)] * xb[j];
-                                }
-                            }
-                            acc[i] += s;
+            .fold(
+                || vec![[0.0; K]; n],
+                |mut acc, a| {
+                    let d = diag(a, xs[a]);
+                    for i in 0..K {
+                        acc[a][i] += d[i];
+                    }
+                    for b in a + 1..n {
+                        let p = pair(a, b, xs[a], xs[b]);
+                        for i in 0..K {
+                            acc[a][i] += p.a[i];
+                            acc[b][i] += p.b[i];
                         }
                     }
-                }
-                acc
-            })
-            .collect();
-        let mut out = vec![0.0; dim];
-        for (a, acc) in rows.iter().enumerate() {
-            let mut moff = 0;
-            for &(o, d) in parts {
-                for k in 0..d {
-                    out[moff + a * d + k] = acc[o + k];
-                }
-                moff += d * n;
+                    acc
+                },
+            )
+            .reduce(
+                || vec![[0.0; K]; n],
+                |mut u, v| {
+                    for (p, q) in u.iter_mut().zip(&v) {
+                        for i in 0..K {
+                            p[i] += q[i];
+                        }
+                    }
+                    u
+                },
+            );
+        let mut out = vec![0.0; K * n];
+        for (a, v) in acc.iter().enumerate() {
+            for i in 0..K {
+                out[global(parts, n, a, i)] = v[i];
             }
         }
         out
     }
 }
 
-/// Place `M^{ab}` into the moment-major matrix `m`.
-fn place(m: &mut DMatrix<f64>, n: usize, moments: Moments, a: usize, b: usize, g: &Grand) {
-    let full = g.matrix();
-    let mut roff = 0;
-    for &(ro, rd) in moments.parts() {
-        let mut coff = 0;
-        for &(co, cd) in moments.parts() {
-            for i in 0..rd {
-                for j in 0..cd {
-                    m[(roff + a * rd + i, coff + b * cd + j)] = full[(ro + i, co + j)];
-                }
-            }
-            coff += cd * n;
+/// The pair product from the 11x11 grand block `M = M^{ab}`, with the semantics of
+/// the generated product kernels: `a = M vb`, `b = M^T va`.
+fn grand_product(g: &Grand, va: [f64; 11], vb: [f64; 11]) -> Product<11> {
+    let m = g.matrix();
+    let mut a = [0.0; 11];
+    let mut b = [0.0; 11];
+    for i in 0..11 {
+        for j in 0..11 {
+            a[i] += m[(i, j)] * vb[j];
+            b[j] += m[(i, j)] * va[i];
         }
-        roff += rd * n;
     }
+    Product { a, b }
+}
+
+/// Index in the moment-major layout of component `i` (grand order within the kept
+/// moments) of particle `a`.
+fn global(parts: &[(usize, usize)], n: usize, a: usize, i: usize) -> usize {
+    let mut moff = 0;
+    for &(o, d) in parts {
+        if i < o + d {
+            return moff + a * d + (i - o);
+        }
+        moff += d * n;
+    }
+    unreachable!("component {i} beyond the kept moments")
 }
 
 /// The dense grand mobility of `particles` (validated, no overlaps allowed); see

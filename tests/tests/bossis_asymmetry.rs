@@ -21,6 +21,7 @@ fn two_sphere_mobility(path: Path, h: f64, s: f64) -> DMatrix<f64> {
         equal_radii: false,
         blocks: BLOCKS.to_vec(),
         path,
+        product: false,
     };
     let self_k = trace(&Wall, &spec(Interaction::SelfTerm));
     let pair_k = trace(&Wall, &spec(Interaction::Pair));

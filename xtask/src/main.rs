@@ -1,7 +1,11 @@
 //! `cargo xtask gen [--check]`: regenerate the committed kernels in
-//! `kernels/src/generated/`, or (with `--check`) fail when they are stale.
+//! `kernels/src/generated/` from the registry and the scenes in `scenes/`, or (with
+//! `--check`) fail when they are stale. `cargo xtask gen --scene FILE [--out PATH]`:
+//! generate one scene as a standalone module.
 
 use anyhow::{bail, Context, Result};
+use kernel_gen::catalog::GeneratedFile;
+use kernel_gen::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -13,15 +17,96 @@ fn root() -> PathBuf {
 }
 
 fn usage() -> &'static str {
-    "usage: cargo xtask gen [--check]\n\
+    "usage: cargo xtask gen [--check] | cargo xtask gen --scene FILE [--out PATH]\n\
      \n\
-     gen          regenerate kernels/src/generated/ from kernel-gen\n\
-     gen --check  exit non-zero if the committed kernels differ from what the generator produces"
+     gen                       regenerate kernels/src/generated/ from kernel-gen and scenes/*.toml\n\
+     gen --check               exit non-zero if the committed kernels differ from what the generator produces\n\
+     gen --scene FILE          generate only what the scene FILE needs, as a standalone module\n\
+                               (default output: target/scenes/<name>.rs)"
+}
+
+/// Names of the registered Green's functions.
+fn registered() -> Vec<&'static str> {
+    struct Names(Vec<&'static str>);
+    impl kernel_gen::green::Visitor for Names {
+        fn visit<G: kernel_gen::green::Green>(&mut self, g: &G) {
+            self.0.push(g.name());
+        }
+    }
+    let mut n = Names(Vec::new());
+    kernel_gen::green::for_each(&mut n);
+    n.0
+}
+
+fn read_scene(path: &Path) -> Result<Scene> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("reading scene {}", path.display()))?;
+    Ok(Scene::parse(
+        &path.display().to_string(),
+        &text,
+        &registered(),
+    )?)
+}
+
+/// Every scene in `scenes/`, in file-name order.
+fn scenes() -> Result<Vec<Scene>> {
+    let dir = root().join("scenes");
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .with_context(|| format!("reading {}", dir.display()))?
+        .map(|e| e.map(|e| e.path()))
+        .collect::<std::io::Result<_>>()?;
+    paths.retain(|p| p.extension().is_some_and(|e| e == "toml"));
+    paths.sort();
+    paths.iter().map(|p| read_scene(p)).collect()
+}
+
+fn print_counts(files: &[GeneratedFile]) {
+    for f in files {
+        for (name, n) in &f.op_counts {
+            println!("{name:<40} {n:>8} flops");
+        }
+    }
+}
+
+/// `cargo xtask gen --scene FILE [--out PATH]`.
+fn gen_scene(file: &Path, out: Option<&Path>) -> Result<()> {
+    let scene = read_scene(file)?;
+    struct One<'a> {
+        scene: &'a Scene,
+        file: Option<GeneratedFile>,
+    }
+    impl kernel_gen::green::Visitor for One<'_> {
+        fn visit<G: kernel_gen::green::Green>(&mut self, g: &G) {
+            if g.name() == self.scene.confinement {
+                self.file = Some(kernel_gen::catalog::scene_file(g, self.scene, true));
+            }
+        }
+    }
+    let mut one = One {
+        scene: &scene,
+        file: None,
+    };
+    kernel_gen::green::for_each(&mut one);
+    let f = one
+        .file
+        .expect("the scene's confinement is registered (checked on parse)");
+    let path = match out {
+        Some(p) => p.to_path_buf(),
+        None => root().join("target/scenes").join(&f.name),
+    };
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    std::fs::write(&path, &f.contents).with_context(|| format!("writing {}", path.display()))?;
+    print_counts(std::slice::from_ref(&f));
+    println!("wrote {}", path.display());
+    Ok(())
 }
 
 fn gen(check: bool) -> Result<()> {
+    let scenes = scenes()?;
     let t0 = Instant::now();
-    let files = kernel_gen::catalog::generate();
+    let files = kernel_gen::catalog::generate(&scenes);
     let elapsed = t0.elapsed();
     let dir = root().join("kernels/src/generated");
     let mut stale = Vec::new();
@@ -49,11 +134,7 @@ fn gen(check: bool) -> Result<()> {
             }
         }
     }
-    for f in &files {
-        for (name, n) in &f.op_counts {
-            println!("{name:<36} {n:>8} flops");
-        }
-    }
+    print_counts(&files);
     println!(
         "generated {} files in {:.2} s",
         files.len(),
@@ -86,6 +167,8 @@ fn main() -> Result<()> {
     {
         ["gen"] => gen(false),
         ["gen", "--check"] => gen(true),
+        ["gen", "--scene", file] => gen_scene(Path::new(file), None),
+        ["gen", "--scene", file, "--out", out] => gen_scene(Path::new(file), Some(Path::new(out))),
         ["help"] | ["--help"] | ["-h"] | [] => {
             println!("{}", usage());
             Ok(())

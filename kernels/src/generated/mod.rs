@@ -6,15 +6,407 @@
 //! Regenerate with `cargo xtask gen`.
 /// Kernels of the `free` family.
 pub mod free;
+/// Kernels of the scene `free_f` (`scenes/`).
+pub mod scene_free_f;
+/// Kernels of the scene `free_ft` (`scenes/`).
+pub mod scene_free_ft;
 /// Kernels of the `wall` family.
 pub mod wall;
+/// Kernels of the scene `wall_f` (`scenes/`).
+pub mod scene_wall_f;
+/// Kernels of the scene `wall_f_monolayer` (`scenes/`).
+pub mod scene_wall_f_monolayer;
+/// Kernels of the scene `wall_ft` (`scenes/`).
+pub mod scene_wall_ft;
 /// Kernels of the `free_surface` family.
 pub mod free_surface;
+/// Kernels of the scene `free_surface_f` (`scenes/`).
+pub mod scene_free_surface_f;
+/// Kernels of the scene `free_surface_ft` (`scenes/`).
+pub mod scene_free_surface_ft;
 /// Kernels of the `interface` family.
 pub mod interface;
+/// Kernels of the scene `interface_f` (`scenes/`).
+pub mod scene_interface_f;
+/// Kernels of the scene `interface_ft` (`scenes/`).
+pub mod scene_interface_ft;
 /// Kernels of the `slit` family.
 pub mod slit;
-use crate::blocks::Grand;
+/// Kernels of the scene `slit_f` (`scenes/`).
+pub mod scene_slit_f;
+/// Kernels of the scene `slit_ft` (`scenes/`).
+pub mod scene_slit_ft;
+use crate::blocks::{BlocksF, BlocksFT, Grand, Product};
+/// The F blocks of `M^{ab}` (equal-radius kernels when `aa == ab`).
+pub fn pair_f(
+    conf: &Confinement,
+    eta: f64,
+    xa: [f64; 3],
+    aa: f64,
+    xb: [f64; 3],
+    ab: f64,
+) -> BlocksF {
+    match *conf {
+        Confinement::Free => {
+            if aa == ab {
+                scene_free_f::free_f_pair_equal(xa, xb, aa, eta)
+            } else {
+                scene_free_f::free_f_pair(xa, xb, aa, ab, eta)
+            }
+        }
+        Confinement::Wall { height } => {
+            if aa == ab {
+                scene_wall_f::wall_f_pair_equal(xa, xb, aa, eta, height)
+            } else {
+                scene_wall_f::wall_f_pair(xa, xb, aa, ab, eta, height)
+            }
+        }
+        Confinement::FreeSurface { height } => {
+            if aa == ab {
+                scene_free_surface_f::free_surface_f_pair_equal(xa, xb, aa, eta, height)
+            } else {
+                scene_free_surface_f::free_surface_f_pair(xa, xb, aa, ab, eta, height)
+            }
+        }
+        Confinement::Interface { height, lambda } => {
+            if aa == ab {
+                scene_interface_f::interface_f_pair_equal(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    height,
+                    lambda,
+                )
+            } else {
+                scene_interface_f::interface_f_pair(xa, xb, aa, ab, eta, height, lambda)
+            }
+        }
+        Confinement::Slit { height, gap } => {
+            if aa == ab {
+                scene_slit_f::slit_f_pair_equal(xa, xb, aa, eta, height, gap)
+            } else {
+                scene_slit_f::slit_f_pair(xa, xb, aa, ab, eta, height, gap)
+            }
+        }
+    }
+}
+/// The F blocks of `M^{aa}` (Eq. 17).
+pub fn self_f(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> BlocksF {
+    match *conf {
+        Confinement::Free => scene_free_f::free_f_self(x, a, eta),
+        Confinement::Wall { height } => scene_wall_f::wall_f_self(x, a, eta, height),
+        Confinement::FreeSurface { height } => {
+            scene_free_surface_f::free_surface_f_self(x, a, eta, height)
+        }
+        Confinement::Interface { height, lambda } => {
+            scene_interface_f::interface_f_self(x, a, eta, height, lambda)
+        }
+        Confinement::Slit { height, gap } => {
+            scene_slit_f::slit_f_self(x, a, eta, height, gap)
+        }
+    }
+}
+/// The fused pair product for F: `a = M^{ab} vb`, `b = M^{ba} va`.
+pub fn product_f(
+    conf: &Confinement,
+    eta: f64,
+    xa: [f64; 3],
+    aa: f64,
+    xb: [f64; 3],
+    ab: f64,
+    va: [f64; 3usize],
+    vb: [f64; 3usize],
+) -> Product<3usize> {
+    match *conf {
+        Confinement::Free => {
+            if aa == ab {
+                scene_free_f::free_f_pair_equal_product(xa, xb, aa, eta, va, vb)
+            } else {
+                scene_free_f::free_f_pair_product(xa, xb, aa, ab, eta, va, vb)
+            }
+        }
+        Confinement::Wall { height } => {
+            if aa == ab {
+                scene_wall_f::wall_f_pair_equal_product(xa, xb, aa, eta, height, va, vb)
+            } else {
+                scene_wall_f::wall_f_pair_product(xa, xb, aa, ab, eta, height, va, vb)
+            }
+        }
+        Confinement::FreeSurface { height } => {
+            if aa == ab {
+                scene_free_surface_f::free_surface_f_pair_equal_product(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    height,
+                    va,
+                    vb,
+                )
+            } else {
+                scene_free_surface_f::free_surface_f_pair_product(
+                    xa,
+                    xb,
+                    aa,
+                    ab,
+                    eta,
+                    height,
+                    va,
+                    vb,
+                )
+            }
+        }
+        Confinement::Interface { height, lambda } => {
+            if aa == ab {
+                scene_interface_f::interface_f_pair_equal_product(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    height,
+                    lambda,
+                    va,
+                    vb,
+                )
+            } else {
+                scene_interface_f::interface_f_pair_product(
+                    xa,
+                    xb,
+                    aa,
+                    ab,
+                    eta,
+                    height,
+                    lambda,
+                    va,
+                    vb,
+                )
+            }
+        }
+        Confinement::Slit { height, gap } => {
+            if aa == ab {
+                scene_slit_f::slit_f_pair_equal_product(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    height,
+                    gap,
+                    va,
+                    vb,
+                )
+            } else {
+                scene_slit_f::slit_f_pair_product(
+                    xa,
+                    xb,
+                    aa,
+                    ab,
+                    eta,
+                    height,
+                    gap,
+                    va,
+                    vb,
+                )
+            }
+        }
+    }
+}
+/// The FT blocks of `M^{ab}` (equal-radius kernels when `aa == ab`).
+pub fn pair_ft(
+    conf: &Confinement,
+    eta: f64,
+    xa: [f64; 3],
+    aa: f64,
+    xb: [f64; 3],
+    ab: f64,
+) -> BlocksFT {
+    match *conf {
+        Confinement::Free => {
+            if aa == ab {
+                scene_free_ft::free_ft_pair_equal(xa, xb, aa, eta)
+            } else {
+                scene_free_ft::free_ft_pair(xa, xb, aa, ab, eta)
+            }
+        }
+        Confinement::Wall { height } => {
+            if aa == ab {
+                scene_wall_ft::wall_ft_pair_equal(xa, xb, aa, eta, height)
+            } else {
+                scene_wall_ft::wall_ft_pair(xa, xb, aa, ab, eta, height)
+            }
+        }
+        Confinement::FreeSurface { height } => {
+            if aa == ab {
+                scene_free_surface_ft::free_surface_ft_pair_equal(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    height,
+                )
+            } else {
+                scene_free_surface_ft::free_surface_ft_pair(xa, xb, aa, ab, eta, height)
+            }
+        }
+        Confinement::Interface { height, lambda } => {
+            if aa == ab {
+                scene_interface_ft::interface_ft_pair_equal(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    height,
+                    lambda,
+                )
+            } else {
+                scene_interface_ft::interface_ft_pair(
+                    xa,
+                    xb,
+                    aa,
+                    ab,
+                    eta,
+                    height,
+                    lambda,
+                )
+            }
+        }
+        Confinement::Slit { height, gap } => {
+            if aa == ab {
+                scene_slit_ft::slit_ft_pair_equal(xa, xb, aa, eta, height, gap)
+            } else {
+                scene_slit_ft::slit_ft_pair(xa, xb, aa, ab, eta, height, gap)
+            }
+        }
+    }
+}
+/// The FT blocks of `M^{aa}` (Eq. 17).
+pub fn self_ft(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> BlocksFT {
+    match *conf {
+        Confinement::Free => scene_free_ft::free_ft_self(x, a, eta),
+        Confinement::Wall { height } => scene_wall_ft::wall_ft_self(x, a, eta, height),
+        Confinement::FreeSurface { height } => {
+            scene_free_surface_ft::free_surface_ft_self(x, a, eta, height)
+        }
+        Confinement::Interface { height, lambda } => {
+            scene_interface_ft::interface_ft_self(x, a, eta, height, lambda)
+        }
+        Confinement::Slit { height, gap } => {
+            scene_slit_ft::slit_ft_self(x, a, eta, height, gap)
+        }
+    }
+}
+/// The fused pair product for FT: `a = M^{ab} vb`, `b = M^{ba} va`.
+pub fn product_ft(
+    conf: &Confinement,
+    eta: f64,
+    xa: [f64; 3],
+    aa: f64,
+    xb: [f64; 3],
+    ab: f64,
+    va: [f64; 6usize],
+    vb: [f64; 6usize],
+) -> Product<6usize> {
+    match *conf {
+        Confinement::Free => {
+            if aa == ab {
+                scene_free_ft::free_ft_pair_equal_product(xa, xb, aa, eta, va, vb)
+            } else {
+                scene_free_ft::free_ft_pair_product(xa, xb, aa, ab, eta, va, vb)
+            }
+        }
+        Confinement::Wall { height } => {
+            if aa == ab {
+                scene_wall_ft::wall_ft_pair_equal_product(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    height,
+                    va,
+                    vb,
+                )
+            } else {
+                scene_wall_ft::wall_ft_pair_product(xa, xb, aa, ab, eta, height, va, vb)
+            }
+        }
+        Confinement::FreeSurface { height } => {
+            if aa == ab {
+                scene_free_surface_ft::free_surface_ft_pair_equal_product(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    height,
+                    va,
+                    vb,
+                )
+            } else {
+                scene_free_surface_ft::free_surface_ft_pair_product(
+                    xa,
+                    xb,
+                    aa,
+                    ab,
+                    eta,
+                    height,
+                    va,
+                    vb,
+                )
+            }
+        }
+        Confinement::Interface { height, lambda } => {
+            if aa == ab {
+                scene_interface_ft::interface_ft_pair_equal_product(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    height,
+                    lambda,
+                    va,
+                    vb,
+                )
+            } else {
+                scene_interface_ft::interface_ft_pair_product(
+                    xa,
+                    xb,
+                    aa,
+                    ab,
+                    eta,
+                    height,
+                    lambda,
+                    va,
+                    vb,
+                )
+            }
+        }
+        Confinement::Slit { height, gap } => {
+            if aa == ab {
+                scene_slit_ft::slit_ft_pair_equal_product(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    height,
+                    gap,
+                    va,
+                    vb,
+                )
+            } else {
+                scene_slit_ft::slit_ft_pair_product(
+                    xa,
+                    xb,
+                    aa,
+                    ab,
+                    eta,
+                    height,
+                    gap,
+                    va,
+                    vb,
+                )
+            }
+        }
+    }
+}
 /// The confinement and its run-time parameters, one variant per registered
 /// Green's function. Boundaries are planes `x3 = const` ([`Confinement::boundaries`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
