@@ -1,0 +1,1100 @@
+//! `stokesian`: the grand mobility of spheres in Stokes flow near a wall, a free
+//! surface, a liquid-liquid interface or in a slit, and the velocities of force- and
+//! torque-given spheres, from the command line.
+//!
+//! Two subcommands share the description of the system (`--confinement`, `--moments`,
+//! `--particles`, `--viscosity`, `--boundary-height`, `--lambda`, `--gap`,
+//! `--allow-overlap`):
+//!
+//! - `stokesian mobility ... --out M.npy|M.json` writes the dense grand mobility;
+//! - `stokesian velocity ... --forces forces.csv --out U.csv` writes velocities (and
+//!   rotation rates) of spheres in a quiescent fluid, solving for the stresslets with
+//!   `--moments FTS`.
+//!
+//! Every input error is a [`CliError`] naming the file, the line and the particle;
+//! output is written to a temporary file in the output's directory and renamed on
+//! success, so no partial output file is ever left behind.
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use nalgebra::{DMatrix, DVector};
+use std::fs::{self, File};
+use std::io::{self, BufWriter, IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Duration;
+use stokesian::{Confinement, InputError, Moments, Particle, System};
+use thiserror::Error;
+
+/// The layout string of the JSON output and the help text.
+const LAYOUT: &str = "moment-major: U(3N), Omega(3N), E(5N, orthonormal basis B1..B5); \
+                      particle-major within a moment";
+
+const ABOUT: &str = "Grand mobility of spheres in Stokes flow near walls and interfaces \
+(Swan & Brady, Phys. Fluids 19, 113306, 2007), and velocities of force- and torque-given spheres.";
+
+const LONG_HELP: &str = "\
+UNITS
+    Any consistent set of units; SI is the usual choice: positions and radii in m,
+    viscosity in Pa s, forces in N, torques in N m, strain rates in 1/s. Velocities come
+    out in m/s, rotation rates in rad/s, and the mobility in the matching units
+    (U/F in m/(N s), and so on).
+
+SIGN CONVENTION
+    Forces, torques and stresslets are those the particles exert ON THE FLUID. With no
+    particle inertia these equal the external forces and torques acting on the particles
+    (gravity minus buoyancy, optical traps, magnetic torques, ...): a sphere that sinks
+    under gravity has fz = -(buoyant weight) < 0. The mobility maps (F, L, S) to
+    (U - U_inf, Omega - Omega_inf, -E_inf) and is symmetric positive definite (except
+    near a wall of a narrow slit, below).
+
+GEOMETRY AND CONFINEMENTS
+    The boundary is the plane z = --boundary-height (default 0) and the fluid that holds
+    the spheres is above it (z > boundary-height).
+      free           unbounded fluid; no boundary (do not give --boundary-height).
+      wall           rigid no-slip plane wall (Blake's image system).
+      free-surface   flat, undeformable free surface (e.g. a flat air-water interface):
+                     no flow through it and no shear stress on it.
+      interface      flat, undeformable liquid-liquid interface; --lambda is the
+                     viscosity of the liquid below the interface divided by the viscosity
+                     of the liquid that holds the spheres (0: free surface; large: wall).
+      slit           two parallel no-slip walls at z = boundary-height and
+                     z = boundary-height + --gap, by superposing the single-wall images.
+                     An approximation: accurate for wide slits, and not positive definite
+                     near a wall of a narrow slit (use gap >= ~12 radii for a single sphere,
+                     ~50 radii for touching pairs near a wall).
+
+MOMENTS
+    F    point forces: velocities of the centres (3N unknowns).
+    FT   forces and torques: velocities and rotation rates (6N).
+    FTS  adds the stresslets, with which rigid spheres resist the local strain of the
+         flow (11N); more accurate near other spheres and near boundaries.
+
+MATRIX LAYOUT
+    Rows and columns are ordered moment-major, particle-major within a moment (the order
+    of Swan & Brady's Eq. 1): all U (3N: U1x, U1y, U1z, U2x, ...), then all Omega (3N),
+    then all E (5N). F keeps only the U rows and F columns, FT the U and Omega rows and
+    F and L columns. Strain and stresslet use 5 components in the orthonormal basis
+        B1 = (e1e2 + e2e1)/sqrt2,  B2 = (e1e3 + e3e1)/sqrt2,  B3 = (e2e3 + e3e2)/sqrt2,
+        B4 = (e1e1 - e2e2)/sqrt2,  B5 = (2e3e3 - e1e1 - e2e2)/sqrt6,
+    with E_m = B_m : E (so that the matrix is symmetric).
+
+FILES
+    particles.csv  header x,y,z,radius, then one sphere per line (particle 0 on line 2).
+    forces.csv     header fx,fy,fz (F) or fx,fy,fz,tx,ty,tz (FT, FTS), one line per
+                   particle, in the order of particles.csv.
+    Blank lines and lines starting with # are ignored. Error messages give the line.
+    Overlapping spheres (centre distance < sum of radii) and spheres cutting the boundary
+    are errors unless --allow-overlap is given.
+    The output is written to a temporary file next to --out and renamed when complete:
+    on any error no output file is created (an existing one is left as it was).";
+
+/// Grand mobility matrices and velocities of spheres in Stokes flow near walls and
+/// interfaces.
+#[derive(Parser, Debug)]
+#[command(name = "stokesian", version, about = ABOUT, after_long_help = LONG_HELP)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Write the dense grand mobility matrix (.npy or .json).
+    #[command(
+        long_about = "Write the dense grand mobility matrix of the spheres in --particles.\n\n\
+        .npy: a float64 C-order 2-D array (numpy.load). .json: {\"layout\": ..., \
+        \"moments\": ..., \"n\": number of particles, \"dimension\": rows, \"matrix\": \
+        [[row 0], [row 1], ...]}, every number printed to full round-trip precision.",
+        after_long_help = LONG_HELP
+    )]
+    Mobility(MobilityArgs),
+    /// Velocities (and rotation rates) of spheres with given forces (and torques).
+    #[command(
+        long_about = "Velocities (and rotation rates) of force- and torque-given spheres \
+        in a quiescent fluid, written to --out as CSV with columns ux,uy,uz (F) or \
+        ux,uy,uz,wx,wy,wz (FT, FTS), one line per particle.\n\n\
+        F and FT: U = M F without forming M (matrix-free). FTS: the stresslets S are \
+        solved for so that the strain rate imposed on the spheres is zero, or --strain: \
+        from the strain rows of the grand mobility, -E_inf = M_EF F + M_EL L + M_ES S.",
+        after_long_help = LONG_HELP
+    )]
+    Velocity(VelocityArgs),
+}
+
+/// The system: confinement, truncation, particles, viscosity.
+#[derive(Args, Debug)]
+struct SystemArgs {
+    /// The boundary: free (none), wall, free-surface, interface (needs --lambda) or slit
+    /// (needs --gap).
+    #[arg(long, value_enum)]
+    confinement: ConfinementArg,
+    /// Truncation of the multipole expansion: F, FT or FTS.
+    #[arg(long, value_enum, ignore_case = true)]
+    moments: MomentsArg,
+    /// CSV file with header x,y,z,radius and one sphere per line.
+    #[arg(long, value_name = "particles.csv")]
+    particles: PathBuf,
+    /// Viscosity of the fluid that holds the spheres.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    viscosity: f64,
+    /// Height of the boundary plane z = H [default: 0; not for free].
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    boundary_height: Option<f64>,
+    /// Interface only: viscosity ratio (liquid below / liquid holding the spheres), >= 0.
+    #[arg(long, value_name = "L", allow_negative_numbers = true)]
+    lambda: Option<f64>,
+    /// Slit only: distance from the lower wall to the upper wall (> 0).
+    #[arg(long, value_name = "G", allow_negative_numbers = true)]
+    gap: Option<f64>,
+    /// Accept spheres that overlap each other or cut a boundary (normally an error).
+    #[arg(long)]
+    allow_overlap: bool,
+}
+
+#[derive(Args, Debug)]
+struct MobilityArgs {
+    #[command(flatten)]
+    system: SystemArgs,
+    /// Output file: .npy (NumPy float64 array) or .json.
+    #[arg(long, value_name = "M.npy|M.json")]
+    out: PathBuf,
+}
+
+#[derive(Args, Debug)]
+struct VelocityArgs {
+    #[command(flatten)]
+    system: SystemArgs,
+    /// CSV file of forces (fx,fy,fz) and, for FT and FTS, torques (tx,ty,tz) exerted by
+    /// each particle on the fluid, in the order of --particles.
+    #[arg(long, value_name = "forces.csv")]
+    forces: PathBuf,
+    /// FTS only: uniform imposed rate of strain E_inf (symmetric, traceless), either 9
+    /// comma-separated Cartesian components row-major E11,E12,E13,E21,E22,E23,E31,E32,E33,
+    /// or 5 components in the orthonormal basis B1..B5 (E_m = B_m : E). The 9 components must
+    /// be symmetric and traceless to 1e-9 of the largest. Default: zero. The output is then
+    /// relative to the ambient flow at each centre (U - U_inf, Omega - Omega_inf).
+    #[arg(long, value_name = "E11,E12,...,E33", allow_hyphen_values = true)]
+    strain: Option<String>,
+    /// Output CSV file: ux,uy,uz (F) or ux,uy,uz,wx,wy,wz (FT, FTS).
+    #[arg(long, value_name = "U.csv")]
+    out: PathBuf,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum ConfinementArg {
+    /// Unbounded fluid.
+    Free,
+    /// No-slip plane wall at z = H.
+    Wall,
+    /// Flat free surface at z = H.
+    #[value(alias = "free_surface")]
+    FreeSurface,
+    /// Flat liquid-liquid interface at z = H, viscosity ratio --lambda.
+    Interface,
+    /// Two no-slip walls at z = H and z = H + --gap.
+    Slit,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum MomentsArg {
+    /// Forces only.
+    #[value(name = "F")]
+    F,
+    /// Forces and torques.
+    #[value(name = "FT")]
+    Ft,
+    /// Forces, torques and stresslets.
+    #[value(name = "FTS")]
+    Fts,
+}
+
+impl MomentsArg {
+    fn moments(self) -> Moments {
+        match self {
+            MomentsArg::F => Moments::F,
+            MomentsArg::Ft => Moments::FT,
+            MomentsArg::Fts => Moments::FTS,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            MomentsArg::F => "F",
+            MomentsArg::Ft => "FT",
+            MomentsArg::Fts => "FTS",
+        }
+    }
+}
+
+/// Everything that can go wrong, each with a message that names the file, the line and
+/// the particle where there is one. Line numbers count from 1 (the header).
+#[derive(Debug, Error)]
+enum CliError {
+    /// A file cannot be read.
+    #[error("cannot read {what} file {path}: {source}")]
+    Read {
+        what: &'static str,
+        path: String,
+        source: io::Error,
+    },
+    /// A CSV file has no header line.
+    #[error("{path}: the file is empty; the first line must be the header {expected}")]
+    NoHeader { path: String, expected: String },
+    /// A CSV file's header is not the expected one.
+    #[error("{path} line {line}: header must be {expected}, found {found}{hint}")]
+    Header {
+        path: String,
+        line: usize,
+        expected: String,
+        found: String,
+        hint: &'static str,
+    },
+    /// A data line has the wrong number of fields.
+    #[error(
+        "{path} line {line}: expected {expected} comma-separated fields ({columns}), found {found}"
+    )]
+    FieldCount {
+        path: String,
+        line: usize,
+        expected: usize,
+        columns: String,
+        found: usize,
+    },
+    /// A field is not a number.
+    #[error("{path} line {line}: {column} = {field:?} is not a number")]
+    NotANumber {
+        path: String,
+        line: usize,
+        column: String,
+        field: String,
+    },
+    /// The particles file has a header and no particles.
+    #[error("{path}: no particles (the file has a header but no data lines)")]
+    NoParticles { path: String },
+    /// A particle is invalid: coordinates, radius, position relative to a boundary.
+    #[error("{path} line {line} (particle {index}): {reason}")]
+    Particle {
+        path: String,
+        line: usize,
+        index: usize,
+        reason: String,
+    },
+    /// Two spheres overlap.
+    #[error("{path} lines {line_a} and {line_b} (particles {a} and {b}): {reason}")]
+    Pair {
+        path: String,
+        line_a: usize,
+        line_b: usize,
+        a: usize,
+        b: usize,
+        reason: String,
+    },
+    /// A command-line value is out of range.
+    #[error("{option} {value}: {reason}")]
+    BadOption {
+        option: &'static str,
+        value: String,
+        reason: String,
+    },
+    /// A confinement needs an option that was not given.
+    #[error("--confinement {confinement} needs {option} ({what})")]
+    MissingOption {
+        confinement: &'static str,
+        option: &'static str,
+        what: &'static str,
+    },
+    /// An option was given that the confinement or truncation does not use.
+    #[error("{option} does not apply to {context}")]
+    Inapplicable {
+        option: &'static str,
+        context: String,
+    },
+    /// The forces file and the particles file disagree in length.
+    #[error("{forces}: {rows} rows of forces for the {n} particles of {particles}; give one row per particle, in the same order")]
+    RowCount {
+        forces: String,
+        rows: usize,
+        particles: String,
+        n: usize,
+    },
+    /// The output path cannot be used.
+    #[error("--out {path}: {reason}")]
+    BadOut { path: String, reason: String },
+    /// Writing the output failed.
+    #[error("cannot write {path}: {source}")]
+    Write { path: String, source: io::Error },
+    /// The result is not a finite number (overlapping spheres accepted with
+    /// --allow-overlap can make the kernels meaningless).
+    #[error("{0}")]
+    Numerical(String),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Mobility(args) => run_mobility(&args),
+        Command::Velocity(args) => run_velocity(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("stokesian: error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// A numeric CSV table with the line number of each data row.
+struct Table {
+    path: String,
+    rows: Vec<Vec<f64>>,
+    lines: Vec<usize>,
+}
+
+/// Read a CSV file whose header names exactly `columns` (case-insensitive, spaces and
+/// double quotes around names ignored) and whose data are numbers.
+fn read_table(
+    what: &'static str,
+    path: &Path,
+    columns: &[&str],
+    hint: &'static str,
+) -> Result<Table, CliError> {
+    let shown = path.display().to_string();
+    let text = fs::read_to_string(path).map_err(|source| CliError::Read {
+        what,
+        path: shown.clone(),
+        source,
+    })?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    let expected = columns.join(",");
+    let mut header_seen = false;
+    let mut rows = Vec::new();
+    let mut lines = Vec::new();
+    for (k, raw) in text.lines().enumerate() {
+        let line = k + 1;
+        let trimmed = raw.trim();
+        if trimmed.is_empty() || trimmed.starts_with('#') {
+            continue;
+        }
+        let fields: Vec<&str> = trimmed
+            .split(',')
+            .map(|f| {
+                let f = f.trim();
+                f.strip_prefix('"')
+                    .and_then(|g| g.strip_suffix('"'))
+                    .unwrap_or(f)
+                    .trim()
+            })
+            .collect();
+        if !header_seen {
+            let ok = fields.len() == columns.len()
+                && fields
+                    .iter()
+                    .zip(columns)
+                    .all(|(f, c)| f.eq_ignore_ascii_case(c));
+            if !ok {
+                return Err(CliError::Header {
+                    path: shown,
+                    line,
+                    expected,
+                    found: fields.join(","),
+                    hint,
+                });
+            }
+            header_seen = true;
+            continue;
+        }
+        if fields.len() != columns.len() {
+            return Err(CliError::FieldCount {
+                path: shown,
+                line,
+                expected: columns.len(),
+                columns: expected,
+                found: fields.len(),
+            });
+        }
+        let mut row = Vec::with_capacity(columns.len());
+        for (f, c) in fields.iter().zip(columns) {
+            match f.parse::<f64>() {
+                Ok(v) => row.push(v),
+                Err(_) => {
+                    return Err(CliError::NotANumber {
+                        path: shown,
+                        line,
+                        column: (*c).to_string(),
+                        field: (*f).to_string(),
+                    })
+                }
+            }
+        }
+        rows.push(row);
+        lines.push(line);
+    }
+    if !header_seen {
+        return Err(CliError::NoHeader {
+            path: shown,
+            expected,
+        });
+    }
+    Ok(Table {
+        path: shown,
+        rows,
+        lines,
+    })
+}
+
+/// The validated system and where its particles came from.
+struct Setup {
+    system: System,
+    table: Table,
+    moments: MomentsArg,
+}
+
+fn particle_error(table: &Table, index: usize, reason: String) -> CliError {
+    CliError::Particle {
+        path: table.path.clone(),
+        line: table.lines[index],
+        index,
+        reason,
+    }
+}
+
+/// The confinement from the command line, with a clear error for a missing or
+/// inapplicable parameter.
+fn confinement(args: &SystemArgs) -> Result<Confinement, CliError> {
+    let (name, shown) = match args.confinement {
+        ConfinementArg::Free => ("free", "free"),
+        ConfinementArg::Wall => ("wall", "wall"),
+        ConfinementArg::FreeSurface => ("free_surface", "free-surface"),
+        ConfinementArg::Interface => ("interface", "interface"),
+        ConfinementArg::Slit => ("slit", "slit"),
+    };
+    let inapplicable = |option: &'static str| CliError::Inapplicable {
+        option,
+        context: format!("--confinement {shown}"),
+    };
+    if args.lambda.is_some() && args.confinement != ConfinementArg::Interface {
+        return Err(inapplicable("--lambda"));
+    }
+    if args.gap.is_some() && args.confinement != ConfinementArg::Slit {
+        return Err(inapplicable("--gap"));
+    }
+    let height = args.boundary_height.unwrap_or(0.0);
+    let params: Vec<f64> = match args.confinement {
+        ConfinementArg::Free => {
+            if args.boundary_height.is_some() {
+                return Err(inapplicable("--boundary-height"));
+            }
+            vec![]
+        }
+        ConfinementArg::Wall | ConfinementArg::FreeSurface => vec![height],
+        ConfinementArg::Interface => {
+            let lambda = args.lambda.ok_or(CliError::MissingOption {
+                confinement: shown,
+                option: "--lambda",
+                what: "the viscosity ratio of the liquid below the interface to the liquid \
+                       holding the spheres",
+            })?;
+            vec![height, lambda]
+        }
+        ConfinementArg::Slit => {
+            let gap = args.gap.ok_or(CliError::MissingOption {
+                confinement: shown,
+                option: "--gap",
+                what: "the distance from the lower wall to the upper wall",
+            })?;
+            vec![height, gap]
+        }
+    };
+    Confinement::from_name(name, &params).ok_or_else(|| CliError::BadOption {
+        option: "--confinement",
+        value: shown.to_string(),
+        reason: "not a confinement the kernels know".to_string(),
+    })
+}
+
+/// Map the library's 0-based particle errors to file lines and option names.
+fn input_error(e: InputError, table: &Table) -> CliError {
+    let pair = |a: usize, b: usize, reason: String| CliError::Pair {
+        path: table.path.clone(),
+        line_a: table.lines[a],
+        line_b: table.lines[b],
+        a,
+        b,
+        reason,
+    };
+    #[allow(unreachable_patterns)]
+    match e {
+        InputError::Empty => CliError::NoParticles {
+            path: table.path.clone(),
+        },
+        InputError::NonFinitePosition { index, axis, value } => particle_error(
+            table,
+            index,
+            format!("coordinate {axis} is {value}, not a finite number"),
+        ),
+        InputError::BadRadius { index, value } => particle_error(
+            table,
+            index,
+            format!("radius {value} must be a positive finite number"),
+        ),
+        InputError::BadViscosity(value) => CliError::BadOption {
+            option: "--viscosity",
+            value: value.to_string(),
+            reason: "must be a positive finite number".to_string(),
+        },
+        InputError::BadParameter { name, value, why } => CliError::BadOption {
+            option: match name {
+                "lambda" => "--lambda",
+                "gap" => "--gap",
+                "height" => "--boundary-height",
+                _ => "confinement parameter",
+            },
+            value: value.to_string(),
+            reason: why.to_string(),
+        },
+        InputError::OutsideFluid { index, z, boundary } => particle_error(
+            table,
+            index,
+            format!("centre z = {z} is not inside the fluid (boundary at z = {boundary})"),
+        ),
+        InputError::OverlapsBoundary {
+            index,
+            a,
+            distance,
+            boundary,
+        } => particle_error(
+            table,
+            index,
+            format!(
+                "sphere of radius {a} overlaps the boundary at z = {boundary} \
+                 (centre-to-boundary distance {distance} < radius; \
+                 --allow-overlap accepts this)"
+            ),
+        ),
+        InputError::Overlap {
+            first,
+            second,
+            distance,
+            sum,
+        } => pair(
+            first,
+            second,
+            format!(
+                "spheres overlap: centre distance {distance} < sum of radii {sum} \
+                 (--allow-overlap accepts this)"
+            ),
+        ),
+        other => CliError::Numerical(other.to_string()),
+    }
+}
+
+/// Read and validate the particles; the spinner shows progress on a terminal.
+fn setup(args: &SystemArgs) -> Result<Setup, CliError> {
+    let conf = confinement(args)?;
+    let table = read_table(
+        "particles",
+        &args.particles,
+        &["x", "y", "z", "radius"],
+        " (one sphere per line: centre x,y,z and radius)",
+    )?;
+    if table.rows.is_empty() {
+        return Err(CliError::NoParticles { path: table.path });
+    }
+    let particles: Vec<Particle> = table
+        .rows
+        .iter()
+        .map(|r| Particle {
+            x: [r[0], r[1], r[2]],
+            a: r[3],
+        })
+        .collect();
+    let system = System::new(conf, args.viscosity, particles, args.allow_overlap)
+        .map_err(|e| input_error(e, &table))?;
+    // Even with --allow-overlap, coincident centres make the pair kernels undefined.
+    let ps = system.particles();
+    for i in 0..ps.len() {
+        for j in i + 1..ps.len() {
+            if ps[i].x == ps[j].x {
+                return Err(CliError::Pair {
+                    path: table.path.clone(),
+                    line_a: table.lines[i],
+                    line_b: table.lines[j],
+                    a: i,
+                    b: j,
+                    reason: "the two spheres have the same centre; the mobility is undefined \
+                             even with --allow-overlap"
+                        .to_string(),
+                });
+            }
+        }
+    }
+    Ok(Setup {
+        system,
+        table,
+        moments: args.moments,
+    })
+}
+
+/// Check the output path before any work: a file name in an existing directory.
+fn check_out(out: &Path, extensions: &[&str]) -> Result<(), CliError> {
+    let shown = out.display().to_string();
+    let bad = |reason: String| CliError::BadOut {
+        path: shown.clone(),
+        reason,
+    };
+    if out.file_name().is_none() {
+        return Err(bad("not a file name".to_string()));
+    }
+    if out.is_dir() {
+        return Err(bad("is a directory".to_string()));
+    }
+    let dir = parent_dir(out);
+    if !dir.is_dir() {
+        return Err(bad(format!(
+            "the directory {} does not exist",
+            dir.display()
+        )));
+    }
+    if !extensions.is_empty() {
+        let ext = out
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase());
+        if !extensions.iter().any(|e| Some(e.to_string()) == ext) {
+            let list: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
+            return Err(bad(format!(
+                "the file name must end in {}",
+                list.join(" or ")
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn parent_dir(out: &Path) -> PathBuf {
+    match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// Write through a temporary file in the output's directory, renamed onto `out` only
+/// when everything was written; on failure the temporary file is removed.
+fn write_atomically(
+    out: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
+) -> Result<(), CliError> {
+    let shown = out.display().to_string();
+    let name = out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = parent_dir(out).join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| -> io::Result<()> {
+        let file = File::options().write(true).create_new(true).open(&tmp)?;
+        let mut w = BufWriter::new(file);
+        write(&mut w)?;
+        let file = w.into_inner().map_err(|e| e.into_error())?;
+        file.sync_all()?;
+        drop(file);
+        fs::rename(&tmp, out)
+    })();
+    result.map_err(|source| {
+        let _ = fs::remove_file(&tmp);
+        CliError::Write {
+            path: shown,
+            source,
+        }
+    })
+}
+
+/// A spinner on stderr, drawn only when stderr is a terminal.
+fn spinner() -> ProgressBar {
+    let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    let style = ProgressStyle::with_template("{spinner} {msg} [{elapsed}]")
+        .unwrap_or_else(|_| ProgressStyle::default_spinner());
+    pb.set_style(style);
+    pb.enable_steady_tick(Duration::from_millis(100));
+    pb
+}
+
+/// Turn the spinner into a bar over `len` rows.
+fn rows_bar(pb: &ProgressBar, len: u64, message: String) {
+    let style = ProgressStyle::with_template("{msg} {wide_bar} {pos}/{len} rows [{elapsed}]")
+        .unwrap_or_else(|_| ProgressStyle::default_bar());
+    pb.set_style(style);
+    pb.set_length(len);
+    pb.set_position(0);
+    pb.set_message(message);
+}
+
+/// Say what was written, on a terminal only (scripts get silence).
+fn report(message: String) {
+    if io::stderr().is_terminal() {
+        eprintln!("{message}");
+    }
+}
+
+fn check_finite(values: &[f64], what: &str) -> Result<(), CliError> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(CliError::Numerical(format!(
+            "the {what} has entries that are not finite numbers \
+             (spheres accepted with --allow-overlap too close together?)"
+        )))
+    }
+}
+
+fn run_mobility(args: &MobilityArgs) -> Result<(), CliError> {
+    check_out(&args.out, &["npy", "json"])?;
+    let json = args
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let pb = &spinner();
+    pb.set_message("reading particles");
+    let setup = setup(&args.system);
+    let setup = match setup {
+        Ok(s) => s,
+        Err(e) => {
+            pb.finish_and_clear();
+            return Err(e);
+        }
+    };
+    let n = setup.system.len();
+    let moments = setup.moments;
+    let dim = moments.moments().per_particle() * n;
+    pb.set_message(format!(
+        "assembling the {dim} x {dim} {} grand mobility of {n} spheres",
+        moments.name()
+    ));
+    let m = setup.system.mobility(moments.moments());
+    let result = check_finite(m.as_slice(), "mobility").and_then(|()| {
+        rows_bar(
+            pb,
+            m.nrows() as u64,
+            format!("writing {}", args.out.display()),
+        );
+        write_atomically(&args.out, |w| {
+            if json {
+                write_json(w, &m, n, moments.name(), pb)
+            } else {
+                write_npy(w, &m, pb)
+            }
+        })
+    });
+    pb.finish_and_clear();
+    result?;
+    report(format!(
+        "wrote {}: {dim} x {dim} {} grand mobility of {n} spheres",
+        args.out.display(),
+        moments.name()
+    ));
+    Ok(())
+}
+
+/// NPY format version 1.0: magic, version, little-endian header length, a Python dict
+/// literal padded with spaces to a multiple of 64 bytes (newline included), then the
+/// data, C order.
+fn write_npy(w: &mut impl Write, m: &DMatrix<f64>, pb: &ProgressBar) -> io::Result<()> {
+    let (rows, cols) = m.shape();
+    let mut header =
+        format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
+    let unpadded = 10 + header.len() + 1;
+    header.push_str(&" ".repeat((64 - unpadded % 64) % 64));
+    header.push('\n');
+    let len = u16::try_from(header.len())
+        .map_err(|_| io::Error::new(io::ErrorKind::InvalidData, "NPY header too long"))?;
+    w.write_all(b"\x93NUMPY\x01\x00")?;
+    w.write_all(&len.to_le_bytes())?;
+    w.write_all(header.as_bytes())?;
+    for i in 0..rows {
+        for j in 0..cols {
+            w.write_all(&m[(i, j)].to_le_bytes())?;
+        }
+        pb.inc(1);
+    }
+    Ok(())
+}
+
+/// JSON with every number in Rust's shortest round-trip form (valid JSON for finite
+/// numbers, which `check_finite` guarantees).
+fn write_json(
+    w: &mut impl Write,
+    m: &DMatrix<f64>,
+    n: usize,
+    moments: &str,
+    pb: &ProgressBar,
+) -> io::Result<()> {
+    let (rows, cols) = m.shape();
+    writeln!(w, "{{")?;
+    writeln!(w, "  \"layout\": \"{LAYOUT}\",")?;
+    writeln!(w, "  \"moments\": \"{moments}\",")?;
+    writeln!(w, "  \"n\": {n},")?;
+    writeln!(w, "  \"dimension\": {rows},")?;
+    writeln!(w, "  \"matrix\": [")?;
+    for i in 0..rows {
+        write!(w, "    [")?;
+        for j in 0..cols {
+            if j > 0 {
+                write!(w, ", ")?;
+            }
+            write!(w, "{:?}", m[(i, j)])?;
+        }
+        writeln!(w, "]{}", if i + 1 < rows { "," } else { "" })?;
+        pb.inc(1);
+    }
+    writeln!(w, "  ]")?;
+    writeln!(w, "}}")
+}
+
+/// A uniform rate of strain in the 5-component orthonormal basis, `E_m = B_m : E`.
+fn parse_strain(text: &str) -> Result<[f64; 5], CliError> {
+    let bad = |reason: String| CliError::BadOption {
+        option: "--strain",
+        value: text.to_string(),
+        reason,
+    };
+    let mut values = Vec::new();
+    for (k, f) in text.split(',').enumerate() {
+        let f = f.trim();
+        let v: f64 = f
+            .parse()
+            .map_err(|_| bad(format!("component {} ({f:?}) is not a number", k + 1)))?;
+        if !v.is_finite() {
+            return Err(bad(format!(
+                "component {} is {v}, not a finite number",
+                k + 1
+            )));
+        }
+        values.push(v);
+    }
+    match values.len() {
+        5 => {
+            let mut e = [0.0; 5];
+            e.copy_from_slice(&values);
+            Ok(e)
+        }
+        9 => {
+            let e = |i: usize, j: usize| values[3 * i + j];
+            let scale = values.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+            let tol = 1e-9 * scale;
+            for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+                if (e(i, j) - e(j, i)).abs() > tol {
+                    return Err(bad(format!(
+                        "not symmetric: E{}{} = {} but E{}{} = {}",
+                        i + 1,
+                        j + 1,
+                        e(i, j),
+                        j + 1,
+                        i + 1,
+                        e(j, i)
+                    )));
+                }
+            }
+            let trace = e(0, 0) + e(1, 1) + e(2, 2);
+            if trace.abs() > tol {
+                return Err(bad(format!(
+                    "not traceless: E11 + E22 + E33 = {trace} (an incompressible flow has \
+                     a traceless rate of strain)"
+                )));
+            }
+            let mut out = [0.0; 5];
+            for (m, b) in kernels::STRAIN_BASIS.iter().enumerate() {
+                out[m] = (0..3)
+                    .flat_map(|i| (0..3).map(move |j| (i, j)))
+                    .map(|(i, j)| b[i][j] * e(i, j))
+                    .sum();
+            }
+            Ok(out)
+        }
+        k => Err(bad(format!(
+            "expected 9 comma-separated Cartesian components E11,E12,E13,E21,E22,E23,E31,\
+             E32,E33 (row-major) or 5 components in the orthonormal basis B1..B5, found {k}"
+        ))),
+    }
+}
+
+fn run_velocity(args: &VelocityArgs) -> Result<(), CliError> {
+    check_out(&args.out, &[])?;
+    let moments = args.system.moments;
+    let strain = match (&args.strain, moments) {
+        (None, _) => [0.0; 5],
+        (Some(s), MomentsArg::Fts) => parse_strain(s)?,
+        (Some(_), m) => {
+            return Err(CliError::Inapplicable {
+                option: "--strain",
+                context: format!(
+                    "--moments {}: without stresslets the spheres follow a uniform strain \
+                     and U - U_inf does not depend on it (use --moments FTS)",
+                    m.name()
+                ),
+            })
+        }
+    };
+    let pb = spinner();
+    pb.set_message("reading input");
+    let result = velocity(args, moments, strain, &pb);
+    pb.finish_and_clear();
+    let (n, what) = result?;
+    report(format!(
+        "wrote {}: {what} of {n} spheres ({})",
+        args.out.display(),
+        moments.name()
+    ));
+    Ok(())
+}
+
+fn velocity(
+    args: &VelocityArgs,
+    moments: MomentsArg,
+    strain: [f64; 5],
+    pb: &ProgressBar,
+) -> Result<(usize, &'static str), CliError> {
+    let setup = setup(&args.system)?;
+    let n = setup.system.len();
+    let torques = moments != MomentsArg::F;
+    let (columns, hint): (&[&str], &'static str) = if torques {
+        (
+            &["fx", "fy", "fz", "tx", "ty", "tz"],
+            " (force and torque on the fluid, one particle per line)",
+        )
+    } else {
+        (
+            &["fx", "fy", "fz"],
+            " (force on the fluid, one particle per line; torques need --moments FT or FTS)",
+        )
+    };
+    let forces = read_table("forces", &args.forces, columns, hint)?;
+    if forces.rows.len() != n {
+        return Err(CliError::RowCount {
+            forces: forces.path,
+            rows: forces.rows.len(),
+            particles: setup.table.path,
+            n,
+        });
+    }
+    for (index, row) in forces.rows.iter().enumerate() {
+        for (v, c) in row.iter().zip(columns) {
+            if !v.is_finite() {
+                return Err(particle_error(
+                    &forces,
+                    index,
+                    format!("{c} = {v} is not a finite number"),
+                ));
+            }
+        }
+    }
+    // moment-major: all forces, then all torques
+    let k = if torques { 6 } else { 3 };
+    let mut x = vec![0.0; k * n];
+    for (a, row) in forces.rows.iter().enumerate() {
+        for i in 0..3 {
+            x[3 * a + i] = row[i];
+            if torques {
+                x[3 * n + 3 * a + i] = row[3 + i];
+            }
+        }
+    }
+    let u = match moments {
+        MomentsArg::F | MomentsArg::Ft => {
+            pb.set_message(format!(
+                "computing velocities of {n} spheres (matrix-free, {} pairs)",
+                n * (n + 1) / 2
+            ));
+            setup.system.apply(moments.moments(), &x)
+        }
+        MomentsArg::Fts => {
+            let dim = 11 * n;
+            pb.set_message(format!(
+                "assembling the {dim} x {dim} FTS grand mobility of {n} spheres"
+            ));
+            let m = setup.system.mobility(Moments::FTS);
+            check_finite(m.as_slice(), "mobility")?;
+            pb.set_message("solving for the stresslets");
+            let (u, cholesky) = solve_fts(&m, &x, &strain, n).map_err(|reason| {
+                CliError::Numerical(format!(
+                    "{reason} (spheres accepted with --allow-overlap, or a narrow slit?)"
+                ))
+            })?;
+            if !cholesky {
+                pb.suspend(|| {
+                    eprintln!(
+                        "stokesian: warning: the stresslet block M_ES is not positive \
+                         definite (spheres accepted with --allow-overlap, or a narrow slit?); \
+                         solved by LU"
+                    )
+                });
+            }
+            u
+        }
+    };
+    check_finite(&u, "velocity")?;
+    pb.set_message(format!("writing {}", args.out.display()));
+    write_atomically(&args.out, |w| {
+        writeln!(
+            w,
+            "{}",
+            if torques {
+                "ux,uy,uz,wx,wy,wz"
+            } else {
+                "ux,uy,uz"
+            }
+        )?;
+        for a in 0..n {
+            let mut fields: Vec<String> = (0..3).map(|i| format!("{:?}", u[3 * a + i])).collect();
+            if torques {
+                fields.extend((0..3).map(|i| format!("{:?}", u[3 * n + 3 * a + i])));
+            }
+            writeln!(w, "{}", fields.join(","))?;
+        }
+        Ok(())
+    })?;
+    Ok((
+        n,
+        if torques {
+            "velocities and rotation rates"
+        } else {
+            "velocities"
+        },
+    ))
+}
+
+/// FTS with given forces and torques `x` (6N, moment-major) and imposed strain `e_inf`
+/// (5 components): the strain rows give `-E_inf = M_EF F + M_EL L + M_ES S`, solved
+/// for `S` by Cholesky of `M_ES` (LU if it is not positive definite); then
+/// `(U, Omega) = M_(U,Omega)(F,L,S)`. Returns the 6N velocities, moment-major, and
+/// whether Cholesky succeeded.
+fn solve_fts(
+    m: &DMatrix<f64>,
+    x: &[f64],
+    e_inf: &[f64; 5],
+    n: usize,
+) -> Result<(Vec<f64>, bool), String> {
+    let fl = DVector::from_column_slice(x);
+    let m_e_fl = m.view((6 * n, 0), (5 * n, 6 * n));
+    let m_es = m.view((6 * n, 6 * n), (5 * n, 5 * n)).into_owned();
+    let mut rhs = -(m_e_fl * &fl);
+    for a in 0..n {
+        for c in 0..5 {
+            rhs[5 * a + c] -= e_inf[c];
+        }
+    }
+    let (s, cholesky) = match m_es.clone().cholesky() {
+        Some(ch) => (ch.solve(&rhs), true),
+        None => {
+            let s = m_es
+                .lu()
+                .solve(&rhs)
+                .ok_or("the stresslet block M_ES is singular")?;
+            (s, false)
+        }
+    };
+    let m_ufl = m.view((0, 0), (6 * n, 6 * n));
+    let m_us = m.view((0, 6 * n), (6 * n, 5 * n));
+    let u = m_ufl * &fl + m_us * &s;
+    Ok((u.as_slice().to_vec(), cholesky))
+}

@@ -1,0 +1,815 @@
+//! End-to-end tests of the `stokesian` command: outputs equal the library to full
+//! precision, and every bad input gets a clear message, a non-zero exit status and no
+//! output file.
+
+use nalgebra::{DMatrix, DVector};
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use stokesian::{Confinement, Moments, Particle, System};
+
+/// A fresh directory under the system's temporary directory, removed on drop.
+struct Dir(PathBuf);
+
+impl Dir {
+    fn new(name: &str) -> Dir {
+        static COUNT: AtomicUsize = AtomicUsize::new(0);
+        let k = COUNT.fetch_add(1, Ordering::SeqCst);
+        let path =
+            std::env::temp_dir().join(format!("stokesian-cli-{}-{k}-{name}", std::process::id()));
+        let _ = fs::remove_dir_all(&path);
+        fs::create_dir_all(&path).expect("create temporary directory");
+        Dir(path)
+    }
+
+    fn file(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.0.join(name);
+        fs::write(&p, text).expect("write input file");
+        p
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+
+    /// File names in the directory, sorted.
+    fn listing(&self) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(&self.0)
+            .expect("read temporary directory")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+}
+
+impl Drop for Dir {
+    fn drop(&mut self) {
+        let _ = fs::remove_dir_all(&self.0);
+    }
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_stokesian"))
+        .args(args)
+        .output()
+        .expect("run the stokesian binary")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn assert_ok(o: &Output) {
+    assert!(o.status.success(), "command failed: {}", stderr(o));
+}
+
+/// The command failed, its message contains every `needle`, and the directory holds
+/// exactly the input files (no output, no temporary file).
+fn assert_fails(o: &Output, needles: &[&str], dir: &Dir, inputs: &[&str]) {
+    assert!(!o.status.success(), "command must fail");
+    assert_ne!(o.status.code(), Some(101), "the command panicked");
+    let msg = stderr(o);
+    assert!(!msg.contains("panicked"), "the command panicked: {msg}");
+    for n in needles {
+        assert!(msg.contains(n), "stderr {msg:?} does not contain {n:?}");
+    }
+    let mut expected: Vec<String> = inputs.iter().map(|s| s.to_string()).collect();
+    expected.sort();
+    assert_eq!(dir.listing(), expected, "files left behind");
+}
+
+/// Three spheres of unequal radii above a wall at z = 0.25.
+const PARTICLES: &str = "x,y,z,radius\n0,0,1.5,1\n2.5,0.5,1.75,1\n-0.5,2.75,2.5,1.2\n";
+const FORCES: &str =
+    "fx,fy,fz,tx,ty,tz\n1,0.5,-0.25,0,0.1,0\n0,1,0.3,-0.2,0,1\n-0.4,0,-1,1,0.5,0\n";
+
+fn particles() -> Vec<Particle> {
+    vec![
+        Particle {
+            x: [0.0, 0.0, 1.5],
+            a: 1.0,
+        },
+        Particle {
+            x: [2.5, 0.5, 1.75],
+            a: 1.0,
+        },
+        Particle {
+            x: [-0.5, 2.75, 2.5],
+            a: 1.2,
+        },
+    ]
+}
+
+fn forces() -> [[f64; 6]; 3] {
+    [
+        [1.0, 0.5, -0.25, 0.0, 0.1, 0.0],
+        [0.0, 1.0, 0.3, -0.2, 0.0, 1.0],
+        [-0.4, 0.0, -1.0, 1.0, 0.5, 0.0],
+    ]
+}
+
+const ETA: f64 = 0.7;
+const WALL: Confinement = Confinement::Wall { height: 0.25 };
+
+fn system(conf: Confinement) -> System {
+    System::new(conf, ETA, particles(), false).expect("valid system")
+}
+
+fn moments_name(m: Moments) -> &'static str {
+    match m {
+        Moments::F => "F",
+        Moments::FT => "FT",
+        Moments::FTS => "FTS",
+    }
+}
+
+/// Parse an NPY v1.0 file of little-endian float64 in C order.
+fn read_npy(path: &Path) -> DMatrix<f64> {
+    let bytes = fs::read(path).expect("read npy");
+    assert_eq!(&bytes[..6], b"\x93NUMPY", "magic");
+    assert_eq!(&bytes[6..8], &[1, 0], "version 1.0");
+    let hlen = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    assert_eq!(
+        (10 + hlen) % 64,
+        0,
+        "header padded to a multiple of 64 bytes"
+    );
+    let header = std::str::from_utf8(&bytes[10..10 + hlen]).expect("ascii header");
+    assert!(header.ends_with('\n'), "header ends with a newline");
+    assert!(header.contains("'descr': '<f8'"), "{header}");
+    assert!(header.contains("'fortran_order': False"), "{header}");
+    let shape = header
+        .split("'shape': (")
+        .nth(1)
+        .and_then(|t| t.split(')').next())
+        .expect("shape");
+    let dims: Vec<usize> = shape
+        .split(',')
+        .map(str::trim)
+        .filter(|t| !t.is_empty())
+        .map(|t| t.parse().expect("shape entry"))
+        .collect();
+    assert_eq!(dims.len(), 2, "2-D array");
+    let (r, c) = (dims[0], dims[1]);
+    let data = &bytes[10 + hlen..];
+    assert_eq!(data.len(), 8 * r * c, "data length");
+    let values: Vec<f64> = data
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+        .collect();
+    DMatrix::from_row_slice(r, c, &values)
+}
+
+fn read_json(path: &Path) -> (serde_json::Value, DMatrix<f64>) {
+    let text = fs::read_to_string(path).expect("read json");
+    let v: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
+    let rows = v["matrix"].as_array().expect("matrix is an array");
+    let r = rows.len();
+    let mut values = Vec::new();
+    for row in rows {
+        let row = row.as_array().expect("row is an array");
+        assert_eq!(row.len(), r, "square matrix");
+        values.extend(row.iter().map(|x| x.as_f64().expect("number")));
+    }
+    (v.clone(), DMatrix::from_row_slice(r, r, &values))
+}
+
+fn assert_bit_equal(got: &DMatrix<f64>, want: &DMatrix<f64>, what: &str) {
+    assert_eq!(got.shape(), want.shape(), "{what}: shape");
+    for (i, (g, w)) in got.iter().zip(want.iter()).enumerate() {
+        assert_eq!(
+            g.to_bits(),
+            w.to_bits(),
+            "{what}: entry {i}: {g:?} != {w:?}"
+        );
+    }
+}
+
+fn read_csv(path: &Path, header: &str) -> Vec<Vec<f64>> {
+    let text = fs::read_to_string(path).expect("read csv");
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some(header));
+    lines
+        .map(|l| l.split(',').map(|f| f.parse().expect("number")).collect())
+        .collect()
+}
+
+/// Moment-major forces (and torques) for `k` = 3 or 6 columns.
+fn force_vector(k: usize) -> Vec<f64> {
+    let f = forces();
+    let n = f.len();
+    let mut x = vec![0.0; k * n];
+    for a in 0..n {
+        for i in 0..3 {
+            x[3 * a + i] = f[a][i];
+            if k == 6 {
+                x[3 * n + 3 * a + i] = f[a][3 + i];
+            }
+        }
+    }
+    x
+}
+
+/// CLI velocities back in moment-major order.
+fn velocity_vector(rows: &[Vec<f64>]) -> Vec<f64> {
+    let n = rows.len();
+    let k = rows[0].len();
+    let mut u = vec![0.0; k * n];
+    for (a, r) in rows.iter().enumerate() {
+        for i in 0..3 {
+            u[3 * a + i] = r[i];
+            if k == 6 {
+                u[3 * n + 3 * a + i] = r[3 + i];
+            }
+        }
+    }
+    u
+}
+
+fn rel_err(got: &[f64], want: &[f64]) -> f64 {
+    let d = got
+        .iter()
+        .zip(want)
+        .map(|(g, w)| (g - w).abs())
+        .fold(0.0, f64::max);
+    d / want.iter().map(|w| w.abs()).fold(0.0, f64::max)
+}
+
+const SYSTEM_ARGS: [&str; 6] = [
+    "--confinement",
+    "wall",
+    "--boundary-height",
+    "0.25",
+    "--viscosity",
+    "0.7",
+];
+
+#[test]
+fn mobility_npy_and_json_equal_the_library_bit_for_bit() {
+    let dir = Dir::new("mobility");
+    let p = dir.file("particles.csv", PARTICLES);
+    for moments in [Moments::F, Moments::FT, Moments::FTS] {
+        let want = system(WALL).mobility(moments);
+        for ext in ["npy", "json"] {
+            let out = dir.path(&format!("M_{}.{ext}", moments_name(moments)));
+            let mut args = vec!["mobility"];
+            args.extend(SYSTEM_ARGS);
+            args.extend([
+                "--moments",
+                moments_name(moments),
+                "--particles",
+                s(&p),
+                "--out",
+                s(&out),
+            ]);
+            let o = run(&args);
+            assert_ok(&o);
+            let got = if ext == "npy" {
+                read_npy(&out)
+            } else {
+                let (v, m) = read_json(&out);
+                assert_eq!(v["n"], 3);
+                assert_eq!(v["moments"], moments_name(moments));
+                assert_eq!(v["dimension"], want.nrows());
+                assert!(v["layout"]
+                    .as_str()
+                    .expect("layout string")
+                    .starts_with("moment-major: U(3N), Omega(3N), E(5N"));
+                m
+            };
+            assert_bit_equal(&got, &want, &format!("{ext} {}", moments_name(moments)));
+        }
+    }
+    // only the outputs: no temporary files left over
+    assert_eq!(dir.listing().len(), 1 + 6);
+}
+
+#[test]
+fn mobility_every_confinement_matches_the_library() {
+    let dir = Dir::new("confinements");
+    let p = dir.file("particles.csv", PARTICLES);
+    let cases: Vec<(Vec<&str>, Confinement)> = vec![
+        (vec!["free"], Confinement::Free),
+        (
+            vec!["free-surface", "--boundary-height", "-0.5"],
+            Confinement::FreeSurface { height: -0.5 },
+        ),
+        (
+            vec!["interface", "--boundary-height", "0.1", "--lambda", "2.5"],
+            Confinement::Interface {
+                height: 0.1,
+                lambda: 2.5,
+            },
+        ),
+        (
+            vec!["slit", "--boundary-height", "-0.5", "--gap", "60"],
+            Confinement::Slit {
+                height: -0.5,
+                gap: 60.0,
+            },
+        ),
+    ];
+    for (k, (conf_args, conf)) in cases.into_iter().enumerate() {
+        let out = dir.path(&format!("M{k}.npy"));
+        let mut args = vec!["mobility", "--confinement"];
+        args.extend(conf_args);
+        args.extend([
+            "--viscosity",
+            "0.7",
+            "--moments",
+            "fts",
+            "--particles",
+            s(&p),
+            "--out",
+            s(&out),
+        ]);
+        let o = run(&args);
+        assert_ok(&o);
+        assert_bit_equal(
+            &read_npy(&out),
+            &system(conf).mobility(Moments::FTS),
+            conf.name(),
+        );
+    }
+}
+
+#[test]
+fn velocity_f_and_ft_equal_mobility_times_forces() {
+    let dir = Dir::new("velocity");
+    let p = dir.file("particles.csv", PARTICLES);
+    let f3: String = std::iter::once("fx,fy,fz".to_string())
+        .chain(
+            forces()
+                .iter()
+                .map(|r| format!("{:?},{:?},{:?}", r[0], r[1], r[2])),
+        )
+        .collect::<Vec<_>>()
+        .join("\n");
+    let f3 = dir.file("forces3.csv", &f3);
+    let f6 = dir.file("forces6.csv", FORCES);
+    for (moments, file, k, header) in [
+        (Moments::F, &f3, 3, "ux,uy,uz"),
+        (Moments::FT, &f6, 6, "ux,uy,uz,wx,wy,wz"),
+    ] {
+        let out = dir.path(&format!("U_{}.csv", moments_name(moments)));
+        let mut args = vec!["velocity"];
+        args.extend(SYSTEM_ARGS);
+        args.extend([
+            "--moments",
+            moments_name(moments),
+            "--particles",
+            s(&p),
+            "--forces",
+            s(file),
+            "--out",
+            s(&out),
+        ]);
+        let o = run(&args);
+        assert_ok(&o);
+        let rows = read_csv(&out, header);
+        assert_eq!(rows.len(), 3);
+        let got = velocity_vector(&rows);
+        let m = system(WALL).mobility(moments);
+        let want = &m * DVector::from_vec(force_vector(k));
+        let e = rel_err(&got, want.as_slice());
+        assert!(
+            e <= 1e-14,
+            "{}: relative error {e:e}",
+            moments_name(moments)
+        );
+    }
+}
+
+/// `(U, Omega)` of an FTS system by the explicit Schur complement
+/// `(M_11 - M_12 M_22^{-1} M_21) x - M_12 M_22^{-1} e_inf`, with LU.
+fn schur_velocities(e_inf: [f64; 5]) -> Vec<f64> {
+    let m = system(WALL).mobility(Moments::FTS);
+    let n = 3;
+    let m11 = m.view((0, 0), (6 * n, 6 * n)).into_owned();
+    let m12 = m.view((0, 6 * n), (6 * n, 5 * n)).into_owned();
+    let m21 = m.view((6 * n, 0), (5 * n, 6 * n)).into_owned();
+    let m22 = m.view((6 * n, 6 * n), (5 * n, 5 * n)).into_owned();
+    let lu = m22.lu();
+    let m22_inv_m21 = lu.solve(&m21).expect("M_ES invertible");
+    let schur = &m11 - &m12 * m22_inv_m21;
+    let e = DVector::from_fn(5 * n, |i, _| e_inf[i % 5]);
+    let shift = &m12 * lu.solve(&e).expect("M_ES invertible");
+    let u = schur * DVector::from_vec(force_vector(6)) - shift;
+    u.as_slice().to_vec()
+}
+
+fn run_fts(dir: &Dir, name: &str, extra: &[&str]) -> Vec<f64> {
+    let p = dir.file("particles.csv", PARTICLES);
+    let f = dir.file("forces.csv", FORCES);
+    let out = dir.path(name);
+    let mut args = vec!["velocity"];
+    args.extend(SYSTEM_ARGS);
+    args.extend([
+        "--moments",
+        "FTS",
+        "--particles",
+        s(&p),
+        "--forces",
+        s(&f),
+        "--out",
+        s(&out),
+    ]);
+    args.extend(extra);
+    let o = run(&args);
+    assert_ok(&o);
+    velocity_vector(&read_csv(&out, "ux,uy,uz,wx,wy,wz"))
+}
+
+#[test]
+fn velocity_fts_zero_strain_equals_schur_complement() {
+    let dir = Dir::new("fts");
+    let got = run_fts(&dir, "U.csv", &[]);
+    let want = schur_velocities([0.0; 5]);
+    let e = rel_err(&got, &want);
+    assert!(e <= 1e-12, "relative error {e:e}");
+    // the stresslets matter: FTS differs from FT
+    let ft = system(WALL).mobility(Moments::FT) * DVector::from_vec(force_vector(6));
+    assert!(rel_err(&got, ft.as_slice()) > 1e-4);
+}
+
+#[test]
+fn velocity_fts_with_imposed_strain_in_both_formats() {
+    let dir = Dir::new("strain");
+    // uniaxial extension along z: E = diag(-1, -1, 2) / 2, plus a shear part E12
+    let cart = run_fts(&dir, "U9.csv", &["--strain", "-0.5,0.3,0,0.3,-0.5,0,0,0,1"]);
+    // the same in the orthonormal basis: E_m = B_m : E
+    let s2 = std::f64::consts::SQRT_2;
+    let b = [0.6 / s2, 0.0, 0.0, 0.0, 6f64.sqrt() / 2.0];
+    let basis_arg = format!("{:?},{:?},{:?},{:?},{:?}", b[0], b[1], b[2], b[3], b[4]);
+    let basis = run_fts(&dir, "U5.csv", &["--strain", &basis_arg]);
+    let want = schur_velocities(b);
+    assert!(
+        rel_err(&cart, &want) <= 1e-12,
+        "{:e}",
+        rel_err(&cart, &want)
+    );
+    assert!(
+        rel_err(&basis, &want) <= 1e-12,
+        "{:e}",
+        rel_err(&basis, &want)
+    );
+    assert!(rel_err(&want, &schur_velocities([0.0; 5])) > 1e-3);
+}
+
+/// Run `mobility` on a particles file with `extra` options; the output would be M.npy.
+fn mobility_fails(dir: &Dir, particles: &str, extra: &[&str]) -> Output {
+    let p = dir.file("particles.csv", particles);
+    let out = dir.path("M.npy");
+    let mut args = vec![
+        "mobility",
+        "--confinement",
+        "wall",
+        "--moments",
+        "FTS",
+        "--particles",
+        s(&p),
+        "--out",
+        s(&out),
+    ];
+    args.extend(extra);
+    run(&args)
+}
+
+#[test]
+fn missing_particles_file() {
+    let dir = Dir::new("missing");
+    let out = dir.path("M.npy");
+    let p = dir.path("nowhere.csv");
+    let o = run(&[
+        "mobility",
+        "--confinement",
+        "wall",
+        "--moments",
+        "F",
+        "--particles",
+        s(&p),
+        "--out",
+        s(&out),
+    ]);
+    assert_fails(
+        &o,
+        &["cannot read particles file", "nowhere.csv"],
+        &dir,
+        &[],
+    );
+}
+
+#[test]
+fn bad_header() {
+    let dir = Dir::new("header");
+    let o = mobility_fails(&dir, "x,y,radius\n0,0,2\n", &[]);
+    assert_fails(
+        &o,
+        &["particles.csv line 1: header must be x,y,z,radius, found x,y,radius"],
+        &dir,
+        &["particles.csv"],
+    );
+}
+
+#[test]
+fn wrong_number_of_fields() {
+    let dir = Dir::new("fields");
+    let o = mobility_fails(&dir, "x,y,z,radius\n0,0,2,1\n5,0,2\n", &[]);
+    assert_fails(
+        &o,
+        &["particles.csv line 3: expected 4 comma-separated fields (x,y,z,radius), found 3"],
+        &dir,
+        &["particles.csv"],
+    );
+}
+
+#[test]
+fn non_numeric_field() {
+    let dir = Dir::new("nonnumeric");
+    let o = mobility_fails(&dir, "x,y,z,radius\n0,0,2,1\n5,abc,2,1\n", &[]);
+    assert_fails(
+        &o,
+        &["particles.csv line 3: y = \"abc\" is not a number"],
+        &dir,
+        &["particles.csv"],
+    );
+}
+
+#[test]
+fn nan_coordinate() {
+    let dir = Dir::new("nan");
+    let o = mobility_fails(&dir, "x,y,z,radius\n0,0,2,1\n5,0,NaN,1\n", &[]);
+    assert_fails(
+        &o,
+        &["particles.csv line 3 (particle 1): coordinate z is NaN, not a finite number"],
+        &dir,
+        &["particles.csv"],
+    );
+}
+
+#[test]
+fn negative_radius() {
+    let dir = Dir::new("radius");
+    let o = mobility_fails(&dir, "x,y,z,radius\n0,0,2,1\n5,0,2,-1\n", &[]);
+    assert_fails(
+        &o,
+        &["particles.csv line 3 (particle 1): radius -1 must be a positive finite number"],
+        &dir,
+        &["particles.csv"],
+    );
+}
+
+#[test]
+fn comment_lines_keep_line_numbers_right() {
+    let dir = Dir::new("comments");
+    let o = mobility_fails(
+        &dir,
+        "# spheres\nx,y,z,radius\n0,0,2,1\n\n# the bad one\n5,0,2,0\n",
+        &[],
+    );
+    assert_fails(
+        &o,
+        &["particles.csv line 6 (particle 1): radius 0 must be a positive finite number"],
+        &dir,
+        &["particles.csv"],
+    );
+}
+
+#[test]
+fn zero_viscosity() {
+    let dir = Dir::new("viscosity");
+    let o = mobility_fails(&dir, PARTICLES, &["--viscosity", "0"]);
+    assert_fails(
+        &o,
+        &["--viscosity 0: must be a positive finite number"],
+        &dir,
+        &["particles.csv"],
+    );
+}
+
+#[test]
+fn centre_below_wall() {
+    let dir = Dir::new("below");
+    let o = mobility_fails(
+        &dir,
+        "x,y,z,radius\n0,0,2,1\n5,0,-1,0.5\n",
+        &["--boundary-height", "-0.5"],
+    );
+    assert_fails(
+        &o,
+        &["particles.csv line 3 (particle 1): centre z = -1 is not inside the fluid (boundary at z = -0.5)"],
+        &dir,
+        &["particles.csv"],
+    );
+}
+
+#[test]
+fn sphere_overlapping_the_wall_and_allow_overlap() {
+    let dir = Dir::new("wall-overlap");
+    let text = "x,y,z,radius\n0,0,2,1\n5,0,0.5,1\n";
+    let o = mobility_fails(&dir, text, &[]);
+    assert_fails(
+        &o,
+        &[
+            "particles.csv line 3 (particle 1): sphere of radius 1 overlaps the boundary at z = 0",
+            "--allow-overlap",
+        ],
+        &dir,
+        &["particles.csv"],
+    );
+    let o = mobility_fails(&dir, text, &["--allow-overlap"]);
+    assert_ok(&o);
+    assert_eq!(read_npy(&dir.path("M.npy")).shape(), (22, 22));
+}
+
+#[test]
+fn overlapping_spheres_and_allow_overlap() {
+    let dir = Dir::new("overlap");
+    let text = "x,y,z,radius\n0,0,2,1\n1.5,0,2,1\n";
+    let o = mobility_fails(&dir, text, &[]);
+    assert_fails(
+        &o,
+        &["particles.csv lines 2 and 3 (particles 0 and 1): spheres overlap: centre distance 1.5 < sum of radii 2"],
+        &dir,
+        &["particles.csv"],
+    );
+    let o = mobility_fails(&dir, text, &["--allow-overlap"]);
+    assert_ok(&o);
+    let m = read_npy(&dir.path("M.npy"));
+    let conf = Confinement::Wall { height: 0.0 };
+    let ps = vec![
+        Particle {
+            x: [0.0, 0.0, 2.0],
+            a: 1.0,
+        },
+        Particle {
+            x: [1.5, 0.0, 2.0],
+            a: 1.0,
+        },
+    ];
+    let want = System::new(conf, 1.0, ps, true)
+        .expect("overlap allowed")
+        .mobility(Moments::FTS);
+    assert_bit_equal(&m, &want, "overlapping pair");
+}
+
+#[test]
+fn missing_lambda_for_interface() {
+    let dir = Dir::new("lambda");
+    let p = dir.file("particles.csv", PARTICLES);
+    let out = dir.path("M.json");
+    let o = run(&[
+        "mobility",
+        "--confinement",
+        "interface",
+        "--moments",
+        "F",
+        "--particles",
+        s(&p),
+        "--out",
+        s(&out),
+    ]);
+    assert_fails(
+        &o,
+        &["--confinement interface needs --lambda"],
+        &dir,
+        &["particles.csv"],
+    );
+}
+
+#[test]
+fn missing_gap_for_slit() {
+    let dir = Dir::new("gap");
+    let p = dir.file("particles.csv", PARTICLES);
+    let out = dir.path("M.json");
+    let o = run(&[
+        "mobility",
+        "--confinement",
+        "slit",
+        "--moments",
+        "F",
+        "--particles",
+        s(&p),
+        "--out",
+        s(&out),
+    ]);
+    assert_fails(
+        &o,
+        &["--confinement slit needs --gap"],
+        &dir,
+        &["particles.csv"],
+    );
+}
+
+#[test]
+fn forces_row_count_mismatch() {
+    let dir = Dir::new("rows");
+    let p = dir.file("particles.csv", PARTICLES);
+    let f = dir.file(
+        "forces.csv",
+        "fx,fy,fz,tx,ty,tz\n1,0,0,0,0,0\n0,1,0,0,0,0\n",
+    );
+    let out = dir.path("U.csv");
+    let o = run(&[
+        "velocity",
+        "--confinement",
+        "wall",
+        "--moments",
+        "FT",
+        "--particles",
+        s(&p),
+        "--forces",
+        s(&f),
+        "--out",
+        s(&out),
+    ]);
+    assert_fails(
+        &o,
+        &[
+            "forces.csv: 2 rows of forces for the 3 particles of",
+            "particles.csv",
+        ],
+        &dir,
+        &["forces.csv", "particles.csv"],
+    );
+}
+
+#[test]
+fn forces_non_finite_and_bad_strain() {
+    let dir = Dir::new("forces");
+    let p = dir.file("particles.csv", PARTICLES);
+    let f = dir.file(
+        "forces.csv",
+        "fx,fy,fz,tx,ty,tz\n1,0,0,0,0,0\n0,1,0,0,inf,0\n0,0,1,0,0,0\n",
+    );
+    let out = dir.path("U.csv");
+    let base = [
+        "velocity",
+        "--confinement",
+        "wall",
+        "--moments",
+        "FTS",
+        "--particles",
+        s(&p),
+        "--forces",
+        s(&f),
+        "--out",
+        s(&out),
+    ];
+    let o = run(&base);
+    assert_fails(
+        &o,
+        &["forces.csv line 3 (particle 1): ty = inf is not a finite number"],
+        &dir,
+        &["forces.csv", "particles.csv"],
+    );
+    dir.file("forces.csv", FORCES);
+    let mut args = base.to_vec();
+    args.extend(["--strain", "0,1,0,0,0,0,0,0,0"]);
+    assert_fails(
+        &run(&args),
+        &["--strain 0,1,0,0,0,0,0,0,0: not symmetric: E12 = 1 but E21 = 0"],
+        &dir,
+        &["forces.csv", "particles.csv"],
+    );
+    let mut args = base.to_vec();
+    args.extend(["--strain", "1,0,0,0,1,0,0,0,1"]);
+    assert_fails(
+        &run(&args),
+        &["not traceless"],
+        &dir,
+        &["forces.csv", "particles.csv"],
+    );
+}
+
+#[test]
+fn bad_output_name_is_rejected_before_any_work() {
+    let dir = Dir::new("outname");
+    let o = {
+        let p = dir.file("particles.csv", PARTICLES);
+        let out = dir.path("M.txt");
+        run(&[
+            "mobility",
+            "--confinement",
+            "wall",
+            "--moments",
+            "F",
+            "--particles",
+            s(&p),
+            "--out",
+            s(&out),
+        ])
+    };
+    assert_fails(
+        &o,
+        &["M.txt: the file name must end in .npy or .json"],
+        &dir,
+        &["particles.csv"],
+    );
+}
