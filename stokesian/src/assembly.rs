@@ -295,3 +295,35 @@ pub fn grand_mobility(
 ) -> Result<DMatrix<f64>, InputError> {
     Ok(System::new(*conf, eta, particles.to_vec(), false)?.mobility(moments))
 }
+
+/// The outcome of [`check_spd`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpdCheck {
+    /// `||M - M^T||_F / ||M||_F`.
+    pub asymmetry: f64,
+    /// Whether the Cholesky factorisation of the symmetric part succeeded.
+    pub positive_definite: bool,
+}
+
+impl SpdCheck {
+    /// Symmetric to `1e-12` relative and positive definite. (The assembled matrix is
+    /// symmetric by construction up to the round-off of the self blocks, ~1e-16.)
+    pub fn passed(&self) -> bool {
+        self.asymmetry <= 1e-12 && self.positive_definite
+    }
+}
+
+/// Symmetry and positive-definiteness (Cholesky) of a mobility or resistance matrix.
+pub fn check_spd(m: &DMatrix<f64>) -> SpdCheck {
+    let norm = m.norm();
+    let asymmetry = if norm > 0.0 {
+        (m - m.transpose()).norm() / norm
+    } else {
+        0.0
+    };
+    let sym = (m + m.transpose()) * 0.5;
+    SpdCheck {
+        asymmetry,
+        positive_definite: sym.cholesky().is_some(),
+    }
+}

@@ -9,6 +9,6 @@
 mod assembly;
 mod input;
 
-pub use assembly::{grand_mobility, Moments, System};
+pub use assembly::{check_spd, grand_mobility, Moments, SpdCheck, System};
 pub use input::{validate, InputError, Particle};
 pub use kernels::Confinement;

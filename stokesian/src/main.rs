@@ -159,6 +159,10 @@ struct MobilityArgs {
     /// Output file: .npy (NumPy float64 array) or .json.
     #[arg(long, value_name = "M.npy|M.json")]
     out: PathBuf,
+    /// Check that the matrix is symmetric and positive definite (Cholesky) before
+    /// writing it; report on stderr, and fail without writing if it is not.
+    #[arg(long)]
+    check: bool,
 }
 
 #[derive(Args, Debug)]
@@ -231,6 +235,13 @@ impl MomentsArg {
 /// the particle where there is one. Line numbers count from 1 (the header).
 #[derive(Debug, Error)]
 enum CliError {
+    /// `--check` found the matrix not symmetric positive definite.
+    #[error("the {moments} grand mobility is not symmetric positive definite: |M - M^T|/|M| = {asymmetry:e}, Cholesky {cholesky}; nothing written")]
+    NotSpd {
+        moments: &'static str,
+        asymmetry: f64,
+        cholesky: &'static str,
+    },
     /// A file cannot be read.
     #[error("cannot read {what} file {path}: {source}")]
     Read {
@@ -772,6 +783,27 @@ fn run_mobility(args: &MobilityArgs) -> Result<(), CliError> {
         moments.name()
     ));
     let m = setup.system.mobility(moments.moments());
+    if args.check {
+        pb.set_message("checking symmetry and positive definiteness (Cholesky)");
+        let c = stokesian::check_spd(&m);
+        let cholesky = if c.positive_definite {
+            "succeeds"
+        } else {
+            "fails"
+        };
+        if !c.passed() {
+            pb.finish_and_clear();
+            return Err(CliError::NotSpd {
+                moments: moments.name(),
+                asymmetry: c.asymmetry,
+                cholesky,
+            });
+        }
+        eprintln!(
+            "check: |M - M^T|/|M| = {:e}; Cholesky {cholesky}: symmetric positive definite",
+            c.asymmetry
+        );
+    }
     let result = check_finite(m.as_slice(), "mobility").and_then(|()| {
         rows_bar(
             pb,

@@ -813,3 +813,50 @@ fn bad_output_name_is_rejected_before_any_work() {
         &["particles.csv"],
     );
 }
+
+/// `--check` passes for valid input and refuses (no output) an overlapping pair whose
+/// FTS matrix is indefinite (r = 1.0 a, see README).
+#[test]
+fn check_flag_reports_and_refuses_indefinite_matrices() {
+    let dir = std::env::temp_dir().join(format!("stokesian-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("p.csv");
+    std::fs::write(&csv, "x,y,z,radius\n0,0,3,1\n4,0,3,1\n").unwrap();
+    let out = dir.join("M.npy");
+    let run = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_stokesian"))
+            .args([
+                "mobility",
+                "--confinement",
+                "wall",
+                "--moments",
+                "FTS",
+                "--check",
+                "--particles",
+            ])
+            .arg(&csv)
+            .arg("--out")
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let ok = run(&[]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    assert!(String::from_utf8_lossy(&ok.stderr).contains("Cholesky succeeds"));
+    std::fs::remove_file(&out).unwrap();
+    std::fs::write(&csv, "x,y,z,radius\n0,0,3,1\n1,0,3,1\n").unwrap();
+    let bad = run(&["--allow-overlap"]);
+    assert!(!bad.status.success());
+    let msg = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        msg.contains("not symmetric positive definite") && msg.contains("Cholesky fails"),
+        "{msg}"
+    );
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -113,3 +113,52 @@ fn narrow_slit_superposition_is_indefinite() {
     assert!(eig(6.0, 1.0001) < -1e-3);
     assert!(eig(12.0, 1.0001) > 3e-3);
 }
+
+/// With `allow_overlap` the kernels evaluate the far-field forms (Eqs. 8-17) where the
+/// spheres overlap; nothing then guarantees positive definiteness. Measured (unit
+/// spheres, eta = 1, free space; the wall at h = 5 a gives the same to 1e-3): the
+/// two-sphere matrix stays positive definite at r = 1.8 a in all truncations, FTS is
+/// indefinite at r = 1.5 a (smallest eigenvalue -1.2e-2), F and FT at r = 1.0 a
+/// (-1.3e-2, -4.0e-2). A sphere cutting a wall: positive definite at h = 0.9 a; FT and
+/// FTS indefinite at h = 0.7 a, F at h = 0.5 a (-6.6e-2).
+#[test]
+fn overlapping_spheres_lose_positive_definiteness() {
+    use stokesian::{Particle, System};
+    let min_eig = |conf: kernels::Confinement, ps: Vec<Particle>, m: Moments| {
+        System::new(conf, 1.0, ps, true)
+            .unwrap()
+            .mobility(m)
+            .symmetric_eigenvalues()
+            .min()
+    };
+    let two = |r: f64| {
+        vec![
+            Particle {
+                x: [0.0, 0.0, 5.0],
+                a: 1.0,
+            },
+            Particle {
+                x: [r, 0.0, 5.0],
+                a: 1.0,
+            },
+        ]
+    };
+    let free = kernels::Confinement::Free;
+    for m in [Moments::F, Moments::FT, Moments::FTS] {
+        assert!(min_eig(free, two(1.8), m) > 0.0, "{m:?} at r = 1.8");
+        assert!(min_eig(free, two(1.0), m) < 0.0, "{m:?} at r = 1.0");
+    }
+    assert!(min_eig(free, two(1.5), Moments::FTS) < -1e-2);
+    assert!(min_eig(free, two(1.5), Moments::F) > 0.0);
+    let wall = kernels::Confinement::Wall { height: 0.0 };
+    let one = |h: f64| {
+        vec![Particle {
+            x: [0.0, 0.0, h],
+            a: 1.0,
+        }]
+    };
+    assert!(min_eig(wall, one(0.9), Moments::FTS) > 0.0);
+    assert!(min_eig(wall, one(0.7), Moments::FT) < 0.0);
+    assert!(min_eig(wall, one(0.7), Moments::F) > 0.0);
+    assert!(min_eig(wall, one(0.5), Moments::F) < 0.0);
+}
