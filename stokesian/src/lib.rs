@@ -8,7 +8,12 @@
 
 mod assembly;
 mod input;
+mod lubrication;
 
 pub use assembly::{check_spd, grand_mobility, Moments, SpdCheck, System};
 pub use input::{validate, InputError, Particle};
 pub use kernels::Confinement;
+pub use lubrication::{
+    pair_functions, solve_resistance, wall_functions, Lubrication, PairFunctions, ResistanceError,
+    WallFunctions,
+};

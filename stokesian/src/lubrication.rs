@@ -1,0 +1,396 @@
+//! The resistance with lubrication, Swan & Brady Eq. 19:
+//! `R = M^-1 + R^P + R^W - (R^{P,inf} + R^{W,inf})`, at the FT level.
+//!
+//! - `R^P`: near-contact two-sphere resistance (Jeffrey & Onishi 1984, as corrected by
+//!   Townsend 2023; equal spheres, Kim & Karrila normalisation), for pairs with
+//!   `xi = r/a - 2 < pair_cutoff`; `R^{P,inf}` the inverse of the FT mobility of the
+//!   isolated pair in unbounded fluid, from our own kernels.
+//! - `R^W`: near-contact sphere-wall resistance (Brenner 1961; Goldman, Cox & Brenner
+//!   1967; O'Neill & Stewartson 1967; Cox & Brenner 1967; Jeffery 1915), for spheres
+//!   with `eps = (h - a)/a < wall_cutoff` from a no-slip wall; `R^{W,inf}` the inverse
+//!   of the FT self mobility of the sphere with that wall alone, from our kernels.
+//!
+//! Coefficients are those collected, with their sources and a second check, in
+//! `shared/reference/lubrication.md` (sections 1.5 and 2.2); each is annotated below.
+//! Sign: the resistance maps `(U, Omega)` to the force and torque the particles exert
+//! on the fluid (the inverse of the mobility's convention), so every lubrication block
+//! enters with the sign of a positive-definite resistance.
+
+use crate::assembly::{Moments, System};
+use kernels::{pair_ft, self_ft, Confinement};
+use nalgebra::{DMatrix, SMatrix};
+use std::f64::consts::PI;
+use thiserror::Error;
+
+/// Apery's constant zeta(3) (Jeffery 1915; Cox & Brenner 1967 eq. 3.5).
+const ZETA3: f64 = 1.202_056_903_159_594_3;
+
+/// Where lubrication is switched on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lubrication {
+    /// Pairs with surface gap over radius `xi < pair_cutoff` get `R^P - R^{P,inf}`.
+    pub pair_cutoff: f64,
+    /// Spheres with gap over radius `eps < wall_cutoff` from a no-slip wall get
+    /// `R^W - R^{W,inf}`.
+    pub wall_cutoff: f64,
+}
+
+impl Default for Lubrication {
+    /// `xi < 0.1` and `eps < 0.1`: the near-contact forms are used only where their
+    /// neglected terms, O(xi) and O(eps), are below about ten percent of the O(1)
+    /// constant (Brady's codes switch to the near-field forms below r = 2.1 a).
+    fn default() -> Self {
+        Lubrication {
+            pair_cutoff: 0.1,
+            wall_cutoff: 0.1,
+        }
+    }
+}
+
+/// Why a resistance cannot be formed.
+#[derive(Debug, Error, PartialEq)]
+pub enum ResistanceError {
+    /// Only the FT level has lubrication so far.
+    #[error("lubrication is implemented for FT only (asked for {0:?})")]
+    Unsupported(Moments),
+    /// Pair lubrication needs equal radii so far.
+    #[error("particles {first} and {second} are within the lubrication cutoff but have unequal radii ({a1} and {a2}); pair lubrication is implemented for equal spheres only")]
+    UnequalRadii {
+        /// First particle.
+        first: usize,
+        /// Second particle.
+        second: usize,
+        /// Its radius.
+        a1: f64,
+        /// The other's.
+        a2: f64,
+    },
+    /// The far-field mobility is not positive definite (overlaps, narrow slit).
+    #[error("the far-field mobility is not positive definite, so it cannot be inverted (overlapping spheres or a slit too narrow for the superposition)")]
+    MobilityNotPositiveDefinite,
+    /// The corrected resistance is not positive definite.
+    #[error("the resistance with lubrication is not positive definite")]
+    ResistanceNotPositiveDefinite,
+}
+
+/// Near-contact sphere-wall resistance functions at `eps = (h - a)/a`, normalised as
+/// `R_FU = 6 pi eta a [X^A nn + Y^A (I - nn)]`, `R_LO = 8 pi eta a^3 [X^C nn + Y^C (I - nn)]`,
+/// `(R_FO)_ij = -6 pi eta a^2 F^r eps_ijk n_k`, `R_LU = R_FO^T`; `n` the wall normal
+/// into the fluid. Singular and `eps ln eps` terms: Brenner 1961, Cox & Brenner 1967
+/// eq. 2.49 (X^A); Goldman, Cox & Brenner 1967 eqs. 2.59, 2.65, 3.6-3.13 (Y^A, F^r,
+/// Y^C); Jeffery 1915 / Cox & Brenner 1967 eq. 3.5 (X^C); checked against the
+/// lambda -> infinity limits of the two-sphere functions. O(1) constants and O(eps)
+/// terms: fits to the exact bispherical series (lubrication.md 2.2), which GCB's
+/// constants (0.9588, -0.2526, 0.3817) approximate at their last tabulated gap.
+pub fn wall_functions(eps: f64) -> WallFunctions {
+    let l = (1.0 / eps).ln();
+    WallFunctions {
+        xa: 1.0 / eps + l / 5.0 + 0.971_279_9 + eps * l / 21.0 + 0.167_02 * eps,
+        ya: 8.0 / 15.0 * l + 0.954_293_7 + 64.0 / 375.0 * eps * l + 0.429_45 * eps,
+        fr: 2.0 / 15.0 * l - 0.257_270_3 + 86.0 / 375.0 * eps * l + 0.134_11 * eps,
+        yc: 2.0 / 5.0 * l + 0.370_892_6 + 66.0 / 125.0 * eps * l + 0.340_09 * eps,
+        xc: ZETA3 - 0.5 * eps * l + 0.444_93 * eps,
+    }
+}
+
+/// The five sphere-wall resistance functions (see [`wall_functions`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallFunctions {
+    /// Translation normal to the wall.
+    pub xa: f64,
+    /// Translation parallel to the wall.
+    pub ya: f64,
+    /// Translation-rotation coupling.
+    pub fr: f64,
+    /// Rotation about an axis parallel to the wall.
+    pub yc: f64,
+    /// Rotation about the wall normal.
+    pub xc: f64,
+}
+
+/// Near-contact resistance functions of two equal spheres at `xi = r/a - 2`, Kim &
+/// Karrila normalisation (A by 6 pi eta a, B by 4 pi eta a^2, C by 8 pi eta a^3),
+/// lubrication.md 1.5 (Jeffrey & Onishi 1984; Townsend 2023; singular terms checked
+/// against the Swan & Brady Fortran code; X^A constants against the exact bispherical
+/// solutions, X^C from Jeffery 1915).
+pub fn pair_functions(xi: f64) -> PairFunctions {
+    let l = (1.0 / xi).ln();
+    PairFunctions {
+        xa11: 1.0 / (4.0 * xi) + 9.0 / 40.0 * l + 0.995_36 + 3.0 / 112.0 * xi * l,
+        xa12: -1.0 / (4.0 * xi) - 9.0 / 40.0 * l - 0.350_22 - 3.0 / 112.0 * xi * l,
+        ya11: l / 6.0 + 0.9983,
+        ya12: -l / 6.0 - 0.2737,
+        yb11: -l / 4.0 + 0.2390 - xi * l / 8.0,
+        yb12: l / 4.0 - 0.0016 + xi * l / 8.0,
+        xc11: 7.0 / 8.0 * ZETA3 - xi * l / 8.0,
+        xc12: -ZETA3 / 8.0 + xi * l / 8.0,
+        yc11: l / 5.0 + 0.7028 + 47.0 / 250.0 * xi * l,
+        yc12: l / 20.0 - 0.0274 + 31.0 / 500.0 * xi * l,
+    }
+}
+
+/// The two-sphere FT resistance functions (see [`pair_functions`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(missing_docs)]
+pub struct PairFunctions {
+    pub xa11: f64,
+    pub xa12: f64,
+    pub ya11: f64,
+    pub ya12: f64,
+    pub yb11: f64,
+    pub yb12: f64,
+    pub xc11: f64,
+    pub xc12: f64,
+    pub yc11: f64,
+    pub yc12: f64,
+}
+
+type M6 = SMatrix<f64, 6, 6>;
+type M12 = SMatrix<f64, 12, 12>;
+
+fn eps3(i: usize, j: usize, k: usize) -> f64 {
+    ((i as i64 - j as i64) * (j as i64 - k as i64) * (k as i64 - i as i64)) as f64 / 2.0
+}
+
+fn delta(i: usize, j: usize) -> f64 {
+    if i == j {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// `R^W` of a sphere of radius `a` at gap `eps` from a wall with normal `n` (into the
+/// fluid), 6x6 in the order `[U, Omega]`.
+fn wall_block(eta: f64, a: f64, eps: f64, n: [f64; 3]) -> M6 {
+    let w = wall_functions(eps);
+    let mut r = M6::zeros();
+    for i in 0..3 {
+        for j in 0..3 {
+            let nn = n[i] * n[j];
+            r[(i, j)] = 6.0 * PI * eta * a * (w.xa * nn + w.ya * (delta(i, j) - nn));
+            r[(i + 3, j + 3)] =
+                8.0 * PI * eta * a.powi(3) * (w.xc * nn + w.yc * (delta(i, j) - nn));
+            let fo: f64 = (0..3)
+                .map(|k| -6.0 * PI * eta * a * a * w.fr * eps3(i, j, k) * n[k])
+                .sum();
+            r[(i, j + 3)] = fo; // R_FO
+            r[(j + 3, i)] = fo; // R_LU = R_FO^T
+        }
+    }
+    r
+}
+
+/// `R^P` of two equal spheres (radius `a`, gap `xi`, `d` the unit vector from sphere 1
+/// to sphere 2), 12x12 in the order `[U_1, Omega_1, U_2, Omega_2]`. Each ordered block
+/// `(alpha, beta)` uses the 11 or 12 functions with `d` pointing from alpha to beta
+/// (Townsend's rule, lubrication.md 1.3); `R_FO^{ab} = (B^{ba})^T`.
+fn pair_block(eta: f64, a: f64, xi: f64, d: [f64; 3]) -> M12 {
+    let f = pair_functions(xi);
+    let (sa, sb, sc) = (
+        6.0 * PI * eta * a,
+        4.0 * PI * eta * a * a,
+        8.0 * PI * eta * a.powi(3),
+    );
+    let mut r = M12::zeros();
+    // (alpha, beta, same particle, sign of d)
+    let mut b_blocks = [[SMatrix::<f64, 3, 3>::zeros(); 2]; 2];
+    for (al, be) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+        let s = if al == 0 { 1.0 } else { -1.0 }; // d from alpha towards the other sphere
+        let dd = [s * d[0], s * d[1], s * d[2]];
+        let (xa, ya, yb, xc, yc) = if al == be {
+            (f.xa11, f.ya11, f.yb11, f.xc11, f.yc11)
+        } else {
+            (f.xa12, f.ya12, f.yb12, f.xc12, f.yc12)
+        };
+        for i in 0..3 {
+            for j in 0..3 {
+                let p = dd[i] * dd[j];
+                r[(6 * al + i, 6 * be + j)] = sa * (xa * p + ya * (delta(i, j) - p));
+                r[(6 * al + 3 + i, 6 * be + 3 + j)] = sc * (xc * p + yc * (delta(i, j) - p));
+                b_blocks[al][be][(i, j)] =
+                    sb * yb * (0..3).map(|k| eps3(i, j, k) * dd[k]).sum::<f64>();
+            }
+        }
+    }
+    for al in 0..2 {
+        for be in 0..2 {
+            for i in 0..3 {
+                for j in 0..3 {
+                    r[(6 * al + 3 + i, 6 * be + j)] = b_blocks[al][be][(i, j)]; // R_LU = B
+                    r[(6 * al + i, 6 * be + 3 + j)] = b_blocks[be][al][(j, i)]; // R_FO = B~
+                }
+            }
+        }
+    }
+    r
+}
+
+/// The FT self mobility of a sphere with one no-slip wall at height `plane`, the fluid
+/// on the side of `n`, as a 6x6 `[U, Omega]` block.
+fn single_wall_self(eta: f64, x: [f64; 3], a: f64, plane: f64) -> M6 {
+    // Blake's image holds on either side of its plane (see kernel-gen green::slit).
+    let m = self_ft(&Confinement::Wall { height: plane }, eta, x, a).matrix();
+    M6::from_fn(|i, j| m[i][j])
+}
+
+/// The FT mobility of an isolated pair of spheres in unbounded fluid, 12x12
+/// `[U_1, Omega_1, U_2, Omega_2]`.
+fn free_pair_mobility(eta: f64, x1: [f64; 3], x2: [f64; 3], a: f64) -> M12 {
+    let s1 = self_ft(&Confinement::Free, eta, x1, a).matrix();
+    let s2 = self_ft(&Confinement::Free, eta, x2, a).matrix();
+    let p = pair_ft(&Confinement::Free, eta, x1, a, x2, a).matrix();
+    M12::from_fn(|i, j| match (i / 6, j / 6) {
+        (0, 0) => s1[i][j],
+        (1, 1) => s2[i - 6][j - 6],
+        (0, 1) => p[i][j - 6],
+        _ => p[j][i - 6],
+    })
+}
+
+/// Global index (FT, moment-major) of component `k` of `[U, Omega]` of particle `a`.
+fn ft_index(n: usize, a: usize, k: usize) -> usize {
+    if k < 3 {
+        3 * a + k
+    } else {
+        3 * n + 3 * a + (k - 3)
+    }
+}
+
+impl System {
+    /// The FT grand resistance with lubrication (Eq. 19), in the layout of
+    /// [`System::mobility`] with rows `(F, L)` and columns `(U, Omega)`. Overlapping
+    /// spheres are rejected at construction unless allowed; pairs within the cutoff
+    /// must have equal radii.
+    pub fn resistance(
+        &self,
+        moments: Moments,
+        lub: &Lubrication,
+    ) -> Result<DMatrix<f64>, ResistanceError> {
+        if moments != Moments::FT {
+            return Err(ResistanceError::Unsupported(moments));
+        }
+        let n = self.len();
+        let eta = self.viscosity();
+        let ps = self.particles();
+        let m = self.mobility(Moments::FT);
+        let mut r = m
+            .cholesky()
+            .ok_or(ResistanceError::MobilityNotPositiveDefinite)?
+            .inverse();
+        let no_slip: Vec<(f64, bool)> = match *self.confinement() {
+            Confinement::Wall { height } => vec![(height, true)],
+            Confinement::Slit { height, gap } => vec![(height, true), (height + gap, false)],
+            _ => vec![],
+        };
+        // R^W - R^{W,inf}, per sphere and no-slip wall.
+        for (a, p) in ps.iter().enumerate() {
+            for &(plane, above) in &no_slip {
+                let h = if above {
+                    p.x[2] - plane
+                } else {
+                    plane - p.x[2]
+                };
+                let eps = (h - p.a) / p.a;
+                if eps >= lub.wall_cutoff {
+                    continue;
+                }
+                let nrm = [0.0, 0.0, if above { 1.0 } else { -1.0 }];
+                let far = single_wall_self(eta, p.x, p.a, plane)
+                    .cholesky()
+                    .ok_or(ResistanceError::MobilityNotPositiveDefinite)?
+                    .inverse();
+                let corr = wall_block(eta, p.a, eps, nrm) - far;
+                for i in 0..6 {
+                    for j in 0..6 {
+                        r[(ft_index(n, a, i), ft_index(n, a, j))] += corr[(i, j)];
+                    }
+                }
+            }
+        }
+        // R^P - R^{P,inf}, per close pair.
+        for a in 0..n {
+            for b in a + 1..n {
+                let (p, q) = (&ps[a], &ps[b]);
+                let dx: [f64; 3] = std::array::from_fn(|k| q.x[k] - p.x[k]);
+                let dist = (dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]).sqrt();
+                let mean = 0.5 * (p.a + q.a);
+                let xi = (dist - p.a - q.a) / mean;
+                if xi >= lub.pair_cutoff {
+                    continue;
+                }
+                if p.a != q.a {
+                    return Err(ResistanceError::UnequalRadii {
+                        first: a,
+                        second: b,
+                        a1: p.a,
+                        a2: q.a,
+                    });
+                }
+                let d = [dx[0] / dist, dx[1] / dist, dx[2] / dist];
+                let far = free_pair_mobility(eta, p.x, q.x, p.a)
+                    .cholesky()
+                    .ok_or(ResistanceError::MobilityNotPositiveDefinite)?
+                    .inverse();
+                let corr = pair_block(eta, p.a, xi, d) - far;
+                let idx = |k: usize| {
+                    if k < 6 {
+                        ft_index(n, a, k)
+                    } else {
+                        ft_index(n, b, k - 6)
+                    }
+                };
+                for i in 0..12 {
+                    for j in 0..12 {
+                        r[(idx(i), idx(j))] += corr[(i, j)];
+                    }
+                }
+            }
+        }
+        // Exact symmetry (the corrections are symmetric to round-off).
+        let r = (&r + r.transpose()) * 0.5;
+        Ok(r)
+    }
+}
+
+/// Velocities from forces with lubrication: `R x = f` solved by Cholesky.
+/// Returns the solution and a condition estimate `(max L_ii / min L_ii)^2` of `R`
+/// (a lower bound on the 2-norm condition number, cheap from the factor).
+pub fn solve_resistance(r: &DMatrix<f64>, f: &[f64]) -> Result<(Vec<f64>, f64), ResistanceError> {
+    let c = r
+        .clone()
+        .cholesky()
+        .ok_or(ResistanceError::ResistanceNotPositiveDefinite)?;
+    let l = c.l();
+    let diag: Vec<f64> = (0..l.nrows()).map(|i| l[(i, i)]).collect();
+    let (mx, mn) = diag.iter().fold((0.0f64, f64::INFINITY), |(mx, mn), &v| {
+        (mx.max(v), mn.min(v))
+    });
+    let x = c.solve(&nalgebra::DVector::from_column_slice(f));
+    Ok((x.iter().copied().collect(), (mx / mn).powi(2)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn singular_terms_match_the_wall_limit_of_the_pair_functions() {
+        // lubrication.md 2.2: the wall's eps ln eps coefficients are the lambda -> infinity
+        // limits of the pair g3's; here a spot check of the wall functions' slopes.
+        let (e1, e2) = (1e-6, 1e-7);
+        let (w1, w2) = (wall_functions(e1), wall_functions(e2));
+        let dl = (1.0f64 / e2).ln() - (1.0f64 / e1).ln();
+        assert!(((w2.ya - w1.ya) / dl - 8.0 / 15.0).abs() < 1e-5);
+        assert!(((w2.yc - w1.yc) / dl - 2.0 / 5.0).abs() < 1e-5);
+        assert!(((w2.fr - w1.fr) / dl - 2.0 / 15.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn pair_block_is_symmetric() {
+        let r = pair_block(1.0, 1.0, 1e-3, [0.6, 0.0, 0.8]);
+        assert!((r - r.transpose()).norm() < 1e-12 * r.norm());
+        let w = wall_block(1.0, 1.0, 1e-3, [0.0, 0.0, 1.0]);
+        assert!((w - w.transpose()).norm() < 1e-14 * w.norm());
+    }
+}
