@@ -120,6 +120,16 @@ enum Command {
         after_long_help = LONG_HELP
     )]
     Velocity(VelocityArgs),
+    /// Write the grand resistance with lubrication, Eq. 19 (FT only so far).
+    #[command(
+        long_about = "Write the FT grand resistance with lubrication (Swan & Brady Eq. 19): \
+        R = M^-1 + R^P + R^W - (R^P,inf + R^W,inf), rows (F, L), columns (U, Omega), same \
+        layout and formats as `mobility`. Near-contact two-sphere terms (equal spheres, gap \
+        < 0.1 a) and sphere-wall terms (no-slip walls, gap < 0.1 a) are added to the inverse \
+        of the far-field mobility, and their own far-field parts subtracted.",
+        after_long_help = LONG_HELP
+    )]
+    Resistance(MobilityArgs),
 }
 
 /// The system: confinement, truncation, particles, viscosity.
@@ -180,6 +190,10 @@ struct VelocityArgs {
     /// relative to the ambient flow at each centre (U - U_inf, Omega - Omega_inf).
     #[arg(long, value_name = "E11,E12,...,E33", allow_hyphen_values = true)]
     strain: Option<String>,
+    /// FT only: include lubrication (Eq. 19) and solve R U = F by Cholesky; the condition
+    /// estimate of R is reported on stderr, and the run fails if it exceeds 1e14.
+    #[arg(long)]
+    lubrication: bool,
     /// Output CSV file: ux,uy,uz (F) or ux,uy,uz,wx,wy,wz (FT, FTS).
     #[arg(long, value_name = "U.csv")]
     out: PathBuf,
@@ -235,8 +249,14 @@ impl MomentsArg {
 /// the particle where there is one. Line numbers count from 1 (the header).
 #[derive(Debug, Error)]
 enum CliError {
+    /// The resistance could not be formed.
+    #[error("{0}")]
+    Resistance(#[from] stokesian::ResistanceError),
+    /// The resistance is too ill-conditioned to solve.
+    #[error("the resistance with lubrication is too ill-conditioned to solve (condition estimate {0:e} > 1e14); nothing written")]
+    IllConditioned(f64),
     /// `--check` found the matrix not symmetric positive definite.
-    #[error("the {moments} grand mobility is not symmetric positive definite: |M - M^T|/|M| = {asymmetry:e}, Cholesky {cholesky}; nothing written")]
+    #[error("the {moments} matrix is not symmetric positive definite: |M - M^T|/|M| = {asymmetry:e}, Cholesky {cholesky}; nothing written")]
     NotSpd {
         moments: &'static str,
         asymmetry: f64,
@@ -346,6 +366,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Mobility(args) => run_mobility(&args),
         Command::Velocity(args) => run_velocity(&args),
+        Command::Resistance(args) => run_resistance(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -760,6 +781,15 @@ fn check_finite(values: &[f64], what: &str) -> Result<(), CliError> {
 }
 
 fn run_mobility(args: &MobilityArgs) -> Result<(), CliError> {
+    run_matrix(args, false)
+}
+
+fn run_resistance(args: &MobilityArgs) -> Result<(), CliError> {
+    run_matrix(args, true)
+}
+
+/// `mobility` and `resistance`: assemble, optionally check, and write the matrix.
+fn run_matrix(args: &MobilityArgs, resistance: bool) -> Result<(), CliError> {
     check_out(&args.out, &["npy", "json"])?;
     let json = args
         .out
@@ -778,11 +808,25 @@ fn run_mobility(args: &MobilityArgs) -> Result<(), CliError> {
     let n = setup.system.len();
     let moments = setup.moments;
     let dim = moments.moments().per_particle() * n;
+    let what = if resistance { "resistance" } else { "mobility" };
     pb.set_message(format!(
-        "assembling the {dim} x {dim} {} grand mobility of {n} spheres",
+        "assembling the {dim} x {dim} {} grand {what} of {n} spheres",
         moments.name()
     ));
-    let m = setup.system.mobility(moments.moments());
+    let m = if resistance {
+        match setup
+            .system
+            .resistance(moments.moments(), &stokesian::Lubrication::default())
+        {
+            Ok(m) => m,
+            Err(e) => {
+                pb.finish_and_clear();
+                return Err(e.into());
+            }
+        }
+    } else {
+        setup.system.mobility(moments.moments())
+    };
     if args.check {
         pb.set_message("checking symmetry and positive definiteness (Cholesky)");
         let c = stokesian::check_spd(&m);
@@ -821,7 +865,7 @@ fn run_mobility(args: &MobilityArgs) -> Result<(), CliError> {
     pb.finish_and_clear();
     result?;
     report(format!(
-        "wrote {}: {dim} x {dim} {} grand mobility of {n} spheres",
+        "wrote {}: {dim} x {dim} {} grand {what} of {n} spheres",
         args.out.display(),
         moments.name()
     ));
@@ -1032,6 +1076,30 @@ fn velocity(
         }
     }
     let u = match moments {
+        MomentsArg::Ft if args.lubrication => {
+            pb.set_message(format!(
+                "forming the resistance with lubrication of {n} spheres"
+            ));
+            let r = setup
+                .system
+                .resistance(Moments::FT, &stokesian::Lubrication::default())?;
+            pb.set_message("solving R U = F (Cholesky)");
+            let (u, cond) = stokesian::solve_resistance(&r, &x)?;
+            pb.suspend(|| eprintln!("stokesian: condition estimate of R: {cond:e}"));
+            if !(cond <= 1e14) {
+                return Err(CliError::IllConditioned(cond));
+            }
+            u
+        }
+        _ if args.lubrication => {
+            return Err(CliError::Inapplicable {
+                option: "--lubrication",
+                context: format!(
+                    "--moments {}: lubrication is implemented for FT only",
+                    moments.name()
+                ),
+            })
+        }
         MomentsArg::F | MomentsArg::Ft => {
             pb.set_message(format!(
                 "computing velocities of {n} spheres (matrix-free, {} pairs)",

@@ -860,3 +860,100 @@ fn check_flag_reports_and_refuses_indefinite_matrices() {
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `resistance` writes Eq. 19's FT resistance (equal to the library's, bit for bit) and
+/// `velocity --lubrication` solves it; for FTS both refuse with a clear message.
+#[test]
+fn resistance_and_lubricated_velocity() {
+    use stokesian::{Confinement, Lubrication, Moments, Particle, System};
+    let dir = std::env::temp_dir().join(format!("stokesian-lub-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("p.csv");
+    std::fs::write(&csv, "x,y,z,radius\n0,0,1.001,1\n2.0005,0,1.001,1\n").unwrap();
+    let forces = dir.join("f.csv");
+    std::fs::write(&forces, "fx,fy,fz,tx,ty,tz\n0,0,-1,0,0,0\n0.5,0,0,0,0,0\n").unwrap();
+    let bin = env!("CARGO_BIN_EXE_stokesian");
+    let common = |cmd: &str, moments: &str| {
+        let mut c = std::process::Command::new(bin);
+        c.args([
+            cmd,
+            "--confinement",
+            "wall",
+            "--moments",
+            moments,
+            "--particles",
+        ])
+        .arg(&csv);
+        c
+    };
+    let m_out = dir.join("R.json");
+    let o = common("resistance", "FT")
+        .arg("--out")
+        .arg(&m_out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&m_out).unwrap()).unwrap();
+    let ps = vec![
+        Particle {
+            x: [0.0, 0.0, 1.001],
+            a: 1.0,
+        },
+        Particle {
+            x: [2.0005, 0.0, 1.001],
+            a: 1.0,
+        },
+    ];
+    let s = System::new(Confinement::Wall { height: 0.0 }, 1.0, ps, false).unwrap();
+    let r = s.resistance(Moments::FT, &Lubrication::default()).unwrap();
+    for i in 0..12 {
+        for j in 0..12 {
+            assert_eq!(v["matrix"][i][j].as_f64().unwrap(), r[(i, j)]);
+        }
+    }
+    let u_out = dir.join("U.csv");
+    let o = common("velocity", "FT")
+        .arg("--forces")
+        .arg(&forces)
+        .arg("--lubrication")
+        .arg("--out")
+        .arg(&u_out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("condition estimate of R"));
+    let text = std::fs::read_to_string(&u_out).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    // R u = f, checked with the library's matrix
+    let mut u = vec![0.0; 12];
+    for a in 0..2 {
+        for i in 0..3 {
+            u[3 * a + i] = rows[a][i];
+            u[6 + 3 * a + i] = rows[a][3 + i];
+        }
+    }
+    let f = [0.0, 0.0, -1.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let ru = &r * nalgebra::DVector::from_column_slice(&u);
+    for k in 0..12 {
+        assert!(
+            (ru[k] - f[k]).abs() < 1e-9,
+            "row {k}: {} vs {}",
+            ru[k],
+            f[k]
+        );
+    }
+    let o = common("resistance", "FTS")
+        .arg("--out")
+        .arg(dir.join("R2.npy"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("FT only"));
+    assert!(!dir.join("R2.npy").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
