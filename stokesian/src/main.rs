@@ -1086,7 +1086,7 @@ fn velocity(
             pb.set_message("solving R U = F (Cholesky)");
             let (u, cond) = stokesian::solve_resistance(&r, &x)?;
             pb.suspend(|| eprintln!("stokesian: condition estimate of R: {cond:e}"));
-            if !(cond <= 1e14) {
+            if cond.is_nan() || cond > 1e14 {
                 return Err(CliError::IllConditioned(cond));
             }
             u
