@@ -285,17 +285,6 @@ fn global(parts: &[(usize, usize)], n: usize, a: usize, i: usize) -> usize {
     unreachable!("component {i} beyond the kept moments")
 }
 
-/// The dense grand mobility of `particles` (validated, no overlaps allowed); see
-/// [`System::mobility`].
-pub fn grand_mobility(
-    conf: &Confinement,
-    eta: f64,
-    particles: &[Particle],
-    moments: Moments,
-) -> Result<DMatrix<f64>, InputError> {
-    Ok(System::new(*conf, eta, particles.to_vec(), false)?.mobility(moments))
-}
-
 /// The outcome of [`check_spd`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpdCheck {

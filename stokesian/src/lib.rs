@@ -1,7 +1,7 @@
 //! stokesian: Stokesian dynamics near walls and interfaces, linking the generated
 //! kernels of the `kernels` crate.
 //!
-//! [`grand_mobility`] assembles the dense grand mobility of `N` spheres in the layout of
+//! [`System::mobility`] assembles the dense grand mobility of `N` spheres in the layout of
 //! Eq. 1 (moment-major: all `U` (3N), then all `Omega` (3N), then all `E` (5N); within a
 //! moment, particle-major), truncated to `F`, `FT` or `FTS`. Input is validated first:
 //! a typed [`InputError`] names the offending particle, and nothing is computed.
@@ -10,7 +10,7 @@ mod assembly;
 mod input;
 mod lubrication;
 
-pub use assembly::{check_spd, grand_mobility, Moments, SpdCheck, System};
+pub use assembly::{check_spd, Moments, SpdCheck, System};
 pub use input::{validate, InputError, Particle};
 pub use kernels::Confinement;
 pub use lubrication::{

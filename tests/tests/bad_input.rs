@@ -1,14 +1,14 @@
 //! Bad input gets a typed error with a clear message, never a panic and never a
 //! partial result.
 
-use stokesian::{grand_mobility, Confinement, InputError, Moments, Particle};
+use stokesian::{Confinement, InputError, Moments, Particle, System};
 
 fn p(x: [f64; 3], a: f64) -> Particle {
     Particle { x, a }
 }
 
 fn err(conf: Confinement, eta: f64, ps: &[Particle]) -> InputError {
-    grand_mobility(&conf, eta, ps, Moments::FTS).expect_err("input must be rejected")
+    System::new(conf, eta, ps.to_vec(), false).expect_err("input must be rejected")
 }
 
 const WALL: Confinement = Confinement::Wall { height: 0.0 };
@@ -74,14 +74,22 @@ fn each_bad_input_is_named() {
 #[test]
 fn valid_input_gives_the_full_matrix() {
     let ps = [p([0.0, 0.0, 2.0], 1.0), p([3.0, 0.0, 2.0], 0.5)];
-    let m = grand_mobility(&WALL, 1.0, &ps, Moments::FTS).unwrap();
+    let m = System::new(WALL, 1.0, ps.to_vec(), false)
+        .unwrap()
+        .mobility(Moments::FTS);
     assert_eq!(m.shape(), (22, 22));
-    let m = grand_mobility(&WALL, 1.0, &ps, Moments::FT).unwrap();
+    let m = System::new(WALL, 1.0, ps.to_vec(), false)
+        .unwrap()
+        .mobility(Moments::FT);
     assert_eq!(m.shape(), (12, 12));
-    let m = grand_mobility(&WALL, 1.0, &ps, Moments::F).unwrap();
+    let m = System::new(WALL, 1.0, ps.to_vec(), false)
+        .unwrap()
+        .mobility(Moments::F);
     assert_eq!(m.shape(), (6, 6));
     // layout: all U, then all Omega; M_UL^{01} = (M_OmegaF^{10})^T
-    let ft = grand_mobility(&WALL, 1.0, &ps, Moments::FT).unwrap();
+    let ft = System::new(WALL, 1.0, ps.to_vec(), false)
+        .unwrap()
+        .mobility(Moments::FT);
     let n = 2;
     for i in 0..3 {
         for j in 0..3 {
@@ -96,7 +104,6 @@ fn valid_input_gives_the_full_matrix() {
 /// different summation order: 1e-13 relative).
 #[test]
 fn matrix_free_product_equals_dense() {
-    use stokesian::System;
     let ps = vec![
         p([0.0, 0.0, 2.0], 1.0),
         p([3.0, 0.5, 2.5], 0.5),

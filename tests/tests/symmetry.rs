@@ -5,7 +5,7 @@ use kernels::{pair, self_mobility};
 use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use stokesian::{grand_mobility, Moments};
+use stokesian::{Moments, System};
 
 /// M^{ab} = (M^{ba})^T for every block: the pair kernel evaluated both ways round.
 /// Tolerance 1e-12 of each block's norm: the two evaluations are different
@@ -78,7 +78,9 @@ fn grand_mobility_is_symmetric_positive_definite() {
             // a tight gap (1e-4 a) on every other trial puts spheres at h = 1.0001 a
             let gap = if trial % 2 == 0 { 1e-4 } else { 0.2 };
             let ps = random_spheres(&mut rng, &conf, n, (0.5, 1.5), gap, 8.0);
-            let m = grand_mobility(&conf, 1.0, &ps, Moments::FTS).expect("valid input");
+            let m = System::new(conf, 1.0, ps, false)
+                .expect("valid input")
+                .mobility(Moments::FTS);
             let asym = (&m - m.transpose()).norm() / m.norm();
             assert!(asym < 1e-13, "{name}: asymmetry {asym:e}");
             let sym = (&m + m.transpose()) * 0.5;
