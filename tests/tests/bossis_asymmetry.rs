@@ -70,7 +70,7 @@ fn asymmetry(m: &DMatrix<f64>) -> f64 {
 }
 
 /// Measured: ||M - M^T|| / ||M|| = 7.1e-2 for the x - y' variant at h = 1.5 a,
-/// separation 3 a; the correct kernels give 1.0e-16 (round-off).
+/// separation 3 a; the correct kernels give 8.2e-17 (round-off).
 #[test]
 fn differentiating_through_x_minus_y_prime_only_breaks_symmetry() {
     let wrong = asymmetry(&two_sphere_mobility(
