@@ -7,6 +7,7 @@
 //! a typed [`InputError`] names the offending particle, and nothing is computed.
 
 mod assembly;
+pub mod exact;
 mod input;
 mod lubrication;
 
@@ -14,6 +15,6 @@ pub use assembly::{check_spd, Moments, SpdCheck, System};
 pub use input::{validate, InputError, Particle};
 pub use kernels::Confinement;
 pub use lubrication::{
-    pair_functions, solve_resistance, wall_functions, Lubrication, PairFunctions, ResistanceError,
-    WallFunctions,
+    pair_functions, solve_resistance, wall_functions, wall_near_contact, Lubrication,
+    PairFunctions, ResistanceError, WallFunctions,
 };

@@ -125,7 +125,8 @@ enum Command {
         long_about = "Write the FT grand resistance with lubrication (Swan & Brady Eq. 19): \
         R = M^-1 + R^P + R^W - (R^P,inf + R^W,inf), rows (F, L), columns (U, Omega), same \
         layout and formats as `mobility`. Near-contact two-sphere terms (equal spheres, gap \
-        < 0.1 a) and sphere-wall terms (no-slip walls, gap < 0.1 a) are added to the inverse \
+        < 0.1 a, near-contact forms) and the exact sphere-wall resistance (no-slip walls, gap \
+        < 1 a, bispherical series) are added to the inverse \
         of the far-field mobility, and their own far-field parts subtracted.",
         after_long_help = LONG_HELP
     )]
