@@ -63,6 +63,8 @@ fn dispatch(families: &[Family]) -> TokenStream {
     let mut pair_arms = Vec::new();
     let mut equal_arms = Vec::new();
     let mut self_arms = Vec::new();
+    let mut div_pair_arms = Vec::new();
+    let mut div_self_arms = Vec::new();
     let mut truncated: Vec<Vec<TokenStream>> = Vec::new();
     for f in families {
         let v = ident(&camel(f.name));
@@ -119,6 +121,12 @@ fn dispatch(families: &[Family]) -> TokenStream {
         } else {
             quote!(Confinement::#v { #(#fields),* })
         };
+        let (fdp, fds) = (
+            ident(&format!("{}_pair_divergence", f.name)),
+            ident(&format!("{}_self_divergence", f.name)),
+        );
+        div_pair_arms.push(quote!(#pattern => #m::#fdp(xa, xb, aa, ab, eta, #(#fields),*)));
+        div_self_arms.push(quote!(#pattern => #m::#fds(x, a, eta, #(#fields),*)));
         truncated.push(truncated_arms(f, &pattern, &m, &fields));
     }
     let mut truncated_fns = Vec::new();
@@ -156,9 +164,22 @@ fn dispatch(families: &[Family]) -> TokenStream {
         });
     }
     quote! {
-        use crate::blocks::{BlocksF, BlocksFT, Grand, Product};
+        use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};
 
         #(#truncated_fns)*
+
+        /// The Brownian drift of a pair: `a` = the divergence of `M^{ab}` over the
+        /// position of `b` (`sum_j d/dxb_j M_{ij}`, rows U then Omega, force columns),
+        /// `b` = that of `M^{ba}` over the position of `a`.
+        pub fn pair_divergence(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64) -> Product<6> {
+            match *conf { #(#div_pair_arms),* }
+        }
+
+        /// The Brownian drift of one particle's self mobility: `sum_j d/dx_j M^{aa}_{ij}`,
+        /// rows U then Omega, force columns.
+        pub fn self_divergence(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Drift<6> {
+            match *conf { #(#div_self_arms),* }
+        }
 
         /// The confinement and its run-time parameters, one variant per registered
         /// Green's function. Boundaries are planes `x3 = const` ([`Confinement::boundaries`]).
@@ -241,10 +262,13 @@ pub struct Variant {
     pub spec: KernelSpec,
     /// Documentation phrase.
     pub what: &'static str,
+    /// Return type and its constructor path.
+    pub ret: (&'static str, &'static str),
 }
 
 /// The functions generated for every family.
 pub fn variants() -> Vec<Variant> {
+    use crate::operators::{Moment, Response};
     let spec = |interaction, equal_radii| KernelSpec {
         interaction,
         basis: Basis::Orthonormal,
@@ -252,22 +276,48 @@ pub fn variants() -> Vec<Variant> {
         blocks: BLOCKS.to_vec(),
         path: Path::Structured,
         product: false,
+        divergence: false,
     };
+    let divergence = |interaction, blocks: Vec<(Response, Moment)>| KernelSpec {
+        blocks,
+        divergence: true,
+        ..spec(interaction, false)
+    };
+    let (uf, ul, of) = (
+        (Response::U, Moment::F),
+        (Response::U, Moment::L),
+        (Response::Omega, Moment::F),
+    );
     vec![
         Variant {
             suffix: "self",
             spec: spec(Interaction::SelfTerm, false),
             what: "self",
+            ret: ("Grand", "Grand"),
         },
         Variant {
             suffix: "pair",
             spec: spec(Interaction::Pair, false),
             what: "pair",
+            ret: ("Grand", "Grand"),
         },
         Variant {
             suffix: "pair_equal",
             spec: spec(Interaction::Pair, true),
             what: "pair, equal radii",
+            ret: ("Grand", "Grand"),
+        },
+        Variant {
+            suffix: "self_divergence",
+            spec: divergence(Interaction::SelfTerm, vec![uf, of]),
+            what: "self, divergence over the position of the particle (Brownian drift): a = [sum_j d/dx_j M_UF,ij, sum_j d/dx_j M_OmegaF,ij]",
+            ret: ("Drift<6>", "Drift::<6>"),
+        },
+        Variant {
+            suffix: "pair_divergence",
+            spec: divergence(Interaction::Pair, vec![uf, ul, of]),
+            what: "pair, divergence over the source position (Brownian drift): a = [sum_j d/dxb_j M^ab_UF,ij, sum_j d/dxb_j M^ab_OmegaF,ij], b the same for M^ba over xa",
+            ret: ("Product<6>", "Product::<6>"),
         },
     ]
 }
@@ -303,8 +353,8 @@ pub fn family<G: Green>(g: &G) -> GeneratedFile {
         items.extend(emit::function(&KernelFn {
             name,
             doc,
-            ret: "Grand".into(),
-            ctor: "Grand".into(),
+            ret: v.ret.0.into(),
+            ctor: v.ret.1.into(),
             traced: &traced,
             float: Float::F64,
         }));
@@ -315,7 +365,7 @@ pub fn family<G: Green>(g: &G) -> GeneratedFile {
         "Generated: see the header comment.".into(),
     ];
     let items = quote! {
-        use crate::blocks::Grand;
+        use crate::blocks::{Drift, Grand, Product};
         #items
     };
     GeneratedFile {
@@ -502,6 +552,7 @@ pub fn scene_file<G: Green>(g: &G, scene: &Scene, standalone: bool) -> Generated
             blocks: scene.moments.blocks(),
             path: Path::Structured,
             product,
+            divergence: false,
         };
         let traced: Traced = trace(g, &spec);
         let name = format!("{}_{suffix}", scene.name);

@@ -10,6 +10,7 @@
 use crate::derivatives::{GenericJets, Part, Structured};
 use crate::expr::{Ex, Graph, Id, Trace};
 use crate::green::Green;
+use crate::jet::{Jet, Layout};
 use crate::operators::{
     self, apply, block_name, isolated, max_order, moment_dim, response_dim, Basis, Moment, Response,
 };
@@ -53,6 +54,12 @@ pub struct KernelSpec {
     /// moments of particles a and b, `[F, L, S]` truncated to the blocks' moments) and
     /// outputs `a = M^{ab} vb`, `b = M^{ba} va = (M^{ab})^T va` (pair kernels only).
     pub product: bool,
+    /// Instead of the blocks, their divergence with respect to the particle positions
+    /// (the Brownian drift `kT div M`): outputs `a_i = sum_j d/dxb_j M^{ab}_{ij}` and, for
+    /// pairs, `b_i = sum_j d/dxa_j M^{ba}_{ij}` over the force columns, rows `U` then
+    /// `Omega` as kept (F: 3, FT: 6). Obtained by running the same derivative path on
+    /// jets, of degree 1 in the positions, whose coefficients are expression nodes.
+    pub divergence: bool,
 }
 
 /// Shape of a kernel argument.
@@ -190,9 +197,6 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
         .map(|&(r, m)| max_order(r, m))
         .max()
         .unwrap_or(0);
-    let mut src = Source::new(g, spec, &xa, &xb, &params, order);
-    let (aa2, ab2) = (aa * aa, ab * ab);
-    let scale = Ex::cst(1.0 / (8.0 * std::f64::consts::PI)) / eta;
     // Moment vectors of the fused product, declared before any block is traced so the
     // argument order is fixed.
     let dim = {
@@ -217,31 +221,21 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
     } else {
         None
     };
+    let scale = Ex::cst(1.0 / (8.0 * std::f64::consts::PI)) / eta;
     let mut outputs = Vec::new();
-    for &(r, m) in &spec.blocks {
-        let terms = operators::block(r, m, spec.basis);
-        let iso = match spec.interaction {
-            Interaction::SelfTerm => Some(isolated(r, m, spec.basis, &aa)),
-            Interaction::Pair => None,
-        };
-        let mut ids = Vec::new();
-        for (row, entries) in terms.iter().enumerate() {
-            for (col, entry) in entries.iter().enumerate() {
-                let mut v = src.entry(entry, &aa2, &ab2);
-                if let Some(iso) = &iso {
-                    v = iso[row][col] + v;
-                }
-                ids.push((scale * v).0);
-            }
+    if spec.divergence {
+        outputs = divergence_outputs(g, spec, &xa, &xb, &aa, &ab, &params, order, &scale);
+    } else {
+        let values = block_values(g, spec, &xa, &xb, &aa, &ab, &params, order);
+        for (&(r, m), vals) in spec.blocks.iter().zip(values) {
+            outputs.push(BlockOut {
+                name: block_name(r, m),
+                block: Some((r, m)),
+                shape: shape(r, m, spec.basis),
+                ids: vals.into_iter().map(|v| (scale * v).0).collect(),
+            });
         }
-        outputs.push(BlockOut {
-            name: block_name(r, m),
-            block: Some((r, m)),
-            shape: shape(r, m, spec.basis),
-            ids,
-        });
     }
-    drop(src);
     if let Some((va, vb)) = vectors {
         outputs = product_outputs(&outputs, &va, &vb);
     }
@@ -302,18 +296,18 @@ fn product_outputs(blocks: &[BlockOut], va: &[Ex], vb: &[Ex]) -> Vec<BlockOut> {
 
 /// The derivative source for a kernel: structured when the Green's function has image
 /// structure, generic otherwise.
-enum Source {
-    Structured(Structured<Ex>),
-    Generic(GenericJets<Ex>),
+enum Source<S> {
+    Structured(Structured<S>),
+    Generic(GenericJets<S>),
 }
 
-impl Source {
+impl<S: Scalar> Source<S> {
     fn new<G: Green>(
         g: &G,
         spec: &KernelSpec,
-        xa: &[Ex; 3],
-        xb: &[Ex; 3],
-        p: &[Ex],
+        xa: &[S; 3],
+        xb: &[S; 3],
+        p: &[S],
         order: usize,
     ) -> Self {
         let pair = spec.interaction == Interaction::Pair;
@@ -326,12 +320,122 @@ impl Source {
         }
     }
 
-    fn entry(&mut self, terms: &[operators::Term], aa2: &Ex, ab2: &Ex) -> Ex {
+    fn entry(&mut self, terms: &[operators::Term], aa2: &S, ab2: &S) -> S {
         match self {
             Source::Structured(s) => apply(terms, aa2, ab2, s),
             Source::Generic(s) => apply(terms, aa2, ab2, s),
         }
     }
+}
+
+/// Every entry of every block of `spec`, row-major, in units of `1/(8 pi eta)` (self
+/// kernels include the isolated sphere), for any scalar: expression nodes for the
+/// kernels, jets of expression nodes for their derivatives.
+#[allow(clippy::too_many_arguments)]
+fn block_values<G: Green, S: Scalar>(
+    g: &G,
+    spec: &KernelSpec,
+    xa: &[S; 3],
+    xb: &[S; 3],
+    aa: &S,
+    ab: &S,
+    params: &[S],
+    order: usize,
+) -> Vec<Vec<S>> {
+    let mut src = Source::new(g, spec, xa, xb, params, order);
+    let (aa2, ab2) = (aa.clone() * aa.clone(), ab.clone() * ab.clone());
+    spec.blocks
+        .iter()
+        .map(|&(r, m)| {
+            let terms = operators::block(r, m, spec.basis);
+            let iso = match spec.interaction {
+                Interaction::SelfTerm => Some(isolated(r, m, spec.basis, aa)),
+                Interaction::Pair => None,
+            };
+            let mut vals = Vec::new();
+            for (row, entries) in terms.iter().enumerate() {
+                for (col, entry) in entries.iter().enumerate() {
+                    let v = src.entry(entry, &aa2, &ab2);
+                    vals.push(match &iso {
+                        Some(iso) => iso[row][col].clone() + v,
+                        None => v,
+                    });
+                }
+            }
+            vals
+        })
+        .collect()
+}
+
+/// The divergence outputs of [`KernelSpec::divergence`]: the blocks evaluated on jets
+/// of degree 1 in the positions (`xa` variables 0-2, `xb` 3-5; one point for self
+/// kernels), then `a_i = sum_j d/dxb_j M_ij` over the force columns of the `U` and
+/// `Omega` rows, and for pairs `b_i = sum_j d/dxa_j M^{ba}_ij` with
+/// `M^{ba}_{UF} = (M^{ab}_{UF})^T`, `M^{ba}_{OmegaF} = (M^{ab}_{UL})^T`.
+#[allow(clippy::too_many_arguments)]
+fn divergence_outputs<G: Green>(
+    g: &G,
+    spec: &KernelSpec,
+    xa: &[Ex; 3],
+    xb: &[Ex; 3],
+    aa: &Ex,
+    ab: &Ex,
+    params: &[Ex],
+    order: usize,
+    scale: &Ex,
+) -> Vec<BlockOut> {
+    let pair = spec.interaction == Interaction::Pair;
+    let l = Layout::get(if pair { 6 } else { 3 }, 1);
+    let ja: [Jet<Ex>; 3] = std::array::from_fn(|k| Jet::variable(&l, k, xa[k]));
+    let jb: [Jet<Ex>; 3] = if pair {
+        std::array::from_fn(|k| Jet::variable(&l, 3 + k, xb[k]))
+    } else {
+        ja.clone()
+    };
+    let c = |e: &Ex| Jet::constant(*e);
+    let jp: Vec<Jet<Ex>> = params.iter().map(c).collect();
+    let values = block_values(g, spec, &ja, &jb, &c(aa), &c(ab), &jp, order);
+    let block = |r: Response, m: Moment| -> Option<&Vec<Jet<Ex>>> {
+        spec.blocks
+            .iter()
+            .position(|&b| b == (r, m))
+            .map(|k| &values[k])
+    };
+    // d/d(variable) of entry (i, j) of a 3x3 block
+    let d = |blk: &Vec<Jet<Ex>>, i: usize, j: usize, var: usize| -> Ex {
+        let mut m = vec![0u8; l.nvars];
+        m[var] = 1;
+        blk[3 * i + j].derivative(&m)
+    };
+    let sum3 = |f: &dyn Fn(usize) -> Ex| (0..3).map(f).fold(Ex::cst(0.0), |acc, v| acc + v);
+    let uf = block(Response::U, Moment::F).expect("divergence kernels need the UF block");
+    let of = block(Response::Omega, Moment::F);
+    let ul = block(Response::U, Moment::L);
+    let src_var = |j: usize| if pair { 3 + j } else { j };
+    let mut a: Vec<Ex> = (0..3).map(|i| sum3(&|j| d(uf, i, j, src_var(j)))).collect();
+    if let Some(of) = of {
+        a.extend((0..3).map(|i| sum3(&|j| d(of, i, j, src_var(j)))));
+    }
+    let mut outs = vec![BlockOut {
+        name: "a".into(),
+        block: None,
+        shape: vec![a.len()],
+        ids: a.into_iter().map(|v| (*scale * v).0).collect(),
+    }];
+    if pair {
+        let mut b: Vec<Ex> = (0..3).map(|i| sum3(&|j| d(uf, j, i, j))).collect();
+        if of.is_some() {
+            let ul = ul.expect("FT pair divergence needs the UL block");
+            b.extend((0..3).map(|i| sum3(&|j| d(ul, j, i, j))));
+        }
+        outs.push(BlockOut {
+            name: "b".into(),
+            block: None,
+            shape: vec![b.len()],
+            ids: b.into_iter().map(|v| (*scale * v).0).collect(),
+        });
+    }
+    outs
 }
 
 /// Truncation of the multipole expansion a scene needs.

@@ -268,3 +268,11 @@ impl BlocksFT {
         mat_products(&self.matrix(), &vb, &va)
     }
 }
+
+/// A per-particle vector from a self kernel, e.g. the Brownian drift
+/// `sum_j d/dx_j M^{aa}_{ij}` (rows `U`, then `Omega`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drift<const K: usize> {
+    /// The vector.
+    pub a: [f64; K],
+}

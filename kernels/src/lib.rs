@@ -22,8 +22,8 @@ pub mod blocks;
 #[allow(clippy::all, missing_docs)]
 pub mod generated;
 
-pub use blocks::{BlocksF, BlocksFT, Grand, GrandCartesian, Product, STRAIN_BASIS};
+pub use blocks::{BlocksF, BlocksFT, Drift, Grand, GrandCartesian, Product, STRAIN_BASIS};
 pub use generated::{
-    pair, pair_equal, pair_f, pair_ft, product_f, product_ft, self_f, self_ft, self_mobility,
-    Confinement,
+    pair, pair_divergence, pair_equal, pair_f, pair_ft, product_f, product_ft, self_divergence,
+    self_f, self_ft, self_mobility, Confinement,
 };

@@ -22,6 +22,7 @@ fn two_sphere_mobility(path: Path, h: f64, s: f64) -> DMatrix<f64> {
         blocks: BLOCKS.to_vec(),
         path,
         product: false,
+        divergence: false,
     };
     let self_k = trace(&Wall, &spec(Interaction::SelfTerm));
     let pair_k = trace(&Wall, &spec(Interaction::Pair));

@@ -10,7 +10,7 @@ use kernel_gen::green::{free::Free, wall::Wall, Green, Visitor};
 use kernel_gen::jet::Layout;
 use kernel_gen::operators::{Deriv, Derivatives};
 use kernel_gen::scene::{trace, Interaction};
-use kernels::{pair, pair_equal, self_mobility};
+use kernels::{pair, pair_divergence, pair_equal, self_divergence, self_mobility};
 
 fn all_derivs(order: usize) -> Vec<Deriv> {
     let l = Layout::get(6, order);
@@ -122,25 +122,35 @@ impl Visitor for EmittedVsInterpreted {
         for v in variants() {
             let traced = trace(g, &v.spec);
             let mut inputs: Vec<f64> = xa.to_vec();
-            let got = match (v.spec.interaction, v.spec.equal_radii) {
-                (Interaction::SelfTerm, _) => {
+            // the kernel the variant was emitted as, through the public dispatch
+            let got: Vec<f64> = match (v.spec.interaction, v.spec.equal_radii, v.spec.divergence) {
+                (Interaction::SelfTerm, _, false) => {
                     inputs.extend([aa, eta]);
-                    self_mobility(&conf, eta, xa, aa)
+                    flat(&self_mobility(&conf, eta, xa, aa))
                 }
-                (Interaction::Pair, true) => {
+                (Interaction::SelfTerm, _, true) => {
+                    inputs.extend([aa, eta]);
+                    self_divergence(&conf, eta, xa, aa).a.to_vec()
+                }
+                (Interaction::Pair, true, _) => {
                     inputs.extend(xb);
                     inputs.extend([aa, eta]);
-                    pair_equal(&conf, eta, xa, xb, aa)
+                    flat(&pair_equal(&conf, eta, xa, xb, aa))
                 }
-                (Interaction::Pair, false) => {
+                (Interaction::Pair, false, false) => {
                     inputs.extend(xb);
                     inputs.extend([aa, ab, eta]);
-                    pair(&conf, eta, xa, aa, xb, ab)
+                    flat(&pair(&conf, eta, xa, aa, xb, ab))
+                }
+                (Interaction::Pair, false, true) => {
+                    inputs.extend(xb);
+                    inputs.extend([aa, ab, eta]);
+                    let d = pair_divergence(&conf, eta, xa, aa, xb, ab);
+                    d.a.iter().chain(&d.b).copied().collect()
                 }
             };
             inputs.extend(&p);
             let want: Vec<f64> = traced.graph.eval(&inputs, &traced.output_ids());
-            let got = flat(&got);
             assert_eq!(got.len(), want.len());
             for (k, (a, b)) in got.iter().zip(&want).enumerate() {
                 let ulps = (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs();

@@ -36,7 +36,7 @@ pub mod slit;
 pub mod scene_slit_f;
 /// Kernels of the scene `slit_ft` (`scenes/`).
 pub mod scene_slit_ft;
-use crate::blocks::{BlocksF, BlocksFT, Grand, Product};
+use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};
 /// The F blocks of `M^{ab}` (equal-radius kernels when `aa == ab`).
 pub fn pair_f(
     conf: &Confinement,
@@ -404,6 +404,50 @@ pub fn product_ft(
                     vb,
                 )
             }
+        }
+    }
+}
+/// The Brownian drift of a pair: `a` = the divergence of `M^{ab}` over the
+/// position of `b` (`sum_j d/dxb_j M_{ij}`, rows U then Omega, force columns),
+/// `b` = that of `M^{ba}` over the position of `a`.
+pub fn pair_divergence(
+    conf: &Confinement,
+    eta: f64,
+    xa: [f64; 3],
+    aa: f64,
+    xb: [f64; 3],
+    ab: f64,
+) -> Product<6> {
+    match *conf {
+        Confinement::Free => free::free_pair_divergence(xa, xb, aa, ab, eta),
+        Confinement::Wall { height } => {
+            wall::wall_pair_divergence(xa, xb, aa, ab, eta, height)
+        }
+        Confinement::FreeSurface { height } => {
+            free_surface::free_surface_pair_divergence(xa, xb, aa, ab, eta, height)
+        }
+        Confinement::Interface { height, lambda } => {
+            interface::interface_pair_divergence(xa, xb, aa, ab, eta, height, lambda)
+        }
+        Confinement::Slit { height, gap } => {
+            slit::slit_pair_divergence(xa, xb, aa, ab, eta, height, gap)
+        }
+    }
+}
+/// The Brownian drift of one particle's self mobility: `sum_j d/dx_j M^{aa}_{ij}`,
+/// rows U then Omega, force columns.
+pub fn self_divergence(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Drift<6> {
+    match *conf {
+        Confinement::Free => free::free_self_divergence(x, a, eta),
+        Confinement::Wall { height } => wall::wall_self_divergence(x, a, eta, height),
+        Confinement::FreeSurface { height } => {
+            free_surface::free_surface_self_divergence(x, a, eta, height)
+        }
+        Confinement::Interface { height, lambda } => {
+            interface::interface_self_divergence(x, a, eta, height, lambda)
+        }
+        Confinement::Slit { height, gap } => {
+            slit::slit_self_divergence(x, a, eta, height, gap)
         }
     }
 }
