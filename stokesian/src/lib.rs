@@ -7,11 +7,13 @@
 //! a typed [`InputError`] names the offending particle, and nothing is computed.
 
 mod assembly;
+mod brownian;
 pub mod exact;
 mod input;
 mod lubrication;
 
 pub use assembly::{check_spd, Moments, SpdCheck, System};
+pub use brownian::{Brownian, BrownianError, ExternalForces};
 pub use input::{validate, InputError, Particle};
 pub use kernels::Confinement;
 pub use lubrication::{
