@@ -9,7 +9,10 @@
 //! - `stokesian mobility ... --out M.npy|M.json` writes the dense grand mobility;
 //! - `stokesian velocity ... --forces forces.csv --out U.csv` writes velocities (and
 //!   rotation rates) of spheres in a quiescent fluid, solving for the stresslets with
-//!   `--moments FTS`.
+//!   `--moments FTS`;
+//! - `stokesian brownian ... --steps N --dt DT --out traj.csv|traj.npy` integrates
+//!   overdamped Brownian dynamics with hydrodynamic interactions (F level only:
+//!   `--moments` defaults to F and any other value is rejected).
 //!
 //! Every input error is a [`CliError`] naming the file, the line and the particle;
 //! output is written to a temporary file in the output's directory and renamed on
@@ -18,12 +21,15 @@
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use nalgebra::{DMatrix, DVector};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
 use std::fs::{self, File};
 use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
-use stokesian::{Confinement, InputError, Moments, Particle, System};
+use stokesian::{Brownian, BrownianError, Confinement, ExternalForces, InputError, Moments};
+use stokesian::{Particle, System};
 use thiserror::Error;
 
 /// The layout string of the JSON output and the help text.
@@ -31,7 +37,8 @@ const LAYOUT: &str = "moment-major: U(3N), Omega(3N), E(5N, orthonormal basis B1
                       particle-major within a moment";
 
 const ABOUT: &str = "Grand mobility of spheres in Stokes flow near walls and interfaces \
-(Swan & Brady, Phys. Fluids 19, 113306, 2007), and velocities of force- and torque-given spheres.";
+(Swan & Brady, Phys. Fluids 19, 113306, 2007); velocities of force- and torque-given spheres; \
+the resistance with lubrication; Brownian dynamics.";
 
 const LONG_HELP: &str = "\
 UNITS
@@ -131,7 +138,51 @@ enum Command {
         after_long_help = LONG_HELP
     )]
     Resistance(MobilityArgs),
+    /// Overdamped Brownian dynamics with hydrodynamic interactions (F level): trajectory.
+    #[command(long_about = BROWNIAN_ABOUT, after_long_help = LONG_HELP)]
+    Brownian(BrownianArgs),
 }
+
+const BROWNIAN_ABOUT: &str = "\
+Overdamped Brownian dynamics of torque-free spheres with hydrodynamic interactions,
+near the boundary given by --confinement. One Euler-Maruyama step of length --dt is
+
+    x(t + dt) = x + (M F + kT div M) dt + sqrt(2 kT dt) L W,    M = L L^T,
+
+with M the F-level (3N x 3N) grand mobility at the current positions, F the external
+forces (--weight, --repulsion-strength, --debye-length), W independent standard normal
+numbers and L the Cholesky factor of M. Only the F level is implemented: --moments
+defaults to F, and FT or FTS are rejected.
+
+THE DRIFT kT div M
+    Near a wall the mobility depends on position (a sphere moves more slowly the closer
+    it is), and the Ito equation above needs the drift kT div M (the divergence of the
+    mobility with respect to the positions) for the Boltzmann distribution exp(-U/kT)
+    to be the stationary one. It pushes spheres away from a wall. --no-drift leaves it
+    out: this is WRONG near a boundary (the spheres then accumulate where they move
+    slowly, sampling exp(-U/kT)/mobility) and exists only to compare against; in
+    unbounded fluid (--confinement free) the drift is zero anyway.
+
+UNITS
+    Consistent units, as for the other commands: with lengths in m, viscosity in Pa s,
+    --kt in J (k_B T = 4.11e-21 J at 298 K) and forces in N, --dt is in s. Dimensionless
+    choice: radius a = 1, viscosity 1, --kt 1; time is then in units of
+    eta a^3/kT = a^2/(6 pi D_0), with D_0 = kT/(6 pi eta a) the Stokes-Einstein
+    diffusion coefficient far from any boundary.
+
+REJECTED STEPS
+    A step that would put a sphere into a boundary or into another sphere is rejected
+    and redrawn with new random numbers (same positions, same time). This biases the
+    dynamics slightly; many rejections mean --dt is too large for the forces near
+    contact. The run fails after more than --max-rejections rejections in total.
+
+OUTPUT
+    Frames at steps 0, K, 2K, ... (K = --every; the last step only if it is a multiple
+    of K). .csv: header step,time,particle,x,y,z and one line per particle per frame,
+    every number printed to full round-trip precision (time = step * dt). .npy: float64
+    array of shape (frames, N, 3), C order (numpy.load). The random numbers come from
+    ChaCha8 seeded with --seed: the same inputs and seed give the same file on every
+    machine.";
 
 /// The system: confinement, truncation, particles, viscosity.
 #[derive(Args, Debug)]
@@ -197,6 +248,79 @@ struct VelocityArgs {
     lubrication: bool,
     /// Output CSV file: ux,uy,uz (F) or ux,uy,uz,wx,wy,wz (FT, FTS).
     #[arg(long, value_name = "U.csv")]
+    out: PathBuf,
+}
+
+/// `brownian`: the system (`--moments` defaults to F, the only level implemented), the
+/// integration and the external forces.
+#[derive(Args, Debug)]
+#[command(mut_arg("moments", |a| a
+    .required(false)
+    .default_value("F")
+    .help("Truncation: only F (point forces; positions of torque-free spheres) is \
+           implemented for Brownian dynamics")))]
+struct BrownianArgs {
+    #[command(flatten)]
+    system: SystemArgs,
+    /// Number of time steps.
+    #[arg(long, value_name = "N")]
+    steps: usize,
+    /// Time step, in the time unit of the other inputs (> 0). Spheres should move much
+    /// less than their distance to a boundary or to each other in one step:
+    /// sqrt(2 D dt) << gap, with D = kT/(6 pi viscosity radius).
+    #[arg(long, value_name = "DT", allow_negative_numbers = true)]
+    dt: f64,
+    /// Thermal energy k_B T, in energy units (force x length; 4.11e-21 J at 298 K), > 0.
+    #[arg(
+        long,
+        value_name = "KT",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
+    kt: f64,
+    /// Seed of the random numbers (ChaCha8): the same seed gives the same trajectory.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Buoyant weight of each sphere (gravity minus buoyancy), a force -weight e_z, in
+    /// force units. The gravitational length is kT/weight.
+    #[arg(
+        long,
+        value_name = "W",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    weight: f64,
+    /// Repulsion from each boundary plane (e.g. screened electrostatics), in force units:
+    /// strength * exp(-h / debye-length) along the plane's normal into the fluid, with
+    /// h = (centre-to-plane distance) - radius the surface-to-plane gap. Not for free.
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    repulsion_strength: f64,
+    /// Decay length of the boundary repulsion (Debye screening length), in length
+    /// units (> 0).
+    #[arg(
+        long,
+        value_name = "L",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
+    debye_length: f64,
+    /// Leave out the drift kT div M. WRONG near a boundary (wrong equilibrium
+    /// distribution); for comparison only.
+    #[arg(long)]
+    no_drift: bool,
+    /// Write every K-th step (step 0 always).
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    every: usize,
+    /// Fail after more than M rejected (redrawn) steps in total.
+    #[arg(long, value_name = "M", default_value_t = 1000)]
+    max_rejections: usize,
+    /// Output trajectory: .csv (step,time,particle,x,y,z) or .npy (frames x N x 3).
+    #[arg(long, value_name = "traj.csv|traj.npy")]
     out: PathBuf,
 }
 
@@ -360,6 +484,17 @@ enum CliError {
     /// --allow-overlap can make the kernels meaningless).
     #[error("{0}")]
     Numerical(String),
+    /// Brownian dynamics rejected too many steps.
+    #[error("{rejections} rejected steps, more than --max-rejections {max}: the last, at step {step}, {reason}. The time step is too large for the forces and distances near contact: use a smaller --dt (or raise --max-rejections)")]
+    TooManyRejections {
+        rejections: usize,
+        max: usize,
+        step: usize,
+        reason: String,
+    },
+    /// Brownian dynamics failed for another reason.
+    #[error("{0}; nothing written")]
+    Brownian(BrownianError),
 }
 
 fn main() -> ExitCode {
@@ -368,6 +503,7 @@ fn main() -> ExitCode {
         Command::Mobility(args) => run_mobility(&args),
         Command::Velocity(args) => run_velocity(&args),
         Command::Resistance(args) => run_resistance(&args),
+        Command::Brownian(args) => run_brownian(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -878,16 +1014,7 @@ fn run_matrix(args: &MobilityArgs, resistance: bool) -> Result<(), CliError> {
 /// data, C order.
 fn write_npy(w: &mut impl Write, m: &DMatrix<f64>, pb: &ProgressBar) -> io::Result<()> {
     let (rows, cols) = m.shape();
-    let mut header =
-        format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
-    let unpadded = 10 + header.len() + 1;
-    header.push_str(&" ".repeat((64 - unpadded % 64) % 64));
-    header.push('\n');
-    let len = u16::try_from(header.len())
-        .map_err(|_| io::Error::new(io::ErrorKind::InvalidData, "NPY header too long"))?;
-    w.write_all(b"\x93NUMPY\x01\x00")?;
-    w.write_all(&len.to_le_bytes())?;
-    w.write_all(header.as_bytes())?;
+    write_npy_header(w, &[rows, cols])?;
     for i in 0..rows {
         for j in 0..cols {
             w.write_all(&m[(i, j)].to_le_bytes())?;
@@ -895,6 +1022,26 @@ fn write_npy(w: &mut impl Write, m: &DMatrix<f64>, pb: &ProgressBar) -> io::Resu
         pb.inc(1);
     }
     Ok(())
+}
+
+/// The NPY v1.0 preamble of a little-endian float64 C-order array of any `shape`.
+fn write_npy_header(w: &mut impl Write, shape: &[usize]) -> io::Result<()> {
+    let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
+    // a 1-tuple needs its trailing comma
+    let tuple = if dims.len() == 1 {
+        format!("{},", dims[0])
+    } else {
+        dims.join(", ")
+    };
+    let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({tuple}), }}");
+    let unpadded = 10 + header.len() + 1;
+    header.push_str(&" ".repeat((64 - unpadded % 64) % 64));
+    header.push('\n');
+    let len = u16::try_from(header.len())
+        .map_err(|_| io::Error::new(io::ErrorKind::InvalidData, "NPY header too long"))?;
+    w.write_all(b"\x93NUMPY\x01\x00")?;
+    w.write_all(&len.to_le_bytes())?;
+    w.write_all(header.as_bytes())
 }
 
 /// JSON with every number in Rust's shortest round-trip form (valid JSON for finite
@@ -1198,4 +1345,192 @@ fn solve_fts(
     let m_us = m.view((0, 6 * n), (6 * n, 5 * n));
     let u = m_ufl * &fl + m_us * &s;
     Ok((u.as_slice().to_vec(), cholesky))
+}
+
+/// A bar over the `len` time steps.
+fn steps_bar(pb: &ProgressBar, len: u64, message: String) {
+    let style =
+        ProgressStyle::with_template("{msg} {wide_bar} {pos}/{len} steps [{elapsed}, eta {eta}]")
+            .unwrap_or_else(|_| ProgressStyle::default_bar());
+    pb.set_style(style);
+    pb.set_length(len);
+    pb.set_position(0);
+    pb.set_message(message);
+}
+
+/// A positive finite option value.
+fn positive(option: &'static str, value: f64, what: &str) -> Result<(), CliError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(CliError::BadOption {
+            option,
+            value: value.to_string(),
+            reason: format!("{what} must be a positive finite number"),
+        })
+    }
+}
+
+/// A finite option value.
+fn finite(option: &'static str, value: f64) -> Result<(), CliError> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(CliError::BadOption {
+            option,
+            value: value.to_string(),
+            reason: "must be a finite number".to_string(),
+        })
+    }
+}
+
+fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
+    check_out(&args.out, &["csv", "npy"])?;
+    let npy = args
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("npy"));
+    if args.system.moments != MomentsArg::F {
+        return Err(CliError::BadOption {
+            option: "--moments",
+            value: args.system.moments.name().to_string(),
+            reason: "brownian is implemented at the F level only (positions of \
+                     torque-free spheres); leave out --moments or give --moments F"
+                .to_string(),
+        });
+    }
+    positive("--dt", args.dt, "the time step")?;
+    positive("--kt", args.kt, "the thermal energy kT")?;
+    positive("--debye-length", args.debye_length, "the decay length")?;
+    finite("--weight", args.weight)?;
+    finite("--repulsion-strength", args.repulsion_strength)?;
+    if args.every == 0 {
+        return Err(CliError::BadOption {
+            option: "--every",
+            value: "0".to_string(),
+            reason: "must be at least 1 (write every K-th step)".to_string(),
+        });
+    }
+    if args.repulsion_strength != 0.0 && args.system.confinement == ConfinementArg::Free {
+        return Err(CliError::Inapplicable {
+            option: "--repulsion-strength",
+            context: "--confinement free (there is no boundary to repel from)".to_string(),
+        });
+    }
+    let pb = &spinner();
+    pb.set_message("reading particles");
+    let setup = match setup(&args.system) {
+        Ok(s) => s,
+        Err(e) => {
+            pb.finish_and_clear();
+            return Err(e);
+        }
+    };
+    let n = setup.system.len();
+    let bd = Brownian {
+        kt: args.kt,
+        dt: args.dt,
+        drift: !args.no_drift,
+        forces: ExternalForces {
+            weight: args.weight,
+            strength: args.repulsion_strength,
+            debye: args.debye_length,
+        },
+    };
+    steps_bar(
+        pb,
+        args.steps as u64,
+        format!("Brownian dynamics of {n} spheres"),
+    );
+    let mut rejections = 0;
+    let mut failure = None;
+    let result = write_atomically(&args.out, |w| {
+        match simulate(w, setup.system, &bd, args, npy, pb, &mut rejections) {
+            Ok(()) => Ok(()),
+            Err(e) => {
+                failure = Some(e);
+                Err(io::Error::other("Brownian dynamics failed"))
+            }
+        }
+    });
+    pb.finish_and_clear();
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    result?;
+    report(format!(
+        "wrote {}: {} steps of {n} spheres (dt {:?}), {} frames, {rejections} rejected steps \
+         redrawn",
+        args.out.display(),
+        args.steps,
+        args.dt,
+        args.steps / args.every + 1,
+    ));
+    Ok(())
+}
+
+/// Integrate and write the frames (step 0 and every `--every`-th step) to `w`.
+fn simulate(
+    w: &mut impl Write,
+    mut system: System,
+    bd: &Brownian,
+    args: &BrownianArgs,
+    npy: bool,
+    pb: &ProgressBar,
+    rejections: &mut usize,
+) -> Result<(), CliError> {
+    let io_error = |source: io::Error| CliError::Write {
+        path: args.out.display().to_string(),
+        source,
+    };
+    let n = system.len();
+    let frames = args.steps / args.every + 1;
+    if npy {
+        write_npy_header(w, &[frames, n, 3]).map_err(io_error)?;
+    } else {
+        writeln!(w, "step,time,particle,x,y,z").map_err(io_error)?;
+    }
+    let frame = |w: &mut dyn Write, step: usize, system: &System| -> io::Result<()> {
+        let time = step as f64 * bd.dt;
+        for (a, p) in system.particles().iter().enumerate() {
+            if npy {
+                for x in p.x {
+                    w.write_all(&x.to_le_bytes())?;
+                }
+            } else {
+                writeln!(
+                    w,
+                    "{step},{time:?},{a},{:?},{:?},{:?}",
+                    p.x[0], p.x[1], p.x[2]
+                )?;
+            }
+        }
+        Ok(())
+    };
+    frame(w, 0, &system).map_err(io_error)?;
+    let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
+    for step in 1..=args.steps {
+        system = loop {
+            match system.brownian_step(bd, &mut rng, step) {
+                Ok(next) => break next,
+                Err(BrownianError::Invalid { step, source }) => {
+                    *rejections += 1;
+                    if *rejections > args.max_rejections {
+                        return Err(CliError::TooManyRejections {
+                            rejections: *rejections,
+                            max: args.max_rejections,
+                            step,
+                            reason: source.to_string(),
+                        });
+                    }
+                }
+                Err(e) => return Err(CliError::Brownian(e)),
+            }
+        };
+        if step % args.every == 0 {
+            frame(w, step, &system).map_err(io_error)?;
+        }
+        pb.inc(1);
+    }
+    Ok(())
 }
