@@ -1,5 +1,6 @@
 //! Criterion benchmarks: time per pair of each scene's kernels; matrix-free products
-//! near a wall (F and FT, N = 1e2, 1e3, 1e4); dense FTS assembly (N = 1e2, 1e3).
+//! near a wall (F and FT, N = 1e2, 1e3, 1e4); dense FTS assembly (N = 1e2, 1e3); Brownian
+//! steps near a wall (F, N = 10, 100, 1000, Cholesky and Lanczos noise).
 //! Run with `cargo bench -p stokesian`.
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 
@@ -175,5 +176,41 @@ fn dense(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, per_pair, products, dense);
+fn brownian(c: &mut Criterion) {
+    use stokesian::{Brownian, ExternalForces, Noise};
+    let mut g = c.benchmark_group("wall Brownian step (F)");
+    g.sample_size(10).measurement_time(Duration::from_secs(30));
+    for n in [10usize, 100, 1000] {
+        let s = System::new(
+            Confinement::Wall { height: 0.0 },
+            1.0,
+            suspension(n, 3),
+            false,
+        )
+        .unwrap();
+        for (name, noise) in [
+            ("Cholesky", Noise::Cholesky),
+            ("Lanczos 1e-6", Noise::Lanczos { tol: 1e-6 }),
+        ] {
+            let bd = Brownian {
+                kt: 1.0,
+                dt: 1e-4,
+                drift: true,
+                forces: ExternalForces {
+                    weight: 1.0,
+                    strength: 0.0,
+                    debye: 1.0,
+                },
+                noise,
+            };
+            let mut rng = ChaCha8Rng::seed_from_u64(5);
+            g.bench_function(BenchmarkId::new(name, n), |b| {
+                b.iter(|| s.brownian_step(&bd, &mut rng, 0).unwrap())
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, per_pair, products, dense, brownian);
 criterion_main!(benches);

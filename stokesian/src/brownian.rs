@@ -14,6 +14,7 @@ use crate::input::{InputError, Particle};
 use kernels::{pair_divergence, self_divergence};
 use rand::Rng;
 use rand_distr::StandardNormal;
+use rayon::prelude::*;
 use thiserror::Error;
 
 /// External forces on every sphere (force exerted on the fluid = external force on the
@@ -50,6 +51,21 @@ pub struct Brownian {
     pub drift: bool,
     /// External forces.
     pub forces: ExternalForces,
+    /// How the Brownian displacement `M^{1/2} W` is formed.
+    pub noise: Noise,
+}
+
+/// The square root of the mobility applied to the random vector.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Noise {
+    /// Cholesky factor `L` of the dense `M` (`L W` has covariance `M`): N up to a few
+    /// thousand.
+    Cholesky,
+    /// Lanczos `M^{1/2} W` from matrix-free products, to a relative tolerance.
+    Lanczos {
+        /// Relative change at which the iteration stops.
+        tol: f64,
+    },
 }
 
 /// Why a step cannot be taken.
@@ -67,6 +83,14 @@ pub enum BrownianError {
     /// The mobility lost positive definiteness (cannot happen for valid input).
     #[error("step {0}: the mobility is not positive definite")]
     NotPositiveDefinite(usize),
+    /// The Lanczos square root failed.
+    #[error("step {step}: {source}")]
+    Lanczos {
+        /// Step number.
+        step: usize,
+        /// Why.
+        source: LanczosError,
+    },
 }
 
 impl System {
@@ -93,21 +117,35 @@ impl System {
     pub fn divergence(&self) -> Vec<f64> {
         let (c, eta, ps) = (self.confinement(), self.viscosity(), self.particles());
         let n = self.len();
-        let mut out = vec![0.0; 3 * n];
-        for a in 0..n {
-            let s = self_divergence(c, eta, ps[a].x, ps[a].a);
-            for i in 0..3 {
-                out[3 * a + i] += s.a[i];
-            }
-            for b in a + 1..n {
-                let d = pair_divergence(c, eta, ps[a].x, ps[a].a, ps[b].x, ps[b].a);
-                for i in 0..3 {
-                    out[3 * a + i] += d.a[i];
-                    out[3 * b + i] += d.b[i];
-                }
-            }
-        }
-        out
+        // each unordered pair once; per-thread accumulators summed at the end
+        (0..n)
+            .into_par_iter()
+            .fold(
+                || vec![0.0; 3 * n],
+                |mut out, a| {
+                    let s = self_divergence(c, eta, ps[a].x, ps[a].a);
+                    for i in 0..3 {
+                        out[3 * a + i] += s.a[i];
+                    }
+                    for b in a + 1..n {
+                        let d = pair_divergence(c, eta, ps[a].x, ps[a].a, ps[b].x, ps[b].a);
+                        for i in 0..3 {
+                            out[3 * a + i] += d.a[i];
+                            out[3 * b + i] += d.b[i];
+                        }
+                    }
+                    out
+                },
+            )
+            .reduce(
+                || vec![0.0; 3 * n],
+                |mut u, v| {
+                    for (p, q) in u.iter_mut().zip(&v) {
+                        *p += q;
+                    }
+                    u
+                },
+            )
     }
 
     /// One Euler-Maruyama step; returns the system at the new positions.
@@ -118,15 +156,34 @@ impl System {
         step: usize,
     ) -> Result<System, BrownianError> {
         let n = self.len();
-        let m = self.mobility(Moments::F);
         let f = self.external_forces(&bd.forces);
-        let mf = &m * nalgebra::DVector::from_column_slice(&f);
-        let l = m
-            .cholesky()
-            .ok_or(BrownianError::NotPositiveDefinite(step))?
-            .l();
-        let w = nalgebra::DVector::from_fn(3 * n, |_, _| rng.sample::<f64, _>(StandardNormal));
-        let noise = l * w * (2.0 * bd.kt * bd.dt).sqrt();
+        let w: Vec<f64> = (0..3 * n)
+            .map(|_| rng.sample::<f64, _>(StandardNormal))
+            .collect();
+        let scale = (2.0 * bd.kt * bd.dt).sqrt();
+        let (mf, noise): (Vec<f64>, Vec<f64>) = match bd.noise {
+            Noise::Cholesky => {
+                let m = self.mobility(Moments::F);
+                let mf = &m * nalgebra::DVector::from_column_slice(&f);
+                let l = m
+                    .cholesky()
+                    .ok_or(BrownianError::NotPositiveDefinite(step))?
+                    .l();
+                let noise = l * nalgebra::DVector::from_column_slice(&w) * scale;
+                (
+                    mf.iter().copied().collect(),
+                    noise.iter().copied().collect(),
+                )
+            }
+            Noise::Lanczos { tol } => {
+                let (y, _) = lanczos_sqrt(|x| self.apply(Moments::F, x), &w, tol, 3 * n)
+                    .map_err(|source| BrownianError::Lanczos { step, source })?;
+                (
+                    self.apply(Moments::F, &f),
+                    y.iter().map(|v| v * scale).collect(),
+                )
+            }
+        };
         let div = if bd.drift {
             self.divergence()
         } else {

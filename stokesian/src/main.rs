@@ -1428,6 +1428,7 @@ fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
     };
     let n = setup.system.len();
     let bd = Brownian {
+        noise: stokesian::Noise::Cholesky,
         kt: args.kt,
         dt: args.dt,
         drift: !args.no_drift,

@@ -1012,6 +1012,7 @@ fn bd_args<'a>(particles: &'a str, seed: &'a str, out: &'a str) -> Vec<&'a str> 
 fn bd_library(seed: u64, dt: f64) -> (Vec<Vec<[f64; 3]>>, usize) {
     use rand::SeedableRng;
     let bd = stokesian::Brownian {
+        noise: stokesian::Noise::Cholesky,
         kt: BD_KT,
         dt,
         drift: true,

@@ -3,7 +3,7 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use stokesian::{Brownian, Confinement, ExternalForces, Moments, Particle, System};
+use stokesian::{Brownian, Confinement, ExternalForces, Moments, Noise, Particle, System};
 
 const WALL: Confinement = Confinement::Wall { height: 0.0 };
 
@@ -22,6 +22,7 @@ const FORCES: ExternalForces = ExternalForces {
 /// the number of steps rejected (and redrawn) because they crossed into the wall.
 fn heights(drift: bool, steps: usize, every: usize, burn: usize, seed: u64) -> (Vec<f64>, usize) {
     let bd = Brownian {
+        noise: stokesian::Noise::Cholesky,
         kt: 1.0,
         dt: 0.02,
         drift,
@@ -131,7 +132,14 @@ fn heights_follow_boltzmann_only_with_the_drift() {
 /// O(dt^2) to the variance).
 #[test]
 fn short_time_diffusion_is_kt_times_the_self_mobility() {
+    for noise in [Noise::Cholesky, Noise::Lanczos { tol: 1e-10 }] {
+        short_time_diffusion(noise);
+    }
+}
+
+fn short_time_diffusion(noise: Noise) {
     let bd = Brownian {
+        noise,
         kt: 1.0,
         dt: 1e-3,
         drift: true,
