@@ -193,6 +193,7 @@ fn brownian(c: &mut Criterion) {
             ("Lanczos 1e-6", Noise::Lanczos { tol: 1e-6 }),
         ] {
             let bd = Brownian {
+                hydrodynamics: true,
                 kt: 1.0,
                 dt: 1e-4,
                 drift: true,
@@ -200,6 +201,7 @@ fn brownian(c: &mut Criterion) {
                     weight: 1.0,
                     strength: 0.0,
                     debye: 1.0,
+                    trap: 0.0,
                 },
                 noise,
             };

@@ -9,6 +9,11 @@ use kernels::{
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
+/// Below this many particles the pair loops run on the calling thread: handing a few
+/// pairs to the thread pool costs more than computing them (it dominated Brownian
+/// steps of two spheres).
+pub(crate) const PARALLEL_MIN: usize = 32;
+
 /// Truncation of the multipole expansion: which moments the matrix couples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Moments {
@@ -148,10 +153,12 @@ impl System {
     pub fn mobility(&self, moments: Moments) -> DMatrix<f64> {
         let n = self.len();
         let k = moments.per_particle();
-        let blocks: Vec<(usize, usize, Vec<f64>)> = (0..n)
-            .into_par_iter()
-            .flat_map_iter(|a| (a..n).map(move |b| (a, b, self.block(moments, a, b))))
-            .collect();
+        let row = |a: usize| (a..n).map(move |b| (a, b, self.block(moments, a, b)));
+        let blocks: Vec<(usize, usize, Vec<f64>)> = if n < PARALLEL_MIN {
+            (0..n).flat_map(row).collect()
+        } else {
+            (0..n).into_par_iter().flat_map_iter(row).collect()
+        };
         let mut m = DMatrix::zeros(k * n, k * n);
         let parts = moments.parts();
         for (a, b, blk) in &blocks {

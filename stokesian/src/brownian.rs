@@ -29,6 +29,9 @@ pub struct ExternalForces {
     pub strength: f64,
     /// Screening length of the repulsion.
     pub debye: f64,
+    /// Stiffness of a harmonic trap pulling each sphere towards the axis `x = y = 0`
+    /// (force `-trap (x, y, 0)`; potential `trap (x^2 + y^2) / 2`); 0 for none.
+    pub trap: f64,
 }
 
 impl ExternalForces {
@@ -36,6 +39,11 @@ impl ExternalForces {
     /// single lower boundary at `z0` (for tests and for the Boltzmann distribution).
     pub fn potential_above(&self, z: f64, a: f64, z0: f64) -> f64 {
         self.weight * z + self.strength * self.debye * (-((z - z0) - a) / self.debye).exp()
+    }
+
+    /// Whether any force is applied.
+    fn any(&self) -> bool {
+        self.weight != 0.0 || self.strength != 0.0 || self.trap != 0.0
     }
 }
 
@@ -53,6 +61,10 @@ pub struct Brownian {
     pub forces: ExternalForces,
     /// How the Brownian displacement `M^{1/2} W` is formed.
     pub noise: Noise,
+    /// With `false`, no hydrodynamic interactions: each sphere has the isolated Stokes
+    /// mobility `1/(6 pi eta a)` (no wall or pair coupling, hence no drift). For
+    /// comparison: the equilibrium distribution must not depend on it.
+    pub hydrodynamics: bool,
 }
 
 /// The square root of the mobility applied to the random vector.
@@ -98,6 +110,11 @@ impl System {
     pub fn external_forces(&self, f: &ExternalForces) -> Vec<f64> {
         let mut out = vec![0.0; 3 * self.len()];
         for (a, p) in self.particles().iter().enumerate() {
+            if !f.any() {
+                break;
+            }
+            out[3 * a] -= f.trap * p.x[0];
+            out[3 * a + 1] -= f.trap * p.x[1];
             out[3 * a + 2] -= f.weight;
             for (plane, above) in self.confinement().boundaries() {
                 let d = if above {
@@ -118,25 +135,26 @@ impl System {
         let (c, eta, ps) = (self.confinement(), self.viscosity(), self.particles());
         let n = self.len();
         // each unordered pair once; per-thread accumulators summed at the end
+        let row = |mut out: Vec<f64>, a: usize| {
+            let s = self_divergence(c, eta, ps[a].x, ps[a].a);
+            for i in 0..3 {
+                out[3 * a + i] += s.a[i];
+            }
+            for b in a + 1..n {
+                let d = pair_divergence(c, eta, ps[a].x, ps[a].a, ps[b].x, ps[b].a);
+                for i in 0..3 {
+                    out[3 * a + i] += d.a[i];
+                    out[3 * b + i] += d.b[i];
+                }
+            }
+            out
+        };
+        if n < crate::assembly::PARALLEL_MIN {
+            return (0..n).fold(vec![0.0; 3 * n], row);
+        }
         (0..n)
             .into_par_iter()
-            .fold(
-                || vec![0.0; 3 * n],
-                |mut out, a| {
-                    let s = self_divergence(c, eta, ps[a].x, ps[a].a);
-                    for i in 0..3 {
-                        out[3 * a + i] += s.a[i];
-                    }
-                    for b in a + 1..n {
-                        let d = pair_divergence(c, eta, ps[a].x, ps[a].a, ps[b].x, ps[b].a);
-                        for i in 0..3 {
-                            out[3 * a + i] += d.a[i];
-                            out[3 * b + i] += d.b[i];
-                        }
-                    }
-                    out
-                },
-            )
+            .fold(|| vec![0.0; 3 * n], row)
             .reduce(
                 || vec![0.0; 3 * n],
                 |mut u, v| {
@@ -162,6 +180,20 @@ impl System {
             .collect();
         let scale = (2.0 * bd.kt * bd.dt).sqrt();
         let (mf, noise): (Vec<f64>, Vec<f64>) = match bd.noise {
+            _ if !bd.hydrodynamics => {
+                let mob: Vec<f64> = self
+                    .particles()
+                    .iter()
+                    .flat_map(|p| [1.0 / (6.0 * std::f64::consts::PI * self.viscosity() * p.a); 3])
+                    .collect();
+                (
+                    f.iter().zip(&mob).map(|(f, m)| m * f).collect(),
+                    w.iter()
+                        .zip(&mob)
+                        .map(|(w, m)| (m.sqrt() * w) * scale)
+                        .collect(),
+                )
+            }
             Noise::Cholesky => {
                 let m = self.mobility(Moments::F);
                 let mf = &m * nalgebra::DVector::from_column_slice(&f);

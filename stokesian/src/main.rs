@@ -1429,6 +1429,7 @@ fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
     let n = setup.system.len();
     let bd = Brownian {
         noise: stokesian::Noise::Cholesky,
+        hydrodynamics: true,
         kt: args.kt,
         dt: args.dt,
         drift: !args.no_drift,
@@ -1436,6 +1437,7 @@ fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
             weight: args.weight,
             strength: args.repulsion_strength,
             debye: args.debye_length,
+            trap: 0.0,
         },
     };
     steps_bar(

@@ -1013,6 +1013,7 @@ fn bd_library(seed: u64, dt: f64) -> (Vec<Vec<[f64; 3]>>, usize) {
     use rand::SeedableRng;
     let bd = stokesian::Brownian {
         noise: stokesian::Noise::Cholesky,
+        hydrodynamics: true,
         kt: BD_KT,
         dt,
         drift: true,
@@ -1020,6 +1021,7 @@ fn bd_library(seed: u64, dt: f64) -> (Vec<Vec<[f64; 3]>>, usize) {
             weight: 0.5,
             strength: 2.0,
             debye: 0.3,
+            trap: 0.0,
         },
     };
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
