@@ -241,6 +241,16 @@ fn mat_products<const K: usize>(m: &[[f64; K]; K], x: &[f64; K], y: &[f64; K]) -
     Product { a, b }
 }
 
+impl Grand {
+    /// The pair product from the 11x11 grand block (`va`, `vb`: force, torque and
+    /// stresslet of a and b): `a = M^{ab} vb`, `b = (M^{ab})^T va`.
+    pub fn product(&self, va: [f64; 11], vb: [f64; 11]) -> Product<11> {
+        let m = self.matrix();
+        let rows: [[f64; 11]; 11] = std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]));
+        mat_products(&rows, &vb, &va)
+    }
+}
+
 impl BlocksF {
     /// The pair product from the blocks (`va`, `vb`: forces on a and b).
     pub fn product(&self, va: [f64; 3], vb: [f64; 3]) -> Product<3> {

@@ -196,8 +196,8 @@ impl System {
             ),
             Moments::FTS => self.apply_pairs::<11>(
                 x,
-                |a, b, va, vb| grand_product(&self.pair_blocks(a, b), va, vb),
-                |a, va| grand_product(&self.pair_blocks(a, a), va, va).a,
+                |a, b, va, vb| self.pair_blocks(a, b).product(va, vb),
+                |a, va| self.pair_blocks(a, a).product(va, va).a,
             ),
         }
     }
@@ -262,21 +262,6 @@ impl System {
         }
         out
     }
-}
-
-/// The pair product from the 11x11 grand block `M = M^{ab}`, with the semantics of
-/// the generated product kernels: `a = M vb`, `b = M^T va`.
-fn grand_product(g: &Grand, va: [f64; 11], vb: [f64; 11]) -> Product<11> {
-    let m = g.matrix();
-    let mut a = [0.0; 11];
-    let mut b = [0.0; 11];
-    for i in 0..11 {
-        for j in 0..11 {
-            a[i] += m[(i, j)] * vb[j];
-            b[j] += m[(i, j)] * va[i];
-        }
-    }
-    Product { a, b }
 }
 
 /// Index in the moment-major layout of component `i` (grand order within the kept
