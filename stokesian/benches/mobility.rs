@@ -177,9 +177,18 @@ fn dense(c: &mut Criterion) {
 }
 
 fn brownian(c: &mut Criterion) {
-    use stokesian::{Brownian, ExternalForces, Noise};
-    let mut g = c.benchmark_group("wall Brownian step (F)");
+    use stokesian::{Brownian, ExternalForces, Noise, Scheme};
+    let mut g = c.benchmark_group("wall Brownian step");
     g.sample_size(10).measurement_time(Duration::from_secs(30));
+    let variants = [
+        ("EM Cholesky", Scheme::EulerMaruyama, Noise::Cholesky),
+        (
+            "EM Lanczos 1e-6",
+            Scheme::EulerMaruyama,
+            Noise::Lanczos { tol: 1e-6 },
+        ),
+        ("Fixman Cholesky", Scheme::FixmanMidpoint, Noise::Cholesky),
+    ];
     for n in [10usize, 100, 1000] {
         let s = System::new(
             Confinement::Wall { height: 0.0 },
@@ -188,27 +197,39 @@ fn brownian(c: &mut Criterion) {
             false,
         )
         .unwrap();
-        for (name, noise) in [
-            ("Cholesky", Noise::Cholesky),
-            ("Lanczos 1e-6", Noise::Lanczos { tol: 1e-6 }),
-        ] {
-            let bd = Brownian {
-                hydrodynamics: true,
-                kt: 1.0,
-                dt: 1e-4,
-                drift: true,
-                forces: ExternalForces {
-                    weight: 1.0,
-                    strength: 0.0,
-                    debye: 1.0,
-                    trap: 0.0,
-                },
-                noise,
-            };
-            let mut rng = ChaCha8Rng::seed_from_u64(5);
-            g.bench_function(BenchmarkId::new(name, n), |b| {
-                b.iter(|| s.brownian_step(&bd, &mut rng, 0).unwrap())
-            });
+        for moments in [Moments::F, Moments::FT] {
+            for (name, scheme, noise) in variants {
+                // two dense factorisations of a 6000 x 6000 FT matrix per Fixman step take
+                // minutes per sample: N = 1000 FT is measured with Euler-Maruyama only
+                if n == 1000 && moments == Moments::FT && scheme == Scheme::FixmanMidpoint {
+                    continue;
+                }
+                let bd = Brownian {
+                    hydrodynamics: true,
+                    moments,
+                    scheme,
+                    kt: 1.0,
+                    dt: 1e-4,
+                    drift: true,
+                    forces: ExternalForces {
+                        weight: 1.0,
+                        strength: 0.0,
+                        debye: 1.0,
+                        trap: 0.0,
+                        torque: if moments == Moments::FT {
+                            [0.0, 1.0, 0.0]
+                        } else {
+                            [0.0; 3]
+                        },
+                    },
+                    noise,
+                };
+                let mut rng = ChaCha8Rng::seed_from_u64(5);
+                let id = BenchmarkId::new(format!("{moments:?} {name}"), n);
+                g.bench_function(id, |b| {
+                    b.iter(|| s.brownian_step(&bd, &mut rng, 0).unwrap())
+                });
+            }
         }
     }
     g.finish();

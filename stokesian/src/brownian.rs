@@ -1,20 +1,27 @@
-//! Overdamped Brownian dynamics with hydrodynamic interactions (F level: positions of
-//! torque-free spheres), Euler-Maruyama:
+//! Overdamped Brownian dynamics with hydrodynamic interactions, at the F level
+//! (positions of torque-free spheres) or the FT level (positions and orientations,
+//! external torques allowed). Euler-Maruyama:
 //!
-//! `x(t + dt) = x + (M F + kT div M) dt + sqrt(2 kT dt) L W`,
+//! `x(t + dt) = x + (M F + kT div M) dt + sqrt(2 kT dt) B W`,
 //!
-//! with `M = L L^T` the F-level grand mobility (Cholesky), `W` standard normal, and
-//! `div M` the generated divergence kernels (the drift that position-dependent
-//! mobility requires for the Boltzmann distribution to be stationary). External forces:
-//! a uniform weight along `-z` and an exponential (screened-electrostatic) repulsion
-//! from each boundary plane.
+//! with `M = B B^T` the grand mobility truncated to F or FT (Cholesky, or `M^{1/2} W`
+//! by Lanczos from matrix-free products), `W` standard normal, and `div M` the
+//! generated divergence kernels (the drift that position-dependent mobility requires
+//! for the Boltzmann distribution to be stationary); or Fixman's midpoint scheme, which
+//! produces the drift from a midpoint evaluation of `M` instead. At the FT level the
+//! rotational rows give each sphere's rotation vector over the step (orientations do
+//! not change the mobility of spheres; [`rotate`] updates a unit quaternion). External
+//! forces: a uniform weight along `-z`, an exponential (screened-electrostatic)
+//! repulsion from each boundary plane, a lateral harmonic trap, and a uniform torque.
 
 use crate::assembly::{Moments, System};
 use crate::input::{InputError, Particle};
 use kernels::{pair_divergence, self_divergence};
+use nalgebra::DVector;
 use rand::Rng;
 use rand_distr::StandardNormal;
 use rayon::prelude::*;
+use std::f64::consts::PI;
 use thiserror::Error;
 
 /// External forces on every sphere (force exerted on the fluid = external force on the
@@ -32,6 +39,9 @@ pub struct ExternalForces {
     /// Stiffness of a harmonic trap pulling each sphere towards the axis `x = y = 0`
     /// (force `-trap (x, y, 0)`; potential `trap (x^2 + y^2) / 2`); 0 for none.
     pub trap: f64,
+    /// A torque on every sphere (FT level only; e.g. a rotating magnetic field driving
+    /// colloidal rollers).
+    pub torque: [f64; 3],
 }
 
 impl ExternalForces {
@@ -65,6 +75,68 @@ pub struct Brownian {
     /// mobility `1/(6 pi eta a)` (no wall or pair coupling, hence no drift). For
     /// comparison: the equilibrium distribution must not depend on it.
     pub hydrodynamics: bool,
+    /// F (positions) or FT (positions and rotations).
+    pub moments: Moments,
+    /// The time integrator.
+    pub scheme: Scheme,
+}
+
+/// The time integrator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scheme {
+    /// Euler-Maruyama with the generated drift `kT div M`: one mobility per step.
+    EulerMaruyama,
+    /// Fixman's midpoint: the drift from a second mobility at a random midpoint, no
+    /// divergence kernels; the deterministic part is second order (midpoint rule).
+    /// Needs the Cholesky factor.
+    FixmanMidpoint,
+}
+
+/// The result of one step.
+#[derive(Clone, Debug)]
+pub struct Step {
+    /// The system at the new positions.
+    pub system: System,
+    /// Each sphere's rotation vector over the step (angle times axis); zero at the F
+    /// level.
+    pub rotation: Vec<[f64; 3]>,
+}
+
+/// The rotation vectors (`Omega` rows of an FT increment), or zeros at the F level.
+fn rotations(increment: &[f64], moments: Moments, n: usize) -> Vec<[f64; 3]> {
+    (0..n)
+        .map(|a| match moments {
+            Moments::FT => std::array::from_fn(|i| increment[3 * n + 3 * a + i]),
+            _ => [0.0; 3],
+        })
+        .collect()
+}
+
+/// A unit quaternion `q = (w, x, y, z)` rotated by the rotation vector `theta`:
+/// `exp(theta/2) q`, renormalised (the exponential is exact, the renormalisation only
+/// removes round-off drift over many steps).
+pub fn rotate(q: [f64; 4], theta: [f64; 3]) -> [f64; 4] {
+    let angle = (theta[0] * theta[0] + theta[1] * theta[1] + theta[2] * theta[2]).sqrt();
+    // sin(angle/2)/angle, with its series below 1e-4 (error below 1e-17)
+    let s = if angle < 1e-4 {
+        0.5 - angle * angle / 48.0
+    } else {
+        (0.5 * angle).sin() / angle
+    };
+    let r = [
+        (0.5 * angle).cos(),
+        s * theta[0],
+        s * theta[1],
+        s * theta[2],
+    ];
+    let p = [
+        r[0] * q[0] - r[1] * q[1] - r[2] * q[2] - r[3] * q[3],
+        r[0] * q[1] + r[1] * q[0] + r[2] * q[3] - r[3] * q[2],
+        r[0] * q[2] - r[1] * q[3] + r[2] * q[0] + r[3] * q[1],
+        r[0] * q[3] + r[1] * q[2] - r[2] * q[1] + r[3] * q[0],
+    ];
+    let norm = p.iter().map(|v| v * v).sum::<f64>().sqrt();
+    p.map(|v| v / norm)
 }
 
 /// The square root of the mobility applied to the random vector.
@@ -95,6 +167,17 @@ pub enum BrownianError {
     /// The mobility lost positive definiteness (cannot happen for valid input).
     #[error("step {0}: the mobility is not positive definite")]
     NotPositiveDefinite(usize),
+    /// The random numbers given to [`System::brownian_increment`] do not match the system.
+    #[error("{found} random numbers for a system with {expected} degrees of freedom")]
+    RandomNumbers {
+        /// Degrees of freedom (3N or 6N).
+        expected: usize,
+        /// Numbers given.
+        found: usize,
+    },
+    /// The combination asked for is not implemented.
+    #[error("{0} is not implemented")]
+    Unsupported(&'static str),
     /// The Lanczos square root failed.
     #[error("step {step}: {source}")]
     Lanczos {
@@ -132,31 +215,38 @@ impl System {
     /// The Brownian drift `div M` at the F level (`3N`): for particle `a`,
     /// `sum_b sum_j d/dx_{b,j} M^{ab}_{ij}`, from the generated divergence kernels.
     pub fn divergence(&self) -> Vec<f64> {
+        self.divergence_at(Moments::F)
+    }
+
+    /// `sum_b sum_j d/dx_{b,j} M^{ab}_{ij}` for the `U` and `Omega` rows (`6N`,
+    /// moment-major), from the generated divergence kernels.
+    fn divergence_ft(&self) -> Vec<f64> {
         let (c, eta, ps) = (self.confinement(), self.viscosity(), self.particles());
         let n = self.len();
+        let add = |out: &mut [f64], a: usize, v: &[f64; 6]| {
+            for i in 0..3 {
+                out[3 * a + i] += v[i];
+                out[3 * n + 3 * a + i] += v[3 + i];
+            }
+        };
         // each unordered pair once; per-thread accumulators summed at the end
         let row = |mut out: Vec<f64>, a: usize| {
-            let s = self_divergence(c, eta, ps[a].x, ps[a].a);
-            for i in 0..3 {
-                out[3 * a + i] += s.a[i];
-            }
+            add(&mut out, a, &self_divergence(c, eta, ps[a].x, ps[a].a).a);
             for b in a + 1..n {
                 let d = pair_divergence(c, eta, ps[a].x, ps[a].a, ps[b].x, ps[b].a);
-                for i in 0..3 {
-                    out[3 * a + i] += d.a[i];
-                    out[3 * b + i] += d.b[i];
-                }
+                add(&mut out, a, &d.a);
+                add(&mut out, b, &d.b);
             }
             out
         };
         if n < crate::assembly::PARALLEL_MIN {
-            return (0..n).fold(vec![0.0; 3 * n], row);
+            return (0..n).fold(vec![0.0; 6 * n], row);
         }
         (0..n)
             .into_par_iter()
-            .fold(|| vec![0.0; 3 * n], row)
+            .fold(|| vec![0.0; 6 * n], row)
             .reduce(
-                || vec![0.0; 3 * n],
+                || vec![0.0; 6 * n],
                 |mut u, v| {
                     for (p, q) in u.iter_mut().zip(&v) {
                         *p += q;
@@ -166,75 +256,209 @@ impl System {
             )
     }
 
-    /// One Euler-Maruyama step; returns the system at the new positions.
+    /// One time step of `bd.scheme` at the level `bd.moments` (F: positions; FT:
+    /// positions and rotations), with standard normal numbers drawn from `rng`; returns
+    /// the system at the new positions and each sphere's rotation vector over the step
+    /// (zero at the F level).
     pub fn brownian_step(
         &self,
         bd: &Brownian,
         rng: &mut impl Rng,
         step: usize,
-    ) -> Result<System, BrownianError> {
-        let n = self.len();
-        let f = self.external_forces(&bd.forces);
-        let w: Vec<f64> = (0..3 * n)
+    ) -> Result<Step, BrownianError> {
+        let w: Vec<f64> = (0..bd.moments.per_particle() * self.len())
             .map(|_| rng.sample::<f64, _>(StandardNormal))
             .collect();
+        let increment = self.brownian_increment(bd, &w, step)?;
+        Ok(Step {
+            system: self.displaced(&increment, step)?,
+            rotation: rotations(&increment, bd.moments, self.len()),
+        })
+    }
+
+    /// The displacement of one step for given standard normal numbers `w` (`3N` at the F
+    /// level, `6N` at FT), moment-major: translations (`3N`), then at FT the rotation
+    /// vectors (`3N`). [`System::brownian_step`] draws `w` and applies this; with `w`
+    /// given, the step is a deterministic function (for variance-reduced tests, or
+    /// random numbers from elsewhere).
+    pub fn brownian_increment(
+        &self,
+        bd: &Brownian,
+        w: &[f64],
+        step: usize,
+    ) -> Result<Vec<f64>, BrownianError> {
+        match bd.moments {
+            Moments::F | Moments::FT => {}
+            Moments::FTS => return Err(BrownianError::Unsupported("FTS Brownian dynamics")),
+        }
+        if bd.moments == Moments::F && bd.forces.torque != [0.0; 3] {
+            return Err(BrownianError::Unsupported(
+                "an external torque at the F level (torque-free spheres; use FT)",
+            ));
+        }
+        let expected = bd.moments.per_particle() * self.len();
+        if w.len() != expected {
+            return Err(BrownianError::RandomNumbers {
+                expected,
+                found: w.len(),
+            });
+        }
+        match bd.scheme {
+            Scheme::EulerMaruyama => self.euler_maruyama(bd, w, step),
+            // with a constant mobility the midpoint is Euler-Maruyama
+            Scheme::FixmanMidpoint if !bd.hydrodynamics => self.euler_maruyama(bd, w, step),
+            Scheme::FixmanMidpoint => self.fixman_midpoint(bd, w, step),
+        }
+    }
+
+    /// Euler-Maruyama: `dx = (M F + kT div M) dt + sqrt(2 kT dt) B W`, `B B^T = M`.
+    fn euler_maruyama(
+        &self,
+        bd: &Brownian,
+        w: &[f64],
+        step: usize,
+    ) -> Result<Vec<f64>, BrownianError> {
+        let f = self.generalised_forces(&bd.forces, bd.moments);
         let scale = (2.0 * bd.kt * bd.dt).sqrt();
         let (mf, noise): (Vec<f64>, Vec<f64>) = match bd.noise {
             _ if !bd.hydrodynamics => {
-                let mob: Vec<f64> = self
-                    .particles()
-                    .iter()
-                    .flat_map(|p| [1.0 / (6.0 * std::f64::consts::PI * self.viscosity() * p.a); 3])
-                    .collect();
+                let mob = self.stokes_mobility(bd.moments);
                 (
                     f.iter().zip(&mob).map(|(f, m)| m * f).collect(),
                     w.iter()
                         .zip(&mob)
-                        .map(|(w, m)| (m.sqrt() * w) * scale)
+                        .map(|(w, m)| m.sqrt() * w * scale)
                         .collect(),
                 )
             }
             Noise::Cholesky => {
-                let m = self.mobility(Moments::F);
-                let mf = &m * nalgebra::DVector::from_column_slice(&f);
+                let m = self.mobility(bd.moments);
+                let mf = &m * DVector::from_column_slice(&f);
                 let l = m
                     .cholesky()
                     .ok_or(BrownianError::NotPositiveDefinite(step))?
                     .l();
-                let noise = l * nalgebra::DVector::from_column_slice(&w) * scale;
-                (
-                    mf.iter().copied().collect(),
-                    noise.iter().copied().collect(),
-                )
+                let noise = l * DVector::from_column_slice(w) * scale;
+                (mf.as_slice().to_vec(), noise.as_slice().to_vec())
             }
             Noise::Lanczos { tol } => {
-                let (y, _) = lanczos_sqrt(|x| self.apply(Moments::F, x), &w, tol, 3 * n)
+                let (y, _) = lanczos_sqrt(|x| self.apply(bd.moments, x), w, tol, w.len())
                     .map_err(|source| BrownianError::Lanczos { step, source })?;
                 (
-                    self.apply(Moments::F, &f),
+                    self.apply(bd.moments, &f),
                     y.iter().map(|v| v * scale).collect(),
                 )
             }
         };
-        let div = if bd.drift {
-            self.divergence()
+        let div = if bd.drift && bd.hydrodynamics {
+            self.divergence_at(bd.moments)
         } else {
-            vec![0.0; 3 * n]
+            vec![0.0; w.len()]
         };
+        Ok(mf
+            .iter()
+            .zip(&noise)
+            .zip(&div)
+            .map(|((mf, noise), div)| (mf + bd.kt * div) * bd.dt + noise)
+            .collect())
+    }
+
+    /// Fixman's midpoint scheme (Fixman 1978; Delong, Balboa Usabiaga & Donev 2014):
+    /// with `M^n = B B^T` (Cholesky),
+    ///
+    /// ```text
+    /// x* = x + (dt/2) M^n F^n + sqrt(kT dt / 2) B W
+    /// dx = dt M* F* + sqrt(2 kT dt) M* B^{-T} W
+    /// ```
+    ///
+    /// The second noise term has covariance `2 kT dt M` to leading order and, because
+    /// `M*` is evaluated at the randomly displaced midpoint, mean
+    /// `kT dt sum_j dM_ij/dx_j + O(dt^2)`: the drift comes out of the scheme without the
+    /// divergence kernels, and the deterministic part is the second-order midpoint rule.
+    fn fixman_midpoint(
+        &self,
+        bd: &Brownian,
+        w: &[f64],
+        step: usize,
+    ) -> Result<Vec<f64>, BrownianError> {
+        if bd.noise != Noise::Cholesky {
+            return Err(BrownianError::Unsupported(
+                "the Fixman midpoint scheme with Lanczos noise (it needs B^-T W; use Cholesky)",
+            ));
+        }
+        let w = DVector::from_column_slice(w);
+        let m = self.mobility(bd.moments);
+        let chol = m
+            .clone()
+            .cholesky()
+            .ok_or(BrownianError::NotPositiveDefinite(step))?;
+        let f = DVector::from_vec(self.generalised_forces(&bd.forces, bd.moments));
+        let half = (&m * f) * (0.5 * bd.dt) + chol.l() * &w * (0.5 * bd.kt * bd.dt).sqrt();
+        let mid = self.displaced(half.as_slice(), step)?;
+        let m_mid = mid.mobility(bd.moments);
+        let f_mid = DVector::from_vec(mid.generalised_forces(&bd.forces, bd.moments));
+        let y = chol
+            .l()
+            .transpose()
+            .solve_upper_triangular(&w)
+            .ok_or(BrownianError::NotPositiveDefinite(step))?;
+        let dx = &m_mid * (f_mid * bd.dt + y * (2.0 * bd.kt * bd.dt).sqrt());
+        Ok(dx.as_slice().to_vec())
+    }
+
+    /// The system with every centre moved by the `U` rows of `increment` (moment-major:
+    /// `3N` translations first).
+    fn displaced(&self, increment: &[f64], step: usize) -> Result<System, BrownianError> {
         let ps: Vec<Particle> = self
             .particles()
             .iter()
             .enumerate()
             .map(|(a, p)| Particle {
-                x: std::array::from_fn(|i| {
-                    let k = 3 * a + i;
-                    p.x[i] + (mf[k] + bd.kt * div[k]) * bd.dt + noise[k]
-                }),
+                x: std::array::from_fn(|i| p.x[i] + increment[3 * a + i]),
                 a: p.a,
             })
             .collect();
         System::new(*self.confinement(), self.viscosity(), ps, false)
             .map_err(|source| BrownianError::Invalid { step, source })
+    }
+
+    /// External forces (and at the FT level torques), moment-major like the mobility.
+    fn generalised_forces(&self, f: &ExternalForces, moments: Moments) -> Vec<f64> {
+        let mut out = self.external_forces(f);
+        if moments == Moments::FT {
+            out.extend((0..self.len()).flat_map(|_| f.torque));
+        }
+        out
+    }
+
+    /// Without hydrodynamic interactions: the isolated Stokes mobilities
+    /// `1/(6 pi eta a)` and `1/(8 pi eta a^3)`, moment-major.
+    fn stokes_mobility(&self, moments: Moments) -> Vec<f64> {
+        let eta = self.viscosity();
+        let t = self
+            .particles()
+            .iter()
+            .flat_map(|p| [1.0 / (6.0 * PI * eta * p.a); 3]);
+        let r = self
+            .particles()
+            .iter()
+            .flat_map(|p| [1.0 / (8.0 * PI * eta * p.a.powi(3)); 3]);
+        match moments {
+            Moments::FT => t.chain(r).collect(),
+            _ => t.collect(),
+        }
+    }
+
+    /// The drift `div M` at the F level (`3N`) or the FT level (`6N`, moment-major:
+    /// translational then rotational rows; the columns are always the forces, since the
+    /// mobility of spheres does not depend on their orientation).
+    pub fn divergence_at(&self, moments: Moments) -> Vec<f64> {
+        let n = self.len();
+        let d = self.divergence_ft();
+        match moments {
+            Moments::FT => d,
+            _ => d[..3 * n].to_vec(),
+        }
     }
 }
 

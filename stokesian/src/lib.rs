@@ -13,7 +13,10 @@ mod input;
 mod lubrication;
 
 pub use assembly::{check_spd, Moments, SpdCheck, System};
-pub use brownian::{lanczos_sqrt, Brownian, BrownianError, ExternalForces, LanczosError, Noise};
+pub use brownian::{
+    lanczos_sqrt, rotate, Brownian, BrownianError, ExternalForces, LanczosError, Noise, Scheme,
+    Step,
+};
 pub use input::{validate, InputError, Particle};
 pub use kernels::Confinement;
 pub use lubrication::{

@@ -2,7 +2,7 @@
 //! surface, a liquid-liquid interface or in a slit, and the velocities of force- and
 //! torque-given spheres, from the command line.
 //!
-//! Two subcommands share the description of the system (`--confinement`, `--moments`,
+//! The subcommands share the description of the system (`--confinement`, `--moments`,
 //! `--particles`, `--viscosity`, `--boundary-height`, `--lambda`, `--gap`,
 //! `--allow-overlap`):
 //!
@@ -11,8 +11,12 @@
 //!   rotation rates) of spheres in a quiescent fluid, solving for the stresslets with
 //!   `--moments FTS`;
 //! - `stokesian brownian ... --steps N --dt DT --out traj.csv|traj.npy` integrates
-//!   overdamped Brownian dynamics with hydrodynamic interactions (F level only:
-//!   `--moments` defaults to F and any other value is rejected).
+//!   overdamped Brownian dynamics with hydrodynamic interactions (`--moments` F, the
+//!   default, or FT with orientations; Euler-Maruyama or `--scheme fixman`; Cholesky or
+//!   `--lanczos TOL` noise).
+//!
+//! `--scene scene.toml` may replace `--confinement` and `--moments` (the scene's
+//! confinement and truncation).
 //!
 //! Every input error is a [`CliError`] naming the file, the line and the particle;
 //! output is written to a temporary file in the output's directory and renamed on
@@ -138,21 +142,32 @@ enum Command {
         after_long_help = LONG_HELP
     )]
     Resistance(MobilityArgs),
-    /// Overdamped Brownian dynamics with hydrodynamic interactions (F level): trajectory.
+    /// Overdamped Brownian dynamics with hydrodynamic interactions (F or FT): trajectory.
     #[command(long_about = BROWNIAN_ABOUT, after_long_help = LONG_HELP)]
     Brownian(BrownianArgs),
 }
 
 const BROWNIAN_ABOUT: &str = "\
-Overdamped Brownian dynamics of torque-free spheres with hydrodynamic interactions,
-near the boundary given by --confinement. One Euler-Maruyama step of length --dt is
+Overdamped Brownian dynamics of spheres with hydrodynamic interactions, near the
+boundary given by --confinement (or --scene). One Euler-Maruyama step of length --dt is
 
-    x(t + dt) = x + (M F + kT div M) dt + sqrt(2 kT dt) L W,    M = L L^T,
+    x(t + dt) = x + (M F + kT div M) dt + sqrt(2 kT dt) B W,    M = B B^T,
 
-with M the F-level (3N x 3N) grand mobility at the current positions, F the external
-forces (--weight, --repulsion-strength, --debye-length), W independent standard normal
-numbers and L the Cholesky factor of M. Only the F level is implemented: --moments
-defaults to F, and FT or FTS are rejected.
+with M the grand mobility at the current positions, F the external forces
+(--weight, --repulsion-strength, --debye-length, --trap), W independent standard normal
+numbers and B the Cholesky factor of M (or, with --lanczos TOL, M^(1/2) W from the
+Lanczos iteration on matrix-free products, for large N). --moments F (the default)
+moves the centres of torque-free spheres (M is 3N x 3N); --moments FT also rotates them
+(M is 6N x 6N; --torque applies a torque to every sphere) and writes each sphere's
+orientation as a unit quaternion. FTS is not implemented.
+
+--scheme fixman uses Fixman's midpoint scheme instead:
+
+    x* = x + (dt/2) M F + sqrt(kT dt/2) B W,
+    x(t + dt) = x + dt M* F* + sqrt(2 kT dt) M* B^-T W,
+
+with M*, F* at the midpoint x*: the drift comes from the second mobility (no divergence
+kernels), the deterministic part is second order; two factorisations per step.
 
 THE DRIFT kT div M
     Near a wall the mobility depends on position (a sphere moves more slowly the closer
@@ -178,9 +193,11 @@ REJECTED STEPS
 
 OUTPUT
     Frames at steps 0, K, 2K, ... (K = --every; the last step only if it is a multiple
-    of K). .csv: header step,time,particle,x,y,z and one line per particle per frame,
-    every number printed to full round-trip precision (time = step * dt). .npy: float64
-    array of shape (frames, N, 3), C order (numpy.load). The random numbers come from
+    of K). .csv: header step,time,particle,x,y,z (FT: then qw,qx,qy,qz, the orientation
+    quaternion, identity at step 0) and one line per particle per frame, every number
+    printed to full round-trip precision (time = step * dt). .npy: float64 array of
+    shape (frames, N, 3), or (frames, N, 7) at FT (x, y, z, qw, qx, qy, qz), C order
+    (numpy.load). The random numbers come from
     ChaCha8 seeded with --seed: the same inputs and seed give the same file on every
     machine.";
 
@@ -189,11 +206,20 @@ OUTPUT
 struct SystemArgs {
     /// The boundary: free (none), wall, free-surface, interface (needs --lambda) or slit
     /// (needs --gap).
-    #[arg(long, value_enum)]
-    confinement: ConfinementArg,
+    #[arg(long, value_enum, required_unless_present = "scene")]
+    confinement: Option<ConfinementArg>,
     /// Truncation of the multipole expansion: F, FT or FTS.
-    #[arg(long, value_enum, ignore_case = true)]
-    moments: MomentsArg,
+    #[arg(
+        long,
+        value_enum,
+        ignore_case = true,
+        required_unless_present = "scene"
+    )]
+    moments: Option<MomentsArg>,
+    /// A scene file (scenes/*.toml) giving the confinement and the truncation instead of
+    /// --confinement and --moments (its other keys concern the generated kernels).
+    #[arg(long, value_name = "scene.toml", conflicts_with_all = ["confinement", "moments"])]
+    scene: Option<PathBuf>,
     /// CSV file with header x,y,z,radius and one sphere per line.
     #[arg(long, value_name = "particles.csv")]
     particles: PathBuf,
@@ -251,14 +277,16 @@ struct VelocityArgs {
     out: PathBuf,
 }
 
-/// `brownian`: the system (`--moments` defaults to F, the only level implemented), the
-/// integration and the external forces.
+/// `brownian`: the system (`--moments` defaults to F), the integration and the external
+/// forces.
 #[derive(Args, Debug)]
 #[command(mut_arg("moments", |a| a
     .required(false)
+    .required_unless_present(clap::builder::Resettable::Reset)
     .default_value("F")
-    .help("Truncation: only F (point forces; positions of torque-free spheres) is \
-           implemented for Brownian dynamics")))]
+    .help("Truncation: F (positions of torque-free spheres) or FT (positions and \
+           orientations; external torques allowed); FTS is not implemented for \
+           Brownian dynamics")))]
 struct BrownianArgs {
     #[command(flatten)]
     system: SystemArgs,
@@ -309,8 +337,31 @@ struct BrownianArgs {
         allow_negative_numbers = true
     )]
     debye_length: f64,
+    /// FT only: the torque on every sphere, tx,ty,tz in torque units (e.g. a magnetic
+    /// field spinning colloidal rollers).
+    #[arg(long, value_name = "TX,TY,TZ", allow_hyphen_values = true)]
+    torque: Option<String>,
+    /// Stiffness of a harmonic trap pulling every sphere towards the axis x = y = 0
+    /// (force -K (x, y, 0)), in force per length units (>= 0).
+    #[arg(
+        long,
+        value_name = "K",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    trap: f64,
+    /// The time integrator: euler-maruyama (the generated drift kT div M, one mobility
+    /// per step) or fixman (midpoint scheme: the drift from a second mobility at a
+    /// random midpoint; the deterministic part second order).
+    #[arg(long, value_enum, default_value = "euler-maruyama")]
+    scheme: SchemeArg,
+    /// Form M^(1/2) W by the Lanczos iteration from matrix-free products, to this
+    /// relative tolerance (e.g. 1e-6), instead of the dense Cholesky factor: for large
+    /// N. Not with --scheme fixman.
+    #[arg(long, value_name = "TOL")]
+    lanczos: Option<f64>,
     /// Leave out the drift kT div M. WRONG near a boundary (wrong equilibrium
-    /// distribution); for comparison only.
+    /// distribution); for comparison only. Only with --scheme euler-maruyama.
     #[arg(long)]
     no_drift: bool,
     /// Write every K-th step (step 0 always).
@@ -319,9 +370,18 @@ struct BrownianArgs {
     /// Fail after more than M rejected (redrawn) steps in total.
     #[arg(long, value_name = "M", default_value_t = 1000)]
     max_rejections: usize,
-    /// Output trajectory: .csv (step,time,particle,x,y,z) or .npy (frames x N x 3).
+    /// Output trajectory: .csv (step,time,particle,x,y,z, and qw,qx,qy,qz at FT) or
+    /// .npy (frames x N x 3, or frames x N x 7 at FT).
     #[arg(long, value_name = "traj.csv|traj.npy")]
     out: PathBuf,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum SchemeArg {
+    /// Euler-Maruyama with the generated drift.
+    EulerMaruyama,
+    /// Fixman's midpoint scheme.
+    Fixman,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -350,6 +410,72 @@ enum MomentsArg {
     /// Forces, torques and stresslets.
     #[value(name = "FTS")]
     Fts,
+}
+
+impl SystemArgs {
+    /// With `--scene`, read the confinement and the truncation from the scene file (clap
+    /// has already made `--scene` exclusive with `--confinement` and `--moments`, and
+    /// required one or the other).
+    fn resolve_scene(&mut self) -> Result<(), CliError> {
+        let Some(path) = &self.scene else {
+            return Ok(());
+        };
+        let shown = path.display().to_string();
+        let text = fs::read_to_string(path).map_err(|source| CliError::Read {
+            what: "scene",
+            path: shown.clone(),
+            source,
+        })?;
+        let bad = |reason: String| CliError::Scene {
+            path: shown.clone(),
+            reason,
+        };
+        let table: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| bad(e.to_string()))?;
+        const KEYS: [&str; 6] = [
+            "name",
+            "confinement",
+            "moments",
+            "radii",
+            "outputs",
+            "description",
+        ];
+        if let Some(key) = table.keys().find(|k| !KEYS.contains(&k.as_str())) {
+            return Err(bad(format!(
+                "unknown key `{key}` (a scene has {})",
+                KEYS.join(", ")
+            )));
+        }
+        let string = |key: &str| match table.get(key) {
+            Some(toml::Value::String(v)) => Ok(v.clone()),
+            Some(_) => Err(bad(format!("`{key}` must be a string"))),
+            None => Err(bad(format!("`{key}` is missing"))),
+        };
+        let c = string("confinement")?;
+        self.confinement = Some(
+            ConfinementArg::from_str(&c, true)
+                .map_err(|_| bad(format!("unknown confinement `{c}`")))?,
+        );
+        let m = string("moments")?;
+        self.moments = Some(
+            MomentsArg::from_str(&m, true)
+                .map_err(|_| bad(format!("unknown moments `{m}` (F, FT or FTS)")))?,
+        );
+        Ok(())
+    }
+
+    /// The confinement kind (given, or read by [`SystemArgs::resolve_scene`]).
+    fn kind(&self) -> ConfinementArg {
+        self.confinement
+            .expect("clap requires --confinement or --scene, and resolve_scene reads the scene")
+    }
+
+    /// The truncation (given, or read by [`SystemArgs::resolve_scene`]).
+    fn truncation(&self) -> MomentsArg {
+        self.moments
+            .expect("clap requires --moments or --scene, and resolve_scene reads the scene")
+    }
 }
 
 impl MomentsArg {
@@ -492,6 +618,9 @@ enum CliError {
         step: usize,
         reason: String,
     },
+    /// A scene file is not usable.
+    #[error("scene file {path}: {reason}")]
+    Scene { path: String, reason: String },
     /// Brownian dynamics failed for another reason.
     #[error("{0}; nothing written")]
     Brownian(BrownianError),
@@ -500,10 +629,22 @@ enum CliError {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Mobility(args) => run_mobility(&args),
-        Command::Velocity(args) => run_velocity(&args),
-        Command::Resistance(args) => run_resistance(&args),
-        Command::Brownian(args) => run_brownian(&args),
+        Command::Mobility(mut args) => args
+            .system
+            .resolve_scene()
+            .and_then(|()| run_mobility(&args)),
+        Command::Velocity(mut args) => args
+            .system
+            .resolve_scene()
+            .and_then(|()| run_velocity(&args)),
+        Command::Resistance(mut args) => args
+            .system
+            .resolve_scene()
+            .and_then(|()| run_resistance(&args)),
+        Command::Brownian(mut args) => args
+            .system
+            .resolve_scene()
+            .and_then(|()| run_brownian(&args)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -632,7 +773,7 @@ fn particle_error(table: &Table, index: usize, reason: String) -> CliError {
 /// The confinement from the command line, with a clear error for a missing or
 /// inapplicable parameter.
 fn confinement(args: &SystemArgs) -> Result<Confinement, CliError> {
-    let (name, shown) = match args.confinement {
+    let (name, shown) = match args.kind() {
         ConfinementArg::Free => ("free", "free"),
         ConfinementArg::Wall => ("wall", "wall"),
         ConfinementArg::FreeSurface => ("free_surface", "free-surface"),
@@ -643,14 +784,14 @@ fn confinement(args: &SystemArgs) -> Result<Confinement, CliError> {
         option,
         context: format!("--confinement {shown}"),
     };
-    if args.lambda.is_some() && args.confinement != ConfinementArg::Interface {
+    if args.lambda.is_some() && args.kind() != ConfinementArg::Interface {
         return Err(inapplicable("--lambda"));
     }
-    if args.gap.is_some() && args.confinement != ConfinementArg::Slit {
+    if args.gap.is_some() && args.kind() != ConfinementArg::Slit {
         return Err(inapplicable("--gap"));
     }
     let height = args.boundary_height.unwrap_or(0.0);
-    let params: Vec<f64> = match args.confinement {
+    let params: Vec<f64> = match args.kind() {
         ConfinementArg::Free => {
             if args.boundary_height.is_some() {
                 return Err(inapplicable("--boundary-height"));
@@ -802,7 +943,7 @@ fn setup(args: &SystemArgs) -> Result<Setup, CliError> {
     Ok(Setup {
         system,
         table,
-        moments: args.moments,
+        moments: args.truncation(),
     })
 }
 
@@ -1075,10 +1216,10 @@ fn write_json(
     writeln!(w, "}}")
 }
 
-/// A uniform rate of strain in the 5-component orthonormal basis, `E_m = B_m : E`.
-fn parse_strain(text: &str) -> Result<[f64; 5], CliError> {
+/// Comma-separated finite numbers given to `option`.
+fn parse_components(option: &'static str, text: &str) -> Result<Vec<f64>, CliError> {
     let bad = |reason: String| CliError::BadOption {
-        option: "--strain",
+        option,
         value: text.to_string(),
         reason,
     };
@@ -1096,6 +1237,17 @@ fn parse_strain(text: &str) -> Result<[f64; 5], CliError> {
         }
         values.push(v);
     }
+    Ok(values)
+}
+
+/// A uniform rate of strain in the 5-component orthonormal basis, `E_m = B_m : E`.
+fn parse_strain(text: &str) -> Result<[f64; 5], CliError> {
+    let bad = |reason: String| CliError::BadOption {
+        option: "--strain",
+        value: text.to_string(),
+        reason,
+    };
+    let values = parse_components("--strain", text)?;
     match values.len() {
         5 => {
             let mut e = [0.0; 5];
@@ -1144,7 +1296,7 @@ fn parse_strain(text: &str) -> Result<[f64; 5], CliError> {
 
 fn run_velocity(args: &VelocityArgs) -> Result<(), CliError> {
     check_out(&args.out, &[])?;
-    let moments = args.system.moments;
+    let moments = args.system.truncation();
     let strain = match (&args.strain, moments) {
         (None, _) => [0.0; 5],
         (Some(s), MomentsArg::Fts) => parse_strain(s)?,
@@ -1390,13 +1542,66 @@ fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
         .out
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("npy"));
-    if args.system.moments != MomentsArg::F {
+    let moments = args.system.truncation();
+    if moments == MomentsArg::Fts {
         return Err(CliError::BadOption {
             option: "--moments",
-            value: args.system.moments.name().to_string(),
-            reason: "brownian is implemented at the F level only (positions of \
-                     torque-free spheres); leave out --moments or give --moments F"
+            value: "FTS".to_string(),
+            reason: "Brownian dynamics is implemented at the F level (positions of \
+                     torque-free spheres) and the FT level (positions and orientations); \
+                     give --moments F or FT"
                 .to_string(),
+        });
+    }
+    let torque = match &args.torque {
+        None => [0.0; 3],
+        Some(_) if moments != MomentsArg::Ft => {
+            return Err(CliError::Inapplicable {
+                option: "--torque",
+                context: "--moments F (torques need --moments FT)".to_string(),
+            })
+        }
+        Some(text) => <[f64; 3]>::try_from(parse_components("--torque", text)?).map_err(|v| {
+            CliError::BadOption {
+                option: "--torque",
+                value: text.clone(),
+                reason: format!("needs 3 components tx,ty,tz, found {}", v.len()),
+            }
+        })?,
+    };
+    let scheme = match args.scheme {
+        SchemeArg::EulerMaruyama => stokesian::Scheme::EulerMaruyama,
+        SchemeArg::Fixman => stokesian::Scheme::FixmanMidpoint,
+    };
+    if scheme == stokesian::Scheme::FixmanMidpoint {
+        if args.lanczos.is_some() {
+            return Err(CliError::Inapplicable {
+                option: "--lanczos",
+                context: "--scheme fixman (it needs the Cholesky factor)".to_string(),
+            });
+        }
+        if args.no_drift {
+            return Err(CliError::Inapplicable {
+                option: "--no-drift",
+                context: "--scheme fixman (its drift comes from the midpoint, it cannot \
+                          be switched off)"
+                    .to_string(),
+            });
+        }
+    }
+    let noise = match args.lanczos {
+        None => stokesian::Noise::Cholesky,
+        Some(tol) => {
+            positive("--lanczos", tol, "the relative tolerance")?;
+            stokesian::Noise::Lanczos { tol }
+        }
+    };
+    finite("--trap", args.trap)?;
+    if args.trap < 0.0 {
+        return Err(CliError::BadOption {
+            option: "--trap",
+            value: format!("{}", args.trap),
+            reason: "the trap stiffness must be >= 0".to_string(),
         });
     }
     positive("--dt", args.dt, "the time step")?;
@@ -1411,7 +1616,7 @@ fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
             reason: "must be at least 1 (write every K-th step)".to_string(),
         });
     }
-    if args.repulsion_strength != 0.0 && args.system.confinement == ConfinementArg::Free {
+    if args.repulsion_strength != 0.0 && args.system.kind() == ConfinementArg::Free {
         return Err(CliError::Inapplicable {
             option: "--repulsion-strength",
             context: "--confinement free (there is no boundary to repel from)".to_string(),
@@ -1428,8 +1633,10 @@ fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
     };
     let n = setup.system.len();
     let bd = Brownian {
-        noise: stokesian::Noise::Cholesky,
+        noise,
         hydrodynamics: true,
+        moments: moments.moments(),
+        scheme,
         kt: args.kt,
         dt: args.dt,
         drift: !args.no_drift,
@@ -1437,7 +1644,8 @@ fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
             weight: args.weight,
             strength: args.repulsion_strength,
             debye: args.debye_length,
-            trap: 0.0,
+            trap: args.trap,
+            torque,
         },
     };
     steps_bar(
@@ -1488,34 +1696,53 @@ fn simulate(
     };
     let n = system.len();
     let frames = args.steps / args.every + 1;
+    // FT: each sphere's orientation, a unit quaternion starting at the identity
+    let ft = bd.moments == Moments::FT;
+    let mut orientation = vec![[1.0, 0.0, 0.0, 0.0]; n];
     if npy {
-        write_npy_header(w, &[frames, n, 3]).map_err(io_error)?;
+        write_npy_header(w, &[frames, n, if ft { 7 } else { 3 }]).map_err(io_error)?;
+    } else if ft {
+        writeln!(w, "step,time,particle,x,y,z,qw,qx,qy,qz").map_err(io_error)?;
     } else {
         writeln!(w, "step,time,particle,x,y,z").map_err(io_error)?;
     }
-    let frame = |w: &mut dyn Write, step: usize, system: &System| -> io::Result<()> {
+    let frame = |w: &mut dyn Write,
+                 step: usize,
+                 system: &System,
+                 orientation: &[[f64; 4]]|
+     -> io::Result<()> {
         let time = step as f64 * bd.dt;
         for (a, p) in system.particles().iter().enumerate() {
+            let q: &[f64] = if ft { &orientation[a] } else { &[] };
             if npy {
-                for x in p.x {
+                for x in p.x.iter().chain(q) {
                     w.write_all(&x.to_le_bytes())?;
                 }
             } else {
-                writeln!(
+                write!(
                     w,
                     "{step},{time:?},{a},{:?},{:?},{:?}",
                     p.x[0], p.x[1], p.x[2]
                 )?;
+                for v in q {
+                    write!(w, ",{v:?}")?;
+                }
+                writeln!(w)?;
             }
         }
         Ok(())
     };
-    frame(w, 0, &system).map_err(io_error)?;
+    frame(w, 0, &system, &orientation).map_err(io_error)?;
     let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
     for step in 1..=args.steps {
         system = loop {
             match system.brownian_step(bd, &mut rng, step) {
-                Ok(next) => break next,
+                Ok(next) => {
+                    for (q, theta) in orientation.iter_mut().zip(&next.rotation) {
+                        *q = stokesian::rotate(*q, *theta);
+                    }
+                    break next.system;
+                }
                 Err(BrownianError::Invalid { step, source }) => {
                     *rejections += 1;
                     if *rejections > args.max_rejections {
@@ -1531,7 +1758,7 @@ fn simulate(
             }
         };
         if step % args.every == 0 {
-            frame(w, step, &system).map_err(io_error)?;
+            frame(w, step, &system, &orientation).map_err(io_error)?;
         }
         pb.inc(1);
     }

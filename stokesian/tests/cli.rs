@@ -1014,6 +1014,8 @@ fn bd_library(seed: u64, dt: f64) -> (Vec<Vec<[f64; 3]>>, usize) {
     let bd = stokesian::Brownian {
         noise: stokesian::Noise::Cholesky,
         hydrodynamics: true,
+        moments: Moments::F,
+        scheme: stokesian::Scheme::EulerMaruyama,
         kt: BD_KT,
         dt,
         drift: true,
@@ -1022,6 +1024,7 @@ fn bd_library(seed: u64, dt: f64) -> (Vec<Vec<[f64; 3]>>, usize) {
             strength: 2.0,
             debye: 0.3,
             trap: 0.0,
+            torque: [0.0; 3],
         },
     };
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
@@ -1032,7 +1035,7 @@ fn bd_library(seed: u64, dt: f64) -> (Vec<Vec<[f64; 3]>>, usize) {
     for step in 1..=BD_STEPS {
         sys = loop {
             match sys.brownian_step(&bd, &mut rng, step) {
-                Ok(next) => break next,
+                Ok(next) => break next.system,
                 Err(stokesian::BrownianError::Invalid { .. }) => rejections += 1,
                 Err(e) => panic!("{e}"),
             }
@@ -1283,15 +1286,38 @@ fn brownian_bad_inputs_fail_without_output() {
         &inputs,
     );
 
-    // FT and FTS are not implemented for Brownian dynamics
-    let mut args = bd_args(s(&p), "7", s(&out));
-    args.extend_from_slice(&["--moments", "FT"]);
-    assert_fails(
-        &run(&args),
-        &["--moments FT", "F level only"],
-        &dir,
-        &inputs,
+    // options that do not fit together, or are out of range
+    let extra = |more: &[&'static str], needles: &[&str]| {
+        let mut args = bd_args(s(&p), "7", s(&out));
+        args.extend_from_slice(more);
+        assert_fails(&run(&args), needles, &dir, &inputs);
+    };
+    extra(
+        &["--moments", "FTS"],
+        &["--moments FTS", "F level", "FT level"],
     );
+    extra(
+        &["--torque", "0,1,0"],
+        &["--torque does not apply", "--moments F"],
+    );
+    extra(
+        &["--moments", "FT", "--torque", "0,1"],
+        &["--torque 0,1", "needs 3 components"],
+    );
+    extra(
+        &["--moments", "FT", "--torque", "0,x,1"],
+        &["--torque", "component 2", "not a number"],
+    );
+    extra(
+        &["--scheme", "fixman", "--lanczos", "1e-6"],
+        &["--lanczos does not apply", "--scheme fixman"],
+    );
+    extra(
+        &["--scheme", "fixman", "--no-drift"],
+        &["--no-drift does not apply", "--scheme fixman"],
+    );
+    extra(&["--lanczos", "0"], &["--lanczos", "positive"]);
+    extra(&["--trap", "-1"], &["--trap", ">= 0"]);
 
     // a sphere cutting the wall at z = 0.25 (line 3, particle 1)
     let q = dir.file("cut.csv", "x,y,z,radius\n0,0,2,1\n3,0,1,1\n");
@@ -1313,4 +1339,145 @@ fn brownian_bad_inputs_fail_without_output() {
         &dir,
         &["cut.csv", "particles.csv"],
     );
+
+    // --scene is exclusive with --confinement and --moments (clap's usage error), and a
+    // scene file that cannot be used is an error naming it
+    let scene = dir.file(
+        "scene.toml",
+        "name = \"x\"\nconfinement = \"wall\"\nmoments = \"FT\"\n",
+    );
+    let bad_scene = dir.file("bad.toml", "confinement = \"wal\"\nmoments = \"FT\"\n");
+    let all_inputs = ["bad.toml", "cut.csv", "particles.csv", "scene.toml"];
+    let mut args = bd_args(s(&p), "7", s(&out));
+    args.extend_from_slice(&["--scene", s(&scene)]);
+    assert_fails(
+        &run(&args),
+        &["--scene", "cannot be used with"],
+        &dir,
+        &all_inputs,
+    );
+    let mut args = bd_args(s(&p), "7", s(&out));
+    args.drain(1..3); // --confinement wall
+    args.extend_from_slice(&["--scene", s(&bad_scene)]);
+    assert_fails(
+        &run(&args),
+        &["scene file", "bad.toml", "unknown confinement `wal`"],
+        &dir,
+        &all_inputs,
+    );
+}
+
+/// The FT run through the library: per frame and particle `x, y, z, qw, qx, qy, qz`.
+fn bd_library_ft(seed: u64, scheme: stokesian::Scheme, noise: stokesian::Noise) -> Vec<f64> {
+    use rand::SeedableRng;
+    let bd = stokesian::Brownian {
+        noise,
+        hydrodynamics: true,
+        moments: Moments::FT,
+        scheme,
+        kt: BD_KT,
+        dt: BD_DT,
+        drift: true,
+        forces: stokesian::ExternalForces {
+            weight: 0.5,
+            strength: 2.0,
+            debye: 0.3,
+            trap: 0.0,
+            torque: [0.0, 1.0, 0.0],
+        },
+    };
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut sys = System::new(WALL, ETA, bd_particles(), false).expect("valid system");
+    let mut q = vec![[1.0, 0.0, 0.0, 0.0]; sys.len()];
+    let mut out = Vec::new();
+    let mut record = |s: &System, q: &[[f64; 4]]| {
+        for (p, q) in s.particles().iter().zip(q) {
+            out.extend_from_slice(&p.x);
+            out.extend_from_slice(q);
+        }
+    };
+    record(&sys, &q);
+    for step in 1..=BD_STEPS {
+        sys = loop {
+            match sys.brownian_step(&bd, &mut rng, step) {
+                Ok(next) => {
+                    for (q, theta) in q.iter_mut().zip(&next.rotation) {
+                        *q = stokesian::rotate(*q, *theta);
+                    }
+                    break next.system;
+                }
+                Err(stokesian::BrownianError::Invalid { .. }) => {}
+                Err(e) => panic!("{e}"),
+            }
+        };
+        record(&sys, &q);
+    }
+    out
+}
+
+/// FT Brownian dynamics from the command line (torques, Fixman's scheme, Lanczos noise,
+/// the truncation from a scene file) writes exactly the library's trajectory: CSV with
+/// the orientation quaternion after the position, NPY of shape (frames, N, 7).
+#[test]
+fn brownian_ft_equals_the_library_bit_for_bit() {
+    use stokesian::{Noise, Scheme};
+    let dir = Dir::new("bd-ft");
+    let p = dir.file("particles.csv", BD_PARTICLES);
+    let scene = dir.file(
+        "wall_ft.toml",
+        "name = \"wall_ft\"\nconfinement = \"wall\"\nmoments = \"FT\"\n",
+    );
+    let cases: [(&str, &[&str], Scheme, Noise); 3] = [
+        ("em.csv", &[], Scheme::EulerMaruyama, Noise::Cholesky),
+        (
+            "fixman.npy",
+            &["--scheme", "fixman"],
+            Scheme::FixmanMidpoint,
+            Noise::Cholesky,
+        ),
+        (
+            "lanczos.csv",
+            &["--lanczos", "1e-8"],
+            Scheme::EulerMaruyama,
+            Noise::Lanczos { tol: 1e-8 },
+        ),
+    ];
+    for (name, options, scheme, noise) in cases {
+        let out = dir.path(name);
+        let mut args = bd_args(s(&p), "3", s(&out));
+        args.drain(1..3); // --confinement wall: from the scene instead
+        args.extend_from_slice(&["--scene", s(&scene), "--torque", "0,1,0"]);
+        args.extend_from_slice(options);
+        assert_ok(&run(&args));
+        let want = bd_library_ft(3, scheme, noise);
+        let got: Vec<f64> = if name.ends_with(".npy") {
+            let (shape, values) = read_npy_3d(&out);
+            assert_eq!(shape, [BD_STEPS + 1, 2, 7]);
+            values
+        } else {
+            let text = fs::read_to_string(&out).expect("read trajectory");
+            let mut lines = text.lines();
+            assert_eq!(lines.next(), Some("step,time,particle,x,y,z,qw,qx,qy,qz"));
+            lines
+                .flat_map(|l| {
+                    l.split(',')
+                        .skip(3)
+                        .map(|v| v.parse::<f64>().expect("number"))
+                })
+                .collect()
+        };
+        assert_eq!(got.len(), want.len(), "{name}: values");
+        for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+            assert_eq!(
+                g.to_bits(),
+                w.to_bits(),
+                "{name}: value {k}: {g:?} != {w:?}"
+            );
+        }
+        // the spheres rotated (mostly about y, the torque's axis) and stayed unit
+        let last = &got[got.len() - 7..];
+        let norm: f64 = last[3..].iter().map(|v| v * v).sum();
+        assert!((norm - 1.0).abs() < 1e-12, "{name}: |q|^2 = {norm}");
+        assert!(last[3] < 0.9999, "{name}: no rotation: {last:?}");
+    }
 }
