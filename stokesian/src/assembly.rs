@@ -308,3 +308,40 @@ pub fn check_spd(m: &DMatrix<f64>) -> SpdCheck {
         positive_definite: sym.cholesky().is_some(),
     }
 }
+
+/// The FTS mobility problem of rigid spheres: given forces and torques `x` (`6N`,
+/// moment-major) and a uniform imposed strain `e_inf` (5 components in the orthonormal
+/// basis), the strain rows of the FTS mobility `m` (`11N x 11N`) give
+/// `-E_inf = M_EF F + M_EL L + M_ES S`, solved for the stresslets `S` by Cholesky of
+/// `M_ES` (LU if it is not positive definite, which valid input never gives); then
+/// `(U, Omega) = M_(U,Omega)(F, L, S)`. Returns the `6N` velocities (moment-major,
+/// relative to the ambient flow) and whether Cholesky succeeded.
+pub fn solve_fts(
+    m: &DMatrix<f64>,
+    x: &[f64],
+    e_inf: &[f64; 5],
+) -> Result<(Vec<f64>, bool), SingularStressletBlock> {
+    let n = m.nrows() / 11;
+    let fl = nalgebra::DVector::from_column_slice(x);
+    let m_e_fl = m.view((6 * n, 0), (5 * n, 6 * n));
+    let m_es = m.view((6 * n, 6 * n), (5 * n, 5 * n)).into_owned();
+    let mut rhs = -(m_e_fl * &fl);
+    for a in 0..n {
+        for c in 0..5 {
+            rhs[5 * a + c] -= e_inf[c];
+        }
+    }
+    let (s, cholesky) = match m_es.clone().cholesky() {
+        Some(ch) => (ch.solve(&rhs), true),
+        None => (m_es.lu().solve(&rhs).ok_or(SingularStressletBlock)?, false),
+    };
+    let m_ufl = m.view((0, 0), (6 * n, 6 * n));
+    let m_us = m.view((0, 6 * n), (6 * n, 5 * n));
+    let u = m_ufl * &fl + m_us * &s;
+    Ok((u.as_slice().to_vec(), cholesky))
+}
+
+/// The stresslet block `M_ES` of an FTS mobility is singular.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[error("the stresslet block M_ES is singular")]
+pub struct SingularStressletBlock;

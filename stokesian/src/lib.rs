@@ -8,11 +8,12 @@
 
 mod assembly;
 mod brownian;
+pub mod doublet;
 pub mod exact;
 mod input;
 mod lubrication;
 
-pub use assembly::{check_spd, Moments, SpdCheck, System};
+pub use assembly::{check_spd, solve_fts, Moments, SingularStressletBlock, SpdCheck, System};
 pub use brownian::{
     lanczos_sqrt, rotate, Brownian, BrownianError, ExternalForces, LanczosError, Noise, Scheme,
     Step,

@@ -1,5 +1,5 @@
 //! The resistance with lubrication, Swan & Brady Eq. 19:
-//! `R = M^-1 + R^P + R^W - (R^{P,inf} + R^{W,inf})`, at the FT level.
+//! `R = M^-1 + R^P + R^W - (R^{P,inf} + R^{W,inf})`, at the FT and FTS levels.
 //!
 //! - `R^P`: near-contact two-sphere resistance (Jeffrey & Onishi 1984, as corrected by
 //!   Townsend 2023; equal spheres, Kim & Karrila normalisation), for pairs with
@@ -18,7 +18,7 @@
 //! enters with the sign of a positive-definite resistance.
 
 use crate::assembly::{Moments, System};
-use kernels::{pair_ft, self_ft, Confinement};
+use kernels::{pair, self_mobility, Confinement};
 use nalgebra::{DMatrix, SMatrix};
 use std::f64::consts::PI;
 use thiserror::Error;
@@ -53,8 +53,8 @@ impl Default for Lubrication {
 /// Why a resistance cannot be formed.
 #[derive(Debug, Error, PartialEq)]
 pub enum ResistanceError {
-    /// Only the FT level has lubrication so far.
-    #[error("lubrication is implemented for FT only (asked for {0:?})")]
+    /// The F level has no rotations, so no resistance with lubrication.
+    #[error("lubrication needs torques and rotations: use FT or FTS (asked for {0:?})")]
     Unsupported(Moments),
     /// Pair lubrication needs equal radii so far.
     #[error("particles {first} and {second} are within the lubrication cutoff but have unequal radii ({a1} and {a2}); pair lubrication is implemented for equal spheres only")]
@@ -251,54 +251,93 @@ fn pair_block(eta: f64, a: f64, xi: f64, d: [f64; 3]) -> M12 {
     r
 }
 
-/// The FT self mobility of a sphere with one no-slip wall at height `plane`, the fluid
-/// on the side of `n`, as a 6x6 `[U, Omega]` block.
-fn single_wall_self(eta: f64, x: [f64; 3], a: f64, plane: f64) -> M6 {
+/// The self mobility (per-particle layout `[U, Omega, E]`, truncated to `k` = 6 or 11
+/// components) of a sphere with one no-slip wall at height `plane`.
+fn single_wall_self(eta: f64, x: [f64; 3], a: f64, plane: f64, k: usize) -> DMatrix<f64> {
     // Blake's image holds on either side of its plane (see kernel-gen green::slit).
-    let m = self_ft(&Confinement::Wall { height: plane }, eta, x, a).matrix();
-    M6::from_fn(|i, j| m[i][j])
+    let m = self_mobility(&Confinement::Wall { height: plane }, eta, x, a).matrix();
+    DMatrix::from_fn(k, k, |i, j| m[(i, j)])
 }
 
-/// The FT mobility of an isolated pair of spheres in unbounded fluid, 12x12
-/// `[U_1, Omega_1, U_2, Omega_2]`.
-fn free_pair_mobility(eta: f64, x1: [f64; 3], x2: [f64; 3], a: f64) -> M12 {
-    let s1 = self_ft(&Confinement::Free, eta, x1, a).matrix();
-    let s2 = self_ft(&Confinement::Free, eta, x2, a).matrix();
-    let p = pair_ft(&Confinement::Free, eta, x1, a, x2, a).matrix();
-    M12::from_fn(|i, j| match (i / 6, j / 6) {
-        (0, 0) => s1[i][j],
-        (1, 1) => s2[i - 6][j - 6],
-        (0, 1) => p[i][j - 6],
-        _ => p[j][i - 6],
+/// The mobility of an isolated pair of spheres in unbounded fluid, per-particle layout
+/// `[U_1, Omega_1, E_1, U_2, Omega_2, E_2]` truncated to `k` = 6 or 11 components each.
+fn free_pair_mobility(
+    eta: f64,
+    (x1, a1): ([f64; 3], f64),
+    (x2, a2): ([f64; 3], f64),
+    k: usize,
+) -> DMatrix<f64> {
+    let s1 = self_mobility(&Confinement::Free, eta, x1, a1).matrix();
+    let s2 = self_mobility(&Confinement::Free, eta, x2, a2).matrix();
+    let p = pair(&Confinement::Free, eta, x1, a1, x2, a2).matrix();
+    DMatrix::from_fn(2 * k, 2 * k, |i, j| match (i / k, j / k) {
+        (0, 0) => s1[(i, j)],
+        (1, 1) => s2[(i - k, j - k)],
+        (0, 1) => p[(i, j - k)],
+        _ => p[(j, i - k)],
     })
 }
 
-/// Global index (FT, moment-major) of component `k` of `[U, Omega]` of particle `a`.
-fn ft_index(n: usize, a: usize, k: usize) -> usize {
-    if k < 3 {
-        3 * a + k
-    } else {
-        3 * n + 3 * a + (k - 3)
+/// Global index (moment-major layout of [`System::mobility`]) of component `c` of
+/// `[U, Omega, E]` (0..3, 3..6, 6..11) of particle `a` among `n`.
+fn global_index(n: usize, a: usize, c: usize) -> usize {
+    match c {
+        0..=2 => 3 * a + c,
+        3..=5 => 3 * n + 3 * a + (c - 3),
+        _ => 6 * n + 5 * a + (c - 6),
     }
 }
 
+/// Add `exact - far^-1` to `r` on the rows and columns `idx` (per-particle blocks of
+/// `k` components): where the exact resistance is known, which is the leading `known`
+/// components of each particle (`known` = 6: force-torque only); elsewhere the
+/// far-field inverse is kept (the correction is zero).
+fn add_correction(
+    r: &mut DMatrix<f64>,
+    idx: &[usize],
+    exact: &DMatrix<f64>,
+    far: DMatrix<f64>,
+    k: usize,
+    known: usize,
+) -> Result<(), ResistanceError> {
+    let far_inv = far
+        .cholesky()
+        .ok_or(ResistanceError::MobilityNotPositiveDefinite)?
+        .inverse();
+    let ek = exact.nrows() / (idx.len() / k); // components per particle in `exact`
+    let local = |i: usize| (i / k) * ek + i % k;
+    for i in 0..idx.len() {
+        for j in 0..idx.len() {
+            if i % k < known && j % k < known {
+                r[(idx[i], idx[j])] += exact[(local(i), local(j))] - far_inv[(i, j)];
+            }
+        }
+    }
+    Ok(())
+}
+
 impl System {
-    /// The FT grand resistance with lubrication (Eq. 19), in the layout of
-    /// [`System::mobility`] with rows `(F, L)` and columns `(U, Omega)`. Overlapping
-    /// spheres are rejected at construction unless allowed; pairs within the cutoff
-    /// must have equal radii.
+    /// The grand resistance with lubrication (Eq. 19) at the FT or FTS level, in the
+    /// layout of [`System::mobility`] with rows `(F, L[, S])` and columns
+    /// `(U, Omega[, -E_inf])`. At FTS the lubrication corrections act on the force-torque
+    /// blocks (the exact two-sphere and sphere-wall functions used here are those of
+    /// translation and rotation); the stresslet rows and columns keep the far-field
+    /// inverse. Overlapping spheres are rejected at construction unless allowed; pairs
+    /// within the cutoff must have equal radii.
     pub fn resistance(
         &self,
         moments: Moments,
         lub: &Lubrication,
     ) -> Result<DMatrix<f64>, ResistanceError> {
-        if moments != Moments::FT {
-            return Err(ResistanceError::Unsupported(moments));
-        }
+        let k = match moments {
+            Moments::FT => 6,
+            Moments::FTS => 11,
+            Moments::F => return Err(ResistanceError::Unsupported(moments)),
+        };
         let n = self.len();
         let eta = self.viscosity();
         let ps = self.particles();
-        let m = self.mobility(Moments::FT);
+        let m = self.mobility(moments);
         let mut r = m
             .cholesky()
             .ok_or(ResistanceError::MobilityNotPositiveDefinite)?
@@ -321,23 +360,17 @@ impl System {
                     continue;
                 }
                 let nrm = [0.0, 0.0, if above { 1.0 } else { -1.0 }];
-                let far = single_wall_self(eta, p.x, p.a, plane)
-                    .cholesky()
-                    .ok_or(ResistanceError::MobilityNotPositiveDefinite)?
-                    .inverse();
-                let corr = wall_block(eta, p.a, eps, nrm) - far;
-                for i in 0..6 {
-                    for j in 0..6 {
-                        r[(ft_index(n, a, i), ft_index(n, a, j))] += corr[(i, j)];
-                    }
-                }
+                let exact = DMatrix::from_fn(6, 6, |i, j| wall_block(eta, p.a, eps, nrm)[(i, j)]);
+                let idx: Vec<usize> = (0..k).map(|c| global_index(n, a, c)).collect();
+                let far = single_wall_self(eta, p.x, p.a, plane, k);
+                add_correction(&mut r, &idx, &exact, far, k, 6)?;
             }
         }
         // R^P - R^{P,inf}, per close pair.
         for a in 0..n {
             for b in a + 1..n {
                 let (p, q) = (&ps[a], &ps[b]);
-                let dx: [f64; 3] = std::array::from_fn(|k| q.x[k] - p.x[k]);
+                let dx: [f64; 3] = std::array::from_fn(|c| q.x[c] - p.x[c]);
                 let dist = (dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]).sqrt();
                 let mean = 0.5 * (p.a + q.a);
                 let xi = (dist - p.a - q.a) / mean;
@@ -353,23 +386,12 @@ impl System {
                     });
                 }
                 let d = [dx[0] / dist, dx[1] / dist, dx[2] / dist];
-                let far = free_pair_mobility(eta, p.x, q.x, p.a)
-                    .cholesky()
-                    .ok_or(ResistanceError::MobilityNotPositiveDefinite)?
-                    .inverse();
-                let corr = pair_block(eta, p.a, xi, d) - far;
-                let idx = |k: usize| {
-                    if k < 6 {
-                        ft_index(n, a, k)
-                    } else {
-                        ft_index(n, b, k - 6)
-                    }
-                };
-                for i in 0..12 {
-                    for j in 0..12 {
-                        r[(idx(i), idx(j))] += corr[(i, j)];
-                    }
-                }
+                let exact = DMatrix::from_fn(12, 12, |i, j| pair_block(eta, p.a, xi, d)[(i, j)]);
+                let idx: Vec<usize> = (0..2 * k)
+                    .map(|i| global_index(n, if i < k { a } else { b }, i % k))
+                    .collect();
+                let far = free_pair_mobility(eta, (p.x, p.a), (q.x, q.a), k);
+                add_correction(&mut r, &idx, &exact, far, k, 6)?;
             }
         }
         // Exact symmetry (the corrections are symmetric to round-off).

@@ -24,7 +24,7 @@
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::fs::{self, File};
@@ -35,6 +35,8 @@ use std::time::Duration;
 use stokesian::{Brownian, BrownianError, Confinement, ExternalForces, InputError, Moments};
 use stokesian::{Particle, System};
 use thiserror::Error;
+
+mod plot;
 
 /// The layout string of the JSON output and the help text.
 const LAYOUT: &str = "moment-major: U(3N), Omega(3N), E(5N, orthonormal basis B1..B5); \
@@ -145,6 +147,51 @@ enum Command {
     /// Overdamped Brownian dynamics with hydrodynamic interactions (F or FT): trajectory.
     #[command(long_about = BROWNIAN_ABOUT, after_long_help = LONG_HELP)]
     Brownian(BrownianArgs),
+    /// The co-rotating doublet above a wall (Swan & Brady Sec. III B, Figs. 2-3).
+    #[command(long_about = DOUBLET_ABOUT)]
+    Doublet(DoubletArgs),
+}
+
+const DOUBLET_ABOUT: &str = "\
+The co-rotating doublet of Swan & Brady (Sec. III B, Figs. 2-3): two equal spheres
+(radius a) at height h above a no-slip wall, centres r apart, with equal and opposite
+torques T along their line of centres and otherwise force- and torque-free (FTS, no
+imposed flow). Near the wall they translate in opposite directions and the doublet turns
+about its centre. On a grid of r in [--r-min, --r-max] and h in [--h-min, --h-max]
+(geometric in the gaps r/a - 2 and h/a - 1), for the resistance with lubrication
+(Eq. 19) and for the far-field mobility alone, it computes the rotation rate
+8 pi eta a^3 Omega / T and the tension tau a / T a wire joining the spheres must carry
+to keep r fixed (positive: pulling them together).
+
+Writes --out (CSV: r,h,rate_resistance,rate_farfield,tension_resistance,
+tension_farfield; r and h over a) and, beside it with the same stem, a filled contour
+plot of the rate with lubrication (.png and .svg); prints the maximum rate and where it
+is (the grid maximum refined by a pattern search).";
+
+/// `doublet`: the grid and the output.
+#[derive(Args, Debug)]
+struct DoubletArgs {
+    /// Output CSV; the contour plot is written beside it as .png and .svg.
+    #[arg(long, value_name = "doublet.csv")]
+    out: PathBuf,
+    /// Smallest separation r/a (> 2).
+    #[arg(long, default_value_t = 2.0001)]
+    r_min: f64,
+    /// Largest separation r/a.
+    #[arg(long, default_value_t = 6.0)]
+    r_max: f64,
+    /// Smallest height h/a (> 1).
+    #[arg(long, default_value_t = 1.0001)]
+    h_min: f64,
+    /// Largest height h/a.
+    #[arg(long, default_value_t = 4.0)]
+    h_max: f64,
+    /// Grid points in r (>= 2).
+    #[arg(long, default_value_t = 61)]
+    r_points: usize,
+    /// Grid points in h (>= 2).
+    #[arg(long, default_value_t = 61)]
+    h_points: usize,
 }
 
 const BROWNIAN_ABOUT: &str = "\
@@ -621,6 +668,12 @@ enum CliError {
     /// A scene file is not usable.
     #[error("scene file {path}: {reason}")]
     Scene { path: String, reason: String },
+    /// The doublet study failed.
+    #[error("{0}; nothing written")]
+    Doublet(#[from] stokesian::doublet::DoubletError),
+    /// A plot could not be drawn.
+    #[error("cannot draw {path}: {reason}")]
+    Plot { path: String, reason: String },
     /// Brownian dynamics failed for another reason.
     #[error("{0}; nothing written")]
     Brownian(BrownianError),
@@ -645,6 +698,7 @@ fn main() -> ExitCode {
             .system
             .resolve_scene()
             .and_then(|()| run_brownian(&args)),
+        Command::Doublet(args) => run_doublet(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -1415,7 +1469,7 @@ fn velocity(
             let m = setup.system.mobility(Moments::FTS);
             check_finite(m.as_slice(), "mobility")?;
             pb.set_message("solving for the stresslets");
-            let (u, cholesky) = solve_fts(&m, &x, &strain, n).map_err(|reason| {
+            let (u, cholesky) = stokesian::solve_fts(&m, &x, &strain).map_err(|reason| {
                 CliError::Numerical(format!(
                     "{reason} (spheres accepted with --allow-overlap, or a narrow slit?)"
                 ))
@@ -1461,42 +1515,6 @@ fn velocity(
             "velocities"
         },
     ))
-}
-
-/// FTS with given forces and torques `x` (6N, moment-major) and imposed strain `e_inf`
-/// (5 components): the strain rows give `-E_inf = M_EF F + M_EL L + M_ES S`, solved
-/// for `S` by Cholesky of `M_ES` (LU if it is not positive definite); then
-/// `(U, Omega) = M_(U,Omega)(F,L,S)`. Returns the 6N velocities, moment-major, and
-/// whether Cholesky succeeded.
-fn solve_fts(
-    m: &DMatrix<f64>,
-    x: &[f64],
-    e_inf: &[f64; 5],
-    n: usize,
-) -> Result<(Vec<f64>, bool), String> {
-    let fl = DVector::from_column_slice(x);
-    let m_e_fl = m.view((6 * n, 0), (5 * n, 6 * n));
-    let m_es = m.view((6 * n, 6 * n), (5 * n, 5 * n)).into_owned();
-    let mut rhs = -(m_e_fl * &fl);
-    for a in 0..n {
-        for c in 0..5 {
-            rhs[5 * a + c] -= e_inf[c];
-        }
-    }
-    let (s, cholesky) = match m_es.clone().cholesky() {
-        Some(ch) => (ch.solve(&rhs), true),
-        None => {
-            let s = m_es
-                .lu()
-                .solve(&rhs)
-                .ok_or("the stresslet block M_ES is singular")?;
-            (s, false)
-        }
-    };
-    let m_ufl = m.view((0, 0), (6 * n, 6 * n));
-    let m_us = m.view((0, 6 * n), (6 * n, 5 * n));
-    let u = m_ufl * &fl + m_us * &s;
-    Ok((u.as_slice().to_vec(), cholesky))
 }
 
 /// A bar over the `len` time steps.
@@ -1762,5 +1780,184 @@ fn simulate(
         }
         pb.inc(1);
     }
+    Ok(())
+}
+
+/// Geometric grid from `lo` to `hi` (both > 0), `n >= 2` points.
+fn geometric(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| lo * (hi / lo).powf(k as f64 / (n - 1) as f64))
+        .collect()
+}
+
+fn run_doublet(args: &DoubletArgs) -> Result<(), CliError> {
+    use rayon::prelude::*;
+    use stokesian::doublet::{doublet, DoubletPoint};
+    check_out(&args.out, &["csv"])?;
+    for (option, value, floor) in [
+        ("--r-min", args.r_min, 2.0),
+        ("--r-max", args.r_max, 2.0),
+        ("--h-min", args.h_min, 1.0),
+        ("--h-max", args.h_max, 1.0),
+    ] {
+        finite(option, value)?;
+        if value <= floor {
+            return Err(CliError::BadOption {
+                option,
+                value: format!("{value}"),
+                reason: format!(
+                    "must be above {floor} (touching {})",
+                    if floor == 2.0 { "spheres" } else { "the wall" }
+                ),
+            });
+        }
+    }
+    for (option, lo, hi) in [
+        ("--r-max", args.r_min, args.r_max),
+        ("--h-max", args.h_min, args.h_max),
+    ] {
+        if hi <= lo {
+            return Err(CliError::BadOption {
+                option,
+                value: format!("{hi}"),
+                reason: format!("must be above the minimum {lo}"),
+            });
+        }
+    }
+    for (option, n) in [("--r-points", args.r_points), ("--h-points", args.h_points)] {
+        if n < 2 {
+            return Err(CliError::BadOption {
+                option,
+                value: n.to_string(),
+                reason: "needs at least 2 points".to_string(),
+            });
+        }
+    }
+    let gaps_r = geometric(args.r_min - 2.0, args.r_max - 2.0, args.r_points);
+    let gaps_h = geometric(args.h_min - 1.0, args.h_max - 1.0, args.h_points);
+    let lub = stokesian::Lubrication::default();
+    let pb = ProgressBar::with_draw_target(
+        Some((gaps_r.len() * gaps_h.len()) as u64),
+        ProgressDrawTarget::stderr(),
+    );
+    pb.set_style(
+        ProgressStyle::with_template(
+            "doublet {wide_bar} {pos}/{len} points [{elapsed}, eta {eta}]",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let points: Vec<DoubletPoint> = gaps_r
+        .par_iter()
+        .flat_map_iter(|&gr| gaps_h.iter().map(move |&gh| (gr, gh)))
+        .map(|(gr, gh)| {
+            let p = doublet(2.0 + gr, 1.0 + gh, &lub);
+            pb.inc(1);
+            p
+        })
+        .collect::<Result<_, _>>()
+        .inspect_err(|_| pb.finish_and_clear())?;
+    pb.finish_and_clear();
+    // the maximum rate with lubrication: grid maximum, refined by a pattern search in
+    // (ln(r - 2), ln(h - 1)) with steps halved down to 1e-6 of the grid spacing
+    let best = points
+        .iter()
+        .max_by(|p, q| p.rate_resistance.total_cmp(&q.rate_resistance))
+        .copied()
+        .ok_or_else(|| CliError::Numerical("empty grid".to_string()))?;
+    let rate = |u: f64, v: f64| -> Result<f64, CliError> {
+        let (r, h) = (2.0 + u.exp(), 1.0 + v.exp());
+        if r > args.r_max || h > args.h_max || r < args.r_min || h < args.h_min {
+            return Ok(f64::NEG_INFINITY);
+        }
+        Ok(doublet(r, h, &lub)?.rate_resistance)
+    };
+    let (mut u, mut v, mut top) = (
+        (best.r - 2.0).ln(),
+        (best.h - 1.0).ln(),
+        best.rate_resistance,
+    );
+    let (mut du, mut dv) = ((gaps_r[1] / gaps_r[0]).ln(), (gaps_h[1] / gaps_h[0]).ln());
+    let stop = 1e-6 * du.min(dv);
+    while du.max(dv) > stop {
+        let mut moved = false;
+        for (su, sv) in [(du, 0.0), (-du, 0.0), (0.0, dv), (0.0, -dv)] {
+            let value = rate(u + su, v + sv)?;
+            if value > top {
+                (u, v, top, moved) = (u + su, v + sv, value, true);
+            }
+        }
+        if !moved {
+            du *= 0.5;
+            dv *= 0.5;
+        }
+    }
+    let (r_top, h_top) = (2.0 + u.exp(), 1.0 + v.exp());
+    write_atomically(&args.out, |w| {
+        writeln!(
+            w,
+            "r,h,rate_resistance,rate_farfield,tension_resistance,tension_farfield"
+        )?;
+        for p in &points {
+            writeln!(
+                w,
+                "{:?},{:?},{:?},{:?},{:?},{:?}",
+                p.r,
+                p.h,
+                p.rate_resistance,
+                p.rate_farfield,
+                p.tension_resistance,
+                p.tension_farfield
+            )?;
+        }
+        Ok(())
+    })?;
+    let rates: Vec<Vec<f64>> = points
+        .chunks(gaps_h.len())
+        .map(|c| c.iter().map(|p| p.rate_resistance).collect())
+        .collect();
+    let field = plot::Field {
+        x: &gaps_r,
+        y: &gaps_h,
+        z: &rates,
+        x_label: "r/a - 2",
+        y_label: "h/a - 1",
+        title: "doublet rotation rate 8 pi eta a^3 Omega / T (Eq. 19)",
+        mark: (r_top - 2.0, h_top - 1.0),
+    };
+    let mut written = vec![args.out.display().to_string()];
+    for ext in ["png", "svg"] {
+        let path = args.out.with_extension(ext);
+        let shown = path.display().to_string();
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let tmp = parent_dir(&path).join(format!(".{name}.{}.tmp.{ext}", std::process::id()));
+        plot::filled_contours(&tmp, &field, 16)
+            .and_then(|()| fs::rename(&tmp, &path).map_err(|e| e.to_string()))
+            .map_err(|reason| {
+                let _ = fs::remove_file(&tmp);
+                CliError::Plot {
+                    path: shown.clone(),
+                    reason,
+                }
+            })?;
+        written.push(shown);
+    }
+    let (worst_t_res, worst_t_far) = points.iter().fold((0.0f64, 0.0f64), |(a, b), p| {
+        (
+            a.max(p.tension_resistance.abs()),
+            b.max(p.tension_farfield.abs()),
+        )
+    });
+    println!(
+        "maximum rate with lubrication 8 pi eta a^3 Omega / T = {top:.6} at r = {r_top:.6} a, \
+         h = {h_top:.6} a (grid maximum {:.6} at r = {:.6} a, h = {:.6} a)",
+        best.rate_resistance, best.r, best.h
+    );
+    println!(
+        "largest |tension| a / T: {worst_t_res:.3e} with lubrication, {worst_t_far:.3e} far field"
+    );
+    println!("wrote {}", written.join(", "));
     Ok(())
 }

@@ -1,5 +1,8 @@
-//! The FT resistance with lubrication (Eq. 19): positive definiteness down to gaps of
-//! 1e-8 a, physical signs, and the assembly of the near-field tensors.
+//! The FT and FTS resistance with lubrication (Eq. 19): positive definiteness down to
+//! gaps of 1e-8 a, physical signs, and the assembly of the near-field tensors. The FTS
+//! resistance carries the same force-torque corrections (its stresslet rows keep the
+//! far-field inverse), so every check runs at both levels; the U and Omega indices are
+//! the same in both layouts.
 
 use std::f64::consts::PI;
 use stokesian::{
@@ -10,7 +13,7 @@ fn sphere(x: [f64; 3]) -> Particle {
     Particle { x, a: 1.0 }
 }
 
-/// Index of component k of [U, Omega] of particle a in the FT layout.
+/// Index of component k of [U, Omega] of particle a in the FT and FTS layouts.
 fn ix(n: usize, a: usize, k: usize) -> usize {
     if k < 3 {
         3 * a + k
@@ -25,6 +28,12 @@ fn ix(n: usize, a: usize, k: usize) -> usize {
 /// M^-1 - R^{P,inf} cancels to round-off of an inverse with condition ~1/xi.
 #[test]
 fn isolated_pair_resistance_is_the_near_field_tensor() {
+    for moments in [Moments::FT, Moments::FTS] {
+        isolated_pair(moments);
+    }
+}
+
+fn isolated_pair(moments: Moments) {
     let xi = 1e-3;
     let s = System::new(
         Confinement::Free,
@@ -33,7 +42,7 @@ fn isolated_pair_resistance_is_the_near_field_tensor() {
         false,
     )
     .unwrap();
-    let r = s.resistance(Moments::FT, &Lubrication::default()).unwrap();
+    let r = s.resistance(moments, &Lubrication::default()).unwrap();
     let f = pair_functions(xi);
     let (sa, sb, sc) = (6.0 * PI, 4.0 * PI, 8.0 * PI);
     let checks = [
@@ -52,7 +61,7 @@ fn isolated_pair_resistance_is_the_near_field_tensor() {
     for (name, got, want) in checks {
         assert!(
             (got - want).abs() <= 1e-9 * want.abs().max(1.0),
-            "{name}: {got} vs {want}"
+            "{moments:?} {name}: {got} vs {want}"
         );
     }
     // Gap shear: sphere 0 moving +y beside sphere 1 (d = e_x) feels a torque -z on it:
@@ -65,6 +74,12 @@ fn isolated_pair_resistance_is_the_near_field_tensor() {
 /// gets a torque +y (gap shear at its lowest point), R_{Ly, Ux} < 0.
 #[test]
 fn single_sphere_wall_resistance_and_signs() {
+    for moments in [Moments::FT, Moments::FTS] {
+        single_sphere_wall(moments);
+    }
+}
+
+fn single_sphere_wall(moments: Moments) {
     let eps = 1e-4;
     let s = System::new(
         Confinement::Wall { height: 0.0 },
@@ -73,7 +88,7 @@ fn single_sphere_wall_resistance_and_signs() {
         false,
     )
     .unwrap();
-    let r = s.resistance(Moments::FT, &Lubrication::default()).unwrap();
+    let r = s.resistance(moments, &Lubrication::default()).unwrap();
     let w = wall_functions(eps);
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
     assert!(rel(r[(2, 2)] / (6.0 * PI), w.xa) < 1e-9);
@@ -100,9 +115,11 @@ fn resistance_is_spd_down_to_tiny_gaps() {
         ];
         for ps in [chain, tri] {
             let s = System::new(Confinement::Wall { height: 0.0 }, 1.0, ps, false).unwrap();
-            let r = s.resistance(Moments::FT, &Lubrication::default()).unwrap();
-            let c = stokesian::check_spd(&r);
-            assert!(c.passed(), "gap {gap}: {c:?}");
+            for moments in [Moments::FT, Moments::FTS] {
+                let r = s.resistance(moments, &Lubrication::default()).unwrap();
+                let c = stokesian::check_spd(&r);
+                assert!(c.passed(), "{moments:?} gap {gap}: {c:?}");
+            }
         }
     }
 }
