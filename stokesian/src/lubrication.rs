@@ -417,6 +417,24 @@ pub fn solve_resistance(r: &DMatrix<f64>, f: &[f64]) -> Result<(Vec<f64>, f64), 
     Ok((x.iter().copied().collect(), (mx / mn).powi(2)))
 }
 
+/// Velocities of rigid spheres from forces, torques and an imposed strain with the FTS
+/// resistance `r` (`11N x 11N`, rows `F, L, S`, columns `U - U_inf, Omega - Omega_inf,
+/// -E_inf`): the force-torque rows give
+/// `R_{FL,U Omega} (U - U_inf, Omega - Omega_inf) = (F, L) - R_{FL,E} (-E_inf)`, solved by
+/// [`solve_resistance`]. Returns the `6N` velocities (moment-major) and the condition
+/// estimate of the force-torque block.
+pub fn solve_resistance_fts(
+    r: &DMatrix<f64>,
+    fl: &[f64],
+    e_inf: &[f64; 5],
+) -> Result<(Vec<f64>, f64), ResistanceError> {
+    let n = r.nrows() / 11;
+    let y_e = nalgebra::DVector::from_fn(5 * n, |i, _| -e_inf[i % 5]);
+    let rhs = nalgebra::DVector::from_column_slice(fl) - r.view((0, 6 * n), (6 * n, 5 * n)) * y_e;
+    let block = r.view((0, 0), (6 * n, 6 * n)).into_owned();
+    solve_resistance(&block, rhs.as_slice())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -133,14 +133,16 @@ enum Command {
         after_long_help = LONG_HELP
     )]
     Velocity(VelocityArgs),
-    /// Write the grand resistance with lubrication, Eq. 19 (FT only so far).
+    /// Write the grand resistance with lubrication, Eq. 19 (FT or FTS).
     #[command(
-        long_about = "Write the FT grand resistance with lubrication (Swan & Brady Eq. 19): \
-        R = M^-1 + R^P + R^W - (R^P,inf + R^W,inf), rows (F, L), columns (U, Omega), same \
-        layout and formats as `mobility`. Near-contact two-sphere terms (equal spheres, gap \
-        < 0.1 a, near-contact forms) and the exact sphere-wall resistance (no-slip walls, gap \
-        < 1 a, bispherical series) are added to the inverse \
-        of the far-field mobility, and their own far-field parts subtracted.",
+        long_about = "Write the FT or FTS grand resistance with lubrication (Swan & Brady \
+        Eq. 19): R = M^-1 + R^P + R^W - (R^P,inf + R^W,inf), rows (F, L[, S]), columns \
+        (U, Omega[, -E_inf]), same layout and formats as `mobility`. Near-contact two-sphere \
+        terms (equal spheres, gap < 0.1 a, near-contact forms) and the exact sphere-wall \
+        resistance (no-slip walls, gap < 1 a, bispherical series) are added to the inverse \
+        of the far-field mobility, and their own far-field parts subtracted; at FTS these \
+        corrections act on the force-torque blocks and the stresslet blocks keep the \
+        far-field inverse.",
         after_long_help = LONG_HELP
     )]
     Resistance(MobilityArgs),
@@ -315,7 +317,7 @@ struct VelocityArgs {
     /// relative to the ambient flow at each centre (U - U_inf, Omega - Omega_inf).
     #[arg(long, value_name = "E11,E12,...,E33", allow_hyphen_values = true)]
     strain: Option<String>,
-    /// FT only: include lubrication (Eq. 19) and solve R U = F by Cholesky; the condition
+    /// FT and FTS: include lubrication (Eq. 19) and solve R U = F by Cholesky; the condition
     /// estimate of R is reported on stderr, and the run fails if it exceeds 1e14.
     #[arg(long)]
     lubrication: bool,
@@ -1430,28 +1432,31 @@ fn velocity(
         }
     }
     let u = match moments {
-        MomentsArg::Ft if args.lubrication => {
+        MomentsArg::Ft | MomentsArg::Fts if args.lubrication => {
             pb.set_message(format!(
-                "forming the resistance with lubrication of {n} spheres"
+                "forming the {} resistance with lubrication of {n} spheres",
+                moments.name()
             ));
             let r = setup
                 .system
-                .resistance(Moments::FT, &stokesian::Lubrication::default())?;
+                .resistance(moments.moments(), &stokesian::Lubrication::default())?;
             pb.set_message("solving R U = F (Cholesky)");
-            let (u, cond) = stokesian::solve_resistance(&r, &x)?;
+            let (u, cond) = if moments == MomentsArg::Fts {
+                stokesian::solve_resistance_fts(&r, &x, &strain)?
+            } else {
+                stokesian::solve_resistance(&r, &x)?
+            };
             pb.suspend(|| eprintln!("stokesian: condition estimate of R: {cond:e}"));
             if cond.is_nan() || cond > 1e14 {
                 return Err(CliError::IllConditioned(cond));
             }
             u
         }
-        _ if args.lubrication => {
+        MomentsArg::F if args.lubrication => {
             return Err(CliError::Inapplicable {
                 option: "--lubrication",
-                context: format!(
-                    "--moments {}: lubrication is implemented for FT only",
-                    moments.name()
-                ),
+                context: "--moments F: lubrication needs torques and rotations (use FT or FTS)"
+                    .to_string(),
             })
         }
         MomentsArg::F | MomentsArg::Ft => {

@@ -947,14 +947,64 @@ fn resistance_and_lubricated_velocity() {
             f[k]
         );
     }
+    // FTS: the resistance (22 x 22) as the library's, and velocities with lubrication
+    // that solve its force-torque rows with E_inf = 0
+    let r2 = dir.join("R2.json");
     let o = common("resistance", "FTS")
         .arg("--out")
-        .arg(dir.join("R2.npy"))
+        .arg(&r2)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&r2).unwrap()).unwrap();
+    let rf = s.resistance(Moments::FTS, &Lubrication::default()).unwrap();
+    assert_eq!(rf.nrows(), 22);
+    for i in 0..22 {
+        for j in 0..22 {
+            assert_eq!(v["matrix"][i][j].as_f64().unwrap(), rf[(i, j)]);
+        }
+    }
+    let u_fts = dir.join("U2.csv");
+    let o = common("velocity", "FTS")
+        .arg("--forces")
+        .arg(&forces)
+        .arg("--lubrication")
+        .arg("--out")
+        .arg(&u_fts)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: Vec<Vec<f64>> = std::fs::read_to_string(&u_fts)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let u = nalgebra::DVector::from_fn(12, |k, _| rows[(k % 6) / 3][3 * (k / 6) + k % 3]);
+    let ru = rf.view((0, 0), (12, 12)) * u;
+    for k in 0..12 {
+        assert!(
+            (ru[k] - f[k]).abs() < 1e-9,
+            "FTS row {k}: {} vs {}",
+            ru[k],
+            f[k]
+        );
+    }
+    // F has no lubrication
+    let forces_f = dir.join("f3.csv");
+    std::fs::write(&forces_f, "fx,fy,fz\n0,0,-1\n0.5,0,0\n").unwrap();
+    let o = common("velocity", "F")
+        .arg("--forces")
+        .arg(&forces_f)
+        .arg("--lubrication")
+        .arg("--out")
+        .arg(dir.join("U3.csv"))
         .output()
         .unwrap();
     assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("FT only"));
-    assert!(!dir.join("R2.npy").exists());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("use FT or FTS"));
+    assert!(!dir.join("U3.csv").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
