@@ -11,6 +11,7 @@ mod brownian;
 pub mod exact;
 mod input;
 mod lubrication;
+pub mod two_sphere;
 
 pub use assembly::{check_spd, Moments, SpdCheck, System};
 pub use brownian::{lanczos_sqrt, Brownian, BrownianError, ExternalForces, LanczosError, Noise};
