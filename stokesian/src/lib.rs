@@ -12,6 +12,7 @@ pub mod doublet;
 pub mod exact;
 mod input;
 mod lubrication;
+pub mod two_sphere;
 
 pub use assembly::{check_spd, solve_fts, Moments, SingularStressletBlock, SpdCheck, System};
 pub use brownian::{

@@ -1,0 +1,1042 @@
+//! Exact resistance functions of two rigid spheres in unbounded fluid at any separation
+//! and size ratio: the twin-multipole series of Jeffrey & Onishi (J. Fluid Mech. 139, 261,
+//! 1984, "JO84") for the force-torque level and of Jeffrey (Phys. Fluids A 4, 16, 1992,
+//! "J92") for the stresslet level, as corrected by Townsend (Phys. Fluids 35, 127126, 2023;
+//! arXiv:1802.08226), summed in the "all separations" form of JO84 (their eqs. 3.17-3.20):
+//! the lubrication singularities are carried by closed-form functions of `s'` and only a
+//! regular remainder is summed as a power series.
+//!
+//! This module owns the 22 scalar functions, the one-off tables of the JO84/J92
+//! recurrence coefficients, and the near-contact constants `K(lambda)` derived from them.
+//!
+//! # Geometry, normalisation and signs
+//!
+//! Spheres 1 (radius `a1`) and 2 (radius `a2`), centres `r` apart, `d` the unit vector from
+//! sphere 1 to sphere 2, `lambda = a2/a1`, `s' = 2r/(a1 + a2)` (JO84's `s`), gap
+//! `xi = s' - 2`. Kim & Karrila normalisation (`lubrication.md` 1.3): every "11" and "12"
+//! function is scaled with the radius of sphere 1, `A` by `6 pi mu a1`, `B` by
+//! `4 pi mu a1^2`, `C` by `8 pi mu a1^3`, `G` by `4 pi mu a1^2`, `H` by `8 pi mu a1^3`, `M`
+//! by `(20/3) pi mu a1^3`. (JO84's own "12" functions are scaled with `a1 + a2` instead:
+//! `X12A_KK = (1 + lambda)/2 X12A_JO`, `Y12B_KK = (1 + lambda)^2/4 Y12B_JO`, `X12C_KK = (1 +
+//! lambda)^3/8 X12C_JO`; at `lambda = 1` the two coincide.)
+//!
+//! Sign convention (`lubrication.md` 1.2): the force, torque and stresslet exerted by the
+//! fluid on sphere 1 are `F1 = A11 (U_inf - U1) + A12 (U_inf - U2) + ...`, with the tensor
+//! forms `A_ij = X^A d_i d_j + Y^A (delta_ij - d_i d_j)`, `B_ij = Y^B eps_ijk d_k`, `C` as `A`,
+//! `G_ijk = X^G (d_i d_j - delta_ij/3) d_k + Y^G (d_i delta_jk + d_j delta_ik - 2 d_i d_j
+//! d_k)`, `H_ijk = Y^H (eps_ikl d_l d_j + eps_jkl d_l d_i)` and `M` with `X^M, Y^M, Z^M`
+//! (Kim & Karrila 1991, sec. 7.2). So the "11" functions of `A`, `C`, `M` are positive and
+//! tend to 1 as `s' -> infinity`; near contact `X11A ~ 2 lambda^2/((1+lambda)^3 xi)` and
+//! `Y11B ~ -lambda (4+lambda)/(5 (1+lambda)^2) ln(1/xi)`. The "21" and "22" functions follow
+//! from JO84 eq. 1.9: evaluate the "12"/"11" functions with `lambda -> 1/lambda`, scale with
+//! `a2`, and reverse `d` (which flips the sign of the `B` and `G` tensors).
+//!
+//! # Method
+//!
+//! With `t = 2/s'`, each function is a power series `F(t) = sum_m a_m t^m` over one parity
+//! of `m` (even for `X11A`, odd for `X12A`, odd for `Y11B`, ...), whose coefficients are
+//! polynomials in `lambda`:
+//!
+//! ```text
+//! a_m = c sum_{q=0}^{m} R_{k, m-q, q} lambda^q (1 + lambda)^{-m}      (times lambda if m is odd, "shifted")
+//! ```
+//!
+//! `R` is `P`, `Q` of the JO84/J92 recurrences (`k = 1` or 2 the multipole order read off)
+//! and `c` a constant: `X^A` `P_1` (JO84 3.15), `X^G` `(3/4) P_2` of the same table (J92
+//! eq. 19; Ichiki et al. 2013 eq. 94), `X^M` `P_2` with `P_{n00} = delta_{2n}` (J92 48, shifted),
+//! `Y^A` `P_1`, `Y^B` `2 Q_1` (JO84 5.x), `Y^G` `(3/4) P_2` of the same table, `Y^C` `Q_1` with
+//! `Q_{n00} = delta_{1n}` (JO84 7.x, shifted), `Y^H` `-(3/8) P_2` of that table (shifted),
+//! `Y^M` `P_2` with `P_{n00} = delta_{2n}` (J92 58, shifted), `Z^M` its own recurrence (J92
+//! 73-76, shifted) and `X^C` the axisymmetric rotlet recurrence `Q_npq = sum_s C(n+s, n) s/(n+1)
+//! Q_{s,q-s-1,p-n}`, `Q_{n00} = delta_{1n}` (JO84 6.x, shifted). The recurrences are those
+//! of `lubrication.md` 1.4 and Townsend's corrected list. The "12" function takes the
+//! other parity of the same sequence, with the sign of the table below.
+//!
+//! Near contact (`t -> 1`) each function behaves like `h1/xi + h2 ln(1/xi) + K + h3 xi
+//! ln(1/xi) + O(xi)` with the coefficients `g` of `lubrication.md` 1.4 (JO84 3.17-3.20, 4.15,
+//! 5.6, 7.10; J92 19b, 27b, 35b, 48b, 64b, 79b as corrected by Townsend). Those three
+//! singular terms are represented exactly, for every `t`, by closed forms whose Taylor
+//! coefficients are known:
+//!
+//! ```text
+//! even m:  1/(1-t^2) = sum t^m,   -ln(1-t^2) = sum_{m>=2} (2/m) t^m,
+//!          -(1-t^2) ln(1-t^2) = t^2 - sum_{m>=4} 4/(m(m-2)) t^m
+//! odd m:   t/(1-t^2) = sum t^m,   ln((1+t)/(1-t)) = sum (2/m) t^m,
+//!          (1-t^2) ln((1+t)/(1-t)) = 2t - sum_{m>=3} 4/(m(m-2)) t^m
+//! ```
+//!
+//! (each behaves like `1/xi`, `ln(1/xi)`, `xi ln(1/xi)` at contact) so that
+//! `F = h1 S1(t) + h2 S2(t) + h3 S3(t) + sum_m r_m t^m` with `r_m = a_m - h1 s1_m - h2
+//! s2_m - h3 s3_m`. The remainder is continuous at `t = 1` (its first non-analytic term is
+//! `O(xi^2 ln xi)`, so `r_m = O(m^-3)`), hence the truncated series converges uniformly on
+//! `0 <= t <= 1`, contact included. (JO84 and Townsend write the constant `K` with
+//! `4/(m(m+2))` in place of `4/(m(m-2))`: the two sums agree at `t = 1` only, by telescoping;
+//! for `t < 1` the shifted form is the Taylor series of the closed form.) The near-contact
+//! constants `K` are `h1 k1 + h2 k2 + sum_m r_m` with `k1 = 3/4` (even) or `1/4` (odd) and `k2
+//! = 0` (even) or `2 ln 2` (odd), the limits of `S1 - 1/xi` and `S2 - ln(1/xi)`.
+//!
+//! # Truncation, cost and accuracy
+//!
+//! The series are summed to `m <= TRUNCATION` (= 200). The coefficient tables (`P, V, Q`
+//! over `n + p + q <= TRUNCATION + 2`) do not depend on `lambda`; they are built once per
+//! family on first use (`OnceLock`, the families in parallel threads) and reduced to the
+//! `O(TRUNCATION^2)` numbers `R_{k, m-q, q}`: about 5.5 s of CPU for all seven families,
+//! 2.7 s for the four force-torque ones, and ~30 MB transient memory per family. A
+//! [`PairSeries`] for one `lambda` costs ~0.5 ms; each evaluation at a separation ~4 us
+//! and no allocation (test `cost_of_tables_and_calls`).
+//!
+//! The neglected remainder is largest at contact. For `lambda` near 1 the remainders
+//! oscillate in sign with amplitude `~10-200/m^3` (largest for `M`), so the contact
+//! constants `K` are within ~5e-6 (`A`, `B`, `C`) to ~6e-4 (`X^M`) of their limits;
+//! `X^C` decays monotonically (`~2.3/m^3`), its truncated tail is 1.5e-5 at contact. For
+//! small spheres (`lambda` or `1/lambda` below ~0.1) the coefficients reach their
+//! asymptotic decay only for `m >> 1/lambda` and the contact constants are uncertain to
+//! ~1e-3 relative; away from contact (`s' >= 2.5`) every function is converged to
+//! rounding. There is no switch to the near-contact forms: they share the constants `K`
+//! and drop the `O(xi)` terms, so they are nowhere more accurate than the series
+//! ([`PairSeries::near_contact`] is provided for comparison). Measured errors: tests
+//! `two_sphere_exact.rs`.
+
+use std::f64::consts::LN_2;
+use std::sync::OnceLock;
+use thiserror::Error;
+
+/// Largest power of `2/s'` summed (and largest total order `p + q` of the recurrence
+/// coefficients kept).
+pub const TRUNCATION: usize = 200;
+
+/// Smallest supported size ratio `lambda = a2/a1` (the largest is its inverse).
+pub const LAMBDA_MIN: f64 = 1e-2;
+
+/// Bad input to the two-sphere functions.
+#[derive(Debug, Error, Clone, Copy, PartialEq)]
+pub enum TwoSphereError {
+    /// `s' = 2r/(a1 + a2)` not finite or not above 2 (touching or overlapping spheres).
+    #[error("separation s' = {0} must be finite and > 2 (s' = 2r/(a1+a2); 2 is contact)")]
+    Separation(f64),
+    /// `lambda = a2/a1` not finite or outside `[LAMBDA_MIN, 1/LAMBDA_MIN]`.
+    #[error("size ratio lambda = {0} must be finite and within [1e-2, 1e2]")]
+    SizeRatio(f64),
+}
+
+/// The ten force-torque resistance functions (Kim & Karrila normalisation, module docs).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FtScalars {
+    /// `X^A_11`, per `6 pi mu a1`.
+    pub x11a: f64,
+    /// `X^A_12`, per `6 pi mu a1`.
+    pub x12a: f64,
+    /// `Y^A_11`, per `6 pi mu a1`.
+    pub y11a: f64,
+    /// `Y^A_12`, per `6 pi mu a1`.
+    pub y12a: f64,
+    /// `Y^B_11`, per `4 pi mu a1^2`.
+    pub y11b: f64,
+    /// `Y^B_12`, per `4 pi mu a1^2`.
+    pub y12b: f64,
+    /// `X^C_11`, per `8 pi mu a1^3`.
+    pub x11c: f64,
+    /// `X^C_12`, per `8 pi mu a1^3`.
+    pub x12c: f64,
+    /// `Y^C_11`, per `8 pi mu a1^3`.
+    pub y11c: f64,
+    /// `Y^C_12`, per `8 pi mu a1^3`.
+    pub y12c: f64,
+}
+
+/// All 22 resistance functions (Kim & Karrila normalisation, module docs).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PairScalars {
+    /// `X^A_11`, per `6 pi mu a1`.
+    pub x11a: f64,
+    /// `X^A_12`, per `6 pi mu a1`.
+    pub x12a: f64,
+    /// `Y^A_11`, per `6 pi mu a1`.
+    pub y11a: f64,
+    /// `Y^A_12`, per `6 pi mu a1`.
+    pub y12a: f64,
+    /// `Y^B_11`, per `4 pi mu a1^2`.
+    pub y11b: f64,
+    /// `Y^B_12`, per `4 pi mu a1^2`.
+    pub y12b: f64,
+    /// `X^C_11`, per `8 pi mu a1^3`.
+    pub x11c: f64,
+    /// `X^C_12`, per `8 pi mu a1^3`.
+    pub x12c: f64,
+    /// `Y^C_11`, per `8 pi mu a1^3`.
+    pub y11c: f64,
+    /// `Y^C_12`, per `8 pi mu a1^3`.
+    pub y12c: f64,
+    /// `X^G_11`, per `4 pi mu a1^2`.
+    pub x11g: f64,
+    /// `X^G_12`, per `4 pi mu a1^2`.
+    pub x12g: f64,
+    /// `Y^G_11`, per `4 pi mu a1^2`.
+    pub y11g: f64,
+    /// `Y^G_12`, per `4 pi mu a1^2`.
+    pub y12g: f64,
+    /// `Y^H_11`, per `8 pi mu a1^3`.
+    pub y11h: f64,
+    /// `Y^H_12`, per `8 pi mu a1^3`.
+    pub y12h: f64,
+    /// `X^M_11`, per `(20/3) pi mu a1^3`.
+    pub x11m: f64,
+    /// `X^M_12`, per `(20/3) pi mu a1^3`.
+    pub x12m: f64,
+    /// `Y^M_11`, per `(20/3) pi mu a1^3`.
+    pub y11m: f64,
+    /// `Y^M_12`, per `(20/3) pi mu a1^3`.
+    pub y12m: f64,
+    /// `Z^M_11`, per `(20/3) pi mu a1^3`.
+    pub z11m: f64,
+    /// `Z^M_12`, per `(20/3) pi mu a1^3`.
+    pub z12m: f64,
+}
+
+impl PairScalars {
+    /// The 22 functions in the order of the struct (`x11a, x12a, y11a, ..., z12m`).
+    pub fn to_array(&self) -> [f64; 22] {
+        [
+            self.x11a, self.x12a, self.y11a, self.y12a, self.y11b, self.y12b, self.x11c, self.x12c,
+            self.y11c, self.y12c, self.x11g, self.x12g, self.y11g, self.y12g, self.y11h, self.y12h,
+            self.x11m, self.x12m, self.y11m, self.y12m, self.z11m, self.z12m,
+        ]
+    }
+
+    /// The force-torque part.
+    pub fn ft(&self) -> FtScalars {
+        FtScalars {
+            x11a: self.x11a,
+            x12a: self.x12a,
+            y11a: self.y11a,
+            y12a: self.y12a,
+            y11b: self.y11b,
+            y12b: self.y12b,
+            x11c: self.x11c,
+            x12c: self.x12c,
+            y11c: self.y11c,
+            y12c: self.y12c,
+        }
+    }
+
+    fn from_array(v: [f64; 22]) -> Self {
+        let [x11a, x12a, y11a, y12a, y11b, y12b, x11c, x12c, y11c, y12c, x11g, x12g, y11g, y12g, y11h, y12h, x11m, x12m, y11m, y12m, z11m, z12m] =
+            v;
+        PairScalars {
+            x11a,
+            x12a,
+            y11a,
+            y12a,
+            y11b,
+            y12b,
+            x11c,
+            x12c,
+            y11c,
+            y12c,
+            x11g,
+            x12g,
+            y11g,
+            y12g,
+            y11h,
+            y12h,
+            x11m,
+            x12m,
+            y11m,
+            y12m,
+            z11m,
+            z12m,
+        }
+    }
+}
+
+/// Names of the 22 functions in the order of [`PairScalars::to_array`].
+pub const NAMES: [&str; 22] = [
+    "X11A", "X12A", "Y11A", "Y12A", "Y11B", "Y12B", "X11C", "X12C", "Y11C", "Y12C", "X11G", "X12G",
+    "Y11G", "Y12G", "Y11H", "Y12H", "X11M", "X12M", "Y11M", "Y12M", "Z11M", "Z12M",
+];
+
+/// Number of remainder coefficients kept per function (one parity of `0..=TRUNCATION`).
+const HALF: usize = TRUNCATION / 2 + 1;
+
+/// The series of all 22 functions for one size ratio: the remainders `r_m` (module docs)
+/// and the singular coefficients. Building it costs `O(TRUNCATION^2)` per function (and,
+/// on the first use in a process, the coefficient tables); evaluating it at a separation
+/// costs `O(TRUNCATION)` per function and does not allocate. Use it when many separations
+/// share one `lambda`.
+#[derive(Clone, Debug)]
+pub struct PairSeries {
+    lambda: f64,
+    count: usize,
+    remainder: [[f64; HALF]; 22],
+    singular: [[f64; 3]; 22],
+}
+
+impl PairSeries {
+    /// All 22 functions for `lambda = a2/a1` in `[1e-2, 1e2]`.
+    pub fn new(lambda: f64) -> Result<Self, TwoSphereError> {
+        Self::with_count(lambda, 22)
+    }
+
+    /// The ten force-torque functions only: builds (on first use) only the `X^A`, `Y^A`,
+    /// `Y^C` and `X^C` tables.
+    pub fn new_ft(lambda: f64) -> Result<Self, TwoSphereError> {
+        Self::with_count(lambda, 10)
+    }
+
+    fn with_count(lambda: f64, count: usize) -> Result<Self, TwoSphereError> {
+        check_lambda(lambda)?;
+        ensure_tables(count);
+        let mut out = PairSeries {
+            lambda,
+            count,
+            remainder: [[0.0; HALF]; 22],
+            singular: [[0.0; 3]; 22],
+        };
+        for (k, f) in FUNCTIONS.iter().enumerate().take(count) {
+            let tri_r = &f.table.triangles()[f.output];
+            let h = (f.singular)(lambda);
+            out.singular[k] = h;
+            for (j, r) in out.remainder[k].iter_mut().enumerate() {
+                let m = 2 * j + f.first_m();
+                if m <= TRUNCATION {
+                    let s = singular_taylor(f.odd, m);
+                    *r = f.coefficient(tri_r, lambda, m) - h[0] * s[0] - h[1] * s[1] - h[2] * s[2];
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// The size ratio.
+    pub fn lambda(&self) -> f64 {
+        self.lambda
+    }
+
+    /// The functions at `s_dash = 2r/(a1+a2) > 2` (those not built by [`Self::new_ft`] are
+    /// zero).
+    pub fn scalars(&self, s_dash: f64) -> Result<PairScalars, TwoSphereError> {
+        let geo = Geometry::new(s_dash)?;
+        let mut out = [0.0; 22];
+        let t2 = geo.t * geo.t;
+        for (k, f) in FUNCTIONS.iter().enumerate().take(self.count) {
+            // remainder series by Horner in t^2, then the closed forms
+            let sum = self.remainder[k]
+                .iter()
+                .rev()
+                .fold(0.0, |acc, &r| acc * t2 + r);
+            let sum = if f.odd { sum * geo.t } else { sum };
+            let closed = if f.odd { geo.odd } else { geo.even };
+            let h = self.singular[k];
+            out[k] = h[0] * closed[0] + h[1] * closed[1] + h[2] * closed[2] + sum;
+        }
+        Ok(PairScalars::from_array(out))
+    }
+
+    /// The near-contact constants `K(lambda)` (`lubrication.md` 1.4, Kim & Karrila
+    /// normalisation): the `O(1)` terms of `F = h1/xi + h2 ln(1/xi) + K + h3 xi ln(1/xi) +
+    /// O(xi)`, from the same truncated series (for `X11C`, `X12C` they equal
+    /// `lambda^3/(1+lambda)^3 zeta(3, lambda/(1+lambda))` and `-lambda^3/(1+lambda)^3
+    /// zeta(3)`).
+    pub fn contact_constants(&self) -> PairScalars {
+        let mut out = [0.0; 22];
+        for (k, f) in FUNCTIONS.iter().enumerate().take(self.count) {
+            let h = self.singular[k];
+            // limits of S1 - 1/xi and S2 - ln(1/xi) at contact (S3 -> 0)
+            let (k1, k2) = if f.odd {
+                (0.25, 2.0 * LN_2)
+            } else {
+                (0.75, 0.0)
+            };
+            out[k] = h[0] * k1 + h[1] * k2 + self.remainder[k].iter().sum::<f64>();
+        }
+        PairScalars::from_array(out)
+    }
+
+    /// The near-contact forms `h1/xi + h2 ln(1/xi) + K + h3 xi ln(1/xi)` (error `O(xi)`) with
+    /// the coefficients of `lubrication.md` 1.4 and `K` from [`Self::contact_constants`];
+    /// for comparison with the literature: never more accurate than [`Self::scalars`],
+    /// which keeps the `O(xi)` terms and shares the constants.
+    pub fn near_contact(&self, s_dash: f64) -> Result<PairScalars, TwoSphereError> {
+        let geo = Geometry::new(s_dash)?;
+        let xi = geo.xi;
+        let l = -xi.ln();
+        let k = self.contact_constants().to_array();
+        let mut out = [0.0; 22];
+        for j in 0..self.count {
+            let h = self.singular[j];
+            out[j] = h[0] / xi + h[1] * l + k[j] + h[2] * xi * l;
+        }
+        Ok(PairScalars::from_array(out))
+    }
+}
+
+/// The 22 resistance functions at separation `s_dash = 2r/(a1+a2) > 2` and size ratio
+/// `lambda = a2/a1` in `[1e-2, 1e2]` ([`PairSeries::new`] then [`PairSeries::scalars`]; no
+/// heap allocation after the first call, which builds the coefficient tables).
+pub fn resistance_scalars(s_dash: f64, lambda: f64) -> Result<PairScalars, TwoSphereError> {
+    Geometry::new(s_dash)?;
+    PairSeries::new(lambda)?.scalars(s_dash)
+}
+
+/// The ten force-torque functions only ([`PairSeries::new_ft`]; about half the one-off
+/// cost of [`resistance_scalars`]).
+pub fn resistance_scalars_ft(s_dash: f64, lambda: f64) -> Result<FtScalars, TwoSphereError> {
+    Geometry::new(s_dash)?;
+    Ok(PairSeries::new_ft(lambda)?.scalars(s_dash)?.ft())
+}
+
+/// Builds the tables the first `count` functions need, concurrently (one thread per
+/// family not yet built).
+fn ensure_tables(count: usize) {
+    let tables: &[Table] = if count <= 10 {
+        &[Table::Ya, Table::Yc, Table::Xa, Table::Xc]
+    } else {
+        &[
+            Table::Ya,
+            Table::Ym,
+            Table::Zm,
+            Table::Yc,
+            Table::Xa,
+            Table::Xm,
+            Table::Xc,
+        ]
+    };
+    std::thread::scope(|scope| {
+        for &t in tables {
+            if !t.is_built() {
+                scope.spawn(move || {
+                    t.triangles();
+                });
+            }
+        }
+    });
+}
+
+/// The singular coefficients `[h1, h2, h3]` of each function near contact (`1/xi`,
+/// `ln(1/xi)`, `xi ln(1/xi)`), `lubrication.md` 1.4, in the order of [`NAMES`].
+pub fn singular_coefficients(lambda: f64) -> Result<[[f64; 3]; 22], TwoSphereError> {
+    check_lambda(lambda)?;
+    let mut out = [[0.0; 3]; 22];
+    for (k, f) in FUNCTIONS.iter().enumerate() {
+        out[k] = (f.singular)(lambda);
+    }
+    Ok(out)
+}
+
+fn check_lambda(lambda: f64) -> Result<(), TwoSphereError> {
+    if lambda.is_finite() && (LAMBDA_MIN..=1.0 / LAMBDA_MIN).contains(&lambda) {
+        Ok(())
+    } else {
+        Err(TwoSphereError::SizeRatio(lambda))
+    }
+}
+
+// ------------------------------------------------------------------ geometry and closed forms
+
+/// `t = 2/s'` and the closed-form singular functions, written in `xi = s' - 2` so that
+/// nothing cancels near contact: `1 - t^2 = xi (4 + xi)/(2 + xi)^2`.
+struct Geometry {
+    xi: f64,
+    t: f64,
+    /// `[1/(1-t^2), -ln(1-t^2), -(1-t^2) ln(1-t^2)]`
+    even: [f64; 3],
+    /// `[t/(1-t^2), ln((1+t)/(1-t)), (1-t^2) ln((1+t)/(1-t))]`
+    odd: [f64; 3],
+}
+
+impl Geometry {
+    fn new(s_dash: f64) -> Result<Self, TwoSphereError> {
+        if !(s_dash.is_finite() && s_dash > 2.0) {
+            return Err(TwoSphereError::Separation(s_dash));
+        }
+        let xi = s_dash - 2.0; // exact for s' in (2, 4] (Sterbenz)
+        let t = 2.0 / s_dash;
+        let one_m_t2 = xi * (4.0 + xi) / (s_dash * s_dash);
+        let mln = -(xi.ln() + (4.0 + xi).ln() - 2.0 * s_dash.ln()); // -ln(1 - t^2)
+        let lnr = (4.0 + xi).ln() - xi.ln(); // ln((1+t)/(1-t)) = ln((s'+2)/(s'-2))
+        Ok(Geometry {
+            xi,
+            t,
+            even: [1.0 / one_m_t2, mln, one_m_t2 * mln],
+            odd: [t / one_m_t2, lnr, one_m_t2 * lnr],
+        })
+    }
+}
+
+/// Taylor coefficient of `t^m` in the closed forms (index 0, 1, 2 as in [`Geometry`]).
+fn singular_taylor(parity_odd: bool, m: usize) -> [f64; 3] {
+    let mf = m as f64;
+    if parity_odd {
+        let s3 = if m == 1 {
+            2.0
+        } else {
+            -4.0 / (mf * (mf - 2.0))
+        };
+        [1.0, 2.0 / mf, s3]
+    } else if m == 0 {
+        [1.0, 0.0, 0.0]
+    } else {
+        let s3 = if m == 2 {
+            1.0
+        } else {
+            -4.0 / (mf * (mf - 2.0))
+        };
+        [1.0, 2.0 / mf, s3]
+    }
+}
+
+// ------------------------------------------------------------------ recurrences
+
+/// The recurrence families of JO84/J92.
+#[derive(Clone, Copy)]
+enum Recurrence {
+    /// Motion along the line of centres (JO84 3.6-3.9, `lubrication.md` 1.4 "X^A"):
+    /// `P`, `V`, binomial `C(n+s, n)`.
+    Axisymmetric,
+    /// Motion across it (JO84 4.6-4.11, "Y^A/Y^B/Y^C"): `P`, `V`, `Q`, `C(n+s, n+1)`.
+    Transverse,
+    /// The `Z^M` mode (J92 73-76): `P`, `V`, `Q`, `C(n+s, n+2)`, `s >= 2`.
+    Twist,
+    /// Rotation about the line of centres (JO84 sec. 6): rotlets only, `Q`, `C(n+s, n)`.
+    AxialRotation,
+}
+
+/// A family: recurrence, initial conditions (`P_{n00} = V_{n00} = delta_{pv n}`, `Q_{n00}
+/// = delta_{q n}`; 0 for none) and which coefficients are read off.
+struct Family {
+    rec: Recurrence,
+    init_pv: usize,
+    init_q: usize,
+    /// `(use Q rather than P, n)` for each output sequence
+    outputs: &'static [(bool, usize)],
+}
+
+/// Output of one family: for each requested sequence the triangle `R_{n, m-q, q}`, `0 <= q
+/// <= m <= TRUNCATION`, stored row by row (`m (m+1)/2 + q`).
+type Triangles = Vec<Vec<f64>>;
+
+fn tri(m: usize, q: usize) -> usize {
+    m * (m + 1) / 2 + q
+}
+
+/// Flat storage of `(n, p, q)`, `n >= 1`, `p, q >= 0`, `n + p + q <= top`.
+struct Tetra {
+    top: usize,
+    off: Vec<usize>,
+    len: usize,
+}
+
+impl Tetra {
+    fn new(top: usize) -> Self {
+        let w = top + 1;
+        let mut off = vec![usize::MAX; w * w];
+        let mut len = 0;
+        for n in 1..=top {
+            for p in 0..=(top - n) {
+                off[n * w + p] = len;
+                len += top - n - p + 1;
+            }
+        }
+        Tetra { top, off, len }
+    }
+
+    /// Index of `(n, p, q)`, or `None` when `p` or `q` is negative (those coefficients are
+    /// zero). Callers only ask for totals below the current one, so the index exists.
+    #[inline]
+    fn at(&self, n: usize, p: i64, q: i64) -> Option<usize> {
+        if p < 0 || q < 0 {
+            None
+        } else {
+            Some(self.off[n * (self.top + 1) + p as usize] + q as usize)
+        }
+    }
+}
+
+fn binomials(nmax: usize) -> Vec<Vec<f64>> {
+    let mut b = vec![vec![0.0; nmax + 1]; nmax + 1];
+    for n in 0..=nmax {
+        b[n][0] = 1.0;
+        for k in 1..=n {
+            b[n][k] = b[n - 1][k - 1] + if k < n { b[n - 1][k] } else { 0.0 };
+        }
+    }
+    b
+}
+
+/// Builds the `P, V, Q` tables of one family up to total order `TRUNCATION + 1` and
+/// extracts the requested triangles.
+fn build(family: &Family) -> Triangles {
+    let top = TRUNCATION + 2; // n = 2 outputs need n + m <= top
+    let tet = Tetra::new(top);
+    let binom = binomials(2 * top + 2);
+    let mut p_t = vec![0.0; tet.len];
+    let mut v_t = vec![0.0; tet.len];
+    let mut q_t = vec![0.0; tet.len];
+    let get = |v: &Vec<f64>, n: usize, p: i64, q: i64| tet.at(n, p, q).map_or(0.0, |i| v[i]);
+    for total in 1..=top {
+        for n in 1..=total {
+            let nf = n as f64;
+            for p in 0..=(total - n) {
+                let q = total - n - p;
+                let idx = tet.at(n, p as i64, q as i64).expect("in range");
+                if p == 0 && q == 0 {
+                    p_t[idx] = if n == family.init_pv { 1.0 } else { 0.0 };
+                    v_t[idx] = p_t[idx];
+                    q_t[idx] = if n == family.init_q { 1.0 } else { 0.0 };
+                    continue;
+                }
+                // Structural zeros: every term of P_npq, V_npq needs p >= n - 1 and every
+                // term of Q_npq needs p >= n (the third index of each child is p - n + 1,
+                // p - n or p - n - 1), unless it is an initial value (n, 0, 0).
+                if p + 1 < n {
+                    continue;
+                }
+                let (pi, qi, ni) = (p as i64, q as i64, n as i64);
+                let (mut ps, mut vs, mut qs) = (0.0, 0.0, 0.0);
+                // By the same rule a child (s, q - s - k, .) vanishes unless q - s - k >= s - 1
+                // or it is the initial value (s = q - k); so s runs over 1..=(q+1)/2 and the
+                // last three values.
+                let s_low = q.div_ceil(2).min(q);
+                let s_range = (1..=s_low).chain((q.saturating_sub(2).max(s_low + 1))..=q);
+                match family.rec {
+                    Recurrence::Axisymmetric => {
+                        for s in s_range.clone() {
+                            let (sf, si) = (s as f64, s as i64);
+                            let b = binom[n + s][n];
+                            let c1 = nf * (2.0 * nf + 1.0) * (2.0 * nf * sf - nf - sf + 2.0)
+                                / (2.0 * (nf + 1.0) * (2.0 * sf - 1.0) * (nf + sf));
+                            let c2 = nf * (2.0 * nf - 1.0) / (2.0 * (nf + 1.0));
+                            let c3 =
+                                nf * (4.0 * nf * nf - 1.0) / (2.0 * (nf + 1.0) * (2.0 * sf + 1.0));
+                            let pm = get(&p_t, s, qi - si, pi - ni - 1);
+                            ps += b
+                                * (c1 * get(&p_t, s, qi - si, pi - ni + 1)
+                                    - c2 * pm
+                                    - c3 * get(&v_t, s, qi - si - 2, pi - ni + 1));
+                            vs += b * pm;
+                        }
+                        p_t[idx] = ps;
+                        v_t[idx] = ps - 2.0 * nf / ((nf + 1.0) * (2.0 * nf + 3.0)) * vs;
+                    }
+                    Recurrence::Transverse => {
+                        for s in s_range.clone() {
+                            let (sf, si) = (s as f64, s as i64);
+                            let b = binom[n + s][n + 1];
+                            let c1 = (2.0 * nf + 1.0) / (2.0 * (nf + 1.0))
+                                * (3.0 * (nf + sf)
+                                    - (nf * sf + 1.0) * (2.0 * nf * sf - sf - nf + 2.0))
+                                / (sf * (nf + sf) * (2.0 * sf - 1.0));
+                            let c2 = nf * (2.0 * nf - 1.0) / (2.0 * (nf + 1.0));
+                            let c3 =
+                                nf * (4.0 * nf * nf - 1.0) / (2.0 * (nf + 1.0) * (2.0 * sf + 1.0));
+                            let c4 = 2.0 * (4.0 * nf * nf - 1.0) / (3.0 * (nf + 1.0));
+                            let pm = get(&p_t, s, qi - si, pi - ni - 1);
+                            ps += b
+                                * (c1 * get(&p_t, s, qi - si, pi - ni + 1)
+                                    + c2 * pm
+                                    + c3 * get(&v_t, s, qi - si - 2, pi - ni + 1)
+                                    - c4 * get(&q_t, s, qi - si - 1, pi - ni + 1));
+                            qs += b
+                                * (sf / (nf + 1.0) * get(&q_t, s, qi - si - 1, pi - ni)
+                                    - 3.0 / (2.0 * nf * sf * (nf + 1.0))
+                                        * get(&p_t, s, qi - si, pi - ni));
+                            vs += b * pm;
+                        }
+                        p_t[idx] = ps;
+                        q_t[idx] = qs;
+                        v_t[idx] = ps + 2.0 * nf / ((nf + 1.0) * (2.0 * nf + 3.0)) * vs;
+                    }
+                    Recurrence::Twist => {
+                        for s in s_range.clone().filter(|&s| s >= 2) {
+                            let (sf, si) = (s as f64, s as i64);
+                            let b = binom[n + s][n + 2];
+                            let c_q = 2.0 * (2.0 * nf + 1.0) * (2.0 * nf - 1.0) / (nf + 1.0);
+                            let c_v = nf * (2.0 * nf + 1.0) * (2.0 * nf - 1.0)
+                                / (2.0 * (nf + 1.0) * (2.0 * sf + 1.0));
+                            let c_p = (2.0 * nf + 1.0) / (nf + 1.0)
+                                * (nf * sf * (nf + sf - 2.0 * nf * sf - 2.0)
+                                    - 4.0 * (2.0 * nf * sf - 4.0 * sf - 4.0 * nf + 2.0))
+                                / (2.0 * sf * (nf + sf) * (2.0 * sf - 1.0));
+                            let c_m = nf * (2.0 * nf - 1.0) / (2.0 * (nf + 1.0));
+                            let pm = get(&p_t, s, qi - si, pi - ni - 1);
+                            ps += b
+                                * (-c_q * get(&q_t, s, qi - si - 1, pi - ni + 1)
+                                    + c_v * get(&v_t, s, qi - si - 2, pi - ni + 1)
+                                    + c_p * get(&p_t, s, qi - si, pi - ni + 1)
+                                    + c_m * pm);
+                            qs += b
+                                * (sf / (nf + 1.0) * get(&q_t, s, qi - si - 1, pi - ni)
+                                    - 2.0 / (nf * sf * (nf + 1.0))
+                                        * get(&p_t, s, qi - si, pi - ni));
+                            vs += b * pm;
+                        }
+                        p_t[idx] = ps;
+                        q_t[idx] = qs;
+                        v_t[idx] = ps + 2.0 * nf / ((nf + 1.0) * (2.0 * nf + 3.0)) * vs;
+                    }
+                    Recurrence::AxialRotation => {
+                        for s in s_range.clone() {
+                            let (sf, si) = (s as f64, s as i64);
+                            qs += binom[n + s][n] * sf / (nf + 1.0)
+                                * get(&q_t, s, qi - si - 1, pi - ni);
+                        }
+                        q_t[idx] = qs;
+                    }
+                }
+            }
+        }
+    }
+    family
+        .outputs
+        .iter()
+        .map(|&(use_q, n)| {
+            let src = if use_q { &q_t } else { &p_t };
+            let mut out = vec![0.0; tri(TRUNCATION, TRUNCATION) + 1];
+            for m in 0..=TRUNCATION {
+                for q in 0..=m {
+                    out[tri(m, q)] = src[tet.at(n, (m - q) as i64, q as i64).expect("in range")];
+                }
+            }
+            out
+        })
+        .collect()
+}
+
+static XA: Family = Family {
+    rec: Recurrence::Axisymmetric,
+    init_pv: 1,
+    init_q: 0,
+    outputs: &[(false, 1), (false, 2)],
+};
+static XM: Family = Family {
+    rec: Recurrence::Axisymmetric,
+    init_pv: 2,
+    init_q: 0,
+    outputs: &[(false, 2)],
+};
+static YA: Family = Family {
+    rec: Recurrence::Transverse,
+    init_pv: 1,
+    init_q: 0,
+    outputs: &[(false, 1), (true, 1), (false, 2)],
+};
+static YC: Family = Family {
+    rec: Recurrence::Transverse,
+    init_pv: 0,
+    init_q: 1,
+    outputs: &[(true, 1), (false, 2)],
+};
+static YM: Family = Family {
+    rec: Recurrence::Transverse,
+    init_pv: 2,
+    init_q: 0,
+    outputs: &[(false, 2)],
+};
+static ZM: Family = Family {
+    rec: Recurrence::Twist,
+    init_pv: 2,
+    init_q: 0,
+    outputs: &[(false, 2)],
+};
+static XC: Family = Family {
+    rec: Recurrence::AxialRotation,
+    init_pv: 0,
+    init_q: 1,
+    outputs: &[(true, 1)],
+};
+
+static T_XA: OnceLock<Triangles> = OnceLock::new();
+static T_XM: OnceLock<Triangles> = OnceLock::new();
+static T_YA: OnceLock<Triangles> = OnceLock::new();
+static T_YC: OnceLock<Triangles> = OnceLock::new();
+static T_YM: OnceLock<Triangles> = OnceLock::new();
+static T_ZM: OnceLock<Triangles> = OnceLock::new();
+static T_XC: OnceLock<Triangles> = OnceLock::new();
+
+#[derive(Clone, Copy)]
+enum Table {
+    Xa,
+    Xm,
+    Ya,
+    Yc,
+    Ym,
+    Zm,
+    Xc,
+}
+
+impl Table {
+    fn lock(self) -> &'static OnceLock<Triangles> {
+        match self {
+            Table::Xa => &T_XA,
+            Table::Xm => &T_XM,
+            Table::Ya => &T_YA,
+            Table::Yc => &T_YC,
+            Table::Ym => &T_YM,
+            Table::Zm => &T_ZM,
+            Table::Xc => &T_XC,
+        }
+    }
+
+    fn is_built(self) -> bool {
+        self.lock().get().is_some()
+    }
+
+    fn triangles(self) -> &'static Triangles {
+        match self {
+            Table::Xa => T_XA.get_or_init(|| build(&XA)),
+            Table::Xm => T_XM.get_or_init(|| build(&XM)),
+            Table::Ya => T_YA.get_or_init(|| build(&YA)),
+            Table::Yc => T_YC.get_or_init(|| build(&YC)),
+            Table::Ym => T_YM.get_or_init(|| build(&YM)),
+            Table::Zm => T_ZM.get_or_init(|| build(&ZM)),
+            Table::Xc => T_XC.get_or_init(|| build(&XC)),
+        }
+    }
+}
+
+// ------------------------------------------------------------------ the 22 functions
+
+/// One scalar function: `F = sign c sum_{m of parity} a_m t^m`, `a_m = sum_q R_{m-q,q}
+/// lambda^q (1+lambda)^{-m}` (times `lambda` for odd `m` when `shifted`).
+struct Function {
+    table: Table,
+    /// index of the triangle in the family's outputs
+    output: usize,
+    /// constant `c` including the sign of the function
+    factor: f64,
+    shifted: bool,
+    odd: bool,
+    /// `[h1, h2, h3]`: coefficients of `1/xi`, `ln(1/xi)`, `xi ln(1/xi)` near contact
+    singular: fn(f64) -> [f64; 3],
+}
+
+impl Function {
+    /// `a_m` for this `lambda` (the factor included). `sum_q R_q lambda^q/(1+lambda)^m` is
+    /// evaluated as `nu^m sum R_q lambda^q` (Horner in `lambda`) for `lambda <= 1` and as
+    /// `mu^m sum R_q lambda^{q-m}` (Horner in `1/lambda`) otherwise, `mu = lambda/(1+lambda)`,
+    /// `nu = 1/(1+lambda)`, so that no power overflows.
+    #[inline]
+    fn coefficient(&self, tri_r: &[f64], lambda: f64, m: usize) -> f64 {
+        let row = &tri_r[tri(m, 0)..=tri(m, m)];
+        let poly = if lambda <= 1.0 {
+            let nu = 1.0 / (1.0 + lambda);
+            row.iter().rev().fold(0.0, |acc, &c| acc * lambda + c) * nu.powi(m as i32)
+        } else {
+            let mu = lambda / (1.0 + lambda);
+            let il = 1.0 / lambda;
+            row.iter().fold(0.0, |acc, &c| acc * il + c) * mu.powi(m as i32)
+        };
+        let shift = if self.shifted && m % 2 == 1 {
+            lambda
+        } else {
+            1.0
+        };
+        self.factor * poly * shift
+    }
+
+    fn first_m(&self) -> usize {
+        usize::from(self.odd)
+    }
+}
+
+fn cube(l: f64) -> f64 {
+    (1.0 + l).powi(3)
+}
+fn square(l: f64) -> f64 {
+    (1.0 + l).powi(2)
+}
+
+// Singular coefficients, lubrication.md 1.4 (JO84; J92; corrected by Townsend 2023).
+fn s_x11a(l: f64) -> [f64; 3] {
+    [
+        2.0 * l * l / cube(l),
+        l * (1.0 + 7.0 * l + l * l) / (5.0 * cube(l)),
+        (1.0 + 18.0 * l - 29.0 * l * l + 18.0 * l.powi(3) + l.powi(4)) / (42.0 * cube(l)),
+    ]
+}
+fn s_x12a(l: f64) -> [f64; 3] {
+    neg(s_x11a(l))
+}
+fn s_y11a(l: f64) -> [f64; 3] {
+    [
+        0.0,
+        4.0 * l * (2.0 + l + 2.0 * l * l) / (15.0 * cube(l)),
+        2.0 * (16.0 - 45.0 * l + 58.0 * l * l - 45.0 * l.powi(3) + 16.0 * l.powi(4))
+            / (375.0 * cube(l)),
+    ]
+}
+fn s_y12a(l: f64) -> [f64; 3] {
+    neg(s_y11a(l))
+}
+fn s_y11b(l: f64) -> [f64; 3] {
+    [
+        0.0,
+        -l * (4.0 + l) / (5.0 * square(l)),
+        -(32.0 - 33.0 * l + 83.0 * l * l + 43.0 * l.powi(3)) / (250.0 * square(l)),
+    ]
+}
+fn s_y12b(l: f64) -> [f64; 3] {
+    neg(s_y11b(l))
+}
+fn s_x11c(l: f64) -> [f64; 3] {
+    [0.0, 0.0, -l * l / (4.0 * (1.0 + l))]
+}
+fn s_x12c(l: f64) -> [f64; 3] {
+    neg(s_x11c(l))
+}
+fn s_y11c(l: f64) -> [f64; 3] {
+    [
+        0.0,
+        2.0 * l / (5.0 * (1.0 + l)),
+        (8.0 + 6.0 * l + 33.0 * l * l) / (125.0 * (1.0 + l)),
+    ]
+}
+fn s_y12c(l: f64) -> [f64; 3] {
+    [
+        0.0,
+        l * l / (10.0 * (1.0 + l)),
+        l * (43.0 - 24.0 * l + 43.0 * l * l) / (500.0 * (1.0 + l)),
+    ]
+}
+fn s_x11g(l: f64) -> [f64; 3] {
+    [
+        3.0 * l * l / cube(l),
+        3.0 * (l + 12.0 * l * l - 4.0 * l.powi(3)) / (10.0 * cube(l)),
+        (5.0 + 181.0 * l - 453.0 * l * l + 566.0 * l.powi(3) - 65.0 * l.powi(4))
+            / (140.0 * cube(l)),
+    ]
+}
+fn s_x12g(l: f64) -> [f64; 3] {
+    neg(s_x11g(l))
+}
+fn s_y11g(l: f64) -> [f64; 3] {
+    [
+        0.0,
+        (4.0 * l - l * l + 7.0 * l.powi(3)) / (10.0 * cube(l)),
+        (32.0 - 179.0 * l + 532.0 * l * l - 356.0 * l.powi(3) + 221.0 * l.powi(4))
+            / (500.0 * cube(l)),
+    ]
+}
+fn s_y12g(l: f64) -> [f64; 3] {
+    neg(s_y11g(l))
+}
+fn s_y11h(l: f64) -> [f64; 3] {
+    [
+        0.0,
+        (2.0 * l - l * l) / (10.0 * square(l)),
+        (16.0 - 61.0 * l + 180.0 * l * l + 2.0 * l.powi(3)) / (500.0 * square(l)),
+    ]
+}
+fn s_y12h(l: f64) -> [f64; 3] {
+    [
+        0.0,
+        (l * l + 7.0 * l.powi(3)) / (20.0 * square(l)),
+        (43.0 * l + 147.0 * l * l - 185.0 * l.powi(3) + 221.0 * l.powi(4)) / (1000.0 * square(l)),
+    ]
+}
+fn s_x11m(l: f64) -> [f64; 3] {
+    [
+        6.0 * l * l / (5.0 * cube(l)),
+        3.0 * (l + 17.0 * l * l - 9.0 * l.powi(3)) / (25.0 * cube(l)),
+        (5.0 + 272.0 * l - 831.0 * l * l + 1322.0 * l.powi(3) - 415.0 * l.powi(4))
+            / (350.0 * cube(l)),
+    ]
+}
+fn s_x12m(l: f64) -> [f64; 3] {
+    [
+        6.0 * l.powi(3) / (5.0 * cube(l)),
+        3.0 * (-4.0 * l * l + 17.0 * l.powi(3) - 4.0 * l.powi(4)) / (25.0 * cube(l)),
+        (-65.0 * l + 832.0 * l * l - 1041.0 * l.powi(3) + 832.0 * l.powi(4) - 65.0 * l.powi(5))
+            / (350.0 * cube(l)),
+    ]
+}
+fn s_y11m(l: f64) -> [f64; 3] {
+    [
+        0.0,
+        6.0 * (l - l * l + 4.0 * l.powi(3)) / (25.0 * cube(l)),
+        (24.0 - 201.0 * l + 882.0 * l * l - 1182.0 * l.powi(3) + 591.0 * l.powi(4))
+            / (625.0 * cube(l)),
+    ]
+}
+fn s_y12m(l: f64) -> [f64; 3] {
+    [
+        0.0,
+        3.0 * (7.0 * l * l - 10.0 * l.powi(3) + 7.0 * l.powi(4)) / (50.0 * cube(l)),
+        3.0 * l * (221.0 - 728.0 * l + 1902.0 * l * l - 728.0 * l.powi(3) + 221.0 * l.powi(4))
+            / (2500.0 * cube(l)),
+    ]
+}
+fn s_z11m(l: f64) -> [f64; 3] {
+    [0.0, 0.0, -3.0 * (l * l + l.powi(4)) / (10.0 * cube(l))]
+}
+fn s_z12m(l: f64) -> [f64; 3] {
+    neg(s_z11m(l))
+}
+fn neg(h: [f64; 3]) -> [f64; 3] {
+    [-h[0], -h[1], -h[2]]
+}
+
+macro_rules! function {
+    ($table:ident, $out:expr, $factor:expr, $shifted:expr, $odd:expr, $sing:ident) => {
+        Function {
+            table: Table::$table,
+            output: $out,
+            factor: $factor,
+            shifted: $shifted,
+            odd: $odd,
+            singular: $sing,
+        }
+    };
+}
+
+/// The 22 functions in the order of [`NAMES`]. The "11" function takes one parity of a
+/// sequence, the "12" function the other, with the sign of JO84/J92 (module docs).
+static FUNCTIONS: [Function; 22] = [
+    function!(Xa, 0, 1.0, false, false, s_x11a),
+    function!(Xa, 0, -1.0, false, true, s_x12a),
+    function!(Ya, 0, 1.0, false, false, s_y11a),
+    function!(Ya, 0, -1.0, false, true, s_y12a),
+    function!(Ya, 1, 2.0, false, true, s_y11b),
+    function!(Ya, 1, -2.0, false, false, s_y12b),
+    function!(Xc, 0, 1.0, true, false, s_x11c),
+    function!(Xc, 0, -1.0, true, true, s_x12c),
+    function!(Yc, 0, 1.0, true, false, s_y11c),
+    function!(Yc, 0, 1.0, true, true, s_y12c),
+    function!(Xa, 1, 0.75, false, true, s_x11g),
+    function!(Xa, 1, -0.75, false, false, s_x12g),
+    function!(Ya, 2, 0.75, false, true, s_y11g),
+    function!(Ya, 2, -0.75, false, false, s_y12g),
+    function!(Yc, 1, -0.375, true, false, s_y11h),
+    function!(Yc, 1, -0.375, true, true, s_y12h),
+    function!(Xm, 0, 1.0, true, false, s_x11m),
+    function!(Xm, 0, 1.0, true, true, s_x12m),
+    function!(Ym, 0, 1.0, true, false, s_y11m),
+    function!(Ym, 0, 1.0, true, true, s_y12m),
+    function!(Zm, 0, 1.0, true, false, s_z11m),
+    function!(Zm, 0, -1.0, true, true, s_z12m),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_input_is_a_typed_error() {
+        for s in [2.0, 1.5, -3.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                resistance_scalars_ft(s, 1.0),
+                Err(TwoSphereError::Separation(_))
+            ));
+        }
+        for l in [0.0, 9e-3, 101.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                resistance_scalars_ft(3.0, l),
+                Err(TwoSphereError::SizeRatio(_))
+            ));
+            assert!(matches!(
+                PairSeries::new(l),
+                Err(TwoSphereError::SizeRatio(_))
+            ));
+        }
+    }
+}
