@@ -22,6 +22,6 @@ pub use brownian::{
 pub use input::{validate, InputError, Particle};
 pub use kernels::Confinement;
 pub use lubrication::{
-    pair_functions, solve_resistance, solve_resistance_fts, wall_functions, wall_near_contact,
-    Lubrication, PairFunctions, ResistanceError, WallFunctions,
+    solve_resistance, solve_resistance_fts, wall_functions, wall_near_contact, Lubrication,
+    ResistanceError, WallFunctions,
 };

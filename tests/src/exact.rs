@@ -237,3 +237,23 @@ pub mod chaoui_feuillebois {
         )
     }
 }
+
+/// Rows of `tests/data/wilson_lamb_two_sphere.txt` (two-sphere resistance functions by
+/// Wilson's Lamb's-method code as tabulated by Townsend; source, columns and units in the
+/// file's header): `s', lambda, gamma, XA YA YB XC YC XG YG YH XM YM ZM`.
+pub fn wilson_lamb_rows() -> Vec<[f64; 14]> {
+    let text = include_str!("../data/wilson_lamb_two_sphere.txt");
+    text.lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .map(|l| {
+            let v: Vec<f64> = l
+                .split_whitespace()
+                .map(|x| x.parse().expect("a number"))
+                .collect();
+            assert_eq!(v.len(), 14, "row {l}");
+            let mut row = [0.0; 14];
+            row.copy_from_slice(&v);
+            row
+        })
+        .collect()
+}

@@ -99,23 +99,9 @@ const LENGTH_POWER: [i32; 11] = [1, 1, 2, 3, 3, 2, 2, 3, 3, 3, 3];
 /// Index in `PairScalars::to_array` of the "11" function of each column (the "12" is next).
 const COLUMN: [usize; 11] = [0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20];
 
-fn wilson_rows() -> Vec<[f64; 14]> {
-    let text = include_str!("../data/wilson_lamb_two_sphere.txt");
-    text.lines()
-        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-        .map(|l| {
-            let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
-            assert_eq!(v.len(), 14, "row {l}");
-            let mut row = [0.0; 14];
-            row.copy_from_slice(&v);
-            row
-        })
-        .collect()
-}
-
 #[test]
 fn all_functions_against_wilson_lamb_method() {
-    let rows = wilson_rows();
+    let rows = integration_tests::exact::wilson_lamb_rows();
     assert_eq!(rows.len(), 62);
     let lambdas = [0.01, 0.1, 1.0, 10.0];
     // worst[band][function][lambda] = (error, s'); band 0: s' < 2.5, band 1: s' >= 2.5
