@@ -322,6 +322,25 @@ pub fn variants() -> Vec<Variant> {
     ]
 }
 
+/// The operation counts of a traced kernel for the report: the direct sum (with the
+/// switch condition, where there is one) and the lateral far-field branch.
+fn counts(name: &str, traced: &Traced) -> Vec<(String, usize)> {
+    let mut near = traced.output_ids();
+    let mut far = traced.far_ids();
+    if let Some(f) = &traced.far {
+        near.extend([f.lhs, f.rhs]);
+        far.extend([f.lhs, f.rhs]);
+    }
+    let mut v = vec![(name.to_string(), traced.graph.op_count(&near).total())];
+    if traced.far.is_some() {
+        v.push((
+            format!("{name} (far field)"),
+            traced.graph.op_count(&far).total(),
+        ));
+    }
+    v
+}
+
 /// Generate the kernels of one Green's function as one file.
 pub fn family<G: Green>(g: &G) -> GeneratedFile {
     let mut items = TokenStream::new();
@@ -348,8 +367,7 @@ pub fn family<G: Green>(g: &G) -> GeneratedFile {
             format!("{eq}. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf)."),
             basis_doc.to_string(),
         ];
-        let count = traced.graph.op_count(&traced.output_ids());
-        op_counts.push((name.clone(), count.total()));
+        op_counts.extend(counts(&name, &traced));
         items.extend(emit::function(&KernelFn {
             name,
             doc,
@@ -597,8 +615,7 @@ pub fn scene_file<G: Green>(g: &G, scene: &Scene, standalone: bool) -> Generated
             },
             format!("Jets truncated at derivative order {} of G.", traced.order),
         ];
-        let count = traced.graph.op_count(&traced.output_ids());
-        op_counts.push((name.clone(), count.total()));
+        op_counts.extend(counts(&name, &traced));
         items.extend(emit::function(&KernelFn {
             name,
             doc,
@@ -682,6 +699,16 @@ mod tests {
             assert!(!f.contents.contains(absent), "{absent} in an F-only scene");
         }
         let names: Vec<&str> = f.op_counts.iter().map(|(n, _)| n.as_str()).collect();
-        assert_eq!(names, ["w_self", "w_pair_equal", "w_pair_equal_product"]);
+        // the wall's pair kernels also have a lateral far-field branch (`farfield`)
+        assert_eq!(
+            names,
+            [
+                "w_self",
+                "w_pair_equal",
+                "w_pair_equal (far field)",
+                "w_pair_equal_product",
+                "w_pair_equal_product (far field)"
+            ]
+        );
     }
 }

@@ -4,7 +4,7 @@
 //! creation order, constants print in Rust's shortest round-trip form.
 
 use crate::expr::{Graph, Id, Op};
-use crate::scene::{ArgKind, Traced};
+use crate::scene::{ArgKind, BlockOut, Traced};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
 use std::str::FromStr;
@@ -64,20 +64,18 @@ fn input_expr(g: &Graph, k: u32) -> TokenStream {
     TokenStream::from_str(name).expect("input name is a Rust expression")
 }
 
-/// Emit one kernel function.
-pub fn function(k: &KernelFn) -> TokenStream {
-    let g = &k.traced.graph;
-    let outputs = k.traced.output_ids();
-    let live = g.live(&outputs);
-    let count = g.op_count(&outputs);
-    let ty = k.float.ty();
-
-    // Dense names for live interior nodes: t0, t1, ... in topological order.
-    let mut name: Vec<Option<TokenStream>> = vec![None; g.len()];
+/// Statements for the live nodes `want` that are not yet named, in topological order;
+/// names them `t{next}`, `t{next+1}`, ...
+fn statements(
+    g: &Graph,
+    want: &[bool],
+    name: &mut [Option<TokenStream>],
+    next: &mut usize,
+    ty: &TokenStream,
+) -> Vec<TokenStream> {
     let mut stmts = Vec::new();
-    let mut next = 0usize;
     for id in 0..g.len() {
-        if !live[id] {
+        if !want[id] || name[id].is_some() {
             continue;
         }
         let op = g.op(id as Id);
@@ -122,10 +120,67 @@ pub fn function(k: &KernelFn) -> TokenStream {
             }
         };
         let t = ident(&format!("t{next}"));
-        next += 1;
+        *next += 1;
         stmts.push(quote!(let #t: #ty = #rhs;));
         name[id] = Some(quote!(#t));
     }
+    stmts
+}
+
+/// The struct literal fields of a set of outputs.
+fn fields(outputs: &[BlockOut], name: &[Option<TokenStream>]) -> Vec<TokenStream> {
+    outputs
+        .iter()
+        .map(|b| {
+            let f = ident(&b.name);
+            let vals: Vec<TokenStream> = b
+                .ids
+                .iter()
+                .map(|id| name[*id as usize].clone().expect("output is live"))
+                .collect();
+            let arr = nest(&vals, &b.shape);
+            quote!(#f: #arr)
+        })
+        .collect()
+}
+
+/// Emit one kernel function. With a far branch: the nodes of the switch condition
+/// first, then `if lhs > rhs { far branch; return }`, then the direct sum; each
+/// branch computes only what it needs.
+pub fn function(k: &KernelFn) -> TokenStream {
+    let g = &k.traced.graph;
+    let outputs = k.traced.output_ids();
+    let far_ids = k.traced.far_ids();
+    let cond: Vec<Id> = k.traced.far.iter().flat_map(|f| [f.lhs, f.rhs]).collect();
+    let near_all: Vec<Id> = outputs.iter().chain(&cond).copied().collect();
+    let far_all: Vec<Id> = far_ids.iter().chain(&cond).copied().collect();
+    let live_cond = g.live(&cond);
+    let live_near = g.live(&near_all);
+    let live_far = g.live(&far_all);
+    let live: Vec<bool> = live_near
+        .iter()
+        .zip(&live_far)
+        .map(|(a, b)| *a || *b)
+        .collect();
+    let count = g.op_count(&near_all);
+    let ty = k.float.ty();
+
+    // Dense names for live interior nodes: t0, t1, ... in topological order.
+    let mut name: Vec<Option<TokenStream>> = vec![None; g.len()];
+    let mut next = 0usize;
+    let pre = statements(g, &live_cond, &mut name, &mut next, &ty);
+    let far_branch = k.traced.far.as_ref().map(|f| {
+        let mut far_name = name.clone();
+        let mut far_next = next;
+        let stmts = statements(g, &live_far, &mut far_name, &mut far_next, &ty);
+        let fs = fields(&f.outputs, &far_name);
+        let (lhs, rhs) = (
+            name[f.lhs as usize].clone().expect("condition named"),
+            name[f.rhs as usize].clone().expect("condition named"),
+        );
+        (lhs, rhs, stmts, fs)
+    });
+    let stmts = statements(g, &live_near, &mut name, &mut next, &ty);
 
     // Arguments; those the kernel does not read are bound to `_` so the signature stays
     // uniform across a family.
@@ -149,21 +204,17 @@ pub fn function(k: &KernelFn) -> TokenStream {
         });
     }
 
-    let fields: Vec<TokenStream> = k
-        .traced
-        .outputs
-        .iter()
-        .map(|b| {
-            let f = ident(&b.name);
-            let vals: Vec<TokenStream> = b
-                .ids
-                .iter()
-                .map(|id| name[*id as usize].clone().expect("output is live"))
-                .collect();
-            let arr = nest(&vals, &b.shape);
-            quote!(#f: #arr)
-        })
-        .collect();
+    let fields = fields(&k.traced.outputs, &name);
+    let ctor = TokenStream::from_str(&k.ctor).expect("constructor");
+    let far_code = match far_branch {
+        None => quote!(),
+        Some((lhs, rhs, far_stmts, far_fields)) => quote! {
+            if #lhs > #rhs {
+                #(#far_stmts)*
+                return #ctor { #(#far_fields),* };
+            }
+        },
+    };
 
     let mut doc = k.doc.clone();
     doc.push(String::new());
@@ -175,6 +226,13 @@ pub fn function(k: &KernelFn) -> TokenStream {
     doc.push(format!(
         "Operation count (after dead-code elimination): {count}."
     ));
+    if k.traced.far.is_some() {
+        let far_count = g.op_count(&far_all);
+        doc.push(format!(
+            "Lateral far field (`rho > {} (|h_a| + |h_b|)`, kernel_gen::farfield): {far_count}.",
+            crate::farfield::SWITCH
+        ));
+    }
     let doc_attrs: Vec<TokenStream> = doc
         .iter()
         .map(|d| {
@@ -184,12 +242,13 @@ pub fn function(k: &KernelFn) -> TokenStream {
         .collect();
     let fname = ident(&k.name);
     let ret = TokenStream::from_str(&k.ret).expect("return type");
-    let ctor = TokenStream::from_str(&k.ctor).expect("constructor");
     quote! {
         #(#doc_attrs)*
         #[inline]
         pub fn #fname(#(#params),*) -> #ret {
             #(#unused)*
+            #(#pre)*
+            #far_code
             #(#stmts)*
             #ctor { #(#fields),* }
         }

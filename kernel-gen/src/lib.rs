@@ -12,6 +12,7 @@ pub mod dd;
 pub mod derivatives;
 pub mod emit;
 pub mod expr;
+pub mod farfield;
 pub mod fd;
 pub mod green;
 pub mod jet;

@@ -120,6 +120,19 @@ pub struct Traced {
     /// Highest derivative order of `G` the operators needed (the jets are truncated
     /// accordingly).
     pub order: usize,
+    /// The lateral far-field branch ([`crate::farfield`]), where it applies.
+    pub far: Option<FarBranch>,
+}
+
+/// A second set of outputs, taken where `lhs > rhs` (the switch to the lateral
+/// far-field expansion); [`Traced::outputs`] is the direct sum, taken otherwise.
+pub struct FarBranch {
+    /// Left-hand side of the switch condition.
+    pub lhs: Id,
+    /// Right-hand side of the switch condition.
+    pub rhs: Id,
+    /// The outputs of the branch, in the shapes of [`Traced::outputs`].
+    pub outputs: Vec<BlockOut>,
 }
 
 impl Traced {
@@ -129,6 +142,36 @@ impl Traced {
             .iter()
             .flat_map(|b| b.ids.iter().copied())
             .collect()
+    }
+
+    /// The far branch's output ids in order (empty without a far branch).
+    pub fn far_ids(&self) -> Vec<Id> {
+        self.far
+            .iter()
+            .flat_map(|f| f.outputs.iter().flat_map(|b| b.ids.iter().copied()))
+            .collect()
+    }
+
+    /// Whether the far branch is taken for these inputs (as the emitted code decides:
+    /// the condition evaluated in the same scalar).
+    pub fn takes_far<S: Scalar>(&self, inputs: &[S]) -> bool {
+        match &self.far {
+            None => false,
+            Some(f) => {
+                let v = self.graph.eval(inputs, &[f.lhs, f.rhs]);
+                v[0].to_f64() > v[1].to_f64()
+            }
+        }
+    }
+
+    /// The kernel as emitted: the branch the condition selects, evaluated by the
+    /// interpreter.
+    pub fn eval<S: Scalar>(&self, inputs: &[S]) -> Vec<S> {
+        if self.takes_far(inputs) {
+            self.graph.eval(inputs, &self.far_ids())
+        } else {
+            self.graph.eval(inputs, &self.output_ids())
+        }
     }
 }
 
@@ -223,6 +266,7 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
     };
     let scale = Ex::cst(1.0 / (8.0 * std::f64::consts::PI)) / eta;
     let mut outputs = Vec::new();
+    let mut far = None;
     if spec.divergence {
         outputs = divergence_outputs(g, spec, &xa, &xb, &aa, &ab, &params, order, &scale);
     } else {
@@ -235,15 +279,42 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
                 ids: vals.into_iter().map(|v| (scale * v).0).collect(),
             });
         }
+        let lateral = match (spec.path, spec.interaction) {
+            (Path::Structured, Interaction::Pair) => {
+                crate::farfield::lateral(g, &spec.blocks, spec.basis, order)
+            }
+            _ => None,
+        };
+        if let Some(lat) = lateral {
+            let ((lhs, rhs), vals) =
+                crate::farfield::blocks(&lat, &spec.blocks, &xa, &xb, &aa, &ab, &params[0]);
+            let far_outputs = outputs
+                .iter()
+                .zip(vals)
+                .map(|(b, vals)| BlockOut {
+                    ids: vals.into_iter().map(|v| (scale * v).0).collect(),
+                    ..b.clone()
+                })
+                .collect();
+            far = Some(FarBranch {
+                lhs: lhs.0,
+                rhs: rhs.0,
+                outputs: far_outputs,
+            });
+        }
     }
     if let Some((va, vb)) = vectors {
         outputs = product_outputs(&outputs, &va, &vb);
+        if let Some(f) = &mut far {
+            f.outputs = product_outputs(&f.outputs, &va, &vb);
+        }
     }
     Traced {
         graph: t.finish(),
         args,
         outputs,
         order,
+        far,
     }
 }
 
