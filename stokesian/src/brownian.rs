@@ -100,6 +100,8 @@ pub struct Step {
     /// Each sphere's rotation vector over the step (angle times axis); zero at the F
     /// level.
     pub rotation: Vec<[f64; 3]>,
+    /// With Lanczos noise, the iterations the square root took.
+    pub lanczos_iterations: Option<usize>,
 }
 
 /// The rotation vectors (`Omega` rows of an FT increment), or zeros at the F level.
@@ -269,10 +271,11 @@ impl System {
         let w: Vec<f64> = (0..bd.moments.per_particle() * self.len())
             .map(|_| rng.sample::<f64, _>(StandardNormal))
             .collect();
-        let increment = self.brownian_increment(bd, &w, step)?;
+        let (increment, lanczos_iterations) = self.increment(bd, &w, step)?;
         Ok(Step {
             system: self.displaced(&increment, step)?,
             rotation: rotations(&increment, bd.moments, self.len()),
+            lanczos_iterations,
         })
     }
 
@@ -287,6 +290,17 @@ impl System {
         w: &[f64],
         step: usize,
     ) -> Result<Vec<f64>, BrownianError> {
+        Ok(self.increment(bd, w, step)?.0)
+    }
+
+    /// [`System::brownian_increment`] and the number of Lanczos iterations it took (with
+    /// Lanczos noise).
+    fn increment(
+        &self,
+        bd: &Brownian,
+        w: &[f64],
+        step: usize,
+    ) -> Result<(Vec<f64>, Option<usize>), BrownianError> {
         match bd.moments {
             Moments::F | Moments::FT => {}
             Moments::FTS => return Err(BrownianError::Unsupported("FTS Brownian dynamics")),
@@ -307,7 +321,7 @@ impl System {
             Scheme::EulerMaruyama => self.euler_maruyama(bd, w, step),
             // with a constant mobility the midpoint is Euler-Maruyama
             Scheme::FixmanMidpoint if !bd.hydrodynamics => self.euler_maruyama(bd, w, step),
-            Scheme::FixmanMidpoint => self.fixman_midpoint(bd, w, step),
+            Scheme::FixmanMidpoint => Ok((self.fixman_midpoint(bd, w, step)?, None)),
         }
     }
 
@@ -317,9 +331,10 @@ impl System {
         bd: &Brownian,
         w: &[f64],
         step: usize,
-    ) -> Result<Vec<f64>, BrownianError> {
+    ) -> Result<(Vec<f64>, Option<usize>), BrownianError> {
         let f = self.generalised_forces(&bd.forces, bd.moments);
         let scale = (2.0 * bd.kt * bd.dt).sqrt();
+        let mut iterations = None;
         let (mf, noise): (Vec<f64>, Vec<f64>) = match bd.noise {
             _ if !bd.hydrodynamics => {
                 let mob = self.stokes_mobility(bd.moments);
@@ -342,8 +357,9 @@ impl System {
                 (mf.as_slice().to_vec(), noise.as_slice().to_vec())
             }
             Noise::Lanczos { tol } => {
-                let (y, _) = lanczos_sqrt(|x| self.apply(bd.moments, x), w, tol, w.len())
+                let (y, k) = lanczos_sqrt(|x| self.apply(bd.moments, x), w, tol, w.len())
                     .map_err(|source| BrownianError::Lanczos { step, source })?;
+                iterations = Some(k);
                 (
                     self.apply(bd.moments, &f),
                     y.iter().map(|v| v * scale).collect(),
@@ -355,12 +371,13 @@ impl System {
         } else {
             vec![0.0; w.len()]
         };
-        Ok(mf
+        let dx = mf
             .iter()
             .zip(&noise)
             .zip(&div)
             .map(|((mf, noise), div)| (mf + bd.kt * div) * bd.dt + noise)
-            .collect())
+            .collect();
+        Ok((dx, iterations))
     }
 
     /// Fixman's midpoint scheme (Fixman 1978; Delong, Balboa Usabiaga & Donev 2014):

@@ -1676,10 +1676,10 @@ fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
         args.steps as u64,
         format!("Brownian dynamics of {n} spheres"),
     );
-    let mut rejections = 0;
+    let mut tally = Tally::default();
     let mut failure = None;
     let result = write_atomically(&args.out, |w| {
-        match simulate(w, setup.system, &bd, args, npy, pb, &mut rejections) {
+        match simulate(w, setup.system, &bd, args, npy, pb, &mut tally) {
             Ok(()) => Ok(()),
             Err(e) => {
                 failure = Some(e);
@@ -1692,15 +1692,31 @@ fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
         return Err(e);
     }
     result?;
+    if let Some(tol) = args.lanczos {
+        eprintln!(
+            "stokesian: Lanczos square root to {tol:e}: {:.1} iterations per step on average, \
+             at most {}",
+            tally.lanczos_sum as f64 / args.steps.max(1) as f64,
+            tally.lanczos_max
+        );
+    }
     report(format!(
-        "wrote {}: {} steps of {n} spheres (dt {:?}), {} frames, {rejections} rejected steps \
-         redrawn",
+        "wrote {}: {} steps of {n} spheres (dt {:?}), {} frames, {} rejected steps redrawn",
         args.out.display(),
         args.steps,
         args.dt,
         args.steps / args.every + 1,
+        tally.rejections,
     ));
     Ok(())
+}
+
+/// What a Brownian run counts: rejected (redrawn) steps and Lanczos iterations.
+#[derive(Default)]
+struct Tally {
+    rejections: usize,
+    lanczos_sum: usize,
+    lanczos_max: usize,
 }
 
 /// Integrate and write the frames (step 0 and every `--every`-th step) to `w`.
@@ -1711,7 +1727,7 @@ fn simulate(
     args: &BrownianArgs,
     npy: bool,
     pb: &ProgressBar,
-    rejections: &mut usize,
+    tally: &mut Tally,
 ) -> Result<(), CliError> {
     let io_error = |source: io::Error| CliError::Write {
         path: args.out.display().to_string(),
@@ -1764,13 +1780,17 @@ fn simulate(
                     for (q, theta) in orientation.iter_mut().zip(&next.rotation) {
                         *q = stokesian::rotate(*q, *theta);
                     }
+                    if let Some(k) = next.lanczos_iterations {
+                        tally.lanczos_sum += k;
+                        tally.lanczos_max = tally.lanczos_max.max(k);
+                    }
                     break next.system;
                 }
                 Err(BrownianError::Invalid { step, source }) => {
-                    *rejections += 1;
-                    if *rejections > args.max_rejections {
+                    tally.rejections += 1;
+                    if tally.rejections > args.max_rejections {
                         return Err(CliError::TooManyRejections {
-                            rejections: *rejections,
+                            rejections: tally.rejections,
                             max: args.max_rejections,
                             step,
                             reason: source.to_string(),

@@ -1498,7 +1498,16 @@ fn brownian_ft_equals_the_library_bit_for_bit() {
         args.drain(1..3); // --confinement wall: from the scene instead
         args.extend_from_slice(&["--scene", s(&scene), "--torque", "0,1,0"]);
         args.extend_from_slice(options);
-        assert_ok(&run(&args));
+        let o = run(&args);
+        assert_ok(&o);
+        if name.starts_with("lanczos") {
+            assert!(
+                stderr(&o).contains("Lanczos square root to 1e-8")
+                    && stderr(&o).contains("iterations per step"),
+                "{}",
+                stderr(&o)
+            );
+        }
         let want = bd_library_ft(3, scheme, noise);
         let got: Vec<f64> = if name.ends_with(".npy") {
             let (shape, values) = read_npy_3d(&out);
