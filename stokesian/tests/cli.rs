@@ -861,8 +861,9 @@ fn check_flag_reports_and_refuses_indefinite_matrices() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// `resistance` writes Eq. 19's FT resistance (equal to the library's, bit for bit) and
-/// `velocity --lubrication` solves it; for FTS both refuse with a clear message.
+/// `resistance` writes Eq. 19's FT and FTS resistance (equal to the library's, bit for
+/// bit) and `velocity --lubrication` solves its force-torque rows (`E_inf = 0`); F has no
+/// lubrication and refuses with a clear message.
 #[test]
 fn resistance_and_lubricated_velocity() {
     use stokesian::{Confinement, Lubrication, Moments, Particle, System};
@@ -872,29 +873,13 @@ fn resistance_and_lubricated_velocity() {
     std::fs::write(&csv, "x,y,z,radius\n0,0,1.001,1\n2.0005,0,1.001,1\n").unwrap();
     let forces = dir.join("f.csv");
     std::fs::write(&forces, "fx,fy,fz,tx,ty,tz\n0,0,-1,0,0,0\n0.5,0,0,0,0,0\n").unwrap();
+    let f = [0.0, 0.0, -1.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     let bin = env!("CARGO_BIN_EXE_stokesian");
-    let common = |cmd: &str, moments: &str| {
-        let mut c = std::process::Command::new(bin);
-        c.args([
-            cmd,
-            "--confinement",
-            "wall",
-            "--moments",
-            moments,
-            "--particles",
-        ])
-        .arg(&csv);
-        c
+    let run_ok = |args: &[&std::ffi::OsStr]| {
+        let o = std::process::Command::new(bin).args(args).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        o
     };
-    let m_out = dir.join("R.json");
-    let o = common("resistance", "FT")
-        .arg("--out")
-        .arg(&m_out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&m_out).unwrap()).unwrap();
     let ps = vec![
         Particle {
             x: [0.0, 0.0, 1.001],
@@ -906,98 +891,71 @@ fn resistance_and_lubricated_velocity() {
         },
     ];
     let s = System::new(Confinement::Wall { height: 0.0 }, 1.0, ps, false).unwrap();
-    let r = s.resistance(Moments::FT, &Lubrication::default()).unwrap();
-    for i in 0..12 {
-        for j in 0..12 {
-            assert_eq!(v["matrix"][i][j].as_f64().unwrap(), r[(i, j)]);
+    for (moments, name) in [(Moments::FT, "FT"), (Moments::FTS, "FTS")] {
+        let system: [&std::ffi::OsStr; 7] = [
+            "--confinement".as_ref(),
+            "wall".as_ref(),
+            "--moments".as_ref(),
+            name.as_ref(),
+            "--particles".as_ref(),
+            csv.as_os_str(),
+            "--out".as_ref(),
+        ];
+        let r_out = dir.join(format!("R-{name}.json"));
+        let mut args = vec!["resistance".as_ref()];
+        args.extend_from_slice(&system);
+        args.push(r_out.as_os_str());
+        run_ok(&args);
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&r_out).unwrap()).unwrap();
+        let r = s.resistance(moments, &Lubrication::default()).unwrap();
+        assert_eq!(r.nrows(), 2 * moments.per_particle());
+        for i in 0..r.nrows() {
+            for j in 0..r.ncols() {
+                assert_eq!(v["matrix"][i][j].as_f64().unwrap(), r[(i, j)]);
+            }
         }
-    }
-    let u_out = dir.join("U.csv");
-    let o = common("velocity", "FT")
-        .arg("--forces")
-        .arg(&forces)
-        .arg("--lubrication")
-        .arg("--out")
-        .arg(&u_out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("condition estimate of R"));
-    let text = std::fs::read_to_string(&u_out).unwrap();
-    let rows: Vec<Vec<f64>> = text
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
-    // R u = f, checked with the library's matrix
-    let mut u = vec![0.0; 12];
-    for a in 0..2 {
-        for i in 0..3 {
-            u[3 * a + i] = rows[a][i];
-            u[6 + 3 * a + i] = rows[a][3 + i];
+        let u_out = dir.join(format!("U-{name}.csv"));
+        let mut args = vec!["velocity".as_ref(), "--lubrication".as_ref()];
+        args.extend_from_slice(&["--forces".as_ref(), forces.as_os_str()]);
+        args.extend_from_slice(&system);
+        args.push(u_out.as_os_str());
+        let o = run_ok(&args);
+        assert!(String::from_utf8_lossy(&o.stderr).contains("condition estimate of R"));
+        let rows: Vec<Vec<f64>> = std::fs::read_to_string(&u_out)
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect();
+        // R_{FL, U Omega} u = f, checked with the library's matrix
+        let u = nalgebra::DVector::from_fn(12, |k, _| rows[(k % 6) / 3][3 * (k / 6) + k % 3]);
+        let ru = r.view((0, 0), (12, 12)) * u;
+        for k in 0..12 {
+            assert!(
+                (ru[k] - f[k]).abs() < 1e-9,
+                "{name} row {k}: {} vs {}",
+                ru[k],
+                f[k]
+            );
         }
-    }
-    let f = [0.0, 0.0, -1.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-    let ru = &r * nalgebra::DVector::from_column_slice(&u);
-    for k in 0..12 {
-        assert!(
-            (ru[k] - f[k]).abs() < 1e-9,
-            "row {k}: {} vs {}",
-            ru[k],
-            f[k]
-        );
-    }
-    // FTS: the resistance (22 x 22) as the library's, and velocities with lubrication
-    // that solve its force-torque rows with E_inf = 0
-    let r2 = dir.join("R2.json");
-    let o = common("resistance", "FTS")
-        .arg("--out")
-        .arg(&r2)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&r2).unwrap()).unwrap();
-    let rf = s.resistance(Moments::FTS, &Lubrication::default()).unwrap();
-    assert_eq!(rf.nrows(), 22);
-    for i in 0..22 {
-        for j in 0..22 {
-            assert_eq!(v["matrix"][i][j].as_f64().unwrap(), rf[(i, j)]);
-        }
-    }
-    let u_fts = dir.join("U2.csv");
-    let o = common("velocity", "FTS")
-        .arg("--forces")
-        .arg(&forces)
-        .arg("--lubrication")
-        .arg("--out")
-        .arg(&u_fts)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let rows: Vec<Vec<f64>> = std::fs::read_to_string(&u_fts)
-        .unwrap()
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
-    let u = nalgebra::DVector::from_fn(12, |k, _| rows[(k % 6) / 3][3 * (k / 6) + k % 3]);
-    let ru = rf.view((0, 0), (12, 12)) * u;
-    for k in 0..12 {
-        assert!(
-            (ru[k] - f[k]).abs() < 1e-9,
-            "FTS row {k}: {} vs {}",
-            ru[k],
-            f[k]
-        );
     }
     // F has no lubrication
     let forces_f = dir.join("f3.csv");
     std::fs::write(&forces_f, "fx,fy,fz\n0,0,-1\n0.5,0,0\n").unwrap();
-    let o = common("velocity", "F")
+    let o = std::process::Command::new(bin)
+        .args([
+            "velocity",
+            "--confinement",
+            "wall",
+            "--moments",
+            "F",
+            "--lubrication",
+        ])
+        .arg("--particles")
+        .arg(&csv)
         .arg("--forces")
         .arg(&forces_f)
-        .arg("--lubrication")
         .arg("--out")
         .arg(dir.join("U3.csv"))
         .output()
