@@ -150,6 +150,41 @@ fn heights_follow_boltzmann_only_with_the_drift() {
     );
 }
 
+/// Brownian settings without external forces (kT = 1, dt = 1e-3, drift on), for the
+/// short-time and drift tests.
+fn force_free(moments: Moments, scheme: Scheme, noise: Noise) -> Brownian {
+    Brownian {
+        noise,
+        hydrodynamics: true,
+        moments,
+        scheme,
+        kt: 1.0,
+        dt: 1e-3,
+        drift: true,
+        forces: ExternalForces {
+            weight: 0.0,
+            strength: 0.0,
+            debye: 1.0,
+            trap: 0.0,
+            torque: [0.0; 3],
+        },
+    }
+}
+
+/// One unit sphere at height 1.5 a above the wall.
+fn sphere_at_one_and_a_half() -> System {
+    System::new(
+        WALL,
+        1.0,
+        vec![Particle {
+            x: [0.0, 0.0, 1.5],
+            a: 1.0,
+        }],
+        false,
+    )
+    .unwrap()
+}
+
 /// Short-time self-diffusion at h = 1.5 a, free of external forces: the variances of
 /// one-step displacements are 2 kT dt times the self-mobility, parallel and normal to
 /// the wall. 1e5 samples: the relative standard error of a variance is sqrt(2/n) =
@@ -163,32 +198,8 @@ fn short_time_diffusion_is_kt_times_the_self_mobility() {
 }
 
 fn short_time_diffusion(noise: Noise) {
-    let bd = Brownian {
-        noise,
-        hydrodynamics: true,
-        moments: Moments::F,
-        scheme: Scheme::EulerMaruyama,
-        kt: 1.0,
-        dt: 1e-3,
-        drift: true,
-        forces: ExternalForces {
-            weight: 0.0,
-            strength: 0.0,
-            debye: 1.0,
-            trap: 0.0,
-            torque: [0.0; 3],
-        },
-    };
-    let s = System::new(
-        WALL,
-        1.0,
-        vec![Particle {
-            x: [0.0, 0.0, 1.5],
-            a: 1.0,
-        }],
-        false,
-    )
-    .unwrap();
+    let bd = force_free(Moments::F, Scheme::EulerMaruyama, noise);
+    let s = sphere_at_one_and_a_half();
     let m = s.mobility(Moments::F);
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     let n = 100_000;
@@ -376,22 +387,7 @@ fn fixman_midpoint_produces_the_generated_drift_and_the_covariance() {
     use rand::Rng;
     let s = drift_pair();
     for moments in [Moments::F, Moments::FT] {
-        let bd = Brownian {
-            noise: Noise::Cholesky,
-            hydrodynamics: true,
-            moments,
-            scheme: Scheme::FixmanMidpoint,
-            kt: 1.0,
-            dt: 1e-3,
-            drift: true,
-            forces: ExternalForces {
-                weight: 0.0,
-                strength: 0.0,
-                debye: 1.0,
-                trap: 0.0,
-                torque: [0.0; 3],
-            },
-        };
+        let bd = force_free(moments, Scheme::FixmanMidpoint, Noise::Cholesky);
         let dim = moments.per_particle() * s.len();
         let expected: Vec<f64> = s
             .divergence_at(moments)
@@ -452,32 +448,8 @@ fn fixman_midpoint_produces_the_generated_drift_and_the_covariance() {
 /// itself; tolerances 2.5% for the variances and 4 standard errors for the coupling.
 #[test]
 fn ft_short_time_rotation_and_coupling_follow_the_ft_mobility() {
-    let bd = Brownian {
-        noise: Noise::Cholesky,
-        hydrodynamics: true,
-        moments: Moments::FT,
-        scheme: Scheme::EulerMaruyama,
-        kt: 1.0,
-        dt: 1e-3,
-        drift: true,
-        forces: ExternalForces {
-            weight: 0.0,
-            strength: 0.0,
-            debye: 1.0,
-            trap: 0.0,
-            torque: [0.0; 3],
-        },
-    };
-    let s = System::new(
-        WALL,
-        1.0,
-        vec![Particle {
-            x: [0.0, 0.0, 1.5],
-            a: 1.0,
-        }],
-        false,
-    )
-    .unwrap();
+    let bd = force_free(Moments::FT, Scheme::EulerMaruyama, Noise::Cholesky);
+    let s = sphere_at_one_and_a_half();
     let m = s.mobility(Moments::FT);
     let mut rng = ChaCha8Rng::seed_from_u64(8);
     let n = 100_000;
