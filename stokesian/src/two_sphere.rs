@@ -573,6 +573,59 @@ fn build(family: &Family) -> Triangles {
     let mut v_t = vec![0.0; tet.len];
     let mut q_t = vec![0.0; tet.len];
     let get = |v: &Vec<f64>, n: usize, p: i64, q: i64| tet.at(n, p, q).map_or(0.0, |i| v[i]);
+    // The recurrence coefficients depend on (n, s) only: tabulated once (the divisions
+    // would otherwise dominate the innermost loop).
+    let w = top + 2;
+    let table = |f: &dyn Fn(f64, f64) -> f64| -> Vec<f64> {
+        (0..w * w)
+            .map(|i| {
+                let (n, s) = (i / w, i % w);
+                if n == 0 || s == 0 {
+                    0.0
+                } else {
+                    f(n as f64, s as f64)
+                }
+            })
+            .collect()
+    };
+    let coef: Vec<Vec<f64>> = match family.rec {
+        Recurrence::Axisymmetric => vec![
+            table(&|nf, sf| {
+                nf * (2.0 * nf + 1.0) * (2.0 * nf * sf - nf - sf + 2.0)
+                    / (2.0 * (nf + 1.0) * (2.0 * sf - 1.0) * (nf + sf))
+            }),
+            table(&|nf, _| nf * (2.0 * nf - 1.0) / (2.0 * (nf + 1.0))),
+            table(&|nf, sf| nf * (4.0 * nf * nf - 1.0) / (2.0 * (nf + 1.0) * (2.0 * sf + 1.0))),
+        ],
+        Recurrence::Transverse => vec![
+            table(&|nf, sf| {
+                (2.0 * nf + 1.0) / (2.0 * (nf + 1.0))
+                    * (3.0 * (nf + sf) - (nf * sf + 1.0) * (2.0 * nf * sf - sf - nf + 2.0))
+                    / (sf * (nf + sf) * (2.0 * sf - 1.0))
+            }),
+            table(&|nf, _| nf * (2.0 * nf - 1.0) / (2.0 * (nf + 1.0))),
+            table(&|nf, sf| nf * (4.0 * nf * nf - 1.0) / (2.0 * (nf + 1.0) * (2.0 * sf + 1.0))),
+            table(&|nf, _| 2.0 * (4.0 * nf * nf - 1.0) / (3.0 * (nf + 1.0))),
+            table(&|nf, sf| sf / (nf + 1.0)),
+            table(&|nf, sf| 3.0 / (2.0 * nf * sf * (nf + 1.0))),
+        ],
+        Recurrence::Twist => vec![
+            table(&|nf, _| 2.0 * (2.0 * nf + 1.0) * (2.0 * nf - 1.0) / (nf + 1.0)),
+            table(&|nf, sf| {
+                nf * (2.0 * nf + 1.0) * (2.0 * nf - 1.0) / (2.0 * (nf + 1.0) * (2.0 * sf + 1.0))
+            }),
+            table(&|nf, sf| {
+                (2.0 * nf + 1.0) / (nf + 1.0)
+                    * (nf * sf * (nf + sf - 2.0 * nf * sf - 2.0)
+                        - 4.0 * (2.0 * nf * sf - 4.0 * sf - 4.0 * nf + 2.0))
+                    / (2.0 * sf * (nf + sf) * (2.0 * sf - 1.0))
+            }),
+            table(&|nf, _| nf * (2.0 * nf - 1.0) / (2.0 * (nf + 1.0))),
+            table(&|nf, sf| sf / (nf + 1.0)),
+            table(&|nf, sf| 2.0 / (nf * sf * (nf + 1.0))),
+        ],
+        Recurrence::AxialRotation => vec![table(&|nf, sf| sf / (nf + 1.0))],
+    };
     for total in 1..=top {
         for n in 1..=total {
             let nf = n as f64;
@@ -601,13 +654,10 @@ fn build(family: &Family) -> Triangles {
                 match family.rec {
                     Recurrence::Axisymmetric => {
                         for s in s_range.clone() {
-                            let (sf, si) = (s as f64, s as i64);
+                            let si = s as i64;
                             let b = binom[n + s][n];
-                            let c1 = nf * (2.0 * nf + 1.0) * (2.0 * nf * sf - nf - sf + 2.0)
-                                / (2.0 * (nf + 1.0) * (2.0 * sf - 1.0) * (nf + sf));
-                            let c2 = nf * (2.0 * nf - 1.0) / (2.0 * (nf + 1.0));
-                            let c3 =
-                                nf * (4.0 * nf * nf - 1.0) / (2.0 * (nf + 1.0) * (2.0 * sf + 1.0));
+                            let k = n * w + s;
+                            let (c1, c2, c3) = (coef[0][k], coef[1][k], coef[2][k]);
                             let pm = get(&p_t, s, qi - si, pi - ni - 1);
                             ps += b
                                 * (c1 * get(&p_t, s, qi - si, pi - ni + 1)
@@ -620,16 +670,10 @@ fn build(family: &Family) -> Triangles {
                     }
                     Recurrence::Transverse => {
                         for s in s_range.clone() {
-                            let (sf, si) = (s as f64, s as i64);
+                            let si = s as i64;
                             let b = binom[n + s][n + 1];
-                            let c1 = (2.0 * nf + 1.0) / (2.0 * (nf + 1.0))
-                                * (3.0 * (nf + sf)
-                                    - (nf * sf + 1.0) * (2.0 * nf * sf - sf - nf + 2.0))
-                                / (sf * (nf + sf) * (2.0 * sf - 1.0));
-                            let c2 = nf * (2.0 * nf - 1.0) / (2.0 * (nf + 1.0));
-                            let c3 =
-                                nf * (4.0 * nf * nf - 1.0) / (2.0 * (nf + 1.0) * (2.0 * sf + 1.0));
-                            let c4 = 2.0 * (4.0 * nf * nf - 1.0) / (3.0 * (nf + 1.0));
+                            let k = n * w + s;
+                            let (c1, c2, c3, c4) = (coef[0][k], coef[1][k], coef[2][k], coef[3][k]);
                             let pm = get(&p_t, s, qi - si, pi - ni - 1);
                             ps += b
                                 * (c1 * get(&p_t, s, qi - si, pi - ni + 1)
@@ -637,9 +681,8 @@ fn build(family: &Family) -> Triangles {
                                     + c3 * get(&v_t, s, qi - si - 2, pi - ni + 1)
                                     - c4 * get(&q_t, s, qi - si - 1, pi - ni + 1));
                             qs += b
-                                * (sf / (nf + 1.0) * get(&q_t, s, qi - si - 1, pi - ni)
-                                    - 3.0 / (2.0 * nf * sf * (nf + 1.0))
-                                        * get(&p_t, s, qi - si, pi - ni));
+                                * (coef[4][k] * get(&q_t, s, qi - si - 1, pi - ni)
+                                    - coef[5][k] * get(&p_t, s, qi - si, pi - ni));
                             vs += b * pm;
                         }
                         p_t[idx] = ps;
@@ -648,16 +691,11 @@ fn build(family: &Family) -> Triangles {
                     }
                     Recurrence::Twist => {
                         for s in s_range.clone().filter(|&s| s >= 2) {
-                            let (sf, si) = (s as f64, s as i64);
+                            let si = s as i64;
                             let b = binom[n + s][n + 2];
-                            let c_q = 2.0 * (2.0 * nf + 1.0) * (2.0 * nf - 1.0) / (nf + 1.0);
-                            let c_v = nf * (2.0 * nf + 1.0) * (2.0 * nf - 1.0)
-                                / (2.0 * (nf + 1.0) * (2.0 * sf + 1.0));
-                            let c_p = (2.0 * nf + 1.0) / (nf + 1.0)
-                                * (nf * sf * (nf + sf - 2.0 * nf * sf - 2.0)
-                                    - 4.0 * (2.0 * nf * sf - 4.0 * sf - 4.0 * nf + 2.0))
-                                / (2.0 * sf * (nf + sf) * (2.0 * sf - 1.0));
-                            let c_m = nf * (2.0 * nf - 1.0) / (2.0 * (nf + 1.0));
+                            let k = n * w + s;
+                            let (c_q, c_v, c_p, c_m) =
+                                (coef[0][k], coef[1][k], coef[2][k], coef[3][k]);
                             let pm = get(&p_t, s, qi - si, pi - ni - 1);
                             ps += b
                                 * (-c_q * get(&q_t, s, qi - si - 1, pi - ni + 1)
@@ -665,9 +703,8 @@ fn build(family: &Family) -> Triangles {
                                     + c_p * get(&p_t, s, qi - si, pi - ni + 1)
                                     + c_m * pm);
                             qs += b
-                                * (sf / (nf + 1.0) * get(&q_t, s, qi - si - 1, pi - ni)
-                                    - 2.0 / (nf * sf * (nf + 1.0))
-                                        * get(&p_t, s, qi - si, pi - ni));
+                                * (coef[4][k] * get(&q_t, s, qi - si - 1, pi - ni)
+                                    - coef[5][k] * get(&p_t, s, qi - si, pi - ni));
                             vs += b * pm;
                         }
                         p_t[idx] = ps;
@@ -676,8 +713,8 @@ fn build(family: &Family) -> Triangles {
                     }
                     Recurrence::AxialRotation => {
                         for s in s_range.clone() {
-                            let (sf, si) = (s as f64, s as i64);
-                            qs += binom[n + s][n] * sf / (nf + 1.0)
+                            let si = s as i64;
+                            qs += binom[n + s][n] * coef[0][n * w + s]
                                 * get(&q_t, s, qi - si - 1, pi - ni);
                         }
                         q_t[idx] = qs;
