@@ -328,13 +328,13 @@ fn counts(name: &str, traced: &Traced) -> Vec<(String, usize)> {
     let mut near = traced.output_ids();
     let mut far = traced.far_ids();
     if let Some(f) = &traced.far {
-        near.extend([f.lhs, f.rhs]);
-        far.extend([f.lhs, f.rhs]);
+        near.extend(f.condition_ids());
+        far.extend(f.condition_ids());
     }
     let mut v = vec![(name.to_string(), traced.graph.op_count(&near).total())];
-    if traced.far.is_some() {
+    if let Some(f) = &traced.far {
         v.push((
-            format!("{name} (far field)"),
+            format!("{name} ({})", f.label),
             traced.graph.op_count(&far).total(),
         ));
     }
@@ -699,11 +699,13 @@ mod tests {
             assert!(!f.contents.contains(absent), "{absent} in an F-only scene");
         }
         let names: Vec<&str> = f.op_counts.iter().map(|(n, _)| n.as_str()).collect();
-        // the wall's pair kernels also have a lateral far-field branch (`farfield`)
+        // the wall's pair kernels also have a lateral far-field branch (`farfield`),
+        // its self kernels a closed-form branch (`self_image`)
         assert_eq!(
             names,
             [
                 "w_self",
+                "w_self (closed form)",
                 "w_pair_equal",
                 "w_pair_equal (far field)",
                 "w_pair_equal_product",

@@ -169,6 +169,9 @@ impl Scalar for Dd {
     fn cst(c: f64) -> Self {
         Dd::new(c)
     }
+    fn ratio(n: f64, d: f64) -> Self {
+        Dd::new(n) / Dd::new(d)
+    }
     /// One Newton step from the f64 root: `x + (a - x^2) / (2x)`.
     fn sqrt(&self) -> Self {
         if self.hi <= 0.0 {

@@ -131,10 +131,36 @@ impl<S: Scalar> Structured<S> {
             .image_terms()
             .expect("the structured path needs a Green's function with image terms");
         let degree = order + g.image_extra_order() + 2;
+        Self::with_terms(
+            terms,
+            x,
+            y,
+            g.planes(p),
+            g.weights(p),
+            degree,
+            include_free,
+            explicit_height,
+        )
+    }
+
+    /// As [`Structured::new`], from the image terms, the planes' heights and the
+    /// weights themselves (a subset of a Green's function's terms), with jets of
+    /// degree `degree`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_terms(
+        terms: Vec<ImageTerm>,
+        x: &[S; 3],
+        y: &[S; 3],
+        planes: Vec<S>,
+        weights: Vec<S>,
+        degree: usize,
+        include_free: bool,
+        explicit_height: bool,
+    ) -> Self {
         let r: [S; 3] = std::array::from_fn(|k| x[k].clone() - y[k].clone());
         let mut centres = vec![r];
         let mut heights = Vec::new();
-        for hp in g.planes(p) {
+        for hp in planes {
             let h = y[2].clone() - hp;
             centres.push([
                 x[0].clone() - y[0].clone(),
@@ -148,7 +174,7 @@ impl<S: Scalar> Structured<S> {
             include_free,
             terms,
             heights,
-            weights: g.weights(p),
+            weights,
             explicit_height,
             degree,
             jets: HashMap::new(),

@@ -151,7 +151,12 @@ pub fn function(k: &KernelFn) -> TokenStream {
     let g = &k.traced.graph;
     let outputs = k.traced.output_ids();
     let far_ids = k.traced.far_ids();
-    let cond: Vec<Id> = k.traced.far.iter().flat_map(|f| [f.lhs, f.rhs]).collect();
+    let cond: Vec<Id> = k
+        .traced
+        .far
+        .iter()
+        .flat_map(|f| f.condition_ids())
+        .collect();
     let near_all: Vec<Id> = outputs.iter().chain(&cond).copied().collect();
     let far_all: Vec<Id> = far_ids.iter().chain(&cond).copied().collect();
     let live_cond = g.live(&cond);
@@ -174,11 +179,16 @@ pub fn function(k: &KernelFn) -> TokenStream {
         let mut far_next = next;
         let stmts = statements(g, &live_far, &mut far_name, &mut far_next, &ty);
         let fs = fields(&f.outputs, &far_name);
-        let (lhs, rhs) = (
-            name[f.lhs as usize].clone().expect("condition named"),
-            name[f.rhs as usize].clone().expect("condition named"),
-        );
-        (lhs, rhs, stmts, fs)
+        let tests: Vec<TokenStream> = f
+            .conds
+            .iter()
+            .map(|&(l, r)| {
+                let l = name[l as usize].clone().expect("condition named");
+                let r = name[r as usize].clone().expect("condition named");
+                quote!(#l > #r)
+            })
+            .collect();
+        (tests, stmts, fs)
     });
     let stmts = statements(g, &live_near, &mut name, &mut next, &ty);
 
@@ -208,8 +218,8 @@ pub fn function(k: &KernelFn) -> TokenStream {
     let ctor = TokenStream::from_str(&k.ctor).expect("constructor");
     let far_code = match far_branch {
         None => quote!(),
-        Some((lhs, rhs, far_stmts, far_fields)) => quote! {
-            if #lhs > #rhs {
+        Some((tests, far_stmts, far_fields)) => quote! {
+            if #(#tests)&&* {
                 #(#far_stmts)*
                 return #ctor { #(#far_fields),* };
             }
@@ -226,12 +236,9 @@ pub fn function(k: &KernelFn) -> TokenStream {
     doc.push(format!(
         "Operation count (after dead-code elimination): {count}."
     ));
-    if k.traced.far.is_some() {
+    if let Some(f) = &k.traced.far {
         let far_count = g.op_count(&far_all);
-        doc.push(format!(
-            "Lateral far field (`rho > {} (|h_a| + |h_b|)`, kernel_gen::farfield): {far_count}.",
-            crate::farfield::SWITCH
-        ));
+        doc.push(format!("{}: {far_count}.", f.doc));
     }
     let doc_attrs: Vec<TokenStream> = doc
         .iter()

@@ -43,6 +43,7 @@
 
 use crate::dd::Dd;
 use crate::derivatives::Structured;
+use crate::green::free::Free;
 use crate::green::Green;
 use crate::jet::{Jet, Layout};
 use crate::operators::{self, Basis, Derivatives, Moment, Response, Term, STRAIN_BASIS};
@@ -58,16 +59,20 @@ pub const SWITCH: f64 = 100.0;
 /// Truncation degree of the expansion in `(h_a/rho, h_b/rho)`.
 pub const ORDER: usize = 9;
 
-/// Coefficients below this fraction of the largest of the same radius powers and
-/// degree in `(u_a, u_b)` in their block are round-off of exact zeros. The evaluation is in double-double, but the operators' coefficients
-/// (the strain basis' `1/sqrt 2`, `1/sqrt 6`, the Faxén `1/6`, `1/10`) and the linear
-/// collection of derivatives are `f64`, so exact zeros come out at about 1e-17 of the
-/// largest coefficient; the coefficients that do not vanish are ratios of small
-/// integers, above 1e-6 of that largest ([`compute`] checks this gap).
-const ZERO: f64 = 1e-12;
+/// Coefficients below this fraction of the largest coefficient of the free-space part
+/// of their block are round-off of exact zeros. The operators' coefficients are exact
+/// ([`operators::exact_block`]: dyadic rationals, the strain normalisation and the
+/// Faxén factors applied in double-double outside), so the terms that cancel in exact
+/// arithmetic (the Stokeslet against its image) leave about 1e-32 of the free-space
+/// terms; the coefficients that do not vanish are ratios of small integers, above
+/// [`SMALLEST`] of them ([`compute`] checks this gap). The scale is the free-space
+/// part's, not the block's own: where a whole degree cancels, its leftovers are all
+/// the block has of that degree.
+const ZERO: f64 = 1e-24;
 
-/// Smallest ratio to the block's largest coefficient a non-zero coefficient may have.
-const SMALLEST: f64 = 1e-6;
+/// Smallest ratio to the free-space part's largest coefficient a non-zero coefficient
+/// may have.
+const SMALLEST: f64 = 1e-10;
 
 /// One term of `P`: `c (a_a^2/rho^2)^pa (a_b^2/rho^2)^pb u_a^i u_b^j`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -135,49 +140,54 @@ fn compute<G: Green>(
     let x = [cst(1.0), cst(0.0), Jet::variable(&l, 0, Dd::new(0.0))];
     let y = [cst(0.0), cst(0.0), Jet::variable(&l, 1, Dd::new(0.0))];
     let mut src = Structured::new(g, &x, &y, &[cst(0.0)], order, true, true);
+    // the free-space part alone: the size of the terms that cancel
+    let mut free = Structured::new(&Free, &x, &y, &[], order, true, true);
     let one = cst(1.0);
     let mut out = Vec::new();
     let mut cancels = false;
     for &(r, m) in blocks {
+        let blk = operators::exact_block(r, m, basis);
         let mut leading: f64 = 0.0;
         let mut entries = Vec::new();
         let mut raw: Vec<Vec<(u8, u8, Jet<Dd>)>> = Vec::new();
-        for row in operators::block(r, m, basis) {
-            for entry in row {
+        let mut scale: f64 = 0.0;
+        for (row, norms) in blk.entries.iter().zip(&blk.norm) {
+            for (entry, &n) in row.iter().zip(norms) {
                 let mut groups: BTreeMap<(u8, u8), Vec<Term>> = BTreeMap::new();
                 for t in entry {
                     assert!(t.pa <= 1 && t.pb <= 1, "Faxén operators are 1 + c a^2 lap");
-                    groups.entry((t.pa, t.pb)).or_default().push(t);
+                    groups.entry((t.pa, t.pb)).or_default().push(*t);
                 }
-                raw.push(
-                    groups
-                        .into_iter()
-                        .map(|((pa, pb), ts)| (pa, pb, src.combine(&ts, &one, &one)))
-                        .collect(),
-                );
+                let mut e = Vec::new();
+                for ((pa, pb), ts) in groups {
+                    // the factors outside the exact coefficients, in double-double
+                    let mut f = dd_norm(n);
+                    if pa == 1 {
+                        f = f * dd_faxen(blk.fa);
+                    }
+                    if pb == 1 {
+                        f = f * dd_faxen(blk.fb);
+                    }
+                    let fj = Jet::constant(f);
+                    let full = fj.clone() * src.combine(&ts, &one, &one);
+                    let free_part = fj * free.combine(&ts, &one, &one);
+                    for mono in &l.monos {
+                        scale = scale.max(free_part.coeff(mono).to_f64().abs());
+                    }
+                    e.push((pa, pb, full));
+                }
+                raw.push(e);
             }
         }
-        // the largest coefficient of each radius group and degree in (u_a, u_b)
-        let mut largest: BTreeMap<(u8, u8, u8), f64> = BTreeMap::new();
-        for e in &raw {
-            for (pa, pb, j) in e {
-                for mono in &l.monos {
-                    let v = largest.entry((*pa, *pb, mono[0] + mono[1])).or_insert(0.0);
-                    *v = v.max(j.coeff(mono).to_f64().abs());
-                }
-            }
-        }
-        let block_largest = largest.values().copied().fold(0.0, f64::max);
         for e in &raw {
             let mut terms = Vec::new();
             for (pa, pb, j) in e {
                 for mono in &l.monos {
                     let c = j.coeff(mono).to_f64();
-                    let scale = largest[&(*pa, *pb, mono[0] + mono[1])];
                     assert!(
                         c.abs() <= ZERO * scale || c.abs() >= SMALLEST * scale,
                         "{}: coefficient {c:e} of {mono:?} is neither round-off nor of the \
-                         size of the largest of its degree, {scale:e}",
+                         size of the free-space terms, {scale:e}",
                         g.name()
                     );
                     if c.abs() > ZERO * scale {
@@ -196,12 +206,27 @@ fn compute<G: Green>(
             }
             entries.push(terms);
         }
-        cancels |= block_largest > 0.0 && leading == 0.0;
+        cancels |= scale > 0.0 && leading == 0.0;
         out.push(entries);
     }
     // The rule is needed where the direct sum of some block cancels to leading order
     // (no term of degree 0 survives in it).
     cancels.then_some(Lateral { blocks: out })
+}
+
+/// A Faxén factor `1/k` ([`operators::faxen`], `k` = 6 or 10) in double-double.
+pub(crate) fn dd_faxen(v: f64) -> Dd {
+    Dd::new(1.0) / Dd::new((1.0 / v).round())
+}
+
+/// A normalisation `1/sqrt(n)` ([`operators::norm`]) in double-double, from its
+/// correctly rounded `f64` value: `n = round(1/v^2)` is a small integer.
+pub(crate) fn dd_norm(v: f64) -> Dd {
+    if v == 1.0 {
+        return Dd::new(1.0);
+    }
+    let n = (1.0 / (v * v)).round();
+    Dd::new(n).sqrt().recip()
 }
 
 /// Degree of homogeneity of a block: `-1 - n_x - n_y`.

@@ -231,7 +231,7 @@ impl<S: Scalar> Jet<S> {
         x: &[S],
         y: &[S],
         keep: impl Fn(u32, u32) -> bool,
-        w: impl Fn(u32, u32) -> f64,
+        w: impl Fn(u32, u32) -> (f64, f64),
     ) -> Option<S> {
         let mut acc: Option<S> = None;
         for &(i, j) in &l.pairs[m] {
@@ -242,13 +242,13 @@ impl<S: Scalar> Jet<S> {
             if xi.is_known_zero() || yj.is_known_zero() {
                 continue;
             }
-            let wt = w(i, j);
-            if wt == 0.0 {
+            let (num, den) = w(i, j);
+            if num == 0.0 {
                 continue;
             }
             let mut t = xi.clone() * yj.clone();
-            if wt != 1.0 {
-                t = S::cst(wt) * t;
+            if num != den {
+                t = S::ratio(num, den) * t;
             }
             acc = Some(match acc {
                 None => t,
@@ -266,7 +266,8 @@ impl<S: Scalar> Jet<S> {
         let (x, y) = (a.promote(&l), b.promote(&l));
         let c = (0..l.len())
             .map(|m| {
-                Self::cauchy_sum(&l, m, &x, &y, |_, _| true, |_, _| 1.0).unwrap_or(S::cst(0.0))
+                Self::cauchy_sum(&l, m, &x, &y, |_, _| true, |_, _| (1.0, 1.0))
+                    .unwrap_or(S::cst(0.0))
             })
             .collect();
         Jet { layout: Some(l), c }
@@ -281,7 +282,7 @@ impl<S: Scalar> Jet<S> {
         // c is filled in graded order; the sums only read entries already computed.
         let mut c: Vec<S> = vec![S::cst(0.0); l.len()];
         for m in 0..l.len() {
-            let s = Self::cauchy_sum(&l, m, &y, &c, |i, _| i != 0, |_, _| 1.0);
+            let s = Self::cauchy_sum(&l, m, &y, &c, |i, _| i != 0, |_, _| (1.0, 1.0));
             let num = match s {
                 None => x[m].clone(),
                 Some(s) => x[m].clone() - s,
@@ -305,7 +306,7 @@ impl<S: Scalar> Jet<S> {
         c[0] = x[0].sqrt();
         let two_c0 = S::cst(2.0) * c[0].clone();
         for m in 1..l.len() {
-            let s = Self::cauchy_sum(&l, m, &c, &c, |i, j| i != 0 && j != 0, |_, _| 1.0);
+            let s = Self::cauchy_sum(&l, m, &c, &c, |i, j| i != 0 && j != 0, |_, _| (1.0, 1.0));
             let num = match s {
                 None => x[m].clone(),
                 Some(s) => x[m].clone() - s,
@@ -340,7 +341,12 @@ impl<S: Scalar> Jet<S> {
                 x,
                 &c,
                 |i, _| i != 0,
-                |i, j| (alpha * l.monos[i as usize][v] as f64 - l.monos[j as usize][v] as f64) / mv,
+                |i, j| {
+                    (
+                        alpha * l.monos[i as usize][v] as f64 - l.monos[j as usize][v] as f64,
+                        mv,
+                    )
+                },
             );
             c[m] = match s {
                 None => S::cst(0.0),
@@ -388,6 +394,9 @@ impl<S: Scalar> Neg for Jet<S> {
 impl<S: Scalar> Scalar for Jet<S> {
     fn cst(c: f64) -> Self {
         Jet::constant(S::cst(c))
+    }
+    fn ratio(n: f64, d: f64) -> Self {
+        Jet::constant(S::ratio(n, d))
     }
     fn sqrt(&self) -> Self {
         self.sqrt_rule()

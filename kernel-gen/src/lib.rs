@@ -19,3 +19,4 @@ pub mod jet;
 pub mod operators;
 pub mod scalar;
 pub mod scene;
+pub mod self_image;

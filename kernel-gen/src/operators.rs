@@ -40,6 +40,21 @@ pub const STRAIN_BASIS: [[[f64; 3]; 3]; 5] = [
     [[-S6, 0.0, 0.0], [0.0, -S6, 0.0], [0.0, 0.0, S6X2]],
 ];
 
+/// [`STRAIN_BASIS`] before normalisation, `B_p = STRAIN_INTEGER[p] / sqrt(STRAIN_NORM2[p])`:
+/// integer entries, so that the operators' coefficients are exact in `f64` and exact
+/// cancellations (free Stokeslet against its image) stay exact; the irrational
+/// normalisation multiplies each block entry once, last ([`Block::norm`]).
+pub const STRAIN_INTEGER: [[[f64; 3]; 3]; 5] = [
+    [[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]],
+    [[0.0, 0.0, 1.0], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]],
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+    [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 0.0]],
+    [[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 2.0]],
+];
+
+/// Squared Frobenius norms of [`STRAIN_INTEGER`].
+pub const STRAIN_NORM2: [f64; 5] = [2.0, 2.0, 2.0, 2.0, 6.0];
+
 /// Levi-Civita symbol, `eps_012 = +1` (right-handed).
 pub fn eps(i: usize, j: usize, k: usize) -> f64 {
     ((i as i64 - j as i64) * (j as i64 - k as i64) * (k as i64 - i as i64)) as f64 / 2.0
@@ -184,8 +199,9 @@ fn add_d(a: [u8; 3], b: [u8; 3]) -> [u8; 3] {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
 
-/// `coef * (1 + a^2 / div * lap) d^d G_comp`.
-fn with_laplacian(comp: usize, d: [u8; 3], coef: f64, div: f64) -> Vec<Side> {
+/// `coef * (1 + c a^2 lap) d^d G_comp`, the Faxén factor `c` ([`faxen`]) left out of
+/// the coefficients (it multiplies `a^2`).
+fn with_laplacian(comp: usize, d: [u8; 3], coef: f64) -> Vec<Side> {
     let mut v = vec![Side {
         comp,
         d,
@@ -196,17 +212,18 @@ fn with_laplacian(comp: usize, d: [u8; 3], coef: f64, div: f64) -> Vec<Side> {
         v.push(Side {
             comp,
             d: add_d(d, unit(k, 2)),
-            coef: coef / div,
+            coef,
             a2: 1,
         });
     }
     v
 }
 
-/// Symmetrised gradient `1/2 (d_p G_q + d_q G_p)` with `(1 + a^2/10 lap)`, Cartesian.
+/// Symmetrised gradient `1/2 (d_p G_q + d_q G_p)` with `(1 + a^2/10 lap)`, Cartesian
+/// (the `1/10` left to [`faxen`]).
 fn sym_gradient(p: usize, q: usize) -> Vec<Side> {
-    let mut v = with_laplacian(q, unit(p, 1), 0.5, 10.0);
-    v.extend(with_laplacian(p, unit(q, 1), 0.5, 10.0));
+    let mut v = with_laplacian(q, unit(p, 1), 0.5);
+    v.extend(with_laplacian(p, unit(q, 1), 0.5));
     v
 }
 
@@ -234,7 +251,7 @@ fn strain_components(b: Basis) -> Vec<Vec<Side>> {
     let cart: Vec<Vec<Side>> = (0..9).map(|pq| sym_gradient(pq / 3, pq % 3)).collect();
     match b {
         Basis::Cartesian => cart,
-        Basis::Orthonormal => STRAIN_BASIS
+        Basis::Orthonormal => STRAIN_INTEGER
             .iter()
             .map(|bn| {
                 let mut v = Vec::new();
@@ -264,12 +281,12 @@ fn merge_sides(v: Vec<Side>) -> Vec<Side> {
         .collect()
 }
 
-/// The Faxén functional at the field point (Eqs. 12-15), one list per component.
+/// The Faxén functional at the field point (Eqs. 12-15), one list per component, with
+/// exact coefficients: the `a^2` terms without their factor [`faxen`], the strain
+/// components in the integer basis [`STRAIN_INTEGER`] (normalised by [`norm`]).
 pub fn field(r: Response, b: Basis) -> Vec<Vec<Side>> {
     match r {
-        Response::U => (0..3)
-            .map(|p| with_laplacian(p, [0; 3], 1.0, 6.0))
-            .collect(),
+        Response::U => (0..3).map(|p| with_laplacian(p, [0; 3], 1.0)).collect(),
         Response::Omega => (0..3).map(half_curl).collect(),
         Response::E => strain_components(b),
     }
@@ -287,11 +304,69 @@ pub fn source(m: Moment, b: Basis) -> Vec<Vec<Side>> {
     }
 }
 
-/// The terms of every entry `[row][col]` of block `(r, m)`.
-pub fn block(r: Response, m: Moment, b: Basis) -> Vec<Vec<Vec<Term>>> {
+/// The factor `c` of `a^2 lap` in the Faxén law of a response (`U`: 1/6, Eq. 12;
+/// `E`: 1/10, Eq. 14; `Omega`: none, 0) and, by the same form, in the multipole
+/// moment of the corresponding source (`F`, `S`, `L`).
+pub fn faxen(r: Response) -> f64 {
+    match r {
+        Response::U => 1.0 / 6.0,
+        Response::Omega => 0.0,
+        Response::E => 1.0 / 10.0,
+    }
+}
+
+fn moment_response(m: Moment) -> Response {
+    match m {
+        Moment::F => Response::U,
+        Moment::L => Response::Omega,
+        Moment::S => Response::E,
+    }
+}
+
+/// Squared norm of component `k` of a response or moment in basis `b`: 1 except the
+/// orthonormal strain components ([`STRAIN_NORM2`]).
+fn norm2(r: Response, b: Basis, k: usize) -> f64 {
+    match (r, b) {
+        (Response::E, Basis::Orthonormal) => STRAIN_NORM2[k],
+        _ => 1.0,
+    }
+}
+
+/// The normalisation of entry `(row, col)` of block `(r, m)`: `1/sqrt(n_row n_col)`,
+/// correctly rounded (1 outside the orthonormal strain basis).
+pub fn norm(r: Response, m: Moment, b: Basis, row: usize, col: usize) -> f64 {
+    let n = norm2(r, b, row) * norm2(moment_response(m), b, col);
+    if n == 1.0 {
+        1.0
+    } else {
+        crate::dd::Dd::new(n).sqrt().recip().to_f64()
+    }
+}
+
+/// A block with exact coefficients: entry `(i, j)` is
+/// `norm[i][j] * sum_t coef_t (fa a_a^2)^pa_t (fb a_b^2)^pb_t d_t`. The coefficients
+/// `coef_t` are small dyadic rationals (sums and products of them are exact in `f64`),
+/// so terms that cancel in exact arithmetic cancel in any scalar; the irrational or
+/// non-dyadic factors (the strain normalisation, the Faxén `1/6`, `1/10`) multiply
+/// once, outside.
+#[derive(Clone, Debug)]
+pub struct Block {
+    /// The terms of every entry `[row][col]`.
+    pub entries: Vec<Vec<Vec<Term>>>,
+    /// `norm[row][col]`, see [`norm`].
+    pub norm: Vec<Vec<f64>>,
+    /// Faxén factor of the field particle's `a_a^2` ([`faxen`] of the response).
+    pub fa: f64,
+    /// Faxén factor of the source particle's `a_b^2`.
+    pub fb: f64,
+}
+
+/// Block `(r, m)` with exact coefficients (see [`Block`]).
+pub fn exact_block(r: Response, m: Moment, b: Basis) -> Block {
     let f = field(r, b);
     let s = source(m, b);
-    f.iter()
+    let entries = f
+        .iter()
         .map(|fr| {
             s.iter()
                 .map(|sc| {
@@ -312,6 +387,46 @@ pub fn block(r: Response, m: Moment, b: Basis) -> Vec<Vec<Vec<Term>>> {
                         }
                     }
                     terms
+                })
+                .collect()
+        })
+        .collect();
+    let norm = (0..f.len())
+        .map(|i| (0..s.len()).map(|j| norm(r, m, b, i, j)).collect())
+        .collect();
+    Block {
+        entries,
+        norm,
+        fa: faxen(r),
+        fb: faxen(moment_response(m)),
+    }
+}
+
+/// The terms of every entry `[row][col]` of block `(r, m)`, every factor folded into
+/// the coefficients (`coef norm fa^pa fb^pb`): for sources that evaluate a term at a
+/// time and need no exact cancellation (finite differences).
+pub fn block(r: Response, m: Moment, b: Basis) -> Vec<Vec<Vec<Term>>> {
+    let blk = exact_block(r, m, b);
+    blk.entries
+        .iter()
+        .zip(&blk.norm)
+        .map(|(row, norms)| {
+            row.iter()
+                .zip(norms)
+                .map(|(entry, n)| {
+                    entry
+                        .iter()
+                        .map(|t| {
+                            let mut coef = t.coef * n;
+                            if t.pa == 1 {
+                                coef *= blk.fa;
+                            }
+                            if t.pb == 1 {
+                                coef *= blk.fb;
+                            }
+                            Term { coef, ..*t }
+                        })
+                        .collect()
                 })
                 .collect()
         })
@@ -476,12 +591,29 @@ mod tests {
         // Each orthonormal component's terms equal sum_pq B_pq * (Cartesian pq terms).
         let o = field(Response::E, Basis::Orthonormal);
         assert_eq!(o.len(), 5);
-        // B5 involves d_1 G_1, d_2 G_2 (coef -1/sqrt6) and d_3 G_3 (2/sqrt6) at order 1.
+        // B5 involves d_1 G_1, d_2 G_2 (coef -1 before the normalisation 1/sqrt6) and
+        // d_3 G_3 (2) at order 1.
         let first: Vec<&Side> = o[4].iter().filter(|s| s.a2 == 0).collect();
         assert_eq!(first.len(), 3);
         for s in first {
-            let want = if s.comp == 2 { S6X2 } else { -S6 };
-            assert!((s.coef - want).abs() < 1e-16);
+            let want = if s.comp == 2 { 2.0 } else { -1.0 };
+            assert_eq!(s.coef, want);
         }
+        // the normalised basis is the integer one over its norm, to round-off (one
+        // rounding of the literal and two of `want`: within 2 ulps of values below 1)
+        for p in 0..5 {
+            for k in 0..9 {
+                let (i, j) = (k / 3, k % 3);
+                let want = STRAIN_INTEGER[p][i][j] / STRAIN_NORM2[p].sqrt();
+                assert!((STRAIN_BASIS[p][i][j] - want).abs() <= 2.0 * f64::EPSILON);
+            }
+        }
+        assert_eq!(
+            norm(Response::E, Moment::S, Basis::Orthonormal, 4, 4),
+            1.0 / 6.0
+        );
+        let s12 = norm(Response::E, Moment::S, Basis::Orthonormal, 0, 4);
+        // correctly rounded 1/sqrt(12) = 0.28867513459481288225457439025097872782...
+        assert_eq!(s12, 0.288_675_134_594_812_87);
     }
 }

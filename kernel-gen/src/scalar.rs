@@ -23,6 +23,13 @@ pub trait Scalar:
 {
     /// The constant `c` (exact for every `f64`).
     fn cst(c: f64) -> Self;
+    /// The rational constant `n / d` of small integers (or dyadic numbers): rounded
+    /// to `f64` once (what emitted code holds), or exact in a scalar that carries more
+    /// precision (double-double), so that identities between such weights (the jet
+    /// rules' `(alpha i - j) / m`) hold in the references.
+    fn ratio(n: f64, d: f64) -> Self {
+        Self::cst(n / d)
+    }
     /// Square root.
     fn sqrt(&self) -> Self;
     /// Integer power.

@@ -124,15 +124,26 @@ pub struct Traced {
     pub far: Option<FarBranch>,
 }
 
-/// A second set of outputs, taken where `lhs > rhs` (the switch to the lateral
-/// far-field expansion); [`Traced::outputs`] is the direct sum, taken otherwise.
+/// A second set of outputs, taken where every condition `lhs > rhs` holds (the switch
+/// to the lateral far-field expansion, [`crate::farfield`], or to the closed-form self
+/// term, [`crate::self_image`]); [`Traced::outputs`] is the direct sum, taken otherwise.
 pub struct FarBranch {
-    /// Left-hand side of the switch condition.
-    pub lhs: Id,
-    /// Right-hand side of the switch condition.
-    pub rhs: Id,
+    /// The conditions `(lhs, rhs)`, all of which select the branch.
+    pub conds: Vec<(Id, Id)>,
     /// The outputs of the branch, in the shapes of [`Traced::outputs`].
     pub outputs: Vec<BlockOut>,
+    /// One line for the generated documentation: what the branch is and where it is
+    /// taken.
+    pub doc: String,
+    /// Short name for operation-count reports (`far field`, `closed form`).
+    pub label: &'static str,
+}
+
+impl FarBranch {
+    /// The nodes of the conditions.
+    pub fn condition_ids(&self) -> Vec<Id> {
+        self.conds.iter().flat_map(|&(l, r)| [l, r]).collect()
+    }
 }
 
 impl Traced {
@@ -158,8 +169,8 @@ impl Traced {
         match &self.far {
             None => false,
             Some(f) => {
-                let v = self.graph.eval(inputs, &[f.lhs, f.rhs]);
-                v[0].to_f64() > v[1].to_f64()
+                let v = self.graph.eval(inputs, &f.condition_ids());
+                v.chunks(2).all(|c| c[0].to_f64() > c[1].to_f64())
             }
         }
     }
@@ -285,22 +296,41 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
             }
             _ => None,
         };
-        if let Some(lat) = lateral {
-            let ((lhs, rhs), vals) =
-                crate::farfield::blocks(&lat, &spec.blocks, &xa, &xb, &aa, &ab, &params[0]);
-            let far_outputs = outputs
+        let branch = |conds: Vec<(Ex, Ex)>, vals: Vec<Vec<Ex>>, doc: String, label| FarBranch {
+            conds: conds.into_iter().map(|(l, r)| (l.0, r.0)).collect(),
+            outputs: outputs
                 .iter()
                 .zip(vals)
                 .map(|(b, vals)| BlockOut {
                     ids: vals.into_iter().map(|v| (scale * v).0).collect(),
                     ..b.clone()
                 })
-                .collect();
-            far = Some(FarBranch {
-                lhs: lhs.0,
-                rhs: rhs.0,
-                outputs: far_outputs,
-            });
+                .collect(),
+            doc,
+            label,
+        };
+        if let Some(lat) = lateral {
+            let ((lhs, rhs), vals) =
+                crate::farfield::blocks(&lat, &spec.blocks, &xa, &xb, &aa, &ab, &params[0]);
+            let doc = format!(
+                "Lateral far field (`rho > {} (|h_a| + |h_b|)`, kernel_gen::farfield)",
+                crate::farfield::SWITCH
+            );
+            far = Some(branch(vec![(lhs, rhs)], vals, doc, "far field"));
+        }
+        let closed = match (spec.path, spec.interaction) {
+            (Path::Structured, Interaction::SelfTerm) => {
+                crate::self_image::expansion(g, &spec.blocks, spec.basis, order)
+            }
+            _ => None,
+        };
+        if let Some(si) = closed {
+            let (conds, vals) =
+                crate::self_image::blocks(&si, g, &spec.blocks, spec.basis, &xa, &aa, &params);
+            let doc = "Closed-form reflected self term (centre on the fluid side of every \
+                       plane, kernel_gen::self_image)"
+                .to_string();
+            far = Some(branch(conds, vals, doc, "closed form"));
         }
     }
     if let Some((va, vb)) = vectors {
@@ -418,15 +448,21 @@ fn block_values<G: Green, S: Scalar>(
     spec.blocks
         .iter()
         .map(|&(r, m)| {
-            let terms = operators::block(r, m, spec.basis);
+            let blk = operators::exact_block(r, m, spec.basis);
             let iso = match spec.interaction {
                 Interaction::SelfTerm => Some(isolated(r, m, spec.basis, aa)),
                 Interaction::Pair => None,
             };
+            // the Faxén factors multiply a^2 once per kernel (shared nodes)
+            let (fa2, fb2) = (S::cst(blk.fa) * aa2.clone(), S::cst(blk.fb) * ab2.clone());
             let mut vals = Vec::new();
-            for (row, entries) in terms.iter().enumerate() {
+            for (row, entries) in blk.entries.iter().enumerate() {
                 for (col, entry) in entries.iter().enumerate() {
-                    let v = src.entry(entry, &aa2, &ab2);
+                    let mut v = src.entry(entry, &fa2, &fb2);
+                    let n = blk.norm[row][col];
+                    if n != 1.0 {
+                        v = S::cst(n) * v;
+                    }
                     vals.push(match &iso {
                         Some(iso) => iso[row][col].clone() + v,
                         None => v,

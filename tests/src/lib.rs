@@ -8,6 +8,7 @@
 pub mod closed_forms;
 pub mod exact;
 pub mod paper;
+pub mod stiff;
 
 use kernels::{Confinement, Grand};
 use rand::Rng;

@@ -39,7 +39,7 @@ pub fn free_f_self(x: [f64; 3], a: f64, eta: f64) -> BlocksF {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 105 flops (31 add/sub, 71 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
+/// Operation count (after dead-code elimination): 107 flops (31 add/sub, 73 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> BlocksF {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -48,6 +48,131 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
     let t3: f64 = xa[2] - xb[2];
     let t4: f64 = aa * aa;
     let t5: f64 = ab * ab;
+    let t6: f64 = t4 * 0.16666666666666666;
+    let t7: f64 = t5 * 0.16666666666666666;
+    let t8: f64 = t1 * t1;
+    let t9: f64 = t2 * t2;
+    let t10: f64 = t8 + t9;
+    let t11: f64 = t3 * t3;
+    let t12: f64 = t10 + t11;
+    let t13: f64 = t12.sqrt();
+    let t14: f64 = 1.0 / t13;
+    let t15: f64 = t1 * t14;
+    let t16: f64 = t2 * t14;
+    let t17: f64 = t3 * t14;
+    let t18: f64 = t15 * 2.0;
+    let t19: f64 = t16 * 2.0;
+    let t20: f64 = t17 * 2.0;
+    let t21: f64 = t15 * t18;
+    let t22: f64 = t21 * (-0.25);
+    let t23: f64 = 0.5 + t22;
+    let t24: f64 = t16 * t18;
+    let t25: f64 = 0.5 * t24;
+    let t26: f64 = t15 * t19;
+    let t27: f64 = t17 * t18;
+    let t28: f64 = 0.5 * t27;
+    let t29: f64 = t15 * t20;
+    let t30: f64 = t16 * t19;
+    let t31: f64 = (-0.25) * t30;
+    let t32: f64 = 0.5 + t31;
+    let t33: f64 = t17 * t19;
+    let t34: f64 = 0.5 * t33;
+    let t35: f64 = t16 * t20;
+    let t36: f64 = t26 - t25;
+    let t37: f64 = t29 - t28;
+    let t38: f64 = t35 - t34;
+    let t39: f64 = 2.0 * t23;
+    let t40: f64 = t14 * t39;
+    let t41: f64 = t21 * (-0.75);
+    let t42: f64 = (-0.5) - t41;
+    let t43: f64 = t24 * (-0.5);
+    let t44: f64 = t26 - t43;
+    let t45: f64 = t27 * (-0.5);
+    let t46: f64 = t29 - t45;
+    let t47: f64 = t30 * (-0.75);
+    let t48: f64 = (-0.5) - t47;
+    let t49: f64 = t33 * (-0.5);
+    let t50: f64 = t35 - t49;
+    let t51: f64 = t14 * 2.0;
+    let t52: f64 = t51 - t40;
+    let t53: f64 = t42 * (-4.0);
+    let t54: f64 = t14 * t14;
+    let t55: f64 = t14 * t54;
+    let t56: f64 = t53 * t55;
+    let t57: f64 = t7 * t56;
+    let t58: f64 = t52 + t57;
+    let t59: f64 = t6 * t56;
+    let t60: f64 = t58 + t59;
+    let t61: f64 = t14 * t36;
+    let t62: f64 = t44 * (-2.0);
+    let t63: f64 = t55 * t62;
+    let t64: f64 = t7 * t63;
+    let t65: f64 = t61 + t64;
+    let t66: f64 = t6 * t63;
+    let t67: f64 = t65 + t66;
+    let t68: f64 = t14 * t37;
+    let t69: f64 = t46 * (-2.0);
+    let t70: f64 = t55 * t69;
+    let t71: f64 = t7 * t70;
+    let t72: f64 = t68 + t71;
+    let t73: f64 = t6 * t70;
+    let t74: f64 = t72 + t73;
+    let t75: f64 = 2.0 * t32;
+    let t76: f64 = t14 * t75;
+    let t77: f64 = t51 - t76;
+    let t78: f64 = t48 * (-4.0);
+    let t79: f64 = t55 * t78;
+    let t80: f64 = t7 * t79;
+    let t81: f64 = t77 + t80;
+    let t82: f64 = t6 * t79;
+    let t83: f64 = t81 + t82;
+    let t84: f64 = t14 * t38;
+    let t85: f64 = t50 * (-2.0);
+    let t86: f64 = t55 * t85;
+    let t87: f64 = t7 * t86;
+    let t88: f64 = t84 + t87;
+    let t89: f64 = t6 * t86;
+    let t90: f64 = t88 + t89;
+    let t91: f64 = t39 + t75;
+    let t92: f64 = t14 * t91;
+    let t93: f64 = t48 * 4.0;
+    let t94: f64 = t42 * 4.0;
+    let t95: f64 = t93 + t94;
+    let t96: f64 = t55 * t95;
+    let t97: f64 = t7 * t96;
+    let t98: f64 = t92 + t97;
+    let t99: f64 = t6 * t96;
+    let t100: f64 = t98 + t99;
+    let t101: f64 = t0 * t60;
+    let t102: f64 = t0 * t67;
+    let t103: f64 = t0 * t74;
+    let t104: f64 = t0 * t83;
+    let t105: f64 = t0 * t90;
+    let t106: f64 = t0 * t100;
+    BlocksF {
+        uf: [[t101, t102, t103], [t102, t104, t105], [t103, t105, t106]],
+    }
+}
+/// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the F blocks, pair equal.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// # Arguments
+/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
+/// - `xb`: centre of particle b (the source particle)
+/// - `a`: radius of the particle(s)
+/// - `eta`: viscosity of the fluid
+///
+/// Operation count (after dead-code elimination): 99 flops (31 add/sub, 65 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
+#[inline]
+pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksF {
+    let t0: f64 = 0.039788735772973836 / eta;
+    let t1: f64 = xa[0] - xb[0];
+    let t2: f64 = xa[1] - xb[1];
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = a * a;
+    let t5: f64 = t4 * 0.16666666666666666;
     let t6: f64 = t1 * t1;
     let t7: f64 = t2 * t2;
     let t8: f64 = t6 + t7;
@@ -93,178 +218,56 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
     let t48: f64 = t33 - t47;
     let t49: f64 = t12 * 2.0;
     let t50: f64 = t49 - t38;
-    let t51: f64 = t40 * (-0.6666666666666666);
+    let t51: f64 = t40 * (-4.0);
     let t52: f64 = t12 * t12;
     let t53: f64 = t12 * t52;
     let t54: f64 = t51 * t53;
     let t55: f64 = t5 * t54;
     let t56: f64 = t50 + t55;
-    let t57: f64 = t4 * t54;
-    let t58: f64 = t56 + t57;
-    let t59: f64 = t12 * t34;
-    let t60: f64 = t42 * (-0.3333333333333333);
-    let t61: f64 = t53 * t60;
-    let t62: f64 = t5 * t61;
-    let t63: f64 = t59 + t62;
-    let t64: f64 = t4 * t61;
-    let t65: f64 = t63 + t64;
-    let t66: f64 = t12 * t35;
-    let t67: f64 = t44 * (-0.3333333333333333);
-    let t68: f64 = t53 * t67;
-    let t69: f64 = t5 * t68;
-    let t70: f64 = t66 + t69;
-    let t71: f64 = t4 * t68;
-    let t72: f64 = t70 + t71;
-    let t73: f64 = 2.0 * t30;
-    let t74: f64 = t12 * t73;
-    let t75: f64 = t49 - t74;
-    let t76: f64 = t46 * (-0.6666666666666666);
-    let t77: f64 = t53 * t76;
-    let t78: f64 = t5 * t77;
-    let t79: f64 = t75 + t78;
-    let t80: f64 = t4 * t77;
-    let t81: f64 = t79 + t80;
-    let t82: f64 = t12 * t36;
-    let t83: f64 = t48 * (-0.3333333333333333);
-    let t84: f64 = t53 * t83;
-    let t85: f64 = t5 * t84;
-    let t86: f64 = t82 + t85;
-    let t87: f64 = t4 * t84;
+    let t57: f64 = t55 + t56;
+    let t58: f64 = t12 * t34;
+    let t59: f64 = t42 * (-2.0);
+    let t60: f64 = t53 * t59;
+    let t61: f64 = t5 * t60;
+    let t62: f64 = t58 + t61;
+    let t63: f64 = t61 + t62;
+    let t64: f64 = t12 * t35;
+    let t65: f64 = t44 * (-2.0);
+    let t66: f64 = t53 * t65;
+    let t67: f64 = t5 * t66;
+    let t68: f64 = t64 + t67;
+    let t69: f64 = t67 + t68;
+    let t70: f64 = 2.0 * t30;
+    let t71: f64 = t12 * t70;
+    let t72: f64 = t49 - t71;
+    let t73: f64 = t46 * (-4.0);
+    let t74: f64 = t53 * t73;
+    let t75: f64 = t5 * t74;
+    let t76: f64 = t72 + t75;
+    let t77: f64 = t75 + t76;
+    let t78: f64 = t12 * t36;
+    let t79: f64 = t48 * (-2.0);
+    let t80: f64 = t53 * t79;
+    let t81: f64 = t5 * t80;
+    let t82: f64 = t78 + t81;
+    let t83: f64 = t81 + t82;
+    let t84: f64 = t37 + t70;
+    let t85: f64 = t12 * t84;
+    let t86: f64 = t46 * 4.0;
+    let t87: f64 = t40 * 4.0;
     let t88: f64 = t86 + t87;
-    let t89: f64 = t37 + t73;
-    let t90: f64 = t12 * t89;
-    let t91: f64 = t46 * 0.6666666666666666;
-    let t92: f64 = t40 * 0.6666666666666666;
-    let t93: f64 = t91 + t92;
-    let t94: f64 = t53 * t93;
-    let t95: f64 = t5 * t94;
-    let t96: f64 = t90 + t95;
-    let t97: f64 = t4 * t94;
-    let t98: f64 = t96 + t97;
-    let t99: f64 = t0 * t58;
-    let t100: f64 = t0 * t65;
-    let t101: f64 = t0 * t72;
-    let t102: f64 = t0 * t81;
-    let t103: f64 = t0 * t88;
-    let t104: f64 = t0 * t98;
+    let t89: f64 = t53 * t88;
+    let t90: f64 = t5 * t89;
+    let t91: f64 = t85 + t90;
+    let t92: f64 = t90 + t91;
+    let t93: f64 = t0 * t57;
+    let t94: f64 = t0 * t63;
+    let t95: f64 = t0 * t69;
+    let t96: f64 = t0 * t77;
+    let t97: f64 = t0 * t83;
+    let t98: f64 = t0 * t92;
     BlocksF {
-        uf: [[t99, t100, t101], [t100, t102, t103], [t101, t103, t104]],
-    }
-}
-/// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the F blocks, pair equal.
-///
-/// Pruned to what the scene needs.
-/// Jets truncated at derivative order 4 of G.
-///
-/// # Arguments
-/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
-/// - `xb`: centre of particle b (the source particle)
-/// - `a`: radius of the particle(s)
-/// - `eta`: viscosity of the fluid
-///
-/// Operation count (after dead-code elimination): 98 flops (31 add/sub, 64 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
-#[inline]
-pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksF {
-    let t0: f64 = 0.039788735772973836 / eta;
-    let t1: f64 = xa[0] - xb[0];
-    let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = xa[2] - xb[2];
-    let t4: f64 = a * a;
-    let t5: f64 = t1 * t1;
-    let t6: f64 = t2 * t2;
-    let t7: f64 = t5 + t6;
-    let t8: f64 = t3 * t3;
-    let t9: f64 = t7 + t8;
-    let t10: f64 = t9.sqrt();
-    let t11: f64 = 1.0 / t10;
-    let t12: f64 = t1 * t11;
-    let t13: f64 = t2 * t11;
-    let t14: f64 = t3 * t11;
-    let t15: f64 = t12 * 2.0;
-    let t16: f64 = t13 * 2.0;
-    let t17: f64 = t14 * 2.0;
-    let t18: f64 = t12 * t15;
-    let t19: f64 = t18 * (-0.25);
-    let t20: f64 = 0.5 + t19;
-    let t21: f64 = t13 * t15;
-    let t22: f64 = 0.5 * t21;
-    let t23: f64 = t12 * t16;
-    let t24: f64 = t14 * t15;
-    let t25: f64 = 0.5 * t24;
-    let t26: f64 = t12 * t17;
-    let t27: f64 = t13 * t16;
-    let t28: f64 = (-0.25) * t27;
-    let t29: f64 = 0.5 + t28;
-    let t30: f64 = t14 * t16;
-    let t31: f64 = 0.5 * t30;
-    let t32: f64 = t13 * t17;
-    let t33: f64 = t23 - t22;
-    let t34: f64 = t26 - t25;
-    let t35: f64 = t32 - t31;
-    let t36: f64 = 2.0 * t20;
-    let t37: f64 = t11 * t36;
-    let t38: f64 = t18 * (-0.75);
-    let t39: f64 = (-0.5) - t38;
-    let t40: f64 = t21 * (-0.5);
-    let t41: f64 = t23 - t40;
-    let t42: f64 = t24 * (-0.5);
-    let t43: f64 = t26 - t42;
-    let t44: f64 = t27 * (-0.75);
-    let t45: f64 = (-0.5) - t44;
-    let t46: f64 = t30 * (-0.5);
-    let t47: f64 = t32 - t46;
-    let t48: f64 = t11 * 2.0;
-    let t49: f64 = t48 - t37;
-    let t50: f64 = t39 * (-0.6666666666666666);
-    let t51: f64 = t11 * t11;
-    let t52: f64 = t11 * t51;
-    let t53: f64 = t50 * t52;
-    let t54: f64 = t4 * t53;
-    let t55: f64 = t49 + t54;
-    let t56: f64 = t54 + t55;
-    let t57: f64 = t11 * t33;
-    let t58: f64 = t41 * (-0.3333333333333333);
-    let t59: f64 = t52 * t58;
-    let t60: f64 = t4 * t59;
-    let t61: f64 = t57 + t60;
-    let t62: f64 = t60 + t61;
-    let t63: f64 = t11 * t34;
-    let t64: f64 = t43 * (-0.3333333333333333);
-    let t65: f64 = t52 * t64;
-    let t66: f64 = t4 * t65;
-    let t67: f64 = t63 + t66;
-    let t68: f64 = t66 + t67;
-    let t69: f64 = 2.0 * t29;
-    let t70: f64 = t11 * t69;
-    let t71: f64 = t48 - t70;
-    let t72: f64 = t45 * (-0.6666666666666666);
-    let t73: f64 = t52 * t72;
-    let t74: f64 = t4 * t73;
-    let t75: f64 = t71 + t74;
-    let t76: f64 = t74 + t75;
-    let t77: f64 = t11 * t35;
-    let t78: f64 = t47 * (-0.3333333333333333);
-    let t79: f64 = t52 * t78;
-    let t80: f64 = t4 * t79;
-    let t81: f64 = t77 + t80;
-    let t82: f64 = t80 + t81;
-    let t83: f64 = t36 + t69;
-    let t84: f64 = t11 * t83;
-    let t85: f64 = t45 * 0.6666666666666666;
-    let t86: f64 = t39 * 0.6666666666666666;
-    let t87: f64 = t85 + t86;
-    let t88: f64 = t52 * t87;
-    let t89: f64 = t4 * t88;
-    let t90: f64 = t84 + t89;
-    let t91: f64 = t89 + t90;
-    let t92: f64 = t0 * t56;
-    let t93: f64 = t0 * t62;
-    let t94: f64 = t0 * t68;
-    let t95: f64 = t0 * t76;
-    let t96: f64 = t0 * t82;
-    let t97: f64 = t0 * t91;
-    BlocksF {
-        uf: [[t92, t93, t94], [t93, t95, t96], [t94, t96, t97]],
+        uf: [[t93, t94, t95], [t94, t96, t97], [t95, t97, t98]],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair product.
@@ -281,7 +284,7 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 135 flops (43 add/sub, 89 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
+/// Operation count (after dead-code elimination): 137 flops (43 add/sub, 91 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn free_f_pair_product(
     xa: [f64; 3],
@@ -298,6 +301,171 @@ pub fn free_f_pair_product(
     let t3: f64 = xa[2] - xb[2];
     let t4: f64 = aa * aa;
     let t5: f64 = ab * ab;
+    let t6: f64 = t4 * 0.16666666666666666;
+    let t7: f64 = t5 * 0.16666666666666666;
+    let t8: f64 = t1 * t1;
+    let t9: f64 = t2 * t2;
+    let t10: f64 = t8 + t9;
+    let t11: f64 = t3 * t3;
+    let t12: f64 = t10 + t11;
+    let t13: f64 = t12.sqrt();
+    let t14: f64 = 1.0 / t13;
+    let t15: f64 = t1 * t14;
+    let t16: f64 = t2 * t14;
+    let t17: f64 = t3 * t14;
+    let t18: f64 = t15 * 2.0;
+    let t19: f64 = t16 * 2.0;
+    let t20: f64 = t17 * 2.0;
+    let t21: f64 = t15 * t18;
+    let t22: f64 = t21 * (-0.25);
+    let t23: f64 = 0.5 + t22;
+    let t24: f64 = t16 * t18;
+    let t25: f64 = 0.5 * t24;
+    let t26: f64 = t15 * t19;
+    let t27: f64 = t17 * t18;
+    let t28: f64 = 0.5 * t27;
+    let t29: f64 = t15 * t20;
+    let t30: f64 = t16 * t19;
+    let t31: f64 = (-0.25) * t30;
+    let t32: f64 = 0.5 + t31;
+    let t33: f64 = t17 * t19;
+    let t34: f64 = 0.5 * t33;
+    let t35: f64 = t16 * t20;
+    let t36: f64 = t26 - t25;
+    let t37: f64 = t29 - t28;
+    let t38: f64 = t35 - t34;
+    let t39: f64 = 2.0 * t23;
+    let t40: f64 = t14 * t39;
+    let t41: f64 = t21 * (-0.75);
+    let t42: f64 = (-0.5) - t41;
+    let t43: f64 = t24 * (-0.5);
+    let t44: f64 = t26 - t43;
+    let t45: f64 = t27 * (-0.5);
+    let t46: f64 = t29 - t45;
+    let t47: f64 = t30 * (-0.75);
+    let t48: f64 = (-0.5) - t47;
+    let t49: f64 = t33 * (-0.5);
+    let t50: f64 = t35 - t49;
+    let t51: f64 = t14 * 2.0;
+    let t52: f64 = t51 - t40;
+    let t53: f64 = t42 * (-4.0);
+    let t54: f64 = t14 * t14;
+    let t55: f64 = t14 * t54;
+    let t56: f64 = t53 * t55;
+    let t57: f64 = t7 * t56;
+    let t58: f64 = t52 + t57;
+    let t59: f64 = t6 * t56;
+    let t60: f64 = t58 + t59;
+    let t61: f64 = t14 * t36;
+    let t62: f64 = t44 * (-2.0);
+    let t63: f64 = t55 * t62;
+    let t64: f64 = t7 * t63;
+    let t65: f64 = t61 + t64;
+    let t66: f64 = t6 * t63;
+    let t67: f64 = t65 + t66;
+    let t68: f64 = t14 * t37;
+    let t69: f64 = t46 * (-2.0);
+    let t70: f64 = t55 * t69;
+    let t71: f64 = t7 * t70;
+    let t72: f64 = t68 + t71;
+    let t73: f64 = t6 * t70;
+    let t74: f64 = t72 + t73;
+    let t75: f64 = 2.0 * t32;
+    let t76: f64 = t14 * t75;
+    let t77: f64 = t51 - t76;
+    let t78: f64 = t48 * (-4.0);
+    let t79: f64 = t55 * t78;
+    let t80: f64 = t7 * t79;
+    let t81: f64 = t77 + t80;
+    let t82: f64 = t6 * t79;
+    let t83: f64 = t81 + t82;
+    let t84: f64 = t14 * t38;
+    let t85: f64 = t50 * (-2.0);
+    let t86: f64 = t55 * t85;
+    let t87: f64 = t7 * t86;
+    let t88: f64 = t84 + t87;
+    let t89: f64 = t6 * t86;
+    let t90: f64 = t88 + t89;
+    let t91: f64 = t39 + t75;
+    let t92: f64 = t14 * t91;
+    let t93: f64 = t48 * 4.0;
+    let t94: f64 = t42 * 4.0;
+    let t95: f64 = t93 + t94;
+    let t96: f64 = t55 * t95;
+    let t97: f64 = t7 * t96;
+    let t98: f64 = t92 + t97;
+    let t99: f64 = t6 * t96;
+    let t100: f64 = t98 + t99;
+    let t101: f64 = t0 * t60;
+    let t102: f64 = t0 * t67;
+    let t103: f64 = t0 * t74;
+    let t104: f64 = t0 * t83;
+    let t105: f64 = t0 * t90;
+    let t106: f64 = t0 * t100;
+    let t107: f64 = vb[0] * t101;
+    let t108: f64 = va[0] * t101;
+    let t109: f64 = vb[1] * t102;
+    let t110: f64 = t107 + t109;
+    let t111: f64 = va[0] * t102;
+    let t112: f64 = vb[2] * t103;
+    let t113: f64 = t110 + t112;
+    let t114: f64 = va[0] * t103;
+    let t115: f64 = vb[0] * t102;
+    let t116: f64 = va[1] * t102;
+    let t117: f64 = t108 + t116;
+    let t118: f64 = vb[1] * t104;
+    let t119: f64 = t115 + t118;
+    let t120: f64 = va[1] * t104;
+    let t121: f64 = t111 + t120;
+    let t122: f64 = vb[2] * t105;
+    let t123: f64 = t119 + t122;
+    let t124: f64 = va[1] * t105;
+    let t125: f64 = t114 + t124;
+    let t126: f64 = vb[0] * t103;
+    let t127: f64 = va[2] * t103;
+    let t128: f64 = t117 + t127;
+    let t129: f64 = vb[1] * t105;
+    let t130: f64 = t126 + t129;
+    let t131: f64 = va[2] * t105;
+    let t132: f64 = t121 + t131;
+    let t133: f64 = vb[2] * t106;
+    let t134: f64 = t130 + t133;
+    let t135: f64 = va[2] * t106;
+    let t136: f64 = t125 + t135;
+    Product::<3> {
+        a: [t113, t123, t134],
+        b: [t128, t132, t136],
+    }
+}
+/// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair equal product.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// # Arguments
+/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
+/// - `xb`: centre of particle b (the source particle)
+/// - `a`: radius of the particle(s)
+/// - `eta`: viscosity of the fluid
+/// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
+/// - `vb`: moments of particle b, same layout
+///
+/// Operation count (after dead-code elimination): 129 flops (43 add/sub, 83 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
+#[inline]
+pub fn free_f_pair_equal_product(
+    xa: [f64; 3],
+    xb: [f64; 3],
+    a: f64,
+    eta: f64,
+    va: [f64; 3usize],
+    vb: [f64; 3usize],
+) -> Product<3> {
+    let t0: f64 = 0.039788735772973836 / eta;
+    let t1: f64 = xa[0] - xb[0];
+    let t2: f64 = xa[1] - xb[1];
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = a * a;
+    let t5: f64 = t4 * 0.16666666666666666;
     let t6: f64 = t1 * t1;
     let t7: f64 = t2 * t2;
     let t8: f64 = t6 + t7;
@@ -343,248 +511,86 @@ pub fn free_f_pair_product(
     let t48: f64 = t33 - t47;
     let t49: f64 = t12 * 2.0;
     let t50: f64 = t49 - t38;
-    let t51: f64 = t40 * (-0.6666666666666666);
+    let t51: f64 = t40 * (-4.0);
     let t52: f64 = t12 * t12;
     let t53: f64 = t12 * t52;
     let t54: f64 = t51 * t53;
     let t55: f64 = t5 * t54;
     let t56: f64 = t50 + t55;
-    let t57: f64 = t4 * t54;
-    let t58: f64 = t56 + t57;
-    let t59: f64 = t12 * t34;
-    let t60: f64 = t42 * (-0.3333333333333333);
-    let t61: f64 = t53 * t60;
-    let t62: f64 = t5 * t61;
-    let t63: f64 = t59 + t62;
-    let t64: f64 = t4 * t61;
-    let t65: f64 = t63 + t64;
-    let t66: f64 = t12 * t35;
-    let t67: f64 = t44 * (-0.3333333333333333);
-    let t68: f64 = t53 * t67;
-    let t69: f64 = t5 * t68;
-    let t70: f64 = t66 + t69;
-    let t71: f64 = t4 * t68;
-    let t72: f64 = t70 + t71;
-    let t73: f64 = 2.0 * t30;
-    let t74: f64 = t12 * t73;
-    let t75: f64 = t49 - t74;
-    let t76: f64 = t46 * (-0.6666666666666666);
-    let t77: f64 = t53 * t76;
-    let t78: f64 = t5 * t77;
-    let t79: f64 = t75 + t78;
-    let t80: f64 = t4 * t77;
-    let t81: f64 = t79 + t80;
-    let t82: f64 = t12 * t36;
-    let t83: f64 = t48 * (-0.3333333333333333);
-    let t84: f64 = t53 * t83;
-    let t85: f64 = t5 * t84;
-    let t86: f64 = t82 + t85;
-    let t87: f64 = t4 * t84;
+    let t57: f64 = t55 + t56;
+    let t58: f64 = t12 * t34;
+    let t59: f64 = t42 * (-2.0);
+    let t60: f64 = t53 * t59;
+    let t61: f64 = t5 * t60;
+    let t62: f64 = t58 + t61;
+    let t63: f64 = t61 + t62;
+    let t64: f64 = t12 * t35;
+    let t65: f64 = t44 * (-2.0);
+    let t66: f64 = t53 * t65;
+    let t67: f64 = t5 * t66;
+    let t68: f64 = t64 + t67;
+    let t69: f64 = t67 + t68;
+    let t70: f64 = 2.0 * t30;
+    let t71: f64 = t12 * t70;
+    let t72: f64 = t49 - t71;
+    let t73: f64 = t46 * (-4.0);
+    let t74: f64 = t53 * t73;
+    let t75: f64 = t5 * t74;
+    let t76: f64 = t72 + t75;
+    let t77: f64 = t75 + t76;
+    let t78: f64 = t12 * t36;
+    let t79: f64 = t48 * (-2.0);
+    let t80: f64 = t53 * t79;
+    let t81: f64 = t5 * t80;
+    let t82: f64 = t78 + t81;
+    let t83: f64 = t81 + t82;
+    let t84: f64 = t37 + t70;
+    let t85: f64 = t12 * t84;
+    let t86: f64 = t46 * 4.0;
+    let t87: f64 = t40 * 4.0;
     let t88: f64 = t86 + t87;
-    let t89: f64 = t37 + t73;
-    let t90: f64 = t12 * t89;
-    let t91: f64 = t46 * 0.6666666666666666;
-    let t92: f64 = t40 * 0.6666666666666666;
-    let t93: f64 = t91 + t92;
-    let t94: f64 = t53 * t93;
-    let t95: f64 = t5 * t94;
-    let t96: f64 = t90 + t95;
-    let t97: f64 = t4 * t94;
-    let t98: f64 = t96 + t97;
-    let t99: f64 = t0 * t58;
-    let t100: f64 = t0 * t65;
-    let t101: f64 = t0 * t72;
-    let t102: f64 = t0 * t81;
-    let t103: f64 = t0 * t88;
-    let t104: f64 = t0 * t98;
-    let t105: f64 = vb[0] * t99;
-    let t106: f64 = va[0] * t99;
-    let t107: f64 = vb[1] * t100;
-    let t108: f64 = t105 + t107;
-    let t109: f64 = va[0] * t100;
-    let t110: f64 = vb[2] * t101;
-    let t111: f64 = t108 + t110;
-    let t112: f64 = va[0] * t101;
-    let t113: f64 = vb[0] * t100;
-    let t114: f64 = va[1] * t100;
-    let t115: f64 = t106 + t114;
-    let t116: f64 = vb[1] * t102;
-    let t117: f64 = t113 + t116;
-    let t118: f64 = va[1] * t102;
-    let t119: f64 = t109 + t118;
-    let t120: f64 = vb[2] * t103;
-    let t121: f64 = t117 + t120;
-    let t122: f64 = va[1] * t103;
-    let t123: f64 = t112 + t122;
-    let t124: f64 = vb[0] * t101;
-    let t125: f64 = va[2] * t101;
-    let t126: f64 = t115 + t125;
-    let t127: f64 = vb[1] * t103;
-    let t128: f64 = t124 + t127;
-    let t129: f64 = va[2] * t103;
-    let t130: f64 = t119 + t129;
-    let t131: f64 = vb[2] * t104;
-    let t132: f64 = t128 + t131;
-    let t133: f64 = va[2] * t104;
-    let t134: f64 = t123 + t133;
+    let t89: f64 = t53 * t88;
+    let t90: f64 = t5 * t89;
+    let t91: f64 = t85 + t90;
+    let t92: f64 = t90 + t91;
+    let t93: f64 = t0 * t57;
+    let t94: f64 = t0 * t63;
+    let t95: f64 = t0 * t69;
+    let t96: f64 = t0 * t77;
+    let t97: f64 = t0 * t83;
+    let t98: f64 = t0 * t92;
+    let t99: f64 = vb[0] * t93;
+    let t100: f64 = va[0] * t93;
+    let t101: f64 = vb[1] * t94;
+    let t102: f64 = t99 + t101;
+    let t103: f64 = va[0] * t94;
+    let t104: f64 = vb[2] * t95;
+    let t105: f64 = t102 + t104;
+    let t106: f64 = va[0] * t95;
+    let t107: f64 = vb[0] * t94;
+    let t108: f64 = va[1] * t94;
+    let t109: f64 = t100 + t108;
+    let t110: f64 = vb[1] * t96;
+    let t111: f64 = t107 + t110;
+    let t112: f64 = va[1] * t96;
+    let t113: f64 = t103 + t112;
+    let t114: f64 = vb[2] * t97;
+    let t115: f64 = t111 + t114;
+    let t116: f64 = va[1] * t97;
+    let t117: f64 = t106 + t116;
+    let t118: f64 = vb[0] * t95;
+    let t119: f64 = va[2] * t95;
+    let t120: f64 = t109 + t119;
+    let t121: f64 = vb[1] * t97;
+    let t122: f64 = t118 + t121;
+    let t123: f64 = va[2] * t97;
+    let t124: f64 = t113 + t123;
+    let t125: f64 = vb[2] * t98;
+    let t126: f64 = t122 + t125;
+    let t127: f64 = va[2] * t98;
+    let t128: f64 = t117 + t127;
     Product::<3> {
-        a: [t111, t121, t132],
-        b: [t126, t130, t134],
-    }
-}
-/// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair equal product.
-///
-/// Pruned to what the scene needs.
-/// Jets truncated at derivative order 4 of G.
-///
-/// # Arguments
-/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
-/// - `xb`: centre of particle b (the source particle)
-/// - `a`: radius of the particle(s)
-/// - `eta`: viscosity of the fluid
-/// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
-/// - `vb`: moments of particle b, same layout
-///
-/// Operation count (after dead-code elimination): 128 flops (43 add/sub, 82 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
-#[inline]
-pub fn free_f_pair_equal_product(
-    xa: [f64; 3],
-    xb: [f64; 3],
-    a: f64,
-    eta: f64,
-    va: [f64; 3usize],
-    vb: [f64; 3usize],
-) -> Product<3> {
-    let t0: f64 = 0.039788735772973836 / eta;
-    let t1: f64 = xa[0] - xb[0];
-    let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = xa[2] - xb[2];
-    let t4: f64 = a * a;
-    let t5: f64 = t1 * t1;
-    let t6: f64 = t2 * t2;
-    let t7: f64 = t5 + t6;
-    let t8: f64 = t3 * t3;
-    let t9: f64 = t7 + t8;
-    let t10: f64 = t9.sqrt();
-    let t11: f64 = 1.0 / t10;
-    let t12: f64 = t1 * t11;
-    let t13: f64 = t2 * t11;
-    let t14: f64 = t3 * t11;
-    let t15: f64 = t12 * 2.0;
-    let t16: f64 = t13 * 2.0;
-    let t17: f64 = t14 * 2.0;
-    let t18: f64 = t12 * t15;
-    let t19: f64 = t18 * (-0.25);
-    let t20: f64 = 0.5 + t19;
-    let t21: f64 = t13 * t15;
-    let t22: f64 = 0.5 * t21;
-    let t23: f64 = t12 * t16;
-    let t24: f64 = t14 * t15;
-    let t25: f64 = 0.5 * t24;
-    let t26: f64 = t12 * t17;
-    let t27: f64 = t13 * t16;
-    let t28: f64 = (-0.25) * t27;
-    let t29: f64 = 0.5 + t28;
-    let t30: f64 = t14 * t16;
-    let t31: f64 = 0.5 * t30;
-    let t32: f64 = t13 * t17;
-    let t33: f64 = t23 - t22;
-    let t34: f64 = t26 - t25;
-    let t35: f64 = t32 - t31;
-    let t36: f64 = 2.0 * t20;
-    let t37: f64 = t11 * t36;
-    let t38: f64 = t18 * (-0.75);
-    let t39: f64 = (-0.5) - t38;
-    let t40: f64 = t21 * (-0.5);
-    let t41: f64 = t23 - t40;
-    let t42: f64 = t24 * (-0.5);
-    let t43: f64 = t26 - t42;
-    let t44: f64 = t27 * (-0.75);
-    let t45: f64 = (-0.5) - t44;
-    let t46: f64 = t30 * (-0.5);
-    let t47: f64 = t32 - t46;
-    let t48: f64 = t11 * 2.0;
-    let t49: f64 = t48 - t37;
-    let t50: f64 = t39 * (-0.6666666666666666);
-    let t51: f64 = t11 * t11;
-    let t52: f64 = t11 * t51;
-    let t53: f64 = t50 * t52;
-    let t54: f64 = t4 * t53;
-    let t55: f64 = t49 + t54;
-    let t56: f64 = t54 + t55;
-    let t57: f64 = t11 * t33;
-    let t58: f64 = t41 * (-0.3333333333333333);
-    let t59: f64 = t52 * t58;
-    let t60: f64 = t4 * t59;
-    let t61: f64 = t57 + t60;
-    let t62: f64 = t60 + t61;
-    let t63: f64 = t11 * t34;
-    let t64: f64 = t43 * (-0.3333333333333333);
-    let t65: f64 = t52 * t64;
-    let t66: f64 = t4 * t65;
-    let t67: f64 = t63 + t66;
-    let t68: f64 = t66 + t67;
-    let t69: f64 = 2.0 * t29;
-    let t70: f64 = t11 * t69;
-    let t71: f64 = t48 - t70;
-    let t72: f64 = t45 * (-0.6666666666666666);
-    let t73: f64 = t52 * t72;
-    let t74: f64 = t4 * t73;
-    let t75: f64 = t71 + t74;
-    let t76: f64 = t74 + t75;
-    let t77: f64 = t11 * t35;
-    let t78: f64 = t47 * (-0.3333333333333333);
-    let t79: f64 = t52 * t78;
-    let t80: f64 = t4 * t79;
-    let t81: f64 = t77 + t80;
-    let t82: f64 = t80 + t81;
-    let t83: f64 = t36 + t69;
-    let t84: f64 = t11 * t83;
-    let t85: f64 = t45 * 0.6666666666666666;
-    let t86: f64 = t39 * 0.6666666666666666;
-    let t87: f64 = t85 + t86;
-    let t88: f64 = t52 * t87;
-    let t89: f64 = t4 * t88;
-    let t90: f64 = t84 + t89;
-    let t91: f64 = t89 + t90;
-    let t92: f64 = t0 * t56;
-    let t93: f64 = t0 * t62;
-    let t94: f64 = t0 * t68;
-    let t95: f64 = t0 * t76;
-    let t96: f64 = t0 * t82;
-    let t97: f64 = t0 * t91;
-    let t98: f64 = vb[0] * t92;
-    let t99: f64 = va[0] * t92;
-    let t100: f64 = vb[1] * t93;
-    let t101: f64 = t98 + t100;
-    let t102: f64 = va[0] * t93;
-    let t103: f64 = vb[2] * t94;
-    let t104: f64 = t101 + t103;
-    let t105: f64 = va[0] * t94;
-    let t106: f64 = vb[0] * t93;
-    let t107: f64 = va[1] * t93;
-    let t108: f64 = t99 + t107;
-    let t109: f64 = vb[1] * t95;
-    let t110: f64 = t106 + t109;
-    let t111: f64 = va[1] * t95;
-    let t112: f64 = t102 + t111;
-    let t113: f64 = vb[2] * t96;
-    let t114: f64 = t110 + t113;
-    let t115: f64 = va[1] * t96;
-    let t116: f64 = t105 + t115;
-    let t117: f64 = vb[0] * t94;
-    let t118: f64 = va[2] * t94;
-    let t119: f64 = t108 + t118;
-    let t120: f64 = vb[1] * t96;
-    let t121: f64 = t117 + t120;
-    let t122: f64 = va[2] * t96;
-    let t123: f64 = t112 + t122;
-    let t124: f64 = vb[2] * t97;
-    let t125: f64 = t121 + t124;
-    let t126: f64 = va[2] * t97;
-    let t127: f64 = t116 + t126;
-    Product::<3> {
-        a: [t104, t114, t125],
-        b: [t119, t123, t127],
+        a: [t105, t115, t126],
+        b: [t120, t124, t128],
     }
 }

@@ -45,7 +45,7 @@ pub fn free_ft_self(x: [f64; 3], a: f64, eta: f64) -> BlocksFT {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 132 flops (34 add/sub, 92 mul, 2 div, 1 sqrt, 0 powi, 3 neg).
+/// Operation count (after dead-code elimination): 134 flops (34 add/sub, 94 mul, 2 div, 1 sqrt, 0 powi, 3 neg).
 #[inline]
 pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> BlocksFT {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -54,6 +54,161 @@ pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> B
     let t3: f64 = xa[2] - xb[2];
     let t4: f64 = aa * aa;
     let t5: f64 = ab * ab;
+    let t6: f64 = t4 * 0.16666666666666666;
+    let t7: f64 = t5 * 0.16666666666666666;
+    let t8: f64 = t1 * t1;
+    let t9: f64 = t2 * t2;
+    let t10: f64 = t8 + t9;
+    let t11: f64 = t3 * t3;
+    let t12: f64 = t10 + t11;
+    let t13: f64 = t12.sqrt();
+    let t14: f64 = 1.0 / t13;
+    let t15: f64 = t1 * t14;
+    let t16: f64 = t2 * t14;
+    let t17: f64 = t3 * t14;
+    let t18: f64 = t15 * 2.0;
+    let t19: f64 = t16 * 2.0;
+    let t20: f64 = t17 * 2.0;
+    let t21: f64 = t15 * t18;
+    let t22: f64 = t21 * (-0.25);
+    let t23: f64 = 0.5 + t22;
+    let t24: f64 = t16 * t18;
+    let t25: f64 = 0.5 * t24;
+    let t26: f64 = t15 * t19;
+    let t27: f64 = t17 * t18;
+    let t28: f64 = 0.5 * t27;
+    let t29: f64 = t15 * t20;
+    let t30: f64 = t16 * t19;
+    let t31: f64 = (-0.25) * t30;
+    let t32: f64 = 0.5 + t31;
+    let t33: f64 = t17 * t19;
+    let t34: f64 = 0.5 * t33;
+    let t35: f64 = t16 * t20;
+    let t36: f64 = t26 - t25;
+    let t37: f64 = t29 - t28;
+    let t38: f64 = t35 - t34;
+    let t39: f64 = 2.0 * t23;
+    let t40: f64 = t14 * t39;
+    let t41: f64 = t21 * (-0.75);
+    let t42: f64 = (-0.5) - t41;
+    let t43: f64 = t24 * (-0.5);
+    let t44: f64 = t26 - t43;
+    let t45: f64 = t27 * (-0.5);
+    let t46: f64 = t29 - t45;
+    let t47: f64 = t30 * (-0.75);
+    let t48: f64 = (-0.5) - t47;
+    let t49: f64 = t33 * (-0.5);
+    let t50: f64 = t35 - t49;
+    let t51: f64 = t41 - (-0.5);
+    let t52: f64 = t47 - (-0.5);
+    let t53: f64 = t14 * 2.0;
+    let t54: f64 = t53 - t40;
+    let t55: f64 = t42 * (-4.0);
+    let t56: f64 = t14 * t14;
+    let t57: f64 = t14 * t56;
+    let t58: f64 = t55 * t57;
+    let t59: f64 = t7 * t58;
+    let t60: f64 = t54 + t59;
+    let t61: f64 = t6 * t58;
+    let t62: f64 = t60 + t61;
+    let t63: f64 = t14 * t36;
+    let t64: f64 = t44 * (-2.0);
+    let t65: f64 = t57 * t64;
+    let t66: f64 = t7 * t65;
+    let t67: f64 = t63 + t66;
+    let t68: f64 = t6 * t65;
+    let t69: f64 = t67 + t68;
+    let t70: f64 = t14 * t37;
+    let t71: f64 = t46 * (-2.0);
+    let t72: f64 = t57 * t71;
+    let t73: f64 = t7 * t72;
+    let t74: f64 = t70 + t73;
+    let t75: f64 = t6 * t72;
+    let t76: f64 = t74 + t75;
+    let t77: f64 = 2.0 * t32;
+    let t78: f64 = t14 * t77;
+    let t79: f64 = t53 - t78;
+    let t80: f64 = t48 * (-4.0);
+    let t81: f64 = t57 * t80;
+    let t82: f64 = t7 * t81;
+    let t83: f64 = t79 + t82;
+    let t84: f64 = t6 * t81;
+    let t85: f64 = t83 + t84;
+    let t86: f64 = t14 * t38;
+    let t87: f64 = t50 * (-2.0);
+    let t88: f64 = t57 * t87;
+    let t89: f64 = t7 * t88;
+    let t90: f64 = t86 + t89;
+    let t91: f64 = t6 * t88;
+    let t92: f64 = t90 + t91;
+    let t93: f64 = t39 + t77;
+    let t94: f64 = t14 * t93;
+    let t95: f64 = t48 * 4.0;
+    let t96: f64 = t42 * 4.0;
+    let t97: f64 = t95 + t96;
+    let t98: f64 = t57 * t97;
+    let t99: f64 = t7 * t98;
+    let t100: f64 = t94 + t99;
+    let t101: f64 = t6 * t98;
+    let t102: f64 = t100 + t101;
+    let t103: f64 = t17 * t56;
+    let t104: f64 = t16 * t56;
+    let t105: f64 = t15 * t56;
+    let t106: f64 = t42 * t57;
+    let t107: f64 = 0.5 * t44;
+    let t108: f64 = t57 * t107;
+    let t109: f64 = 0.5 * t46;
+    let t110: f64 = t57 * t109;
+    let t111: f64 = t48 * t57;
+    let t112: f64 = 0.5 * t50;
+    let t113: f64 = t57 * t112;
+    let t114: f64 = t51 + t52;
+    let t115: f64 = t57 * t114;
+    let t116: f64 = t0 * t62;
+    let t117: f64 = t0 * t69;
+    let t118: f64 = t0 * t76;
+    let t119: f64 = t0 * t85;
+    let t120: f64 = t0 * t92;
+    let t121: f64 = t0 * t102;
+    let t122: f64 = t0 * t103;
+    let t123: f64 = t0 * t104;
+    let t124: f64 = -t123;
+    let t125: f64 = -t122;
+    let t126: f64 = t0 * t105;
+    let t127: f64 = -t126;
+    let t128: f64 = t0 * t106;
+    let t129: f64 = t0 * t108;
+    let t130: f64 = t0 * t110;
+    let t131: f64 = t0 * t111;
+    let t132: f64 = t0 * t113;
+    let t133: f64 = t0 * t115;
+    BlocksFT {
+        uf: [[t116, t117, t118], [t117, t119, t120], [t118, t120, t121]],
+        ul: [[0.0, t122, t124], [t125, 0.0, t126], [t123, t127, 0.0]],
+        of: [[0.0, t122, t124], [t125, 0.0, t126], [t123, t127, 0.0]],
+        ol: [[t128, t129, t130], [t129, t131, t132], [t130, t132, t133]],
+    }
+}
+/// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the FT blocks, pair equal.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// # Arguments
+/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
+/// - `xb`: centre of particle b (the source particle)
+/// - `a`: radius of the particle(s)
+/// - `eta`: viscosity of the fluid
+///
+/// Operation count (after dead-code elimination): 126 flops (34 add/sub, 86 mul, 2 div, 1 sqrt, 0 powi, 3 neg).
+#[inline]
+pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksFT {
+    let t0: f64 = 0.039788735772973836 / eta;
+    let t1: f64 = xa[0] - xb[0];
+    let t2: f64 = xa[1] - xb[1];
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = a * a;
+    let t5: f64 = t4 * 0.16666666666666666;
     let t6: f64 = t1 * t1;
     let t7: f64 = t2 * t2;
     let t8: f64 = t6 + t7;
@@ -101,236 +256,84 @@ pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> B
     let t50: f64 = t45 - (-0.5);
     let t51: f64 = t12 * 2.0;
     let t52: f64 = t51 - t38;
-    let t53: f64 = t40 * (-0.6666666666666666);
+    let t53: f64 = t40 * (-4.0);
     let t54: f64 = t12 * t12;
     let t55: f64 = t12 * t54;
     let t56: f64 = t53 * t55;
     let t57: f64 = t5 * t56;
     let t58: f64 = t52 + t57;
-    let t59: f64 = t4 * t56;
-    let t60: f64 = t58 + t59;
-    let t61: f64 = t12 * t34;
-    let t62: f64 = t42 * (-0.3333333333333333);
-    let t63: f64 = t55 * t62;
-    let t64: f64 = t5 * t63;
-    let t65: f64 = t61 + t64;
-    let t66: f64 = t4 * t63;
-    let t67: f64 = t65 + t66;
-    let t68: f64 = t12 * t35;
-    let t69: f64 = t44 * (-0.3333333333333333);
-    let t70: f64 = t55 * t69;
-    let t71: f64 = t5 * t70;
-    let t72: f64 = t68 + t71;
-    let t73: f64 = t4 * t70;
-    let t74: f64 = t72 + t73;
-    let t75: f64 = 2.0 * t30;
-    let t76: f64 = t12 * t75;
-    let t77: f64 = t51 - t76;
-    let t78: f64 = t46 * (-0.6666666666666666);
-    let t79: f64 = t55 * t78;
-    let t80: f64 = t5 * t79;
-    let t81: f64 = t77 + t80;
-    let t82: f64 = t4 * t79;
-    let t83: f64 = t81 + t82;
-    let t84: f64 = t12 * t36;
-    let t85: f64 = t48 * (-0.3333333333333333);
-    let t86: f64 = t55 * t85;
-    let t87: f64 = t5 * t86;
-    let t88: f64 = t84 + t87;
-    let t89: f64 = t4 * t86;
+    let t59: f64 = t57 + t58;
+    let t60: f64 = t12 * t34;
+    let t61: f64 = t42 * (-2.0);
+    let t62: f64 = t55 * t61;
+    let t63: f64 = t5 * t62;
+    let t64: f64 = t60 + t63;
+    let t65: f64 = t63 + t64;
+    let t66: f64 = t12 * t35;
+    let t67: f64 = t44 * (-2.0);
+    let t68: f64 = t55 * t67;
+    let t69: f64 = t5 * t68;
+    let t70: f64 = t66 + t69;
+    let t71: f64 = t69 + t70;
+    let t72: f64 = 2.0 * t30;
+    let t73: f64 = t12 * t72;
+    let t74: f64 = t51 - t73;
+    let t75: f64 = t46 * (-4.0);
+    let t76: f64 = t55 * t75;
+    let t77: f64 = t5 * t76;
+    let t78: f64 = t74 + t77;
+    let t79: f64 = t77 + t78;
+    let t80: f64 = t12 * t36;
+    let t81: f64 = t48 * (-2.0);
+    let t82: f64 = t55 * t81;
+    let t83: f64 = t5 * t82;
+    let t84: f64 = t80 + t83;
+    let t85: f64 = t83 + t84;
+    let t86: f64 = t37 + t72;
+    let t87: f64 = t12 * t86;
+    let t88: f64 = t46 * 4.0;
+    let t89: f64 = t40 * 4.0;
     let t90: f64 = t88 + t89;
-    let t91: f64 = t37 + t75;
-    let t92: f64 = t12 * t91;
-    let t93: f64 = t46 * 0.6666666666666666;
-    let t94: f64 = t40 * 0.6666666666666666;
-    let t95: f64 = t93 + t94;
-    let t96: f64 = t55 * t95;
-    let t97: f64 = t5 * t96;
-    let t98: f64 = t92 + t97;
-    let t99: f64 = t4 * t96;
-    let t100: f64 = t98 + t99;
-    let t101: f64 = t15 * t54;
-    let t102: f64 = t14 * t54;
-    let t103: f64 = t13 * t54;
-    let t104: f64 = t40 * t55;
-    let t105: f64 = 0.5 * t42;
-    let t106: f64 = t55 * t105;
-    let t107: f64 = 0.5 * t44;
-    let t108: f64 = t55 * t107;
-    let t109: f64 = t46 * t55;
-    let t110: f64 = 0.5 * t48;
-    let t111: f64 = t55 * t110;
-    let t112: f64 = t49 + t50;
-    let t113: f64 = t55 * t112;
-    let t114: f64 = t0 * t60;
-    let t115: f64 = t0 * t67;
-    let t116: f64 = t0 * t74;
-    let t117: f64 = t0 * t83;
-    let t118: f64 = t0 * t90;
-    let t119: f64 = t0 * t100;
-    let t120: f64 = t0 * t101;
-    let t121: f64 = t0 * t102;
-    let t122: f64 = -t121;
-    let t123: f64 = -t120;
-    let t124: f64 = t0 * t103;
-    let t125: f64 = -t124;
-    let t126: f64 = t0 * t104;
-    let t127: f64 = t0 * t106;
-    let t128: f64 = t0 * t108;
-    let t129: f64 = t0 * t109;
-    let t130: f64 = t0 * t111;
-    let t131: f64 = t0 * t113;
-    BlocksFT {
-        uf: [[t114, t115, t116], [t115, t117, t118], [t116, t118, t119]],
-        ul: [[0.0, t120, t122], [t123, 0.0, t124], [t121, t125, 0.0]],
-        of: [[0.0, t120, t122], [t123, 0.0, t124], [t121, t125, 0.0]],
-        ol: [[t126, t127, t128], [t127, t129, t130], [t128, t130, t131]],
-    }
-}
-/// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the FT blocks, pair equal.
-///
-/// Pruned to what the scene needs.
-/// Jets truncated at derivative order 4 of G.
-///
-/// # Arguments
-/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
-/// - `xb`: centre of particle b (the source particle)
-/// - `a`: radius of the particle(s)
-/// - `eta`: viscosity of the fluid
-///
-/// Operation count (after dead-code elimination): 125 flops (34 add/sub, 85 mul, 2 div, 1 sqrt, 0 powi, 3 neg).
-#[inline]
-pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksFT {
-    let t0: f64 = 0.039788735772973836 / eta;
-    let t1: f64 = xa[0] - xb[0];
-    let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = xa[2] - xb[2];
-    let t4: f64 = a * a;
-    let t5: f64 = t1 * t1;
-    let t6: f64 = t2 * t2;
-    let t7: f64 = t5 + t6;
-    let t8: f64 = t3 * t3;
-    let t9: f64 = t7 + t8;
-    let t10: f64 = t9.sqrt();
-    let t11: f64 = 1.0 / t10;
-    let t12: f64 = t1 * t11;
-    let t13: f64 = t2 * t11;
-    let t14: f64 = t3 * t11;
-    let t15: f64 = t12 * 2.0;
-    let t16: f64 = t13 * 2.0;
-    let t17: f64 = t14 * 2.0;
-    let t18: f64 = t12 * t15;
-    let t19: f64 = t18 * (-0.25);
-    let t20: f64 = 0.5 + t19;
-    let t21: f64 = t13 * t15;
-    let t22: f64 = 0.5 * t21;
-    let t23: f64 = t12 * t16;
-    let t24: f64 = t14 * t15;
-    let t25: f64 = 0.5 * t24;
-    let t26: f64 = t12 * t17;
-    let t27: f64 = t13 * t16;
-    let t28: f64 = (-0.25) * t27;
-    let t29: f64 = 0.5 + t28;
-    let t30: f64 = t14 * t16;
-    let t31: f64 = 0.5 * t30;
-    let t32: f64 = t13 * t17;
-    let t33: f64 = t23 - t22;
-    let t34: f64 = t26 - t25;
-    let t35: f64 = t32 - t31;
-    let t36: f64 = 2.0 * t20;
-    let t37: f64 = t11 * t36;
-    let t38: f64 = t18 * (-0.75);
-    let t39: f64 = (-0.5) - t38;
-    let t40: f64 = t21 * (-0.5);
-    let t41: f64 = t23 - t40;
-    let t42: f64 = t24 * (-0.5);
-    let t43: f64 = t26 - t42;
-    let t44: f64 = t27 * (-0.75);
-    let t45: f64 = (-0.5) - t44;
-    let t46: f64 = t30 * (-0.5);
-    let t47: f64 = t32 - t46;
-    let t48: f64 = t38 - (-0.5);
-    let t49: f64 = t44 - (-0.5);
-    let t50: f64 = t11 * 2.0;
-    let t51: f64 = t50 - t37;
-    let t52: f64 = t39 * (-0.6666666666666666);
-    let t53: f64 = t11 * t11;
-    let t54: f64 = t11 * t53;
-    let t55: f64 = t52 * t54;
-    let t56: f64 = t4 * t55;
-    let t57: f64 = t51 + t56;
-    let t58: f64 = t56 + t57;
-    let t59: f64 = t11 * t33;
-    let t60: f64 = t41 * (-0.3333333333333333);
-    let t61: f64 = t54 * t60;
-    let t62: f64 = t4 * t61;
-    let t63: f64 = t59 + t62;
-    let t64: f64 = t62 + t63;
-    let t65: f64 = t11 * t34;
-    let t66: f64 = t43 * (-0.3333333333333333);
-    let t67: f64 = t54 * t66;
-    let t68: f64 = t4 * t67;
-    let t69: f64 = t65 + t68;
-    let t70: f64 = t68 + t69;
-    let t71: f64 = 2.0 * t29;
-    let t72: f64 = t11 * t71;
-    let t73: f64 = t50 - t72;
-    let t74: f64 = t45 * (-0.6666666666666666);
-    let t75: f64 = t54 * t74;
-    let t76: f64 = t4 * t75;
-    let t77: f64 = t73 + t76;
-    let t78: f64 = t76 + t77;
-    let t79: f64 = t11 * t35;
-    let t80: f64 = t47 * (-0.3333333333333333);
-    let t81: f64 = t54 * t80;
-    let t82: f64 = t4 * t81;
-    let t83: f64 = t79 + t82;
-    let t84: f64 = t82 + t83;
-    let t85: f64 = t36 + t71;
-    let t86: f64 = t11 * t85;
-    let t87: f64 = t45 * 0.6666666666666666;
-    let t88: f64 = t39 * 0.6666666666666666;
-    let t89: f64 = t87 + t88;
-    let t90: f64 = t54 * t89;
-    let t91: f64 = t4 * t90;
-    let t92: f64 = t86 + t91;
-    let t93: f64 = t91 + t92;
-    let t94: f64 = t14 * t53;
-    let t95: f64 = t13 * t53;
-    let t96: f64 = t12 * t53;
-    let t97: f64 = t39 * t54;
-    let t98: f64 = 0.5 * t41;
-    let t99: f64 = t54 * t98;
-    let t100: f64 = 0.5 * t43;
-    let t101: f64 = t54 * t100;
-    let t102: f64 = t45 * t54;
-    let t103: f64 = 0.5 * t47;
-    let t104: f64 = t54 * t103;
-    let t105: f64 = t48 + t49;
-    let t106: f64 = t54 * t105;
-    let t107: f64 = t0 * t58;
-    let t108: f64 = t0 * t64;
-    let t109: f64 = t0 * t70;
-    let t110: f64 = t0 * t78;
-    let t111: f64 = t0 * t84;
-    let t112: f64 = t0 * t93;
+    let t91: f64 = t55 * t90;
+    let t92: f64 = t5 * t91;
+    let t93: f64 = t87 + t92;
+    let t94: f64 = t92 + t93;
+    let t95: f64 = t15 * t54;
+    let t96: f64 = t14 * t54;
+    let t97: f64 = t13 * t54;
+    let t98: f64 = t40 * t55;
+    let t99: f64 = 0.5 * t42;
+    let t100: f64 = t55 * t99;
+    let t101: f64 = 0.5 * t44;
+    let t102: f64 = t55 * t101;
+    let t103: f64 = t46 * t55;
+    let t104: f64 = 0.5 * t48;
+    let t105: f64 = t55 * t104;
+    let t106: f64 = t49 + t50;
+    let t107: f64 = t55 * t106;
+    let t108: f64 = t0 * t59;
+    let t109: f64 = t0 * t65;
+    let t110: f64 = t0 * t71;
+    let t111: f64 = t0 * t79;
+    let t112: f64 = t0 * t85;
     let t113: f64 = t0 * t94;
     let t114: f64 = t0 * t95;
-    let t115: f64 = -t114;
-    let t116: f64 = -t113;
-    let t117: f64 = t0 * t96;
-    let t118: f64 = -t117;
-    let t119: f64 = t0 * t97;
-    let t120: f64 = t0 * t99;
-    let t121: f64 = t0 * t101;
+    let t115: f64 = t0 * t96;
+    let t116: f64 = -t115;
+    let t117: f64 = -t114;
+    let t118: f64 = t0 * t97;
+    let t119: f64 = -t118;
+    let t120: f64 = t0 * t98;
+    let t121: f64 = t0 * t100;
     let t122: f64 = t0 * t102;
-    let t123: f64 = t0 * t104;
-    let t124: f64 = t0 * t106;
+    let t123: f64 = t0 * t103;
+    let t124: f64 = t0 * t105;
+    let t125: f64 = t0 * t107;
     BlocksFT {
-        uf: [[t107, t108, t109], [t108, t110, t111], [t109, t111, t112]],
-        ul: [[0.0, t113, t115], [t116, 0.0, t117], [t114, t118, 0.0]],
-        of: [[0.0, t113, t115], [t116, 0.0, t117], [t114, t118, 0.0]],
-        ol: [[t119, t120, t121], [t120, t122, t123], [t121, t123, t124]],
+        uf: [[t108, t109, t110], [t109, t111, t112], [t110, t112, t113]],
+        ul: [[0.0, t114, t116], [t117, 0.0, t118], [t115, t119, 0.0]],
+        of: [[0.0, t114, t116], [t117, 0.0, t118], [t115, t119, 0.0]],
+        ol: [[t120, t121, t122], [t121, t123, t124], [t122, t124, t125]],
     }
 }
 /// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair product.
@@ -347,7 +350,7 @@ pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Block
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 237 flops (82 add/sub, 152 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
+/// Operation count (after dead-code elimination): 239 flops (82 add/sub, 154 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn free_ft_pair_product(
     xa: [f64; 3],
@@ -364,6 +367,273 @@ pub fn free_ft_pair_product(
     let t3: f64 = xa[2] - xb[2];
     let t4: f64 = aa * aa;
     let t5: f64 = ab * ab;
+    let t6: f64 = t4 * 0.16666666666666666;
+    let t7: f64 = t5 * 0.16666666666666666;
+    let t8: f64 = t1 * t1;
+    let t9: f64 = t2 * t2;
+    let t10: f64 = t8 + t9;
+    let t11: f64 = t3 * t3;
+    let t12: f64 = t10 + t11;
+    let t13: f64 = t12.sqrt();
+    let t14: f64 = 1.0 / t13;
+    let t15: f64 = t1 * t14;
+    let t16: f64 = t2 * t14;
+    let t17: f64 = t3 * t14;
+    let t18: f64 = t15 * 2.0;
+    let t19: f64 = t16 * 2.0;
+    let t20: f64 = t17 * 2.0;
+    let t21: f64 = t15 * t18;
+    let t22: f64 = t21 * (-0.25);
+    let t23: f64 = 0.5 + t22;
+    let t24: f64 = t16 * t18;
+    let t25: f64 = 0.5 * t24;
+    let t26: f64 = t15 * t19;
+    let t27: f64 = t17 * t18;
+    let t28: f64 = 0.5 * t27;
+    let t29: f64 = t15 * t20;
+    let t30: f64 = t16 * t19;
+    let t31: f64 = (-0.25) * t30;
+    let t32: f64 = 0.5 + t31;
+    let t33: f64 = t17 * t19;
+    let t34: f64 = 0.5 * t33;
+    let t35: f64 = t16 * t20;
+    let t36: f64 = t26 - t25;
+    let t37: f64 = t29 - t28;
+    let t38: f64 = t35 - t34;
+    let t39: f64 = 2.0 * t23;
+    let t40: f64 = t14 * t39;
+    let t41: f64 = t21 * (-0.75);
+    let t42: f64 = (-0.5) - t41;
+    let t43: f64 = t24 * (-0.5);
+    let t44: f64 = t26 - t43;
+    let t45: f64 = t27 * (-0.5);
+    let t46: f64 = t29 - t45;
+    let t47: f64 = t30 * (-0.75);
+    let t48: f64 = (-0.5) - t47;
+    let t49: f64 = t33 * (-0.5);
+    let t50: f64 = t35 - t49;
+    let t51: f64 = t41 - (-0.5);
+    let t52: f64 = t47 - (-0.5);
+    let t53: f64 = t14 * 2.0;
+    let t54: f64 = t53 - t40;
+    let t55: f64 = t42 * (-4.0);
+    let t56: f64 = t14 * t14;
+    let t57: f64 = t14 * t56;
+    let t58: f64 = t55 * t57;
+    let t59: f64 = t7 * t58;
+    let t60: f64 = t54 + t59;
+    let t61: f64 = t6 * t58;
+    let t62: f64 = t60 + t61;
+    let t63: f64 = t14 * t36;
+    let t64: f64 = t44 * (-2.0);
+    let t65: f64 = t57 * t64;
+    let t66: f64 = t7 * t65;
+    let t67: f64 = t63 + t66;
+    let t68: f64 = t6 * t65;
+    let t69: f64 = t67 + t68;
+    let t70: f64 = t14 * t37;
+    let t71: f64 = t46 * (-2.0);
+    let t72: f64 = t57 * t71;
+    let t73: f64 = t7 * t72;
+    let t74: f64 = t70 + t73;
+    let t75: f64 = t6 * t72;
+    let t76: f64 = t74 + t75;
+    let t77: f64 = 2.0 * t32;
+    let t78: f64 = t14 * t77;
+    let t79: f64 = t53 - t78;
+    let t80: f64 = t48 * (-4.0);
+    let t81: f64 = t57 * t80;
+    let t82: f64 = t7 * t81;
+    let t83: f64 = t79 + t82;
+    let t84: f64 = t6 * t81;
+    let t85: f64 = t83 + t84;
+    let t86: f64 = t14 * t38;
+    let t87: f64 = t50 * (-2.0);
+    let t88: f64 = t57 * t87;
+    let t89: f64 = t7 * t88;
+    let t90: f64 = t86 + t89;
+    let t91: f64 = t6 * t88;
+    let t92: f64 = t90 + t91;
+    let t93: f64 = t39 + t77;
+    let t94: f64 = t14 * t93;
+    let t95: f64 = t48 * 4.0;
+    let t96: f64 = t42 * 4.0;
+    let t97: f64 = t95 + t96;
+    let t98: f64 = t57 * t97;
+    let t99: f64 = t7 * t98;
+    let t100: f64 = t94 + t99;
+    let t101: f64 = t6 * t98;
+    let t102: f64 = t100 + t101;
+    let t103: f64 = t17 * t56;
+    let t104: f64 = t16 * t56;
+    let t105: f64 = t15 * t56;
+    let t106: f64 = t42 * t57;
+    let t107: f64 = 0.5 * t44;
+    let t108: f64 = t57 * t107;
+    let t109: f64 = 0.5 * t46;
+    let t110: f64 = t57 * t109;
+    let t111: f64 = t48 * t57;
+    let t112: f64 = 0.5 * t50;
+    let t113: f64 = t57 * t112;
+    let t114: f64 = t51 + t52;
+    let t115: f64 = t57 * t114;
+    let t116: f64 = t0 * t62;
+    let t117: f64 = t0 * t69;
+    let t118: f64 = t0 * t76;
+    let t119: f64 = t0 * t85;
+    let t120: f64 = t0 * t92;
+    let t121: f64 = t0 * t102;
+    let t122: f64 = t0 * t103;
+    let t123: f64 = t0 * t104;
+    let t124: f64 = t0 * t105;
+    let t125: f64 = t0 * t106;
+    let t126: f64 = t0 * t108;
+    let t127: f64 = t0 * t110;
+    let t128: f64 = t0 * t111;
+    let t129: f64 = t0 * t113;
+    let t130: f64 = t0 * t115;
+    let t131: f64 = vb[0] * t116;
+    let t132: f64 = va[0] * t116;
+    let t133: f64 = vb[1] * t117;
+    let t134: f64 = t131 + t133;
+    let t135: f64 = va[0] * t117;
+    let t136: f64 = vb[2] * t118;
+    let t137: f64 = t134 + t136;
+    let t138: f64 = va[0] * t118;
+    let t139: f64 = vb[0] * t117;
+    let t140: f64 = va[1] * t117;
+    let t141: f64 = t132 + t140;
+    let t142: f64 = vb[1] * t119;
+    let t143: f64 = t139 + t142;
+    let t144: f64 = va[1] * t119;
+    let t145: f64 = t135 + t144;
+    let t146: f64 = vb[2] * t120;
+    let t147: f64 = t143 + t146;
+    let t148: f64 = va[1] * t120;
+    let t149: f64 = t138 + t148;
+    let t150: f64 = vb[0] * t118;
+    let t151: f64 = va[2] * t118;
+    let t152: f64 = t141 + t151;
+    let t153: f64 = vb[1] * t120;
+    let t154: f64 = t150 + t153;
+    let t155: f64 = va[2] * t120;
+    let t156: f64 = t145 + t155;
+    let t157: f64 = vb[2] * t121;
+    let t158: f64 = t154 + t157;
+    let t159: f64 = va[2] * t121;
+    let t160: f64 = t149 + t159;
+    let t161: f64 = vb[4] * t122;
+    let t162: f64 = t137 + t161;
+    let t163: f64 = va[0] * t122;
+    let t164: f64 = vb[5] * t123;
+    let t165: f64 = t162 - t164;
+    let t166: f64 = va[0] * t123;
+    let t167: f64 = vb[3] * t122;
+    let t168: f64 = t147 - t167;
+    let t169: f64 = va[1] * t122;
+    let t170: f64 = vb[5] * t124;
+    let t171: f64 = t168 + t170;
+    let t172: f64 = va[1] * t124;
+    let t173: f64 = t172 - t166;
+    let t174: f64 = vb[3] * t123;
+    let t175: f64 = t158 + t174;
+    let t176: f64 = va[2] * t123;
+    let t177: f64 = t176 - t169;
+    let t178: f64 = vb[4] * t124;
+    let t179: f64 = t175 - t178;
+    let t180: f64 = va[2] * t124;
+    let t181: f64 = t163 - t180;
+    let t182: f64 = vb[1] * t122;
+    let t183: f64 = va[3] * t122;
+    let t184: f64 = t156 + t183;
+    let t185: f64 = vb[2] * t123;
+    let t186: f64 = t182 - t185;
+    let t187: f64 = va[3] * t123;
+    let t188: f64 = t160 - t187;
+    let t189: f64 = vb[0] * t122;
+    let t190: f64 = va[4] * t122;
+    let t191: f64 = t152 - t190;
+    let t192: f64 = vb[2] * t124;
+    let t193: f64 = t192 - t189;
+    let t194: f64 = va[4] * t124;
+    let t195: f64 = t188 + t194;
+    let t196: f64 = vb[0] * t123;
+    let t197: f64 = va[5] * t123;
+    let t198: f64 = t191 + t197;
+    let t199: f64 = vb[1] * t124;
+    let t200: f64 = t196 - t199;
+    let t201: f64 = va[5] * t124;
+    let t202: f64 = t184 - t201;
+    let t203: f64 = vb[3] * t125;
+    let t204: f64 = t186 + t203;
+    let t205: f64 = va[3] * t125;
+    let t206: f64 = t177 + t205;
+    let t207: f64 = vb[4] * t126;
+    let t208: f64 = t204 + t207;
+    let t209: f64 = va[3] * t126;
+    let t210: f64 = t181 + t209;
+    let t211: f64 = vb[5] * t127;
+    let t212: f64 = t208 + t211;
+    let t213: f64 = va[3] * t127;
+    let t214: f64 = t173 + t213;
+    let t215: f64 = vb[3] * t126;
+    let t216: f64 = t193 + t215;
+    let t217: f64 = va[4] * t126;
+    let t218: f64 = t206 + t217;
+    let t219: f64 = vb[4] * t128;
+    let t220: f64 = t216 + t219;
+    let t221: f64 = va[4] * t128;
+    let t222: f64 = t210 + t221;
+    let t223: f64 = vb[5] * t129;
+    let t224: f64 = t220 + t223;
+    let t225: f64 = va[4] * t129;
+    let t226: f64 = t214 + t225;
+    let t227: f64 = vb[3] * t127;
+    let t228: f64 = t200 + t227;
+    let t229: f64 = va[5] * t127;
+    let t230: f64 = t218 + t229;
+    let t231: f64 = vb[4] * t129;
+    let t232: f64 = t228 + t231;
+    let t233: f64 = va[5] * t129;
+    let t234: f64 = t222 + t233;
+    let t235: f64 = vb[5] * t130;
+    let t236: f64 = t232 + t235;
+    let t237: f64 = va[5] * t130;
+    let t238: f64 = t226 + t237;
+    Product::<6> {
+        a: [t165, t171, t179, t212, t224, t236],
+        b: [t198, t202, t195, t230, t234, t238],
+    }
+}
+/// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair equal product.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// # Arguments
+/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
+/// - `xb`: centre of particle b (the source particle)
+/// - `a`: radius of the particle(s)
+/// - `eta`: viscosity of the fluid
+/// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
+/// - `vb`: moments of particle b, same layout
+///
+/// Operation count (after dead-code elimination): 231 flops (82 add/sub, 146 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
+#[inline]
+pub fn free_ft_pair_equal_product(
+    xa: [f64; 3],
+    xb: [f64; 3],
+    a: f64,
+    eta: f64,
+    va: [f64; 6usize],
+    vb: [f64; 6usize],
+) -> Product<6> {
+    let t0: f64 = 0.039788735772973836 / eta;
+    let t1: f64 = xa[0] - xb[0];
+    let t2: f64 = xa[1] - xb[1];
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = a * a;
+    let t5: f64 = t4 * 0.16666666666666666;
     let t6: f64 = t1 * t1;
     let t7: f64 = t2 * t2;
     let t8: f64 = t6 + t7;
@@ -411,450 +681,186 @@ pub fn free_ft_pair_product(
     let t50: f64 = t45 - (-0.5);
     let t51: f64 = t12 * 2.0;
     let t52: f64 = t51 - t38;
-    let t53: f64 = t40 * (-0.6666666666666666);
+    let t53: f64 = t40 * (-4.0);
     let t54: f64 = t12 * t12;
     let t55: f64 = t12 * t54;
     let t56: f64 = t53 * t55;
     let t57: f64 = t5 * t56;
     let t58: f64 = t52 + t57;
-    let t59: f64 = t4 * t56;
-    let t60: f64 = t58 + t59;
-    let t61: f64 = t12 * t34;
-    let t62: f64 = t42 * (-0.3333333333333333);
-    let t63: f64 = t55 * t62;
-    let t64: f64 = t5 * t63;
-    let t65: f64 = t61 + t64;
-    let t66: f64 = t4 * t63;
-    let t67: f64 = t65 + t66;
-    let t68: f64 = t12 * t35;
-    let t69: f64 = t44 * (-0.3333333333333333);
-    let t70: f64 = t55 * t69;
-    let t71: f64 = t5 * t70;
-    let t72: f64 = t68 + t71;
-    let t73: f64 = t4 * t70;
-    let t74: f64 = t72 + t73;
-    let t75: f64 = 2.0 * t30;
-    let t76: f64 = t12 * t75;
-    let t77: f64 = t51 - t76;
-    let t78: f64 = t46 * (-0.6666666666666666);
-    let t79: f64 = t55 * t78;
-    let t80: f64 = t5 * t79;
-    let t81: f64 = t77 + t80;
-    let t82: f64 = t4 * t79;
-    let t83: f64 = t81 + t82;
-    let t84: f64 = t12 * t36;
-    let t85: f64 = t48 * (-0.3333333333333333);
-    let t86: f64 = t55 * t85;
-    let t87: f64 = t5 * t86;
-    let t88: f64 = t84 + t87;
-    let t89: f64 = t4 * t86;
+    let t59: f64 = t57 + t58;
+    let t60: f64 = t12 * t34;
+    let t61: f64 = t42 * (-2.0);
+    let t62: f64 = t55 * t61;
+    let t63: f64 = t5 * t62;
+    let t64: f64 = t60 + t63;
+    let t65: f64 = t63 + t64;
+    let t66: f64 = t12 * t35;
+    let t67: f64 = t44 * (-2.0);
+    let t68: f64 = t55 * t67;
+    let t69: f64 = t5 * t68;
+    let t70: f64 = t66 + t69;
+    let t71: f64 = t69 + t70;
+    let t72: f64 = 2.0 * t30;
+    let t73: f64 = t12 * t72;
+    let t74: f64 = t51 - t73;
+    let t75: f64 = t46 * (-4.0);
+    let t76: f64 = t55 * t75;
+    let t77: f64 = t5 * t76;
+    let t78: f64 = t74 + t77;
+    let t79: f64 = t77 + t78;
+    let t80: f64 = t12 * t36;
+    let t81: f64 = t48 * (-2.0);
+    let t82: f64 = t55 * t81;
+    let t83: f64 = t5 * t82;
+    let t84: f64 = t80 + t83;
+    let t85: f64 = t83 + t84;
+    let t86: f64 = t37 + t72;
+    let t87: f64 = t12 * t86;
+    let t88: f64 = t46 * 4.0;
+    let t89: f64 = t40 * 4.0;
     let t90: f64 = t88 + t89;
-    let t91: f64 = t37 + t75;
-    let t92: f64 = t12 * t91;
-    let t93: f64 = t46 * 0.6666666666666666;
-    let t94: f64 = t40 * 0.6666666666666666;
-    let t95: f64 = t93 + t94;
-    let t96: f64 = t55 * t95;
-    let t97: f64 = t5 * t96;
-    let t98: f64 = t92 + t97;
-    let t99: f64 = t4 * t96;
-    let t100: f64 = t98 + t99;
-    let t101: f64 = t15 * t54;
-    let t102: f64 = t14 * t54;
-    let t103: f64 = t13 * t54;
-    let t104: f64 = t40 * t55;
-    let t105: f64 = 0.5 * t42;
-    let t106: f64 = t55 * t105;
-    let t107: f64 = 0.5 * t44;
-    let t108: f64 = t55 * t107;
-    let t109: f64 = t46 * t55;
-    let t110: f64 = 0.5 * t48;
-    let t111: f64 = t55 * t110;
-    let t112: f64 = t49 + t50;
-    let t113: f64 = t55 * t112;
-    let t114: f64 = t0 * t60;
-    let t115: f64 = t0 * t67;
-    let t116: f64 = t0 * t74;
-    let t117: f64 = t0 * t83;
-    let t118: f64 = t0 * t90;
-    let t119: f64 = t0 * t100;
-    let t120: f64 = t0 * t101;
-    let t121: f64 = t0 * t102;
-    let t122: f64 = t0 * t103;
-    let t123: f64 = t0 * t104;
-    let t124: f64 = t0 * t106;
-    let t125: f64 = t0 * t108;
-    let t126: f64 = t0 * t109;
-    let t127: f64 = t0 * t111;
-    let t128: f64 = t0 * t113;
-    let t129: f64 = vb[0] * t114;
-    let t130: f64 = va[0] * t114;
-    let t131: f64 = vb[1] * t115;
-    let t132: f64 = t129 + t131;
-    let t133: f64 = va[0] * t115;
-    let t134: f64 = vb[2] * t116;
-    let t135: f64 = t132 + t134;
-    let t136: f64 = va[0] * t116;
-    let t137: f64 = vb[0] * t115;
-    let t138: f64 = va[1] * t115;
-    let t139: f64 = t130 + t138;
-    let t140: f64 = vb[1] * t117;
-    let t141: f64 = t137 + t140;
-    let t142: f64 = va[1] * t117;
-    let t143: f64 = t133 + t142;
-    let t144: f64 = vb[2] * t118;
-    let t145: f64 = t141 + t144;
-    let t146: f64 = va[1] * t118;
-    let t147: f64 = t136 + t146;
-    let t148: f64 = vb[0] * t116;
-    let t149: f64 = va[2] * t116;
-    let t150: f64 = t139 + t149;
-    let t151: f64 = vb[1] * t118;
-    let t152: f64 = t148 + t151;
-    let t153: f64 = va[2] * t118;
-    let t154: f64 = t143 + t153;
-    let t155: f64 = vb[2] * t119;
-    let t156: f64 = t152 + t155;
-    let t157: f64 = va[2] * t119;
-    let t158: f64 = t147 + t157;
-    let t159: f64 = vb[4] * t120;
-    let t160: f64 = t135 + t159;
-    let t161: f64 = va[0] * t120;
-    let t162: f64 = vb[5] * t121;
-    let t163: f64 = t160 - t162;
-    let t164: f64 = va[0] * t121;
-    let t165: f64 = vb[3] * t120;
-    let t166: f64 = t145 - t165;
-    let t167: f64 = va[1] * t120;
-    let t168: f64 = vb[5] * t122;
-    let t169: f64 = t166 + t168;
-    let t170: f64 = va[1] * t122;
-    let t171: f64 = t170 - t164;
-    let t172: f64 = vb[3] * t121;
-    let t173: f64 = t156 + t172;
-    let t174: f64 = va[2] * t121;
-    let t175: f64 = t174 - t167;
-    let t176: f64 = vb[4] * t122;
-    let t177: f64 = t173 - t176;
-    let t178: f64 = va[2] * t122;
-    let t179: f64 = t161 - t178;
-    let t180: f64 = vb[1] * t120;
-    let t181: f64 = va[3] * t120;
-    let t182: f64 = t154 + t181;
-    let t183: f64 = vb[2] * t121;
-    let t184: f64 = t180 - t183;
-    let t185: f64 = va[3] * t121;
-    let t186: f64 = t158 - t185;
-    let t187: f64 = vb[0] * t120;
-    let t188: f64 = va[4] * t120;
-    let t189: f64 = t150 - t188;
-    let t190: f64 = vb[2] * t122;
-    let t191: f64 = t190 - t187;
-    let t192: f64 = va[4] * t122;
-    let t193: f64 = t186 + t192;
-    let t194: f64 = vb[0] * t121;
-    let t195: f64 = va[5] * t121;
-    let t196: f64 = t189 + t195;
-    let t197: f64 = vb[1] * t122;
-    let t198: f64 = t194 - t197;
-    let t199: f64 = va[5] * t122;
-    let t200: f64 = t182 - t199;
-    let t201: f64 = vb[3] * t123;
-    let t202: f64 = t184 + t201;
-    let t203: f64 = va[3] * t123;
-    let t204: f64 = t175 + t203;
-    let t205: f64 = vb[4] * t124;
-    let t206: f64 = t202 + t205;
-    let t207: f64 = va[3] * t124;
-    let t208: f64 = t179 + t207;
-    let t209: f64 = vb[5] * t125;
-    let t210: f64 = t206 + t209;
-    let t211: f64 = va[3] * t125;
-    let t212: f64 = t171 + t211;
-    let t213: f64 = vb[3] * t124;
-    let t214: f64 = t191 + t213;
-    let t215: f64 = va[4] * t124;
-    let t216: f64 = t204 + t215;
-    let t217: f64 = vb[4] * t126;
-    let t218: f64 = t214 + t217;
-    let t219: f64 = va[4] * t126;
-    let t220: f64 = t208 + t219;
-    let t221: f64 = vb[5] * t127;
-    let t222: f64 = t218 + t221;
-    let t223: f64 = va[4] * t127;
-    let t224: f64 = t212 + t223;
-    let t225: f64 = vb[3] * t125;
-    let t226: f64 = t198 + t225;
-    let t227: f64 = va[5] * t125;
-    let t228: f64 = t216 + t227;
-    let t229: f64 = vb[4] * t127;
-    let t230: f64 = t226 + t229;
-    let t231: f64 = va[5] * t127;
-    let t232: f64 = t220 + t231;
-    let t233: f64 = vb[5] * t128;
-    let t234: f64 = t230 + t233;
-    let t235: f64 = va[5] * t128;
-    let t236: f64 = t224 + t235;
-    Product::<6> {
-        a: [t163, t169, t177, t210, t222, t234],
-        b: [t196, t200, t193, t228, t232, t236],
-    }
-}
-/// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair equal product.
-///
-/// Pruned to what the scene needs.
-/// Jets truncated at derivative order 4 of G.
-///
-/// # Arguments
-/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
-/// - `xb`: centre of particle b (the source particle)
-/// - `a`: radius of the particle(s)
-/// - `eta`: viscosity of the fluid
-/// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
-/// - `vb`: moments of particle b, same layout
-///
-/// Operation count (after dead-code elimination): 230 flops (82 add/sub, 145 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
-#[inline]
-pub fn free_ft_pair_equal_product(
-    xa: [f64; 3],
-    xb: [f64; 3],
-    a: f64,
-    eta: f64,
-    va: [f64; 6usize],
-    vb: [f64; 6usize],
-) -> Product<6> {
-    let t0: f64 = 0.039788735772973836 / eta;
-    let t1: f64 = xa[0] - xb[0];
-    let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = xa[2] - xb[2];
-    let t4: f64 = a * a;
-    let t5: f64 = t1 * t1;
-    let t6: f64 = t2 * t2;
-    let t7: f64 = t5 + t6;
-    let t8: f64 = t3 * t3;
-    let t9: f64 = t7 + t8;
-    let t10: f64 = t9.sqrt();
-    let t11: f64 = 1.0 / t10;
-    let t12: f64 = t1 * t11;
-    let t13: f64 = t2 * t11;
-    let t14: f64 = t3 * t11;
-    let t15: f64 = t12 * 2.0;
-    let t16: f64 = t13 * 2.0;
-    let t17: f64 = t14 * 2.0;
-    let t18: f64 = t12 * t15;
-    let t19: f64 = t18 * (-0.25);
-    let t20: f64 = 0.5 + t19;
-    let t21: f64 = t13 * t15;
-    let t22: f64 = 0.5 * t21;
-    let t23: f64 = t12 * t16;
-    let t24: f64 = t14 * t15;
-    let t25: f64 = 0.5 * t24;
-    let t26: f64 = t12 * t17;
-    let t27: f64 = t13 * t16;
-    let t28: f64 = (-0.25) * t27;
-    let t29: f64 = 0.5 + t28;
-    let t30: f64 = t14 * t16;
-    let t31: f64 = 0.5 * t30;
-    let t32: f64 = t13 * t17;
-    let t33: f64 = t23 - t22;
-    let t34: f64 = t26 - t25;
-    let t35: f64 = t32 - t31;
-    let t36: f64 = 2.0 * t20;
-    let t37: f64 = t11 * t36;
-    let t38: f64 = t18 * (-0.75);
-    let t39: f64 = (-0.5) - t38;
-    let t40: f64 = t21 * (-0.5);
-    let t41: f64 = t23 - t40;
-    let t42: f64 = t24 * (-0.5);
-    let t43: f64 = t26 - t42;
-    let t44: f64 = t27 * (-0.75);
-    let t45: f64 = (-0.5) - t44;
-    let t46: f64 = t30 * (-0.5);
-    let t47: f64 = t32 - t46;
-    let t48: f64 = t38 - (-0.5);
-    let t49: f64 = t44 - (-0.5);
-    let t50: f64 = t11 * 2.0;
-    let t51: f64 = t50 - t37;
-    let t52: f64 = t39 * (-0.6666666666666666);
-    let t53: f64 = t11 * t11;
-    let t54: f64 = t11 * t53;
-    let t55: f64 = t52 * t54;
-    let t56: f64 = t4 * t55;
-    let t57: f64 = t51 + t56;
-    let t58: f64 = t56 + t57;
-    let t59: f64 = t11 * t33;
-    let t60: f64 = t41 * (-0.3333333333333333);
-    let t61: f64 = t54 * t60;
-    let t62: f64 = t4 * t61;
-    let t63: f64 = t59 + t62;
-    let t64: f64 = t62 + t63;
-    let t65: f64 = t11 * t34;
-    let t66: f64 = t43 * (-0.3333333333333333);
-    let t67: f64 = t54 * t66;
-    let t68: f64 = t4 * t67;
-    let t69: f64 = t65 + t68;
-    let t70: f64 = t68 + t69;
-    let t71: f64 = 2.0 * t29;
-    let t72: f64 = t11 * t71;
-    let t73: f64 = t50 - t72;
-    let t74: f64 = t45 * (-0.6666666666666666);
-    let t75: f64 = t54 * t74;
-    let t76: f64 = t4 * t75;
-    let t77: f64 = t73 + t76;
-    let t78: f64 = t76 + t77;
-    let t79: f64 = t11 * t35;
-    let t80: f64 = t47 * (-0.3333333333333333);
-    let t81: f64 = t54 * t80;
-    let t82: f64 = t4 * t81;
-    let t83: f64 = t79 + t82;
-    let t84: f64 = t82 + t83;
-    let t85: f64 = t36 + t71;
-    let t86: f64 = t11 * t85;
-    let t87: f64 = t45 * 0.6666666666666666;
-    let t88: f64 = t39 * 0.6666666666666666;
-    let t89: f64 = t87 + t88;
-    let t90: f64 = t54 * t89;
-    let t91: f64 = t4 * t90;
-    let t92: f64 = t86 + t91;
-    let t93: f64 = t91 + t92;
-    let t94: f64 = t14 * t53;
-    let t95: f64 = t13 * t53;
-    let t96: f64 = t12 * t53;
-    let t97: f64 = t39 * t54;
-    let t98: f64 = 0.5 * t41;
-    let t99: f64 = t54 * t98;
-    let t100: f64 = 0.5 * t43;
-    let t101: f64 = t54 * t100;
-    let t102: f64 = t45 * t54;
-    let t103: f64 = 0.5 * t47;
-    let t104: f64 = t54 * t103;
-    let t105: f64 = t48 + t49;
-    let t106: f64 = t54 * t105;
-    let t107: f64 = t0 * t58;
-    let t108: f64 = t0 * t64;
-    let t109: f64 = t0 * t70;
-    let t110: f64 = t0 * t78;
-    let t111: f64 = t0 * t84;
-    let t112: f64 = t0 * t93;
+    let t91: f64 = t55 * t90;
+    let t92: f64 = t5 * t91;
+    let t93: f64 = t87 + t92;
+    let t94: f64 = t92 + t93;
+    let t95: f64 = t15 * t54;
+    let t96: f64 = t14 * t54;
+    let t97: f64 = t13 * t54;
+    let t98: f64 = t40 * t55;
+    let t99: f64 = 0.5 * t42;
+    let t100: f64 = t55 * t99;
+    let t101: f64 = 0.5 * t44;
+    let t102: f64 = t55 * t101;
+    let t103: f64 = t46 * t55;
+    let t104: f64 = 0.5 * t48;
+    let t105: f64 = t55 * t104;
+    let t106: f64 = t49 + t50;
+    let t107: f64 = t55 * t106;
+    let t108: f64 = t0 * t59;
+    let t109: f64 = t0 * t65;
+    let t110: f64 = t0 * t71;
+    let t111: f64 = t0 * t79;
+    let t112: f64 = t0 * t85;
     let t113: f64 = t0 * t94;
     let t114: f64 = t0 * t95;
     let t115: f64 = t0 * t96;
     let t116: f64 = t0 * t97;
-    let t117: f64 = t0 * t99;
-    let t118: f64 = t0 * t101;
+    let t117: f64 = t0 * t98;
+    let t118: f64 = t0 * t100;
     let t119: f64 = t0 * t102;
-    let t120: f64 = t0 * t104;
-    let t121: f64 = t0 * t106;
-    let t122: f64 = vb[0] * t107;
-    let t123: f64 = va[0] * t107;
-    let t124: f64 = vb[1] * t108;
-    let t125: f64 = t122 + t124;
-    let t126: f64 = va[0] * t108;
-    let t127: f64 = vb[2] * t109;
-    let t128: f64 = t125 + t127;
-    let t129: f64 = va[0] * t109;
-    let t130: f64 = vb[0] * t108;
-    let t131: f64 = va[1] * t108;
-    let t132: f64 = t123 + t131;
-    let t133: f64 = vb[1] * t110;
-    let t134: f64 = t130 + t133;
-    let t135: f64 = va[1] * t110;
-    let t136: f64 = t126 + t135;
-    let t137: f64 = vb[2] * t111;
-    let t138: f64 = t134 + t137;
-    let t139: f64 = va[1] * t111;
-    let t140: f64 = t129 + t139;
-    let t141: f64 = vb[0] * t109;
-    let t142: f64 = va[2] * t109;
-    let t143: f64 = t132 + t142;
-    let t144: f64 = vb[1] * t111;
-    let t145: f64 = t141 + t144;
-    let t146: f64 = va[2] * t111;
-    let t147: f64 = t136 + t146;
-    let t148: f64 = vb[2] * t112;
-    let t149: f64 = t145 + t148;
-    let t150: f64 = va[2] * t112;
-    let t151: f64 = t140 + t150;
-    let t152: f64 = vb[4] * t113;
-    let t153: f64 = t128 + t152;
-    let t154: f64 = va[0] * t113;
-    let t155: f64 = vb[5] * t114;
-    let t156: f64 = t153 - t155;
-    let t157: f64 = va[0] * t114;
-    let t158: f64 = vb[3] * t113;
-    let t159: f64 = t138 - t158;
-    let t160: f64 = va[1] * t113;
-    let t161: f64 = vb[5] * t115;
-    let t162: f64 = t159 + t161;
-    let t163: f64 = va[1] * t115;
-    let t164: f64 = t163 - t157;
-    let t165: f64 = vb[3] * t114;
-    let t166: f64 = t149 + t165;
-    let t167: f64 = va[2] * t114;
-    let t168: f64 = t167 - t160;
-    let t169: f64 = vb[4] * t115;
-    let t170: f64 = t166 - t169;
-    let t171: f64 = va[2] * t115;
-    let t172: f64 = t154 - t171;
-    let t173: f64 = vb[1] * t113;
-    let t174: f64 = va[3] * t113;
-    let t175: f64 = t147 + t174;
-    let t176: f64 = vb[2] * t114;
-    let t177: f64 = t173 - t176;
-    let t178: f64 = va[3] * t114;
-    let t179: f64 = t151 - t178;
-    let t180: f64 = vb[0] * t113;
-    let t181: f64 = va[4] * t113;
-    let t182: f64 = t143 - t181;
-    let t183: f64 = vb[2] * t115;
-    let t184: f64 = t183 - t180;
-    let t185: f64 = va[4] * t115;
-    let t186: f64 = t179 + t185;
-    let t187: f64 = vb[0] * t114;
-    let t188: f64 = va[5] * t114;
-    let t189: f64 = t182 + t188;
-    let t190: f64 = vb[1] * t115;
-    let t191: f64 = t187 - t190;
-    let t192: f64 = va[5] * t115;
-    let t193: f64 = t175 - t192;
-    let t194: f64 = vb[3] * t116;
-    let t195: f64 = t177 + t194;
-    let t196: f64 = va[3] * t116;
-    let t197: f64 = t168 + t196;
-    let t198: f64 = vb[4] * t117;
-    let t199: f64 = t195 + t198;
-    let t200: f64 = va[3] * t117;
-    let t201: f64 = t172 + t200;
-    let t202: f64 = vb[5] * t118;
-    let t203: f64 = t199 + t202;
-    let t204: f64 = va[3] * t118;
-    let t205: f64 = t164 + t204;
-    let t206: f64 = vb[3] * t117;
-    let t207: f64 = t184 + t206;
-    let t208: f64 = va[4] * t117;
-    let t209: f64 = t197 + t208;
-    let t210: f64 = vb[4] * t119;
-    let t211: f64 = t207 + t210;
-    let t212: f64 = va[4] * t119;
-    let t213: f64 = t201 + t212;
-    let t214: f64 = vb[5] * t120;
-    let t215: f64 = t211 + t214;
-    let t216: f64 = va[4] * t120;
-    let t217: f64 = t205 + t216;
-    let t218: f64 = vb[3] * t118;
-    let t219: f64 = t191 + t218;
-    let t220: f64 = va[5] * t118;
-    let t221: f64 = t209 + t220;
-    let t222: f64 = vb[4] * t120;
-    let t223: f64 = t219 + t222;
-    let t224: f64 = va[5] * t120;
-    let t225: f64 = t213 + t224;
-    let t226: f64 = vb[5] * t121;
-    let t227: f64 = t223 + t226;
-    let t228: f64 = va[5] * t121;
-    let t229: f64 = t217 + t228;
+    let t120: f64 = t0 * t103;
+    let t121: f64 = t0 * t105;
+    let t122: f64 = t0 * t107;
+    let t123: f64 = vb[0] * t108;
+    let t124: f64 = va[0] * t108;
+    let t125: f64 = vb[1] * t109;
+    let t126: f64 = t123 + t125;
+    let t127: f64 = va[0] * t109;
+    let t128: f64 = vb[2] * t110;
+    let t129: f64 = t126 + t128;
+    let t130: f64 = va[0] * t110;
+    let t131: f64 = vb[0] * t109;
+    let t132: f64 = va[1] * t109;
+    let t133: f64 = t124 + t132;
+    let t134: f64 = vb[1] * t111;
+    let t135: f64 = t131 + t134;
+    let t136: f64 = va[1] * t111;
+    let t137: f64 = t127 + t136;
+    let t138: f64 = vb[2] * t112;
+    let t139: f64 = t135 + t138;
+    let t140: f64 = va[1] * t112;
+    let t141: f64 = t130 + t140;
+    let t142: f64 = vb[0] * t110;
+    let t143: f64 = va[2] * t110;
+    let t144: f64 = t133 + t143;
+    let t145: f64 = vb[1] * t112;
+    let t146: f64 = t142 + t145;
+    let t147: f64 = va[2] * t112;
+    let t148: f64 = t137 + t147;
+    let t149: f64 = vb[2] * t113;
+    let t150: f64 = t146 + t149;
+    let t151: f64 = va[2] * t113;
+    let t152: f64 = t141 + t151;
+    let t153: f64 = vb[4] * t114;
+    let t154: f64 = t129 + t153;
+    let t155: f64 = va[0] * t114;
+    let t156: f64 = vb[5] * t115;
+    let t157: f64 = t154 - t156;
+    let t158: f64 = va[0] * t115;
+    let t159: f64 = vb[3] * t114;
+    let t160: f64 = t139 - t159;
+    let t161: f64 = va[1] * t114;
+    let t162: f64 = vb[5] * t116;
+    let t163: f64 = t160 + t162;
+    let t164: f64 = va[1] * t116;
+    let t165: f64 = t164 - t158;
+    let t166: f64 = vb[3] * t115;
+    let t167: f64 = t150 + t166;
+    let t168: f64 = va[2] * t115;
+    let t169: f64 = t168 - t161;
+    let t170: f64 = vb[4] * t116;
+    let t171: f64 = t167 - t170;
+    let t172: f64 = va[2] * t116;
+    let t173: f64 = t155 - t172;
+    let t174: f64 = vb[1] * t114;
+    let t175: f64 = va[3] * t114;
+    let t176: f64 = t148 + t175;
+    let t177: f64 = vb[2] * t115;
+    let t178: f64 = t174 - t177;
+    let t179: f64 = va[3] * t115;
+    let t180: f64 = t152 - t179;
+    let t181: f64 = vb[0] * t114;
+    let t182: f64 = va[4] * t114;
+    let t183: f64 = t144 - t182;
+    let t184: f64 = vb[2] * t116;
+    let t185: f64 = t184 - t181;
+    let t186: f64 = va[4] * t116;
+    let t187: f64 = t180 + t186;
+    let t188: f64 = vb[0] * t115;
+    let t189: f64 = va[5] * t115;
+    let t190: f64 = t183 + t189;
+    let t191: f64 = vb[1] * t116;
+    let t192: f64 = t188 - t191;
+    let t193: f64 = va[5] * t116;
+    let t194: f64 = t176 - t193;
+    let t195: f64 = vb[3] * t117;
+    let t196: f64 = t178 + t195;
+    let t197: f64 = va[3] * t117;
+    let t198: f64 = t169 + t197;
+    let t199: f64 = vb[4] * t118;
+    let t200: f64 = t196 + t199;
+    let t201: f64 = va[3] * t118;
+    let t202: f64 = t173 + t201;
+    let t203: f64 = vb[5] * t119;
+    let t204: f64 = t200 + t203;
+    let t205: f64 = va[3] * t119;
+    let t206: f64 = t165 + t205;
+    let t207: f64 = vb[3] * t118;
+    let t208: f64 = t185 + t207;
+    let t209: f64 = va[4] * t118;
+    let t210: f64 = t198 + t209;
+    let t211: f64 = vb[4] * t120;
+    let t212: f64 = t208 + t211;
+    let t213: f64 = va[4] * t120;
+    let t214: f64 = t202 + t213;
+    let t215: f64 = vb[5] * t121;
+    let t216: f64 = t212 + t215;
+    let t217: f64 = va[4] * t121;
+    let t218: f64 = t206 + t217;
+    let t219: f64 = vb[3] * t119;
+    let t220: f64 = t192 + t219;
+    let t221: f64 = va[5] * t119;
+    let t222: f64 = t210 + t221;
+    let t223: f64 = vb[4] * t121;
+    let t224: f64 = t220 + t223;
+    let t225: f64 = va[5] * t121;
+    let t226: f64 = t214 + t225;
+    let t227: f64 = vb[5] * t122;
+    let t228: f64 = t224 + t227;
+    let t229: f64 = va[5] * t122;
+    let t230: f64 = t218 + t229;
     Product::<6> {
-        a: [t156, t162, t170, t203, t215, t227],
-        b: [t189, t193, t186, t221, t225, t229],
+        a: [t157, t163, t171, t204, t216, t228],
+        b: [t190, t194, t187, t222, t226, t230],
     }
 }
