@@ -89,21 +89,16 @@ fn marker<DB: DrawingBackend>(
     let (x, y) = c;
     match g % 5 {
         0 => area.draw(&Circle::new(c, r, style)),
-        1 => area
-            .draw(&Polygon::new(
-                vec![(x, y - r), (x - r, y + r), (x + r, y + r)],
-                style,
-            ))
-            .and_then(|_| {
-                if filled {
-                    Ok(())
-                } else {
-                    area.draw(&PathElement::new(
-                        vec![(x, y - r), (x - r, y + r), (x + r, y + r), (x, y - r)],
-                        style,
-                    ))
-                }
-            }),
+        1 => {
+            let pts = vec![(x, y - r), (x - r, y + r), (x + r, y + r)];
+            if filled {
+                area.draw(&Polygon::new(pts, style))
+            } else {
+                let mut p = pts.clone();
+                p.push(pts[0]);
+                area.draw(&PathElement::new(p, style))
+            }
+        }
         2 => area.draw(&Rectangle::new(
             [(x - r + 1, y - r + 1), (x + r - 1, y + r - 1)],
             style,
@@ -151,10 +146,9 @@ where
         } else {
             (1.0, 10.0)
         };
-        (
-            10f64.powf(lo.log10().floor()),
-            10f64.powf(hi.log10().ceil().max(lo.log10().floor() + 1.0)),
-        )
+        // a decade of room above a point that sits on a power of ten
+        let top = (hi.log10() + 0.05).ceil().max(lo.log10().floor() + 1.0);
+        (10f64.powf(lo.log10().floor()), 10f64.powf(top))
     };
     let (x0, x1) = range(&xs);
     let (y0, y1) = range(&ys);
