@@ -2,8 +2,10 @@
 //! and pair kernels of all nine blocks (a family file). For every scene (`scenes/`):
 //! only the blocks its truncation needs, and, if asked, the fused pair products. In
 //! `mod.rs`: the `Confinement` enum and the entry points that dispatch on it, using a
-//! scene's kernels where one exists and the family's otherwise. [`generate`] returns
-//! every file; `cargo xtask gen` writes them, `--check` compares.
+//! scene's kernels where one exists and the family's otherwise. In `single.rs`
+//! ([`SINGLE`]): the FTS self and pair kernels of every family in single precision, behind
+//! the `kernels` crate's feature `f32`. [`generate`] returns every file; `cargo xtask gen`
+//! writes them, `--check` compares.
 
 use crate::emit::{self, Float, KernelFn};
 use crate::green::{self, Green, Visitor};
@@ -29,6 +31,8 @@ struct Family {
     /// `(height expression, fluid above)` of each boundary plane.
     boundaries: Vec<(TokenStream, bool)>,
     file: GeneratedFile,
+    /// Its single-precision self and pair kernels (items of [`SINGLE`]).
+    single: TokenStream,
     /// Scenes of this confinement that serve the dispatch: `(moments, scene name)` of
     /// those with unequal radii and both outputs.
     serving: Vec<(Moments, String)>,
@@ -343,7 +347,14 @@ fn counts(name: &str, traced: &Traced) -> Vec<(String, usize)> {
 
 /// Generate the kernels of one Green's function as one file.
 pub fn family<G: Green>(g: &G) -> GeneratedFile {
+    family_and_single(g).0
+}
+
+/// The family file, and the single-precision (`f32`) self and pair kernels of the
+/// family (items of `single.rs`, [`SINGLE`]), emitted from the same traces.
+fn family_and_single<G: Green>(g: &G) -> (GeneratedFile, TokenStream) {
     let mut items = TokenStream::new();
+    let mut single = TokenStream::new();
     let mut op_counts = Vec::new();
     for v in variants() {
         let traced = trace(g, &v.spec);
@@ -368,6 +379,18 @@ pub fn family<G: Green>(g: &G) -> GeneratedFile {
             basis_doc.to_string(),
         ];
         op_counts.extend(counts(&name, &traced));
+        if matches!(v.suffix, "self" | "pair") {
+            let mut doc = doc.clone();
+            doc[0] = format!("Single precision: {}", doc[0]);
+            single.extend(emit::function(&KernelFn {
+                name: name.clone(),
+                doc,
+                ret: "Grand32".into(),
+                ctor: "Grand32".into(),
+                traced: &traced,
+                float: Float::F32,
+            }));
+        }
         items.extend(emit::function(&KernelFn {
             name,
             doc,
@@ -386,10 +409,48 @@ pub fn family<G: Green>(g: &G) -> GeneratedFile {
         use crate::blocks::{Drift, Grand, Product};
         #items
     };
-    GeneratedFile {
+    let file = GeneratedFile {
         name: format!("{}.rs", g.name()),
         contents: emit::file(&module_doc, items),
         op_counts,
+    };
+    (file, single)
+}
+
+/// Name of the file of single-precision kernels, which the `kernels` crate compiles
+/// only with its cargo feature `f32` (as `kernels::single`).
+pub const SINGLE: &str = "single.rs";
+
+/// `single.rs`: the FTS self and pair kernels of every family in `f32` (the same traces
+/// as the `f64` kernels, emitted with [`Float::F32`]), returning `Grand32`.
+fn single_file(items: Vec<TokenStream>) -> GeneratedFile {
+    let fields: Vec<TokenStream> = BLOCKS
+        .iter()
+        .map(|&(r, m)| {
+            let f = ident(&crate::operators::block_name(r, m));
+            let (rows, cols) = (
+                crate::operators::response_dim(r, Basis::Orthonormal),
+                crate::operators::moment_dim(m, Basis::Orthonormal),
+            );
+            let d = format!(" Block `{}`, {rows}x{cols}, row-major.", f);
+            quote!(#[doc = #d] pub #f: [[f32; #cols]; #rows])
+        })
+        .collect();
+    let module_doc = vec![
+        "Single-precision (f32) FTS self and pair kernels of every family, for accuracy and speed comparisons (`cargo xtask report`).".to_string(),
+        String::new(),
+        "Compiled only with the cargo feature `f32` of the kernels crate. Regenerate with `cargo xtask gen`.".to_string(),
+    ];
+    let body = quote! {
+        /// The nine blocks of [`crate::Grand`] in single precision (same layout and basis).
+        #[derive(Clone, Copy, Debug, PartialEq, Default)]
+        pub struct Grand32 { #(#fields),* }
+        #(#items)*
+    };
+    GeneratedFile {
+        name: SINGLE.into(),
+        contents: emit::file(&module_doc, body),
+        op_counts: Vec::new(),
     }
 }
 
@@ -421,12 +482,14 @@ impl Visitor for Collect<'_> {
                 serving.push((s.moments, s.name.clone()));
             }
         }
+        let (file, single) = family_and_single(g);
         self.families.push(Family {
             name: g.name(),
             title: g.title(),
             params: g.params(),
             boundaries,
-            file: family(g),
+            file,
+            single,
             serving,
             scene_files: mine.iter().map(|s| scene_file(g, s, false)).collect(),
         });
@@ -465,10 +528,13 @@ pub fn generate(scenes: &[Scene]) -> Vec<GeneratedFile> {
         contents: emit::file(&module_doc, quote!(#(#mods)* #dispatch)),
         op_counts: Vec::new(),
     }];
+    let mut single = Vec::new();
     for f in c.families {
         files.push(f.file);
         files.extend(f.scene_files);
+        single.push(f.single);
     }
+    files.push(single_file(single));
     files
 }
 

@@ -21,6 +21,13 @@ pub mod blocks;
 #[rustfmt::skip]
 #[allow(clippy::all, missing_docs)]
 pub mod generated;
+/// Single-precision FTS self and pair kernels (`family_self`, `family_pair`, returning
+/// [`single::Grand32`]), generated with the others; only with the cargo feature `f32`.
+#[cfg(feature = "f32")]
+#[rustfmt::skip]
+#[allow(clippy::all, missing_docs)]
+#[path = "generated/single.rs"]
+pub mod single;
 
 pub use blocks::{BlocksF, BlocksFT, Drift, Grand, GrandCartesian, Product, STRAIN_BASIS};
 pub use generated::{

@@ -1,13 +1,16 @@
 //! `cargo xtask gen [--check]`: regenerate the committed kernels in
 //! `kernels/src/generated/` from the registry and the scenes in `scenes/`, or (with
 //! `--check`) fail when they are stale. `cargo xtask gen --scene FILE [--out PATH]`:
-//! generate one scene as a standalone module.
+//! generate one scene as a standalone module. `cargo xtask report`: check that the
+//! committed kernels are up to date, then measure and write `report/` ([`report`]).
 
 use anyhow::{bail, Context, Result};
 use kernel_gen::catalog::GeneratedFile;
 use kernel_gen::scene::Scene;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+mod report;
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -17,12 +20,14 @@ fn root() -> PathBuf {
 }
 
 fn usage() -> &'static str {
-    "usage: cargo xtask gen [--check] | cargo xtask gen --scene FILE [--out PATH]\n\
+    "usage: cargo xtask gen [--check] | cargo xtask gen --scene FILE [--out PATH] | cargo xtask report [--quick]\n\
      \n\
      gen                       regenerate kernels/src/generated/ from kernel-gen and scenes/*.toml\n\
      gen --check               exit non-zero if the committed kernels differ from what the generator produces\n\
      gen --scene FILE          generate only what the scene FILE needs, as a standalone module\n\
-                               (default output: target/scenes/<name>.rs)"
+                               (default output: target/scenes/<name>.rs)\n\
+     report                    check the committed kernels (as gen --check), then measure them and the solver and\n\
+                               write report/REPORT.md with its plots (deleted and recreated); --quick: a reduced sample"
 }
 
 /// Names of the registered Green's functions.
@@ -49,7 +54,7 @@ fn read_scene(path: &Path) -> Result<Scene> {
 }
 
 /// Every scene in `scenes/`, in file-name order.
-fn scenes() -> Result<Vec<Scene>> {
+pub(crate) fn scenes() -> Result<Vec<Scene>> {
     let dir = root().join("scenes");
     let mut paths: Vec<PathBuf> = std::fs::read_dir(&dir)
         .with_context(|| format!("reading {}", dir.display()))?
@@ -157,6 +162,25 @@ fn gen(check: bool) -> Result<()> {
     Ok(())
 }
 
+/// `cargo xtask report [--quick]`.
+fn run_report(quick: bool) -> Result<()> {
+    gen(true)?;
+    let out = root().join("report");
+    let cfg = if quick {
+        report::Config::quick(out)
+    } else {
+        report::Config::full(out)
+    };
+    let t0 = Instant::now();
+    let path = report::run(cfg)?;
+    println!(
+        "wrote {} in {:.1} s",
+        path.display(),
+        t0.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args
@@ -169,6 +193,8 @@ fn main() -> Result<()> {
         ["gen", "--check"] => gen(true),
         ["gen", "--scene", file] => gen_scene(Path::new(file), None),
         ["gen", "--scene", file, "--out", out] => gen_scene(Path::new(file), Some(Path::new(out))),
+        ["report"] => run_report(false),
+        ["report", "--quick"] => run_report(true),
         ["help"] | ["--help"] | ["-h"] | [] => {
             println!("{}", usage());
             Ok(())

@@ -1,0 +1,279 @@
+//! Section d, scene pruning: for every scene in `scenes/*.toml`, the operation count of
+//! each generated kernel (as `cargo xtask gen` reports it, from
+//! `kernel_gen::catalog::scene_file`) and its measured time per call, through the
+//! `kernels` crate's dispatch (`pair_f`, `product_f`, `pair_ft`, `product_ft`, ...)
+//! where the scene serves it, or through the scene's generated module directly.
+
+use super::sample::{self, Case, Kind};
+use super::table::{self, Table};
+use super::timing::ns_per_eval;
+use super::{Ctx, Section};
+use anyhow::Result;
+use kernel_gen::green::{Green, Visitor};
+use kernel_gen::scene::{Moments, Radii, Scene};
+use kernels::generated::scene_wall_f_monolayer as monolayer;
+use kernels::Confinement;
+use std::fmt::Write as _;
+use std::hint::black_box;
+
+const ETA: f64 = 1.0;
+
+/// Operation counts of a scene's kernels: `(kernel, flops, far-field flops)`.
+fn op_counts(scene: &Scene) -> Vec<(String, usize, Option<usize>)> {
+    struct One<'a> {
+        scene: &'a Scene,
+        counts: Vec<(String, usize)>,
+    }
+    impl Visitor for One<'_> {
+        fn visit<G: Green>(&mut self, g: &G) {
+            if g.name() == self.scene.confinement {
+                self.counts = kernel_gen::catalog::scene_file(g, self.scene, false).op_counts;
+            }
+        }
+    }
+    let mut one = One {
+        scene,
+        counts: Vec::new(),
+    };
+    kernel_gen::green::for_each(&mut one);
+    let mut out: Vec<(String, usize, Option<usize>)> = Vec::new();
+    for (name, n) in one.counts {
+        match name.strip_suffix(" (far field)") {
+            Some(base) => {
+                if let Some(row) = out.iter_mut().find(|r| r.0 == base) {
+                    row.2 = Some(n);
+                }
+            }
+            None => out.push((name, n, None)),
+        }
+    }
+    out
+}
+
+/// Whether the scene is the one the dispatch uses for its confinement and truncation
+/// (as `kernel_gen::catalog` decides: the first scene in file order with unequal radii,
+/// both outputs, F or FT).
+fn serves(scene: &Scene, all: &[Scene]) -> bool {
+    let ok =
+        |s: &Scene| s.radii == Radii::Unequal && s.dense && s.product && s.moments != Moments::FTS;
+    ok(scene)
+        && all
+            .iter()
+            .find(|s| s.confinement == scene.confinement && s.moments == scene.moments && ok(s))
+            .is_some_and(|s| s.name == scene.name)
+}
+
+/// Time one kernel of a scene (its suffix: `self`, `pair`, `pair_equal`,
+/// `pair_product`, `pair_equal_product`) over `cases`; `None` if there is no way to
+/// call it from here.
+fn time_kernel(
+    ctx: &Ctx,
+    scene: &Scene,
+    serving: bool,
+    suffix: &str,
+    cases: &[(Confinement, Case)],
+) -> Option<f64> {
+    let t = ctx.cfg.min_time;
+    let n = cases.len();
+    let va = [0.3, -0.7, 0.2, 0.5, 0.1, -0.4, 0.9, -0.2, 0.6, 0.05, -0.3];
+    let vb = [-0.5, 0.4, 0.8, -0.1, 0.7, 0.2, -0.6, 0.3, 0.15, -0.8, 0.45];
+    let (v3a, v3b): ([f64; 3], [f64; 3]) = (
+        std::array::from_fn(|k| va[k]),
+        std::array::from_fn(|k| vb[k]),
+    );
+    let (v6a, v6b): ([f64; 6], [f64; 6]) = (
+        std::array::from_fn(|k| va[k]),
+        std::array::from_fn(|k| vb[k]),
+    );
+    let equal = suffix.contains("equal");
+    let ab = |c: &Case| if equal { c.aa } else { c.ab };
+    macro_rules! time {
+        ($f:expr) => {
+            Some(ns_per_eval(t, n, || {
+                for (conf, c) in cases {
+                    let c = black_box(c);
+                    black_box($f(conf, c));
+                }
+            }))
+        };
+    }
+    if serving {
+        return match (scene.moments, suffix) {
+            (Moments::F, "self") => {
+                time!(|conf: &Confinement, c: &Case| kernels::self_f(conf, ETA, c.xa, c.aa))
+            }
+            (Moments::F, "pair" | "pair_equal") => {
+                time!(|conf: &Confinement, c: &Case| kernels::pair_f(
+                    conf,
+                    ETA,
+                    c.xa,
+                    c.aa,
+                    c.xb,
+                    ab(c)
+                ))
+            }
+            (Moments::F, _) => time!(|conf: &Confinement, c: &Case| {
+                kernels::product_f(conf, ETA, c.xa, c.aa, c.xb, ab(c), v3a, v3b)
+            }),
+            (Moments::FT, "self") => {
+                time!(|conf: &Confinement, c: &Case| kernels::self_ft(conf, ETA, c.xa, c.aa))
+            }
+            (Moments::FT, "pair" | "pair_equal") => {
+                time!(|conf: &Confinement, c: &Case| kernels::pair_ft(
+                    conf,
+                    ETA,
+                    c.xa,
+                    c.aa,
+                    c.xb,
+                    ab(c)
+                ))
+            }
+            (Moments::FT, _) => time!(|conf: &Confinement, c: &Case| {
+                kernels::product_ft(conf, ETA, c.xa, c.aa, c.xb, ab(c), v6a, v6b)
+            }),
+            _ => None,
+        };
+    }
+    // scenes the dispatch does not use: their generated modules, one line per scene
+    let height = |conf: &Confinement| conf.params().first().map_or(0.0, |p| p.1);
+    match (scene.name.as_str(), suffix) {
+        ("wall_f_monolayer", "self") => time!(|conf: &Confinement, c: &Case| {
+            monolayer::wall_f_monolayer_self(c.xa, c.aa, ETA, height(conf))
+        }),
+        ("wall_f_monolayer", "pair_equal_product") => time!(|conf: &Confinement, c: &Case| {
+            monolayer::wall_f_monolayer_pair_equal_product(
+                c.xa,
+                c.xb,
+                c.aa,
+                ETA,
+                height(conf),
+                v3a,
+                v3b,
+            )
+        }),
+        _ => None,
+    }
+}
+
+/// Section d.
+pub fn section(ctx: &Ctx) -> Result<Section> {
+    let scenes = crate::scenes()?;
+    ctx.progress.inc_length(scenes.len() as u64);
+    let mut t = Table::new(&[
+        "scene",
+        "confinement",
+        "moments",
+        "kernel",
+        "flops",
+        "flops (lateral far field)",
+        "time per call",
+        "through",
+    ]);
+    let mut untimed = Vec::new();
+    for (k, scene) in scenes.iter().enumerate() {
+        ctx.progress
+            .set_message(format!("scene pruning: {}", scene.name));
+        let params = kernel_params(&scene.confinement);
+        let serving = serves(scene, &scenes);
+        for (name, flops, far) in op_counts(scene) {
+            let suffix = name
+                .strip_prefix(&format!("{}_", scene.name))
+                .unwrap_or(&name)
+                .to_string();
+            let kind = if suffix == "self" {
+                Kind::Single
+            } else if suffix.contains("equal") {
+                Kind::PairEqual
+            } else {
+                Kind::Pair
+            };
+            let cases: Vec<(Confinement, Case)> = sample::cases(
+                &scene.confinement,
+                &params,
+                kind,
+                ctx.cfg.cases,
+                7000 + k as u64,
+            )
+            .into_iter()
+            .map(|c| {
+                (
+                    Confinement::from_name(&scene.confinement, &c.params)
+                        .expect("scene confinement is registered"),
+                    c,
+                )
+            })
+            .collect();
+            let ns = time_kernel(ctx, scene, serving, &suffix, &cases);
+            if ns.is_none() {
+                untimed.push(name.clone());
+            }
+            t.row(vec![
+                scene.name.clone(),
+                scene.confinement.clone(),
+                format!("{:?}", scene.moments),
+                name.clone(),
+                flops.to_string(),
+                far.map_or("-".into(), |f| f.to_string()),
+                ns.map_or("not timed".into(), table::time_ns),
+                if ns.is_none() {
+                    "-".into()
+                } else if serving {
+                    format!("kernels::{}_{}", moments_fn(&suffix), scene.moments.lower())
+                } else {
+                    "generated module".into()
+                },
+            ]);
+        }
+        ctx.progress.inc(1);
+    }
+    let mut body = String::new();
+    writeln!(
+        body,
+        "For every scene in `scenes/*.toml` ({} scenes): the operation count of each generated kernel after pruning and \
+         dead-code elimination, as `cargo xtask gen` prints it (`kernel_gen::catalog::scene_file`; for wall pair kernels also \
+         the lateral far-field branch, taken beyond rho > 100 (h_a + h_b), not in this sample), and the measured time per call \
+         over {} configurations of the scene's confinement (sampling as in section a; equal-radius kernels with one radius), \
+         product kernels with fixed moment vectors. Kernels of scenes that serve the dispatch are called through it \
+         (`kernels::pair_f`, `product_f`, `self_f` and the FT counterparts; equal radii select the equal-radius kernel), \
+         the others through their generated module.\n",
+        scenes.len(),
+        ctx.cfg.cases
+    )?;
+    body.push_str(&t.markdown());
+    if !untimed.is_empty() {
+        writeln!(
+            body,
+            "\nNot timed (no entry point for them in xtask/src/report/scenes.rs yet): {}.",
+            untimed.join(", ")
+        )?;
+    }
+    Ok(Section {
+        title: "d. Scene pruning".into(),
+        body,
+    })
+}
+
+fn moments_fn(suffix: &str) -> &'static str {
+    if suffix == "self" {
+        "self"
+    } else if suffix.contains("product") {
+        "product"
+    } else {
+        "pair"
+    }
+}
+
+/// The run-time parameter names of a registered family.
+fn kernel_params(name: &str) -> Vec<&'static str> {
+    struct Find<'a>(&'a str, Vec<&'static str>);
+    impl Visitor for Find<'_> {
+        fn visit<G: Green>(&mut self, g: &G) {
+            if g.name() == self.0 {
+                self.1 = g.params().to_vec();
+            }
+        }
+    }
+    let mut f = Find(name, Vec::new());
+    kernel_gen::green::for_each(&mut f);
+    f.1
+}
