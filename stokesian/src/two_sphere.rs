@@ -714,7 +714,8 @@ fn build(family: &Family) -> Triangles {
                     Recurrence::AxialRotation => {
                         for s in s_range.clone() {
                             let si = s as i64;
-                            qs += binom[n + s][n] * coef[0][n * w + s]
+                            qs += binom[n + s][n]
+                                * coef[0][n * w + s]
                                 * get(&q_t, s, qi - si - 1, pi - ni);
                         }
                         q_t[idx] = qs;

@@ -17,6 +17,7 @@ pub mod physics;
 pub mod plot;
 pub mod sample;
 pub mod scenes;
+pub mod stiff;
 pub mod table;
 pub mod timing;
 
@@ -96,9 +97,13 @@ pub struct Section {
 /// A section: a function from the shared context to its text.
 pub type SectionFn = fn(&Ctx) -> Result<Section>;
 
-/// The sections of the report, in order. Section c (stiff and extreme cases) is to be
-/// added here once `integration_tests::stiff::stiff_cases()` exists.
-pub const SECTIONS: &[SectionFn] = &[numerics::section, physics::section, scenes::section];
+/// The sections of the report, in order.
+pub const SECTIONS: &[SectionFn] = &[
+    numerics::section,
+    physics::section,
+    stiff::section,
+    scenes::section,
+];
 
 /// Run the whole report into `cfg.out` (deleted and recreated) and return the path of
 /// `REPORT.md`.
