@@ -154,13 +154,19 @@ fn document(sections: &[Section], elapsed: Duration) -> Result<String> {
         rustc_version(),
         elapsed.as_secs_f64()
     )?;
+    // the load the timings were taken under (this run itself keeps one core busy)
+    let load = std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|t| t.split_whitespace().next().map(str::to_string))
+        .unwrap_or_else(|| "unknown".to_string());
     writeln!(
         s,
         "Timing throughout: a plain loop over a fixed set of inputs, one warm-up pass, then \
          repeated passes until at least a minimum wall time has elapsed, inputs and outputs \
          passed through `std::hint::black_box`; single-threaded; the figure is wall time per \
-         evaluation. The machine was shared with other work, so timings carry noise of the \
-         order of 10-20%.\n"
+         evaluation. Load average over the last minute when the report was written: {load} \
+         (the run itself accounts for about 1); under other load, timings carry noise of \
+         10-20%.\n"
     )?;
     for sec in sections {
         let anchor: String = sec
