@@ -6,6 +6,7 @@
 //! as printed and as corrected).
 
 pub mod closed_forms;
+pub mod configurations;
 pub mod exact;
 pub mod paper;
 pub mod stiff;

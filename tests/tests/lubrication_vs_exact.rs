@@ -13,34 +13,20 @@
 //! neglected terms are O(xi^2 ln xi). Beyond the cutoffs Eq. 19 falls back on the
 //! far-field FT mobility; those errors are printed and stated in README.
 
+use integration_tests::configurations::{
+    equal_pair, pair_functions_of, sphere_above_wall, wall_functions_of,
+};
 use integration_tests::exact::{
     brenner_xa_wall, jeffery_xc_wall, oneill_parallel, rotation_parallel, two_sphere_xa,
     two_sphere_xc,
 };
-use std::f64::consts::PI;
-use stokesian::{Confinement, Lubrication, Moments, Particle, System};
+use stokesian::{Lubrication, Moments};
 
 fn one_sphere(h: f64) -> [f64; 5] {
-    let s = System::new(
-        Confinement::Wall { height: 0.0 },
-        1.0,
-        vec![Particle {
-            x: [0.0, 0.0, h],
-            a: 1.0,
-        }],
-        false,
-    )
-    .unwrap();
-    let r = s.resistance(Moments::FT, &Lubrication::default()).unwrap();
-    // X^A, Y^A (per 6 pi eta a), F^r (per 6 pi eta a^2; R_{Ly,Ux} = -6 pi eta a^2 F^r),
-    // Y^C, X^C (per 8 pi eta a^3)
-    [
-        r[(2, 2)] / (6.0 * PI),
-        r[(0, 0)] / (6.0 * PI),
-        -r[(4, 0)] / (6.0 * PI),
-        r[(3, 3)] / (8.0 * PI),
-        r[(5, 5)] / (8.0 * PI),
-    ]
+    let r = sphere_above_wall(h)
+        .resistance(Moments::FT, &Lubrication::default())
+        .unwrap();
+    wall_functions_of(&r).map(|v| v.expect("FT has every function"))
 }
 
 fn exact_wall(h: f64) -> [f64; 5] {
@@ -109,25 +95,13 @@ fn one_sphere_near_a_wall_against_exact_series() {
     }
 }
 
-/// Two equal unit spheres in unbounded fluid at gap `xi`: Eq. 19's FT resistance.
-fn pair_resistance(xi: f64) -> nalgebra::DMatrix<f64> {
-    let s = System::new(
-        Confinement::Free,
-        1.0,
-        vec![
-            Particle {
-                x: [0.0; 3],
-                a: 1.0,
-            },
-            Particle {
-                x: [2.0 + xi, 0.0, 0.0],
-                a: 1.0,
-            },
-        ],
-        false,
-    )
-    .unwrap();
-    s.resistance(Moments::FT, &Lubrication::default()).unwrap()
+/// Two equal unit spheres in unbounded fluid at gap `xi`: Eq. 19's FT resistance
+/// functions, in the order of `pair_functions_of`.
+fn pair_functions(xi: f64) -> [f64; 10] {
+    let r = equal_pair(xi)
+        .resistance(Moments::FT, &Lubrication::default())
+        .unwrap();
+    pair_functions_of(&r).map(|v| v.expect("FT has every function"))
 }
 
 /// Along and about the line of centres, against the exact bispherical solutions
@@ -141,14 +115,14 @@ fn two_equal_spheres_along_the_line_of_centres() {
     println!("xi        X11A       X12A       X11C       X12C");
     let mut worst = [0.0f64; 4];
     for xi in [1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0] {
-        let r = pair_resistance(xi);
+        let f = pair_functions(xi);
         let (xa11, xa12) = two_sphere_xa(xi);
         let (xc11, xc12) = two_sphere_xc(xi);
         let e = [
-            (r[(0, 0)] / (6.0 * PI) / xa11 - 1.0).abs(),
-            (r[(0, 3)] / (6.0 * PI) / xa12 - 1.0).abs(),
-            (r[(6, 6)] / (8.0 * PI) / xc11 - 1.0).abs(),
-            (r[(6, 9)] / (8.0 * PI) / xc12 - 1.0).abs(),
+            (f[0] / xa11 - 1.0).abs(),
+            (f[1] / xa12 - 1.0).abs(),
+            (f[2] / xc11 - 1.0).abs(),
+            (f[3] / xc12 - 1.0).abs(),
         ];
         println!(
             "{xi:<9} {:>10.2e} {:>10.2e} {:>10.2e} {:>10.2e}",
@@ -178,16 +152,10 @@ fn two_equal_spheres_along_the_line_of_centres() {
 /// cutoff (s' >= 4) Eq. 19 is the far-field inverse: printed, not asserted.
 #[test]
 fn two_equal_spheres_across_the_line_of_centres() {
-    // R entries for d = e_x: A_yy, B_zy = -Y^B (R_LU), C_yy; "11" (0,0) and "12" (0,1)
-    let functions = |r: &nalgebra::DMatrix<f64>| {
-        [
-            r[(1, 1)] / (6.0 * PI),
-            r[(1, 4)] / (6.0 * PI),
-            -r[(8, 1)] / (4.0 * PI),
-            -r[(8, 4)] / (4.0 * PI),
-            r[(7, 7)] / (8.0 * PI),
-            r[(7, 10)] / (8.0 * PI),
-        ]
+    // Y11A, Y12A, Y11B, Y12B, Y11C, Y12C: entries 4.. of pair_functions
+    let functions = |xi: f64| -> [f64; 6] {
+        let f = pair_functions(xi);
+        std::array::from_fn(|k| f[4 + k])
     };
     const NAMES: [&str; 6] = ["Y11A", "Y12A", "Y11B", "Y12B", "Y11C", "Y12C"];
     for xi in [1e-4f64, 1e-3] {
@@ -200,7 +168,7 @@ fn two_equal_spheres_across_the_line_of_centres() {
             l / 5.0 + 0.7028 + 47.0 / 250.0 * xi * l,
             l / 20.0 - 0.0274 + 31.0 / 500.0 * xi * l,
         ];
-        let got = functions(&pair_resistance(xi));
+        let got = functions(xi);
         for k in 0..6 {
             let e = (got[k] - near[k]).abs();
             println!(
@@ -221,7 +189,7 @@ fn two_equal_spheres_across_the_line_of_centres() {
     assert_eq!(pairs.len(), 8, "lambda = 1: s' = 2.025 ... 4.5");
     for (s_bits, v) in pairs {
         let s_dash = f64::from_bits(s_bits);
-        let got = functions(&pair_resistance(s_dash - 2.0));
+        let got = functions(s_dash - 2.0);
         let want = [v[0][0], v[1][0], v[0][1], v[1][1], v[0][2], v[1][2]];
         for k in 0..6 {
             let e = (got[k] / want[k] - 1.0).abs();

@@ -11,15 +11,17 @@ use super::table::{self, Table};
 use super::timing::ns_per_eval;
 use super::{plot, Ctx, Section};
 use anyhow::{anyhow, Context, Result};
+use integration_tests::configurations::{
+    equal_pair, pair_functions_of, sphere_above_wall, wall_functions_of,
+};
 use nalgebra::DMatrix;
-use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::hint::black_box;
 use stokesian::exact::{
     brenner_xa_wall, jeffery_xc_wall, oneill_parallel, rotation_parallel, two_sphere_xa,
     two_sphere_xc,
 };
-use stokesian::{Confinement, Lubrication, Moments, Particle, System};
+use stokesian::{Lubrication, Moments, System};
 
 /// A truncation level, with or without lubrication.
 #[derive(Clone, Copy, Debug)]
@@ -108,7 +110,7 @@ struct Case {
     /// Exact values at a sweep parameter.
     exact: fn(f64) -> Result<Vec<f64>>,
     /// The functions from a resistance (FT layout), `None` where the level lacks them.
-    read: fn(&DMatrix<f64>, Moments) -> Vec<Option<f64>>,
+    read: fn(&DMatrix<f64>) -> Vec<Option<f64>>,
     /// Whether a sweep parameter lies inside the default lubrication cutoff.
     inside: fn(f64) -> bool,
 }
@@ -116,20 +118,8 @@ struct Case {
 fn sphere_wall(sweep: usize) -> Result<Case> {
     let systems = geometric(1e-3, 9.0, sweep)
         .into_iter()
-        .map(|eps| {
-            let h = 1.0 + eps;
-            let s = System::new(
-                Confinement::Wall { height: 0.0 },
-                1.0,
-                vec![Particle {
-                    x: [0.0, 0.0, h],
-                    a: 1.0,
-                }],
-                false,
-            )?;
-            Ok((h, s))
-        })
-        .collect::<Result<Vec<_>>>()?;
+        .map(|eps| (1.0 + eps, sphere_above_wall(1.0 + eps)))
+        .collect();
     Ok(Case {
         name: "one sphere and a wall",
         functions: vec!["X^A_w", "Y^A_w", "F^r", "Y^C_w", "X^C_w"],
@@ -141,41 +131,15 @@ fn sphere_wall(sweep: usize) -> Result<Case> {
             Ok(vec![brenner_xa_wall(h), ya, fr, yc, jeffery_xc_wall(h)])
         },
         inside: |h| h - 1.0 < Lubrication::default().wall_cutoff,
-        read: |r, level| {
-            let ft = level != Moments::F;
-            vec![
-                Some(r[(2, 2)] / (6.0 * PI)),
-                Some(r[(0, 0)] / (6.0 * PI)),
-                ft.then(|| -r[(4, 0)] / (6.0 * PI)),
-                ft.then(|| r[(3, 3)] / (8.0 * PI)),
-                ft.then(|| r[(5, 5)] / (8.0 * PI)),
-            ]
-        },
+        read: |r| wall_functions_of(r).to_vec(),
     })
 }
 
 fn two_spheres(sweep: usize) -> Result<Case> {
     let systems = geometric(1e-3, 3.0, sweep)
         .into_iter()
-        .map(|xi| {
-            let s = System::new(
-                Confinement::Free,
-                1.0,
-                vec![
-                    Particle {
-                        x: [0.0; 3],
-                        a: 1.0,
-                    },
-                    Particle {
-                        x: [2.0 + xi, 0.0, 0.0],
-                        a: 1.0,
-                    },
-                ],
-                false,
-            )?;
-            Ok((xi, s))
-        })
-        .collect::<Result<Vec<_>>>()?;
+        .map(|xi| (xi, equal_pair(xi)))
+        .collect();
     Ok(Case {
         name: "two equal spheres",
         functions: vec![
@@ -193,21 +157,7 @@ fn two_spheres(sweep: usize) -> Result<Case> {
             ])
         },
         inside: |xi| xi < Lubrication::default().pair_cutoff,
-        read: |r, level| {
-            let ft = level != Moments::F;
-            vec![
-                Some(r[(0, 0)] / (6.0 * PI)),
-                Some(r[(0, 3)] / (6.0 * PI)),
-                ft.then(|| r[(6, 6)] / (8.0 * PI)),
-                ft.then(|| r[(6, 9)] / (8.0 * PI)),
-                Some(r[(1, 1)] / (6.0 * PI)),
-                Some(r[(1, 4)] / (6.0 * PI)),
-                ft.then(|| -r[(8, 1)] / (4.0 * PI)),
-                ft.then(|| -r[(8, 4)] / (4.0 * PI)),
-                ft.then(|| r[(7, 7)] / (8.0 * PI)),
-                ft.then(|| r[(7, 10)] / (8.0 * PI)),
-            ]
-        },
+        read: |r| pair_functions_of(r).to_vec(),
     })
 }
 
@@ -237,7 +187,7 @@ fn measure(ctx: &Ctx, case: &Case) -> Result<Vec<Measured>> {
         let mut inside = Vec::new();
         for ((p, sys), want) in case.systems.iter().zip(&exact) {
             let r = m.resistance(sys)?;
-            for (k, got) in (case.read)(&r, m.level).into_iter().enumerate() {
+            for (k, got) in (case.read)(&r).into_iter().enumerate() {
                 if let Some(got) = got {
                     let e = (got / want[k] - 1.0).abs();
                     per_function[k] = Some(per_function[k].map_or(e, |w: f64| w.max(e)));
