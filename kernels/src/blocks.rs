@@ -155,6 +155,38 @@ impl Grand {
     }
 }
 
+/// A Cartesian 3-tensor whose first index pair is a strain or stresslet pair, `t[p][q][j]`,
+/// in the orthonormal basis: `out[m][j] = B_m : t[..][..][j]` (the inverse of the
+/// expansion in [`Grand::cartesian`] on symmetric traceless pairs).
+pub fn basis_rows(t: &[[[f64; 3]; 3]; 3]) -> [[f64; 3]; 5] {
+    std::array::from_fn(|m| std::array::from_fn(|j| contract(m, |p, q| t[p][q][j])))
+}
+
+/// A Cartesian 3-tensor whose last index pair is a strain or stresslet pair, `t[i][k][l]`,
+/// in the orthonormal basis: `out[i][n] = t[i][..][..] : B_n`.
+pub fn basis_cols(t: &[[[f64; 3]; 3]; 3]) -> [[f64; 5]; 3] {
+    std::array::from_fn(|i| std::array::from_fn(|n| contract(n, |k, l| t[i][k][l])))
+}
+
+/// A Cartesian 4-tensor between two strain or stresslet pairs, `t[p][q][k][l]`, in the
+/// orthonormal basis: `out[m][n] = B_m : t : B_n`.
+pub fn basis_both(t: &[[[[f64; 3]; 3]; 3]; 3]) -> [[f64; 5]; 5] {
+    std::array::from_fn(|m| {
+        std::array::from_fn(|n| contract(m, |p, q| contract(n, |k, l| t[p][q][k][l])))
+    })
+}
+
+/// `B_m : f`, `f(p, q)` a Cartesian index pair.
+fn contract(m: usize, f: impl Fn(usize, usize) -> f64) -> f64 {
+    let mut s = 0.0;
+    for p in 0..3 {
+        for q in 0..3 {
+            s += STRAIN_BASIS[m][p][q] * f(p, q);
+        }
+    }
+    s
+}
+
 /// The blocks with Cartesian strain and stresslet indices, as in the paper's
 /// appendices: `us[i][k][l]`, `os[m][k][l]`, `ef[p][q][j]`, `el[p][q][m]`,
 /// `es[p][q][k][l]`.

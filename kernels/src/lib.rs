@@ -29,7 +29,10 @@ pub mod generated;
 #[path = "generated/single.rs"]
 pub mod single;
 
-pub use blocks::{BlocksF, BlocksFT, Drift, Grand, GrandCartesian, Product, STRAIN_BASIS};
+pub use blocks::{
+    basis_both, basis_cols, basis_rows, BlocksF, BlocksFT, Drift, Grand, GrandCartesian, Product,
+    STRAIN_BASIS,
+};
 pub use generated::{
     pair, pair_divergence, pair_equal, pair_f, pair_ft, product_f, product_ft, self_divergence,
     self_f, self_ft, self_mobility, Confinement,

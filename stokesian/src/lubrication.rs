@@ -20,7 +20,7 @@
 
 use crate::assembly::{Moments, System};
 use crate::two_sphere::{PairScalars, PairSeries};
-use kernels::{pair, self_mobility, Confinement};
+use kernels::{basis_both, basis_rows, pair, self_mobility, Confinement};
 use nalgebra::{DMatrix, SMatrix};
 use std::f64::consts::PI;
 use thiserror::Error;
@@ -235,20 +235,21 @@ fn ordered_pair(eta: f64, radius: f64, f: &PairScalars, same: bool, d: [f64; 3])
                     - dj * dl(i, k) * dd
                     + di * dj * dk * dd))
     };
-    let basis = &kernels::STRAIN_BASIS;
-    let contract = |m: usize, t: &dyn Fn(usize, usize) -> f64| {
-        (0..3)
-            .flat_map(|i| (0..3).map(move |j| (i, j)))
-            .map(|(i, j)| basis[m][i][j] * t(i, j))
-            .sum::<f64>()
-    };
+    let g: [[[f64; 3]; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| std::array::from_fn(|k| g3(i, j, k))));
+    let h: [[[f64; 3]; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| std::array::from_fn(|k| h3(i, j, k))));
+    let m: [[[[f64; 3]; 3]; 3]; 3] = std::array::from_fn(|i| {
+        std::array::from_fn(|j| std::array::from_fn(|k| std::array::from_fn(|l| m4(i, j, k, l))))
+    });
+    let (g, h, m) = (basis_rows(&g), basis_rows(&h), basis_both(&m));
     OrderedPair {
         a,
         b,
         c,
-        g: SMatrix::from_fn(|m, k| contract(m, &|i, j| g3(i, j, k))),
-        h: SMatrix::from_fn(|m, k| contract(m, &|i, j| h3(i, j, k))),
-        m: SMatrix::from_fn(|m, n| contract(m, &|i, j| contract(n, &|k, l| m4(i, j, k, l)))),
+        g: SMatrix::from_fn(|r, k| g[r][k]),
+        h: SMatrix::from_fn(|r, k| h[r][k]),
+        m: SMatrix::from_fn(|r, n| m[r][n]),
     }
 }
 

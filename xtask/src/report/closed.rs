@@ -16,7 +16,7 @@
 use integration_tests::closed_forms as cf;
 use integration_tests::paper::corrected as paper;
 use kernel_gen::operators::{isolated, Basis, BLOCKS};
-use kernels::STRAIN_BASIS;
+use kernels::{basis_both, basis_cols, basis_rows};
 use std::f64::consts::PI;
 
 type T2 = [[f64; 3]; 3];
@@ -56,54 +56,6 @@ fn image_pair(xa: [f64; 3], xb: [f64; 3]) -> Image {
     }
 }
 
-/// `EF_{m j} = B_m : EF_{..j}` (strain index first).
-fn strain_rows(t: &T3) -> [[f64; 3]; 5] {
-    std::array::from_fn(|m| {
-        std::array::from_fn(|j| {
-            let mut s = 0.0;
-            for p in 0..3 {
-                for q in 0..3 {
-                    s += STRAIN_BASIS[m][p][q] * t[p][q][j];
-                }
-            }
-            s
-        })
-    })
-}
-
-/// `US_{i m} = US_{i kl} B_m,kl` (stresslet index last).
-fn stresslet_cols(t: &T3) -> [[f64; 5]; 3] {
-    std::array::from_fn(|i| {
-        std::array::from_fn(|m| {
-            let mut s = 0.0;
-            for k in 0..3 {
-                for l in 0..3 {
-                    s += t[i][k][l] * STRAIN_BASIS[m][k][l];
-                }
-            }
-            s
-        })
-    })
-}
-
-fn strain_strain(t: &T4) -> [[f64; 5]; 5] {
-    std::array::from_fn(|m| {
-        std::array::from_fn(|n| {
-            let mut s = 0.0;
-            for p in 0..3 {
-                for q in 0..3 {
-                    for k in 0..3 {
-                        for l in 0..3 {
-                            s += STRAIN_BASIS[m][p][q] * t[p][q][k][l] * STRAIN_BASIS[n][k][l];
-                        }
-                    }
-                }
-            }
-            s
-        })
-    })
-}
-
 fn transpose<const R: usize, const C: usize>(m: &[[f64; C]; R]) -> [[f64; R]; C] {
     std::array::from_fn(|j| std::array::from_fn(|i| m[i][j]))
 }
@@ -119,12 +71,12 @@ fn assemble(ab: &Image, ba: &Image, a: f64, eta: f64) -> Vec<f64> {
     let uf = scaled(ab.uf, n(1));
     let of = scaled(ab.of, n(2));
     let ol = scaled(ab.ol, n(3));
-    let ef = scaled(strain_rows(&ab.ef), n(2));
-    let el = scaled(strain_rows(&ab.el), n(3));
-    let es = scaled(strain_strain(&ab.es), n(3));
+    let ef = scaled(basis_rows(&ab.ef), n(2));
+    let el = scaled(basis_rows(&ab.el), n(3));
+    let es = scaled(basis_both(&ab.es), n(3));
     let ul = transpose(&scaled(ba.of, n(2)));
-    let us = transpose(&scaled(strain_rows(&ba.ef), n(2)));
-    let os = transpose(&scaled(strain_rows(&ba.el), n(3)));
+    let us = transpose(&scaled(basis_rows(&ba.ef), n(2)));
+    let os = transpose(&scaled(basis_rows(&ba.el), n(3)));
     let mut v = Vec::with_capacity(121);
     let mut push = |rows: &[&[f64]]| rows.iter().for_each(|r| v.extend_from_slice(r));
     push(&uf.iter().map(|r| &r[..]).collect::<Vec<_>>());
@@ -170,13 +122,13 @@ pub fn pair_blocks(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Vec<f64> {
     let mut push = |rows: &[&[f64]]| rows.iter().for_each(|r| free.extend_from_slice(r));
     let uf = cf::uf(r, a, a, eta);
     let ul = cf::ul(r, a, a, eta);
-    let us = stresslet_cols(&cf::us(r, a, a, eta));
+    let us = basis_cols(&cf::us(r, a, a, eta));
     let of = cf::of(r, a, a, eta);
     let ol = cf::ol(r, a, a, eta);
-    let os = stresslet_cols(&cf::os(r, a, a, eta));
-    let ef = strain_rows(&cf::ef(r, a, a, eta));
-    let el = strain_rows(&cf::el(r, a, a, eta));
-    let es = strain_strain(&cf::es(r, a, a, eta));
+    let os = basis_cols(&cf::os(r, a, a, eta));
+    let ef = basis_rows(&cf::ef(r, a, a, eta));
+    let el = basis_rows(&cf::el(r, a, a, eta));
+    let es = basis_both(&cf::es(r, a, a, eta));
     push(&uf.iter().map(|r| &r[..]).collect::<Vec<_>>());
     push(&ul.iter().map(|r| &r[..]).collect::<Vec<_>>());
     push(&us.iter().map(|r| &r[..]).collect::<Vec<_>>());
