@@ -80,10 +80,11 @@
 //! The series are summed to `m <= TRUNCATION` (= 200). The coefficient tables (`P, V, Q`
 //! over `n + p + q <= TRUNCATION + 2`) do not depend on `lambda`; they are built once per
 //! family on first use (`OnceLock`, the families in parallel threads) and reduced to the
-//! `O(TRUNCATION^2)` numbers `R_{k, m-q, q}`: about 5.5 s of CPU for all seven families,
-//! 2.7 s for the four force-torque ones, and ~30 MB transient memory per family. A
-//! [`PairSeries`] for one `lambda` costs ~0.5 ms; each evaluation at a separation ~4 us
-//! and no allocation (test `cost_of_tables_and_calls`).
+//! `O(TRUNCATION^2)` numbers `R_{k, m-q, q}`: about 10 s of CPU (5.7 s of wall time on
+//! 2 cores) for all seven families, roughly half for the four force-torque ones, and
+//! ~30 MB transient memory per family. A [`PairSeries`] for one `lambda` costs ~0.6 ms;
+//! each evaluation at a separation ~4.4 us and no allocation (test
+//! `cost_of_tables_and_calls`).
 //!
 //! The neglected remainder is largest at contact. For `lambda` near 1 the remainders
 //! oscillate in sign with amplitude `~10-200/m^3` (largest for `M`), so the contact
