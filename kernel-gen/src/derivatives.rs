@@ -14,6 +14,18 @@
 //!   those derivatives before it is built. (Writing `J` through `1/r` alone,
 //!   `J_ab = delta_ab/r - R_a d_b(1/r)`, needs one order less but the factors `R_a`
 //!   cost more than they save: measured 9698 vs 8941 flops for the wall FTS pair.)
+//!   Where the image cancels the Stokeslet as the source touches its plane
+//!   ([`Green::cancelling_image`], the wall), each free-space atom is rewritten
+//!   `d^nu phi(r) = d^nu phi(R) - d^nu [phi(R) - phi(r)]`: the first part joins the
+//!   image's atoms at `R` with exactly summed coefficients (the orders that cancel in
+//!   exact arithmetic cancel there, as small-integer sums), and the difference is one
+//!   more jet per potential, evaluated without cancellation from
+//!   `|R|^2 - |r|^2 = 4 h f` (`h = y3 - H`, `f = x3 - H`):
+//!   `|R| - |r| = 4 h f / (|R| + |r|)`, `1/|R| - 1/|r| = -(|R| - |r|)/(|R| |r|)`, as jets
+//!   in `x`. The direct sum of `J(r)` and `-J(R)` instead loses `rho^2/(h f)` at lateral
+//!   distance `rho`; what the rewrite leaves is the cancellation between the image's
+//!   terms of order `h`, about `rho / f` (stiff cases: `tests/tests/stiff_cases.rs`).
+//!   [`Structured::direct_sum`] keeps the plain sum (the stiff cases' reference).
 //!   With `explicit_height = false` the `s > 0` terms are dropped: the image is
 //!   differentiated as a function of `x - y'` only, the error the paper attributes to
 //!   Bossis, Meunier & Sherwood (Sec. III A). It exists to demonstrate that error.
@@ -46,7 +58,8 @@ pub enum Potential {
 /// `d^nu phi` of a potential at one expansion centre, with `nu_3 <= 1` after reduction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Atom {
-    /// 0: the free-space separation `r = x - y`; `1 + t`: `R` of mirror plane `t`.
+    /// 0: the free-space separation `r = x - y`; `1 + t`: `R` of mirror plane `t`;
+    /// `1 + n + t` (`n` planes): the difference `phi(R) - phi(r)` for plane `t`.
     pub centre: usize,
     /// Which potential.
     pub pot: Potential,
@@ -108,6 +121,11 @@ pub struct Structured<S> {
     include_free: bool,
     terms: Vec<ImageTerm>,
     heights: Vec<S>,
+    /// `x3 - H` per plane.
+    field_heights: Vec<S>,
+    /// The image `(plane, weight)` that absorbs the free-space atoms, with the
+    /// difference evaluated apart (see the module documentation).
+    cancel: Option<(usize, usize)>,
     weights: Vec<S>,
     explicit_height: bool,
     degree: usize,
@@ -131,7 +149,7 @@ impl<S: Scalar> Structured<S> {
             .image_terms()
             .expect("the structured path needs a Green's function with image terms");
         let degree = order + g.image_extra_order() + 2;
-        Self::with_terms(
+        let mut s = Self::with_terms(
             terms,
             x,
             y,
@@ -140,7 +158,18 @@ impl<S: Scalar> Structured<S> {
             degree,
             include_free,
             explicit_height,
-        )
+        );
+        if include_free {
+            s.cancel = g.cancelling_image();
+        }
+        s
+    }
+
+    /// The plain direct sum of the Stokeslet and its image, without the rewrite into
+    /// an exactly evaluated difference: the reference of the stiff cases.
+    pub fn direct_sum(mut self) -> Self {
+        self.cancel = None;
+        self
     }
 
     /// As [`Structured::new`], from the image terms, the planes' heights and the
@@ -160,7 +189,9 @@ impl<S: Scalar> Structured<S> {
         let r: [S; 3] = std::array::from_fn(|k| x[k].clone() - y[k].clone());
         let mut centres = vec![r];
         let mut heights = Vec::new();
+        let mut field_heights = Vec::new();
         for hp in planes {
+            field_heights.push(x[2].clone() - hp.clone());
             let h = y[2].clone() - hp;
             centres.push([
                 x[0].clone() - y[0].clone(),
@@ -174,6 +205,8 @@ impl<S: Scalar> Structured<S> {
             include_free,
             terms,
             heights,
+            field_heights,
+            cancel: None,
             weights,
             explicit_height,
             degree,
@@ -204,6 +237,13 @@ impl<S: Scalar> Structured<S> {
     /// polynomial in `e`. Homogeneity scales it back: `d^nu phi(R) = |R|^(p - n)
     /// d^nu phi(e)` for `phi = |R|^p`, `n = |nu|`.
     fn jet(&mut self, centre: usize, pot: Potential) -> &Jet<S> {
+        if let Some(t) = self.difference_plane(centre) {
+            if !self.jets.contains_key(&(centre, pot)) {
+                let d = self.difference_jet(t, pot);
+                self.jets.insert((centre, pot), d);
+            }
+            return &self.jets[&(centre, pot)];
+        }
         let degree = self.degree;
         let (_, _, e) = self.unit(centre);
         self.jets.entry((centre, pot)).or_insert_with(|| {
@@ -220,6 +260,80 @@ impl<S: Scalar> Structured<S> {
                 Potential::InvR => s.powf(-0.5, S::cst(1.0)),
             }
         })
+    }
+
+    /// The plane `t` of a difference centre `1 + n + t`.
+    fn difference_plane(&self, centre: usize) -> Option<usize> {
+        centre.checked_sub(self.centres.len())
+    }
+
+    /// The centre whose `|R|` scales an atom: a difference is scaled as its image.
+    fn scaling_centre(&self, centre: usize) -> usize {
+        match self.difference_plane(centre) {
+            Some(t) => 1 + t,
+            None => centre,
+        }
+    }
+
+    /// Jet of `[phi(R + d) - phi(r + d)] / |R|^p` in `d / |R|` about 0, for plane `t`,
+    /// without cancellation. With `L = |R|`, `s_R = |e_R + d|^2` (the image's own jet)
+    /// and `s_r = |r/L + d|^2`, `s_R - s_r = 4 h f / L^2 + 4 (h / L) d_3` exactly, so
+    /// `sqrt(s_R) - sqrt(s_r) = (s_R - s_r) / (sqrt(s_R) + sqrt(s_r))` and
+    /// `1/sqrt(s_R) - 1/sqrt(s_r) = -(sqrt(s_R) - sqrt(s_r)) / (sqrt(s_R) sqrt(s_r))`.
+    fn difference_jet(&mut self, t: usize, pot: Potential) -> Jet<S> {
+        let big = self.jet(1 + t, Potential::R).clone();
+        let (_, inv, _) = self.unit(1 + t);
+        let (small_norm, _, _) = self.unit(0);
+        let l = Layout::get(3, self.degree);
+        let d: [Jet<S>; 3] = std::array::from_fn(|k| Jet::variable(&l, k, S::cst(0.0)));
+        let q = small_norm * inv.clone();
+        let mut s = Jet::constant(q.clone() * q.clone());
+        for (k, dk) in d.iter().enumerate() {
+            let e = self.centres[0][k].clone() * inv.clone();
+            s = s + Jet::constant(S::cst(2.0) * e) * dk.clone() + dk.clone() * dk.clone();
+        }
+        let small = s.powf(0.5, q);
+        let h4 = S::cst(4.0) * self.heights[t].clone() * inv.clone();
+        let gap = Jet::constant(h4.clone() * self.field_heights[t].clone() * inv)
+            + Jet::constant(h4) * d[2].clone();
+        let dr = gap / (big.clone() + small.clone());
+        match pot {
+            Potential::R => dr,
+            Potential::InvR => -(dr / (big * small)),
+        }
+    }
+
+    /// Where the image cancels the Stokeslet, move every free-space atom to the image
+    /// centre and its difference: `c d^nu phi(r) = c d^nu phi(R) - c d^nu [phi(R) -
+    /// phi(r)]`, into the image's group of factor `weight * h^0` (weight exactly 1).
+    fn absorb_free(&self, groups: &mut BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>>) {
+        let Some((plane, weight)) = self.cancel else {
+            return;
+        };
+        let free: Vec<_> = groups
+            .keys()
+            .filter(|k| k.2 == Factor::Free)
+            .copied()
+            .collect();
+        for key in free {
+            let atoms = groups.remove(&key).expect("listed key");
+            let to = (
+                key.0,
+                key.1,
+                Factor::Image {
+                    plane,
+                    weight,
+                    q: 0,
+                },
+            );
+            let group = groups.entry(to).or_default();
+            for (a, c) in atoms {
+                debug_assert_eq!(a.centre, 0, "free-space atoms are at r");
+                let at = |centre| Atom { centre, ..a };
+                *group.entry(at(1 + plane)).or_insert(0.0) += c;
+                *group.entry(at(self.centres.len() + plane)).or_insert(0.0) -= c;
+            }
+        }
     }
 
     /// `d^nu phi(e)`: the atom without its factor `|R|^(p - n)`.
@@ -327,7 +441,8 @@ impl<S: Scalar> Structured<S> {
                 Potential::R => 1,
                 Potential::InvR => -1,
             };
-            let v = self.inv_norm_pow(centre, n as i32 - p) * sum;
+            let scaling = self.scaling_centre(centre);
+            let v = self.inv_norm_pow(scaling, n as i32 - p) * sum;
             acc = Some(match acc {
                 None => v,
                 Some(s) => s + v,
@@ -374,6 +489,7 @@ impl<S: Scalar> Derivatives<S> for Structured<S> {
         for ((f, a), c) in m {
             *groups.entry((0, 0, f)).or_default().entry(a).or_insert(0.0) += c;
         }
+        self.absorb_free(&mut groups);
         let one = S::cst(1.0);
         self.evaluate(groups, &one, &one)
     }
@@ -391,6 +507,7 @@ impl<S: Scalar> Derivatives<S> for Structured<S> {
                     .or_insert(0.0) += c;
             }
         }
+        self.absorb_free(&mut groups);
         self.evaluate(groups, aa2, ab2)
     }
 }

@@ -144,18 +144,21 @@ fn fields(outputs: &[BlockOut], name: &[Option<TokenStream>]) -> Vec<TokenStream
         .collect()
 }
 
-/// Emit one kernel function. With a far branch: the nodes of the switch condition
-/// first, then `if lhs > rhs { far branch; return }`, then the direct sum; each
-/// branch computes only what it needs.
+/// Emit one kernel function. The nodes of the conditions first; with an exchange of
+/// roles ([`crate::scene::Swap`]), `if lhs > rhs { return` the kernel called with the
+/// particles exchanged, its outputs transposed `}`; with a far branch,
+/// `if lhs > rhs { far branch; return }`; then the direct sum. Each branch computes
+/// only what it needs.
 pub fn function(k: &KernelFn) -> TokenStream {
     let g = &k.traced.graph;
     let outputs = k.traced.output_ids();
     let far_ids = k.traced.far_ids();
     let cond: Vec<Id> = k
         .traced
-        .far
+        .swap
         .iter()
-        .flat_map(|f| f.condition_ids())
+        .flat_map(|w| [w.cond.0, w.cond.1])
+        .chain(k.traced.far.iter().flat_map(|f| f.condition_ids()))
         .collect();
     let near_all: Vec<Id> = outputs.iter().chain(&cond).copied().collect();
     let far_all: Vec<Id> = far_ids.iter().chain(&cond).copied().collect();
@@ -216,6 +219,60 @@ pub fn function(k: &KernelFn) -> TokenStream {
 
     let fields = fields(&k.traced.outputs, &name);
     let ctor = TokenStream::from_str(&k.ctor).expect("constructor");
+    let fname = ident(&k.name);
+    let swap_code = match &k.traced.swap {
+        None => quote!(),
+        Some(w) => {
+            let l = name[w.cond.0 as usize].clone().expect("condition named");
+            let r = name[w.cond.1 as usize].clone().expect("condition named");
+            let call_args: Vec<Ident> = w
+                .args
+                .iter()
+                .map(|&j| ident(&k.traced.args[j].name))
+                .collect();
+            // every entry of the exchanged evaluation, in output order
+            let entries: Vec<TokenStream> = k
+                .traced
+                .outputs
+                .iter()
+                .flat_map(|b| {
+                    let f = ident(&b.name);
+                    (0..b.ids.len()).map(move |p| {
+                        let mut idx = Vec::new();
+                        let mut rest = p;
+                        for (d, _) in b.shape.iter().enumerate() {
+                            let inner: usize = b.shape[d + 1..].iter().product();
+                            idx.push(Literal::usize_unsuffixed(rest / inner));
+                            rest %= inner;
+                        }
+                        quote!(exchanged.#f #([#idx])*)
+                    })
+                })
+                .collect();
+            let mut at = 0;
+            let swapped_fields: Vec<TokenStream> = k
+                .traced
+                .outputs
+                .iter()
+                .map(|b| {
+                    let f = ident(&b.name);
+                    let vals: Vec<TokenStream> = w.outputs[at..at + b.ids.len()]
+                        .iter()
+                        .map(|&q| entries[q].clone())
+                        .collect();
+                    at += b.ids.len();
+                    let arr = nest(&vals, &b.shape);
+                    quote!(#f: #arr)
+                })
+                .collect();
+            quote! {
+                if #l > #r {
+                    let exchanged = #fname(#(#call_args),*);
+                    return #ctor { #(#swapped_fields),* };
+                }
+            }
+        }
+    };
     let far_code = match far_branch {
         None => quote!(),
         Some((tests, far_stmts, far_fields)) => quote! {
@@ -240,6 +297,15 @@ pub fn function(k: &KernelFn) -> TokenStream {
         let far_count = g.op_count(&far_all);
         doc.push(format!("{}: {far_count}.", f.doc));
     }
+    if k.traced.swap.is_some() {
+        doc.push(
+            "Where particle b is higher above the wall than particle a, the kernel is \
+             evaluated with the particles exchanged and its result transposed (the \
+             mobility is symmetric): the direct sum then keeps its accuracy at any ratio \
+             of the heights (kernel_gen::scene::Swap)."
+                .into(),
+        );
+    }
     let doc_attrs: Vec<TokenStream> = doc
         .iter()
         .map(|d| {
@@ -247,7 +313,6 @@ pub fn function(k: &KernelFn) -> TokenStream {
             quote!(#[doc = #d])
         })
         .collect();
-    let fname = ident(&k.name);
     let ret = TokenStream::from_str(&k.ret).expect("return type");
     quote! {
         #(#doc_attrs)*
@@ -255,6 +320,7 @@ pub fn function(k: &KernelFn) -> TokenStream {
         pub fn #fname(#(#params),*) -> #ret {
             #(#unused)*
             #(#pre)*
+            #swap_code
             #far_code
             #(#stmts)*
             #ctor { #(#fields),* }

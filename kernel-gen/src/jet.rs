@@ -9,9 +9,11 @@
 //!
 //! Each primitive is one rule, from the Cauchy product `(ab)_m = sum_{i+j=m} a_i b_j`:
 //! - product: the Cauchy product;
-//! - quotient `c = a/b`: from `b c = a`, `c_m = (a_m - sum_{i != 0} b_i c_{m-i}) / b_0`;
+//! - quotient `c = a/b`: from `b c = a`, `c_m = (a_m - sum_{i != 0} b_i c_{m-i}) / b_0`
+//!   (`1/b_0` formed once);
 //! - reciprocal: the quotient with `a = 1`;
-//! - square root `c^2 = a`: `c_m = (a_m - sum_{i,j != 0} c_i c_j) / (2 c_0)`;
+//! - square root `c^2 = a`: `c_m = (a_m - sum_{i,j != 0} c_i c_j) / (2 c_0)` (`1/(2 c_0)`
+//!   formed once);
 //! - power `c = a^alpha` (real alpha): from `a d_v c = alpha c d_v a` along a variable
 //!   `v` with `m_v > 0`: `c_m = sum_{i != 0} (alpha i_v - (m-i)_v) a_i c_{m-i} / (m_v a_0)`;
 //! - integer powers: binary powering by products for `n >= 0`, the power rule below 0.
@@ -280,8 +282,11 @@ impl<S: Scalar> Jet<S> {
         };
         let (x, y) = (a.promote(&l), b.promote(&l));
         // c is filled in graded order; the sums only read entries already computed.
+        // One division for the value, one reciprocal for every higher coefficient.
         let mut c: Vec<S> = vec![S::cst(0.0); l.len()];
-        for m in 0..l.len() {
+        c[0] = x[0].clone() / y[0].clone();
+        let inv_b0 = y[0].recip();
+        for m in 1..l.len() {
             let s = Self::cauchy_sum(&l, m, &y, &c, |i, _| i != 0, |_, _| (1.0, 1.0));
             let num = match s {
                 None => x[m].clone(),
@@ -290,7 +295,7 @@ impl<S: Scalar> Jet<S> {
             c[m] = if num.is_known_zero() {
                 num
             } else {
-                num / y[0].clone()
+                num * inv_b0.clone()
             };
         }
         Jet { layout: Some(l), c }
@@ -304,7 +309,7 @@ impl<S: Scalar> Jet<S> {
         let x = &self.c;
         let mut c: Vec<S> = vec![S::cst(0.0); l.len()];
         c[0] = x[0].sqrt();
-        let two_c0 = S::cst(2.0) * c[0].clone();
+        let inv_two_c0 = (S::cst(2.0) * c[0].clone()).recip();
         for m in 1..l.len() {
             let s = Self::cauchy_sum(&l, m, &c, &c, |i, j| i != 0 && j != 0, |_, _| (1.0, 1.0));
             let num = match s {
@@ -314,7 +319,7 @@ impl<S: Scalar> Jet<S> {
             c[m] = if num.is_known_zero() {
                 num
             } else {
-                num / two_c0.clone()
+                num * inv_two_c0.clone()
             };
         }
         Jet { layout: Some(l), c }

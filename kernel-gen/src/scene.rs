@@ -30,6 +30,10 @@ pub enum Interaction {
 pub enum Path {
     /// Jets of the Stokeslet in `r` and of each image term in `R`, Eq. 10 (production).
     Structured,
+    /// The same, but the Stokeslet and its image summed directly, without the exactly
+    /// evaluated difference ([`Structured::direct_sum`]) and without the generator's
+    /// other branches: the reference of the stiff cases, and their "before".
+    StructuredDirectSum,
     /// The same, but the image is differentiated as a function of `x - y'` only
     /// (Bossis et al.; wrong, asymmetric: Sec. III A).
     StructuredNoExplicitHeight,
@@ -122,6 +126,27 @@ pub struct Traced {
     pub order: usize,
     /// The lateral far-field branch ([`crate::farfield`]), where it applies.
     pub far: Option<FarBranch>,
+    /// The exchange of the particles' roles, where it applies ([`Swap`]).
+    pub swap: Option<Swap>,
+}
+
+/// The reciprocal evaluation of a wall pair kernel: `M^{ab} = (M^{ba})^T` (the grand
+/// mobility is symmetric, Eq. 10), so where the source particle `b` is farther from
+/// the cancelling plane than the field particle `a`, the kernel is evaluated with the
+/// roles exchanged and its outputs transposed. The direct sum's leftover cancellation
+/// (between the image's terms of first order in the source height, see
+/// [`crate::derivatives`]) is then `rho / h_max`, bounded by the far-field switch,
+/// instead of `rho / h_min`, which is not.
+pub struct Swap {
+    /// Exchange where `lhs > rhs`: the source's height over the plane, the field's.
+    pub cond: (Id, Id),
+    /// For each graph input, the input passed in its place.
+    pub inputs: Vec<usize>,
+    /// For each argument, the argument passed in its place.
+    pub args: Vec<usize>,
+    /// For each output entry (flattened in output order), the entry of the exchanged
+    /// evaluation it equals.
+    pub outputs: Vec<usize>,
 }
 
 /// A second set of outputs, taken where every condition `lhs > rhs` holds (the switch
@@ -163,6 +188,17 @@ impl Traced {
             .collect()
     }
 
+    /// Whether the roles are exchanged for these inputs (as the emitted code decides).
+    pub fn takes_swap<S: Scalar>(&self, inputs: &[S]) -> bool {
+        match &self.swap {
+            None => false,
+            Some(w) => {
+                let v = self.graph.eval(inputs, &[w.cond.0, w.cond.1]);
+                v[0].to_f64() > v[1].to_f64()
+            }
+        }
+    }
+
     /// Whether the far branch is taken for these inputs (as the emitted code decides:
     /// the condition evaluated in the same scalar).
     pub fn takes_far<S: Scalar>(&self, inputs: &[S]) -> bool {
@@ -175,9 +211,14 @@ impl Traced {
         }
     }
 
-    /// The kernel as emitted: the branch the condition selects, evaluated by the
-    /// interpreter.
+    /// The kernel as emitted: the exchange of roles, then the branch the condition
+    /// selects, evaluated by the interpreter.
     pub fn eval<S: Scalar>(&self, inputs: &[S]) -> Vec<S> {
+        if let Some(w) = self.swap.as_ref().filter(|_| self.takes_swap(inputs)) {
+            let exchanged: Vec<S> = w.inputs.iter().map(|&k| inputs[k].clone()).collect();
+            let out = self.eval(&exchanged);
+            return w.outputs.iter().map(|&k| out[k].clone()).collect();
+        }
         if self.takes_far(inputs) {
             self.graph.eval(inputs, &self.far_ids())
         } else {
@@ -339,12 +380,126 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
             f.outputs = product_outputs(&f.outputs, &va, &vb);
         }
     }
+    let swap = match (
+        spec.path,
+        spec.interaction,
+        spec.basis,
+        g.cancelling_image(),
+    ) {
+        (Path::Structured, Interaction::Pair, Basis::Orthonormal, Some((plane, _))) => {
+            let h = &g.planes(&params)[plane];
+            let cond = ((xb[2] - *h).0, (xa[2] - *h).0);
+            Some(exchange(&args, &outputs, cond))
+        }
+        _ => None,
+    };
     Traced {
         graph: t.finish(),
         args,
         outputs,
         order,
         far,
+        swap,
+    }
+}
+
+/// The exchange of particles `a` and `b` ([`Swap`]) for a pair kernel with arguments
+/// `args` and outputs `outputs`: arguments `xa <-> xb`, `aa <-> ab`, `va <-> vb`;
+/// block `(r, m)` entry `(i, j)` from the dual block `(m*, r*)` entry `(j, i)`
+/// (`U <-> F`, `Omega <-> L`, `E <-> S`); the fused products' and the divergences'
+/// outputs `a <-> b`.
+fn exchange(args: &[Arg], outputs: &[BlockOut], cond: (Id, Id)) -> Swap {
+    fn partner(n: &str) -> &str {
+        match n {
+            "xa" => "xb",
+            "xb" => "xa",
+            "aa" => "ab",
+            "ab" => "aa",
+            "va" => "vb",
+            "vb" => "va",
+            other => other,
+        }
+    }
+    let width = |a: &Arg| match a.kind {
+        ArgKind::Point => 3,
+        ArgKind::Scalar => 1,
+        ArgKind::Vector(n) => n,
+    };
+    let mut first = Vec::new();
+    let mut at = 0;
+    for a in args {
+        first.push(at);
+        at += width(a);
+    }
+    let arg_perm: Vec<usize> = args
+        .iter()
+        .map(|a| {
+            let p = partner(&a.name);
+            args.iter()
+                .position(|b| b.name == p)
+                .expect("the partner argument exists")
+        })
+        .collect();
+    let inputs: Vec<usize> = args
+        .iter()
+        .zip(&arg_perm)
+        .flat_map(|(a, &k)| (0..width(a)).map(move |i| (k, i)))
+        .map(|(k, i)| first[k] + i)
+        .collect();
+    let mut start = Vec::new();
+    let mut at = 0;
+    for b in outputs {
+        start.push(at);
+        at += b.ids.len();
+    }
+    let find = |name: &str| {
+        outputs
+            .iter()
+            .position(|b| b.name == name)
+            .unwrap_or_else(|| panic!("the exchanged output {name} exists"))
+    };
+    let mut perm = Vec::new();
+    for b in outputs {
+        match b.block {
+            Some((r, m)) => {
+                let dual = (
+                    match m {
+                        Moment::F => Response::U,
+                        Moment::L => Response::Omega,
+                        Moment::S => Response::E,
+                    },
+                    match r {
+                        Response::U => Moment::F,
+                        Response::Omega => Moment::L,
+                        Response::E => Moment::S,
+                    },
+                );
+                let k = find(&block_name(dual.0, dual.1));
+                let (rows, cols) = (
+                    response_dim(r, Basis::Orthonormal),
+                    moment_dim(m, Basis::Orthonormal),
+                );
+                assert_eq!(outputs[k].ids.len(), rows * cols, "dual block shape");
+                for p in 0..rows * cols {
+                    let (i, j) = (p / cols, p % cols);
+                    perm.push(start[k] + j * rows + i);
+                }
+            }
+            None => {
+                let k = find(match b.name.as_str() {
+                    "a" => "b",
+                    "b" => "a",
+                    other => panic!("no partner for output {other}"),
+                });
+                perm.extend((0..b.ids.len()).map(|p| start[k] + p));
+            }
+        }
+    }
+    Swap {
+        cond,
+        inputs,
+        args: arg_perm,
+        outputs: perm,
     }
 }
 
@@ -414,7 +569,12 @@ impl<S: Scalar> Source<S> {
         let pair = spec.interaction == Interaction::Pair;
         if g.image_terms().is_some() && spec.path != Path::Generic {
             let explicit = spec.path != Path::StructuredNoExplicitHeight;
-            Source::Structured(Structured::new(g, xa, xb, p, order, pair, explicit))
+            let s = Structured::new(g, xa, xb, p, order, pair, explicit);
+            Source::Structured(if spec.path == Path::StructuredDirectSum {
+                s.direct_sum()
+            } else {
+                s
+            })
         } else {
             let part = if pair { Part::Full } else { Part::Reflected };
             Source::Generic(GenericJets::new(g, part, xa, xb, p, order))

@@ -5,7 +5,8 @@
 //! in `integration_tests::paper`; every erratum is stated there and in README.
 //!
 //! Three things are checked: (1) the kernels equal the corrected forms to 1e-12 at
-//! heights 1.0001..20 a and lateral separations 0..50 a; (2) the printed forms that
+//! heights 1.0001..20 a and lateral separations 0..50 a (pairs: plus the round-off
+//! that extracting the image part as wall minus free space amplifies); (2) the printed forms that
 //! carry an erratum really disagree with the kernels, and the others agree; (3) the
 //! corrected forms also equal an independent computation: the operators applied to
 //! central finite differences of Blake's image in double-double.
@@ -57,11 +58,22 @@ fn with_isolated(mut image: [Vec<f64>; 6]) -> [Vec<f64>; 6] {
     image
 }
 
-/// The pair blocks' image part in the paper's normalisation: wall minus free space.
-fn generated_pair(xa: [f64; 3], xb: [f64; 3]) -> [Vec<f64>; 6] {
+/// The pair blocks' image part in the paper's normalisation: wall minus free space;
+/// and per block the tolerance of a comparison with it. The subtraction amplifies the
+/// kernels' round-off (a few eps of the whole block: 3e-15 norm-wise against
+/// double-double in `stiff_cases`) by `|M_free| / |M_image|`, up to 8e3 for a close
+/// pair 20 a above the wall, so the tolerance is [`TOL`] plus 64 eps times that ratio.
+fn generated_pair(xa: [f64; 3], xb: [f64; 3]) -> ([Vec<f64>; 6], [f64; 6]) {
     let w = pair_equal(&WALL, 1.0, xa, xb, 1.0).cartesian();
     let f = pair_equal(&Confinement::Free, 1.0, xa, xb, 1.0).cartesian();
-    normalised(&w, &f)
+    let zero = kernels::GrandCartesian::default();
+    let image = normalised(&w, &f);
+    let free = normalised(&f, &zero);
+    let tol = std::array::from_fn(|k| {
+        let ratio = integration_tests::norm(&free[k]) / integration_tests::norm(&image[k]);
+        TOL + 64.0 * f64::EPSILON * ratio
+    });
+    (image, tol)
 }
 
 fn normalised(w: &kernels::GrandCartesian, f: &kernels::GrandCartesian) -> [Vec<f64>; 6] {
@@ -159,6 +171,8 @@ const NAMES_C: [&str; 6] = ["C2", "C3", "C4", "C5", "C6", "C7"];
 /// norm of each block. Both are f64 evaluations of exact expressions (the closed forms
 /// agree with an exact derivation to ~6e-15; the kernels are sums of a few thousand
 /// terms of one sign pattern); 1e-12 leaves margin and any erratum is off by > 0.1.
+/// The pair comparisons add the amplified round-off of the extraction
+/// ([`generated_pair`]).
 const TOL: f64 = 1e-12;
 
 #[test]
@@ -184,13 +198,13 @@ fn appendix_b_self_terms_match_corrected_forms() {
 fn appendix_c_pair_terms_match_corrected_forms() {
     let mut worst = [0.0f64; 6];
     for (xa, xb) in pair_configs() {
-        let g = generated_pair(xa, xb);
+        let (g, tol) = generated_pair(xa, xb);
         let c = pair_forms(xa, xb, false);
         for k in 0..6 {
             let e = rel_diff(&g[k], &c[k]);
             worst[k] = worst[k].max(e);
             assert!(
-                e <= TOL,
+                e <= tol[k],
                 "{} at xa = {xa:?}, xb = {xb:?}: relative deviation {e:e}",
                 NAMES_C[k]
             );
@@ -212,11 +226,16 @@ fn printed_forms_disagree_exactly_where_errata_are_stated() {
             max_b[k] = max_b[k].max(rel_diff(&p[k], &g[k]));
         }
     }
+    // the largest deviation, and (printed forms without an erratum) whether it stays
+    // within the tolerance everywhere
     let mut max_c = [0.0f64; 6];
+    let mut within_c = [true; 6];
     for (xa, xb) in pair_configs() {
-        let (g, p) = (generated_pair(xa, xb), pair_forms(xa, xb, true));
+        let ((g, tol), p) = (generated_pair(xa, xb), pair_forms(xa, xb, true));
         for k in 0..6 {
-            max_c[k] = max_c[k].max(rel_diff(&p[k], &g[k]));
+            let e = rel_diff(&p[k], &g[k]);
+            max_c[k] = max_c[k].max(e);
+            within_c[k] &= e <= tol[k];
         }
     }
     println!("printed vs generated, B: {max_b:?}");
@@ -238,7 +257,7 @@ fn printed_forms_disagree_exactly_where_errata_are_stated() {
                 NAMES_C[k]
             );
         } else {
-            assert!(max_c[k] <= TOL, "{} as printed: {:e}", NAMES_C[k], max_c[k]);
+            assert!(within_c[k], "{} as printed: {:e}", NAMES_C[k], max_c[k]);
         }
     }
 }

@@ -2,13 +2,17 @@
 //! every block of every kernel the solver links, for every confinement, against a
 //! double-double evaluation of the direct sum, norm-wise per block.
 //!
-//! Every case keeps [`TOL`] = 1e-10 but one (see [`integration_tests::stiff::bound`]):
-//! the direct sum of a wall pair with very unequal heights (`h_b/h_a` = 1e3, 1.5e3)
-//! just below the switch to the lateral far field, which loses `eps rho^2 / (h_a h_b)`
-//! (measured 2.8e-9 for `product_f` at `rho = 0.99 * switch`, heights 2 and 3000;
-//! 1.4e-9 at `0.9 * switch`, heights 1 and 1000). Switching earlier needs the far
-//! field's series to converge at `(h_a + h_b)/rho` of about 1/20, which at degree 9 it
-//! does not; an expansion in `h_a/rho` alone (`h_b/rho` kept finite) would.
+//! Every case keeps [`TOL`] = 1e-10. Each row also records the plain direct sum
+//! evaluated in `f64` (`StiffRow::direct_sum`): what the kernels would lose without
+//! the generator's stable forms.
+//!
+//! Measured before and after the exactly evaluated Stokeslet-minus-image difference
+//! and the exchange of roles (`kernel_gen::derivatives::Structured`,
+//! `kernel_gen::scene::Swap`): a wall pair with very unequal heights just below the
+//! switch to the lateral far field lost `eps rho^2 / (h_a h_b)`, 2.8e-9 for
+//! `product_f` at heights 2 and 3000, `rho = 0.99 * switch` (it would grow without
+//! bound with the ratio of the heights); the difference alone brought it to 4.3e-11
+//! with the lower particle as the field particle, about `eps rho / h_min`.
 //!
 //! Measured before and after the exact operator coefficients and the closed-form self
 //! term (this machine, `cargo test --release -p integration-tests --test stiff_cases
@@ -38,49 +42,47 @@ use std::collections::BTreeMap;
 fn generated_kernels_keep_1e_10_in_the_stiff_cases() {
     let rows = stiff_cases();
     // worst error per (case, confinement)
-    let mut worst: BTreeMap<(&str, &str), &StiffRow> = BTreeMap::new();
+    let mut worst: BTreeMap<(&str, &str), (&StiffRow, f64)> = BTreeMap::new();
     for r in &rows {
-        let w = worst.entry((r.case, r.confinement.as_str())).or_insert(r);
-        if r.error.is_nan() || r.error > w.error {
-            *w = r;
+        let w = worst
+            .entry((r.case, r.confinement.as_str()))
+            .or_insert((r, 0.0));
+        if r.error.is_nan() || r.error > w.0.error {
+            w.0 = r;
         }
+        w.1 = w.1.max(r.direct_sum);
     }
     println!("worst norm-wise relative error per block, against double-double:");
     println!(
-        "{:<13} {:<13} {:>9} {:>9}  where",
-        "case", "confinement", "error", "bound"
+        "{:<13} {:<13} {:>9} {:>11}  where",
+        "case", "confinement", "error", "direct sum"
     );
-    for ((case, conf), r) in &worst {
+    for ((case, conf), (r, direct)) in &worst {
         println!(
-            "{case:<13} {conf:<13} {:>9.1e} {:>9.1e}  {} [{}] ({:.0e})",
-            r.error, r.bound, r.kernel, r.block, r.parameter
+            "{case:<13} {conf:<13} {:>9.1e} {direct:>11.1e}  {} [{}] ({:.0e})",
+            r.error, r.kernel, r.block, r.parameter
         );
     }
     let failures: Vec<String> = rows
         .iter()
-        .filter(|r| r.error.is_nan() || r.error > r.bound)
+        .filter(|r| r.error.is_nan() || r.error > TOL)
         .map(|r| {
             format!(
-                "{} {} {} [{}]: {:.1e} > {:.1e}",
-                r.case, r.confinement, r.kernel, r.block, r.error, r.bound
+                "{} {} {} [{}]: {:.1e}",
+                r.case, r.confinement, r.kernel, r.block, r.error
             )
         })
         .collect();
     assert!(
         failures.is_empty(),
-        "{} blocks lose more than their bound:\n{}",
+        "{} blocks lose more than {TOL:e}:\n{}",
         failures.len(),
         failures.join("\n")
     );
-    // the bound is TOL but for the one documented case
-    for r in &rows {
-        if r.bound > TOL {
-            assert!(
-                r.kernel.contains("switch") && r.confinement == "wall",
-                "{r:?}"
-            );
-        }
-    }
+    // the cases are stiff: the plain direct sum loses far more than TOL in some (so
+    // the test would catch a kernel that fell back to it)
+    let plain = rows.iter().map(|r| r.direct_sum).fold(0.0, f64::max);
+    assert!(plain > 1e-3, "the plain direct sum loses only {plain:e}");
 }
 
 /// Both branches of every kernel with a second branch, evaluated by the interpreter,
@@ -114,7 +116,8 @@ fn second_branches_are_accurate_and_continuous() {
         let conf = confinement(g.name(), &p);
         let (got, inputs) = evaluate(kind, &conf, &p, c);
         let dd: Vec<Dd> = inputs.iter().map(|&x| Dd::new(x)).collect();
-        let want: Vec<Dd> = traced.graph.eval(&dd, &traced.output_ids());
+        let reference = trace(g, &kind.reference());
+        let want: Vec<Dd> = reference.graph.eval(&dd, &reference.output_ids());
         assert_eq!(traced.takes_far(&inputs), far, "{} {}", g.name(), c.label);
         let interpreted: Vec<f64> = traced.eval(&inputs);
         for (k, (a, b)) in got.iter().zip(&interpreted).enumerate() {

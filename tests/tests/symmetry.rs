@@ -33,6 +33,78 @@ fn reciprocity_every_block_every_confinement() {
     }
 }
 
+/// The wall's pair kernels exchange the particles where b is the higher one
+/// (`kernel_gen::scene::Swap`), which relies on reciprocity, so the test above holds
+/// for them by construction. The direct sum they evaluate must be reciprocal by
+/// itself: the traced FTS pair's direct branch (no exchange, no far field), evaluated
+/// both ways round by the interpreter, equals its transpose to 1e-12 of each block
+/// (different floating-point computations of the same exact quantity), for unequal
+/// radii and heights from touching the wall to 20 a.
+#[test]
+fn the_wall_direct_sum_is_reciprocal_without_the_exchange() {
+    use integration_tests::stiff::Kind;
+    use kernel_gen::green::wall::Wall;
+    use nalgebra::SMatrix;
+    let traced = kernel_gen::scene::trace(&Wall, &Kind::PairFts.spec());
+    let ids = traced.output_ids();
+    // the 11x11 grand block from the flattened outputs (BLOCKS order, row-major)
+    let grand = |v: &[f64]| {
+        let (at, dim) = ([0, 3, 6], [3, 3, 5]);
+        let mut m = SMatrix::<f64, 11, 11>::zeros();
+        let mut k = 0;
+        for r in 0..3 {
+            for c in 0..3 {
+                for i in 0..dim[r] {
+                    for j in 0..dim[c] {
+                        m[(at[r] + i, at[c] + j)] = v[k];
+                        k += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(k, v.len());
+        m
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for _ in 0..50 {
+        let (aa, ab) = (rng.gen_range(0.3..1.5), rng.gen_range(0.3..1.5));
+        let xa = [
+            rng.gen_range(-3.0..3.0),
+            rng.gen_range(-3.0..3.0),
+            aa * (1.0 + 10f64.powf(rng.gen_range(-3.0..1.3))),
+        ];
+        let xb = [
+            rng.gen_range(-3.0..3.0),
+            rng.gen_range(-3.0..3.0),
+            ab * (1.0 + 10f64.powf(rng.gen_range(-3.0..1.3))),
+        ];
+        if (0..3).map(|k| (xa[k] - xb[k]).powi(2)).sum::<f64>().sqrt() < 1.01 * (aa + ab) {
+            continue;
+        }
+        let inputs = |p: [f64; 3], q: [f64; 3], a: f64, b: f64| {
+            let mut v = p.to_vec();
+            v.extend(q);
+            v.extend([a, b, 1.1, 0.0]);
+            v
+        };
+        let ab_m = grand(&traced.graph.eval(&inputs(xa, xb, aa, ab), &ids));
+        let ba_m = grand(&traced.graph.eval(&inputs(xb, xa, ab, aa), &ids));
+        let (at, dim) = ([0, 3, 6], [3, 3, 5]);
+        for r in 0..3 {
+            for c in 0..3 {
+                let x = ab_m.view((at[r], at[c]), (dim[r], dim[c]));
+                let y = ba_m.view((at[c], at[r]), (dim[c], dim[r])).transpose();
+                assert!(
+                    (x - &y).norm() <= 1e-12 * x.norm(),
+                    "block ({r}, {c}) at {xa:?} {xb:?}: {:e} of {:e}",
+                    (x - &y).norm(),
+                    x.norm()
+                );
+            }
+        }
+    }
+}
+
 /// The self blocks: M_UL = M_OmegaF^T, and the 11x11 self matrix is symmetric.
 #[test]
 fn self_blocks_are_symmetric() {

@@ -134,6 +134,13 @@ pub trait Green {
     fn weights<S: Scalar>(&self, _p: &[S]) -> Vec<S> {
         vec![S::cst(1.0)]
     }
+    /// The image `(plane, weight)` that cancels the Stokeslet where the source touches
+    /// its plane (`J^w = -J` there, weight exactly 1: a no-slip plane), if any. The
+    /// structured path then writes `J(r) = J(R) - [J(R) - J(r)]` and evaluates the
+    /// bracket without cancellation ([`crate::derivatives::Structured`]).
+    fn cancelling_image(&self) -> Option<(usize, usize)> {
+        None
+    }
     /// The boundary conditions on each mirror plane, for the generic checks.
     fn boundary(&self) -> Boundary;
     /// Highest derivative order of `J` that one image term carries (the jets of the

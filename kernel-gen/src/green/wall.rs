@@ -94,6 +94,10 @@ impl Green for Wall {
     fn planes<S: Scalar>(&self, p: &[S]) -> Vec<S> {
         vec![p[0].clone()]
     }
+    /// A source on the wall has no effect: at `h = 0`, `R = r` and `J^w = -J(R)`.
+    fn cancelling_image(&self) -> Option<(usize, usize)> {
+        Some((0, 0))
+    }
     fn boundary(&self) -> Boundary {
         Boundary::NoSlip
     }

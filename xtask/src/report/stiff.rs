@@ -21,12 +21,16 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
     let rows = stiff_cases();
     ctx.progress.inc(1);
     // the worst row per (case, confinement)
-    let mut worst: BTreeMap<(&str, String), &StiffRow> = BTreeMap::new();
+    // the worst row per (case, confinement), and the plain direct sum's worst there
+    let mut worst: BTreeMap<(&str, String), (&StiffRow, f64)> = BTreeMap::new();
     for r in &rows {
-        let e = worst.entry((r.case, r.confinement.clone())).or_insert(r);
-        if r.error > e.error {
-            *e = r;
+        let e = worst
+            .entry((r.case, r.confinement.clone()))
+            .or_insert((r, 0.0));
+        if r.error > e.0.error {
+            e.0 = r;
         }
+        e.1 = e.1.max(r.direct_sum);
     }
     let mut t = Table::new(&[
         "case",
@@ -35,9 +39,9 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
         "kernel and configuration",
         "block",
         "parameter",
-        "asserted bound",
+        "plain direct sum (worst)",
     ]);
-    for ((case, conf), r) in &worst {
+    for ((case, conf), (r, direct)) in &worst {
         t.row(vec![
             case.to_string(),
             conf.clone(),
@@ -51,7 +55,7 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
                     .parse::<f64>()
                     .unwrap_or(r.parameter)
             ),
-            err(Some(r.bound)),
+            err(Some(*direct)),
         ]);
     }
     let above: Vec<&StiffRow> = rows.iter().filter(|r| r.error > TOL).collect();
@@ -65,7 +69,10 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
          lateral separation over height rho/h from 1e2 to 1e8 (the Stokeslet and its image \
          cancel to `h_a h_b / rho^3`), gaps to the wall and between spheres down to 1e-12 a, \
          radius ratios up to 1e3, heights up to 1e8 a, and a = 1e-9 m with eta = 1e-3 Pa s \
-         next to a = 1 with eta = 1. The worst block of each case and confinement:\n",
+         next to a = 1 with eta = 1. The worst block of each case and confinement, and \
+         beside it the worst of the same configurations for the plain direct sum of the \
+         Stokeslet and its image evaluated in f64 (the reference's graph: what the kernels \
+         lose without the generator's stable forms, i.e. before them):\n",
         rows.len()
     )?;
     body.push_str(&t.markdown());
@@ -76,14 +83,21 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
         let largest = above.iter().map(|r| r.error).fold(0.0, f64::max);
         writeln!(
             body,
-            "{} block measurements lose more than {TOL:e} (largest {}): the case the \
-             generator does not yet keep, a wall pair with very unequal heights just below \
-             the switch to the lateral far field, where the direct sum loses about \
-             `eps rho^2 / (h_a h_b)`; the test asserts these at that bound.",
+            "{} block measurements lose more than {TOL:e} (largest {}).",
             above.len(),
             err(Some(largest))
         )?;
     }
+    writeln!(
+        body,
+        "\nThe stable forms: the exactly evaluated difference of the Stokeslet and its wall \
+         image (`|R|^2 - |r|^2 = 4 h_a h_b` carried through the jets, \
+         `kernel_gen::derivatives`), the exchange of roles that makes the lower particle the \
+         source (`kernel_gen::scene::Swap`), the lateral far-field expansion \
+         (`kernel_gen::farfield`), the closed-form reflected self term \
+         (`kernel_gen::self_image`), and exact operator coefficients \
+         (`kernel_gen::operators::exact_block`)."
+    )?;
     Ok(Section {
         title: "c. Stiff and extreme cases".to_string(),
         body,
