@@ -113,6 +113,12 @@ fn kept(blocks: &[(Response, Moment)]) -> (bool, bool) {
     (l, s)
 }
 
+/// Length of the fused products' moment vectors for `blocks`.
+fn moments_len(blocks: &[(Response, Moment)]) -> usize {
+    let (l, s) = kept(blocks);
+    3 + if l { 3 } else { 0 } + if s { 5 } else { 0 }
+}
+
 /// A traced kernel: the graph, its arguments and its outputs.
 pub struct Traced {
     /// The expression graph (inputs in argument order, points as three inputs).
@@ -294,10 +300,7 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
         .unwrap_or(0);
     // Moment vectors of the fused product, declared before any block is traced so the
     // argument order is fixed.
-    let dim = {
-        let (l, s) = kept(&spec.blocks);
-        3 + if l { 3 } else { 0 } + if s { 5 } else { 0 }
-    };
+    let dim = moments_len(&spec.blocks);
     let vectors = if spec.product {
         let mut v = |name: &str, doc: &str| -> Vec<Ex> {
             args.push(Arg {
@@ -503,6 +506,69 @@ fn exchange(args: &[Arg], outputs: &[BlockOut], cond: (Id, Id)) -> Swap {
     }
 }
 
+/// The direct sum of kernel `spec` evaluated straight in the scalar `S`, without an
+/// expression graph: `inputs` as the traced graph's, outputs flattened as
+/// [`Traced::outputs`] (blocks, or the fused products; not the divergences). In
+/// double-double this is the stiff cases' reference: the graph's constants are `f64`
+/// (a jet rule's weight such as 1/3 rounded, constants folded in `f64`), which leaves
+/// about 1e-17 of the terms wherever they cancel, while here every rational weight is
+/// exact ([`Scalar::ratio`]).
+pub fn evaluate_direct<G: Green, S: Scalar>(g: &G, spec: &KernelSpec, inputs: &[S]) -> Vec<S> {
+    assert!(!spec.divergence, "the divergences are traced only");
+    let mut rest = inputs;
+    let mut take = |n: usize| {
+        let (head, tail) = rest.split_at(n);
+        rest = tail;
+        head.to_vec()
+    };
+    let point = |v: Vec<S>| -> [S; 3] { std::array::from_fn(|k| v[k].clone()) };
+    let xa = point(take(3));
+    let xb = match spec.interaction {
+        Interaction::Pair => point(take(3)),
+        Interaction::SelfTerm => xa.clone(),
+    };
+    let (aa, ab) = match (spec.interaction, spec.equal_radii) {
+        (Interaction::Pair, false) => (take(1)[0].clone(), take(1)[0].clone()),
+        _ => {
+            let a = take(1)[0].clone();
+            (a.clone(), a)
+        }
+    };
+    let eta = take(1)[0].clone();
+    let params = take(g.params().len());
+    let order = spec
+        .blocks
+        .iter()
+        .map(|&(r, m)| max_order(r, m))
+        .max()
+        .unwrap_or(0);
+    let scale = S::cst(1.0 / (8.0 * std::f64::consts::PI)) / eta;
+    let values = block_values(g, spec, &xa, &xb, &aa, &ab, &params, order);
+    let blocks: Vec<Vec<S>> = values
+        .into_iter()
+        .map(|v| v.into_iter().map(|x| scale.clone() * x).collect())
+        .collect();
+    if !spec.product {
+        return blocks.concat();
+    }
+    // a = M^{ab} vb, b = (M^{ab})^T va, as product_outputs
+    let n = moments_len(&spec.blocks);
+    let (va, vb) = (take(n), take(n));
+    let offset = |k: usize| [0, 3, va.len().saturating_sub(5)][k];
+    let mut a = vec![S::cst(0.0); va.len()];
+    let mut b = vec![S::cst(0.0); va.len()];
+    for (&(r, m), blk) in spec.blocks.iter().zip(&blocks) {
+        let (r0, c0) = (offset(r as usize), offset(m as usize));
+        let cols = blk.len() / response_dim(r, spec.basis);
+        for (k, v) in blk.iter().enumerate() {
+            let (i, j) = (r0 + k / cols, c0 + k % cols);
+            a[i] = a[i].clone() + v.clone() * vb[j].clone();
+            b[j] = b[j].clone() + v.clone() * va[i].clone();
+        }
+    }
+    [a, b].concat()
+}
+
 /// The fused product from the traced blocks of `M^{ab}`: `a = M^{ab} vb`,
 /// `b = (M^{ab})^T va`, in the grand order of the moments kept.
 fn product_outputs(blocks: &[BlockOut], va: &[Ex], vb: &[Ex]) -> Vec<BlockOut> {
@@ -614,7 +680,9 @@ fn block_values<G: Green, S: Scalar>(
                 Interaction::Pair => None,
             };
             // the Faxén factors multiply a^2 once per kernel (shared nodes)
-            let (fa2, fb2) = (S::cst(blk.fa) * aa2.clone(), S::cst(blk.fb) * ab2.clone());
+            // (1/6 or 1/10: rounded once in f64, exact in double-double)
+            let faxen = |f: f64| S::ratio(1.0, (1.0 / f).round());
+            let (fa2, fb2) = (faxen(blk.fa) * aa2.clone(), faxen(blk.fb) * ab2.clone());
             let mut vals = Vec::new();
             for (row, entries) in blk.entries.iter().enumerate() {
                 for (col, entry) in entries.iter().enumerate() {
