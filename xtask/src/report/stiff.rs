@@ -1,6 +1,6 @@
 //! Section c, stiff and extreme cases: the norm-wise relative error per block of every
 //! generated kernel of every confinement against a double-double evaluation of the
-//! direct sum, for lateral separations up to 1e8 heights, gaps down to 1e-12 a, radius
+//! plain direct sum (`kernel_gen::scene::evaluate_direct`), for lateral separations up to 1e8 heights, gaps down to 1e-12 a, radius
 //! ratios up to 1e3, heights up to 1e8 a and nanometre and unit scales. The measurement
 //! is `integration_tests::stiff::stiff_cases`, the same function whose rows
 //! `tests/tests/stiff_cases.rs` asserts; this section prints the worst of each case and
@@ -63,16 +63,17 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
     writeln!(
         body,
         "Every generated kernel of every confinement (self, pair, equal-radius pair, fused \
-         products; F, FT and FTS) against the same expression graph's direct sum evaluated in \
-         double-double, error norm-wise per block (`||B - B_ref|| / ||B_ref||`), over the \
+         products; F, FT and FTS) against the same kernel's plain direct sum evaluated straight \
+         in double-double with exact rational weights (`kernel_gen::scene::evaluate_direct`), \
+         error norm-wise per block (`||B - B_ref|| / ||B_ref||`), over the \
          configurations of `integration_tests::stiff::stiff_cases` ({} block measurements): \
          lateral separation over height rho/h from 1e2 to 1e8 (the Stokeslet and its image \
          cancel to `h_a h_b / rho^3`), gaps to the wall and between spheres down to 1e-12 a, \
          radius ratios up to 1e3, heights up to 1e8 a, and a = 1e-9 m with eta = 1e-3 Pa s \
          next to a = 1 with eta = 1. The worst block of each case and confinement, and \
          beside it the worst of the same configurations for the plain direct sum of the \
-         Stokeslet and its image evaluated in f64 (the reference's graph: what the kernels \
-         lose without the generator's stable forms, i.e. before them):\n",
+         Stokeslet and its image traced and evaluated in f64 (what the kernels would lose \
+         without the generator's stable forms, i.e. before them):\n",
         rows.len()
     )?;
     body.push_str(&t.markdown());
