@@ -282,10 +282,10 @@ impl<S: Scalar> Jet<S> {
         };
         let (x, y) = (a.promote(&l), b.promote(&l));
         // c is filled in graded order; the sums only read entries already computed.
-        // One division for the value, one reciprocal for every higher coefficient.
+        // One reciprocal for every coefficient (a division costs several products).
         let mut c: Vec<S> = vec![S::cst(0.0); l.len()];
-        c[0] = x[0].clone() / y[0].clone();
         let inv_b0 = y[0].recip();
+        c[0] = x[0].clone() * inv_b0.clone();
         for m in 1..l.len() {
             let s = Self::cauchy_sum(&l, m, &y, &c, |i, _| i != 0, |_, _| (1.0, 1.0));
             let num = match s {
