@@ -66,6 +66,17 @@ pub struct KernelSpec {
     pub divergence: bool,
 }
 
+impl KernelSpec {
+    /// Highest derivative order of `G` that the blocks' operators need.
+    pub fn order(&self) -> usize {
+        self.blocks
+            .iter()
+            .map(|&(r, m)| max_order(r, m))
+            .max()
+            .unwrap_or(0)
+    }
+}
+
 /// Shape of a kernel argument.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ArgKind {
@@ -292,12 +303,7 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
         .map(|p| scalar(&t, p, crate::green::param_doc(p)))
         .collect();
 
-    let order = spec
-        .blocks
-        .iter()
-        .map(|&(r, m)| max_order(r, m))
-        .max()
-        .unwrap_or(0);
+    let order = spec.order();
     // Moment vectors of the fused product, declared before any block is traced so the
     // argument order is fixed.
     let dim = moments_len(&spec.blocks);
@@ -536,12 +542,7 @@ pub fn evaluate_direct<G: Green, S: Scalar>(g: &G, spec: &KernelSpec, inputs: &[
     };
     let eta = take(1)[0].clone();
     let params = take(g.params().len());
-    let order = spec
-        .blocks
-        .iter()
-        .map(|&(r, m)| max_order(r, m))
-        .max()
-        .unwrap_or(0);
+    let order = spec.order();
     let scale = S::cst(1.0 / (8.0 * std::f64::consts::PI)) / eta;
     let values = block_values(g, spec, &xa, &xb, &aa, &ab, &params, order);
     let blocks: Vec<Vec<S>> = values

@@ -18,8 +18,7 @@ use kernel_gen::dd::Dd;
 use kernel_gen::derivatives::{GenericJets, Part, Structured};
 use kernel_gen::green::{self, Green, Mat3, Visitor};
 use kernel_gen::operators::{
-    self, block_name, isolated, max_order, moment_dim, response_dim, Basis, Deriv, Derivatives,
-    Term, BLOCKS,
+    self, block_name, isolated, moment_dim, response_dim, Basis, Deriv, Derivatives, Term, BLOCKS,
 };
 use kernel_gen::scene::{trace, Interaction, KernelSpec, Traced};
 use kernels::single::{self, Grand32};
@@ -339,12 +338,7 @@ impl Operators {
     fn new(spec: &KernelSpec) -> Self {
         Operators {
             pair: spec.interaction == Interaction::Pair,
-            order: spec
-                .blocks
-                .iter()
-                .map(|&(r, m)| max_order(r, m))
-                .max()
-                .unwrap_or(0),
+            order: spec.order(),
             terms: spec
                 .blocks
                 .iter()
