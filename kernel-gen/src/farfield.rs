@@ -163,10 +163,10 @@ fn compute<G: Green>(
                     // the factors outside the exact coefficients, in double-double
                     let mut f = dd_norm(n);
                     if pa == 1 {
-                        f = f * dd_faxen(blk.fa);
+                        f = f * operators::faxen_factor::<Dd>(blk.fa);
                     }
                     if pb == 1 {
-                        f = f * dd_faxen(blk.fb);
+                        f = f * operators::faxen_factor::<Dd>(blk.fb);
                     }
                     let fj = Jet::constant(f);
                     let full = fj.clone() * src.combine(&ts, &one, &one);
@@ -212,11 +212,6 @@ fn compute<G: Green>(
     // The rule is needed where the direct sum of some block cancels to leading order
     // (no term of degree 0 survives in it).
     cancels.then_some(Lateral { blocks: out })
-}
-
-/// A Faxén factor `1/k` ([`operators::faxen`], `k` = 6 or 10) in double-double.
-pub(crate) fn dd_faxen(v: f64) -> Dd {
-    Dd::new(1.0) / Dd::new((1.0 / v).round())
 }
 
 /// A normalisation `1/sqrt(n)` ([`operators::norm`]) in double-double, from its

@@ -315,6 +315,16 @@ pub fn faxen(r: Response) -> f64 {
     }
 }
 
+/// A Faxén factor [`faxen`] as a scalar: `1/6` or `1/10` rounded once in `f64`, exact in
+/// a scalar that carries more precision ([`Scalar::ratio`]); 0 where there is none.
+pub fn faxen_factor<S: Scalar>(v: f64) -> S {
+    if v == 0.0 {
+        S::cst(0.0)
+    } else {
+        S::ratio(1.0, (1.0 / v).round())
+    }
+}
+
 fn moment_response(m: Moment) -> Response {
     match m {
         Moment::F => Response::U,

@@ -88,6 +88,17 @@ pub enum ArgKind {
     Vector(usize),
 }
 
+impl ArgKind {
+    /// How many graph inputs (scalars) the argument is.
+    pub fn width(self) -> usize {
+        match self {
+            ArgKind::Point => 3,
+            ArgKind::Scalar => 1,
+            ArgKind::Vector(n) => n,
+        }
+    }
+}
+
 /// A kernel argument and its meaning.
 #[derive(Clone, Debug)]
 pub struct Arg {
@@ -157,8 +168,6 @@ pub struct Traced {
 pub struct Swap {
     /// Exchange where `lhs > rhs`: the source's height over the plane, the field's.
     pub cond: (Id, Id),
-    /// For each graph input, the input passed in its place.
-    pub inputs: Vec<usize>,
     /// For each argument, the argument passed in its place.
     pub args: Vec<usize>,
     /// For each output entry (flattened in output order), the entry of the exchanged
@@ -232,7 +241,18 @@ impl Traced {
     /// selects, evaluated by the interpreter.
     pub fn eval<S: Scalar>(&self, inputs: &[S]) -> Vec<S> {
         if let Some(w) = self.swap.as_ref().filter(|_| self.takes_swap(inputs)) {
-            let exchanged: Vec<S> = w.inputs.iter().map(|&k| inputs[k].clone()).collect();
+            // the graph inputs of each argument, in the exchanged argument order
+            let mut first = Vec::new();
+            let mut at = 0;
+            for a in &self.args {
+                first.push(at);
+                at += a.kind.width();
+            }
+            let exchanged: Vec<S> = w
+                .args
+                .iter()
+                .flat_map(|&j| inputs[first[j]..first[j] + self.args[j].kind.width()].to_vec())
+                .collect();
             let out = self.eval(&exchanged);
             return w.outputs.iter().map(|&k| out[k].clone()).collect();
         }
@@ -429,17 +449,6 @@ fn exchange(args: &[Arg], outputs: &[BlockOut], cond: (Id, Id)) -> Swap {
             other => other,
         }
     }
-    let width = |a: &Arg| match a.kind {
-        ArgKind::Point => 3,
-        ArgKind::Scalar => 1,
-        ArgKind::Vector(n) => n,
-    };
-    let mut first = Vec::new();
-    let mut at = 0;
-    for a in args {
-        first.push(at);
-        at += width(a);
-    }
     let arg_perm: Vec<usize> = args
         .iter()
         .map(|a| {
@@ -448,12 +457,6 @@ fn exchange(args: &[Arg], outputs: &[BlockOut], cond: (Id, Id)) -> Swap {
                 .position(|b| b.name == p)
                 .expect("the partner argument exists")
         })
-        .collect();
-    let inputs: Vec<usize> = args
-        .iter()
-        .zip(&arg_perm)
-        .flat_map(|(a, &k)| (0..width(a)).map(move |i| (k, i)))
-        .map(|(k, i)| first[k] + i)
         .collect();
     let mut start = Vec::new();
     let mut at = 0;
@@ -506,7 +509,6 @@ fn exchange(args: &[Arg], outputs: &[BlockOut], cond: (Id, Id)) -> Swap {
     }
     Swap {
         cond,
-        inputs,
         args: arg_perm,
         outputs: perm,
     }
@@ -552,69 +554,68 @@ pub fn evaluate_direct<G: Green, S: Scalar>(g: &G, spec: &KernelSpec, inputs: &[
     if !spec.product {
         return blocks.concat();
     }
-    // a = M^{ab} vb, b = (M^{ab})^T va, as product_outputs
     let n = moments_len(&spec.blocks);
     let (va, vb) = (take(n), take(n));
-    let offset = |k: usize| [0, 3, va.len().saturating_sub(5)][k];
-    let mut a = vec![S::cst(0.0); va.len()];
-    let mut b = vec![S::cst(0.0); va.len()];
-    for (&(r, m), blk) in spec.blocks.iter().zip(&blocks) {
-        let (r0, c0) = (offset(r as usize), offset(m as usize));
-        let cols = blk.len() / response_dim(r, spec.basis);
-        for (k, v) in blk.iter().enumerate() {
-            let (i, j) = (r0 + k / cols, c0 + k % cols);
-            a[i] = a[i].clone() + v.clone() * vb[j].clone();
-            b[j] = b[j].clone() + v.clone() * va[i].clone();
-        }
-    }
+    let (a, b) = fused(&spec.blocks, &blocks, spec.basis, &va, &vb);
     [a, b].concat()
 }
 
-/// The fused product from the traced blocks of `M^{ab}`: `a = M^{ab} vb`,
-/// `b = (M^{ab})^T va`, in the grand order of the moments kept.
-fn product_outputs(blocks: &[BlockOut], va: &[Ex], vb: &[Ex]) -> Vec<BlockOut> {
+/// The fused product `a = M^{ab} vb`, `b = (M^{ab})^T va` from the entries of the
+/// blocks (row-major, `values[k]` for `blocks[k]`), in the grand order of the moments
+/// kept; terms are summed as they come, without adding zeros.
+fn fused<S: Scalar>(
+    blocks: &[(Response, Moment)],
+    values: &[Vec<S>],
+    basis: Basis,
+    va: &[S],
+    vb: &[S],
+) -> (Vec<S>, Vec<S>) {
     let n = va.len();
     // [F|U (3), L|Omega (3), S|E (5)], truncated: the last five are S|E when kept.
     let offset = |k: usize| [0, 3, n.saturating_sub(5)][k];
-    let row_of = |r: Response| offset(r as usize);
-    let col_of = |m: Moment| offset(m as usize);
-    let mut a: Vec<Option<Ex>> = vec![None; n];
-    let mut b: Vec<Option<Ex>> = vec![None; n];
-    let add = |acc: &mut Option<Ex>, v: Ex| {
+    let mut a: Vec<Option<S>> = vec![None; n];
+    let mut b: Vec<Option<S>> = vec![None; n];
+    let add = |acc: &mut Option<S>, v: S| {
         *acc = Some(match acc.take() {
             None => v,
             Some(s) => s + v,
         })
     };
-    for blk in blocks {
-        let (r, m) = blk.block.expect("block outputs");
-        let (r0, c0) = (row_of(r), col_of(m));
-        let cols = blk.ids.len() / response_dim(r, Basis::Orthonormal);
-        for (k, id) in blk.ids.iter().enumerate() {
+    for (&(r, m), vals) in blocks.iter().zip(values) {
+        let (r0, c0) = (offset(r as usize), offset(m as usize));
+        let cols = vals.len() / response_dim(r, basis);
+        for (k, v) in vals.iter().enumerate() {
             let (i, j) = (r0 + k / cols, c0 + k % cols);
-            add(&mut a[i], Ex(*id) * vb[j]);
-            add(&mut b[j], Ex(*id) * va[i]);
+            add(&mut a[i], v.clone() * vb[j].clone());
+            add(&mut b[j], v.clone() * va[i].clone());
         }
     }
-    let ids = |v: Vec<Option<Ex>>| {
+    let done = |v: Vec<Option<S>>| {
         v.into_iter()
-            .map(|e| e.unwrap_or_else(|| Ex::cst(0.0)).0)
+            .map(|e| e.unwrap_or_else(|| S::cst(0.0)))
             .collect()
     };
-    vec![
-        BlockOut {
-            name: "a".into(),
-            block: None,
-            shape: vec![n],
-            ids: ids(a),
-        },
-        BlockOut {
-            name: "b".into(),
-            block: None,
-            shape: vec![n],
-            ids: ids(b),
-        },
-    ]
+    (done(a), done(b))
+}
+
+/// The fused product from the traced blocks of `M^{ab}` ([`fused`]).
+fn product_outputs(blocks: &[BlockOut], va: &[Ex], vb: &[Ex]) -> Vec<BlockOut> {
+    let which: Vec<(Response, Moment)> = blocks
+        .iter()
+        .map(|b| b.block.expect("block outputs"))
+        .collect();
+    let values: Vec<Vec<Ex>> = blocks
+        .iter()
+        .map(|b| b.ids.iter().map(|&id| Ex(id)).collect())
+        .collect();
+    let (a, b) = fused(&which, &values, Basis::Orthonormal, va, vb);
+    let out = |name: &str, v: Vec<Ex>| BlockOut {
+        name: name.into(),
+        block: None,
+        shape: vec![v.len()],
+        ids: v.into_iter().map(|e| e.0).collect(),
+    };
+    vec![out("a", a), out("b", b)]
 }
 
 /// The derivative source for a kernel: structured when the Green's function has image
@@ -681,9 +682,10 @@ fn block_values<G: Green, S: Scalar>(
                 Interaction::Pair => None,
             };
             // the Faxén factors multiply a^2 once per kernel (shared nodes)
-            // (1/6 or 1/10: rounded once in f64, exact in double-double)
-            let faxen = |f: f64| S::ratio(1.0, (1.0 / f).round());
-            let (fa2, fb2) = (faxen(blk.fa) * aa2.clone(), faxen(blk.fb) * ab2.clone());
+            let (fa2, fb2) = (
+                operators::faxen_factor::<S>(blk.fa) * aa2.clone(),
+                operators::faxen_factor::<S>(blk.fb) * ab2.clone(),
+            );
             let mut vals = Vec::new();
             for (row, entries) in blk.entries.iter().enumerate() {
                 for (col, entry) in entries.iter().enumerate() {

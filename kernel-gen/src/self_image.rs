@@ -133,10 +133,10 @@ pub fn expansion<G: Green>(
                         for ((pa, pb), ts) in groups {
                             let mut f = crate::farfield::dd_norm(n);
                             if pa == 1 {
-                                f = f * crate::farfield::dd_faxen(blk.fa);
+                                f = f * crate::operators::faxen_factor::<Dd>(blk.fa);
                             }
                             if pb == 1 {
-                                f = f * crate::farfield::dd_faxen(blk.fb);
+                                f = f * crate::operators::faxen_factor::<Dd>(blk.fb);
                             }
                             let c = (f * src.combine(&ts, &one, &one)).to_f64();
                             largest = largest.max(c.abs());
