@@ -118,6 +118,10 @@ fn statements(
                 let n = Literal::i32_unsuffixed(n);
                 quote!(#a.powi(#n))
             }
+            Op::Select(l, r, a, b) => {
+                let (l, r, a, b) = (v(&l), v(&r), v(&a), v(&b));
+                quote!(if #l > #r { #a } else { #b })
+            }
         };
         let t = ident(&format!("t{next}"));
         *next += 1;
@@ -363,6 +367,10 @@ pub fn inline(g: &Graph, id: Id) -> TokenStream {
             let a = v(a);
             let n = Literal::i32_unsuffixed(n);
             quote!(#a.powi(#n))
+        }
+        Op::Select(l, r, a, b) => {
+            let (l, r, a, b) = (v(l), v(r), v(a), v(b));
+            quote!((if #l > #r { #a } else { #b }))
         }
     }
 }

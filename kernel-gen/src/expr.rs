@@ -47,6 +47,9 @@ pub enum Op {
     Sqrt(Id),
     /// `a^n` for an integer `n` outside `{0, 1}`.
     Powi(Id, i32),
+    /// `if l > r { a } else { b }`: `Select(l, r, a, b)` (a per-lane blend in the lane
+    /// kernels).
+    Select(Id, Id, Id, Id),
 }
 
 /// A hash-consed expression graph.
@@ -72,12 +75,15 @@ pub struct OpCount {
     pub powi: usize,
     /// Negations.
     pub neg: usize,
+    /// Comparisons with a choice of two values ([`Op::Select`]).
+    pub select: usize,
 }
 
 impl OpCount {
-    /// All floating-point operations (a negation counts as one).
+    /// All floating-point operations (a negation counts as one, and so does a
+    /// comparison with its choice).
     pub fn total(&self) -> usize {
-        self.add + self.mul + self.div + self.sqrt + self.powi + self.neg
+        self.add + self.mul + self.div + self.sqrt + self.powi + self.neg + self.select
     }
 }
 
@@ -85,7 +91,7 @@ impl fmt::Display for OpCount {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "{} flops ({} add/sub, {} mul, {} div, {} sqrt, {} powi, {} neg)",
+            "{} flops ({} add/sub, {} mul, {} div, {} sqrt, {} powi, {} neg",
             self.total(),
             self.add,
             self.mul,
@@ -93,7 +99,11 @@ impl fmt::Display for OpCount {
             self.sqrt,
             self.powi,
             self.neg
-        )
+        )?;
+        if self.select > 0 {
+            write!(f, ", {} select", self.select)?;
+        }
+        write!(f, ")")
     }
 }
 
@@ -303,6 +313,17 @@ impl Graph {
         self.intern(Op::Powi(a, n))
     }
 
+    /// `if l > r { a } else { b }`.
+    pub fn select_gt(&mut self, l: Id, r: Id, a: Id, b: Id) -> Id {
+        if a == b {
+            return a;
+        }
+        if let (Some(x), Some(y)) = (self.as_const(l), self.as_const(r)) {
+            return if x > y { a } else { b };
+        }
+        self.intern(Op::Select(l, r, a, b))
+    }
+
     /// Which nodes the outputs depend on (dead-code elimination).
     pub fn live(&self, outputs: &[Id]) -> Vec<bool> {
         let mut live = vec![false; self.nodes.len()];
@@ -319,6 +340,7 @@ impl Graph {
                     stack.push(b);
                 }
                 Op::Neg(a) | Op::Sqrt(a) | Op::Powi(a, _) => stack.push(a),
+                Op::Select(l, r, a, b) => stack.extend([l, r, a, b]),
             }
         }
         live
@@ -336,6 +358,7 @@ impl Graph {
                 Op::Sqrt(_) => c.sqrt += 1,
                 Op::Powi(..) => c.powi += 1,
                 Op::Neg(_) => c.neg += 1,
+                Op::Select(..) => c.select += 1,
                 Op::Input(_) | Op::Const(_) => {}
             }
         }
@@ -364,6 +387,13 @@ impl Graph {
                 Op::Neg(a) => -v(a),
                 Op::Sqrt(a) => v(a).sqrt(),
                 Op::Powi(a, n) => v(a).powi(*n),
+                Op::Select(l, r, a, b) => {
+                    if v(l).to_f64() > v(r).to_f64() {
+                        v(a)
+                    } else {
+                        v(b)
+                    }
+                }
             };
             val[k] = Some(x);
         }
@@ -440,6 +470,13 @@ impl Ex {
     /// The constant value of this node, if it is one.
     pub fn as_const(self) -> Option<f64> {
         with_graph(|g| g.as_const(self.0))
+    }
+}
+
+impl Ex {
+    /// `if l > r { a } else { b }` ([`Op::Select`]).
+    pub fn select_gt(l: Ex, r: Ex, a: Ex, b: Ex) -> Ex {
+        Ex(with_graph(|g| g.select_gt(l.0, r.0, a.0, b.0)))
     }
 }
 

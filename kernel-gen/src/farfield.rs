@@ -46,7 +46,7 @@ use crate::derivatives::Structured;
 use crate::green::free::Free;
 use crate::green::Green;
 use crate::jet::{Jet, Layout};
-use crate::operators::{self, Basis, Derivatives, Moment, Response, Term, STRAIN_BASIS};
+use crate::operators::{self, Basis, Derivatives, Moment, Response, Term};
 use crate::scalar::Scalar;
 use std::cell::RefCell;
 use std::collections::{BTreeMap, HashMap};
@@ -231,68 +231,22 @@ pub fn degree(r: Response, m: Moment) -> i32 {
     -1 - nx - ny
 }
 
-/// The rotation about `e3` taking `e1` to `(c, s, 0)`, acting on a response or moment
-/// of dimension 3 (vectors and pseudovectors alike: the rotation is proper) or 5 (the
-/// strain basis: `Q_pq = B_p : (R B_q R^T)`).
-fn rotation<S: Scalar>(dim: usize, c: &S, s: &S) -> Vec<Vec<S>> {
-    let z = || S::cst(0.0);
-    let r = [
-        [c.clone(), -s.clone(), z()],
-        [s.clone(), c.clone(), z()],
-        [z(), z(), S::cst(1.0)],
-    ];
-    if dim == 3 {
-        return r.iter().map(|row| row.to_vec()).collect();
-    }
-    assert_eq!(dim, 5, "orthonormal strain basis");
-    let mut q = vec![vec![S::cst(0.0); 5]; 5];
-    for p in 0..5 {
-        for qq in 0..5 {
-            let mut acc = S::cst(0.0);
-            for i in 0..3 {
-                for j in 0..3 {
-                    if STRAIN_BASIS[p][i][j] == 0.0 {
-                        continue;
-                    }
-                    for k in 0..3 {
-                        for l in 0..3 {
-                            if STRAIN_BASIS[qq][k][l] == 0.0 {
-                                continue;
-                            }
-                            let w = STRAIN_BASIS[p][i][j] * STRAIN_BASIS[qq][k][l];
-                            acc = acc + S::cst(w) * (r[i][k].clone() * r[j][l].clone());
-                        }
-                    }
-                }
-            }
-            q[p][qq] = acc;
-        }
-    }
-    q
-}
-
-/// The far branch of a pair kernel: the switch condition `(lhs, rhs)` (far where
-/// `lhs > rhs`) and every entry of every block (row-major, units of `1/(8 pi eta)`),
-/// from the expansion `lat`.
+/// The far branch of a pair kernel in the canonical frame ([`crate::frame`]): the
+/// switch condition `(lhs, rhs)` (far where `lhs > rhs`) and every entry of every
+/// block in the frame (row-major, units of `1/(8 pi eta)`), from the expansion `lat`,
+/// given `rho^2`, `rho` and the particles' heights over the plane.
 pub fn blocks<S: Scalar>(
     lat: &Lateral,
     blocks: &[(Response, Moment)],
-    xa: &[S; 3],
-    xb: &[S; 3],
+    (rho2, rho): (&S, &S),
+    (ha, hb): (&S, &S),
     aa: &S,
     ab: &S,
-    height: &S,
 ) -> ((S, S), Vec<Vec<S>>) {
-    let dx = xa[0].clone() - xb[0].clone();
-    let dy = xa[1].clone() - xb[1].clone();
-    let rho2 = dx.clone() * dx.clone() + dy.clone() * dy.clone();
-    let ha = xa[2].clone() - height.clone();
-    let hb = xb[2].clone() - height.clone();
     let rhs = S::cst(2.0 * SWITCH * SWITCH) * (ha.clone() * ha.clone() + hb.clone() * hb.clone());
     let cond = (rho2.clone(), rhs);
-    let inv = rho2.sqrt().recip();
-    let (c, s) = (dx * inv.clone(), dy * inv.clone());
-    let (ua, ub) = (ha * inv.clone(), hb * inv.clone());
+    let inv = rho.recip();
+    let (ua, ub) = (ha.clone() * inv.clone(), hb.clone() * inv.clone());
     let (qa, qb) = (aa.clone() * inv.clone(), ab.clone() * inv.clone());
     let (qa2, qb2) = (qa.clone() * qa, qb.clone() * qb);
     let pow = |b: &S, n: usize| -> Vec<S> {
@@ -305,11 +259,6 @@ pub fn blocks<S: Scalar>(
     let (pua, pwb, pinv) = (pow(&ua, ORDER), pow(&ub, ORDER), pow(&inv, 5));
     let mut out = Vec::new();
     for (k, &(r, m)) in blocks.iter().enumerate() {
-        let (nr, nm) = (
-            operators::response_dim(r, Basis::Orthonormal),
-            operators::moment_dim(m, Basis::Orthonormal),
-        );
-        // rotated frame
         let rotated: Vec<S> = lat.blocks[k]
             .iter()
             .map(|terms| {
@@ -336,30 +285,7 @@ pub fn blocks<S: Scalar>(
                 pinv[(-degree(r, m)) as usize].clone() * acc
             })
             .collect();
-        let qr = rotation(nr, &c, &s);
-        let qm = rotation(nm, &c, &s);
-        let mut lab = Vec::new();
-        for i in 0..nr {
-            for j in 0..nm {
-                let mut acc = S::cst(0.0);
-                for a in 0..nr {
-                    if qr[i][a].is_known_zero() {
-                        continue;
-                    }
-                    let mut inner = S::cst(0.0);
-                    for b in 0..nm {
-                        let v = &rotated[a * nm + b];
-                        if v.is_known_zero() || qm[j][b].is_known_zero() {
-                            continue;
-                        }
-                        inner = inner + v.clone() * qm[j][b].clone();
-                    }
-                    acc = acc + qr[i][a].clone() * inner;
-                }
-                lab.push(acc);
-            }
-        }
-        out.push(lab);
+        out.push(rotated);
     }
     (cond, out)
 }

@@ -14,6 +14,7 @@ pub mod emit;
 pub mod expr;
 pub mod farfield;
 pub mod fd;
+pub mod frame;
 pub mod green;
 pub mod jet;
 pub mod operators;

@@ -9,6 +9,7 @@
 
 use crate::derivatives::{GenericJets, Part, Structured};
 use crate::expr::{Ex, Graph, Id, Trace};
+use crate::frame::Frame;
 use crate::green::Green;
 use crate::jet::{Jet, Layout};
 use crate::operators::{
@@ -346,12 +347,25 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
         None
     };
     let scale = Ex::cst(1.0 / (8.0 * std::f64::consts::PI)) / eta;
+    // Pair kernels of an axisymmetric Green's function are traced in the canonical
+    // frame (crate::frame) and rotated back at the end.
+    let frame = (spec.path == Path::Structured
+        && spec.interaction == Interaction::Pair
+        && spec.basis == Basis::Orthonormal
+        && !spec.divergence
+        && g.axisymmetric())
+    .then(|| Frame::of(&xa, &xb));
+    let (fxa, fxb) = match &frame {
+        Some((_, fa, fb)) => (*fa, *fb),
+        None => (xa, xb),
+    };
+    let frame = frame.map(|(f, _, _)| f);
     let mut outputs = Vec::new();
     let mut far = None;
     if spec.divergence {
         outputs = divergence_outputs(g, spec, &xa, &xb, &aa, &ab, &params, order, &scale);
     } else {
-        let values = block_values(g, spec, &xa, &xb, &aa, &ab, &params, order);
+        let values = block_values(g, spec, &fxa, &fxb, &aa, &ab, &params, order);
         for (&(r, m), vals) in spec.blocks.iter().zip(values) {
             outputs.push(BlockOut {
                 name: block_name(r, m),
@@ -360,8 +374,8 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
                 ids: vals.into_iter().map(|v| (scale * v).0).collect(),
             });
         }
-        let lateral = match (spec.path, spec.interaction) {
-            (Path::Structured, Interaction::Pair) => {
+        let lateral = match (&frame, spec.interaction) {
+            (Some(_), Interaction::Pair) => {
                 crate::farfield::lateral(g, &spec.blocks, spec.basis, order)
             }
             _ => None,
@@ -379,9 +393,16 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
             doc,
             label,
         };
-        if let Some(lat) = lateral {
-            let ((lhs, rhs), vals) =
-                crate::farfield::blocks(&lat, &spec.blocks, &xa, &xb, &aa, &ab, &params[0]);
+        if let (Some(lat), Some(f)) = (lateral, &frame) {
+            let height = params[0];
+            let ((lhs, rhs), vals) = crate::farfield::blocks(
+                &lat,
+                &spec.blocks,
+                (&f.rho2, &f.rho),
+                (&(xa[2] - height), &(xb[2] - height)),
+                &aa,
+                &ab,
+            );
             let doc = format!(
                 "Lateral far field (`rho > {} (|h_a| + |h_b|)`, kernel_gen::farfield)",
                 crate::farfield::SWITCH
@@ -403,10 +424,31 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
             far = Some(branch(conds, vals, doc, "closed form"));
         }
     }
-    if let Some((va, vb)) = vectors {
-        outputs = product_outputs(&outputs, &va, &vb);
+    // From the frame to the world: the products rotate the moments in and the
+    // responses out; the block kernels rotate the blocks.
+    let to_world = |blocks: Vec<BlockOut>| -> Vec<BlockOut> {
+        match (&vectors, &frame) {
+            (Some((va, vb)), _) => product_outputs(&blocks, va, vb, frame.as_ref()),
+            (None, Some(f)) => blocks
+                .into_iter()
+                .map(|b| {
+                    let (r, m) = b.block.expect("block outputs");
+                    let (nr, nm) = (response_dim(r, spec.basis), moment_dim(m, spec.basis));
+                    let vals: Vec<Ex> = b.ids.iter().map(|&id| Ex(id)).collect();
+                    let ids = Frame::block_to_world(&vals, nr, nm, &f.c, &f.s)
+                        .into_iter()
+                        .map(|e| e.0)
+                        .collect();
+                    BlockOut { ids, ..b }
+                })
+                .collect(),
+            (None, None) => blocks,
+        }
+    };
+    if !spec.divergence {
+        outputs = to_world(outputs);
         if let Some(f) = &mut far {
-            f.outputs = product_outputs(&f.outputs, &va, &vb);
+            f.outputs = to_world(std::mem::take(&mut f.outputs));
         }
     }
     let swap = match (
@@ -598,8 +640,15 @@ fn fused<S: Scalar>(
     (done(a), done(b))
 }
 
-/// The fused product from the traced blocks of `M^{ab}` ([`fused`]).
-fn product_outputs(blocks: &[BlockOut], va: &[Ex], vb: &[Ex]) -> Vec<BlockOut> {
+/// The fused product from the traced blocks of `M^{ab}` ([`fused`]); with a frame, the
+/// blocks are those of the frame, the moments are rotated into it and the responses
+/// back.
+fn product_outputs(
+    blocks: &[BlockOut],
+    va: &[Ex],
+    vb: &[Ex],
+    frame: Option<&Frame>,
+) -> Vec<BlockOut> {
     let which: Vec<(Response, Moment)> = blocks
         .iter()
         .map(|b| b.block.expect("block outputs"))
@@ -608,7 +657,21 @@ fn product_outputs(blocks: &[BlockOut], va: &[Ex], vb: &[Ex]) -> Vec<BlockOut> {
         .iter()
         .map(|b| b.ids.iter().map(|&id| Ex(id)).collect())
         .collect();
-    let (a, b) = fused(&which, &values, Basis::Orthonormal, va, vb);
+    let (a, b) = match frame {
+        None => fused(&which, &values, Basis::Orthonormal, va, vb),
+        Some(f) => {
+            let parts: Vec<usize> = match va.len() {
+                3 => vec![3],
+                6 => vec![3, 3],
+                8 => vec![3, 5],
+                11 => vec![3, 3, 5],
+                n => panic!("no moment layout of length {n}"),
+            };
+            let (fa, fb) = (f.vector(va, &parts, true), f.vector(vb, &parts, true));
+            let (a, b) = fused(&which, &values, Basis::Orthonormal, &fa, &fb);
+            (f.vector(&a, &parts, false), f.vector(&b, &parts, false))
+        }
+    };
     let out = |name: &str, v: Vec<Ex>| BlockOut {
         name: name.into(),
         block: None,

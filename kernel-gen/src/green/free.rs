@@ -25,4 +25,7 @@ impl Green for Free {
     fn boundary(&self) -> Boundary {
         Boundary::None
     }
+    fn axisymmetric(&self) -> bool {
+        true
+    }
 }

@@ -62,4 +62,7 @@ impl Green for FreeSurface {
     fn boundary(&self) -> Boundary {
         Boundary::FreeSurface
     }
+    fn axisymmetric(&self) -> bool {
+        true
+    }
 }

@@ -45,4 +45,7 @@ impl Green for Interface {
     fn boundary(&self) -> Boundary {
         Boundary::None
     }
+    fn axisymmetric(&self) -> bool {
+        true
+    }
 }

@@ -143,6 +143,13 @@ pub trait Green {
     }
     /// The boundary conditions on each mirror plane, for the generic checks.
     fn boundary(&self) -> Boundary;
+    /// Whether `G` is invariant under rotations about `e3` and lateral translations
+    /// (all boundaries are planes normal to `e3`): pair kernels are then traced in the
+    /// canonical frame of [`crate::frame`], where the lateral separation lies along
+    /// `x1`. A Green's function that does not say so is traced as it is.
+    fn axisymmetric(&self) -> bool {
+        false
+    }
     /// Highest derivative order of `J` that one image term carries (the jets of the
     /// structured path need this many orders on top of the operators' own).
     fn image_extra_order(&self) -> usize {

@@ -43,4 +43,7 @@ impl Green for Slit {
     fn boundary(&self) -> Boundary {
         Boundary::None
     }
+    fn axisymmetric(&self) -> bool {
+        true
+    }
 }

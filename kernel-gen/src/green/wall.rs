@@ -101,4 +101,7 @@ impl Green for Wall {
     fn boundary(&self) -> Boundary {
         Boundary::NoSlip
     }
+    fn axisymmetric(&self) -> bool {
+        true
+    }
 }

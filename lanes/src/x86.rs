@@ -1,0 +1,219 @@
+//! The x86-64 lanes: 4 lanes of AVX2 with FMA ([`F64x4`]) and 8 lanes of AVX-512F
+//! ([`F64x8`]), and the dispatch into code compiled for them.
+//!
+//! Soundness rests on one fact: a value of these private types exists only inside
+//! [`WithLanes::run`] as called by [`run_avx2`] or [`run_avx512`], which check with
+//! `is_x86_feature_detected!` that this processor has the instructions first. Every
+//! intrinsic below is therefore executed on a processor that has it.
+#![allow(unsafe_code)]
+
+use crate::{Lane, WithLanes};
+use std::arch::x86_64::*;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+pub(crate) fn has_avx2() -> bool {
+    is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma")
+}
+
+pub(crate) fn has_avx512() -> bool {
+    is_x86_feature_detected!("avx512f") && has_avx2()
+}
+
+#[target_feature(enable = "avx2,fma")]
+fn avx2_body<W: WithLanes>(w: W) -> W::Output {
+    w.run::<F64x4>()
+}
+
+#[target_feature(enable = "avx512f,avx2,fma")]
+fn avx512_body<W: WithLanes>(w: W) -> W::Output {
+    w.run::<F64x8>()
+}
+
+pub(crate) fn run_avx2<W: WithLanes>(w: W) -> Result<W::Output, W> {
+    if !has_avx2() {
+        return Err(w);
+    }
+    // SAFETY: this processor has AVX2 and FMA, checked on the line above.
+    Ok(unsafe { avx2_body(w) })
+}
+
+pub(crate) fn run_avx512<W: WithLanes>(w: W) -> Result<W::Output, W> {
+    if !has_avx512() {
+        return Err(w);
+    }
+    // SAFETY: this processor has AVX-512F, AVX2 and FMA, checked on the line above.
+    Ok(unsafe { avx512_body(w) })
+}
+
+/// Four `f64` lanes in an AVX register.
+#[derive(Clone, Copy)]
+pub struct F64x4(__m256d);
+
+/// Eight `f64` lanes in an AVX-512 register.
+#[derive(Clone, Copy)]
+pub struct F64x8(__m512d);
+
+/// The binary operators of one lane type from one intrinsic each.
+macro_rules! binary {
+    ($t:ident, $($tr:ident $f:ident $intr:ident),*) => {$(
+        impl $tr for $t {
+            type Output = $t;
+            #[inline(always)]
+            fn $f(self, o: $t) -> $t {
+                // SAFETY: values of this type exist only after run-time detection of
+                // its instruction set (module documentation).
+                $t(unsafe { $intr(self.0, o.0) })
+            }
+        }
+    )*};
+}
+
+binary!(F64x4, Add add _mm256_add_pd, Sub sub _mm256_sub_pd, Mul mul _mm256_mul_pd, Div div _mm256_div_pd);
+binary!(F64x8, Add add _mm512_add_pd, Sub sub _mm512_sub_pd, Mul mul _mm512_mul_pd, Div div _mm512_div_pd);
+
+impl Neg for F64x4 {
+    type Output = F64x4;
+    #[inline(always)]
+    fn neg(self) -> F64x4 {
+        // SAFETY: AVX was detected before this value existed (module documentation).
+        F64x4(unsafe { _mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)) })
+    }
+}
+
+impl Neg for F64x8 {
+    type Output = F64x8;
+    #[inline(always)]
+    fn neg(self) -> F64x8 {
+        // SAFETY: AVX-512F was detected before this value existed (module
+        // documentation); the sign bit is flipped by an integer xor (AVX-512F has no
+        // `f64` xor without AVX-512DQ).
+        F64x8(unsafe {
+            _mm512_castsi512_pd(_mm512_xor_si512(
+                _mm512_castpd_si512(self.0),
+                _mm512_set1_epi64(i64::MIN),
+            ))
+        })
+    }
+}
+
+impl Lane for F64x4 {
+    const WIDTH: usize = 4;
+    type Mask = __m256d;
+    #[inline(always)]
+    fn splat(v: f64) -> Self {
+        // SAFETY: called only inside code dispatched after detection (module docs).
+        F64x4(unsafe { _mm256_set1_pd(v) })
+    }
+    #[inline(always)]
+    fn load(s: &[f64]) -> Self {
+        let s = &s[..4];
+        // SAFETY: `s` holds 4 f64 (the slice above is bounds-checked); unaligned load;
+        // AVX detected before (module docs).
+        F64x4(unsafe { _mm256_loadu_pd(s.as_ptr()) })
+    }
+    #[inline(always)]
+    fn store(self, s: &mut [f64]) {
+        let s = &mut s[..4];
+        // SAFETY: `s` has room for 4 f64 (bounds-checked above); unaligned store.
+        unsafe { _mm256_storeu_pd(s.as_mut_ptr(), self.0) }
+    }
+    #[inline(always)]
+    fn iota() -> Self {
+        // SAFETY: as `splat`.
+        F64x4(unsafe { _mm256_setr_pd(0.0, 1.0, 2.0, 3.0) })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // SAFETY: as `splat`.
+        F64x4(unsafe { _mm256_sqrt_pd(self.0) })
+    }
+    #[inline(always)]
+    fn mul_add(self, b: Self, c: Self) -> Self {
+        // SAFETY: FMA is part of the detected set (module docs).
+        F64x4(unsafe { _mm256_fmadd_pd(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> __m256d {
+        // SAFETY: as `splat`.
+        unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(self.0, o.0) }
+    }
+    #[inline(always)]
+    fn and(m1: __m256d, m2: __m256d) -> __m256d {
+        // SAFETY: as `splat`.
+        unsafe { _mm256_and_pd(m1, m2) }
+    }
+    #[inline(always)]
+    fn select(m: __m256d, a: Self, b: Self) -> Self {
+        // SAFETY: as `splat`.
+        F64x4(unsafe { _mm256_blendv_pd(b.0, a.0, m) })
+    }
+    #[inline(always)]
+    fn any(m: __m256d) -> bool {
+        // SAFETY: as `splat`.
+        unsafe { _mm256_movemask_pd(m) != 0 }
+    }
+    #[inline(always)]
+    fn all(m: __m256d) -> bool {
+        // SAFETY: as `splat`.
+        unsafe { _mm256_movemask_pd(m) == 0xF }
+    }
+}
+
+impl Lane for F64x8 {
+    const WIDTH: usize = 8;
+    type Mask = __mmask8;
+    #[inline(always)]
+    fn splat(v: f64) -> Self {
+        // SAFETY: called only inside code dispatched after detection (module docs).
+        F64x8(unsafe { _mm512_set1_pd(v) })
+    }
+    #[inline(always)]
+    fn load(s: &[f64]) -> Self {
+        let s = &s[..8];
+        // SAFETY: `s` holds 8 f64 (bounds-checked above); unaligned load.
+        F64x8(unsafe { _mm512_loadu_pd(s.as_ptr()) })
+    }
+    #[inline(always)]
+    fn store(self, s: &mut [f64]) {
+        let s = &mut s[..8];
+        // SAFETY: `s` has room for 8 f64 (bounds-checked above); unaligned store.
+        unsafe { _mm512_storeu_pd(s.as_mut_ptr(), self.0) }
+    }
+    #[inline(always)]
+    fn iota() -> Self {
+        // SAFETY: as `splat`.
+        F64x8(unsafe { _mm512_setr_pd(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0) })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // SAFETY: as `splat`.
+        F64x8(unsafe { _mm512_sqrt_pd(self.0) })
+    }
+    #[inline(always)]
+    fn mul_add(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `splat`.
+        F64x8(unsafe { _mm512_fmadd_pd(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> __mmask8 {
+        // SAFETY: as `splat`.
+        unsafe { _mm512_cmp_pd_mask::<_CMP_GT_OQ>(self.0, o.0) }
+    }
+    #[inline(always)]
+    fn and(m1: __mmask8, m2: __mmask8) -> __mmask8 {
+        m1 & m2
+    }
+    #[inline(always)]
+    fn select(m: __mmask8, a: Self, b: Self) -> Self {
+        // SAFETY: as `splat`.
+        F64x8(unsafe { _mm512_mask_blend_pd(m, b.0, a.0) })
+    }
+    #[inline(always)]
+    fn any(m: __mmask8) -> bool {
+        m != 0
+    }
+    #[inline(always)]
+    fn all(m: __mmask8) -> bool {
+        m == 0xFF
+    }
+}
