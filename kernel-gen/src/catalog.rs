@@ -143,9 +143,18 @@ fn dispatch(families: &[Family]) -> TokenStream {
             ident(&format!("self_{lo}")),
             ident(&format!("product_{lo}")),
         );
-        let arms_pair: Vec<TokenStream> = truncated.iter().map(|t| t[3 * k].clone()).collect();
-        let arms_self: Vec<TokenStream> = truncated.iter().map(|t| t[3 * k + 1].clone()).collect();
-        let arms_prod: Vec<TokenStream> = truncated.iter().map(|t| t[3 * k + 2].clone()).collect();
+        let arms_pair: Vec<TokenStream> = truncated.iter().map(|t| t[4 * k].clone()).collect();
+        let arms_self: Vec<TokenStream> = truncated.iter().map(|t| t[4 * k + 1].clone()).collect();
+        let arms_prod: Vec<TokenStream> = truncated.iter().map(|t| t[4 * k + 2].clone()).collect();
+        let arms_lanes: Vec<TokenStream> = truncated.iter().map(|t| t[4 * k + 3].clone()).collect();
+        let flanes = ident(&format!("product_{lo}_lanes"));
+        let n2 = 2 * n;
+        let d_lanes = format!(
+            " The lane twin of [`{}`]: `L::WIDTH` pairs at once, returning `a` then `b` \
+             (`{n2}` lanes); the scene's lane kernel, or the scalar product lane by lane for a \
+             confinement without one.",
+            format!("product_{lo}")
+        );
         let upper = moments_label(moments);
         let d_pair =
             format!(" The {upper} blocks of `M^{{ab}}` (equal-radius kernels when `aa == ab`).");
@@ -164,6 +173,11 @@ fn dispatch(families: &[Family]) -> TokenStream {
             #[doc = #d_prod]
             pub fn #fprod(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64, va: [f64; #n], vb: [f64; #n]) -> Product<#n> {
                 match *conf { #(#arms_prod),* }
+            }
+            #[doc = #d_lanes]
+            #[inline(always)]
+            pub fn #flanes<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L, va: [L; #n], vb: [L; #n]) -> [L; #n2] {
+                match *conf { #(#arms_lanes),* }
             }
         });
     }
@@ -556,8 +570,9 @@ fn moments_label(m: Moments) -> &'static str {
 }
 
 /// Match arms of the truncated entry points for one family, in the order
-/// `[pair_f, self_f, product_f, pair_ft, self_ft, product_ft]`: a serving scene's
-/// kernels when the family has one, else the family's FTS kernels, truncated.
+/// `[pair_f, self_f, product_f, product_f_lanes, pair_ft, ...]`: a serving scene's
+/// kernels when the family has one, else the family's FTS kernels, truncated (and for
+/// the lanes, the scalar product lane by lane).
 fn truncated_arms(
     f: &Family,
     pattern: &TokenStream,
@@ -585,6 +600,8 @@ fn truncated_arms(
                 arms.push(quote!(#pattern => if aa == ab { #m::#pe(xa, xb, aa, eta, #(#fields),*) } else { #m::#p(xa, xb, aa, ab, eta, #(#fields),*) }));
                 arms.push(quote!(#pattern => #m::#s(x, a, eta, #(#fields),*)));
                 arms.push(quote!(#pattern => if aa == ab { #m::#ppe(xa, xb, aa, eta, #(#fields,)* va, vb) } else { #m::#pp(xa, xb, aa, ab, eta, #(#fields,)* va, vb) }));
+                let ppl = ident(&format!("{name}_pair_product_lanes"));
+                arms.push(quote!(#pattern => #m::#ppl(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields),)* va, vb)));
             }
             None => {
                 let (p, pe, s) = (
@@ -597,6 +614,13 @@ fn truncated_arms(
                 arms.push(quote!(#pattern => #ty::from(&#pair)));
                 arms.push(quote!(#pattern => #ty::from(&#fm::#s(x, a, eta, #(#fields),*))));
                 arms.push(quote!(#pattern => #ty::from(&#pair).product(va, vb)));
+                let fprod = ident(&format!("product_{}", moments.lower()));
+                let n = moments.per_particle();
+                arms.push(quote!(#pattern => {
+                    let _ = (#(#fields,)*);
+                    let (a, b) = crate::blocks::lane_by_lane(|xa, aa, xb, ab, va, vb| #fprod(conf, eta, xa, aa, xb, ab, va, vb), xa, aa, xb, ab, va, vb);
+                    std::array::from_fn(|i| if i < #n { a[i] } else { b[i - #n] })
+                }));
             }
         }
     }
@@ -682,14 +706,21 @@ pub fn scene_file<G: Green>(g: &G, scene: &Scene, standalone: bool) -> Generated
             format!("Jets truncated at derivative order {} of G.", traced.order),
         ];
         op_counts.extend(counts(&name, &traced));
-        items.extend(emit::function(&KernelFn {
-            name,
+        let kf = KernelFn {
+            name: name.clone(),
             doc,
             ret,
             ctor,
             traced: &traced,
             float: Float::F64,
-        }));
+        };
+        items.extend(emit::function(&kf));
+        // the lane twin of the unequal-radius product (the tiled products' kernel)
+        if product && !equal && !standalone {
+            let (f, n) = emit::lane_function(&kf);
+            op_counts.push((format!("{name}_lanes (fma)"), n));
+            items.extend(f);
+        }
     }
     let header = if standalone {
         let defs: Vec<TokenStream> = types

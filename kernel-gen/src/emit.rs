@@ -332,6 +332,325 @@ pub fn function(k: &KernelFn) -> TokenStream {
     }
 }
 
+/// Fused multiply-adds of the lane kernels: for each `+` or `-` node, the operand that
+/// is a product used by nothing else (fused into `mul_add`, `mul_sub` or
+/// `neg_mul_add`), as `(node, operand)`; and for each fused product, whether it is
+/// fused (so it is not emitted on its own).
+pub struct Fusion {
+    /// `fused_into[n] = Some(m)`: node `n` (`+`/`-`) takes the product `m` fused.
+    pub fused_into: Vec<Option<Id>>,
+    /// `fused[m]`: product `m` is emitted only inside its user.
+    pub fused: Vec<bool>,
+}
+
+impl Fusion {
+    /// The fusions among the nodes `live`.
+    pub fn of(g: &Graph, live: &[bool]) -> Fusion {
+        let mut uses = vec![0u32; g.len()];
+        for id in 0..g.len() {
+            if !live[id] {
+                continue;
+            }
+            let mut count = |a: Id| uses[a as usize] += 1;
+            match g.op(id as Id) {
+                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => {
+                    count(a);
+                    count(b);
+                }
+                Op::Neg(a) | Op::Sqrt(a) | Op::Powi(a, _) => count(a),
+                Op::Select(l, r, a, b) => {
+                    for x in [l, r, a, b] {
+                        count(x);
+                    }
+                }
+                Op::Input(_) | Op::Const(_) => {}
+            }
+        }
+        let mut fused_into = vec![None; g.len()];
+        let mut fused = vec![false; g.len()];
+        for id in 0..g.len() {
+            if !live[id] {
+                continue;
+            }
+            if let Op::Add(a, b) | Op::Sub(a, b) = g.op(id as Id) {
+                let single_product = |x: Id| {
+                    matches!(g.op(x), Op::Mul(..)) && uses[x as usize] == 1 && !fused[x as usize]
+                };
+                let pick = if single_product(a) {
+                    Some(a)
+                } else if single_product(b) {
+                    Some(b)
+                } else {
+                    None
+                };
+                if let Some(m) = pick {
+                    fused[m as usize] = true;
+                    fused_into[id] = Some(m);
+                }
+            }
+        }
+        Fusion { fused_into, fused }
+    }
+
+    /// How many multiply-adds are fused among the nodes `want`.
+    pub fn count(&self, want: &[bool]) -> usize {
+        self.fused_into
+            .iter()
+            .zip(want)
+            .filter(|(f, w)| f.is_some() && **w)
+            .count()
+    }
+}
+
+/// Statements of a lane kernel (generic lane type `L`, crate `lanes`) for the nodes
+/// `want` not yet named: as [`statements`], with constants broadcast, comparisons as
+/// per-lane blends, and the products of [`Fusion`] fused into their sums.
+fn lane_statements(
+    g: &Graph,
+    want: &[bool],
+    fusion: &Fusion,
+    name: &mut [Option<TokenStream>],
+    next: &mut usize,
+) -> Vec<TokenStream> {
+    let mut stmts = Vec::new();
+    for id in 0..g.len() {
+        if !want[id] || name[id].is_some() || fusion.fused[id] {
+            continue;
+        }
+        let op = g.op(id as Id);
+        let v = |a: &Id| name[*a as usize].clone().expect("operand named before use");
+        let factors = |m: Id| match g.op(m) {
+            Op::Mul(x, y) => (v(&x), v(&y)),
+            _ => unreachable!("fused nodes are products"),
+        };
+        let rhs = match op {
+            Op::Input(i) => {
+                name[id] = Some(input_expr(g, i));
+                continue;
+            }
+            Op::Const(b) => {
+                let c = f64::from_bits(b);
+                let lit = literal(c.abs());
+                name[id] = Some(if c < 0.0 {
+                    quote!(L::splat(-#lit))
+                } else {
+                    quote!(L::splat(#lit))
+                });
+                continue;
+            }
+            Op::Add(a, b) => match fusion.fused_into[id] {
+                Some(m) => {
+                    let (x, y) = factors(m);
+                    let other = if m == a { v(&b) } else { v(&a) };
+                    quote!(#x.mul_add(#y, #other))
+                }
+                None => {
+                    let (a, b) = (v(&a), v(&b));
+                    quote!(#a + #b)
+                }
+            },
+            Op::Sub(a, b) => match fusion.fused_into[id] {
+                Some(m) if m == a => {
+                    let (x, y) = factors(m);
+                    let b = v(&b);
+                    quote!(#x.mul_sub(#y, #b))
+                }
+                Some(m) => {
+                    let (x, y) = factors(m);
+                    let a = v(&a);
+                    quote!(#x.neg_mul_add(#y, #a))
+                }
+                None => {
+                    let (a, b) = (v(&a), v(&b));
+                    quote!(#a - #b)
+                }
+            },
+            Op::Mul(a, b) => {
+                let (a, b) = (v(&a), v(&b));
+                quote!(#a * #b)
+            }
+            Op::Div(a, b) => {
+                let (a, b) = (v(&a), v(&b));
+                quote!(#a / #b)
+            }
+            Op::Neg(a) => {
+                let a = v(&a);
+                quote!(-#a)
+            }
+            Op::Sqrt(a) => {
+                let a = v(&a);
+                quote!(#a.sqrt())
+            }
+            Op::Powi(a, n) => {
+                let a = v(&a);
+                let n = Literal::i32_unsuffixed(n);
+                quote!(#a.powi(#n))
+            }
+            Op::Select(l, r, a, b) => {
+                let (l, r, a, b) = (v(&l), v(&r), v(&a), v(&b));
+                quote!(L::select(#l.gt(#r), #a, #b))
+            }
+        };
+        let t = ident(&format!("t{next}"));
+        *next += 1;
+        stmts.push(quote!(let #t: L = #rhs;));
+        name[id] = Some(quote!(#t));
+    }
+    stmts
+}
+
+/// The lane twin of a kernel: the same trace evaluated on `L::WIDTH` pairs at once
+/// (generic over `lanes::Lane`), branch-free per lane. The exchange of roles
+/// ([`crate::scene::Swap`]) becomes a per-lane exchange of the arguments and of the
+/// outputs; the far branch is computed where any lane needs it and blended per lane
+/// (the direct sum likewise where any lane needs it); multiply-adds are fused
+/// ([`Fusion`]). Arguments are arrays of lanes in the scalar kernel's order; the
+/// outputs come back flattened, in the order of the scalar kernel's fields.
+/// Returns the function and its operation count (a fused multiply-add counts once).
+pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
+    let t = k.traced;
+    let g = &t.graph;
+    let outputs = t.output_ids();
+    let far_ids = t.far_ids();
+    let swap_cond: Vec<Id> = t.swap.iter().flat_map(|w| [w.cond.0, w.cond.1]).collect();
+    let far_cond: Vec<Id> = t.far.iter().flat_map(|f| f.condition_ids()).collect();
+    let near_all: Vec<Id> = outputs.iter().chain(&far_cond).copied().collect();
+    let far_all: Vec<Id> = far_ids.iter().chain(&far_cond).copied().collect();
+    let live_near = g.live(&near_all);
+    let live_far = g.live(&far_all);
+    let live_swap = g.live(&swap_cond);
+    let live_cond = g.live(&far_cond);
+    let live: Vec<bool> = (0..g.len())
+        .map(|i| live_near[i] || live_far[i] || live_swap[i])
+        .collect();
+    let fusion = Fusion::of(g, &live);
+    let count = g.op_count(&near_all).total() - fusion.count(&live_near);
+    let n_out = outputs.len();
+
+    let mut next = 0usize;
+    // the exchange of roles: its condition on the arguments as given, in a block
+    let swap_code = match &t.swap {
+        None => quote!(),
+        Some(w) => {
+            let mut name: Vec<Option<TokenStream>> = vec![None; g.len()];
+            let stmts = lane_statements(g, &live_swap, &fusion, &mut name, &mut next);
+            let l = name[w.cond.0 as usize].clone().expect("condition named");
+            let r = name[w.cond.1 as usize].clone().expect("condition named");
+            // only the arguments that change places
+            let moved: Vec<usize> = (0..t.args.len()).filter(|&i| w.args[i] != i).collect();
+            let mine: Vec<Ident> = moved.iter().map(|&i| ident(&t.args[i].name)).collect();
+            let picks: Vec<TokenStream> = moved
+                .iter()
+                .map(|&i| {
+                    let (m, th) = (ident(&t.args[i].name), ident(&t.args[w.args[i]].name));
+                    match t.args[i].kind {
+                        ArgKind::Scalar => quote!(L::select(swap, #th, #m)),
+                        _ => quote!(lanes::select_array(swap, #th, #m)),
+                    }
+                })
+                .collect();
+            quote! {
+                let swap = {
+                    #(#stmts)*
+                    #l.gt(#r)
+                };
+                let (#(#mine),*) = (#(#picks),*);
+            }
+        }
+    };
+    let mut name: Vec<Option<TokenStream>> = vec![None; g.len()];
+    let pre = lane_statements(g, &live_cond, &fusion, &mut name, &mut next);
+    let flat = |ids: &[Id], name: &[Option<TokenStream>]| -> Vec<TokenStream> {
+        ids.iter()
+            .map(|id| name[*id as usize].clone().expect("output is live"))
+            .collect()
+    };
+    let near_code = {
+        let mut nm = name.clone();
+        let stmts = lane_statements(g, &live_near, &fusion, &mut nm, &mut next);
+        let vals = flat(&outputs, &nm);
+        quote!({ #(#stmts)* [#(#vals),*] })
+    };
+    let body = match &t.far {
+        None => quote! { let out: [L; #n_out] = #near_code; },
+        Some(f) => {
+            let mut nm = name.clone();
+            let stmts = lane_statements(g, &live_far, &fusion, &mut nm, &mut next);
+            let vals = flat(&far_ids, &nm);
+            let tests: Vec<TokenStream> = f
+                .conds
+                .iter()
+                .map(|&(l, r)| {
+                    let l = name[l as usize].clone().expect("condition named");
+                    let r = name[r as usize].clone().expect("condition named");
+                    quote!(#l.gt(#r))
+                })
+                .collect();
+            let mut mask = tests[0].clone();
+            for t in &tests[1..] {
+                mask = quote!(L::and(#mask, #t));
+            }
+            quote! {
+                let far = #mask;
+                let near: [L; #n_out] = if L::all(far) { [L::splat(0.0); #n_out] } else #near_code;
+                let farv: [L; #n_out] = if L::any(far) { #(#stmts)* [#(#vals),*] } else { [L::splat(0.0); #n_out] };
+                let out: [L; #n_out] = lanes::select_array(far, farv, near);
+            }
+        }
+    };
+    let ret = match &t.swap {
+        None => quote!(out),
+        Some(w) => {
+            let picks: Vec<TokenStream> = w
+                .outputs
+                .iter()
+                .enumerate()
+                .map(|(i, &j)| {
+                    let (i, j) = (Literal::usize_unsuffixed(i), Literal::usize_unsuffixed(j));
+                    quote!(L::select(swap, out[#j], out[#i]))
+                })
+                .collect();
+            quote!([#(#picks),*])
+        }
+    };
+    let mut params = Vec::new();
+    for a in &t.args {
+        let n = ident(&a.name);
+        params.push(match a.kind {
+            ArgKind::Point => quote!(#n: [L; 3]),
+            ArgKind::Scalar => quote!(#n: L),
+            ArgKind::Vector(len) => quote!(#n: [L; #len]),
+        });
+    }
+    let fname = ident(&format!("{}_lanes", k.name));
+    let mut doc = k.doc.clone();
+    doc.push(String::new());
+    doc.push(format!(
+        "Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order \
+         of `{}`'s fields. Operation count with fused multiply-adds: {count} (direct sum).",
+        k.name
+    ));
+    let doc_attrs: Vec<TokenStream> = doc
+        .iter()
+        .map(|d| {
+            let d = format!(" {d}");
+            quote!(#[doc = #d])
+        })
+        .collect();
+    let f = quote! {
+        #(#doc_attrs)*
+        #[inline(always)]
+        #[allow(unused_variables)]
+        pub fn #fname<L: lanes::Lane>(#(#params),*) -> [L; #n_out] {
+            #swap_code
+            #(#pre)*
+            #body
+            #ret
+        }
+    };
+    (f, count)
+}
+
 /// A small expression of the graph inlined as one Rust expression (for the handful of
 /// nodes in, e.g., a boundary height such as `height + gap`).
 pub fn inline(g: &Graph, id: Id) -> TokenStream {

@@ -318,3 +318,44 @@ pub struct Drift<const K: usize> {
     /// The vector.
     pub a: [f64; K],
 }
+
+/// A scalar pair product evaluated lane by lane: the lane twin of a confinement that
+/// has no lane kernel of its own (the general path). Returns `(a, b)` as lanes.
+#[inline(always)]
+pub fn lane_by_lane<L: lanes::Lane, const K: usize>(
+    f: impl Fn([f64; 3], f64, [f64; 3], f64, [f64; K], [f64; K]) -> Product<K>,
+    xa: [L; 3],
+    aa: L,
+    xb: [L; 3],
+    ab: L,
+    va: [L; K],
+    vb: [L; K],
+) -> ([L; K], [L; K]) {
+    const MAX: usize = 8;
+    assert!(L::WIDTH <= MAX, "at most {MAX} lanes");
+    let unpack = |v: L| {
+        let mut b = [0.0; MAX];
+        v.store(&mut b);
+        b
+    };
+    let (xa, xb) = (xa.map(unpack), xb.map(unpack));
+    let (aa, ab) = (unpack(aa), unpack(ab));
+    let (va, vb) = (va.map(unpack), vb.map(unpack));
+    let mut a = [[0.0; MAX]; K];
+    let mut b = [[0.0; MAX]; K];
+    for l in 0..L::WIDTH {
+        let p = f(
+            std::array::from_fn(|k| xa[k][l]),
+            aa[l],
+            std::array::from_fn(|k| xb[k][l]),
+            ab[l],
+            std::array::from_fn(|k| va[k][l]),
+            std::array::from_fn(|k| vb[k][l]),
+        );
+        for k in 0..K {
+            a[k][l] = p.a[k];
+            b[k][l] = p.b[k];
+        }
+    }
+    (a.map(|v| L::load(&v)), b.map(|v| L::load(&v)))
+}

@@ -30,10 +30,11 @@ pub mod generated;
 pub mod single;
 
 pub use blocks::{
-    basis_both, basis_cols, basis_rows, BlocksF, BlocksFT, Drift, Grand, GrandCartesian, Product,
-    STRAIN_BASIS,
+    basis_both, basis_cols, basis_rows, lane_by_lane, BlocksF, BlocksFT, Drift, Grand,
+    GrandCartesian, Product, STRAIN_BASIS,
 };
 pub use generated::{
-    pair, pair_divergence, pair_equal, pair_f, pair_ft, product_f, product_ft, self_divergence,
-    self_f, self_ft, self_mobility, Confinement,
+    pair, pair_divergence, pair_equal, pair_f, pair_ft, product_f, product_f_lanes, product_ft,
+    product_ft_lanes, self_divergence, self_f, self_ft, self_mobility, Confinement,
 };
+pub use lanes;

@@ -44,6 +44,10 @@ pub trait Lane:
     /// `self * b + c`: fused (one rounding) where the instruction set has FMA, two
     /// roundings in the scalar fallback.
     fn mul_add(self, b: Self, c: Self) -> Self;
+    /// `self * b - c`, fused like [`Lane::mul_add`].
+    fn mul_sub(self, b: Self, c: Self) -> Self;
+    /// `c - self * b`, fused like [`Lane::mul_add`].
+    fn neg_mul_add(self, b: Self, c: Self) -> Self;
     /// Lane-wise `self > o` (false where either is NaN).
     fn gt(self, o: Self) -> Self::Mask;
     /// Lane-wise `m1 && m2`.
@@ -121,6 +125,14 @@ impl Lane for f64 {
     fn mul_add(self, b: Self, c: Self) -> Self {
         // Without a guaranteed FMA unit `f64::mul_add` may be a slow library call.
         self * b + c
+    }
+    #[inline(always)]
+    fn mul_sub(self, b: Self, c: Self) -> Self {
+        self * b - c
+    }
+    #[inline(always)]
+    fn neg_mul_add(self, b: Self, c: Self) -> Self {
+        c - self * b
     }
     #[inline(always)]
     fn gt(self, o: Self) -> bool {

@@ -133,6 +133,16 @@ impl Lane for F64x4 {
         F64x4(unsafe { _mm256_fmadd_pd(self.0, b.0, c.0) })
     }
     #[inline(always)]
+    fn mul_sub(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F64x4(unsafe { _mm256_fmsub_pd(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn neg_mul_add(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F64x4(unsafe { _mm256_fnmadd_pd(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
     fn gt(self, o: Self) -> __m256d {
         // SAFETY: as `splat`.
         unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(self.0, o.0) }
@@ -193,6 +203,16 @@ impl Lane for F64x8 {
     fn mul_add(self, b: Self, c: Self) -> Self {
         // SAFETY: as `splat`.
         F64x8(unsafe { _mm512_fmadd_pd(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn mul_sub(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F64x8(unsafe { _mm512_fmsub_pd(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn neg_mul_add(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F64x8(unsafe { _mm512_fnmadd_pd(self.0, b.0, c.0) })
     }
     #[inline(always)]
     fn gt(self, o: Self) -> __mmask8 {

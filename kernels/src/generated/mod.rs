@@ -211,6 +211,82 @@ pub fn product_f(
         }
     }
 }
+/// The lane twin of [`product_f`]: `L::WIDTH` pairs at once, returning `a` then `b` (`6` lanes); the scene's lane kernel, or the scalar product lane by lane for a confinement without one.
+#[inline(always)]
+pub fn product_f_lanes<L: lanes::Lane>(
+    conf: &Confinement,
+    eta: f64,
+    xa: [L; 3],
+    aa: L,
+    xb: [L; 3],
+    ab: L,
+    va: [L; 3usize],
+    vb: [L; 3usize],
+) -> [L; 6usize] {
+    match *conf {
+        Confinement::Free => {
+            scene_free_f::free_f_pair_product_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                va,
+                vb,
+            )
+        }
+        Confinement::Wall { height } => {
+            scene_wall_f::wall_f_pair_product_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                va,
+                vb,
+            )
+        }
+        Confinement::FreeSurface { height } => {
+            scene_free_surface_f::free_surface_f_pair_product_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                va,
+                vb,
+            )
+        }
+        Confinement::Interface { height, lambda } => {
+            scene_interface_f::interface_f_pair_product_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(lambda),
+                va,
+                vb,
+            )
+        }
+        Confinement::Slit { height, gap } => {
+            scene_slit_f::slit_f_pair_product_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(gap),
+                va,
+                vb,
+            )
+        }
+    }
+}
 /// The FT blocks of `M^{ab}` (equal-radius kernels when `aa == ab`).
 pub fn pair_ft(
     conf: &Confinement,
@@ -404,6 +480,82 @@ pub fn product_ft(
                     vb,
                 )
             }
+        }
+    }
+}
+/// The lane twin of [`product_ft`]: `L::WIDTH` pairs at once, returning `a` then `b` (`12` lanes); the scene's lane kernel, or the scalar product lane by lane for a confinement without one.
+#[inline(always)]
+pub fn product_ft_lanes<L: lanes::Lane>(
+    conf: &Confinement,
+    eta: f64,
+    xa: [L; 3],
+    aa: L,
+    xb: [L; 3],
+    ab: L,
+    va: [L; 6usize],
+    vb: [L; 6usize],
+) -> [L; 12usize] {
+    match *conf {
+        Confinement::Free => {
+            scene_free_ft::free_ft_pair_product_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                va,
+                vb,
+            )
+        }
+        Confinement::Wall { height } => {
+            scene_wall_ft::wall_ft_pair_product_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                va,
+                vb,
+            )
+        }
+        Confinement::FreeSurface { height } => {
+            scene_free_surface_ft::free_surface_ft_pair_product_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                va,
+                vb,
+            )
+        }
+        Confinement::Interface { height, lambda } => {
+            scene_interface_ft::interface_ft_pair_product_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(lambda),
+                va,
+                vb,
+            )
+        }
+        Confinement::Slit { height, gap } => {
+            scene_slit_ft::slit_ft_pair_product_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(gap),
+                va,
+                vb,
+            )
         }
     }
 }

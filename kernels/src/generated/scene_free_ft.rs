@@ -576,6 +576,171 @@ pub fn free_ft_pair_product(
         b: [t188, t191, t150, t194, t197, t173],
     }
 }
+/// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair product.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_ft_pair_product`'s fields. Operation count with fused multiply-adds: 143 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_ft_pair_product_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    va: [L; 6usize],
+    vb: [L; 6usize],
+) -> [L; 12usize] {
+    let out: [L; 12usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.sqrt();
+        let t6: L = L::splat(1.0) / t5;
+        let t7: L = t1 * t6;
+        let t8: L = L::select(t4.gt(L::splat(0.0)), t7, L::splat(1.0));
+        let t9: L = t2 * t6;
+        let t10: L = L::select(t4.gt(L::splat(0.0)), t9, L::splat(0.0));
+        let t11: L = xa[2] - xb[2];
+        let t12: L = aa * aa;
+        let t13: L = ab * ab;
+        let t14: L = t12 * L::splat(0.16666666666666666);
+        let t15: L = t13 * L::splat(0.16666666666666666);
+        let t16: L = t11 * t11;
+        let t17: L = t5.mul_add(t5, t16);
+        let t18: L = t17.sqrt();
+        let t19: L = L::splat(1.0) / t18;
+        let t20: L = t5 * t19;
+        let t21: L = t11 * t19;
+        let t22: L = t20 * L::splat(2.0);
+        let t23: L = t21 * L::splat(2.0);
+        let t24: L = t20 * t22;
+        let t25: L = t24.mul_add(L::splat(-0.25), L::splat(0.5));
+        let t26: L = t21 * t22;
+        let t27: L = t20 * t23;
+        let t28: L = L::splat(0.5).neg_mul_add(t26, t27);
+        let t29: L = L::splat(2.0) * t25;
+        let t30: L = t24 * L::splat(-0.75);
+        let t31: L = L::splat(-0.5) - t30;
+        let t32: L = t26.neg_mul_add(L::splat(-0.5), t27);
+        let t33: L = t30 - L::splat(-0.5);
+        let t34: L = t19 * L::splat(2.0);
+        let t35: L = t19.neg_mul_add(t29, t34);
+        let t36: L = t31 * L::splat(-4.0);
+        let t37: L = t19 * t19;
+        let t38: L = t19 * t37;
+        let t39: L = t36 * t38;
+        let t40: L = t15.mul_add(t39, t35);
+        let t41: L = t14.mul_add(t39, t40);
+        let t42: L = t32 * L::splat(-2.0);
+        let t43: L = t38 * t42;
+        let t44: L = t15 * t43;
+        let t45: L = t19.mul_add(t28, t44);
+        let t46: L = t14.mul_add(t43, t45);
+        let t47: L = t34 - t19;
+        let t48: L = L::splat(2.0) * t38;
+        let t49: L = t15.mul_add(t48, t47);
+        let t50: L = t14.mul_add(t48, t49);
+        let t51: L = L::splat(1.0) + t29;
+        let t52: L = t31.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t53: L = t38 * t52;
+        let t54: L = t15 * t53;
+        let t55: L = t19.mul_add(t51, t54);
+        let t56: L = t14.mul_add(t53, t55);
+        let t57: L = t21 * t37;
+        let t58: L = t20 * t37;
+        let t59: L = t31 * t38;
+        let t60: L = L::splat(0.5) * t32;
+        let t61: L = t38 * t60;
+        let t62: L = L::splat(-0.5) * t38;
+        let t63: L = L::splat(0.5) + t33;
+        let t64: L = t38 * t63;
+        let t65: L = t0 * t41;
+        let t66: L = t0 * t46;
+        let t67: L = t0 * t50;
+        let t68: L = t0 * t56;
+        let t69: L = t0 * t57;
+        let t70: L = t0 * t58;
+        let t71: L = t0 * t59;
+        let t72: L = t0 * t61;
+        let t73: L = t0 * t62;
+        let t74: L = t0 * t64;
+        let t75: L = va[1] * t10;
+        let t76: L = va[0].mul_add(t8, t75);
+        let t77: L = va[0] * t10;
+        let t78: L = va[1].mul_sub(t8, t77);
+        let t79: L = va[4] * t10;
+        let t80: L = va[3].mul_add(t8, t79);
+        let t81: L = va[3] * t10;
+        let t82: L = va[4].mul_sub(t8, t81);
+        let t83: L = vb[1] * t10;
+        let t84: L = vb[0].mul_add(t8, t83);
+        let t85: L = vb[0] * t10;
+        let t86: L = vb[1].mul_sub(t8, t85);
+        let t87: L = vb[4] * t10;
+        let t88: L = vb[3].mul_add(t8, t87);
+        let t89: L = vb[3] * t10;
+        let t90: L = vb[4].mul_sub(t8, t89);
+        let t91: L = vb[2] * t66;
+        let t92: L = t65.mul_add(t84, t91);
+        let t93: L = va[2] * t66;
+        let t94: L = t65.mul_add(t76, t93);
+        let t95: L = vb[2] * t68;
+        let t96: L = t66.mul_add(t84, t95);
+        let t97: L = va[2] * t68;
+        let t98: L = t66.mul_add(t76, t97);
+        let t99: L = t69.mul_add(t90, t92);
+        let t100: L = t69 * t88;
+        let t101: L = t67.mul_sub(t86, t100);
+        let t102: L = t69 * t78;
+        let t103: L = vb[5].mul_add(t70, t101);
+        let t104: L = t70.neg_mul_add(t90, t96);
+        let t105: L = va[2] * t70;
+        let t106: L = t69.mul_sub(t76, t105);
+        let t107: L = t69 * t80;
+        let t108: L = t67.mul_add(t78, t107);
+        let t109: L = t69 * t84;
+        let t110: L = t69.neg_mul_add(t82, t94);
+        let t111: L = vb[2].mul_sub(t70, t109);
+        let t112: L = t70.mul_add(t82, t98);
+        let t113: L = t70 * t86;
+        let t114: L = va[5].neg_mul_add(t70, t108);
+        let t115: L = t71 * t88;
+        let t116: L = t69.mul_add(t86, t115);
+        let t117: L = t71.mul_sub(t80, t102);
+        let t118: L = vb[5].mul_add(t72, t116);
+        let t119: L = t72 * t80;
+        let t120: L = t70.mul_add(t78, t119);
+        let t121: L = t73.mul_add(t90, t111);
+        let t122: L = t73.mul_add(t82, t106);
+        let t123: L = t72.mul_sub(t88, t113);
+        let t124: L = va[5].mul_add(t72, t117);
+        let t125: L = vb[5].mul_add(t74, t123);
+        let t126: L = va[5].mul_add(t74, t120);
+        let t127: L = t10 * t103;
+        let t128: L = t8.mul_sub(t99, t127);
+        let t129: L = t8 * t103;
+        let t130: L = t10.mul_add(t99, t129);
+        let t131: L = t10 * t121;
+        let t132: L = t8.mul_sub(t118, t131);
+        let t133: L = t8 * t121;
+        let t134: L = t10.mul_add(t118, t133);
+        let t135: L = t10 * t114;
+        let t136: L = t8.mul_sub(t110, t135);
+        let t137: L = t8 * t114;
+        let t138: L = t10.mul_add(t110, t137);
+        let t139: L = t10 * t122;
+        let t140: L = t8.mul_sub(t124, t139);
+        let t141: L = t8 * t122;
+        let t142: L = t10.mul_add(t124, t141);
+        [t128, t130, t104, t132, t134, t125, t136, t138, t112, t140, t142, t126]
+    };
+    out
+}
 /// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair equal product.
 ///
 /// Pruned to what the scene needs.

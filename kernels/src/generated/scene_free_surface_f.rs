@@ -665,6 +665,168 @@ pub fn free_surface_f_pair_product(
         b: [t180, t183, t171],
     }
 }
+/// Scene `free_surface_f` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair product.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_f_pair_product`'s fields. Operation count with fused multiply-adds: 139 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_surface_f_pair_product_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+    va: [L; 3usize],
+    vb: [L; 3usize],
+) -> [L; 6usize] {
+    let out: [L; 6usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.sqrt();
+        let t6: L = L::splat(1.0) / t5;
+        let t7: L = t1 * t6;
+        let t8: L = L::select(t4.gt(L::splat(0.0)), t7, L::splat(1.0));
+        let t9: L = t2 * t6;
+        let t10: L = L::select(t4.gt(L::splat(0.0)), t9, L::splat(0.0));
+        let t11: L = xa[2] - xb[2];
+        let t12: L = xb[2] - height;
+        let t13: L = t12.mul_add(L::splat(2.0), t11);
+        let t14: L = aa * aa;
+        let t15: L = ab * ab;
+        let t16: L = t14 * L::splat(0.16666666666666666);
+        let t17: L = t15 * L::splat(0.16666666666666666);
+        let t18: L = t5 * t5;
+        let t19: L = t11.mul_add(t11, t18);
+        let t20: L = t19.sqrt();
+        let t21: L = L::splat(1.0) / t20;
+        let t22: L = t5 * t21;
+        let t23: L = t11 * t21;
+        let t24: L = L::splat(2.0) * t22;
+        let t25: L = L::splat(2.0) * t23;
+        let t26: L = t22 * t24;
+        let t27: L = t26.mul_add(L::splat(-0.25), L::splat(0.5));
+        let t28: L = t23 * t24;
+        let t29: L = t22 * t25;
+        let t30: L = L::splat(0.5).neg_mul_add(t28, t29);
+        let t31: L = L::splat(2.0) * t27;
+        let t32: L = t26.neg_mul_add(L::splat(-0.75), L::splat(-0.5));
+        let t33: L = t28.neg_mul_add(L::splat(-0.5), t29);
+        let t34: L = L::splat(2.0) * t21;
+        let t35: L = t21.neg_mul_add(t31, t34);
+        let t36: L = t13.mul_add(t13, t18);
+        let t37: L = t36.sqrt();
+        let t38: L = L::splat(1.0) / t37;
+        let t39: L = t5 * t38;
+        let t40: L = t13 * t38;
+        let t41: L = L::splat(2.0) * t39;
+        let t42: L = L::splat(2.0) * t40;
+        let t43: L = t39 * t41;
+        let t44: L = L::splat(-0.25).mul_add(t43, L::splat(0.5));
+        let t45: L = t40 * t41;
+        let t46: L = L::splat(0.5) * t45;
+        let t47: L = t39 * t42;
+        let t48: L = t46 - t47;
+        let t49: L = t47 - t46;
+        let t50: L = L::splat(2.0) * t44;
+        let t51: L = L::splat(-0.75).neg_mul_add(t43, L::splat(-0.5));
+        let t52: L = L::splat(-0.5).neg_mul_add(t45, t47);
+        let t53: L = L::splat(2.0) * t38;
+        let t54: L = t38.neg_mul_add(t50, t53);
+        let t55: L = t35 + t54;
+        let t56: L = t32 * L::splat(-4.0);
+        let t57: L = t21 * t21;
+        let t58: L = t21 * t57;
+        let t59: L = t56 * t58;
+        let t60: L = t17.mul_add(t59, t55);
+        let t61: L = t51 * L::splat(-4.0);
+        let t62: L = t38 * t38;
+        let t63: L = t38 * t62;
+        let t64: L = t61 * t63;
+        let t65: L = t17.mul_add(t64, t60);
+        let t66: L = t16.mul_add(t59, t65);
+        let t67: L = t16.mul_add(t64, t66);
+        let t68: L = t21 * t30;
+        let t69: L = t38.mul_add(t48, t68);
+        let t70: L = t33 * L::splat(-2.0);
+        let t71: L = t58 * t70;
+        let t72: L = t17 * t71;
+        let t73: L = t69 + t72;
+        let t74: L = L::splat(2.0) * t52;
+        let t75: L = t63 * t74;
+        let t76: L = t17.mul_add(t75, t73);
+        let t77: L = t16 * t71;
+        let t78: L = t76 + t77;
+        let t79: L = t16.mul_add(t75, t78);
+        let t80: L = t34 - t21;
+        let t81: L = t53 - t38;
+        let t82: L = t80 + t81;
+        let t83: L = L::splat(2.0) * t58;
+        let t84: L = t17.mul_add(t83, t82);
+        let t85: L = L::splat(2.0) * t63;
+        let t86: L = t17.mul_add(t85, t84);
+        let t87: L = t16.mul_add(t83, t86);
+        let t88: L = t16.mul_add(t85, t87);
+        let t89: L = t38.mul_add(t49, t68);
+        let t90: L = t72 + t89;
+        let t91: L = t52 * L::splat(-2.0);
+        let t92: L = t63 * t91;
+        let t93: L = t17.mul_add(t92, t90);
+        let t94: L = t77 + t93;
+        let t95: L = t16.mul_add(t92, t94);
+        let t96: L = L::splat(1.0) + t31;
+        let t97: L = L::splat(-1.0) - t50;
+        let t98: L = t38 * t97;
+        let t99: L = t21.mul_add(t96, t98);
+        let t100: L = t32.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t101: L = t58 * t100;
+        let t102: L = t17.mul_add(t101, t99);
+        let t103: L = L::splat(2.0) + t61;
+        let t104: L = t63 * t103;
+        let t105: L = t17.mul_add(t104, t102);
+        let t106: L = t16.mul_add(t101, t105);
+        let t107: L = t16.mul_add(t104, t106);
+        let t108: L = t0 * t67;
+        let t109: L = t0 * t79;
+        let t110: L = t0 * t88;
+        let t111: L = t0 * t95;
+        let t112: L = t0 * t107;
+        let t113: L = va[1] * t10;
+        let t114: L = va[0].mul_add(t8, t113);
+        let t115: L = va[0] * t10;
+        let t116: L = va[1].mul_sub(t8, t115);
+        let t117: L = vb[1] * t10;
+        let t118: L = vb[0].mul_add(t8, t117);
+        let t119: L = vb[0] * t10;
+        let t120: L = vb[1].mul_sub(t8, t119);
+        let t121: L = vb[2] * t109;
+        let t122: L = t108.mul_add(t118, t121);
+        let t123: L = t110 * t120;
+        let t124: L = t110 * t116;
+        let t125: L = va[2] * t111;
+        let t126: L = t108.mul_add(t114, t125);
+        let t127: L = vb[2] * t112;
+        let t128: L = t111.mul_add(t118, t127);
+        let t129: L = va[2] * t112;
+        let t130: L = t109.mul_add(t114, t129);
+        let t131: L = t10 * t123;
+        let t132: L = t8.mul_sub(t122, t131);
+        let t133: L = t8 * t123;
+        let t134: L = t10.mul_add(t122, t133);
+        let t135: L = t10 * t124;
+        let t136: L = t8.mul_sub(t126, t135);
+        let t137: L = t8 * t124;
+        let t138: L = t10.mul_add(t126, t137);
+        [t132, t134, t128, t136, t138, t130]
+    };
+    out
+}
 /// Scene `free_surface_f` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair equal product.
 ///
 /// Pruned to what the scene needs.

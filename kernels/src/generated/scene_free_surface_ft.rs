@@ -1008,6 +1008,249 @@ pub fn free_surface_ft_pair_product(
         b: [t286, t289, t248, t292, t295, t271],
     }
 }
+/// Scene `free_surface_ft` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair product.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_ft_pair_product`'s fields. Operation count with fused multiply-adds: 220 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_surface_ft_pair_product_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+    va: [L; 6usize],
+    vb: [L; 6usize],
+) -> [L; 12usize] {
+    let out: [L; 12usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.sqrt();
+        let t6: L = L::splat(1.0) / t5;
+        let t7: L = t1 * t6;
+        let t8: L = L::select(t4.gt(L::splat(0.0)), t7, L::splat(1.0));
+        let t9: L = t2 * t6;
+        let t10: L = L::select(t4.gt(L::splat(0.0)), t9, L::splat(0.0));
+        let t11: L = xa[2] - xb[2];
+        let t12: L = xb[2] - height;
+        let t13: L = t12.mul_add(L::splat(2.0), t11);
+        let t14: L = aa * aa;
+        let t15: L = ab * ab;
+        let t16: L = t14 * L::splat(0.16666666666666666);
+        let t17: L = t15 * L::splat(0.16666666666666666);
+        let t18: L = t5 * t5;
+        let t19: L = t11.mul_add(t11, t18);
+        let t20: L = t19.sqrt();
+        let t21: L = L::splat(1.0) / t20;
+        let t22: L = t5 * t21;
+        let t23: L = t11 * t21;
+        let t24: L = L::splat(2.0) * t22;
+        let t25: L = L::splat(2.0) * t23;
+        let t26: L = t22 * t24;
+        let t27: L = t26.mul_add(L::splat(-0.25), L::splat(0.5));
+        let t28: L = t23 * t24;
+        let t29: L = t22 * t25;
+        let t30: L = L::splat(0.5).neg_mul_add(t28, t29);
+        let t31: L = L::splat(2.0) * t27;
+        let t32: L = t26 * L::splat(-0.75);
+        let t33: L = L::splat(-0.5) - t32;
+        let t34: L = t28.neg_mul_add(L::splat(-0.5), t29);
+        let t35: L = t32 - L::splat(-0.5);
+        let t36: L = L::splat(2.0) * t21;
+        let t37: L = t21.neg_mul_add(t31, t36);
+        let t38: L = t13.mul_add(t13, t18);
+        let t39: L = t38.sqrt();
+        let t40: L = L::splat(1.0) / t39;
+        let t41: L = t5 * t40;
+        let t42: L = t13 * t40;
+        let t43: L = L::splat(2.0) * t41;
+        let t44: L = L::splat(2.0) * t42;
+        let t45: L = t41 * t43;
+        let t46: L = L::splat(-0.25).mul_add(t45, L::splat(0.5));
+        let t47: L = t42 * t43;
+        let t48: L = L::splat(0.5) * t47;
+        let t49: L = t41 * t44;
+        let t50: L = t48 - t49;
+        let t51: L = t49 - t48;
+        let t52: L = L::splat(2.0) * t46;
+        let t53: L = L::splat(-0.75) * t45;
+        let t54: L = L::splat(-0.5) - t53;
+        let t55: L = L::splat(-0.5).neg_mul_add(t47, t49);
+        let t56: L = t53 - L::splat(-0.5);
+        let t57: L = L::splat(2.0) * t40;
+        let t58: L = t40.neg_mul_add(t52, t57);
+        let t59: L = t37 + t58;
+        let t60: L = t33 * L::splat(-4.0);
+        let t61: L = t21 * t21;
+        let t62: L = t21 * t61;
+        let t63: L = t60 * t62;
+        let t64: L = t17.mul_add(t63, t59);
+        let t65: L = t54 * L::splat(-4.0);
+        let t66: L = t40 * t40;
+        let t67: L = t40 * t66;
+        let t68: L = t65 * t67;
+        let t69: L = t17.mul_add(t68, t64);
+        let t70: L = t16.mul_add(t63, t69);
+        let t71: L = t16.mul_add(t68, t70);
+        let t72: L = t21 * t30;
+        let t73: L = t40.mul_add(t50, t72);
+        let t74: L = t34 * L::splat(-2.0);
+        let t75: L = t62 * t74;
+        let t76: L = t17 * t75;
+        let t77: L = t73 + t76;
+        let t78: L = L::splat(2.0) * t55;
+        let t79: L = t67 * t78;
+        let t80: L = t17.mul_add(t79, t77);
+        let t81: L = t16 * t75;
+        let t82: L = t80 + t81;
+        let t83: L = t16.mul_add(t79, t82);
+        let t84: L = t36 - t21;
+        let t85: L = t57 - t40;
+        let t86: L = t84 + t85;
+        let t87: L = L::splat(2.0) * t62;
+        let t88: L = t17.mul_add(t87, t86);
+        let t89: L = L::splat(2.0) * t67;
+        let t90: L = t17.mul_add(t89, t88);
+        let t91: L = t16.mul_add(t87, t90);
+        let t92: L = t16.mul_add(t89, t91);
+        let t93: L = t40.mul_add(t51, t72);
+        let t94: L = t76 + t93;
+        let t95: L = t55 * L::splat(-2.0);
+        let t96: L = t67 * t95;
+        let t97: L = t17.mul_add(t96, t94);
+        let t98: L = t81 + t97;
+        let t99: L = t16.mul_add(t96, t98);
+        let t100: L = L::splat(1.0) + t31;
+        let t101: L = L::splat(-1.0) - t52;
+        let t102: L = t40 * t101;
+        let t103: L = t21.mul_add(t100, t102);
+        let t104: L = t33.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t105: L = t62 * t104;
+        let t106: L = t17.mul_add(t105, t103);
+        let t107: L = L::splat(2.0) + t65;
+        let t108: L = t67 * t107;
+        let t109: L = t17.mul_add(t108, t106);
+        let t110: L = t16.mul_add(t105, t109);
+        let t111: L = t16.mul_add(t108, t110);
+        let t112: L = t23 * t61;
+        let t113: L = t42 * t66;
+        let t114: L = t112 - t113;
+        let t115: L = t113 - t112;
+        let t116: L = t22 * t61;
+        let t117: L = t41 * t66;
+        let t118: L = t116 + t117;
+        let t119: L = t117 - t116;
+        let t120: L = t112 + t113;
+        let t121: L = t116 - t117;
+        let t122: L = t56 * t67;
+        let t123: L = t33.mul_add(t62, t122);
+        let t124: L = L::splat(0.5) * t34;
+        let t125: L = t62 * t124;
+        let t126: L = L::splat(0.5) * t55;
+        let t127: L = t67.mul_add(t126, t125);
+        let t128: L = L::splat(0.5) * t67;
+        let t129: L = L::splat(-0.5).mul_add(t62, t128);
+        let t130: L = L::splat(-0.5) * t55;
+        let t131: L = t67.mul_add(t130, t125);
+        let t132: L = L::splat(0.5) + t35;
+        let t133: L = L::splat(0.5) + t56;
+        let t134: L = t67 * t133;
+        let t135: L = t62.mul_add(t132, t134);
+        let t136: L = t0 * t71;
+        let t137: L = t0 * t83;
+        let t138: L = t0 * t92;
+        let t139: L = t0 * t99;
+        let t140: L = t0 * t111;
+        let t141: L = t0 * t114;
+        let t142: L = t0 * t115;
+        let t143: L = t0 * t118;
+        let t144: L = t0 * t119;
+        let t145: L = t0 * t120;
+        let t146: L = t0 * t121;
+        let t147: L = t0 * t123;
+        let t148: L = t0 * t127;
+        let t149: L = t0 * t129;
+        let t150: L = t0 * t131;
+        let t151: L = t0 * t135;
+        let t152: L = va[1] * t10;
+        let t153: L = va[0].mul_add(t8, t152);
+        let t154: L = va[0] * t10;
+        let t155: L = va[1].mul_sub(t8, t154);
+        let t156: L = va[4] * t10;
+        let t157: L = va[3].mul_add(t8, t156);
+        let t158: L = va[3] * t10;
+        let t159: L = va[4].mul_sub(t8, t158);
+        let t160: L = vb[1] * t10;
+        let t161: L = vb[0].mul_add(t8, t160);
+        let t162: L = vb[0] * t10;
+        let t163: L = vb[1].mul_sub(t8, t162);
+        let t164: L = vb[4] * t10;
+        let t165: L = vb[3].mul_add(t8, t164);
+        let t166: L = vb[3] * t10;
+        let t167: L = vb[4].mul_sub(t8, t166);
+        let t168: L = vb[2] * t137;
+        let t169: L = t136.mul_add(t161, t168);
+        let t170: L = va[2] * t139;
+        let t171: L = t136.mul_add(t153, t170);
+        let t172: L = vb[2] * t140;
+        let t173: L = t139.mul_add(t161, t172);
+        let t174: L = va[2] * t140;
+        let t175: L = t137.mul_add(t153, t174);
+        let t176: L = t141.mul_add(t167, t169);
+        let t177: L = t142 * t165;
+        let t178: L = t138.mul_add(t163, t177);
+        let t179: L = vb[5].mul_add(t143, t178);
+        let t180: L = t144.mul_add(t167, t173);
+        let t181: L = va[2] * t144;
+        let t182: L = t141.mul_add(t153, t181);
+        let t183: L = t145 * t157;
+        let t184: L = t138.mul_add(t155, t183);
+        let t185: L = t145 * t161;
+        let t186: L = t145.neg_mul_add(t159, t171);
+        let t187: L = vb[2].mul_sub(t146, t185);
+        let t188: L = t146.mul_add(t159, t175);
+        let t189: L = t143 * t163;
+        let t190: L = va[5].neg_mul_add(t143, t184);
+        let t191: L = t147 * t165;
+        let t192: L = t145.mul_add(t163, t191);
+        let t193: L = t147 * t157;
+        let t194: L = t142.mul_add(t155, t193);
+        let t195: L = vb[5].mul_add(t148, t192);
+        let t196: L = t148 * t157;
+        let t197: L = t143.mul_add(t155, t196);
+        let t198: L = t149.mul_add(t167, t187);
+        let t199: L = t149.mul_add(t159, t182);
+        let t200: L = t150.mul_sub(t165, t189);
+        let t201: L = va[5].mul_add(t150, t194);
+        let t202: L = vb[5].mul_add(t151, t200);
+        let t203: L = va[5].mul_add(t151, t197);
+        let t204: L = t10 * t179;
+        let t205: L = t8.mul_sub(t176, t204);
+        let t206: L = t8 * t179;
+        let t207: L = t10.mul_add(t176, t206);
+        let t208: L = t10 * t198;
+        let t209: L = t8.mul_sub(t195, t208);
+        let t210: L = t8 * t198;
+        let t211: L = t10.mul_add(t195, t210);
+        let t212: L = t10 * t190;
+        let t213: L = t8.mul_sub(t186, t212);
+        let t214: L = t8 * t190;
+        let t215: L = t10.mul_add(t186, t214);
+        let t216: L = t10 * t199;
+        let t217: L = t8.mul_sub(t201, t216);
+        let t218: L = t8 * t199;
+        let t219: L = t10.mul_add(t201, t218);
+        [t205, t207, t180, t209, t211, t202, t213, t215, t188, t217, t219, t203]
+    };
+    out
+}
 /// Scene `free_surface_ft` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair equal product.
 ///
 /// Pruned to what the scene needs.
