@@ -150,10 +150,9 @@ fn dispatch(families: &[Family]) -> TokenStream {
         let flanes = ident(&format!("product_{lo}_lanes"));
         let n2 = 2 * n;
         let d_lanes = format!(
-            " The lane twin of [`{}`]: `L::WIDTH` pairs at once, returning `a` then `b` \
-             (`{n2}` lanes); the scene's lane kernel, or the scalar product lane by lane for a \
-             confinement without one.",
-            format!("product_{lo}")
+            " The lane twin of [`product_{lo}`]: `L::WIDTH` pairs at once, returning `a` then \
+             `b` (`{n2}` lanes); the scene's lane kernel, or the scalar product lane by lane for \
+             a confinement without one."
         );
         let upper = moments_label(moments);
         let d_pair =
