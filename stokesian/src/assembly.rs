@@ -2,9 +2,9 @@
 //! without forming the matrix.
 
 use crate::input::{validate, InputError, Particle};
+use kernels::lanes::Isa;
 use kernels::{
-    pair, pair_equal, pair_f, pair_ft, product_f, product_ft, self_f, self_ft, self_mobility,
-    Confinement, Grand, Product,
+    pair, pair_equal, pair_f, pair_ft, self_f, self_ft, self_mobility, Confinement, Grand,
 };
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -177,87 +177,44 @@ impl System {
     }
 
     /// `M x` without forming `M`: `x` and the result in the layout of
-    /// [`System::mobility`]. Each unordered pair is evaluated once by a fused pair
-    /// kernel that returns both `M^{ab} x_b` and `M^{ba} x_a`; threads accumulate into
-    /// their own vectors, which are summed at the end.
+    /// [`System::mobility`]. Each unordered pair is evaluated once, `M^{ab} x_b` and
+    /// `M^{ba} x_a` together, by the lane kernels on the widest instruction set this
+    /// processor has, in tiles whose schedule alone fixes the order of every sum: the
+    /// result does not depend on the number of threads ([`crate::tiled`]).
     pub fn apply(&self, moments: Moments, x: &[f64]) -> Vec<f64> {
-        let (c, eta) = (&self.confinement, self.viscosity);
-        let ps = &self.particles;
-        match moments {
-            Moments::F => self.apply_pairs::<3>(
-                x,
-                |a, b, va, vb| product_f(c, eta, ps[a].x, ps[a].a, ps[b].x, ps[b].a, va, vb),
-                |a, va| self_f(c, eta, ps[a].x, ps[a].a).product(va, va).a,
-            ),
-            Moments::FT => self.apply_pairs::<6>(
-                x,
-                |a, b, va, vb| product_ft(c, eta, ps[a].x, ps[a].a, ps[b].x, ps[b].a, va, vb),
-                |a, va| self_ft(c, eta, ps[a].x, ps[a].a).product(va, va).a,
-            ),
-            Moments::FTS => self.apply_pairs::<11>(
-                x,
-                |a, b, va, vb| self.pair_blocks(a, b).product(va, vb),
-                |a, va| self.pair_blocks(a, a).product(va, va).a,
-            ),
-        }
+        self.apply_with_isa(moments, x, Isa::best())
     }
 
-    fn apply_pairs<const K: usize>(
-        &self,
-        x: &[f64],
-        pair: impl Fn(usize, usize, [f64; K], [f64; K]) -> Product<K> + Sync,
-        diag: impl Fn(usize, [f64; K]) -> [f64; K] + Sync,
-    ) -> Vec<f64> {
+    /// [`System::apply`] on the lanes of `isa` (`Isa::all_available()` lists this
+    /// processor's); panics if this processor lacks `isa`.
+    pub fn apply_with_isa(&self, moments: Moments, x: &[f64], isa: Isa) -> Vec<f64> {
         let n = self.len();
-        let moments = match K {
-            3 => Moments::F,
-            6 => Moments::FT,
-            _ => Moments::FTS,
-        };
+        let k = moments.per_particle();
         let parts = moments.parts();
         assert_eq!(
             x.len(),
-            K * n,
+            k * n,
             "vector length must be {} for {n} particles",
-            K * n
+            k * n
         );
-        let xs: Vec<[f64; K]> = (0..n)
-            .map(|a| std::array::from_fn(|i| x[global(parts, n, a, i)]))
+        let xs: Vec<f64> = (0..n)
+            .flat_map(|a| (0..k).map(move |i| (a, i)))
+            .map(|(a, i)| x[global(parts, n, a, i)])
             .collect();
-        let acc = (0..n)
-            .into_par_iter()
-            .fold(
-                || vec![[0.0; K]; n],
-                |mut acc, a| {
-                    let d = diag(a, xs[a]);
-                    for i in 0..K {
-                        acc[a][i] += d[i];
-                    }
-                    for b in a + 1..n {
-                        let p = pair(a, b, xs[a], xs[b]);
-                        for i in 0..K {
-                            acc[a][i] += p.a[i];
-                            acc[b][i] += p.b[i];
-                        }
-                    }
-                    acc
-                },
-            )
-            .reduce(
-                || vec![[0.0; K]; n],
-                |mut u, v| {
-                    for (p, q) in u.iter_mut().zip(&v) {
-                        for i in 0..K {
-                            p[i] += q[i];
-                        }
-                    }
-                    u
-                },
-            );
-        let mut out = vec![0.0; K * n];
-        for (a, v) in acc.iter().enumerate() {
-            for i in 0..K {
-                out[global(parts, n, a, i)] = v[i];
+        let ps: Vec<([f64; 3], f64)> = self.particles.iter().map(|p| (p.x, p.a)).collect();
+        let acc = crate::tiled::apply_moments(
+            &self.confinement,
+            self.viscosity,
+            moments,
+            &ps,
+            &xs,
+            isa,
+            n >= PARALLEL_MIN,
+        );
+        let mut out = vec![0.0; k * n];
+        for a in 0..n {
+            for i in 0..k {
+                out[global(parts, n, a, i)] = acc[a * k + i];
             }
         }
         out

@@ -12,6 +12,7 @@ pub mod doublet;
 pub mod exact;
 mod input;
 mod lubrication;
+mod tiled;
 pub mod two_sphere;
 
 pub use assembly::{check_spd, solve_fts, Moments, SingularStressletBlock, SpdCheck, System};
@@ -20,6 +21,7 @@ pub use brownian::{
     Step,
 };
 pub use input::{validate, InputError, Particle};
+pub use kernels::lanes::Isa;
 pub use kernels::Confinement;
 pub use lubrication::{
     solve_resistance, solve_resistance_fts, wall_functions, wall_near_contact, Lubrication,

@@ -1,0 +1,375 @@
+//! The tiled matrix-free product `M x`: each unordered pair evaluated once by a lane
+//! kernel, `M^{ab} x_b` and `M^{ba} x_a` accumulated together, with a result that does
+//! not depend on the number of threads.
+//!
+//! The particles are cut into blocks of [`BLOCK`] (positions, radii and moments as
+//! structure of arrays, padded to whole blocks). A tile is a pair of blocks `(I, J)`,
+//! `I <= J`: particle `i` of `I` against the particles of `J` in lanes
+//! (`lanes::Lane::WIDTH` at a time; `j > i` on the diagonal), `a_i` summed in lanes and
+//! reduced in lane order at the end of the row, `b_j` added lane-wise to block `J`.
+//! The tiles are scheduled in rounds in which every block appears at most once (the
+//! diagonal tiles, then the off-diagonal ones by the circle method of round-robin
+//! tournaments), so the tiles of a round run in parallel on disjoint blocks and every
+//! output is accumulated in an order fixed by the schedule alone: the same bits with
+//! 1, 2 or 3 threads, on any machine with the same instruction set. No allocation per
+//! pair or per tile.
+
+use crate::assembly::Moments;
+use kernels::lanes::{self, Isa, Lane, WithLanes};
+use kernels::{lane_by_lane, product_f_lanes, product_ft_lanes, Confinement};
+use rayon::prelude::*;
+use std::sync::Mutex;
+
+/// Particles per block: a multiple of every lane width.
+pub(crate) const BLOCK: usize = 64;
+
+/// A pair product over lanes: `(M^{ab} vb, M^{ba} va)` for `L::WIDTH` pairs.
+pub(crate) trait LaneProduct<const K: usize>: Sync {
+    /// The product of lanes of pairs.
+    fn eval<L: Lane>(
+        &self,
+        xa: [L; 3],
+        aa: L,
+        xb: [L; 3],
+        ab: L,
+        va: [L; K],
+        vb: [L; K],
+    ) -> ([L; K], [L; K]);
+    /// `M^{aa} v` of particle `a` alone.
+    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; K]) -> [f64; K];
+}
+
+/// Split `a` then `b` of a flattened lane product.
+#[inline(always)]
+fn halves<L: Lane, const K: usize, const K2: usize>(o: [L; K2]) -> ([L; K], [L; K]) {
+    (
+        std::array::from_fn(|i| o[i]),
+        std::array::from_fn(|i| o[K + i]),
+    )
+}
+
+/// The F products of a confinement (generated lane kernels).
+pub(crate) struct ProductF<'a> {
+    pub conf: &'a Confinement,
+    pub eta: f64,
+}
+
+impl LaneProduct<3> for ProductF<'_> {
+    #[inline(always)]
+    fn eval<L: Lane>(
+        &self,
+        xa: [L; 3],
+        aa: L,
+        xb: [L; 3],
+        ab: L,
+        va: [L; 3],
+        vb: [L; 3],
+    ) -> ([L; 3], [L; 3]) {
+        halves(product_f_lanes(self.conf, self.eta, xa, aa, xb, ab, va, vb))
+    }
+    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; 3]) -> [f64; 3] {
+        kernels::self_f(self.conf, self.eta, x, a).product(v, v).a
+    }
+}
+
+/// The FT products of a confinement (generated lane kernels).
+pub(crate) struct ProductFT<'a> {
+    pub conf: &'a Confinement,
+    pub eta: f64,
+}
+
+impl LaneProduct<6> for ProductFT<'_> {
+    #[inline(always)]
+    fn eval<L: Lane>(
+        &self,
+        xa: [L; 3],
+        aa: L,
+        xb: [L; 3],
+        ab: L,
+        va: [L; 6],
+        vb: [L; 6],
+    ) -> ([L; 6], [L; 6]) {
+        halves(product_ft_lanes(
+            self.conf, self.eta, xa, aa, xb, ab, va, vb,
+        ))
+    }
+    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; 6]) -> [f64; 6] {
+        kernels::self_ft(self.conf, self.eta, x, a).product(v, v).a
+    }
+}
+
+/// The FTS products of a confinement: the scalar FTS kernels lane by lane (there are no
+/// FTS lane kernels yet).
+pub(crate) struct ProductFTS<'a> {
+    pub conf: &'a Confinement,
+    pub eta: f64,
+}
+
+impl LaneProduct<11> for ProductFTS<'_> {
+    #[inline(always)]
+    fn eval<L: Lane>(
+        &self,
+        xa: [L; 3],
+        aa: L,
+        xb: [L; 3],
+        ab: L,
+        va: [L; 11],
+        vb: [L; 11],
+    ) -> ([L; 11], [L; 11]) {
+        let (c, eta) = (self.conf, self.eta);
+        lane_by_lane(
+            |xa, aa, xb, ab, va, vb| {
+                let m = if aa == ab {
+                    kernels::pair_equal(c, eta, xa, xb, aa)
+                } else {
+                    kernels::pair(c, eta, xa, aa, xb, ab)
+                };
+                m.product(va, vb)
+            },
+            xa,
+            aa,
+            xb,
+            ab,
+            va,
+            vb,
+        )
+    }
+    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; 11]) -> [f64; 11] {
+        kernels::self_mobility(self.conf, self.eta, x, a)
+            .product(v, v)
+            .a
+    }
+}
+
+/// Particles and moments as structure of arrays, padded to whole blocks.
+struct Soa<const K: usize> {
+    n: usize,
+    x: [Vec<f64>; 3],
+    a: Vec<f64>,
+    v: [Vec<f64>; K],
+}
+
+/// One tile `(I, J)` for the lanes of the instruction set it is dispatched to.
+struct Tile<'a, P, const K: usize> {
+    soa: &'a Soa<K>,
+    product: &'a P,
+    bi: usize,
+    bj: usize,
+    /// Block `I`'s accumulators (`K` rows of [`BLOCK`]); also block `J`'s on the
+    /// diagonal.
+    out_i: &'a mut [f64],
+    /// Block `J`'s accumulators (off the diagonal).
+    out_j: Option<&'a mut [f64]>,
+}
+
+impl<P: LaneProduct<K>, const K: usize> WithLanes for Tile<'_, P, K> {
+    type Output = ();
+    #[inline(always)]
+    fn run<L: Lane>(self) {
+        let Tile {
+            soa,
+            product,
+            bi,
+            bj,
+            out_i,
+            mut out_j,
+        } = self;
+        let w = L::WIDTH;
+        let n = L::splat(soa.n as f64);
+        let diagonal = bi == bj;
+        let (i0, j0) = (bi * BLOCK, bj * BLOCK);
+        for ii in 0..BLOCK {
+            let i = i0 + ii;
+            if i >= soa.n {
+                break;
+            }
+            let xa: [L; 3] = std::array::from_fn(|k| L::splat(soa.x[k][i]));
+            let aa = L::splat(soa.a[i]);
+            let va: [L; K] = std::array::from_fn(|c| L::splat(soa.v[c][i]));
+            let mut acc = [L::splat(0.0); K];
+            // on the diagonal, the chunks holding j > i
+            let start = if diagonal { (ii + 1) / w * w } else { 0 };
+            for jj in (start..BLOCK).step_by(w) {
+                let j = j0 + jj;
+                let index = L::iota() + L::splat(j as f64);
+                let mut valid = n.gt(index);
+                if diagonal {
+                    valid = L::and(valid, index.gt(L::splat(i as f64)));
+                }
+                if !L::any(valid) {
+                    continue;
+                }
+                let xb: [L; 3] = std::array::from_fn(|k| L::load(&soa.x[k][j..]));
+                let ab = L::load(&soa.a[j..]);
+                let vb: [L; K] = std::array::from_fn(|c| L::load(&soa.v[c][j..]));
+                let (pa, pb) = product.eval(xa, aa, xb, ab, va, vb);
+                let zero = L::splat(0.0);
+                let outj: &mut [f64] = match out_j.as_deref_mut() {
+                    Some(o) => o,
+                    None => &mut *out_i,
+                };
+                for c in 0..K {
+                    acc[c] = acc[c] + L::select(valid, pa[c], zero);
+                    let slot = &mut outj[c * BLOCK + jj..];
+                    (L::load(slot) + L::select(valid, pb[c], zero)).store(slot);
+                }
+            }
+            for c in 0..K {
+                out_i[c * BLOCK + ii] += acc[c].sum();
+            }
+        }
+    }
+}
+
+/// The rounds of tiles: first the diagonal `(I, I)`, then the off-diagonal pairs by
+/// the circle method, each block at most once per round.
+fn rounds(blocks: usize) -> Vec<Vec<(usize, usize)>> {
+    let mut out = vec![(0..blocks).map(|b| (b, b)).collect::<Vec<_>>()];
+    if blocks < 2 {
+        return out;
+    }
+    // an even number of seats; the extra seat (if any) is a bye
+    let seats = blocks + blocks % 2;
+    let mut ring: Vec<usize> = (0..seats).collect();
+    for _ in 0..seats - 1 {
+        let mut round = Vec::new();
+        for k in 0..seats / 2 {
+            let (p, q) = (ring[k], ring[seats - 1 - k]);
+            if p < blocks && q < blocks {
+                round.push((p.min(q), p.max(q)));
+            }
+        }
+        round.sort_unstable();
+        out.push(round);
+        // rotate all seats but the first
+        let last = ring.pop().expect("seats");
+        ring.insert(1, last);
+    }
+    out
+}
+
+/// `M x` for particles `(centre, radius)` and moments `xs` (`K` per particle, grand
+/// order), by tiles on the lanes of `isa` (which this processor must have); `K`
+/// accumulators per particle returned in particle order.
+pub(crate) fn apply<P: LaneProduct<K>, const K: usize>(
+    product: &P,
+    particles: &[([f64; 3], f64)],
+    xs: &[[f64; K]],
+    isa: Isa,
+    parallel: bool,
+) -> Vec<[f64; K]> {
+    let n = particles.len();
+    let blocks = n.div_ceil(BLOCK);
+    let padded = blocks * BLOCK;
+    // padding: copies of the last particle, never counted (masked lanes)
+    let last = n - 1;
+    let at = |j: usize| j.min(last);
+    let soa = Soa::<K> {
+        n,
+        x: std::array::from_fn(|k| (0..padded).map(|j| particles[at(j)].0[k]).collect()),
+        a: (0..padded).map(|j| particles[at(j)].1).collect(),
+        v: std::array::from_fn(|c| {
+            (0..padded)
+                .map(|j| if j < n { xs[j][c] } else { 0.0 })
+                .collect()
+        }),
+    };
+    let out: Vec<Mutex<Vec<f64>>> = (0..blocks)
+        .map(|b| {
+            let mut acc = vec![0.0; K * BLOCK];
+            for ii in 0..BLOCK.min(n - b * BLOCK) {
+                let i = b * BLOCK + ii;
+                let d = product.diagonal(particles[i].0, particles[i].1, xs[i]);
+                for c in 0..K {
+                    acc[c * BLOCK + ii] = d[c];
+                }
+            }
+            Mutex::new(acc)
+        })
+        .collect();
+    let tile = |&(bi, bj): &(usize, usize)| {
+        // the tiles of a round touch disjoint blocks: these locks never wait
+        let mut gi = out[bi].lock().expect("no tile panics");
+        let mut gj = (bi != bj).then(|| out[bj].lock().expect("no tile panics"));
+        let t = Tile {
+            soa: &soa,
+            product,
+            bi,
+            bj,
+            out_i: &mut gi[..],
+            out_j: gj.as_deref_mut().map(|v| &mut v[..]),
+        };
+        if lanes::dispatch_with(isa, t).is_err() {
+            panic!("the instruction set {isa:?} is not available on this processor");
+        }
+    };
+    for round in rounds(blocks) {
+        if parallel {
+            round.par_iter().for_each(tile);
+        } else {
+            round.iter().for_each(tile);
+        }
+    }
+    let out: Vec<Vec<f64>> = out
+        .into_iter()
+        .map(|m| m.into_inner().expect("no tile panics"))
+        .collect();
+    (0..n)
+        .map(|i| std::array::from_fn(|c| out[i / BLOCK][c * BLOCK + i % BLOCK]))
+        .collect()
+}
+
+/// The product for a truncation (F, FT or FTS).
+pub(crate) fn apply_moments(
+    conf: &Confinement,
+    eta: f64,
+    moments: Moments,
+    particles: &[([f64; 3], f64)],
+    xs: &[f64],
+    isa: Isa,
+    parallel: bool,
+) -> Vec<f64> {
+    fn run<P: LaneProduct<K>, const K: usize>(
+        p: &P,
+        ps: &[([f64; 3], f64)],
+        xs: &[f64],
+        isa: Isa,
+        parallel: bool,
+    ) -> Vec<f64> {
+        let v: Vec<[f64; K]> = xs
+            .chunks(K)
+            .map(|c| std::array::from_fn(|i| c[i]))
+            .collect();
+        apply(p, ps, &v, isa, parallel).concat()
+    }
+    match moments {
+        Moments::F => run(&ProductF { conf, eta }, particles, xs, isa, parallel),
+        Moments::FT => run(&ProductFT { conf, eta }, particles, xs, isa, parallel),
+        Moments::FTS => run(&ProductFTS { conf, eta }, particles, xs, isa, parallel),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rounds;
+
+    #[test]
+    fn rounds_cover_every_tile_once_with_disjoint_blocks() {
+        for blocks in 1..12 {
+            let r = rounds(blocks);
+            let mut seen = std::collections::BTreeSet::new();
+            for round in &r {
+                let mut used = std::collections::BTreeSet::new();
+                for &(i, j) in round {
+                    assert!(i <= j);
+                    assert!(
+                        used.insert(i) && (i == j || used.insert(j)),
+                        "{blocks}: {round:?}"
+                    );
+                    assert!(seen.insert((i, j)));
+                }
+            }
+            assert_eq!(seen.len(), blocks * (blocks + 1) / 2);
+        }
+    }
+}
