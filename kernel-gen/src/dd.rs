@@ -169,6 +169,9 @@ impl Scalar for Dd {
     fn cst(c: f64) -> Self {
         Dd::new(c)
     }
+    fn from_dd(d: Dd) -> Self {
+        d
+    }
     fn ratio(n: f64, d: f64) -> Self {
         Dd::new(n) / Dd::new(d)
     }

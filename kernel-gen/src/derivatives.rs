@@ -32,9 +32,11 @@
 //! - [`GenericJets`]: the whole `G(x, y)` expanded in all six coordinates; needs no
 //!   structure, so it serves any Green's function and cross-checks the other two.
 
+use crate::dd::Dd;
 use crate::green::{self, Green, ImageTerm, Mat3};
 use crate::jet::{Jet, Layout};
 use crate::operators::{Deriv, Derivatives, Term};
+use crate::poly::Poly;
 use crate::scalar::Scalar;
 use std::collections::{BTreeMap, HashMap};
 
@@ -130,6 +132,11 @@ pub struct Structured<S> {
     explicit_height: bool,
     degree: usize,
     jets: HashMap<(usize, Potential), Jet<S>>,
+    /// The jets of the potentials about a symbolic unit vector ([`Poly`]), per potential.
+    poly_jets: HashMap<Potential, Jet<Poly>>,
+    /// Collect each group of atoms at one centre as one polynomial in the unit vector
+    /// ([`crate::poly`]) instead of combining the atoms' values.
+    collect: bool,
     units: HashMap<usize, (S, S, [S; 3])>,
 }
 
@@ -172,6 +179,16 @@ impl<S: Scalar> Structured<S> {
         self
     }
 
+    /// Combine the atoms' values one by one (the jets' coefficients as computed by the
+    /// jet rules) instead of collecting each group as one polynomial in the unit vector
+    /// evaluated by Horner's rule (the default). Kernels with many blocks share the
+    /// atoms between entries and can be cheaper this way; the generator keeps the
+    /// cheaper of the two ([`crate::scene::trace`]).
+    pub fn atom_by_atom(mut self) -> Self {
+        self.collect = false;
+        self
+    }
+
     /// As [`Structured::new`], from the image terms, the planes' heights and the
     /// weights themselves (a subset of a Green's function's terms), with jets of
     /// degree `degree`.
@@ -211,6 +228,8 @@ impl<S: Scalar> Structured<S> {
             explicit_height,
             degree,
             jets: HashMap::new(),
+            poly_jets: HashMap::new(),
+            collect: true,
             units: HashMap::new(),
         }
     }
@@ -258,6 +277,26 @@ impl<S: Scalar> Structured<S> {
             match pot {
                 Potential::R => s.powf(0.5, S::cst(1.0)),
                 Potential::InvR => s.powf(-0.5, S::cst(1.0)),
+            }
+        })
+    }
+
+    /// The jet of a potential about the symbolic unit vector `e`: every coefficient a
+    /// polynomial in `e` ([`crate::poly`]), the same for every centre.
+    fn poly_jet(&mut self, pot: Potential) -> &Jet<Poly> {
+        let degree = self.degree;
+        self.poly_jets.entry(pot).or_insert_with(|| {
+            let l = Layout::get(3, degree);
+            let d: [Jet<Poly>; 3] = std::array::from_fn(|k| Jet::variable(&l, k, Poly::cst(0.0)));
+            let mut s = Jet::cst(1.0);
+            for k in 0..3 {
+                s = s
+                    + Jet::constant(Poly::cst(2.0) * Poly::var(k)) * d[k].clone()
+                    + d[k].clone() * d[k].clone();
+            }
+            match pot {
+                Potential::R => s.powf(0.5, Poly::cst(1.0)),
+                Potential::InvR => s.powf(-0.5, Poly::cst(1.0)),
             }
         })
     }
@@ -424,18 +463,31 @@ impl<S: Scalar> Structured<S> {
         }
         let mut acc: Option<S> = None;
         for ((centre, pot, n), list) in groups {
-            let mut sum: Option<S> = None;
-            for (a, c) in list {
-                let v = self.atom_at_unit(&a);
-                if v.is_known_zero() {
-                    continue;
+            let sum = if self.collect && self.difference_plane(centre).is_none() {
+                // one polynomial in the unit vector, evaluated by Horner's rule
+                let mut p = Poly::default();
+                for (a, c) in &list {
+                    let d = self.poly_jet(pot).derivative(&a.nu);
+                    p.add_scaled(&d, Dd::new(*c));
                 }
-                let v = if c == 1.0 { v } else { S::cst(c) * v };
-                sum = Some(match sum {
-                    None => v,
-                    Some(s) => s + v,
-                });
-            }
+                let (_, _, e) = self.unit(centre);
+                let v = p.eval(&e);
+                (!v.is_known_zero()).then_some(v)
+            } else {
+                let mut sum: Option<S> = None;
+                for (a, c) in list {
+                    let v = self.atom_at_unit(&a);
+                    if v.is_known_zero() {
+                        continue;
+                    }
+                    let v = if c == 1.0 { v } else { S::cst(c) * v };
+                    sum = Some(match sum {
+                        None => v,
+                        Some(s) => s + v,
+                    });
+                }
+                sum
+            };
             let Some(sum) = sum else { continue };
             let p = match pot {
                 Potential::R => 1,

@@ -400,6 +400,9 @@ impl<S: Scalar> Scalar for Jet<S> {
     fn cst(c: f64) -> Self {
         Jet::constant(S::cst(c))
     }
+    fn from_dd(d: crate::dd::Dd) -> Self {
+        Jet::constant(S::from_dd(d))
+    }
     fn ratio(n: f64, d: f64) -> Self {
         Jet::constant(S::ratio(n, d))
     }

@@ -18,6 +18,7 @@ pub mod frame;
 pub mod green;
 pub mod jet;
 pub mod operators;
+pub mod poly;
 pub mod scalar;
 pub mod scene;
 pub mod self_image;

@@ -30,6 +30,11 @@ pub trait Scalar:
     fn ratio(n: f64, d: f64) -> Self {
         Self::cst(n / d)
     }
+    /// A double-double constant: rounded to `f64` once, or kept exactly by a scalar
+    /// that carries more precision.
+    fn from_dd(d: crate::dd::Dd) -> Self {
+        Self::cst(d.to_f64())
+    }
     /// Square root.
     fn sqrt(&self) -> Self;
     /// Integer power.

@@ -272,8 +272,31 @@ fn shape(r: Response, m: Moment, b: Basis) -> Vec<usize> {
     s
 }
 
-/// Trace kernel `spec` for Green's function `g`.
+/// Trace kernel `spec` for Green's function `g`. With the structured path, twice: the
+/// atoms of each centre collected as polynomials in the unit vector
+/// ([`crate::poly`]) and combined atom by atom; the cheaper trace (operations of the
+/// direct sum) is kept.
 pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
+    let collected = trace_with(g, spec, true);
+    if g.image_terms().is_none() || spec.path == Path::Generic {
+        return collected;
+    }
+    let by_atom = trace_with(g, spec, false);
+    let cost = |t: &Traced| {
+        let mut ids = t.output_ids();
+        if let Some(f) = &t.far {
+            ids.extend(f.condition_ids());
+        }
+        t.graph.op_count(&ids).total()
+    };
+    if cost(&by_atom) < cost(&collected) {
+        by_atom
+    } else {
+        collected
+    }
+}
+
+fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: bool) -> Traced {
     let t = Trace::begin();
     let mut args = Vec::new();
     let mut point = |t: &Trace, name: &str, doc: &str| -> [Ex; 3] {
@@ -363,9 +386,9 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
     let mut outputs = Vec::new();
     let mut far = None;
     if spec.divergence {
-        outputs = divergence_outputs(g, spec, &xa, &xb, &aa, &ab, &params, order, &scale);
+        outputs = divergence_outputs(g, spec, &xa, &xb, &aa, &ab, &params, order, &scale, collect);
     } else {
-        let values = block_values(g, spec, &fxa, &fxb, &aa, &ab, &params, order);
+        let values = block_values(g, spec, &fxa, &fxb, &aa, &ab, &params, order, collect);
         for (&(r, m), vals) in spec.blocks.iter().zip(values) {
             outputs.push(BlockOut {
                 name: block_name(r, m),
@@ -588,7 +611,7 @@ pub fn evaluate_direct<G: Green, S: Scalar>(g: &G, spec: &KernelSpec, inputs: &[
     let params = take(g.params().len());
     let order = spec.order();
     let scale = S::cst(1.0 / (8.0 * std::f64::consts::PI)) / eta;
-    let values = block_values(g, spec, &xa, &xb, &aa, &ab, &params, order);
+    let values = block_values(g, spec, &xa, &xb, &aa, &ab, &params, order, false);
     let blocks: Vec<Vec<S>> = values
         .into_iter()
         .map(|v| v.into_iter().map(|x| scale.clone() * x).collect())
@@ -696,11 +719,13 @@ impl<S: Scalar> Source<S> {
         xb: &[S; 3],
         p: &[S],
         order: usize,
+        collect: bool,
     ) -> Self {
         let pair = spec.interaction == Interaction::Pair;
         if g.image_terms().is_some() && spec.path != Path::Generic {
             let explicit = spec.path != Path::StructuredNoExplicitHeight;
             let s = Structured::new(g, xa, xb, p, order, pair, explicit);
+            let s = if collect { s } else { s.atom_by_atom() };
             Source::Structured(if spec.path == Path::StructuredDirectSum {
                 s.direct_sum()
             } else {
@@ -733,8 +758,9 @@ fn block_values<G: Green, S: Scalar>(
     ab: &S,
     params: &[S],
     order: usize,
+    collect: bool,
 ) -> Vec<Vec<S>> {
-    let mut src = Source::new(g, spec, xa, xb, params, order);
+    let mut src = Source::new(g, spec, xa, xb, params, order, collect);
     let (aa2, ab2) = (aa.clone() * aa.clone(), ab.clone() * ab.clone());
     spec.blocks
         .iter()
@@ -784,6 +810,7 @@ fn divergence_outputs<G: Green>(
     params: &[Ex],
     order: usize,
     scale: &Ex,
+    collect: bool,
 ) -> Vec<BlockOut> {
     let pair = spec.interaction == Interaction::Pair;
     let l = Layout::get(if pair { 6 } else { 3 }, 1);
@@ -795,7 +822,7 @@ fn divergence_outputs<G: Green>(
     };
     let c = |e: &Ex| Jet::constant(*e);
     let jp: Vec<Jet<Ex>> = params.iter().map(c).collect();
-    let values = block_values(g, spec, &ja, &jb, &c(aa), &c(ab), &jp, order);
+    let values = block_values(g, spec, &ja, &jb, &c(aa), &c(ab), &jp, order, collect);
     let block = |r: Response, m: Moment| -> Option<&Vec<Jet<Ex>>> {
         spec.blocks
             .iter()

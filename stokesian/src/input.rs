@@ -160,21 +160,43 @@ pub fn validate(
         }
     }
     if !allow_overlap {
-        for i in 0..particles.len() {
-            for j in i + 1..particles.len() {
-                let (p, q) = (&particles[i], &particles[j]);
-                let d2: f64 = (0..3).map(|k| (p.x[k] - q.x[k]).powi(2)).sum();
-                let sum = p.a + q.a;
-                if d2 < sum * sum {
-                    return Err(InputError::Overlap {
-                        first: i,
-                        second: j,
-                        distance: d2.sqrt(),
-                        sum,
-                    });
-                }
-            }
+        if let Some((i, j)) = first_overlap(particles) {
+            let (p, q) = (&particles[i], &particles[j]);
+            let d2: f64 = (0..3).map(|k| (p.x[k] - q.x[k]).powi(2)).sum();
+            return Err(InputError::Overlap {
+                first: i,
+                second: j,
+                distance: d2.sqrt(),
+                sum: p.a + q.a,
+            });
         }
     }
     Ok(())
+}
+
+/// The overlapping pair `(i, j)`, `i < j`, that comes first in index order, if any.
+/// Sweep along `x1`: only spheres whose centres are closer than `a_i + max a` in `x1`
+/// can overlap, so sorted by `x1` each sphere is compared with its few neighbours
+/// (`O(N log N)` for a suspension, where all pairs would be `O(N^2)`).
+fn first_overlap(particles: &[Particle]) -> Option<(usize, usize)> {
+    let amax = particles.iter().map(|p| p.a).fold(0.0, f64::max);
+    let mut order: Vec<usize> = (0..particles.len()).collect();
+    order.sort_by(|&i, &j| particles[i].x[0].total_cmp(&particles[j].x[0]));
+    let mut first: Option<(usize, usize)> = None;
+    for (s, &i) in order.iter().enumerate() {
+        let p = &particles[i];
+        for &j in &order[s + 1..] {
+            let q = &particles[j];
+            if q.x[0] - p.x[0] >= p.a + amax {
+                break;
+            }
+            let d2: f64 = (0..3).map(|k| (p.x[k] - q.x[k]).powi(2)).sum();
+            let sum = p.a + q.a;
+            if d2 < sum * sum {
+                let pair = (i.min(j), i.max(j));
+                first = Some(first.map_or(pair, |f| f.min(pair)));
+            }
+        }
+    }
+    first
 }

@@ -39,7 +39,7 @@ pub fn free_f_self(x: [f64; 3], a: f64, eta: f64) -> BlocksF {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 93 flops (25 add/sub, 61 mul, 3 div, 2 sqrt, 0 powi, 0 neg, 2 select).
+/// Operation count (after dead-code elimination): 84 flops (23 add/sub, 53 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 2 select).
 #[inline]
 pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> BlocksF {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -66,77 +66,68 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
     let t21: f64 = 1.0 / t20;
     let t22: f64 = t6 * t21;
     let t23: f64 = t12 * t21;
-    let t24: f64 = t22 * 2.0;
-    let t25: f64 = t23 * 2.0;
-    let t26: f64 = t22 * t24;
-    let t27: f64 = t26 * (-0.25);
-    let t28: f64 = 0.5 + t27;
-    let t29: f64 = t23 * t24;
-    let t30: f64 = 0.5 * t29;
-    let t31: f64 = t22 * t25;
-    let t32: f64 = t31 - t30;
-    let t33: f64 = 2.0 * t28;
-    let t34: f64 = t21 * t33;
-    let t35: f64 = t26 * (-0.75);
-    let t36: f64 = (-0.5) - t35;
-    let t37: f64 = t29 * (-0.5);
-    let t38: f64 = t31 - t37;
-    let t39: f64 = t21 * 2.0;
-    let t40: f64 = t39 - t34;
-    let t41: f64 = t36 * (-4.0);
-    let t42: f64 = t21 * t21;
-    let t43: f64 = t21 * t42;
-    let t44: f64 = t41 * t43;
-    let t45: f64 = t16 * t44;
-    let t46: f64 = t40 + t45;
-    let t47: f64 = t15 * t44;
-    let t48: f64 = t46 + t47;
-    let t49: f64 = t21 * t32;
-    let t50: f64 = t38 * (-2.0);
-    let t51: f64 = t43 * t50;
-    let t52: f64 = t16 * t51;
-    let t53: f64 = t49 + t52;
-    let t54: f64 = t15 * t51;
-    let t55: f64 = t53 + t54;
-    let t56: f64 = t39 - t21;
-    let t57: f64 = 2.0 * t43;
+    let t24: f64 = t22.powi(2);
+    let t25: f64 = t24 + (-1.0);
+    let t26: f64 = t21 * t25;
+    let t27: f64 = t21 * 2.0;
+    let t28: f64 = t26 + t27;
+    let t29: f64 = t24 * (-6.0);
+    let t30: f64 = 2.0 + t29;
+    let t31: f64 = t21 * t21;
+    let t32: f64 = t21 * t31;
+    let t33: f64 = t30 * t32;
+    let t34: f64 = t16 * t33;
+    let t35: f64 = t28 + t34;
+    let t36: f64 = t15 * t33;
+    let t37: f64 = t35 + t36;
+    let t38: f64 = t22 * t23;
+    let t39: f64 = t21 * t38;
+    let t40: f64 = t23 * (-6.0);
+    let t41: f64 = t22 * t40;
+    let t42: f64 = t32 * t41;
+    let t43: f64 = t16 * t42;
+    let t44: f64 = t39 + t43;
+    let t45: f64 = t15 * t42;
+    let t46: f64 = t44 + t45;
+    let t47: f64 = t27 - t21;
+    let t48: f64 = 2.0 * t32;
+    let t49: f64 = t16 * t48;
+    let t50: f64 = t47 + t49;
+    let t51: f64 = t15 * t48;
+    let t52: f64 = t50 + t51;
+    let t53: f64 = 2.0 - t24;
+    let t54: f64 = t21 * t53;
+    let t55: f64 = t24 * 6.0;
+    let t56: f64 = t55 + (-4.0);
+    let t57: f64 = t32 * t56;
     let t58: f64 = t16 * t57;
-    let t59: f64 = t56 + t58;
+    let t59: f64 = t54 + t58;
     let t60: f64 = t15 * t57;
     let t61: f64 = t59 + t60;
-    let t62: f64 = 1.0 + t33;
-    let t63: f64 = t21 * t62;
-    let t64: f64 = t36 * 4.0;
-    let t65: f64 = (-2.0) + t64;
-    let t66: f64 = t43 * t65;
-    let t67: f64 = t16 * t66;
-    let t68: f64 = t63 + t67;
-    let t69: f64 = t15 * t66;
-    let t70: f64 = t68 + t69;
-    let t71: f64 = t0 * t48;
-    let t72: f64 = t0 * t55;
-    let t73: f64 = t0 * t61;
-    let t74: f64 = t0 * t70;
-    let t75: f64 = t9 * t71;
-    let t76: f64 = t9 * t75;
-    let t77: f64 = t11 * t73;
-    let t78: f64 = t11 * t77;
-    let t79: f64 = t76 + t78;
+    let t62: f64 = t0 * t37;
+    let t63: f64 = t0 * t46;
+    let t64: f64 = t0 * t52;
+    let t65: f64 = t0 * t61;
+    let t66: f64 = t9 * t62;
+    let t67: f64 = t9 * t66;
+    let t68: f64 = t11 * t64;
+    let t69: f64 = t11 * t68;
+    let t70: f64 = t67 + t69;
+    let t71: f64 = t11 * t62;
+    let t72: f64 = t9 * t71;
+    let t73: f64 = t9 * t64;
+    let t74: f64 = t11 * t73;
+    let t75: f64 = t72 - t74;
+    let t76: f64 = t9 * t63;
+    let t77: f64 = t11 * t66;
+    let t78: f64 = t9 * t68;
+    let t79: f64 = t77 - t78;
     let t80: f64 = t11 * t71;
-    let t81: f64 = t9 * t80;
-    let t82: f64 = t9 * t73;
-    let t83: f64 = t11 * t82;
-    let t84: f64 = t81 - t83;
-    let t85: f64 = t9 * t72;
-    let t86: f64 = t11 * t75;
-    let t87: f64 = t9 * t77;
-    let t88: f64 = t86 - t87;
-    let t89: f64 = t11 * t80;
-    let t90: f64 = t9 * t82;
-    let t91: f64 = t89 + t90;
-    let t92: f64 = t11 * t72;
+    let t81: f64 = t9 * t73;
+    let t82: f64 = t80 + t81;
+    let t83: f64 = t11 * t63;
     BlocksF {
-        uf: [[t79, t84, t85], [t88, t91, t92], [t85, t92, t74]],
+        uf: [[t70, t75, t76], [t79, t82, t83], [t76, t83, t65]],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the F blocks, pair equal.
@@ -150,7 +141,7 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
 /// - `a`: radius of the particle(s)
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 87 flops (25 add/sub, 55 mul, 3 div, 2 sqrt, 0 powi, 0 neg, 2 select).
+/// Operation count (after dead-code elimination): 78 flops (23 add/sub, 47 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 2 select).
 #[inline]
 pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksF {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -175,73 +166,64 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
     let t19: f64 = 1.0 / t18;
     let t20: f64 = t6 * t19;
     let t21: f64 = t12 * t19;
-    let t22: f64 = t20 * 2.0;
-    let t23: f64 = t21 * 2.0;
-    let t24: f64 = t20 * t22;
-    let t25: f64 = t24 * (-0.25);
-    let t26: f64 = 0.5 + t25;
-    let t27: f64 = t21 * t22;
-    let t28: f64 = 0.5 * t27;
-    let t29: f64 = t20 * t23;
-    let t30: f64 = t29 - t28;
-    let t31: f64 = 2.0 * t26;
-    let t32: f64 = t19 * t31;
-    let t33: f64 = t24 * (-0.75);
-    let t34: f64 = (-0.5) - t33;
-    let t35: f64 = t27 * (-0.5);
-    let t36: f64 = t29 - t35;
-    let t37: f64 = t19 * 2.0;
-    let t38: f64 = t37 - t32;
-    let t39: f64 = t34 * (-4.0);
-    let t40: f64 = t19 * t19;
-    let t41: f64 = t19 * t40;
-    let t42: f64 = t39 * t41;
-    let t43: f64 = t14 * t42;
-    let t44: f64 = t38 + t43;
-    let t45: f64 = t43 + t44;
-    let t46: f64 = t19 * t30;
-    let t47: f64 = t36 * (-2.0);
-    let t48: f64 = t41 * t47;
-    let t49: f64 = t14 * t48;
-    let t50: f64 = t46 + t49;
-    let t51: f64 = t49 + t50;
-    let t52: f64 = t37 - t19;
-    let t53: f64 = 2.0 * t41;
-    let t54: f64 = t14 * t53;
-    let t55: f64 = t52 + t54;
-    let t56: f64 = t54 + t55;
-    let t57: f64 = 1.0 + t31;
-    let t58: f64 = t19 * t57;
-    let t59: f64 = t34 * 4.0;
-    let t60: f64 = (-2.0) + t59;
-    let t61: f64 = t41 * t60;
-    let t62: f64 = t14 * t61;
-    let t63: f64 = t58 + t62;
-    let t64: f64 = t62 + t63;
-    let t65: f64 = t0 * t45;
-    let t66: f64 = t0 * t51;
-    let t67: f64 = t0 * t56;
-    let t68: f64 = t0 * t64;
-    let t69: f64 = t9 * t65;
-    let t70: f64 = t9 * t69;
-    let t71: f64 = t11 * t67;
-    let t72: f64 = t11 * t71;
-    let t73: f64 = t70 + t72;
+    let t22: f64 = t20.powi(2);
+    let t23: f64 = t22 + (-1.0);
+    let t24: f64 = t19 * t23;
+    let t25: f64 = t19 * 2.0;
+    let t26: f64 = t24 + t25;
+    let t27: f64 = t22 * (-6.0);
+    let t28: f64 = 2.0 + t27;
+    let t29: f64 = t19 * t19;
+    let t30: f64 = t19 * t29;
+    let t31: f64 = t28 * t30;
+    let t32: f64 = t14 * t31;
+    let t33: f64 = t26 + t32;
+    let t34: f64 = t32 + t33;
+    let t35: f64 = t20 * t21;
+    let t36: f64 = t19 * t35;
+    let t37: f64 = t21 * (-6.0);
+    let t38: f64 = t20 * t37;
+    let t39: f64 = t30 * t38;
+    let t40: f64 = t14 * t39;
+    let t41: f64 = t36 + t40;
+    let t42: f64 = t40 + t41;
+    let t43: f64 = t25 - t19;
+    let t44: f64 = 2.0 * t30;
+    let t45: f64 = t14 * t44;
+    let t46: f64 = t43 + t45;
+    let t47: f64 = t45 + t46;
+    let t48: f64 = 2.0 - t22;
+    let t49: f64 = t19 * t48;
+    let t50: f64 = t22 * 6.0;
+    let t51: f64 = t50 + (-4.0);
+    let t52: f64 = t30 * t51;
+    let t53: f64 = t14 * t52;
+    let t54: f64 = t49 + t53;
+    let t55: f64 = t53 + t54;
+    let t56: f64 = t0 * t34;
+    let t57: f64 = t0 * t42;
+    let t58: f64 = t0 * t47;
+    let t59: f64 = t0 * t55;
+    let t60: f64 = t9 * t56;
+    let t61: f64 = t9 * t60;
+    let t62: f64 = t11 * t58;
+    let t63: f64 = t11 * t62;
+    let t64: f64 = t61 + t63;
+    let t65: f64 = t11 * t56;
+    let t66: f64 = t9 * t65;
+    let t67: f64 = t9 * t58;
+    let t68: f64 = t11 * t67;
+    let t69: f64 = t66 - t68;
+    let t70: f64 = t9 * t57;
+    let t71: f64 = t11 * t60;
+    let t72: f64 = t9 * t62;
+    let t73: f64 = t71 - t72;
     let t74: f64 = t11 * t65;
-    let t75: f64 = t9 * t74;
-    let t76: f64 = t9 * t67;
-    let t77: f64 = t11 * t76;
-    let t78: f64 = t75 - t77;
-    let t79: f64 = t9 * t66;
-    let t80: f64 = t11 * t69;
-    let t81: f64 = t9 * t71;
-    let t82: f64 = t80 - t81;
-    let t83: f64 = t11 * t74;
-    let t84: f64 = t9 * t76;
-    let t85: f64 = t83 + t84;
-    let t86: f64 = t11 * t66;
+    let t75: f64 = t9 * t67;
+    let t76: f64 = t74 + t75;
+    let t77: f64 = t11 * t57;
     BlocksF {
-        uf: [[t73, t78, t79], [t82, t85, t86], [t79, t86, t68]],
+        uf: [[t64, t69, t70], [t73, t76, t77], [t70, t77, t59]],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair product.
@@ -258,7 +240,7 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 113 flops (33 add/sub, 73 mul, 3 div, 2 sqrt, 0 powi, 0 neg, 2 select).
+/// Operation count (after dead-code elimination): 104 flops (31 add/sub, 65 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 2 select).
 #[inline]
 pub fn free_f_pair_product(
     xa: [f64; 3],
@@ -293,98 +275,89 @@ pub fn free_f_pair_product(
     let t21: f64 = 1.0 / t20;
     let t22: f64 = t6 * t21;
     let t23: f64 = t12 * t21;
-    let t24: f64 = t22 * 2.0;
-    let t25: f64 = t23 * 2.0;
-    let t26: f64 = t22 * t24;
-    let t27: f64 = t26 * (-0.25);
-    let t28: f64 = 0.5 + t27;
-    let t29: f64 = t23 * t24;
-    let t30: f64 = 0.5 * t29;
-    let t31: f64 = t22 * t25;
-    let t32: f64 = t31 - t30;
-    let t33: f64 = 2.0 * t28;
-    let t34: f64 = t21 * t33;
-    let t35: f64 = t26 * (-0.75);
-    let t36: f64 = (-0.5) - t35;
-    let t37: f64 = t29 * (-0.5);
-    let t38: f64 = t31 - t37;
-    let t39: f64 = t21 * 2.0;
-    let t40: f64 = t39 - t34;
-    let t41: f64 = t36 * (-4.0);
-    let t42: f64 = t21 * t21;
-    let t43: f64 = t21 * t42;
-    let t44: f64 = t41 * t43;
-    let t45: f64 = t16 * t44;
-    let t46: f64 = t40 + t45;
-    let t47: f64 = t15 * t44;
-    let t48: f64 = t46 + t47;
-    let t49: f64 = t21 * t32;
-    let t50: f64 = t38 * (-2.0);
-    let t51: f64 = t43 * t50;
-    let t52: f64 = t16 * t51;
-    let t53: f64 = t49 + t52;
-    let t54: f64 = t15 * t51;
-    let t55: f64 = t53 + t54;
-    let t56: f64 = t39 - t21;
-    let t57: f64 = 2.0 * t43;
+    let t24: f64 = t22.powi(2);
+    let t25: f64 = t24 + (-1.0);
+    let t26: f64 = t21 * t25;
+    let t27: f64 = t21 * 2.0;
+    let t28: f64 = t26 + t27;
+    let t29: f64 = t24 * (-6.0);
+    let t30: f64 = 2.0 + t29;
+    let t31: f64 = t21 * t21;
+    let t32: f64 = t21 * t31;
+    let t33: f64 = t30 * t32;
+    let t34: f64 = t16 * t33;
+    let t35: f64 = t28 + t34;
+    let t36: f64 = t15 * t33;
+    let t37: f64 = t35 + t36;
+    let t38: f64 = t22 * t23;
+    let t39: f64 = t21 * t38;
+    let t40: f64 = t23 * (-6.0);
+    let t41: f64 = t22 * t40;
+    let t42: f64 = t32 * t41;
+    let t43: f64 = t16 * t42;
+    let t44: f64 = t39 + t43;
+    let t45: f64 = t15 * t42;
+    let t46: f64 = t44 + t45;
+    let t47: f64 = t27 - t21;
+    let t48: f64 = 2.0 * t32;
+    let t49: f64 = t16 * t48;
+    let t50: f64 = t47 + t49;
+    let t51: f64 = t15 * t48;
+    let t52: f64 = t50 + t51;
+    let t53: f64 = 2.0 - t24;
+    let t54: f64 = t21 * t53;
+    let t55: f64 = t24 * 6.0;
+    let t56: f64 = t55 + (-4.0);
+    let t57: f64 = t32 * t56;
     let t58: f64 = t16 * t57;
-    let t59: f64 = t56 + t58;
+    let t59: f64 = t54 + t58;
     let t60: f64 = t15 * t57;
     let t61: f64 = t59 + t60;
-    let t62: f64 = 1.0 + t33;
-    let t63: f64 = t21 * t62;
-    let t64: f64 = t36 * 4.0;
-    let t65: f64 = (-2.0) + t64;
-    let t66: f64 = t43 * t65;
-    let t67: f64 = t16 * t66;
-    let t68: f64 = t63 + t67;
-    let t69: f64 = t15 * t66;
-    let t70: f64 = t68 + t69;
-    let t71: f64 = t0 * t48;
-    let t72: f64 = t0 * t55;
-    let t73: f64 = t0 * t61;
-    let t74: f64 = t0 * t70;
-    let t75: f64 = va[0] * t9;
-    let t76: f64 = va[1] * t11;
-    let t77: f64 = t75 + t76;
-    let t78: f64 = va[0] * t11;
-    let t79: f64 = va[1] * t9;
-    let t80: f64 = t79 - t78;
-    let t81: f64 = vb[0] * t9;
-    let t82: f64 = vb[1] * t11;
-    let t83: f64 = t81 + t82;
-    let t84: f64 = vb[0] * t11;
-    let t85: f64 = vb[1] * t9;
-    let t86: f64 = t85 - t84;
-    let t87: f64 = t71 * t83;
-    let t88: f64 = t71 * t77;
-    let t89: f64 = vb[2] * t72;
-    let t90: f64 = t87 + t89;
-    let t91: f64 = t72 * t77;
-    let t92: f64 = t73 * t86;
-    let t93: f64 = t73 * t80;
-    let t94: f64 = t72 * t83;
-    let t95: f64 = va[2] * t72;
-    let t96: f64 = t88 + t95;
-    let t97: f64 = vb[2] * t74;
-    let t98: f64 = t94 + t97;
-    let t99: f64 = va[2] * t74;
-    let t100: f64 = t91 + t99;
-    let t101: f64 = t9 * t90;
-    let t102: f64 = t11 * t92;
-    let t103: f64 = t101 - t102;
-    let t104: f64 = t11 * t90;
-    let t105: f64 = t9 * t92;
-    let t106: f64 = t104 + t105;
-    let t107: f64 = t9 * t96;
-    let t108: f64 = t11 * t93;
-    let t109: f64 = t107 - t108;
-    let t110: f64 = t11 * t96;
-    let t111: f64 = t9 * t93;
-    let t112: f64 = t110 + t111;
+    let t62: f64 = t0 * t37;
+    let t63: f64 = t0 * t46;
+    let t64: f64 = t0 * t52;
+    let t65: f64 = t0 * t61;
+    let t66: f64 = va[0] * t9;
+    let t67: f64 = va[1] * t11;
+    let t68: f64 = t66 + t67;
+    let t69: f64 = va[0] * t11;
+    let t70: f64 = va[1] * t9;
+    let t71: f64 = t70 - t69;
+    let t72: f64 = vb[0] * t9;
+    let t73: f64 = vb[1] * t11;
+    let t74: f64 = t72 + t73;
+    let t75: f64 = vb[0] * t11;
+    let t76: f64 = vb[1] * t9;
+    let t77: f64 = t76 - t75;
+    let t78: f64 = t62 * t74;
+    let t79: f64 = t62 * t68;
+    let t80: f64 = vb[2] * t63;
+    let t81: f64 = t78 + t80;
+    let t82: f64 = t63 * t68;
+    let t83: f64 = t64 * t77;
+    let t84: f64 = t64 * t71;
+    let t85: f64 = t63 * t74;
+    let t86: f64 = va[2] * t63;
+    let t87: f64 = t79 + t86;
+    let t88: f64 = vb[2] * t65;
+    let t89: f64 = t85 + t88;
+    let t90: f64 = va[2] * t65;
+    let t91: f64 = t82 + t90;
+    let t92: f64 = t9 * t81;
+    let t93: f64 = t11 * t83;
+    let t94: f64 = t92 - t93;
+    let t95: f64 = t11 * t81;
+    let t96: f64 = t9 * t83;
+    let t97: f64 = t95 + t96;
+    let t98: f64 = t9 * t87;
+    let t99: f64 = t11 * t84;
+    let t100: f64 = t98 - t99;
+    let t101: f64 = t11 * t87;
+    let t102: f64 = t9 * t84;
+    let t103: f64 = t101 + t102;
     Product::<3> {
-        a: [t103, t106, t98],
-        b: [t109, t112, t100],
+        a: [t94, t97, t89],
+        b: [t100, t103, t91],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair product.
@@ -392,7 +365,7 @@ pub fn free_f_pair_product(
 /// Pruned to what the scene needs.
 /// Jets truncated at derivative order 4 of G.
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_pair_product`'s fields. Operation count with fused multiply-adds: 85 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_pair_product`'s fields. Operation count with fused multiply-adds: 79 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_f_pair_product_lanes<L: lanes::Lane>(
@@ -427,70 +400,64 @@ pub fn free_f_pair_product_lanes<L: lanes::Lane>(
         let t19: L = L::splat(1.0) / t18;
         let t20: L = t5 * t19;
         let t21: L = t11 * t19;
-        let t22: L = t20 * L::splat(2.0);
-        let t23: L = t21 * L::splat(2.0);
-        let t24: L = t20 * t22;
-        let t25: L = t24.mul_add(L::splat(-0.25), L::splat(0.5));
-        let t26: L = t21 * t22;
-        let t27: L = t20 * t23;
-        let t28: L = L::splat(0.5).neg_mul_add(t26, t27);
-        let t29: L = L::splat(2.0) * t25;
-        let t30: L = t24.neg_mul_add(L::splat(-0.75), L::splat(-0.5));
-        let t31: L = t26.neg_mul_add(L::splat(-0.5), t27);
-        let t32: L = t19 * L::splat(2.0);
-        let t33: L = t19.neg_mul_add(t29, t32);
-        let t34: L = t30 * L::splat(-4.0);
-        let t35: L = t19 * t19;
-        let t36: L = t19 * t35;
-        let t37: L = t34 * t36;
-        let t38: L = t15.mul_add(t37, t33);
-        let t39: L = t14.mul_add(t37, t38);
-        let t40: L = t31 * L::splat(-2.0);
-        let t41: L = t36 * t40;
-        let t42: L = t15 * t41;
-        let t43: L = t19.mul_add(t28, t42);
-        let t44: L = t14.mul_add(t41, t43);
-        let t45: L = t32 - t19;
-        let t46: L = L::splat(2.0) * t36;
-        let t47: L = t15.mul_add(t46, t45);
-        let t48: L = t14.mul_add(t46, t47);
-        let t49: L = L::splat(1.0) + t29;
-        let t50: L = t30.mul_add(L::splat(4.0), L::splat(-2.0));
-        let t51: L = t36 * t50;
-        let t52: L = t15 * t51;
-        let t53: L = t19.mul_add(t49, t52);
-        let t54: L = t14.mul_add(t51, t53);
-        let t55: L = t0 * t39;
-        let t56: L = t0 * t44;
-        let t57: L = t0 * t48;
-        let t58: L = t0 * t54;
-        let t59: L = va[1] * t10;
-        let t60: L = va[0].mul_add(t8, t59);
-        let t61: L = va[0] * t10;
-        let t62: L = va[1].mul_sub(t8, t61);
-        let t63: L = vb[1] * t10;
-        let t64: L = vb[0].mul_add(t8, t63);
-        let t65: L = vb[0] * t10;
-        let t66: L = vb[1].mul_sub(t8, t65);
-        let t67: L = vb[2] * t56;
-        let t68: L = t55.mul_add(t64, t67);
-        let t69: L = t57 * t66;
-        let t70: L = t57 * t62;
-        let t71: L = va[2] * t56;
-        let t72: L = t55.mul_add(t60, t71);
-        let t73: L = vb[2] * t58;
-        let t74: L = t56.mul_add(t64, t73);
-        let t75: L = va[2] * t58;
-        let t76: L = t56.mul_add(t60, t75);
-        let t77: L = t10 * t69;
-        let t78: L = t8.mul_sub(t68, t77);
-        let t79: L = t8 * t69;
-        let t80: L = t10.mul_add(t68, t79);
-        let t81: L = t10 * t70;
-        let t82: L = t8.mul_sub(t72, t81);
-        let t83: L = t8 * t70;
-        let t84: L = t10.mul_add(t72, t83);
-        [t78, t80, t74, t82, t84, t76]
+        let t22: L = t20.powi(2);
+        let t23: L = t22 + L::splat(-1.0);
+        let t24: L = t19 * L::splat(2.0);
+        let t25: L = t19.mul_add(t23, t24);
+        let t26: L = t22.mul_add(L::splat(-6.0), L::splat(2.0));
+        let t27: L = t19 * t19;
+        let t28: L = t19 * t27;
+        let t29: L = t26 * t28;
+        let t30: L = t15.mul_add(t29, t25);
+        let t31: L = t14.mul_add(t29, t30);
+        let t32: L = t20 * t21;
+        let t33: L = t21 * L::splat(-6.0);
+        let t34: L = t20 * t33;
+        let t35: L = t28 * t34;
+        let t36: L = t15 * t35;
+        let t37: L = t19.mul_add(t32, t36);
+        let t38: L = t14.mul_add(t35, t37);
+        let t39: L = t24 - t19;
+        let t40: L = L::splat(2.0) * t28;
+        let t41: L = t15.mul_add(t40, t39);
+        let t42: L = t14.mul_add(t40, t41);
+        let t43: L = L::splat(2.0) - t22;
+        let t44: L = t22.mul_add(L::splat(6.0), L::splat(-4.0));
+        let t45: L = t28 * t44;
+        let t46: L = t15 * t45;
+        let t47: L = t19.mul_add(t43, t46);
+        let t48: L = t14.mul_add(t45, t47);
+        let t49: L = t0 * t31;
+        let t50: L = t0 * t38;
+        let t51: L = t0 * t42;
+        let t52: L = t0 * t48;
+        let t53: L = va[1] * t10;
+        let t54: L = va[0].mul_add(t8, t53);
+        let t55: L = va[0] * t10;
+        let t56: L = va[1].mul_sub(t8, t55);
+        let t57: L = vb[1] * t10;
+        let t58: L = vb[0].mul_add(t8, t57);
+        let t59: L = vb[0] * t10;
+        let t60: L = vb[1].mul_sub(t8, t59);
+        let t61: L = vb[2] * t50;
+        let t62: L = t49.mul_add(t58, t61);
+        let t63: L = t51 * t60;
+        let t64: L = t51 * t56;
+        let t65: L = va[2] * t50;
+        let t66: L = t49.mul_add(t54, t65);
+        let t67: L = vb[2] * t52;
+        let t68: L = t50.mul_add(t58, t67);
+        let t69: L = va[2] * t52;
+        let t70: L = t50.mul_add(t54, t69);
+        let t71: L = t10 * t63;
+        let t72: L = t8.mul_sub(t62, t71);
+        let t73: L = t8 * t63;
+        let t74: L = t10.mul_add(t62, t73);
+        let t75: L = t10 * t64;
+        let t76: L = t8.mul_sub(t66, t75);
+        let t77: L = t8 * t64;
+        let t78: L = t10.mul_add(t66, t77);
+        [t72, t74, t68, t76, t78, t70]
     };
     out
 }
@@ -507,7 +474,7 @@ pub fn free_f_pair_product_lanes<L: lanes::Lane>(
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 107 flops (33 add/sub, 67 mul, 3 div, 2 sqrt, 0 powi, 0 neg, 2 select).
+/// Operation count (after dead-code elimination): 98 flops (31 add/sub, 59 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 2 select).
 #[inline]
 pub fn free_f_pair_equal_product(
     xa: [f64; 3],
@@ -539,93 +506,84 @@ pub fn free_f_pair_equal_product(
     let t19: f64 = 1.0 / t18;
     let t20: f64 = t6 * t19;
     let t21: f64 = t12 * t19;
-    let t22: f64 = t20 * 2.0;
-    let t23: f64 = t21 * 2.0;
-    let t24: f64 = t20 * t22;
-    let t25: f64 = t24 * (-0.25);
-    let t26: f64 = 0.5 + t25;
-    let t27: f64 = t21 * t22;
-    let t28: f64 = 0.5 * t27;
-    let t29: f64 = t20 * t23;
-    let t30: f64 = t29 - t28;
-    let t31: f64 = 2.0 * t26;
-    let t32: f64 = t19 * t31;
-    let t33: f64 = t24 * (-0.75);
-    let t34: f64 = (-0.5) - t33;
-    let t35: f64 = t27 * (-0.5);
-    let t36: f64 = t29 - t35;
-    let t37: f64 = t19 * 2.0;
-    let t38: f64 = t37 - t32;
-    let t39: f64 = t34 * (-4.0);
-    let t40: f64 = t19 * t19;
-    let t41: f64 = t19 * t40;
-    let t42: f64 = t39 * t41;
-    let t43: f64 = t14 * t42;
-    let t44: f64 = t38 + t43;
-    let t45: f64 = t43 + t44;
-    let t46: f64 = t19 * t30;
-    let t47: f64 = t36 * (-2.0);
-    let t48: f64 = t41 * t47;
-    let t49: f64 = t14 * t48;
-    let t50: f64 = t46 + t49;
-    let t51: f64 = t49 + t50;
-    let t52: f64 = t37 - t19;
-    let t53: f64 = 2.0 * t41;
-    let t54: f64 = t14 * t53;
-    let t55: f64 = t52 + t54;
-    let t56: f64 = t54 + t55;
-    let t57: f64 = 1.0 + t31;
-    let t58: f64 = t19 * t57;
-    let t59: f64 = t34 * 4.0;
-    let t60: f64 = (-2.0) + t59;
-    let t61: f64 = t41 * t60;
-    let t62: f64 = t14 * t61;
-    let t63: f64 = t58 + t62;
-    let t64: f64 = t62 + t63;
-    let t65: f64 = t0 * t45;
-    let t66: f64 = t0 * t51;
-    let t67: f64 = t0 * t56;
-    let t68: f64 = t0 * t64;
-    let t69: f64 = va[0] * t9;
-    let t70: f64 = va[1] * t11;
-    let t71: f64 = t69 + t70;
-    let t72: f64 = va[0] * t11;
-    let t73: f64 = va[1] * t9;
-    let t74: f64 = t73 - t72;
-    let t75: f64 = vb[0] * t9;
-    let t76: f64 = vb[1] * t11;
-    let t77: f64 = t75 + t76;
-    let t78: f64 = vb[0] * t11;
-    let t79: f64 = vb[1] * t9;
-    let t80: f64 = t79 - t78;
-    let t81: f64 = t65 * t77;
-    let t82: f64 = t65 * t71;
-    let t83: f64 = vb[2] * t66;
-    let t84: f64 = t81 + t83;
-    let t85: f64 = t66 * t71;
-    let t86: f64 = t67 * t80;
-    let t87: f64 = t67 * t74;
-    let t88: f64 = t66 * t77;
-    let t89: f64 = va[2] * t66;
-    let t90: f64 = t82 + t89;
-    let t91: f64 = vb[2] * t68;
-    let t92: f64 = t88 + t91;
-    let t93: f64 = va[2] * t68;
-    let t94: f64 = t85 + t93;
-    let t95: f64 = t9 * t84;
-    let t96: f64 = t11 * t86;
-    let t97: f64 = t95 - t96;
-    let t98: f64 = t11 * t84;
-    let t99: f64 = t9 * t86;
-    let t100: f64 = t98 + t99;
-    let t101: f64 = t9 * t90;
-    let t102: f64 = t11 * t87;
-    let t103: f64 = t101 - t102;
-    let t104: f64 = t11 * t90;
-    let t105: f64 = t9 * t87;
-    let t106: f64 = t104 + t105;
+    let t22: f64 = t20.powi(2);
+    let t23: f64 = t22 + (-1.0);
+    let t24: f64 = t19 * t23;
+    let t25: f64 = t19 * 2.0;
+    let t26: f64 = t24 + t25;
+    let t27: f64 = t22 * (-6.0);
+    let t28: f64 = 2.0 + t27;
+    let t29: f64 = t19 * t19;
+    let t30: f64 = t19 * t29;
+    let t31: f64 = t28 * t30;
+    let t32: f64 = t14 * t31;
+    let t33: f64 = t26 + t32;
+    let t34: f64 = t32 + t33;
+    let t35: f64 = t20 * t21;
+    let t36: f64 = t19 * t35;
+    let t37: f64 = t21 * (-6.0);
+    let t38: f64 = t20 * t37;
+    let t39: f64 = t30 * t38;
+    let t40: f64 = t14 * t39;
+    let t41: f64 = t36 + t40;
+    let t42: f64 = t40 + t41;
+    let t43: f64 = t25 - t19;
+    let t44: f64 = 2.0 * t30;
+    let t45: f64 = t14 * t44;
+    let t46: f64 = t43 + t45;
+    let t47: f64 = t45 + t46;
+    let t48: f64 = 2.0 - t22;
+    let t49: f64 = t19 * t48;
+    let t50: f64 = t22 * 6.0;
+    let t51: f64 = t50 + (-4.0);
+    let t52: f64 = t30 * t51;
+    let t53: f64 = t14 * t52;
+    let t54: f64 = t49 + t53;
+    let t55: f64 = t53 + t54;
+    let t56: f64 = t0 * t34;
+    let t57: f64 = t0 * t42;
+    let t58: f64 = t0 * t47;
+    let t59: f64 = t0 * t55;
+    let t60: f64 = va[0] * t9;
+    let t61: f64 = va[1] * t11;
+    let t62: f64 = t60 + t61;
+    let t63: f64 = va[0] * t11;
+    let t64: f64 = va[1] * t9;
+    let t65: f64 = t64 - t63;
+    let t66: f64 = vb[0] * t9;
+    let t67: f64 = vb[1] * t11;
+    let t68: f64 = t66 + t67;
+    let t69: f64 = vb[0] * t11;
+    let t70: f64 = vb[1] * t9;
+    let t71: f64 = t70 - t69;
+    let t72: f64 = t56 * t68;
+    let t73: f64 = t56 * t62;
+    let t74: f64 = vb[2] * t57;
+    let t75: f64 = t72 + t74;
+    let t76: f64 = t57 * t62;
+    let t77: f64 = t58 * t71;
+    let t78: f64 = t58 * t65;
+    let t79: f64 = t57 * t68;
+    let t80: f64 = va[2] * t57;
+    let t81: f64 = t73 + t80;
+    let t82: f64 = vb[2] * t59;
+    let t83: f64 = t79 + t82;
+    let t84: f64 = va[2] * t59;
+    let t85: f64 = t76 + t84;
+    let t86: f64 = t9 * t75;
+    let t87: f64 = t11 * t77;
+    let t88: f64 = t86 - t87;
+    let t89: f64 = t11 * t75;
+    let t90: f64 = t9 * t77;
+    let t91: f64 = t89 + t90;
+    let t92: f64 = t9 * t81;
+    let t93: f64 = t11 * t78;
+    let t94: f64 = t92 - t93;
+    let t95: f64 = t11 * t81;
+    let t96: f64 = t9 * t78;
+    let t97: f64 = t95 + t96;
     Product::<3> {
-        a: [t97, t100, t92],
-        b: [t103, t106, t94],
+        a: [t88, t91, t83],
+        b: [t94, t97, t85],
     }
 }

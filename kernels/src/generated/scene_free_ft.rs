@@ -45,7 +45,7 @@ pub fn free_ft_self(x: [f64; 3], a: f64, eta: f64) -> BlocksFT {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 139 flops (33 add/sub, 96 mul, 3 div, 2 sqrt, 0 powi, 3 neg, 2 select).
+/// Operation count (after dead-code elimination): 133 flops (31 add/sub, 91 mul, 3 div, 2 sqrt, 1 powi, 3 neg, 2 select).
 #[inline]
 pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> BlocksFT {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -72,225 +72,65 @@ pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> B
     let t21: f64 = 1.0 / t20;
     let t22: f64 = t6 * t21;
     let t23: f64 = t12 * t21;
-    let t24: f64 = t22 * 2.0;
-    let t25: f64 = t23 * 2.0;
-    let t26: f64 = t22 * t24;
-    let t27: f64 = t26 * (-0.25);
-    let t28: f64 = 0.5 + t27;
-    let t29: f64 = t23 * t24;
-    let t30: f64 = 0.5 * t29;
-    let t31: f64 = t22 * t25;
-    let t32: f64 = t31 - t30;
-    let t33: f64 = 2.0 * t28;
-    let t34: f64 = t21 * t33;
-    let t35: f64 = t26 * (-0.75);
-    let t36: f64 = (-0.5) - t35;
-    let t37: f64 = t29 * (-0.5);
-    let t38: f64 = t31 - t37;
-    let t39: f64 = t35 - (-0.5);
-    let t40: f64 = t21 * 2.0;
-    let t41: f64 = t40 - t34;
-    let t42: f64 = t36 * (-4.0);
-    let t43: f64 = t21 * t21;
-    let t44: f64 = t21 * t43;
-    let t45: f64 = t42 * t44;
-    let t46: f64 = t16 * t45;
-    let t47: f64 = t41 + t46;
-    let t48: f64 = t15 * t45;
-    let t49: f64 = t47 + t48;
-    let t50: f64 = t21 * t32;
-    let t51: f64 = t38 * (-2.0);
-    let t52: f64 = t44 * t51;
-    let t53: f64 = t16 * t52;
-    let t54: f64 = t50 + t53;
-    let t55: f64 = t15 * t52;
-    let t56: f64 = t54 + t55;
-    let t57: f64 = t40 - t21;
-    let t58: f64 = 2.0 * t44;
-    let t59: f64 = t16 * t58;
-    let t60: f64 = t57 + t59;
-    let t61: f64 = t15 * t58;
-    let t62: f64 = t60 + t61;
-    let t63: f64 = 1.0 + t33;
-    let t64: f64 = t21 * t63;
-    let t65: f64 = t36 * 4.0;
-    let t66: f64 = (-2.0) + t65;
-    let t67: f64 = t44 * t66;
-    let t68: f64 = t16 * t67;
-    let t69: f64 = t64 + t68;
-    let t70: f64 = t15 * t67;
-    let t71: f64 = t69 + t70;
-    let t72: f64 = t23 * t43;
-    let t73: f64 = t22 * t43;
-    let t74: f64 = t36 * t44;
-    let t75: f64 = 0.5 * t38;
-    let t76: f64 = t44 * t75;
-    let t77: f64 = (-0.5) * t44;
-    let t78: f64 = 0.5 + t39;
-    let t79: f64 = t44 * t78;
-    let t80: f64 = t0 * t49;
-    let t81: f64 = t0 * t56;
-    let t82: f64 = t0 * t62;
-    let t83: f64 = t0 * t71;
-    let t84: f64 = t0 * t72;
-    let t85: f64 = t0 * t73;
-    let t86: f64 = t0 * t74;
-    let t87: f64 = t0 * t76;
-    let t88: f64 = t0 * t77;
-    let t89: f64 = t0 * t79;
-    let t90: f64 = t9 * t80;
-    let t91: f64 = t9 * t90;
-    let t92: f64 = t11 * t82;
-    let t93: f64 = t11 * t92;
-    let t94: f64 = t91 + t93;
-    let t95: f64 = t11 * t80;
-    let t96: f64 = t9 * t95;
-    let t97: f64 = t9 * t82;
-    let t98: f64 = t11 * t97;
-    let t99: f64 = t96 - t98;
-    let t100: f64 = t9 * t81;
-    let t101: f64 = t11 * t90;
-    let t102: f64 = t9 * t92;
-    let t103: f64 = t101 - t102;
-    let t104: f64 = t11 * t95;
-    let t105: f64 = t9 * t97;
-    let t106: f64 = t104 + t105;
-    let t107: f64 = t11 * t81;
-    let t108: f64 = t11 * t84;
-    let t109: f64 = t9 * t108;
-    let t110: f64 = t9 * t84;
-    let t111: f64 = t11 * t110;
-    let t112: f64 = t111 - t109;
-    let t113: f64 = t9 * t110;
-    let t114: f64 = t11 * t108;
-    let t115: f64 = t113 + t114;
-    let t116: f64 = t11 * t85;
-    let t117: f64 = -t116;
-    let t118: f64 = -t115;
-    let t119: f64 = t9 * t85;
-    let t120: f64 = -t119;
-    let t121: f64 = t9 * t86;
-    let t122: f64 = t9 * t121;
-    let t123: f64 = t11 * t88;
-    let t124: f64 = t11 * t123;
-    let t125: f64 = t122 + t124;
-    let t126: f64 = t11 * t86;
-    let t127: f64 = t9 * t126;
-    let t128: f64 = t9 * t88;
-    let t129: f64 = t11 * t128;
-    let t130: f64 = t127 - t129;
-    let t131: f64 = t9 * t87;
-    let t132: f64 = t11 * t121;
-    let t133: f64 = t9 * t123;
-    let t134: f64 = t132 - t133;
-    let t135: f64 = t11 * t126;
-    let t136: f64 = t9 * t128;
-    let t137: f64 = t135 + t136;
-    let t138: f64 = t11 * t87;
-    BlocksFT {
-        uf: [[t94, t99, t100], [t103, t106, t107], [t100, t107, t83]],
-        ul: [[t112, t115, t117], [t118, t112, t119], [t116, t120, 0.0]],
-        of: [[t112, t115, t117], [t118, t112, t119], [t116, t120, 0.0]],
-        ol: [[t125, t130, t131], [t134, t137, t138], [t131, t138, t89]],
-    }
-}
-/// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the FT blocks, pair equal.
-///
-/// Pruned to what the scene needs.
-/// Jets truncated at derivative order 4 of G.
-///
-/// # Arguments
-/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
-/// - `xb`: centre of particle b (the source particle)
-/// - `a`: radius of the particle(s)
-/// - `eta`: viscosity of the fluid
-///
-/// Operation count (after dead-code elimination): 133 flops (33 add/sub, 90 mul, 3 div, 2 sqrt, 0 powi, 3 neg, 2 select).
-#[inline]
-pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksFT {
-    let t0: f64 = 0.039788735772973836 / eta;
-    let t1: f64 = xa[0] - xb[0];
-    let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = t1 * t1;
-    let t4: f64 = t2 * t2;
-    let t5: f64 = t3 + t4;
-    let t6: f64 = t5.sqrt();
-    let t7: f64 = 1.0 / t6;
-    let t8: f64 = t1 * t7;
-    let t9: f64 = if t5 > 0.0 { t8 } else { 1.0 };
-    let t10: f64 = t2 * t7;
-    let t11: f64 = if t5 > 0.0 { t10 } else { 0.0 };
-    let t12: f64 = xa[2] - xb[2];
-    let t13: f64 = a * a;
-    let t14: f64 = t13 * 0.16666666666666666;
-    let t15: f64 = t6 * t6;
-    let t16: f64 = t12 * t12;
-    let t17: f64 = t15 + t16;
-    let t18: f64 = t17.sqrt();
-    let t19: f64 = 1.0 / t18;
-    let t20: f64 = t6 * t19;
-    let t21: f64 = t12 * t19;
-    let t22: f64 = t20 * 2.0;
-    let t23: f64 = t21 * 2.0;
-    let t24: f64 = t20 * t22;
-    let t25: f64 = t24 * (-0.25);
-    let t26: f64 = 0.5 + t25;
-    let t27: f64 = t21 * t22;
-    let t28: f64 = 0.5 * t27;
-    let t29: f64 = t20 * t23;
-    let t30: f64 = t29 - t28;
-    let t31: f64 = 2.0 * t26;
-    let t32: f64 = t19 * t31;
-    let t33: f64 = t24 * (-0.75);
-    let t34: f64 = (-0.5) - t33;
-    let t35: f64 = t27 * (-0.5);
-    let t36: f64 = t29 - t35;
-    let t37: f64 = t33 - (-0.5);
-    let t38: f64 = t19 * 2.0;
-    let t39: f64 = t38 - t32;
-    let t40: f64 = t34 * (-4.0);
-    let t41: f64 = t19 * t19;
-    let t42: f64 = t19 * t41;
-    let t43: f64 = t40 * t42;
-    let t44: f64 = t14 * t43;
-    let t45: f64 = t39 + t44;
+    let t24: f64 = t22.powi(2);
+    let t25: f64 = t24 + (-1.0);
+    let t26: f64 = t21 * t25;
+    let t27: f64 = t21 * 2.0;
+    let t28: f64 = t26 + t27;
+    let t29: f64 = t24 * (-6.0);
+    let t30: f64 = 2.0 + t29;
+    let t31: f64 = t21 * t21;
+    let t32: f64 = t21 * t31;
+    let t33: f64 = t30 * t32;
+    let t34: f64 = t16 * t33;
+    let t35: f64 = t28 + t34;
+    let t36: f64 = t15 * t33;
+    let t37: f64 = t35 + t36;
+    let t38: f64 = t22 * t23;
+    let t39: f64 = t21 * t38;
+    let t40: f64 = t23 * (-6.0);
+    let t41: f64 = t22 * t40;
+    let t42: f64 = t32 * t41;
+    let t43: f64 = t16 * t42;
+    let t44: f64 = t39 + t43;
+    let t45: f64 = t15 * t42;
     let t46: f64 = t44 + t45;
-    let t47: f64 = t19 * t30;
-    let t48: f64 = t36 * (-2.0);
-    let t49: f64 = t42 * t48;
-    let t50: f64 = t14 * t49;
-    let t51: f64 = t47 + t50;
+    let t47: f64 = t27 - t21;
+    let t48: f64 = 2.0 * t32;
+    let t49: f64 = t16 * t48;
+    let t50: f64 = t47 + t49;
+    let t51: f64 = t15 * t48;
     let t52: f64 = t50 + t51;
-    let t53: f64 = t38 - t19;
-    let t54: f64 = 2.0 * t42;
-    let t55: f64 = t14 * t54;
-    let t56: f64 = t53 + t55;
-    let t57: f64 = t55 + t56;
-    let t58: f64 = 1.0 + t31;
-    let t59: f64 = t19 * t58;
-    let t60: f64 = t34 * 4.0;
-    let t61: f64 = (-2.0) + t60;
-    let t62: f64 = t42 * t61;
-    let t63: f64 = t14 * t62;
-    let t64: f64 = t59 + t63;
-    let t65: f64 = t63 + t64;
-    let t66: f64 = t21 * t41;
-    let t67: f64 = t20 * t41;
-    let t68: f64 = t34 * t42;
-    let t69: f64 = 0.5 * t36;
-    let t70: f64 = t42 * t69;
-    let t71: f64 = (-0.5) * t42;
-    let t72: f64 = 0.5 + t37;
-    let t73: f64 = t42 * t72;
-    let t74: f64 = t0 * t46;
-    let t75: f64 = t0 * t52;
-    let t76: f64 = t0 * t57;
-    let t77: f64 = t0 * t65;
-    let t78: f64 = t0 * t66;
-    let t79: f64 = t0 * t67;
-    let t80: f64 = t0 * t68;
-    let t81: f64 = t0 * t70;
-    let t82: f64 = t0 * t71;
+    let t53: f64 = 2.0 - t24;
+    let t54: f64 = t21 * t53;
+    let t55: f64 = t24 * 6.0;
+    let t56: f64 = t55 + (-4.0);
+    let t57: f64 = t32 * t56;
+    let t58: f64 = t16 * t57;
+    let t59: f64 = t54 + t58;
+    let t60: f64 = t15 * t57;
+    let t61: f64 = t59 + t60;
+    let t62: f64 = t23 * t31;
+    let t63: f64 = t22 * t31;
+    let t64: f64 = t24 * 1.5;
+    let t65: f64 = t64 + (-0.5);
+    let t66: f64 = t32 * t65;
+    let t67: f64 = t23 * 1.5;
+    let t68: f64 = t22 * t67;
+    let t69: f64 = t32 * t68;
+    let t70: f64 = t32 * (-0.5);
+    let t71: f64 = t24 * (-1.5);
+    let t72: f64 = 1.0 + t71;
+    let t73: f64 = t32 * t72;
+    let t74: f64 = t0 * t37;
+    let t75: f64 = t0 * t46;
+    let t76: f64 = t0 * t52;
+    let t77: f64 = t0 * t61;
+    let t78: f64 = t0 * t62;
+    let t79: f64 = t0 * t63;
+    let t80: f64 = t0 * t66;
+    let t81: f64 = t0 * t69;
+    let t82: f64 = t0 * t70;
     let t83: f64 = t0 * t73;
     let t84: f64 = t9 * t74;
     let t85: f64 = t9 * t84;
@@ -348,6 +188,154 @@ pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Block
         ol: [[t119, t124, t125], [t128, t131, t132], [t125, t132, t83]],
     }
 }
+/// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the FT blocks, pair equal.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// # Arguments
+/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
+/// - `xb`: centre of particle b (the source particle)
+/// - `a`: radius of the particle(s)
+/// - `eta`: viscosity of the fluid
+///
+/// Operation count (after dead-code elimination): 127 flops (31 add/sub, 85 mul, 3 div, 2 sqrt, 1 powi, 3 neg, 2 select).
+#[inline]
+pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksFT {
+    let t0: f64 = 0.039788735772973836 / eta;
+    let t1: f64 = xa[0] - xb[0];
+    let t2: f64 = xa[1] - xb[1];
+    let t3: f64 = t1 * t1;
+    let t4: f64 = t2 * t2;
+    let t5: f64 = t3 + t4;
+    let t6: f64 = t5.sqrt();
+    let t7: f64 = 1.0 / t6;
+    let t8: f64 = t1 * t7;
+    let t9: f64 = if t5 > 0.0 { t8 } else { 1.0 };
+    let t10: f64 = t2 * t7;
+    let t11: f64 = if t5 > 0.0 { t10 } else { 0.0 };
+    let t12: f64 = xa[2] - xb[2];
+    let t13: f64 = a * a;
+    let t14: f64 = t13 * 0.16666666666666666;
+    let t15: f64 = t6 * t6;
+    let t16: f64 = t12 * t12;
+    let t17: f64 = t15 + t16;
+    let t18: f64 = t17.sqrt();
+    let t19: f64 = 1.0 / t18;
+    let t20: f64 = t6 * t19;
+    let t21: f64 = t12 * t19;
+    let t22: f64 = t20.powi(2);
+    let t23: f64 = t22 + (-1.0);
+    let t24: f64 = t19 * t23;
+    let t25: f64 = t19 * 2.0;
+    let t26: f64 = t24 + t25;
+    let t27: f64 = t22 * (-6.0);
+    let t28: f64 = 2.0 + t27;
+    let t29: f64 = t19 * t19;
+    let t30: f64 = t19 * t29;
+    let t31: f64 = t28 * t30;
+    let t32: f64 = t14 * t31;
+    let t33: f64 = t26 + t32;
+    let t34: f64 = t32 + t33;
+    let t35: f64 = t20 * t21;
+    let t36: f64 = t19 * t35;
+    let t37: f64 = t21 * (-6.0);
+    let t38: f64 = t20 * t37;
+    let t39: f64 = t30 * t38;
+    let t40: f64 = t14 * t39;
+    let t41: f64 = t36 + t40;
+    let t42: f64 = t40 + t41;
+    let t43: f64 = t25 - t19;
+    let t44: f64 = 2.0 * t30;
+    let t45: f64 = t14 * t44;
+    let t46: f64 = t43 + t45;
+    let t47: f64 = t45 + t46;
+    let t48: f64 = 2.0 - t22;
+    let t49: f64 = t19 * t48;
+    let t50: f64 = t22 * 6.0;
+    let t51: f64 = t50 + (-4.0);
+    let t52: f64 = t30 * t51;
+    let t53: f64 = t14 * t52;
+    let t54: f64 = t49 + t53;
+    let t55: f64 = t53 + t54;
+    let t56: f64 = t21 * t29;
+    let t57: f64 = t20 * t29;
+    let t58: f64 = t22 * 1.5;
+    let t59: f64 = t58 + (-0.5);
+    let t60: f64 = t30 * t59;
+    let t61: f64 = t21 * 1.5;
+    let t62: f64 = t20 * t61;
+    let t63: f64 = t30 * t62;
+    let t64: f64 = t30 * (-0.5);
+    let t65: f64 = t22 * (-1.5);
+    let t66: f64 = 1.0 + t65;
+    let t67: f64 = t30 * t66;
+    let t68: f64 = t0 * t34;
+    let t69: f64 = t0 * t42;
+    let t70: f64 = t0 * t47;
+    let t71: f64 = t0 * t55;
+    let t72: f64 = t0 * t56;
+    let t73: f64 = t0 * t57;
+    let t74: f64 = t0 * t60;
+    let t75: f64 = t0 * t63;
+    let t76: f64 = t0 * t64;
+    let t77: f64 = t0 * t67;
+    let t78: f64 = t9 * t68;
+    let t79: f64 = t9 * t78;
+    let t80: f64 = t11 * t70;
+    let t81: f64 = t11 * t80;
+    let t82: f64 = t79 + t81;
+    let t83: f64 = t11 * t68;
+    let t84: f64 = t9 * t83;
+    let t85: f64 = t9 * t70;
+    let t86: f64 = t11 * t85;
+    let t87: f64 = t84 - t86;
+    let t88: f64 = t9 * t69;
+    let t89: f64 = t11 * t78;
+    let t90: f64 = t9 * t80;
+    let t91: f64 = t89 - t90;
+    let t92: f64 = t11 * t83;
+    let t93: f64 = t9 * t85;
+    let t94: f64 = t92 + t93;
+    let t95: f64 = t11 * t69;
+    let t96: f64 = t11 * t72;
+    let t97: f64 = t9 * t96;
+    let t98: f64 = t9 * t72;
+    let t99: f64 = t11 * t98;
+    let t100: f64 = t99 - t97;
+    let t101: f64 = t9 * t98;
+    let t102: f64 = t11 * t96;
+    let t103: f64 = t101 + t102;
+    let t104: f64 = t11 * t73;
+    let t105: f64 = -t104;
+    let t106: f64 = -t103;
+    let t107: f64 = t9 * t73;
+    let t108: f64 = -t107;
+    let t109: f64 = t9 * t74;
+    let t110: f64 = t9 * t109;
+    let t111: f64 = t11 * t76;
+    let t112: f64 = t11 * t111;
+    let t113: f64 = t110 + t112;
+    let t114: f64 = t11 * t74;
+    let t115: f64 = t9 * t114;
+    let t116: f64 = t9 * t76;
+    let t117: f64 = t11 * t116;
+    let t118: f64 = t115 - t117;
+    let t119: f64 = t9 * t75;
+    let t120: f64 = t11 * t109;
+    let t121: f64 = t9 * t111;
+    let t122: f64 = t120 - t121;
+    let t123: f64 = t11 * t114;
+    let t124: f64 = t9 * t116;
+    let t125: f64 = t123 + t124;
+    let t126: f64 = t11 * t75;
+    BlocksFT {
+        uf: [[t82, t87, t88], [t91, t94, t95], [t88, t95, t71]],
+        ul: [[t100, t103, t105], [t106, t100, t107], [t104, t108, 0.0]],
+        of: [[t100, t103, t105], [t106, t100, t107], [t104, t108, 0.0]],
+        ol: [[t113, t118, t119], [t122, t125, t126], [t119, t126, t77]],
+    }
+}
 /// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair product.
 ///
 /// Pruned to what the scene needs.
@@ -362,7 +350,7 @@ pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Block
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 198 flops (63 add/sub, 128 mul, 3 div, 2 sqrt, 0 powi, 0 neg, 2 select).
+/// Operation count (after dead-code elimination): 192 flops (61 add/sub, 123 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 2 select).
 #[inline]
 pub fn free_ft_pair_product(
     xa: [f64; 3],
@@ -397,456 +385,65 @@ pub fn free_ft_pair_product(
     let t21: f64 = 1.0 / t20;
     let t22: f64 = t6 * t21;
     let t23: f64 = t12 * t21;
-    let t24: f64 = t22 * 2.0;
-    let t25: f64 = t23 * 2.0;
-    let t26: f64 = t22 * t24;
-    let t27: f64 = t26 * (-0.25);
-    let t28: f64 = 0.5 + t27;
-    let t29: f64 = t23 * t24;
-    let t30: f64 = 0.5 * t29;
-    let t31: f64 = t22 * t25;
-    let t32: f64 = t31 - t30;
-    let t33: f64 = 2.0 * t28;
-    let t34: f64 = t21 * t33;
-    let t35: f64 = t26 * (-0.75);
-    let t36: f64 = (-0.5) - t35;
-    let t37: f64 = t29 * (-0.5);
-    let t38: f64 = t31 - t37;
-    let t39: f64 = t35 - (-0.5);
-    let t40: f64 = t21 * 2.0;
-    let t41: f64 = t40 - t34;
-    let t42: f64 = t36 * (-4.0);
-    let t43: f64 = t21 * t21;
-    let t44: f64 = t21 * t43;
-    let t45: f64 = t42 * t44;
-    let t46: f64 = t16 * t45;
-    let t47: f64 = t41 + t46;
-    let t48: f64 = t15 * t45;
-    let t49: f64 = t47 + t48;
-    let t50: f64 = t21 * t32;
-    let t51: f64 = t38 * (-2.0);
-    let t52: f64 = t44 * t51;
-    let t53: f64 = t16 * t52;
-    let t54: f64 = t50 + t53;
-    let t55: f64 = t15 * t52;
-    let t56: f64 = t54 + t55;
-    let t57: f64 = t40 - t21;
-    let t58: f64 = 2.0 * t44;
-    let t59: f64 = t16 * t58;
-    let t60: f64 = t57 + t59;
-    let t61: f64 = t15 * t58;
-    let t62: f64 = t60 + t61;
-    let t63: f64 = 1.0 + t33;
-    let t64: f64 = t21 * t63;
-    let t65: f64 = t36 * 4.0;
-    let t66: f64 = (-2.0) + t65;
-    let t67: f64 = t44 * t66;
-    let t68: f64 = t16 * t67;
-    let t69: f64 = t64 + t68;
-    let t70: f64 = t15 * t67;
-    let t71: f64 = t69 + t70;
-    let t72: f64 = t23 * t43;
-    let t73: f64 = t22 * t43;
-    let t74: f64 = t36 * t44;
-    let t75: f64 = 0.5 * t38;
-    let t76: f64 = t44 * t75;
-    let t77: f64 = (-0.5) * t44;
-    let t78: f64 = 0.5 + t39;
-    let t79: f64 = t44 * t78;
-    let t80: f64 = t0 * t49;
-    let t81: f64 = t0 * t56;
-    let t82: f64 = t0 * t62;
-    let t83: f64 = t0 * t71;
-    let t84: f64 = t0 * t72;
-    let t85: f64 = t0 * t73;
-    let t86: f64 = t0 * t74;
-    let t87: f64 = t0 * t76;
-    let t88: f64 = t0 * t77;
-    let t89: f64 = t0 * t79;
-    let t90: f64 = va[0] * t9;
-    let t91: f64 = va[1] * t11;
-    let t92: f64 = t90 + t91;
-    let t93: f64 = va[0] * t11;
-    let t94: f64 = va[1] * t9;
-    let t95: f64 = t94 - t93;
-    let t96: f64 = va[3] * t9;
-    let t97: f64 = va[4] * t11;
-    let t98: f64 = t96 + t97;
-    let t99: f64 = va[3] * t11;
-    let t100: f64 = va[4] * t9;
-    let t101: f64 = t100 - t99;
-    let t102: f64 = vb[0] * t9;
-    let t103: f64 = vb[1] * t11;
-    let t104: f64 = t102 + t103;
-    let t105: f64 = vb[0] * t11;
-    let t106: f64 = vb[1] * t9;
-    let t107: f64 = t106 - t105;
-    let t108: f64 = vb[3] * t9;
-    let t109: f64 = vb[4] * t11;
-    let t110: f64 = t108 + t109;
-    let t111: f64 = vb[3] * t11;
-    let t112: f64 = vb[4] * t9;
-    let t113: f64 = t112 - t111;
-    let t114: f64 = t80 * t104;
-    let t115: f64 = t80 * t92;
-    let t116: f64 = vb[2] * t81;
-    let t117: f64 = t114 + t116;
-    let t118: f64 = t81 * t92;
-    let t119: f64 = t82 * t107;
-    let t120: f64 = t82 * t95;
-    let t121: f64 = t81 * t104;
-    let t122: f64 = va[2] * t81;
-    let t123: f64 = t115 + t122;
-    let t124: f64 = vb[2] * t83;
-    let t125: f64 = t121 + t124;
-    let t126: f64 = va[2] * t83;
-    let t127: f64 = t118 + t126;
-    let t128: f64 = t84 * t113;
-    let t129: f64 = t117 + t128;
-    let t130: f64 = t84 * t92;
-    let t131: f64 = t84 * t110;
-    let t132: f64 = t119 - t131;
-    let t133: f64 = t84 * t95;
-    let t134: f64 = vb[5] * t85;
-    let t135: f64 = t132 + t134;
-    let t136: f64 = t85 * t95;
-    let t137: f64 = t85 * t113;
-    let t138: f64 = t125 - t137;
-    let t139: f64 = va[2] * t85;
-    let t140: f64 = t130 - t139;
-    let t141: f64 = t84 * t107;
-    let t142: f64 = t84 * t98;
-    let t143: f64 = t120 + t142;
-    let t144: f64 = t84 * t104;
-    let t145: f64 = t84 * t101;
-    let t146: f64 = t123 - t145;
-    let t147: f64 = vb[2] * t85;
-    let t148: f64 = t147 - t144;
-    let t149: f64 = t85 * t101;
-    let t150: f64 = t127 + t149;
-    let t151: f64 = t85 * t107;
-    let t152: f64 = va[5] * t85;
-    let t153: f64 = t143 - t152;
-    let t154: f64 = t86 * t110;
-    let t155: f64 = t141 + t154;
-    let t156: f64 = t86 * t98;
-    let t157: f64 = t156 - t133;
-    let t158: f64 = vb[5] * t87;
-    let t159: f64 = t155 + t158;
-    let t160: f64 = t87 * t98;
-    let t161: f64 = t136 + t160;
-    let t162: f64 = t88 * t113;
-    let t163: f64 = t148 + t162;
-    let t164: f64 = t88 * t101;
-    let t165: f64 = t140 + t164;
-    let t166: f64 = t87 * t110;
-    let t167: f64 = t166 - t151;
-    let t168: f64 = va[5] * t87;
-    let t169: f64 = t157 + t168;
-    let t170: f64 = vb[5] * t89;
-    let t171: f64 = t167 + t170;
-    let t172: f64 = va[5] * t89;
-    let t173: f64 = t161 + t172;
-    let t174: f64 = t9 * t129;
-    let t175: f64 = t11 * t135;
-    let t176: f64 = t174 - t175;
-    let t177: f64 = t11 * t129;
-    let t178: f64 = t9 * t135;
-    let t179: f64 = t177 + t178;
-    let t180: f64 = t9 * t159;
-    let t181: f64 = t11 * t163;
-    let t182: f64 = t180 - t181;
-    let t183: f64 = t11 * t159;
-    let t184: f64 = t9 * t163;
-    let t185: f64 = t183 + t184;
-    let t186: f64 = t9 * t146;
-    let t187: f64 = t11 * t153;
-    let t188: f64 = t186 - t187;
-    let t189: f64 = t11 * t146;
-    let t190: f64 = t9 * t153;
-    let t191: f64 = t189 + t190;
-    let t192: f64 = t9 * t169;
-    let t193: f64 = t11 * t165;
-    let t194: f64 = t192 - t193;
-    let t195: f64 = t11 * t169;
-    let t196: f64 = t9 * t165;
-    let t197: f64 = t195 + t196;
-    Product::<6> {
-        a: [t176, t179, t138, t182, t185, t171],
-        b: [t188, t191, t150, t194, t197, t173],
-    }
-}
-/// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair product.
-///
-/// Pruned to what the scene needs.
-/// Jets truncated at derivative order 4 of G.
-///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_ft_pair_product`'s fields. Operation count with fused multiply-adds: 143 (direct sum).
-#[inline(always)]
-#[allow(unused_variables)]
-pub fn free_ft_pair_product_lanes<L: lanes::Lane>(
-    xa: [L; 3],
-    xb: [L; 3],
-    aa: L,
-    ab: L,
-    eta: L,
-    va: [L; 6usize],
-    vb: [L; 6usize],
-) -> [L; 12usize] {
-    let out: [L; 12usize] = {
-        let t0: L = L::splat(0.039788735772973836) / eta;
-        let t1: L = xa[0] - xb[0];
-        let t2: L = xa[1] - xb[1];
-        let t3: L = t2 * t2;
-        let t4: L = t1.mul_add(t1, t3);
-        let t5: L = t4.sqrt();
-        let t6: L = L::splat(1.0) / t5;
-        let t7: L = t1 * t6;
-        let t8: L = L::select(t4.gt(L::splat(0.0)), t7, L::splat(1.0));
-        let t9: L = t2 * t6;
-        let t10: L = L::select(t4.gt(L::splat(0.0)), t9, L::splat(0.0));
-        let t11: L = xa[2] - xb[2];
-        let t12: L = aa * aa;
-        let t13: L = ab * ab;
-        let t14: L = t12 * L::splat(0.16666666666666666);
-        let t15: L = t13 * L::splat(0.16666666666666666);
-        let t16: L = t11 * t11;
-        let t17: L = t5.mul_add(t5, t16);
-        let t18: L = t17.sqrt();
-        let t19: L = L::splat(1.0) / t18;
-        let t20: L = t5 * t19;
-        let t21: L = t11 * t19;
-        let t22: L = t20 * L::splat(2.0);
-        let t23: L = t21 * L::splat(2.0);
-        let t24: L = t20 * t22;
-        let t25: L = t24.mul_add(L::splat(-0.25), L::splat(0.5));
-        let t26: L = t21 * t22;
-        let t27: L = t20 * t23;
-        let t28: L = L::splat(0.5).neg_mul_add(t26, t27);
-        let t29: L = L::splat(2.0) * t25;
-        let t30: L = t24 * L::splat(-0.75);
-        let t31: L = L::splat(-0.5) - t30;
-        let t32: L = t26.neg_mul_add(L::splat(-0.5), t27);
-        let t33: L = t30 - L::splat(-0.5);
-        let t34: L = t19 * L::splat(2.0);
-        let t35: L = t19.neg_mul_add(t29, t34);
-        let t36: L = t31 * L::splat(-4.0);
-        let t37: L = t19 * t19;
-        let t38: L = t19 * t37;
-        let t39: L = t36 * t38;
-        let t40: L = t15.mul_add(t39, t35);
-        let t41: L = t14.mul_add(t39, t40);
-        let t42: L = t32 * L::splat(-2.0);
-        let t43: L = t38 * t42;
-        let t44: L = t15 * t43;
-        let t45: L = t19.mul_add(t28, t44);
-        let t46: L = t14.mul_add(t43, t45);
-        let t47: L = t34 - t19;
-        let t48: L = L::splat(2.0) * t38;
-        let t49: L = t15.mul_add(t48, t47);
-        let t50: L = t14.mul_add(t48, t49);
-        let t51: L = L::splat(1.0) + t29;
-        let t52: L = t31.mul_add(L::splat(4.0), L::splat(-2.0));
-        let t53: L = t38 * t52;
-        let t54: L = t15 * t53;
-        let t55: L = t19.mul_add(t51, t54);
-        let t56: L = t14.mul_add(t53, t55);
-        let t57: L = t21 * t37;
-        let t58: L = t20 * t37;
-        let t59: L = t31 * t38;
-        let t60: L = L::splat(0.5) * t32;
-        let t61: L = t38 * t60;
-        let t62: L = L::splat(-0.5) * t38;
-        let t63: L = L::splat(0.5) + t33;
-        let t64: L = t38 * t63;
-        let t65: L = t0 * t41;
-        let t66: L = t0 * t46;
-        let t67: L = t0 * t50;
-        let t68: L = t0 * t56;
-        let t69: L = t0 * t57;
-        let t70: L = t0 * t58;
-        let t71: L = t0 * t59;
-        let t72: L = t0 * t61;
-        let t73: L = t0 * t62;
-        let t74: L = t0 * t64;
-        let t75: L = va[1] * t10;
-        let t76: L = va[0].mul_add(t8, t75);
-        let t77: L = va[0] * t10;
-        let t78: L = va[1].mul_sub(t8, t77);
-        let t79: L = va[4] * t10;
-        let t80: L = va[3].mul_add(t8, t79);
-        let t81: L = va[3] * t10;
-        let t82: L = va[4].mul_sub(t8, t81);
-        let t83: L = vb[1] * t10;
-        let t84: L = vb[0].mul_add(t8, t83);
-        let t85: L = vb[0] * t10;
-        let t86: L = vb[1].mul_sub(t8, t85);
-        let t87: L = vb[4] * t10;
-        let t88: L = vb[3].mul_add(t8, t87);
-        let t89: L = vb[3] * t10;
-        let t90: L = vb[4].mul_sub(t8, t89);
-        let t91: L = vb[2] * t66;
-        let t92: L = t65.mul_add(t84, t91);
-        let t93: L = va[2] * t66;
-        let t94: L = t65.mul_add(t76, t93);
-        let t95: L = vb[2] * t68;
-        let t96: L = t66.mul_add(t84, t95);
-        let t97: L = va[2] * t68;
-        let t98: L = t66.mul_add(t76, t97);
-        let t99: L = t69.mul_add(t90, t92);
-        let t100: L = t69 * t88;
-        let t101: L = t67.mul_sub(t86, t100);
-        let t102: L = t69 * t78;
-        let t103: L = vb[5].mul_add(t70, t101);
-        let t104: L = t70.neg_mul_add(t90, t96);
-        let t105: L = va[2] * t70;
-        let t106: L = t69.mul_sub(t76, t105);
-        let t107: L = t69 * t80;
-        let t108: L = t67.mul_add(t78, t107);
-        let t109: L = t69 * t84;
-        let t110: L = t69.neg_mul_add(t82, t94);
-        let t111: L = vb[2].mul_sub(t70, t109);
-        let t112: L = t70.mul_add(t82, t98);
-        let t113: L = t70 * t86;
-        let t114: L = va[5].neg_mul_add(t70, t108);
-        let t115: L = t71 * t88;
-        let t116: L = t69.mul_add(t86, t115);
-        let t117: L = t71.mul_sub(t80, t102);
-        let t118: L = vb[5].mul_add(t72, t116);
-        let t119: L = t72 * t80;
-        let t120: L = t70.mul_add(t78, t119);
-        let t121: L = t73.mul_add(t90, t111);
-        let t122: L = t73.mul_add(t82, t106);
-        let t123: L = t72.mul_sub(t88, t113);
-        let t124: L = va[5].mul_add(t72, t117);
-        let t125: L = vb[5].mul_add(t74, t123);
-        let t126: L = va[5].mul_add(t74, t120);
-        let t127: L = t10 * t103;
-        let t128: L = t8.mul_sub(t99, t127);
-        let t129: L = t8 * t103;
-        let t130: L = t10.mul_add(t99, t129);
-        let t131: L = t10 * t121;
-        let t132: L = t8.mul_sub(t118, t131);
-        let t133: L = t8 * t121;
-        let t134: L = t10.mul_add(t118, t133);
-        let t135: L = t10 * t114;
-        let t136: L = t8.mul_sub(t110, t135);
-        let t137: L = t8 * t114;
-        let t138: L = t10.mul_add(t110, t137);
-        let t139: L = t10 * t122;
-        let t140: L = t8.mul_sub(t124, t139);
-        let t141: L = t8 * t122;
-        let t142: L = t10.mul_add(t124, t141);
-        [t128, t130, t104, t132, t134, t125, t136, t138, t112, t140, t142, t126]
-    };
-    out
-}
-/// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair equal product.
-///
-/// Pruned to what the scene needs.
-/// Jets truncated at derivative order 4 of G.
-///
-/// # Arguments
-/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
-/// - `xb`: centre of particle b (the source particle)
-/// - `a`: radius of the particle(s)
-/// - `eta`: viscosity of the fluid
-/// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
-/// - `vb`: moments of particle b, same layout
-///
-/// Operation count (after dead-code elimination): 192 flops (63 add/sub, 122 mul, 3 div, 2 sqrt, 0 powi, 0 neg, 2 select).
-#[inline]
-pub fn free_ft_pair_equal_product(
-    xa: [f64; 3],
-    xb: [f64; 3],
-    a: f64,
-    eta: f64,
-    va: [f64; 6usize],
-    vb: [f64; 6usize],
-) -> Product<6> {
-    let t0: f64 = 0.039788735772973836 / eta;
-    let t1: f64 = xa[0] - xb[0];
-    let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = t1 * t1;
-    let t4: f64 = t2 * t2;
-    let t5: f64 = t3 + t4;
-    let t6: f64 = t5.sqrt();
-    let t7: f64 = 1.0 / t6;
-    let t8: f64 = t1 * t7;
-    let t9: f64 = if t5 > 0.0 { t8 } else { 1.0 };
-    let t10: f64 = t2 * t7;
-    let t11: f64 = if t5 > 0.0 { t10 } else { 0.0 };
-    let t12: f64 = xa[2] - xb[2];
-    let t13: f64 = a * a;
-    let t14: f64 = t13 * 0.16666666666666666;
-    let t15: f64 = t6 * t6;
-    let t16: f64 = t12 * t12;
-    let t17: f64 = t15 + t16;
-    let t18: f64 = t17.sqrt();
-    let t19: f64 = 1.0 / t18;
-    let t20: f64 = t6 * t19;
-    let t21: f64 = t12 * t19;
-    let t22: f64 = t20 * 2.0;
-    let t23: f64 = t21 * 2.0;
-    let t24: f64 = t20 * t22;
-    let t25: f64 = t24 * (-0.25);
-    let t26: f64 = 0.5 + t25;
-    let t27: f64 = t21 * t22;
-    let t28: f64 = 0.5 * t27;
-    let t29: f64 = t20 * t23;
-    let t30: f64 = t29 - t28;
-    let t31: f64 = 2.0 * t26;
-    let t32: f64 = t19 * t31;
-    let t33: f64 = t24 * (-0.75);
-    let t34: f64 = (-0.5) - t33;
-    let t35: f64 = t27 * (-0.5);
-    let t36: f64 = t29 - t35;
-    let t37: f64 = t33 - (-0.5);
-    let t38: f64 = t19 * 2.0;
-    let t39: f64 = t38 - t32;
-    let t40: f64 = t34 * (-4.0);
-    let t41: f64 = t19 * t19;
-    let t42: f64 = t19 * t41;
-    let t43: f64 = t40 * t42;
-    let t44: f64 = t14 * t43;
-    let t45: f64 = t39 + t44;
+    let t24: f64 = t22.powi(2);
+    let t25: f64 = t24 + (-1.0);
+    let t26: f64 = t21 * t25;
+    let t27: f64 = t21 * 2.0;
+    let t28: f64 = t26 + t27;
+    let t29: f64 = t24 * (-6.0);
+    let t30: f64 = 2.0 + t29;
+    let t31: f64 = t21 * t21;
+    let t32: f64 = t21 * t31;
+    let t33: f64 = t30 * t32;
+    let t34: f64 = t16 * t33;
+    let t35: f64 = t28 + t34;
+    let t36: f64 = t15 * t33;
+    let t37: f64 = t35 + t36;
+    let t38: f64 = t22 * t23;
+    let t39: f64 = t21 * t38;
+    let t40: f64 = t23 * (-6.0);
+    let t41: f64 = t22 * t40;
+    let t42: f64 = t32 * t41;
+    let t43: f64 = t16 * t42;
+    let t44: f64 = t39 + t43;
+    let t45: f64 = t15 * t42;
     let t46: f64 = t44 + t45;
-    let t47: f64 = t19 * t30;
-    let t48: f64 = t36 * (-2.0);
-    let t49: f64 = t42 * t48;
-    let t50: f64 = t14 * t49;
-    let t51: f64 = t47 + t50;
+    let t47: f64 = t27 - t21;
+    let t48: f64 = 2.0 * t32;
+    let t49: f64 = t16 * t48;
+    let t50: f64 = t47 + t49;
+    let t51: f64 = t15 * t48;
     let t52: f64 = t50 + t51;
-    let t53: f64 = t38 - t19;
-    let t54: f64 = 2.0 * t42;
-    let t55: f64 = t14 * t54;
-    let t56: f64 = t53 + t55;
-    let t57: f64 = t55 + t56;
-    let t58: f64 = 1.0 + t31;
-    let t59: f64 = t19 * t58;
-    let t60: f64 = t34 * 4.0;
-    let t61: f64 = (-2.0) + t60;
-    let t62: f64 = t42 * t61;
-    let t63: f64 = t14 * t62;
-    let t64: f64 = t59 + t63;
-    let t65: f64 = t63 + t64;
-    let t66: f64 = t21 * t41;
-    let t67: f64 = t20 * t41;
-    let t68: f64 = t34 * t42;
-    let t69: f64 = 0.5 * t36;
-    let t70: f64 = t42 * t69;
-    let t71: f64 = (-0.5) * t42;
-    let t72: f64 = 0.5 + t37;
-    let t73: f64 = t42 * t72;
-    let t74: f64 = t0 * t46;
-    let t75: f64 = t0 * t52;
-    let t76: f64 = t0 * t57;
-    let t77: f64 = t0 * t65;
-    let t78: f64 = t0 * t66;
-    let t79: f64 = t0 * t67;
-    let t80: f64 = t0 * t68;
-    let t81: f64 = t0 * t70;
-    let t82: f64 = t0 * t71;
+    let t53: f64 = 2.0 - t24;
+    let t54: f64 = t21 * t53;
+    let t55: f64 = t24 * 6.0;
+    let t56: f64 = t55 + (-4.0);
+    let t57: f64 = t32 * t56;
+    let t58: f64 = t16 * t57;
+    let t59: f64 = t54 + t58;
+    let t60: f64 = t15 * t57;
+    let t61: f64 = t59 + t60;
+    let t62: f64 = t23 * t31;
+    let t63: f64 = t22 * t31;
+    let t64: f64 = t24 * 1.5;
+    let t65: f64 = t64 + (-0.5);
+    let t66: f64 = t32 * t65;
+    let t67: f64 = t23 * 1.5;
+    let t68: f64 = t22 * t67;
+    let t69: f64 = t32 * t68;
+    let t70: f64 = t32 * (-0.5);
+    let t71: f64 = t24 * (-1.5);
+    let t72: f64 = 1.0 + t71;
+    let t73: f64 = t32 * t72;
+    let t74: f64 = t0 * t37;
+    let t75: f64 = t0 * t46;
+    let t76: f64 = t0 * t52;
+    let t77: f64 = t0 * t61;
+    let t78: f64 = t0 * t62;
+    let t79: f64 = t0 * t63;
+    let t80: f64 = t0 * t66;
+    let t81: f64 = t0 * t69;
+    let t82: f64 = t0 * t70;
     let t83: f64 = t0 * t73;
     let t84: f64 = va[0] * t9;
     let t85: f64 = va[1] * t11;
@@ -959,5 +556,378 @@ pub fn free_ft_pair_equal_product(
     Product::<6> {
         a: [t170, t173, t132, t176, t179, t165],
         b: [t182, t185, t144, t188, t191, t167],
+    }
+}
+/// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair product.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_ft_pair_product`'s fields. Operation count with fused multiply-adds: 137 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_ft_pair_product_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    va: [L; 6usize],
+    vb: [L; 6usize],
+) -> [L; 12usize] {
+    let out: [L; 12usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.sqrt();
+        let t6: L = L::splat(1.0) / t5;
+        let t7: L = t1 * t6;
+        let t8: L = L::select(t4.gt(L::splat(0.0)), t7, L::splat(1.0));
+        let t9: L = t2 * t6;
+        let t10: L = L::select(t4.gt(L::splat(0.0)), t9, L::splat(0.0));
+        let t11: L = xa[2] - xb[2];
+        let t12: L = aa * aa;
+        let t13: L = ab * ab;
+        let t14: L = t12 * L::splat(0.16666666666666666);
+        let t15: L = t13 * L::splat(0.16666666666666666);
+        let t16: L = t11 * t11;
+        let t17: L = t5.mul_add(t5, t16);
+        let t18: L = t17.sqrt();
+        let t19: L = L::splat(1.0) / t18;
+        let t20: L = t5 * t19;
+        let t21: L = t11 * t19;
+        let t22: L = t20.powi(2);
+        let t23: L = t22 + L::splat(-1.0);
+        let t24: L = t19 * L::splat(2.0);
+        let t25: L = t19.mul_add(t23, t24);
+        let t26: L = t22.mul_add(L::splat(-6.0), L::splat(2.0));
+        let t27: L = t19 * t19;
+        let t28: L = t19 * t27;
+        let t29: L = t26 * t28;
+        let t30: L = t15.mul_add(t29, t25);
+        let t31: L = t14.mul_add(t29, t30);
+        let t32: L = t20 * t21;
+        let t33: L = t21 * L::splat(-6.0);
+        let t34: L = t20 * t33;
+        let t35: L = t28 * t34;
+        let t36: L = t15 * t35;
+        let t37: L = t19.mul_add(t32, t36);
+        let t38: L = t14.mul_add(t35, t37);
+        let t39: L = t24 - t19;
+        let t40: L = L::splat(2.0) * t28;
+        let t41: L = t15.mul_add(t40, t39);
+        let t42: L = t14.mul_add(t40, t41);
+        let t43: L = L::splat(2.0) - t22;
+        let t44: L = t22.mul_add(L::splat(6.0), L::splat(-4.0));
+        let t45: L = t28 * t44;
+        let t46: L = t15 * t45;
+        let t47: L = t19.mul_add(t43, t46);
+        let t48: L = t14.mul_add(t45, t47);
+        let t49: L = t21 * t27;
+        let t50: L = t20 * t27;
+        let t51: L = t22.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t52: L = t28 * t51;
+        let t53: L = t21 * L::splat(1.5);
+        let t54: L = t20 * t53;
+        let t55: L = t28 * t54;
+        let t56: L = t28 * L::splat(-0.5);
+        let t57: L = t22.mul_add(L::splat(-1.5), L::splat(1.0));
+        let t58: L = t28 * t57;
+        let t59: L = t0 * t31;
+        let t60: L = t0 * t38;
+        let t61: L = t0 * t42;
+        let t62: L = t0 * t48;
+        let t63: L = t0 * t49;
+        let t64: L = t0 * t50;
+        let t65: L = t0 * t52;
+        let t66: L = t0 * t55;
+        let t67: L = t0 * t56;
+        let t68: L = t0 * t58;
+        let t69: L = va[1] * t10;
+        let t70: L = va[0].mul_add(t8, t69);
+        let t71: L = va[0] * t10;
+        let t72: L = va[1].mul_sub(t8, t71);
+        let t73: L = va[4] * t10;
+        let t74: L = va[3].mul_add(t8, t73);
+        let t75: L = va[3] * t10;
+        let t76: L = va[4].mul_sub(t8, t75);
+        let t77: L = vb[1] * t10;
+        let t78: L = vb[0].mul_add(t8, t77);
+        let t79: L = vb[0] * t10;
+        let t80: L = vb[1].mul_sub(t8, t79);
+        let t81: L = vb[4] * t10;
+        let t82: L = vb[3].mul_add(t8, t81);
+        let t83: L = vb[3] * t10;
+        let t84: L = vb[4].mul_sub(t8, t83);
+        let t85: L = vb[2] * t60;
+        let t86: L = t59.mul_add(t78, t85);
+        let t87: L = va[2] * t60;
+        let t88: L = t59.mul_add(t70, t87);
+        let t89: L = vb[2] * t62;
+        let t90: L = t60.mul_add(t78, t89);
+        let t91: L = va[2] * t62;
+        let t92: L = t60.mul_add(t70, t91);
+        let t93: L = t63.mul_add(t84, t86);
+        let t94: L = t63 * t82;
+        let t95: L = t61.mul_sub(t80, t94);
+        let t96: L = t63 * t72;
+        let t97: L = vb[5].mul_add(t64, t95);
+        let t98: L = t64.neg_mul_add(t84, t90);
+        let t99: L = va[2] * t64;
+        let t100: L = t63.mul_sub(t70, t99);
+        let t101: L = t63 * t74;
+        let t102: L = t61.mul_add(t72, t101);
+        let t103: L = t63 * t78;
+        let t104: L = t63.neg_mul_add(t76, t88);
+        let t105: L = vb[2].mul_sub(t64, t103);
+        let t106: L = t64.mul_add(t76, t92);
+        let t107: L = t64 * t80;
+        let t108: L = va[5].neg_mul_add(t64, t102);
+        let t109: L = t65 * t82;
+        let t110: L = t63.mul_add(t80, t109);
+        let t111: L = t65.mul_sub(t74, t96);
+        let t112: L = vb[5].mul_add(t66, t110);
+        let t113: L = t66 * t74;
+        let t114: L = t64.mul_add(t72, t113);
+        let t115: L = t67.mul_add(t84, t105);
+        let t116: L = t67.mul_add(t76, t100);
+        let t117: L = t66.mul_sub(t82, t107);
+        let t118: L = va[5].mul_add(t66, t111);
+        let t119: L = vb[5].mul_add(t68, t117);
+        let t120: L = va[5].mul_add(t68, t114);
+        let t121: L = t10 * t97;
+        let t122: L = t8.mul_sub(t93, t121);
+        let t123: L = t8 * t97;
+        let t124: L = t10.mul_add(t93, t123);
+        let t125: L = t10 * t115;
+        let t126: L = t8.mul_sub(t112, t125);
+        let t127: L = t8 * t115;
+        let t128: L = t10.mul_add(t112, t127);
+        let t129: L = t10 * t108;
+        let t130: L = t8.mul_sub(t104, t129);
+        let t131: L = t8 * t108;
+        let t132: L = t10.mul_add(t104, t131);
+        let t133: L = t10 * t116;
+        let t134: L = t8.mul_sub(t118, t133);
+        let t135: L = t8 * t116;
+        let t136: L = t10.mul_add(t118, t135);
+        [t122, t124, t98, t126, t128, t119, t130, t132, t106, t134, t136, t120]
+    };
+    out
+}
+/// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair equal product.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// # Arguments
+/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
+/// - `xb`: centre of particle b (the source particle)
+/// - `a`: radius of the particle(s)
+/// - `eta`: viscosity of the fluid
+/// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
+/// - `vb`: moments of particle b, same layout
+///
+/// Operation count (after dead-code elimination): 186 flops (61 add/sub, 117 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 2 select).
+#[inline]
+pub fn free_ft_pair_equal_product(
+    xa: [f64; 3],
+    xb: [f64; 3],
+    a: f64,
+    eta: f64,
+    va: [f64; 6usize],
+    vb: [f64; 6usize],
+) -> Product<6> {
+    let t0: f64 = 0.039788735772973836 / eta;
+    let t1: f64 = xa[0] - xb[0];
+    let t2: f64 = xa[1] - xb[1];
+    let t3: f64 = t1 * t1;
+    let t4: f64 = t2 * t2;
+    let t5: f64 = t3 + t4;
+    let t6: f64 = t5.sqrt();
+    let t7: f64 = 1.0 / t6;
+    let t8: f64 = t1 * t7;
+    let t9: f64 = if t5 > 0.0 { t8 } else { 1.0 };
+    let t10: f64 = t2 * t7;
+    let t11: f64 = if t5 > 0.0 { t10 } else { 0.0 };
+    let t12: f64 = xa[2] - xb[2];
+    let t13: f64 = a * a;
+    let t14: f64 = t13 * 0.16666666666666666;
+    let t15: f64 = t6 * t6;
+    let t16: f64 = t12 * t12;
+    let t17: f64 = t15 + t16;
+    let t18: f64 = t17.sqrt();
+    let t19: f64 = 1.0 / t18;
+    let t20: f64 = t6 * t19;
+    let t21: f64 = t12 * t19;
+    let t22: f64 = t20.powi(2);
+    let t23: f64 = t22 + (-1.0);
+    let t24: f64 = t19 * t23;
+    let t25: f64 = t19 * 2.0;
+    let t26: f64 = t24 + t25;
+    let t27: f64 = t22 * (-6.0);
+    let t28: f64 = 2.0 + t27;
+    let t29: f64 = t19 * t19;
+    let t30: f64 = t19 * t29;
+    let t31: f64 = t28 * t30;
+    let t32: f64 = t14 * t31;
+    let t33: f64 = t26 + t32;
+    let t34: f64 = t32 + t33;
+    let t35: f64 = t20 * t21;
+    let t36: f64 = t19 * t35;
+    let t37: f64 = t21 * (-6.0);
+    let t38: f64 = t20 * t37;
+    let t39: f64 = t30 * t38;
+    let t40: f64 = t14 * t39;
+    let t41: f64 = t36 + t40;
+    let t42: f64 = t40 + t41;
+    let t43: f64 = t25 - t19;
+    let t44: f64 = 2.0 * t30;
+    let t45: f64 = t14 * t44;
+    let t46: f64 = t43 + t45;
+    let t47: f64 = t45 + t46;
+    let t48: f64 = 2.0 - t22;
+    let t49: f64 = t19 * t48;
+    let t50: f64 = t22 * 6.0;
+    let t51: f64 = t50 + (-4.0);
+    let t52: f64 = t30 * t51;
+    let t53: f64 = t14 * t52;
+    let t54: f64 = t49 + t53;
+    let t55: f64 = t53 + t54;
+    let t56: f64 = t21 * t29;
+    let t57: f64 = t20 * t29;
+    let t58: f64 = t22 * 1.5;
+    let t59: f64 = t58 + (-0.5);
+    let t60: f64 = t30 * t59;
+    let t61: f64 = t21 * 1.5;
+    let t62: f64 = t20 * t61;
+    let t63: f64 = t30 * t62;
+    let t64: f64 = t30 * (-0.5);
+    let t65: f64 = t22 * (-1.5);
+    let t66: f64 = 1.0 + t65;
+    let t67: f64 = t30 * t66;
+    let t68: f64 = t0 * t34;
+    let t69: f64 = t0 * t42;
+    let t70: f64 = t0 * t47;
+    let t71: f64 = t0 * t55;
+    let t72: f64 = t0 * t56;
+    let t73: f64 = t0 * t57;
+    let t74: f64 = t0 * t60;
+    let t75: f64 = t0 * t63;
+    let t76: f64 = t0 * t64;
+    let t77: f64 = t0 * t67;
+    let t78: f64 = va[0] * t9;
+    let t79: f64 = va[1] * t11;
+    let t80: f64 = t78 + t79;
+    let t81: f64 = va[0] * t11;
+    let t82: f64 = va[1] * t9;
+    let t83: f64 = t82 - t81;
+    let t84: f64 = va[3] * t9;
+    let t85: f64 = va[4] * t11;
+    let t86: f64 = t84 + t85;
+    let t87: f64 = va[3] * t11;
+    let t88: f64 = va[4] * t9;
+    let t89: f64 = t88 - t87;
+    let t90: f64 = vb[0] * t9;
+    let t91: f64 = vb[1] * t11;
+    let t92: f64 = t90 + t91;
+    let t93: f64 = vb[0] * t11;
+    let t94: f64 = vb[1] * t9;
+    let t95: f64 = t94 - t93;
+    let t96: f64 = vb[3] * t9;
+    let t97: f64 = vb[4] * t11;
+    let t98: f64 = t96 + t97;
+    let t99: f64 = vb[3] * t11;
+    let t100: f64 = vb[4] * t9;
+    let t101: f64 = t100 - t99;
+    let t102: f64 = t68 * t92;
+    let t103: f64 = t68 * t80;
+    let t104: f64 = vb[2] * t69;
+    let t105: f64 = t102 + t104;
+    let t106: f64 = t69 * t80;
+    let t107: f64 = t70 * t95;
+    let t108: f64 = t70 * t83;
+    let t109: f64 = t69 * t92;
+    let t110: f64 = va[2] * t69;
+    let t111: f64 = t103 + t110;
+    let t112: f64 = vb[2] * t71;
+    let t113: f64 = t109 + t112;
+    let t114: f64 = va[2] * t71;
+    let t115: f64 = t106 + t114;
+    let t116: f64 = t72 * t101;
+    let t117: f64 = t105 + t116;
+    let t118: f64 = t72 * t80;
+    let t119: f64 = t72 * t98;
+    let t120: f64 = t107 - t119;
+    let t121: f64 = t72 * t83;
+    let t122: f64 = vb[5] * t73;
+    let t123: f64 = t120 + t122;
+    let t124: f64 = t73 * t83;
+    let t125: f64 = t73 * t101;
+    let t126: f64 = t113 - t125;
+    let t127: f64 = va[2] * t73;
+    let t128: f64 = t118 - t127;
+    let t129: f64 = t72 * t95;
+    let t130: f64 = t72 * t86;
+    let t131: f64 = t108 + t130;
+    let t132: f64 = t72 * t92;
+    let t133: f64 = t72 * t89;
+    let t134: f64 = t111 - t133;
+    let t135: f64 = vb[2] * t73;
+    let t136: f64 = t135 - t132;
+    let t137: f64 = t73 * t89;
+    let t138: f64 = t115 + t137;
+    let t139: f64 = t73 * t95;
+    let t140: f64 = va[5] * t73;
+    let t141: f64 = t131 - t140;
+    let t142: f64 = t74 * t98;
+    let t143: f64 = t129 + t142;
+    let t144: f64 = t74 * t86;
+    let t145: f64 = t144 - t121;
+    let t146: f64 = vb[5] * t75;
+    let t147: f64 = t143 + t146;
+    let t148: f64 = t75 * t86;
+    let t149: f64 = t124 + t148;
+    let t150: f64 = t76 * t101;
+    let t151: f64 = t136 + t150;
+    let t152: f64 = t76 * t89;
+    let t153: f64 = t128 + t152;
+    let t154: f64 = t75 * t98;
+    let t155: f64 = t154 - t139;
+    let t156: f64 = va[5] * t75;
+    let t157: f64 = t145 + t156;
+    let t158: f64 = vb[5] * t77;
+    let t159: f64 = t155 + t158;
+    let t160: f64 = va[5] * t77;
+    let t161: f64 = t149 + t160;
+    let t162: f64 = t9 * t117;
+    let t163: f64 = t11 * t123;
+    let t164: f64 = t162 - t163;
+    let t165: f64 = t11 * t117;
+    let t166: f64 = t9 * t123;
+    let t167: f64 = t165 + t166;
+    let t168: f64 = t9 * t147;
+    let t169: f64 = t11 * t151;
+    let t170: f64 = t168 - t169;
+    let t171: f64 = t11 * t147;
+    let t172: f64 = t9 * t151;
+    let t173: f64 = t171 + t172;
+    let t174: f64 = t9 * t134;
+    let t175: f64 = t11 * t141;
+    let t176: f64 = t174 - t175;
+    let t177: f64 = t11 * t134;
+    let t178: f64 = t9 * t141;
+    let t179: f64 = t177 + t178;
+    let t180: f64 = t9 * t157;
+    let t181: f64 = t11 * t153;
+    let t182: f64 = t180 - t181;
+    let t183: f64 = t11 * t157;
+    let t184: f64 = t9 * t153;
+    let t185: f64 = t183 + t184;
+    Product::<6> {
+        a: [t164, t167, t126, t170, t173, t159],
+        b: [t176, t179, t138, t182, t185, t161],
     }
 }

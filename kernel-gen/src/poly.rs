@@ -1,0 +1,277 @@
+//! Sparse polynomials in the components `(e1, e2, e3)` of a unit vector, with
+//! double-double coefficients: the derivatives of the potentials in closed form, and
+//! their evaluation by multivariate Horner.
+//!
+//! Every derivative of a potential `|R|^p` about the unit vector `e = R/|R|` is
+//! `|R|^(p - n)` times a universal polynomial in `e` (the jets of
+//! [`crate::derivatives::Structured`] compute exactly these polynomials, one
+//! coefficient at a time). [`Poly`] is a [`Scalar`], so the same jet rules run on it
+//! once per potential and degree, at generation time, and return the polynomials
+//! themselves with coefficients exact to about 1e-32. A block entry is a linear
+//! combination of such derivatives per expansion centre and power of `|R|`; collected
+//! as one polynomial and evaluated by Horner's rule ([`Poly::eval`]), it costs about one
+//! multiply-add per monomial, where the jet recurrences cost several operations per
+//! coefficient of every order. Components known to be zero (the second lateral one in
+//! the canonical frame, [`crate::frame`]) drop their monomials before any node is built.
+
+use crate::dd::Dd;
+use crate::scalar::Scalar;
+use std::collections::BTreeMap;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A polynomial `sum c_m e^m` in three variables; no zero coefficients are stored.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Poly(pub BTreeMap<[u8; 3], Dd>);
+
+fn is_zero(d: &Dd) -> bool {
+    d.hi == 0.0 && d.lo == 0.0
+}
+
+impl Poly {
+    /// The variable `e_k`.
+    pub fn var(k: usize) -> Poly {
+        let mut m = [0u8; 3];
+        m[k] = 1;
+        Poly(BTreeMap::from([(m, Dd::new(1.0))]))
+    }
+
+    /// The constant `c`.
+    pub fn constant(c: Dd) -> Poly {
+        let mut p = Poly::default();
+        p.add_term([0, 0, 0], c);
+        p
+    }
+
+    fn add_term(&mut self, m: [u8; 3], c: Dd) {
+        if is_zero(&c) {
+            return;
+        }
+        let e = self.0.entry(m).or_insert(Dd::new(0.0));
+        *e = *e + c;
+        if is_zero(e) {
+            self.0.remove(&m);
+        }
+    }
+
+    /// `self + c q`.
+    pub fn add_scaled(&mut self, q: &Poly, c: Dd) {
+        for (m, v) in &q.0 {
+            self.add_term(*m, c * *v);
+        }
+    }
+
+    /// The constant term, if the polynomial is a constant.
+    fn as_constant(&self) -> Option<Dd> {
+        match self.0.len() {
+            0 => Some(Dd::new(0.0)),
+            1 => self.0.get(&[0, 0, 0]).copied(),
+            _ => None,
+        }
+    }
+
+    /// The value at `e` by multivariate Horner: the variable of highest degree
+    /// outermost (by steps of the gcd of its exponents, so an even polynomial is
+    /// evaluated in `e_k^2`), its coefficients recursively; monomials of components
+    /// known to be zero are dropped first. Coefficients enter rounded once
+    /// ([`Scalar::from_dd`]).
+    pub fn eval<S: Scalar>(&self, e: &[S; 3]) -> S {
+        let terms: Vec<([u8; 3], Dd)> = self
+            .0
+            .iter()
+            .filter(|(m, _)| (0..3).all(|k| m[k] == 0 || !e[k].is_known_zero()))
+            .map(|(m, c)| (*m, *c))
+            .collect();
+        horner(&terms, e).unwrap_or_else(|| S::cst(0.0))
+    }
+}
+
+fn gcd(a: u8, b: u8) -> u8 {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
+/// Horner's rule over `terms` (`None` for no terms).
+fn horner<S: Scalar>(terms: &[([u8; 3], Dd)], e: &[S; 3]) -> Option<S> {
+    if terms.is_empty() {
+        return None;
+    }
+    // the variable of highest degree
+    let (k, deg) = (0..3)
+        .map(|k| (k, terms.iter().map(|(m, _)| m[k]).max().unwrap_or(0)))
+        .max_by_key(|&(k, d)| (d, std::cmp::Reverse(k)))
+        .expect("three variables");
+    if deg == 0 {
+        let c: Dd = terms.iter().fold(Dd::new(0.0), |acc, (_, c)| acc + *c);
+        return Some(S::from_dd(c));
+    }
+    let step = terms.iter().fold(0u8, |g, (m, _)| gcd(g, m[k]));
+    let x = e[k].clone().powi(step as i32);
+    // coefficient polynomials of x^0, x^1, ..., x^(deg/step)
+    let top = (deg / step) as usize;
+    let mut by_power: Vec<Vec<([u8; 3], Dd)>> = vec![Vec::new(); top + 1];
+    for (m, c) in terms {
+        let mut rest = *m;
+        rest[k] = 0;
+        by_power[(m[k] / step) as usize].push((rest, *c));
+    }
+    let mut acc: Option<S> = None;
+    for q in (0..=top).rev() {
+        if let Some(a) = acc.take() {
+            acc = Some(a * x.clone());
+        }
+        if let Some(c) = horner(&by_power[q], e) {
+            acc = Some(match acc {
+                None => c,
+                Some(a) => a + c,
+            });
+        }
+    }
+    acc
+}
+
+impl Add for Poly {
+    type Output = Poly;
+    fn add(mut self, b: Poly) -> Poly {
+        self.add_scaled(&b, Dd::new(1.0));
+        self
+    }
+}
+
+impl Sub for Poly {
+    type Output = Poly;
+    fn sub(mut self, b: Poly) -> Poly {
+        self.add_scaled(&b, Dd::new(-1.0));
+        self
+    }
+}
+
+impl Neg for Poly {
+    type Output = Poly;
+    fn neg(self) -> Poly {
+        Poly(self.0.into_iter().map(|(m, c)| (m, -c)).collect())
+    }
+}
+
+impl Mul for Poly {
+    type Output = Poly;
+    fn mul(self, b: Poly) -> Poly {
+        let mut out = Poly::default();
+        for (m, c) in &self.0 {
+            for (n, d) in &b.0 {
+                out.add_term([m[0] + n[0], m[1] + n[1], m[2] + n[2]], *c * *d);
+            }
+        }
+        out
+    }
+}
+
+impl Div for Poly {
+    type Output = Poly;
+    /// Division by a constant only (the jets of the potentials about a unit vector
+    /// divide by their constant term, which is 1).
+    fn div(self, b: Poly) -> Poly {
+        let d = b
+            .as_constant()
+            .expect("a polynomial divides only by a constant");
+        Poly(self.0.into_iter().map(|(m, c)| (m, c / d)).collect())
+    }
+}
+
+impl Scalar for Poly {
+    fn cst(c: f64) -> Self {
+        Poly::constant(Dd::new(c))
+    }
+    fn ratio(n: f64, d: f64) -> Self {
+        Poly::constant(Dd::ratio(n, d))
+    }
+    fn from_dd(d: Dd) -> Self {
+        Poly::constant(d)
+    }
+    fn sqrt(&self) -> Self {
+        let c = self
+            .as_constant()
+            .expect("the square root of a constant polynomial only");
+        Poly::constant(c.sqrt())
+    }
+    fn powi(&self, n: i32) -> Self {
+        assert!(n >= 0, "non-negative powers of a polynomial only");
+        let mut acc = Poly::cst(1.0);
+        for _ in 0..n {
+            acc = acc * self.clone();
+        }
+        acc
+    }
+    fn to_f64(&self) -> f64 {
+        self.as_constant().map_or(f64::NAN, |c| c.to_f64())
+    }
+    fn is_known_zero(&self) -> bool {
+        self.0.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::jet::{Jet, Layout};
+
+    /// The jet of `1/|e + d|` on polynomials gives the closed forms:
+    /// `d_1 (1/r) = -e1`, `d_1 d_1 (1/r) = 3 e1^2 - 1`, `d_1 d_2 d_3 (1/r) = -15 e1 e2 e3`
+    /// at `|e| = 1` (here as polynomials, before using `|e| = 1`: `3 e1^2 - |e|^2`...);
+    /// checked by evaluating at a unit vector against the f64 jet.
+    #[test]
+    fn polynomial_jets_equal_the_numerical_jets() {
+        let l = Layout::get(3, 4);
+        let e = [0.48, -0.6, 0.64]; // a unit vector
+        let jet_of = |ev: [Poly; 3]| {
+            let d: [Jet<Poly>; 3] = std::array::from_fn(|k| Jet::variable(&l, k, Poly::cst(0.0)));
+            let mut s = Jet::cst(1.0);
+            for k in 0..3 {
+                s = s
+                    + Jet::constant(Poly::cst(2.0) * ev[k].clone()) * d[k].clone()
+                    + d[k].clone() * d[k].clone();
+            }
+            s.powf(-0.5, Poly::cst(1.0))
+        };
+        let p = jet_of([Poly::var(0), Poly::var(1), Poly::var(2)]);
+        let d: [Jet<f64>; 3] = std::array::from_fn(|k| Jet::variable(&l, k, 0.0));
+        let mut s = Jet::cst(1.0);
+        for k in 0..3 {
+            s = s + Jet::constant(2.0 * e[k]) * d[k].clone() + d[k].clone() * d[k].clone();
+        }
+        let f = s.powf(-0.5, 1.0);
+        for nu in [[1u8, 0, 0], [2, 0, 0], [1, 1, 1], [0, 2, 2], [4, 0, 0]] {
+            let want = f.derivative(&nu);
+            let got: f64 = p.derivative(&nu).eval(&e);
+            assert!(
+                (got - want).abs() <= 1e-13 * want.abs().max(1.0),
+                "{nu:?}: {got} {want}"
+            );
+        }
+        // d_1 d_1 (1/r) = 3 e1^2 - 1 (with |e| = 1): at e the value is 3 * 0.2304 - 1
+        let v: f64 = p.derivative(&[2, 0, 0]).eval(&e);
+        assert!((v - (3.0 * 0.48 * 0.48 - 1.0)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn horner_drops_known_zeros_and_uses_even_powers() {
+        use crate::expr::{Ex, Trace};
+        // 1 + 3 e1^2 - 2 e1^4 + 5 e2 e3: with e2 = 0, an even polynomial in e1
+        let mut p = Poly::cst(1.0);
+        p.add_term([2, 0, 0], Dd::new(3.0));
+        p.add_term([4, 0, 0], Dd::new(-2.0));
+        p.add_term([0, 1, 1], Dd::new(5.0));
+        let t = Trace::begin();
+        let e = [t.input("e1"), Ex::cst(0.0), t.input("e3")];
+        let v = p.eval(&e);
+        let g = t.finish();
+        // e1^2, (-2 x + 3), (..) x, + 1: 1 powi + 2 mul + 2 add
+        let c = g.op_count(&[v.0]);
+        assert_eq!(c.total(), 5, "{c}");
+        let x: f64 = 0.7;
+        let got = g.eval(&[x, 0.2], &[v.0])[0];
+        assert!((got - (1.0 + 3.0 * x * x - 2.0 * x.powi(4))).abs() < 1e-15);
+    }
+}
