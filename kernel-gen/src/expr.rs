@@ -8,7 +8,7 @@
 //! Nodes are hash-consed (an identical node is never stored twice), so shared
 //! subexpressions are shared by construction. Simplifications are applied as nodes
 //! are built, each one rule: constant folding, `x+0`, `x-0`, `0-x`, `x-x`, `x*1`,
-//! `x*0`, `x*(-1)`, `x/1`, `0/x`, `-(-x)`, the pushing of negations outward (so that
+//! `x*0`, `x*(-1)`, `x/1`, `0/x`, `-(-x)`, `sqrt(y) sqrt(y) = y`, `c/(x x) = c (1/x)^2`, the pushing of negations outward (so that
 //! `a*(-b)` and `-(a*b)` are one node), and the merging of constant factors
 //! `c*(d*x) = (cd)*x`. Operands of `+` and `*` are stored in canonical order.
 //!
@@ -234,6 +234,13 @@ impl Graph {
             let p = self.mul(a, v);
             return self.neg(p);
         }
+        // sqrt(y) * sqrt(y) = y: a square root squared is its argument (exact, and no
+        // longer behind the square root's latency).
+        if a == b {
+            if let Op::Sqrt(y) = self.nodes[a as usize] {
+                return y;
+            }
+        }
         // c * (d * x) = (c d) * x: constant factors merge.
         let (c, x) = match (self.as_const(a), self.as_const(b)) {
             (Some(c), None) => (Some(c), b),
@@ -268,6 +275,16 @@ impl Graph {
         }
         if a == b {
             return self.constant(1.0);
+        }
+        // c / (x x) = c (1/x) (1/x): the reciprocal of a square shares the reciprocal
+        // of its root (one division fewer where 1/x is needed anyway).
+        if let (Some(c), Op::Mul(x, y)) = (self.as_const(a), self.nodes[b as usize]) {
+            if x == y {
+                let one = self.constant(1.0);
+                let r = self.div(one, x);
+                let r2 = self.mul(r, r);
+                return if c == 1.0 { r2 } else { self.mul(a, r2) };
+            }
         }
         if let Some(u) = self.neg_of(a) {
             let q = self.div(u, b);
@@ -309,6 +326,11 @@ impl Graph {
         }
         if let Some(x) = self.as_const(a) {
             return self.constant(x.powi(n));
+        }
+        if n == 2 {
+            if let Op::Sqrt(y) = self.nodes[a as usize] {
+                return y;
+            }
         }
         self.intern(Op::Powi(a, n))
     }

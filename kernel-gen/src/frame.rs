@@ -13,8 +13,9 @@
 //! blocks (`Q_r B' Q_m^T`, block kernels).
 //!
 //! With `rho = 0` every rotation is a symmetry; the frame is then the identity
-//! (`c = 1`, `s = 0`), chosen by a comparison node ([`Ex::select_gt`]), so the
-//! kernels divide by `rho` nowhere.
+//! (`c = 1`, `s = 0`), chosen by a comparison node ([`Ex::select_gt`]), and the
+//! reciprocal is taken of `rho` where it is positive and of 1 elsewhere, so no kernel
+//! ever forms `1/0`.
 
 use crate::expr::Ex;
 use crate::operators::STRAIN_BASIS;
@@ -39,9 +40,12 @@ impl Frame {
         let dy = xa[1] - xb[1];
         let rho2 = dx * dx + dy * dy;
         let rho = rho2.sqrt();
-        let inv = rho.recip();
         let zero = Ex::cst(0.0);
-        let c = Ex::select_gt(rho2, zero, dx * inv, Ex::cst(1.0));
+        let one = Ex::cst(1.0);
+        // 1/rho of a safe rho: never infinite, so that a reciprocal sharing its division
+        // with others (the lane kernels) is never poisoned where rho = 0
+        let inv = Ex::select_gt(rho2, zero, rho, one).recip();
+        let c = Ex::select_gt(rho2, zero, dx * inv, one);
         let s = Ex::select_gt(rho2, zero, dy * inv, zero);
         let f = Frame { rho2, rho, c, s };
         (f, [rho, zero, xa[2]], [zero, zero, xb[2]])

@@ -149,13 +149,14 @@ fn pairs(conf: &Confinement, rng: &mut ChaCha8Rng) -> Vec<Pair> {
     out
 }
 
-/// Tolerance 1e-13 of the larger output vector's norm: the lane kernels perform the
-/// same operations as the scalar ones except that multiply-adds round once instead of
-/// twice (and the far and near branches are blended rather than branched on, which is
-/// exact), so they differ by the kernels' round-off, a few ulps of the intermediate
-/// terms, amplified by the cancellation between the terms of the direct sum (at most
-/// about 1e2 away from the stiff cases, which the exchange and the far-field branch
-/// bound). Measured: printed by `-- --nocapture`.
+/// Tolerance 1e-13 of the larger output vector's norm, plus, for the wall, 8 ulps times
+/// the direct sum's cancellation factor `rho^2 / (h_a h_b)`: the lane kernels perform
+/// the same operations as the scalar ones except that multiply-adds round once instead
+/// of twice and reciprocals share divisions (a few ulps each; blending the far and
+/// near branches rather than branching is exact), so they differ by the kernels'
+/// round-off amplified by the cancellation between the terms of the direct sum (about
+/// 1e2 at most away from the wall's lateral switch, `rho^2 / (h_a h_b)` up to 4e4 just
+/// below it). Measured: printed by `-- --nocapture`.
 #[test]
 fn lane_kernels_equal_the_scalar_kernels_on_every_instruction_set() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
@@ -176,24 +177,42 @@ fn lane_kernels_equal_the_scalar_kernels_on_every_instruction_set() {
                 )
                 .ok()
                 .expect("available");
-                let mut worst = 0.0f64;
+                let mut worst = (0.0f64, 0usize);
                 for (k, (g, e)) in got.iter().zip(&expect).enumerate() {
                     let d: Vec<f64> = g.iter().zip(e).map(|(x, y)| x - y).collect();
                     let half = e.len() / 2;
                     let scale = norm(&e[..half]).max(norm(&e[half..]));
                     let rel = norm(&d) / scale;
-                    worst = worst.max(rel);
+                    // the wall's direct sum cancels to rho^2 / (h_a h_b) below its lateral
+                    // switch (README, stiff cases): two evaluations rounded differently
+                    // differ by a few ulps times that factor
+                    let (lo, _) = bounds(&conf);
+                    let (p, lo) = (&list[k], if lo.is_finite() { lo } else { 0.0 });
+                    let rho2 = (p.xa[0] - p.xb[0]).powi(2) + (p.xa[1] - p.xb[1]).powi(2);
+                    let cancel = if name == "wall" {
+                        rho2 / ((p.xa[2] - lo) * (p.xb[2] - lo))
+                    } else {
+                        0.0
+                    };
+                    let tol = 1e-13 + 8.0 * f64::EPSILON * cancel;
+                    if rel > worst.0 {
+                        worst = (rel, k);
+                    }
                     assert!(
-                        rel <= 1e-13,
+                        rel <= tol,
                         "{name} {} {isa:?} pair {k}: relative difference {rel:e}\n lanes {g:?}\n scalar {e:?}",
                         if ft { "FT" } else { "F" }
                     );
                 }
+                let p = &list[worst.1];
                 println!(
-                    "{name:<13} {:<2} {:<7} {} pairs: largest relative difference {worst:.1e}",
+                    "{name:<13} {:<2} {:<7} {} pairs: largest relative difference {:.1e} (xa {:?}, xb {:?})",
                     if ft { "FT" } else { "F" },
                     isa.name(),
-                    list.len()
+                    list.len(),
+                    worst.0,
+                    p.xa,
+                    p.xb
                 );
             }
         }

@@ -39,7 +39,7 @@ pub fn free_f_self(x: [f64; 3], a: f64, eta: f64) -> BlocksF {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 84 flops (23 add/sub, 53 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 2 select).
+/// Operation count (after dead-code elimination): 84 flops (23 add/sub, 52 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> BlocksF {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -49,23 +49,23 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
     let t4: f64 = t2 * t2;
     let t5: f64 = t3 + t4;
     let t6: f64 = t5.sqrt();
-    let t7: f64 = 1.0 / t6;
-    let t8: f64 = t1 * t7;
-    let t9: f64 = if t5 > 0.0 { t8 } else { 1.0 };
-    let t10: f64 = t2 * t7;
-    let t11: f64 = if t5 > 0.0 { t10 } else { 0.0 };
-    let t12: f64 = xa[2] - xb[2];
-    let t13: f64 = aa * aa;
-    let t14: f64 = ab * ab;
-    let t15: f64 = t13 * 0.16666666666666666;
+    let t7: f64 = if t5 > 0.0 { t6 } else { 1.0 };
+    let t8: f64 = 1.0 / t7;
+    let t9: f64 = t1 * t8;
+    let t10: f64 = if t5 > 0.0 { t9 } else { 1.0 };
+    let t11: f64 = t2 * t8;
+    let t12: f64 = if t5 > 0.0 { t11 } else { 0.0 };
+    let t13: f64 = xa[2] - xb[2];
+    let t14: f64 = aa * aa;
+    let t15: f64 = ab * ab;
     let t16: f64 = t14 * 0.16666666666666666;
-    let t17: f64 = t6 * t6;
-    let t18: f64 = t12 * t12;
-    let t19: f64 = t17 + t18;
+    let t17: f64 = t15 * 0.16666666666666666;
+    let t18: f64 = t13 * t13;
+    let t19: f64 = t5 + t18;
     let t20: f64 = t19.sqrt();
     let t21: f64 = 1.0 / t20;
     let t22: f64 = t6 * t21;
-    let t23: f64 = t12 * t21;
+    let t23: f64 = t13 * t21;
     let t24: f64 = t22.powi(2);
     let t25: f64 = t24 + (-1.0);
     let t26: f64 = t21 * t25;
@@ -76,56 +76,56 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
     let t31: f64 = t21 * t21;
     let t32: f64 = t21 * t31;
     let t33: f64 = t30 * t32;
-    let t34: f64 = t16 * t33;
+    let t34: f64 = t17 * t33;
     let t35: f64 = t28 + t34;
-    let t36: f64 = t15 * t33;
+    let t36: f64 = t16 * t33;
     let t37: f64 = t35 + t36;
     let t38: f64 = t22 * t23;
     let t39: f64 = t21 * t38;
     let t40: f64 = t23 * (-6.0);
     let t41: f64 = t22 * t40;
     let t42: f64 = t32 * t41;
-    let t43: f64 = t16 * t42;
+    let t43: f64 = t17 * t42;
     let t44: f64 = t39 + t43;
-    let t45: f64 = t15 * t42;
+    let t45: f64 = t16 * t42;
     let t46: f64 = t44 + t45;
     let t47: f64 = t27 - t21;
     let t48: f64 = 2.0 * t32;
-    let t49: f64 = t16 * t48;
+    let t49: f64 = t17 * t48;
     let t50: f64 = t47 + t49;
-    let t51: f64 = t15 * t48;
+    let t51: f64 = t16 * t48;
     let t52: f64 = t50 + t51;
     let t53: f64 = 2.0 - t24;
     let t54: f64 = t21 * t53;
     let t55: f64 = t24 * 6.0;
     let t56: f64 = t55 + (-4.0);
     let t57: f64 = t32 * t56;
-    let t58: f64 = t16 * t57;
+    let t58: f64 = t17 * t57;
     let t59: f64 = t54 + t58;
-    let t60: f64 = t15 * t57;
+    let t60: f64 = t16 * t57;
     let t61: f64 = t59 + t60;
     let t62: f64 = t0 * t37;
     let t63: f64 = t0 * t46;
     let t64: f64 = t0 * t52;
     let t65: f64 = t0 * t61;
-    let t66: f64 = t9 * t62;
-    let t67: f64 = t9 * t66;
-    let t68: f64 = t11 * t64;
-    let t69: f64 = t11 * t68;
+    let t66: f64 = t10 * t62;
+    let t67: f64 = t10 * t66;
+    let t68: f64 = t12 * t64;
+    let t69: f64 = t12 * t68;
     let t70: f64 = t67 + t69;
-    let t71: f64 = t11 * t62;
-    let t72: f64 = t9 * t71;
-    let t73: f64 = t9 * t64;
-    let t74: f64 = t11 * t73;
+    let t71: f64 = t12 * t62;
+    let t72: f64 = t10 * t71;
+    let t73: f64 = t10 * t64;
+    let t74: f64 = t12 * t73;
     let t75: f64 = t72 - t74;
-    let t76: f64 = t9 * t63;
-    let t77: f64 = t11 * t66;
-    let t78: f64 = t9 * t68;
+    let t76: f64 = t10 * t63;
+    let t77: f64 = t12 * t66;
+    let t78: f64 = t10 * t68;
     let t79: f64 = t77 - t78;
-    let t80: f64 = t11 * t71;
-    let t81: f64 = t9 * t73;
+    let t80: f64 = t12 * t71;
+    let t81: f64 = t10 * t73;
     let t82: f64 = t80 + t81;
-    let t83: f64 = t11 * t63;
+    let t83: f64 = t12 * t63;
     BlocksF {
         uf: [[t70, t75, t76], [t79, t82, t83], [t76, t83, t65]],
     }
@@ -141,7 +141,7 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
 /// - `a`: radius of the particle(s)
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 78 flops (23 add/sub, 47 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 2 select).
+/// Operation count (after dead-code elimination): 78 flops (23 add/sub, 46 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksF {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -151,21 +151,21 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
     let t4: f64 = t2 * t2;
     let t5: f64 = t3 + t4;
     let t6: f64 = t5.sqrt();
-    let t7: f64 = 1.0 / t6;
-    let t8: f64 = t1 * t7;
-    let t9: f64 = if t5 > 0.0 { t8 } else { 1.0 };
-    let t10: f64 = t2 * t7;
-    let t11: f64 = if t5 > 0.0 { t10 } else { 0.0 };
-    let t12: f64 = xa[2] - xb[2];
-    let t13: f64 = a * a;
-    let t14: f64 = t13 * 0.16666666666666666;
-    let t15: f64 = t6 * t6;
-    let t16: f64 = t12 * t12;
-    let t17: f64 = t15 + t16;
+    let t7: f64 = if t5 > 0.0 { t6 } else { 1.0 };
+    let t8: f64 = 1.0 / t7;
+    let t9: f64 = t1 * t8;
+    let t10: f64 = if t5 > 0.0 { t9 } else { 1.0 };
+    let t11: f64 = t2 * t8;
+    let t12: f64 = if t5 > 0.0 { t11 } else { 0.0 };
+    let t13: f64 = xa[2] - xb[2];
+    let t14: f64 = a * a;
+    let t15: f64 = t14 * 0.16666666666666666;
+    let t16: f64 = t13 * t13;
+    let t17: f64 = t5 + t16;
     let t18: f64 = t17.sqrt();
     let t19: f64 = 1.0 / t18;
     let t20: f64 = t6 * t19;
-    let t21: f64 = t12 * t19;
+    let t21: f64 = t13 * t19;
     let t22: f64 = t20.powi(2);
     let t23: f64 = t22 + (-1.0);
     let t24: f64 = t19 * t23;
@@ -176,7 +176,7 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
     let t29: f64 = t19 * t19;
     let t30: f64 = t19 * t29;
     let t31: f64 = t28 * t30;
-    let t32: f64 = t14 * t31;
+    let t32: f64 = t15 * t31;
     let t33: f64 = t26 + t32;
     let t34: f64 = t32 + t33;
     let t35: f64 = t20 * t21;
@@ -184,12 +184,12 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
     let t37: f64 = t21 * (-6.0);
     let t38: f64 = t20 * t37;
     let t39: f64 = t30 * t38;
-    let t40: f64 = t14 * t39;
+    let t40: f64 = t15 * t39;
     let t41: f64 = t36 + t40;
     let t42: f64 = t40 + t41;
     let t43: f64 = t25 - t19;
     let t44: f64 = 2.0 * t30;
-    let t45: f64 = t14 * t44;
+    let t45: f64 = t15 * t44;
     let t46: f64 = t43 + t45;
     let t47: f64 = t45 + t46;
     let t48: f64 = 2.0 - t22;
@@ -197,31 +197,31 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
     let t50: f64 = t22 * 6.0;
     let t51: f64 = t50 + (-4.0);
     let t52: f64 = t30 * t51;
-    let t53: f64 = t14 * t52;
+    let t53: f64 = t15 * t52;
     let t54: f64 = t49 + t53;
     let t55: f64 = t53 + t54;
     let t56: f64 = t0 * t34;
     let t57: f64 = t0 * t42;
     let t58: f64 = t0 * t47;
     let t59: f64 = t0 * t55;
-    let t60: f64 = t9 * t56;
-    let t61: f64 = t9 * t60;
-    let t62: f64 = t11 * t58;
-    let t63: f64 = t11 * t62;
+    let t60: f64 = t10 * t56;
+    let t61: f64 = t10 * t60;
+    let t62: f64 = t12 * t58;
+    let t63: f64 = t12 * t62;
     let t64: f64 = t61 + t63;
-    let t65: f64 = t11 * t56;
-    let t66: f64 = t9 * t65;
-    let t67: f64 = t9 * t58;
-    let t68: f64 = t11 * t67;
+    let t65: f64 = t12 * t56;
+    let t66: f64 = t10 * t65;
+    let t67: f64 = t10 * t58;
+    let t68: f64 = t12 * t67;
     let t69: f64 = t66 - t68;
-    let t70: f64 = t9 * t57;
-    let t71: f64 = t11 * t60;
-    let t72: f64 = t9 * t62;
+    let t70: f64 = t10 * t57;
+    let t71: f64 = t12 * t60;
+    let t72: f64 = t10 * t62;
     let t73: f64 = t71 - t72;
-    let t74: f64 = t11 * t65;
-    let t75: f64 = t9 * t67;
+    let t74: f64 = t12 * t65;
+    let t75: f64 = t10 * t67;
     let t76: f64 = t74 + t75;
-    let t77: f64 = t11 * t57;
+    let t77: f64 = t12 * t57;
     BlocksF {
         uf: [[t64, t69, t70], [t73, t76, t77], [t70, t77, t59]],
     }
@@ -240,7 +240,7 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 104 flops (31 add/sub, 65 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 2 select).
+/// Operation count (after dead-code elimination): 104 flops (31 add/sub, 64 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair_product(
     xa: [f64; 3],
@@ -258,23 +258,23 @@ pub fn free_f_pair_product(
     let t4: f64 = t2 * t2;
     let t5: f64 = t3 + t4;
     let t6: f64 = t5.sqrt();
-    let t7: f64 = 1.0 / t6;
-    let t8: f64 = t1 * t7;
-    let t9: f64 = if t5 > 0.0 { t8 } else { 1.0 };
-    let t10: f64 = t2 * t7;
-    let t11: f64 = if t5 > 0.0 { t10 } else { 0.0 };
-    let t12: f64 = xa[2] - xb[2];
-    let t13: f64 = aa * aa;
-    let t14: f64 = ab * ab;
-    let t15: f64 = t13 * 0.16666666666666666;
+    let t7: f64 = if t5 > 0.0 { t6 } else { 1.0 };
+    let t8: f64 = 1.0 / t7;
+    let t9: f64 = t1 * t8;
+    let t10: f64 = if t5 > 0.0 { t9 } else { 1.0 };
+    let t11: f64 = t2 * t8;
+    let t12: f64 = if t5 > 0.0 { t11 } else { 0.0 };
+    let t13: f64 = xa[2] - xb[2];
+    let t14: f64 = aa * aa;
+    let t15: f64 = ab * ab;
     let t16: f64 = t14 * 0.16666666666666666;
-    let t17: f64 = t6 * t6;
-    let t18: f64 = t12 * t12;
-    let t19: f64 = t17 + t18;
+    let t17: f64 = t15 * 0.16666666666666666;
+    let t18: f64 = t13 * t13;
+    let t19: f64 = t5 + t18;
     let t20: f64 = t19.sqrt();
     let t21: f64 = 1.0 / t20;
     let t22: f64 = t6 * t21;
-    let t23: f64 = t12 * t21;
+    let t23: f64 = t13 * t21;
     let t24: f64 = t22.powi(2);
     let t25: f64 = t24 + (-1.0);
     let t26: f64 = t21 * t25;
@@ -285,49 +285,49 @@ pub fn free_f_pair_product(
     let t31: f64 = t21 * t21;
     let t32: f64 = t21 * t31;
     let t33: f64 = t30 * t32;
-    let t34: f64 = t16 * t33;
+    let t34: f64 = t17 * t33;
     let t35: f64 = t28 + t34;
-    let t36: f64 = t15 * t33;
+    let t36: f64 = t16 * t33;
     let t37: f64 = t35 + t36;
     let t38: f64 = t22 * t23;
     let t39: f64 = t21 * t38;
     let t40: f64 = t23 * (-6.0);
     let t41: f64 = t22 * t40;
     let t42: f64 = t32 * t41;
-    let t43: f64 = t16 * t42;
+    let t43: f64 = t17 * t42;
     let t44: f64 = t39 + t43;
-    let t45: f64 = t15 * t42;
+    let t45: f64 = t16 * t42;
     let t46: f64 = t44 + t45;
     let t47: f64 = t27 - t21;
     let t48: f64 = 2.0 * t32;
-    let t49: f64 = t16 * t48;
+    let t49: f64 = t17 * t48;
     let t50: f64 = t47 + t49;
-    let t51: f64 = t15 * t48;
+    let t51: f64 = t16 * t48;
     let t52: f64 = t50 + t51;
     let t53: f64 = 2.0 - t24;
     let t54: f64 = t21 * t53;
     let t55: f64 = t24 * 6.0;
     let t56: f64 = t55 + (-4.0);
     let t57: f64 = t32 * t56;
-    let t58: f64 = t16 * t57;
+    let t58: f64 = t17 * t57;
     let t59: f64 = t54 + t58;
-    let t60: f64 = t15 * t57;
+    let t60: f64 = t16 * t57;
     let t61: f64 = t59 + t60;
     let t62: f64 = t0 * t37;
     let t63: f64 = t0 * t46;
     let t64: f64 = t0 * t52;
     let t65: f64 = t0 * t61;
-    let t66: f64 = va[0] * t9;
-    let t67: f64 = va[1] * t11;
+    let t66: f64 = va[0] * t10;
+    let t67: f64 = va[1] * t12;
     let t68: f64 = t66 + t67;
-    let t69: f64 = va[0] * t11;
-    let t70: f64 = va[1] * t9;
+    let t69: f64 = va[0] * t12;
+    let t70: f64 = va[1] * t10;
     let t71: f64 = t70 - t69;
-    let t72: f64 = vb[0] * t9;
-    let t73: f64 = vb[1] * t11;
+    let t72: f64 = vb[0] * t10;
+    let t73: f64 = vb[1] * t12;
     let t74: f64 = t72 + t73;
-    let t75: f64 = vb[0] * t11;
-    let t76: f64 = vb[1] * t9;
+    let t75: f64 = vb[0] * t12;
+    let t76: f64 = vb[1] * t10;
     let t77: f64 = t76 - t75;
     let t78: f64 = t62 * t74;
     let t79: f64 = t62 * t68;
@@ -343,17 +343,17 @@ pub fn free_f_pair_product(
     let t89: f64 = t85 + t88;
     let t90: f64 = va[2] * t65;
     let t91: f64 = t82 + t90;
-    let t92: f64 = t9 * t81;
-    let t93: f64 = t11 * t83;
+    let t92: f64 = t10 * t81;
+    let t93: f64 = t12 * t83;
     let t94: f64 = t92 - t93;
-    let t95: f64 = t11 * t81;
-    let t96: f64 = t9 * t83;
+    let t95: f64 = t12 * t81;
+    let t96: f64 = t10 * t83;
     let t97: f64 = t95 + t96;
-    let t98: f64 = t9 * t87;
-    let t99: f64 = t11 * t84;
+    let t98: f64 = t10 * t87;
+    let t99: f64 = t12 * t84;
     let t100: f64 = t98 - t99;
-    let t101: f64 = t11 * t87;
-    let t102: f64 = t9 * t84;
+    let t101: f64 = t12 * t87;
+    let t102: f64 = t10 * t84;
     let t103: f64 = t101 + t102;
     Product::<3> {
         a: [t94, t97, t89],
@@ -365,7 +365,7 @@ pub fn free_f_pair_product(
 /// Pruned to what the scene needs.
 /// Jets truncated at derivative order 4 of G.
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_pair_product`'s fields. Operation count with fused multiply-adds: 79 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_pair_product`'s fields. Operation count with fused multiply-adds: 81 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_f_pair_product_lanes<L: lanes::Lane>(
@@ -384,80 +384,82 @@ pub fn free_f_pair_product_lanes<L: lanes::Lane>(
         let t3: L = t2 * t2;
         let t4: L = t1.mul_add(t1, t3);
         let t5: L = t4.sqrt();
-        let t6: L = L::splat(1.0) / t5;
-        let t7: L = t1 * t6;
-        let t8: L = L::select(t4.gt(L::splat(0.0)), t7, L::splat(1.0));
-        let t9: L = t2 * t6;
-        let t10: L = L::select(t4.gt(L::splat(0.0)), t9, L::splat(0.0));
-        let t11: L = xa[2] - xb[2];
-        let t12: L = aa * aa;
-        let t13: L = ab * ab;
-        let t14: L = t12 * L::splat(0.16666666666666666);
-        let t15: L = t13 * L::splat(0.16666666666666666);
-        let t16: L = t11 * t11;
-        let t17: L = t5.mul_add(t5, t16);
-        let t18: L = t17.sqrt();
-        let t19: L = L::splat(1.0) / t18;
-        let t20: L = t5 * t19;
-        let t21: L = t11 * t19;
-        let t22: L = t20.powi(2);
-        let t23: L = t22 + L::splat(-1.0);
-        let t24: L = t19 * L::splat(2.0);
-        let t25: L = t19.mul_add(t23, t24);
-        let t26: L = t22.mul_add(L::splat(-6.0), L::splat(2.0));
-        let t27: L = t19 * t19;
-        let t28: L = t19 * t27;
-        let t29: L = t26 * t28;
-        let t30: L = t15.mul_add(t29, t25);
-        let t31: L = t14.mul_add(t29, t30);
-        let t32: L = t20 * t21;
-        let t33: L = t21 * L::splat(-6.0);
-        let t34: L = t20 * t33;
-        let t35: L = t28 * t34;
-        let t36: L = t15 * t35;
-        let t37: L = t19.mul_add(t32, t36);
-        let t38: L = t14.mul_add(t35, t37);
-        let t39: L = t24 - t19;
-        let t40: L = L::splat(2.0) * t28;
-        let t41: L = t15.mul_add(t40, t39);
-        let t42: L = t14.mul_add(t40, t41);
-        let t43: L = L::splat(2.0) - t22;
-        let t44: L = t22.mul_add(L::splat(6.0), L::splat(-4.0));
-        let t45: L = t28 * t44;
-        let t46: L = t15 * t45;
-        let t47: L = t19.mul_add(t43, t46);
-        let t48: L = t14.mul_add(t45, t47);
-        let t49: L = t0 * t31;
-        let t50: L = t0 * t38;
-        let t51: L = t0 * t42;
-        let t52: L = t0 * t48;
-        let t53: L = va[1] * t10;
-        let t54: L = va[0].mul_add(t8, t53);
-        let t55: L = va[0] * t10;
-        let t56: L = va[1].mul_sub(t8, t55);
-        let t57: L = vb[1] * t10;
-        let t58: L = vb[0].mul_add(t8, t57);
-        let t59: L = vb[0] * t10;
-        let t60: L = vb[1].mul_sub(t8, t59);
-        let t61: L = vb[2] * t50;
-        let t62: L = t49.mul_add(t58, t61);
-        let t63: L = t51 * t60;
-        let t64: L = t51 * t56;
-        let t65: L = va[2] * t50;
-        let t66: L = t49.mul_add(t54, t65);
-        let t67: L = vb[2] * t52;
-        let t68: L = t50.mul_add(t58, t67);
-        let t69: L = va[2] * t52;
-        let t70: L = t50.mul_add(t54, t69);
-        let t71: L = t10 * t63;
-        let t72: L = t8.mul_sub(t62, t71);
-        let t73: L = t8 * t63;
-        let t74: L = t10.mul_add(t62, t73);
-        let t75: L = t10 * t64;
-        let t76: L = t8.mul_sub(t66, t75);
-        let t77: L = t8 * t64;
-        let t78: L = t10.mul_add(t66, t77);
-        [t72, t74, t68, t76, t78, t70]
+        let t6: L = L::select(t4.gt(L::splat(0.0)), t5, L::splat(1.0));
+        let t7: L = xa[2] - xb[2];
+        let t8: L = t7.mul_add(t7, t4);
+        let t9: L = t8.sqrt();
+        let t10: L = t6 * t9;
+        let t11: L = L::splat(1.0) / t10;
+        let t12: L = t11 * t6;
+        let t13: L = t11 * t9;
+        let t14: L = t1 * t13;
+        let t15: L = L::select(t4.gt(L::splat(0.0)), t14, L::splat(1.0));
+        let t16: L = t2 * t13;
+        let t17: L = L::select(t4.gt(L::splat(0.0)), t16, L::splat(0.0));
+        let t18: L = aa * aa;
+        let t19: L = ab * ab;
+        let t20: L = t18 * L::splat(0.16666666666666666);
+        let t21: L = t19 * L::splat(0.16666666666666666);
+        let t22: L = t5 * t12;
+        let t23: L = t7 * t12;
+        let t24: L = t22.powi(2);
+        let t25: L = t24 + L::splat(-1.0);
+        let t26: L = t12 * L::splat(2.0);
+        let t27: L = t12.mul_add(t25, t26);
+        let t28: L = t24.mul_add(L::splat(-6.0), L::splat(2.0));
+        let t29: L = t12 * t12;
+        let t30: L = t12 * t29;
+        let t31: L = t28 * t30;
+        let t32: L = t21.mul_add(t31, t27);
+        let t33: L = t20.mul_add(t31, t32);
+        let t34: L = t22 * t23;
+        let t35: L = t23 * L::splat(-6.0);
+        let t36: L = t22 * t35;
+        let t37: L = t30 * t36;
+        let t38: L = t21 * t37;
+        let t39: L = t12.mul_add(t34, t38);
+        let t40: L = t20.mul_add(t37, t39);
+        let t41: L = t26 - t12;
+        let t42: L = L::splat(2.0) * t30;
+        let t43: L = t21.mul_add(t42, t41);
+        let t44: L = t20.mul_add(t42, t43);
+        let t45: L = L::splat(2.0) - t24;
+        let t46: L = t24.mul_add(L::splat(6.0), L::splat(-4.0));
+        let t47: L = t30 * t46;
+        let t48: L = t21 * t47;
+        let t49: L = t12.mul_add(t45, t48);
+        let t50: L = t20.mul_add(t47, t49);
+        let t51: L = t0 * t33;
+        let t52: L = t0 * t40;
+        let t53: L = t0 * t44;
+        let t54: L = t0 * t50;
+        let t55: L = va[1] * t17;
+        let t56: L = va[0].mul_add(t15, t55);
+        let t57: L = va[0] * t17;
+        let t58: L = va[1].mul_sub(t15, t57);
+        let t59: L = vb[1] * t17;
+        let t60: L = vb[0].mul_add(t15, t59);
+        let t61: L = vb[0] * t17;
+        let t62: L = vb[1].mul_sub(t15, t61);
+        let t63: L = vb[2] * t52;
+        let t64: L = t51.mul_add(t60, t63);
+        let t65: L = t53 * t62;
+        let t66: L = t53 * t58;
+        let t67: L = va[2] * t52;
+        let t68: L = t51.mul_add(t56, t67);
+        let t69: L = vb[2] * t54;
+        let t70: L = t52.mul_add(t60, t69);
+        let t71: L = va[2] * t54;
+        let t72: L = t52.mul_add(t56, t71);
+        let t73: L = t17 * t65;
+        let t74: L = t15.mul_sub(t64, t73);
+        let t75: L = t15 * t65;
+        let t76: L = t17.mul_add(t64, t75);
+        let t77: L = t17 * t66;
+        let t78: L = t15.mul_sub(t68, t77);
+        let t79: L = t15 * t66;
+        let t80: L = t17.mul_add(t68, t79);
+        [t74, t76, t70, t78, t80, t72]
     };
     out
 }
@@ -474,7 +476,7 @@ pub fn free_f_pair_product_lanes<L: lanes::Lane>(
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 98 flops (31 add/sub, 59 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 2 select).
+/// Operation count (after dead-code elimination): 98 flops (31 add/sub, 58 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair_equal_product(
     xa: [f64; 3],
@@ -491,21 +493,21 @@ pub fn free_f_pair_equal_product(
     let t4: f64 = t2 * t2;
     let t5: f64 = t3 + t4;
     let t6: f64 = t5.sqrt();
-    let t7: f64 = 1.0 / t6;
-    let t8: f64 = t1 * t7;
-    let t9: f64 = if t5 > 0.0 { t8 } else { 1.0 };
-    let t10: f64 = t2 * t7;
-    let t11: f64 = if t5 > 0.0 { t10 } else { 0.0 };
-    let t12: f64 = xa[2] - xb[2];
-    let t13: f64 = a * a;
-    let t14: f64 = t13 * 0.16666666666666666;
-    let t15: f64 = t6 * t6;
-    let t16: f64 = t12 * t12;
-    let t17: f64 = t15 + t16;
+    let t7: f64 = if t5 > 0.0 { t6 } else { 1.0 };
+    let t8: f64 = 1.0 / t7;
+    let t9: f64 = t1 * t8;
+    let t10: f64 = if t5 > 0.0 { t9 } else { 1.0 };
+    let t11: f64 = t2 * t8;
+    let t12: f64 = if t5 > 0.0 { t11 } else { 0.0 };
+    let t13: f64 = xa[2] - xb[2];
+    let t14: f64 = a * a;
+    let t15: f64 = t14 * 0.16666666666666666;
+    let t16: f64 = t13 * t13;
+    let t17: f64 = t5 + t16;
     let t18: f64 = t17.sqrt();
     let t19: f64 = 1.0 / t18;
     let t20: f64 = t6 * t19;
-    let t21: f64 = t12 * t19;
+    let t21: f64 = t13 * t19;
     let t22: f64 = t20.powi(2);
     let t23: f64 = t22 + (-1.0);
     let t24: f64 = t19 * t23;
@@ -516,7 +518,7 @@ pub fn free_f_pair_equal_product(
     let t29: f64 = t19 * t19;
     let t30: f64 = t19 * t29;
     let t31: f64 = t28 * t30;
-    let t32: f64 = t14 * t31;
+    let t32: f64 = t15 * t31;
     let t33: f64 = t26 + t32;
     let t34: f64 = t32 + t33;
     let t35: f64 = t20 * t21;
@@ -524,12 +526,12 @@ pub fn free_f_pair_equal_product(
     let t37: f64 = t21 * (-6.0);
     let t38: f64 = t20 * t37;
     let t39: f64 = t30 * t38;
-    let t40: f64 = t14 * t39;
+    let t40: f64 = t15 * t39;
     let t41: f64 = t36 + t40;
     let t42: f64 = t40 + t41;
     let t43: f64 = t25 - t19;
     let t44: f64 = 2.0 * t30;
-    let t45: f64 = t14 * t44;
+    let t45: f64 = t15 * t44;
     let t46: f64 = t43 + t45;
     let t47: f64 = t45 + t46;
     let t48: f64 = 2.0 - t22;
@@ -537,24 +539,24 @@ pub fn free_f_pair_equal_product(
     let t50: f64 = t22 * 6.0;
     let t51: f64 = t50 + (-4.0);
     let t52: f64 = t30 * t51;
-    let t53: f64 = t14 * t52;
+    let t53: f64 = t15 * t52;
     let t54: f64 = t49 + t53;
     let t55: f64 = t53 + t54;
     let t56: f64 = t0 * t34;
     let t57: f64 = t0 * t42;
     let t58: f64 = t0 * t47;
     let t59: f64 = t0 * t55;
-    let t60: f64 = va[0] * t9;
-    let t61: f64 = va[1] * t11;
+    let t60: f64 = va[0] * t10;
+    let t61: f64 = va[1] * t12;
     let t62: f64 = t60 + t61;
-    let t63: f64 = va[0] * t11;
-    let t64: f64 = va[1] * t9;
+    let t63: f64 = va[0] * t12;
+    let t64: f64 = va[1] * t10;
     let t65: f64 = t64 - t63;
-    let t66: f64 = vb[0] * t9;
-    let t67: f64 = vb[1] * t11;
+    let t66: f64 = vb[0] * t10;
+    let t67: f64 = vb[1] * t12;
     let t68: f64 = t66 + t67;
-    let t69: f64 = vb[0] * t11;
-    let t70: f64 = vb[1] * t9;
+    let t69: f64 = vb[0] * t12;
+    let t70: f64 = vb[1] * t10;
     let t71: f64 = t70 - t69;
     let t72: f64 = t56 * t68;
     let t73: f64 = t56 * t62;
@@ -570,17 +572,17 @@ pub fn free_f_pair_equal_product(
     let t83: f64 = t79 + t82;
     let t84: f64 = va[2] * t59;
     let t85: f64 = t76 + t84;
-    let t86: f64 = t9 * t75;
-    let t87: f64 = t11 * t77;
+    let t86: f64 = t10 * t75;
+    let t87: f64 = t12 * t77;
     let t88: f64 = t86 - t87;
-    let t89: f64 = t11 * t75;
-    let t90: f64 = t9 * t77;
+    let t89: f64 = t12 * t75;
+    let t90: f64 = t10 * t77;
     let t91: f64 = t89 + t90;
-    let t92: f64 = t9 * t81;
-    let t93: f64 = t11 * t78;
+    let t92: f64 = t10 * t81;
+    let t93: f64 = t12 * t78;
     let t94: f64 = t92 - t93;
-    let t95: f64 = t11 * t81;
-    let t96: f64 = t9 * t78;
+    let t95: f64 = t12 * t81;
+    let t96: f64 = t10 * t78;
     let t97: f64 = t95 + t96;
     Product::<3> {
         a: [t88, t91, t83],
