@@ -1,11 +1,16 @@
-//! Criterion benchmarks: time per pair of each scene's kernels; matrix-free products
-//! near a wall (F and FT, N = 1e2, 1e3, 1e4); dense FTS assembly (N = 1e2, 1e3); Brownian
-//! steps near a wall (F, N = 10, 100, 1000, Cholesky and Lanczos noise).
+//! Criterion benchmarks: time per pair of each scene's kernels, scalar and in lanes on
+//! every instruction set this processor has; matrix-free products near a wall (F and
+//! FT, N = 1e2, 1e3, 1e4, and per instruction set); dense FTS assembly (N = 1e2, 1e3);
+//! Brownian steps near a wall (F, N = 10, 100, 1000, Cholesky and Lanczos noise).
 //! Run with `cargo bench -p stokesian`.
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 
-use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
-use kernels::{pair, pair_equal, pair_f, pair_ft, product_f, product_ft, Confinement};
+use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use kernels::lanes::{dispatch_with, Isa, Lane, WithLanes};
+use kernels::{
+    pair, pair_equal, pair_f, pair_ft, product_f, product_f_lanes, product_ft, product_ft_lanes,
+    Confinement,
+};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Duration;
@@ -135,6 +140,143 @@ fn per_pair(c: &mut Criterion) {
     g.finish();
 }
 
+/// Pairs in structure of arrays: field and source centres, radii, moments.
+struct Pairs {
+    xa: [Vec<f64>; 3],
+    xb: [Vec<f64>; 3],
+    aa: Vec<f64>,
+    ab: Vec<f64>,
+    v: [Vec<f64>; 12],
+}
+
+/// `n` pairs above the plane z = 0: heights 1.5 to 5, lateral distances up to 200.
+fn pairs(n: usize) -> Pairs {
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let mut col = |lo: f64, hi: f64| (0..n).map(|_| rng.gen_range(lo..hi)).collect::<Vec<_>>();
+    Pairs {
+        xa: [col(0.0, 200.0), col(0.0, 200.0), col(1.5, 5.0)],
+        xb: [col(0.0, 200.0), col(0.0, 200.0), col(1.5, 5.0)],
+        aa: col(0.8, 1.2),
+        ab: col(0.8, 1.2),
+        v: std::array::from_fn(|_| col(-1.0, 1.0)),
+    }
+}
+
+/// Every pair of `pairs` through the lane kernel of one truncation; the sum of the
+/// outputs (so nothing is optimised away).
+struct LanePass<'a> {
+    conf: &'a Confinement,
+    pairs: &'a Pairs,
+    ft: bool,
+}
+
+impl WithLanes for LanePass<'_> {
+    type Output = f64;
+    #[inline(always)]
+    fn run<L: Lane>(self) -> f64 {
+        let p = self.pairs;
+        let mut sum = L::splat(0.0);
+        for j in (0..p.aa.len()).step_by(L::WIDTH) {
+            let xa: [L; 3] = std::array::from_fn(|k| L::load(&p.xa[k][j..]));
+            let xb: [L; 3] = std::array::from_fn(|k| L::load(&p.xb[k][j..]));
+            let (aa, ab) = (L::load(&p.aa[j..]), L::load(&p.ab[j..]));
+            if self.ft {
+                let va: [L; 6] = std::array::from_fn(|k| L::load(&p.v[k][j..]));
+                let vb: [L; 6] = std::array::from_fn(|k| L::load(&p.v[6 + k][j..]));
+                for o in product_ft_lanes(self.conf, 1.0, xa, aa, xb, ab, va, vb) {
+                    sum = sum + o;
+                }
+            } else {
+                let va: [L; 3] = std::array::from_fn(|k| L::load(&p.v[k][j..]));
+                let vb: [L; 3] = std::array::from_fn(|k| L::load(&p.v[6 + k][j..]));
+                for o in product_f_lanes(self.conf, 1.0, xa, aa, xb, ab, va, vb) {
+                    sum = sum + o;
+                }
+            }
+        }
+        sum.sum()
+    }
+}
+
+/// Time per pair of the fused pair products (F, FT), scalar kernel and lane kernels
+/// on each instruction set, over 1024 pairs near the wall.
+fn per_pair_lanes(c: &mut Criterion) {
+    let mut g = c.benchmark_group("pair product lanes");
+    let n = 1024;
+    let p = pairs(n);
+    g.throughput(Throughput::Elements(n as u64));
+    for (name, conf) in [
+        ("free", Confinement::Free),
+        ("wall", Confinement::Wall { height: 0.0 }),
+    ] {
+        for ft in [false, true] {
+            let m = if ft { "FT" } else { "F" };
+            g.bench_function(BenchmarkId::new(format!("{m} scalar kernel"), name), |b| {
+                b.iter(|| {
+                    let mut sum = 0.0;
+                    for j in 0..n {
+                        let xa = [p.xa[0][j], p.xa[1][j], p.xa[2][j]];
+                        let xb = [p.xb[0][j], p.xb[1][j], p.xb[2][j]];
+                        if ft {
+                            let va = std::array::from_fn(|k| p.v[k][j]);
+                            let vb = std::array::from_fn(|k| p.v[6 + k][j]);
+                            let r = product_ft(&conf, 1.0, xa, p.aa[j], xb, p.ab[j], va, vb);
+                            sum += r.a.iter().chain(&r.b).sum::<f64>();
+                        } else {
+                            let va = std::array::from_fn(|k| p.v[k][j]);
+                            let vb = std::array::from_fn(|k| p.v[6 + k][j]);
+                            let r = product_f(&conf, 1.0, xa, p.aa[j], xb, p.ab[j], va, vb);
+                            sum += r.a.iter().chain(&r.b).sum::<f64>();
+                        }
+                    }
+                    black_box(sum)
+                })
+            });
+            for isa in Isa::all_available() {
+                let id = BenchmarkId::new(format!("{m} lanes {}", isa.name()), name);
+                g.bench_function(id, |b| {
+                    b.iter(|| {
+                        let pass = LanePass {
+                            conf: black_box(&conf),
+                            pairs: &p,
+                            ft,
+                        };
+                        dispatch_with(isa, pass).ok()
+                    })
+                });
+            }
+        }
+    }
+    g.finish();
+}
+
+/// `M x` near the wall per instruction set (F and FT, N = 1e3 and 1e4).
+fn products_isa(c: &mut Criterion) {
+    let mut g = c.benchmark_group("wall product M x per instruction set");
+    g.sample_size(10).measurement_time(Duration::from_secs(10));
+    for n in [1000usize, 10000] {
+        let s = System::new(
+            Confinement::Wall { height: 0.0 },
+            1.0,
+            suspension(n, 1),
+            false,
+        )
+        .unwrap();
+        for moments in [Moments::F, Moments::FT] {
+            let x: Vec<f64> = (0..moments.per_particle() * n)
+                .map(|k| (k % 7) as f64 - 3.0)
+                .collect();
+            for isa in Isa::all_available() {
+                let id = BenchmarkId::new(format!("{moments:?} {}", isa.name()), n);
+                g.bench_with_input(id, &x, |b, x| {
+                    b.iter(|| s.apply_with_isa(moments, black_box(x), isa))
+                });
+            }
+        }
+    }
+    g.finish();
+}
+
 fn products(c: &mut Criterion) {
     let mut g = c.benchmark_group("wall product M x");
     g.sample_size(10).measurement_time(Duration::from_secs(20));
@@ -235,5 +377,13 @@ fn brownian(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, per_pair, products, dense, brownian);
+criterion_group!(
+    benches,
+    per_pair,
+    per_pair_lanes,
+    products,
+    products_isa,
+    dense,
+    brownian
+);
 criterion_main!(benches);

@@ -85,6 +85,9 @@ fn time_kernel(
         std::array::from_fn(|k| va[k]),
         std::array::from_fn(|k| vb[k]),
     );
+    if suffix.ends_with("_lanes (fma)") {
+        return serving.then(|| lane_ns(ctx, scene.moments, cases, &va, &vb));
+    }
     let equal = suffix.contains("equal");
     let ab = |c: &Case| if equal { c.aa } else { c.ab };
     macro_rules! time {
@@ -155,6 +158,91 @@ fn time_kernel(
     }
 }
 
+/// Nanoseconds per pair of the lane kernel of a truncation (`kernels::product_f_lanes`,
+/// `product_ft_lanes`) on the widest instruction set of this processor: the cases
+/// that fit in the first case's confinement (its run-time parameters for all), in
+/// vectors of `L::WIDTH`.
+fn lane_ns(
+    ctx: &Ctx,
+    moments: Moments,
+    cases: &[(Confinement, Case)],
+    va: &[f64; 11],
+    vb: &[f64; 11],
+) -> f64 {
+    use kernels::lanes::{dispatch, Lane, WithLanes};
+    let conf = cases[0].0;
+    let inside = |x: &[f64; 3], a: f64| {
+        conf.boundaries().iter().all(
+            |&(h, above)| {
+                if above {
+                    x[2] - a > h
+                } else {
+                    x[2] + a < h
+                }
+            },
+        )
+    };
+    let fit: Vec<&Case> = cases
+        .iter()
+        .map(|(_, c)| c)
+        .filter(|c| inside(&c.xa, c.aa) && inside(&c.xb, c.ab))
+        .collect();
+    // pad to whole vectors of the widest lanes by repeating
+    let n = fit.len();
+    let padded: Vec<&Case> = (0..n.div_ceil(8) * 8).map(|k| fit[k % n]).collect();
+    struct Pass<'a> {
+        conf: Confinement,
+        cases: &'a [&'a Case],
+        va: &'a [f64; 11],
+        vb: &'a [f64; 11],
+        ft: bool,
+    }
+    impl WithLanes for Pass<'_> {
+        type Output = f64;
+        #[inline(always)]
+        fn run<L: Lane>(self) -> f64 {
+            let mut sum = L::splat(0.0);
+            for chunk in self.cases.chunks(L::WIDTH) {
+                let mut buf = [[0.0; 8]; 8];
+                for (l, c) in chunk.iter().enumerate() {
+                    for k in 0..3 {
+                        buf[k][l] = c.xa[k];
+                        buf[3 + k][l] = c.xb[k];
+                    }
+                    buf[6][l] = c.aa;
+                    buf[7][l] = c.ab;
+                }
+                let xa: [L; 3] = std::array::from_fn(|k| L::load(&buf[k]));
+                let xb: [L; 3] = std::array::from_fn(|k| L::load(&buf[3 + k]));
+                let (aa, ab) = (L::load(&buf[6]), L::load(&buf[7]));
+                if self.ft {
+                    let va: [L; 6] = std::array::from_fn(|k| L::splat(self.va[k]));
+                    let vb: [L; 6] = std::array::from_fn(|k| L::splat(self.vb[k]));
+                    for o in kernels::product_ft_lanes(&self.conf, ETA, xa, aa, xb, ab, va, vb) {
+                        sum = sum + o;
+                    }
+                } else {
+                    let va: [L; 3] = std::array::from_fn(|k| L::splat(self.va[k]));
+                    let vb: [L; 3] = std::array::from_fn(|k| L::splat(self.vb[k]));
+                    for o in kernels::product_f_lanes(&self.conf, ETA, xa, aa, xb, ab, va, vb) {
+                        sum = sum + o;
+                    }
+                }
+            }
+            sum.sum()
+        }
+    }
+    ns_per_eval(ctx.cfg.min_time, padded.len(), || {
+        black_box(dispatch(Pass {
+            conf: black_box(conf),
+            cases: &padded,
+            va,
+            vb,
+            ft: moments == Moments::FT,
+        }));
+    })
+}
+
 /// Section d.
 pub fn section(ctx: &Ctx) -> Result<Section> {
     let scenes = crate::scenes()?;
@@ -217,6 +305,12 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
                 ns.map_or("not timed".into(), table::time_ns),
                 if ns.is_none() {
                     "-".into()
+                } else if suffix.ends_with("_lanes (fma)") {
+                    format!(
+                        "kernels::product_{}_lanes, {} (time per pair)",
+                        scene.moments.lower(),
+                        kernels::lanes::Isa::best().name()
+                    )
                 } else if serving {
                     format!("kernels::{}_{}", moments_fn(&suffix), scene.moments.lower())
                 } else {
@@ -235,7 +329,9 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
          over {} configurations of the scene's confinement (sampling as in section a; equal-radius kernels with one radius), \
          product kernels with fixed moment vectors. Kernels of scenes that serve the dispatch are called through it \
          (`kernels::pair_f`, `product_f`, `self_f` and the FT counterparts; equal radii select the equal-radius kernel), \
-         the others through their generated module.\n",
+         the others through their generated module. The lane kernels (`..._lanes (fma)`: a fused multiply-add counts once, \
+         reciprocals share divisions) are timed per pair on the widest instruction set of this processor, over the \
+         configurations that fit the first one's confinement, `L::WIDTH` pairs per call.\n",
         scenes.len(),
         ctx.cfg.cases
     )?;
