@@ -562,7 +562,7 @@ impl LaneEmitter<'_> {
                 prefix.push(self.fresh(quote!(#last * #x)));
             }
             let total = prefix.last().expect("non-empty").clone();
-            let mut q = self.fresh(quote!(L::splat(1.0) / #total));
+            let mut q = self.fresh(quote!(#total.recip()));
             for j in (1..members.len()).rev() {
                 let (p, x) = (&prefix[j - 1], &xs[j]);
                 let r = self.fresh(quote!(#q * #p));
@@ -627,6 +627,10 @@ impl LaneEmitter<'_> {
             Op::Mul(a, b) => {
                 let (a, b) = (self.v(a), self.v(b));
                 quote!(#a * #b)
+            }
+            Op::Div(a, b) if g.as_const(a) == Some(1.0) => {
+                let b = self.v(b);
+                quote!(#b.recip())
             }
             Op::Div(a, b) => {
                 let (a, b) = (self.v(a), self.v(b));

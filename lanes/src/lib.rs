@@ -39,8 +39,15 @@ pub trait Lane:
     fn store(self, s: &mut [f64]);
     /// Lanes `0, 1, ..., WIDTH - 1`.
     fn iota() -> Self;
-    /// Lane-wise square root (correctly rounded).
+    /// Lane-wise square root: correctly rounded, or within an ulp where an
+    /// instruction set computes it from an approximate reciprocal square root refined
+    /// by Newton's method (AVX-512: its square root and division are not pipelined).
     fn sqrt(self) -> Self;
+    /// `1 / self`: correctly rounded, or within an ulp as for [`Lane::sqrt`].
+    #[inline(always)]
+    fn recip(self) -> Self {
+        Self::splat(1.0) / self
+    }
     /// `self * b + c`: fused (one rounding) where the instruction set has FMA, two
     /// roundings in the scalar fallback.
     fn mul_add(self, b: Self, c: Self) -> Self;

@@ -194,10 +194,45 @@ impl Lane for F64x8 {
         // SAFETY: as `splat`.
         F64x8(unsafe { _mm512_setr_pd(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0) })
     }
+    /// `x r` with `r` the reciprocal square root from `vrsqrt14pd` (14 bits) after two
+    /// Newton steps (56 bits), then one correction `s + (r/2) (x - s^2)`: within an
+    /// ulp, on the multiply-add ports instead of the square-root unit (which accepts
+    /// one `zmm` operation every 16 or more cycles). `sqrt(0) = 0`; no negative or
+    /// infinite arguments occur in the kernels.
     #[inline(always)]
     fn sqrt(self) -> Self {
-        // SAFETY: as `splat`.
-        F64x8(unsafe { _mm512_sqrt_pd(self.0) })
+        // SAFETY: as `splat` (AVX-512F has `vrsqrt14pd`).
+        unsafe {
+            let x = self.0;
+            let half = _mm512_set1_pd(0.5);
+            let three_halves = _mm512_set1_pd(1.5);
+            let hx = _mm512_mul_pd(half, x);
+            let mut r = _mm512_rsqrt14_pd(x);
+            for _ in 0..2 {
+                let rr = _mm512_mul_pd(r, r);
+                r = _mm512_mul_pd(r, _mm512_fnmadd_pd(hx, rr, three_halves));
+            }
+            let s = _mm512_mul_pd(x, r);
+            let d = _mm512_fnmadd_pd(s, s, x);
+            let s = _mm512_fmadd_pd(_mm512_mul_pd(half, r), d, s);
+            let positive = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(x, _mm512_setzero_pd());
+            F64x8(_mm512_mask_blend_pd(positive, _mm512_setzero_pd(), s))
+        }
+    }
+    /// `vrcp14pd` (14 bits) after two Newton steps `y + y (1 - x y)`: within an ulp.
+    #[inline(always)]
+    fn recip(self) -> Self {
+        // SAFETY: as `splat` (AVX-512F has `vrcp14pd`).
+        unsafe {
+            let x = self.0;
+            let one = _mm512_set1_pd(1.0);
+            let mut y = _mm512_rcp14_pd(x);
+            for _ in 0..2 {
+                let e = _mm512_fnmadd_pd(x, y, one);
+                y = _mm512_fmadd_pd(y, e, y);
+            }
+            F64x8(y)
+        }
     }
     #[inline(always)]
     fn mul_add(self, b: Self, c: Self) -> Self {

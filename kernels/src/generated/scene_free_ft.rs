@@ -587,7 +587,7 @@ pub fn free_ft_pair_product_lanes<L: lanes::Lane>(
         let t8: L = t7.mul_add(t7, t4);
         let t9: L = t8.sqrt();
         let t10: L = t6 * t9;
-        let t11: L = L::splat(1.0) / t10;
+        let t11: L = t10.recip();
         let t12: L = t11 * t6;
         let t13: L = t11 * t9;
         let t14: L = t1 * t13;

@@ -1004,7 +1004,7 @@ pub fn free_surface_ft_pair_product_lanes<L: lanes::Lane>(
         let t13: L = t12.sqrt();
         let t14: L = t6 * t9;
         let t15: L = t14 * t13;
-        let t16: L = L::splat(1.0) / t15;
+        let t16: L = t15.recip();
         let t17: L = t16 * t14;
         let t18: L = t16 * t13;
         let t19: L = t18 * t6;

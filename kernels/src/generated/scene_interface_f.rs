@@ -1487,7 +1487,7 @@ pub fn interface_f_pair_product_lanes<L: lanes::Lane>(
         let t15: L = t6 * t7;
         let t16: L = t15 * t10;
         let t17: L = t16 * t14;
-        let t18: L = L::splat(1.0) / t17;
+        let t18: L = t17.recip();
         let t19: L = t18 * t16;
         let t20: L = t18 * t14;
         let t21: L = t20 * t15;

@@ -2754,7 +2754,7 @@ pub fn slit_ft_pair_product_lanes<L: lanes::Lane>(
         let t19: L = t6 * t9;
         let t20: L = t19 * t13;
         let t21: L = t20 * t18;
-        let t22: L = L::splat(1.0) / t21;
+        let t22: L = t21.recip();
         let t23: L = t22 * t20;
         let t24: L = t22 * t18;
         let t25: L = t24 * t19;

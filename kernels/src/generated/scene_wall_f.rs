@@ -4218,7 +4218,7 @@ pub fn wall_f_pair_product_lanes<L: lanes::Lane>(
         let t16: L = t15.mul_add(t15, t5);
         let t17: L = t16.sqrt();
         let t18: L = t13 * t17;
-        let t19: L = L::splat(1.0) / t18;
+        let t19: L = t18.recip();
         let t20: L = t19 * t13;
         let t21: L = t19 * t17;
         let t22: L = t2 * t21;
@@ -4245,7 +4245,7 @@ pub fn wall_f_pair_product_lanes<L: lanes::Lane>(
         let t43: L = L::splat(2.0) * t42;
         let t44: L = L::splat(1.0) + t41;
         let t45: L = t41 * t44;
-        let t46: L = L::splat(1.0) / t45;
+        let t46: L = t45.recip();
         let t47: L = t46 * t41;
         let t48: L = t46 * t44;
         let t49: L = t48 * t48;
@@ -4527,7 +4527,7 @@ pub fn wall_f_pair_product_lanes<L: lanes::Lane>(
         let t322: L = t5.sqrt();
         let t323: L = L::select(t5.gt(L::splat(0.0)), t322, L::splat(1.0));
         let t324: L = t323 * t322;
-        let t325: L = L::splat(1.0) / t324;
+        let t325: L = t324.recip();
         let t326: L = t325 * t323;
         let t327: L = t325 * t322;
         let t328: L = t2 * t327;

@@ -6974,7 +6974,7 @@ pub fn wall_ft_pair_product_lanes<L: lanes::Lane>(
         let t16: L = t15.mul_add(t15, t5);
         let t17: L = t16.sqrt();
         let t18: L = t13 * t17;
-        let t19: L = L::splat(1.0) / t18;
+        let t19: L = t18.recip();
         let t20: L = t19 * t13;
         let t21: L = t19 * t17;
         let t22: L = t2 * t21;
@@ -7001,7 +7001,7 @@ pub fn wall_ft_pair_product_lanes<L: lanes::Lane>(
         let t43: L = L::splat(2.0) * t42;
         let t44: L = L::splat(1.0) + t41;
         let t45: L = t41 * t44;
-        let t46: L = L::splat(1.0) / t45;
+        let t46: L = t45.recip();
         let t47: L = t46 * t41;
         let t48: L = t46 * t44;
         let t49: L = t48 * t48;
@@ -7377,7 +7377,7 @@ pub fn wall_ft_pair_product_lanes<L: lanes::Lane>(
         let t416: L = t5.sqrt();
         let t417: L = L::select(t5.gt(L::splat(0.0)), t416, L::splat(1.0));
         let t418: L = t417 * t416;
-        let t419: L = L::splat(1.0) / t418;
+        let t419: L = t418.recip();
         let t420: L = t419 * t417;
         let t421: L = t419 * t416;
         let t422: L = t2 * t421;
