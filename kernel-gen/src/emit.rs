@@ -351,19 +351,8 @@ impl Fusion {
             if !live[id] {
                 continue;
             }
-            let mut count = |a: Id| uses[a as usize] += 1;
-            match g.op(id as Id) {
-                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => {
-                    count(a);
-                    count(b);
-                }
-                Op::Neg(a) | Op::Sqrt(a) | Op::Powi(a, _) => count(a),
-                Op::Select(l, r, a, b) => {
-                    for x in [l, r, a, b] {
-                        count(x);
-                    }
-                }
-                Op::Input(_) | Op::Const(_) => {}
+            for a in g.op(id as Id).operands() {
+                uses[a as usize] += 1;
             }
         }
         let mut fused_into = vec![None; g.len()];
@@ -419,21 +408,11 @@ fn reciprocal_groups(g: &Graph, want: &[bool], name: &[Option<TokenStream>]) -> 
     // dep[n]: which reciprocals node n depends on (bit k for recips[k])
     let mut dep = vec![0u128; g.len()];
     for id in 0..g.len() {
-        let mut m = 0u128;
-        let mut or = |a: Id| m |= dep[a as usize];
-        match g.op(id as Id) {
-            Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => {
-                or(a);
-                or(b);
-            }
-            Op::Neg(a) | Op::Sqrt(a) | Op::Powi(a, _) => or(a),
-            Op::Select(l, r, a, b) => {
-                for x in [l, r, a, b] {
-                    or(x);
-                }
-            }
-            Op::Input(_) | Op::Const(_) => {}
-        }
+        let mut m = g
+            .op(id as Id)
+            .operands()
+            .iter()
+            .fold(0u128, |m, &a| m | dep[a as usize]);
         if let Some(k) = recips.iter().position(|&r| r == id as Id) {
             m |= 1 << k;
         }
@@ -531,12 +510,7 @@ impl LaneEmitter<'_> {
         let g = self.g;
         let op = g.op(id);
         // operands first (a fused product's operands for its sum)
-        let mut operands: Vec<Id> = match op {
-            Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => vec![a, b],
-            Op::Neg(a) | Op::Sqrt(a) | Op::Powi(a, _) => vec![a],
-            Op::Select(l, r, a, b) => vec![l, r, a, b],
-            Op::Input(_) | Op::Const(_) => vec![],
-        };
+        let mut operands = op.operands();
         if let Some(m) = self.fusion.fused_into[i] {
             if let Op::Mul(x, y) = g.op(m) {
                 operands.extend([x, y]);

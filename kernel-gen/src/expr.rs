@@ -52,6 +52,18 @@ pub enum Op {
     Select(Id, Id, Id, Id),
 }
 
+impl Op {
+    /// The operands, in order (none for inputs and constants).
+    pub fn operands(self) -> Vec<Id> {
+        match self {
+            Op::Input(_) | Op::Const(_) => vec![],
+            Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => vec![a, b],
+            Op::Neg(a) | Op::Sqrt(a) | Op::Powi(a, _) => vec![a],
+            Op::Select(l, r, a, b) => vec![l, r, a, b],
+        }
+    }
+}
+
 /// A hash-consed expression graph.
 #[derive(Clone, Debug, Default)]
 pub struct Graph {
@@ -355,15 +367,7 @@ impl Graph {
                 continue;
             }
             live[id as usize] = true;
-            match self.nodes[id as usize] {
-                Op::Input(_) | Op::Const(_) => {}
-                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => {
-                    stack.push(a);
-                    stack.push(b);
-                }
-                Op::Neg(a) | Op::Sqrt(a) | Op::Powi(a, _) => stack.push(a),
-                Op::Select(l, r, a, b) => stack.extend([l, r, a, b]),
-            }
+            stack.extend(self.nodes[id as usize].operands());
         }
         live
     }

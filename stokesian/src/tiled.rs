@@ -16,7 +16,7 @@
 
 use crate::assembly::Moments;
 use kernels::lanes::{self, Isa, Lane, WithLanes};
-use kernels::{lane_by_lane, product_f_lanes, product_ft_lanes, Confinement};
+use kernels::{lane_by_lane, Confinement};
 use rayon::prelude::*;
 use std::sync::Mutex;
 
@@ -48,55 +48,50 @@ fn halves<L: Lane, const K: usize, const K2: usize>(o: [L; K2]) -> ([L; K], [L; 
     )
 }
 
-/// The F products of a confinement (generated lane kernels).
-pub(crate) struct ProductF<'a> {
-    pub conf: &'a Confinement,
-    pub eta: f64,
+/// A truncation whose pair products have generated lane kernels: the lane kernel and
+/// the self kernel of the `kernels` crate's dispatch.
+macro_rules! generated_lanes {
+    ($(#[$doc:meta])* $name:ident, $k:literal, $lanes:ident, $self_kernel:ident) => {
+        $(#[$doc])*
+        pub(crate) struct $name<'a> {
+            pub conf: &'a Confinement,
+            pub eta: f64,
+        }
+
+        impl LaneProduct<$k> for $name<'_> {
+            #[inline(always)]
+            fn eval<L: Lane>(
+                &self,
+                xa: [L; 3],
+                aa: L,
+                xb: [L; 3],
+                ab: L,
+                va: [L; $k],
+                vb: [L; $k],
+            ) -> ([L; $k], [L; $k]) {
+                halves(kernels::$lanes(self.conf, self.eta, xa, aa, xb, ab, va, vb))
+            }
+            fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; $k]) -> [f64; $k] {
+                kernels::$self_kernel(self.conf, self.eta, x, a).product(v, v).a
+            }
+        }
+    };
 }
 
-impl LaneProduct<3> for ProductF<'_> {
-    #[inline(always)]
-    fn eval<L: Lane>(
-        &self,
-        xa: [L; 3],
-        aa: L,
-        xb: [L; 3],
-        ab: L,
-        va: [L; 3],
-        vb: [L; 3],
-    ) -> ([L; 3], [L; 3]) {
-        halves(product_f_lanes(self.conf, self.eta, xa, aa, xb, ab, va, vb))
-    }
-    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; 3]) -> [f64; 3] {
-        kernels::self_f(self.conf, self.eta, x, a).product(v, v).a
-    }
-}
-
-/// The FT products of a confinement (generated lane kernels).
-pub(crate) struct ProductFT<'a> {
-    pub conf: &'a Confinement,
-    pub eta: f64,
-}
-
-impl LaneProduct<6> for ProductFT<'_> {
-    #[inline(always)]
-    fn eval<L: Lane>(
-        &self,
-        xa: [L; 3],
-        aa: L,
-        xb: [L; 3],
-        ab: L,
-        va: [L; 6],
-        vb: [L; 6],
-    ) -> ([L; 6], [L; 6]) {
-        halves(product_ft_lanes(
-            self.conf, self.eta, xa, aa, xb, ab, va, vb,
-        ))
-    }
-    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; 6]) -> [f64; 6] {
-        kernels::self_ft(self.conf, self.eta, x, a).product(v, v).a
-    }
-}
+generated_lanes!(
+    /// The F products of a confinement (generated lane kernels).
+    ProductF,
+    3,
+    product_f_lanes,
+    self_f
+);
+generated_lanes!(
+    /// The FT products of a confinement (generated lane kernels).
+    ProductFT,
+    6,
+    product_ft_lanes,
+    self_ft
+);
 
 /// The FTS products of a confinement: the scalar FTS kernels lane by lane (there are no
 /// FTS lane kernels yet).
