@@ -68,6 +68,7 @@ fn dispatch(families: &[Family]) -> TokenStream {
     let mut equal_arms = Vec::new();
     let mut self_arms = Vec::new();
     let mut div_pair_arms = Vec::new();
+    let mut div_lane_arms = Vec::new();
     let mut div_self_arms = Vec::new();
     let mut truncated: Vec<Vec<TokenStream>> = Vec::new();
     for f in families {
@@ -130,6 +131,10 @@ fn dispatch(families: &[Family]) -> TokenStream {
             ident(&format!("{}_self_divergence", f.name)),
         );
         div_pair_arms.push(quote!(#pattern => #m::#fdp(xa, xb, aa, ab, eta, #(#fields),*)));
+        let fdpl = ident(&format!("{}_pair_divergence_lanes", f.name));
+        div_lane_arms.push(
+            quote!(#pattern => #m::#fdpl(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)),
+        );
         div_self_arms.push(quote!(#pattern => #m::#fds(x, a, eta, #(#fields),*)));
         truncated.push(truncated_arms(f, &pattern, &m, &fields));
     }
@@ -190,6 +195,12 @@ fn dispatch(families: &[Family]) -> TokenStream {
         /// `b` = that of `M^{ba}` over the position of `a`.
         pub fn pair_divergence(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64) -> Product<6> {
             match *conf { #(#div_pair_arms),* }
+        }
+
+        /// The lane twin of [`pair_divergence`]: `L::WIDTH` pairs at once, `a` then `b`.
+        #[inline(always)]
+        pub fn pair_divergence_lanes<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; 12] {
+            match *conf { #(#div_lane_arms),* }
         }
 
         /// The Brownian drift of one particle's self mobility: `sum_j d/dx_j M^{aa}_{ij}`,
@@ -404,14 +415,21 @@ fn family_and_single<G: Green>(g: &G) -> (GeneratedFile, TokenStream) {
                 float: Float::F32,
             }));
         }
-        items.extend(emit::function(&KernelFn {
-            name,
+        let kf = KernelFn {
+            name: name.clone(),
             doc,
             ret: v.ret.0.into(),
             ctor: v.ret.1.into(),
             traced: &traced,
             float: Float::F64,
-        }));
+        };
+        items.extend(emit::function(&kf));
+        // the lane twin of the pair divergence (the tiled Brownian drift)
+        if v.suffix == "pair_divergence" {
+            let (f, n) = emit::lane_function(&kf);
+            op_counts.push((format!("{name}_lanes (fma)"), n));
+            items.extend(f);
+        }
     }
     let module_doc = vec![
         format!("Kernels for {}.", g.title()),

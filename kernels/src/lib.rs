@@ -34,7 +34,8 @@ pub use blocks::{
     GrandCartesian, Product, STRAIN_BASIS,
 };
 pub use generated::{
-    pair, pair_divergence, pair_equal, pair_f, pair_ft, product_f, product_f_lanes, product_ft,
-    product_ft_lanes, self_divergence, self_f, self_ft, self_mobility, Confinement,
+    pair, pair_divergence, pair_divergence_lanes, pair_equal, pair_f, pair_ft, product_f,
+    product_f_lanes, product_ft, product_ft_lanes, self_divergence, self_f, self_ft, self_mobility,
+    Confinement,
 };
 pub use lanes;

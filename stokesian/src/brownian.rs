@@ -16,11 +16,9 @@
 
 use crate::assembly::{Moments, System};
 use crate::input::{InputError, Particle};
-use kernels::{pair_divergence, self_divergence};
 use nalgebra::DVector;
 use rand::Rng;
 use rand_distr::StandardNormal;
-use rayon::prelude::*;
 use std::f64::consts::PI;
 use thiserror::Error;
 
@@ -223,39 +221,28 @@ impl System {
     /// `sum_b sum_j d/dx_{b,j} M^{ab}_{ij}` for the `U` and `Omega` rows (`6N`,
     /// moment-major), from the generated divergence kernels.
     fn divergence_ft(&self) -> Vec<f64> {
-        let (c, eta, ps) = (self.confinement(), self.viscosity(), self.particles());
         let n = self.len();
-        let add = |out: &mut [f64], a: usize, v: &[f64; 6]| {
+        let ps: Vec<([f64; 3], f64)> = self.particles().iter().map(|p| (p.x, p.a)).collect();
+        let div = crate::tiled::Divergence {
+            conf: self.confinement(),
+            eta: self.viscosity(),
+        };
+        // each unordered pair once, in tiles: the same bits with any number of threads
+        let acc = crate::tiled::apply(
+            &div,
+            &ps,
+            &vec![[0.0; 6]; n],
+            kernels::lanes::Isa::best(),
+            n >= crate::assembly::PARALLEL_MIN,
+        );
+        let mut out = vec![0.0; 6 * n];
+        for (a, v) in acc.iter().enumerate() {
             for i in 0..3 {
-                out[3 * a + i] += v[i];
-                out[3 * n + 3 * a + i] += v[3 + i];
+                out[3 * a + i] = v[i];
+                out[3 * n + 3 * a + i] = v[3 + i];
             }
-        };
-        // each unordered pair once; per-thread accumulators summed at the end
-        let row = |mut out: Vec<f64>, a: usize| {
-            add(&mut out, a, &self_divergence(c, eta, ps[a].x, ps[a].a).a);
-            for b in a + 1..n {
-                let d = pair_divergence(c, eta, ps[a].x, ps[a].a, ps[b].x, ps[b].a);
-                add(&mut out, a, &d.a);
-                add(&mut out, b, &d.b);
-            }
-            out
-        };
-        if n < crate::assembly::PARALLEL_MIN {
-            return (0..n).fold(vec![0.0; 6 * n], row);
         }
-        (0..n)
-            .into_par_iter()
-            .fold(|| vec![0.0; 6 * n], row)
-            .reduce(
-                || vec![0.0; 6 * n],
-                |mut u, v| {
-                    for (p, q) in u.iter_mut().zip(&v) {
-                        *p += q;
-                    }
-                    u
-                },
-            )
+        out
     }
 
     /// One time step of `bd.scheme` at the level `bd.moments` (F: positions; FT:

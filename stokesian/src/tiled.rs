@@ -12,7 +12,8 @@
 //! tournaments), so the tiles of a round run in parallel on disjoint blocks and every
 //! output is accumulated in an order fixed by the schedule alone: the same bits with
 //! 1, 2 or 3 threads, on any machine with the same instruction set. No allocation per
-//! pair or per tile.
+//! pair or per tile. The Brownian drift (the generated divergence kernels summed over
+//! pairs) runs through the same tiles ([`Divergence`]).
 
 use crate::assembly::Moments;
 use kernels::lanes::{self, Isa, Lane, WithLanes};
@@ -133,6 +134,34 @@ impl LaneProduct<11> for ProductFTS<'_> {
         kernels::self_mobility(self.conf, self.eta, x, a)
             .product(v, v)
             .a
+    }
+}
+
+/// The Brownian drift: `a` the divergence of `M^{ab}` over the position of `b`, `b`
+/// that of `M^{ba}` over the position of `a` (rows `U` then `Omega`, force columns),
+/// from the generated divergence kernels; the moment vectors are not used.
+pub(crate) struct Divergence<'a> {
+    pub conf: &'a Confinement,
+    pub eta: f64,
+}
+
+impl LaneProduct<6> for Divergence<'_> {
+    #[inline(always)]
+    fn eval<L: Lane>(
+        &self,
+        xa: [L; 3],
+        aa: L,
+        xb: [L; 3],
+        ab: L,
+        _va: [L; 6],
+        _vb: [L; 6],
+    ) -> ([L; 6], [L; 6]) {
+        halves(kernels::pair_divergence_lanes(
+            self.conf, self.eta, xa, aa, xb, ab,
+        ))
+    }
+    fn diagonal(&self, x: [f64; 3], a: f64, _v: [f64; 6]) -> [f64; 6] {
+        kernels::self_divergence(self.conf, self.eta, x, a).a
     }
 }
 

@@ -71,3 +71,59 @@ fn tiled_product_does_not_depend_on_the_number_of_threads() {
         }
     }
 }
+
+/// The Brownian drift through the tiles (`System::divergence_at`: the divergence lane
+/// kernels) equals the plain sum over pairs of the scalar divergence kernels, for every
+/// confinement (1e-13 of its norm: the same kernels, lanes with fused multiply-adds,
+/// summed in another order; plus a floor of 1e-13 of n times the largest pair drift
+/// scale, for free space where the exact drift vanishes), and is bit for bit the same
+/// with 1 and 3 threads.
+#[test]
+fn tiled_drift_equals_the_scalar_pair_sum_and_ignores_the_thread_count() {
+    use kernels::{pair_divergence, self_divergence};
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    for (name, conf) in all_confinements() {
+        let ps = random_spheres(&mut rng, &conf, 90, (0.4, 1.2), 0.05, 30.0);
+        let n = ps.len();
+        let mut want = vec![0.0; 6 * n];
+        let mut add = |a: usize, v: &[f64; 6]| {
+            for i in 0..3 {
+                want[3 * a + i] += v[i];
+                want[3 * n + 3 * a + i] += v[3 + i];
+            }
+        };
+        for a in 0..n {
+            add(a, &self_divergence(&conf, 0.8, ps[a].x, ps[a].a).a);
+            for b in a + 1..n {
+                let d = pair_divergence(&conf, 0.8, ps[a].x, ps[a].a, ps[b].x, ps[b].a);
+                add(a, &d.a);
+                add(b, &d.b);
+            }
+        }
+        let s = System::new(conf, 0.8, ps, false).unwrap();
+        let with = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| s.divergence_at(Moments::FT))
+        };
+        let got = with(1);
+        let d = (DVector::from_column_slice(&got) - DVector::from_column_slice(&want)).norm();
+        let scale = DVector::from_column_slice(&want).norm();
+        // free space: the exact drift is zero and both sums are round-off, so the
+        // floor is 1e-13 of one pair's drift scale 1 / (8 pi eta a^2) times n
+        let floor = 1e-13 * n as f64 / (8.0 * std::f64::consts::PI * 0.8 * 0.16);
+        assert!(
+            d <= 1e-13 * scale + floor,
+            "{name}: |tiled - sum| = {d:e}, |sum| = {scale:e}"
+        );
+        let other = with(3);
+        assert!(
+            got.iter()
+                .zip(&other)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{name}: 1 and 3 threads differ"
+        );
+    }
+}

@@ -586,6 +586,64 @@ pub fn pair_divergence(
         }
     }
 }
+/// The lane twin of [`pair_divergence`]: `L::WIDTH` pairs at once, `a` then `b`.
+#[inline(always)]
+pub fn pair_divergence_lanes<L: lanes::Lane>(
+    conf: &Confinement,
+    eta: f64,
+    xa: [L; 3],
+    aa: L,
+    xb: [L; 3],
+    ab: L,
+) -> [L; 12] {
+    match *conf {
+        Confinement::Free => {
+            free::free_pair_divergence_lanes(xa, xb, aa, ab, L::splat(eta))
+        }
+        Confinement::Wall { height } => {
+            wall::wall_pair_divergence_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+            )
+        }
+        Confinement::FreeSurface { height } => {
+            free_surface::free_surface_pair_divergence_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+            )
+        }
+        Confinement::Interface { height, lambda } => {
+            interface::interface_pair_divergence_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(lambda),
+            )
+        }
+        Confinement::Slit { height, gap } => {
+            slit::slit_pair_divergence_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(gap),
+            )
+        }
+    }
+}
 /// The Brownian drift of one particle's self mobility: `sum_j d/dx_j M^{aa}_{ij}`,
 /// rows U then Omega, force columns.
 pub fn self_divergence(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Drift<6> {
