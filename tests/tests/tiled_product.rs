@@ -127,3 +127,63 @@ fn tiled_drift_equals_the_scalar_pair_sum_and_ignores_the_thread_count() {
         );
     }
 }
+
+/// A seeded Brownian run (Euler-Maruyama with the generated drift, Cholesky and Lanczos
+/// noise, F and FT) is bit for bit the same with 1 and 3 threads: the drift and the
+/// matrix-free products go through the tiles, the dense matrix is assembled entry by
+/// entry from the same kernels.
+#[test]
+fn seeded_brownian_runs_do_not_depend_on_the_number_of_threads() {
+    use stokesian::{Brownian, ExternalForces, Noise, Scheme};
+    let mut rng = ChaCha8Rng::seed_from_u64(24);
+    let (_, conf) = all_confinements()
+        .into_iter()
+        .find(|(n, _)| *n == "wall")
+        .unwrap();
+    // 80 spheres: above the size from which the pair loops run in parallel
+    let ps = random_spheres(&mut rng, &conf, 80, (0.5, 1.0), 0.2, 25.0);
+    let s = System::new(conf, 1.0, ps, false).unwrap();
+    for moments in [Moments::F, Moments::FT] {
+        for noise in [Noise::Cholesky, Noise::Lanczos { tol: 1e-8 }] {
+            let bd = Brownian {
+                noise,
+                hydrodynamics: true,
+                moments,
+                scheme: Scheme::EulerMaruyama,
+                kt: 1.0,
+                dt: 1e-4,
+                drift: true,
+                forces: ExternalForces {
+                    weight: 1.0,
+                    strength: 0.0,
+                    debye: 1.0,
+                    trap: 0.0,
+                    torque: if moments == Moments::FT {
+                        [0.0, 0.3, 0.0]
+                    } else {
+                        [0.0; 3]
+                    },
+                },
+            };
+            let run = |threads: usize| {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap()
+                    .install(|| {
+                        let mut noise = ChaCha8Rng::seed_from_u64(7);
+                        let mut sys = s.clone();
+                        for step in 0..3 {
+                            sys = sys.brownian_step(&bd, &mut noise, step).unwrap().system;
+                        }
+                        sys.particles()
+                            .iter()
+                            .flat_map(|p| p.x)
+                            .map(f64::to_bits)
+                            .collect::<Vec<u64>>()
+                    })
+            };
+            assert_eq!(run(1), run(3), "{moments:?} {noise:?}");
+        }
+    }
+}
