@@ -131,6 +131,27 @@ fn statements(
     stmts
 }
 
+/// A kernel parameter `name: type` with the shape of its argument, in the float or
+/// lane type `ty`.
+fn param(a: &crate::scene::Arg, ty: &TokenStream) -> TokenStream {
+    let n = ident(&a.name);
+    match a.kind {
+        ArgKind::Point => quote!(#n: [#ty; 3]),
+        ArgKind::Scalar => quote!(#n: #ty),
+        ArgKind::Vector(len) => quote!(#n: [#ty; #len]),
+    }
+}
+
+/// Documentation paragraphs as `#[doc]` attributes.
+fn doc_attrs(doc: &[String]) -> Vec<TokenStream> {
+    doc.iter()
+        .map(|d| {
+            let d = format!(" {d}");
+            quote!(#[doc = #d])
+        })
+        .collect()
+}
+
 /// The struct literal fields of a set of outputs.
 fn fields(outputs: &[BlockOut], name: &[Option<TokenStream>]) -> Vec<TokenStream> {
     outputs
@@ -214,11 +235,7 @@ pub fn function(k: &KernelFn) -> TokenStream {
         if !used {
             unused.push(quote!(let _ = #n;));
         }
-        params.push(match a.kind {
-            ArgKind::Point => quote!(#n: [#ty; 3]),
-            ArgKind::Scalar => quote!(#n: #ty),
-            ArgKind::Vector(len) => quote!(#n: [#ty; #len]),
-        });
+        params.push(param(a, &ty));
     }
 
     let fields = fields(&k.traced.outputs, &name);
@@ -310,13 +327,7 @@ pub fn function(k: &KernelFn) -> TokenStream {
                 .into(),
         );
     }
-    let doc_attrs: Vec<TokenStream> = doc
-        .iter()
-        .map(|d| {
-            let d = format!(" {d}");
-            quote!(#[doc = #d])
-        })
-        .collect();
+    let doc_attrs = doc_attrs(&doc);
     let ret = TokenStream::from_str(&k.ret).expect("return type");
     quote! {
         #(#doc_attrs)*
@@ -752,15 +763,7 @@ pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
             quote!([#(#picks),*])
         }
     };
-    let mut params = Vec::new();
-    for a in &t.args {
-        let n = ident(&a.name);
-        params.push(match a.kind {
-            ArgKind::Point => quote!(#n: [L; 3]),
-            ArgKind::Scalar => quote!(#n: L),
-            ArgKind::Vector(len) => quote!(#n: [L; #len]),
-        });
-    }
+    let params: Vec<TokenStream> = t.args.iter().map(|a| param(a, &quote!(L))).collect();
     let fname = ident(&format!("{}_lanes", k.name));
     let mut doc = k.doc.clone();
     doc.push(String::new());
@@ -769,13 +772,7 @@ pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
          of `{}`'s fields. Operation count with fused multiply-adds: {count} (direct sum).",
         k.name
     ));
-    let doc_attrs: Vec<TokenStream> = doc
-        .iter()
-        .map(|d| {
-            let d = format!(" {d}");
-            quote!(#[doc = #d])
-        })
-        .collect();
+    let doc_attrs = doc_attrs(&doc);
     let f = quote! {
         #(#doc_attrs)*
         #[inline(always)]

@@ -22,8 +22,9 @@
 //!    cancelling orders come out as double-double round-off (with the `f64` coefficients of the
 //!    operators, below 1e-15 of the largest coefficient of their degree) and are dropped; what remains
 //!    is a polynomial whose terms are all of the size of the result.
-//! 3. Rotation back. `M = Q_x M' Q_y^T` with `Q` the rotation about the normal for
-//!    vectors and its action `Q_pq = B_p : (R B_q R^T)` on the strain basis.
+//! 3. Rotation back. The branch's blocks are those of the canonical frame of the pair
+//!    kernel ([`crate::frame`]), which rotates them (or the moments and responses of a
+//!    product) back to the world like the direct sum's.
 //!
 //! The series converges for `|h_a| + |h_b| < rho`; truncated at total degree
 //! [`ORDER`] in `(u_a, u_b)` and used where `rho^2 > SWITCH^2 * 2 (h_a^2 + h_b^2)`

@@ -683,13 +683,11 @@ fn product_outputs(
     let (a, b) = match frame {
         None => fused(&which, &values, Basis::Orthonormal, va, vb),
         Some(f) => {
-            let parts: Vec<usize> = match va.len() {
-                3 => vec![3],
-                6 => vec![3, 3],
-                8 => vec![3, 5],
-                11 => vec![3, 3, 5],
-                n => panic!("no moment layout of length {n}"),
-            };
+            let (l, s) = kept(&which);
+            let parts: Vec<usize> = [Some(3), l.then_some(3), s.then_some(5)]
+                .into_iter()
+                .flatten()
+                .collect();
             let (fa, fb) = (f.vector(va, &parts, true), f.vector(vb, &parts, true));
             let (a, b) = fused(&which, &values, Basis::Orthonormal, &fa, &fb);
             (f.vector(&a, &parts, false), f.vector(&b, &parts, false))

@@ -228,18 +228,22 @@ impl Isa {
     }
 
     /// The widest instruction set this processor has. The environment variable
-    /// `STOKESIAN_ISA` (`scalar`, `avx2`, `avx512`) caps it.
+    /// `STOKESIAN_ISA` (`scalar`, `avx2`, `avx512`) caps it; both are read once per
+    /// process (every product asks).
     pub fn best() -> Isa {
-        let cap = match std::env::var("STOKESIAN_ISA").as_deref() {
-            Ok("scalar") => Isa::Scalar,
-            Ok("avx2") => Isa::Avx2,
-            _ => Isa::Avx512,
-        };
-        Isa::all_available()
-            .into_iter()
-            .filter(|&i| i <= cap)
-            .max()
-            .unwrap_or(Isa::Scalar)
+        static BEST: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *BEST.get_or_init(|| {
+            let cap = match std::env::var("STOKESIAN_ISA").as_deref() {
+                Ok("scalar") => Isa::Scalar,
+                Ok("avx2") => Isa::Avx2,
+                _ => Isa::Avx512,
+            };
+            Isa::all_available()
+                .into_iter()
+                .filter(|&i| i <= cap)
+                .max()
+                .unwrap_or(Isa::Scalar)
+        })
     }
 }
 
