@@ -8,11 +8,18 @@ use kernels::{
 };
 use nalgebra::DMatrix;
 use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// Below this many particles the pair loops run on the calling thread: handing a few
 /// pairs to the thread pool costs more than computing them (it dominated Brownian
 /// steps of two spheres).
 pub(crate) const PARALLEL_MIN: usize = 32;
+
+/// Particles per group in the dense assembly's tiles: a tile's blocks
+/// (`DENSE_GROUP^2 K^2` values, 248 KB at FTS) stay in the L2 cache while they are
+/// written out, and a round has enough tiles to balance a few threads at `N` of a
+/// few hundred.
+const DENSE_GROUP: usize = 16;
 
 /// Truncation of the multipole expansion: which moments the matrix couples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -110,16 +117,18 @@ impl System {
         }
     }
 
-    /// `M^{ab}` truncated to `moments`, row-major `K x K` (`K` = 3, 6 or 11, grand
-    /// order), from the scene kernels of that truncation (F and FT skip every block
-    /// they do not need).
-    pub fn block(&self, moments: Moments, a: usize, b: usize) -> Vec<f64> {
+    /// `M^{ab}` truncated to `moments`, written row-major `K x K` into `out` (`K` = 3, 6
+    /// or 11, grand order), from the scene kernels of that truncation (F and FT skip
+    /// every block they do not need).
+    fn block_into(&self, moments: Moments, a: usize, b: usize, out: &mut [f64]) {
         let (p, q) = (&self.particles[a], &self.particles[b]);
         let (c, eta) = (&self.confinement, self.viscosity);
-        let flat = |rows: &[&[f64]]| {
-            rows.iter()
-                .flat_map(|r| r.iter().copied())
-                .collect::<Vec<f64>>()
+        let mut put = |k: usize, at: &dyn Fn(usize, usize) -> f64| {
+            for i in 0..k {
+                for j in 0..k {
+                    out[i * k + j] = at(i, j);
+                }
+            }
         };
         match moments {
             Moments::F => {
@@ -128,51 +137,126 @@ impl System {
                 } else {
                     pair_f(c, eta, p.x, p.a, q.x, q.a)
                 };
-                flat(&m.uf.iter().map(|r| &r[..]).collect::<Vec<_>>())
+                put(3, &|i, j| m.uf[i][j]);
             }
             Moments::FT => {
                 let m = if a == b {
                     self_ft(c, eta, p.x, p.a)
                 } else {
                     pair_ft(c, eta, p.x, p.a, q.x, q.a)
-                };
-                flat(&m.matrix().iter().map(|r| &r[..]).collect::<Vec<_>>())
+                }
+                .matrix();
+                put(6, &|i, j| m[i][j]);
             }
             Moments::FTS => {
                 let g = self.pair_blocks(a, b).matrix();
-                (0..11)
-                    .flat_map(|i| (0..11).map(move |j| g[(i, j)]))
-                    .collect()
+                put(11, &|i, j| g[(i, j)]);
             }
         }
     }
 
     /// The dense grand mobility in the layout of Eq. 1 (moment-major: all `U`, then
     /// all `Omega`, then all `E`; particle-major within a moment). Each unordered pair
-    /// is evaluated once, in parallel; `M^{ba} = (M^{ab})^T` (reciprocity).
+    /// `a <= b` is evaluated once and written twice, `M^{ab}` into the columns of `b`
+    /// and `M^{ba} = (M^{ab})^T` (reciprocity) into the columns of `a`. The particles are
+    /// cut into groups of [`DENSE_GROUP`]; a tile is a pair of groups, and the tiles
+    /// run in the rounds of [`crate::tiled`] (every group at most once per round), so
+    /// the threads of a round own disjoint columns. Nothing is allocated but the
+    /// matrix.
     pub fn mobility(&self, moments: Moments) -> DMatrix<f64> {
         let n = self.len();
         let k = moments.per_particle();
-        let row = |a: usize| (a..n).map(move |b| (a, b, self.block(moments, a, b)));
-        let blocks: Vec<(usize, usize, Vec<f64>)> = if n < PARALLEL_MIN {
-            (0..n).flat_map(row).collect()
-        } else {
-            (0..n).into_par_iter().flat_map_iter(row).collect()
-        };
-        let mut m = DMatrix::zeros(k * n, k * n);
         let parts = moments.parts();
-        for (a, b, blk) in &blocks {
-            for (i, j, v) in (0..k)
-                .flat_map(|i| (0..k).map(move |j| (i, j)))
-                .map(|(i, j)| (i, j, blk[i * k + j]))
-            {
-                let (r, c) = (global(parts, n, *a, i), global(parts, n, *b, j));
-                m[(r, c)] = v;
-                if a != b {
-                    m[(c, r)] = v;
+        let groups = n.div_ceil(DENSE_GROUP);
+        let members = |g: usize| g * DENSE_GROUP..((g + 1) * DENSE_GROUP).min(n);
+        // the first row of each kept moment: its component `o + i` of particle `a` is
+        // on row `first[p] + a d + i`
+        let first: Vec<usize> = parts.iter().map(|&(o, _)| global(parts, n, 0, o)).collect();
+        let mut m = DMatrix::<f64>::zeros(k * n, k * n);
+        // the columns of each group, indexed by (particle in the group) * k + component
+        let mut slots: Vec<Vec<Option<&mut [f64]>>> = (0..groups)
+            .map(|g| (0..members(g).len() * k).map(|_| None).collect())
+            .collect();
+        for (c, col) in m.as_mut_slice().chunks_exact_mut(k * n).enumerate() {
+            let (b, j) = component_of(parts, n, c);
+            slots[b / DENSE_GROUP][(b % DENSE_GROUP) * k + j] = Some(col);
+        }
+        let columns: Vec<Mutex<Vec<&mut [f64]>>> = slots
+            .into_iter()
+            .map(|g| Mutex::new(g.into_iter().map(|c| c.expect("every column")).collect()))
+            .collect();
+        let kk = k * k;
+        // the tile's blocks M^{ab} at ((a in its group) DENSE_GROUP + b in its group) k^2,
+        // row-major in `rows` and column-major in `cols`, written into the matrix
+        // afterwards as contiguous runs of rows, column by column
+        let tile = |(rows, cols): &mut (Vec<f64>, Vec<f64>), &(ga, gb): &(usize, usize)| {
+            let (ra, rb) = (members(ga), members(gb));
+            for (ia, a) in ra.clone().enumerate() {
+                for (ib, b) in rb.clone().enumerate().filter(|&(_, b)| ga != gb || b >= a) {
+                    let at = (ia * DENSE_GROUP + ib) * kk;
+                    let blk = &mut rows[at..at + kk];
+                    self.block_into(moments, a, b, blk);
+                    for (j, col) in cols[at..at + kk].chunks_exact_mut(k).enumerate() {
+                        for (i, v) in col.iter_mut().enumerate() {
+                            *v = blk[i * k + j];
+                        }
+                    }
                 }
             }
+            // the tiles of a round touch disjoint groups: these locks never wait
+            let mut cols_a = columns[ga].lock().expect("no tile panics");
+            {
+                let mut cols_b = (ga != gb).then(|| columns[gb].lock().expect("no tile panics"));
+                let out = match cols_b.as_mut() {
+                    Some(g) => &mut g[..],
+                    None => &mut cols_a[..],
+                };
+                // the columns of b: M^{ab} for every a of the first group (on the
+                // diagonal tile below its diagonal, (M^{ba})^T)
+                for (ib, out) in out.chunks_exact_mut(k).enumerate() {
+                    for (j, col) in out.iter_mut().enumerate() {
+                        for (&(o, d), &f) in parts.iter().zip(&first) {
+                            let run = &mut col[f + ra.start * d..f + ra.end * d];
+                            for (ia, dst) in run.chunks_exact_mut(d).enumerate() {
+                                let src = if ga == gb && ib < ia {
+                                    &rows[(ib * DENSE_GROUP + ia) * kk + j * k + o..]
+                                } else {
+                                    &cols[(ia * DENSE_GROUP + ib) * kk + j * k + o..]
+                                };
+                                copy_run(dst, src);
+                            }
+                        }
+                    }
+                }
+            }
+            if ga != gb {
+                // the columns of a: M^{ba} = (M^{ab})^T for every b of the second group
+                for (ia, out) in cols_a.chunks_exact_mut(k).enumerate() {
+                    for (i, col) in out.iter_mut().enumerate() {
+                        for (&(o, d), &f) in parts.iter().zip(&first) {
+                            let run = &mut col[f + rb.start * d..f + rb.end * d];
+                            for (ib, dst) in run.chunks_exact_mut(d).enumerate() {
+                                let src = &rows[(ia * DENSE_GROUP + ib) * kk + i * k + o..];
+                                copy_run(dst, src);
+                            }
+                        }
+                    }
+                }
+            }
+        };
+        let buffers = || {
+            let len = DENSE_GROUP * DENSE_GROUP * kk;
+            (vec![0.0; len], vec![0.0; len])
+        };
+        for round in crate::tiled::rounds(groups) {
+            if n >= PARALLEL_MIN {
+                round.par_iter().for_each_init(buffers, tile);
+            } else {
+                let mut bufs = buffers();
+                round.iter().for_each(|t| tile(&mut bufs, t));
+            }
         }
+        drop(columns);
         m
     }
 
@@ -219,6 +303,27 @@ impl System {
         }
         out
     }
+}
+
+/// `dst` from the start of `src`: runs of 3 or 5 values, too short for `memcpy`.
+#[inline(always)]
+fn copy_run(dst: &mut [f64], src: &[f64]) {
+    for (x, y) in dst.iter_mut().zip(src) {
+        *x = *y;
+    }
+}
+
+/// `(particle, component in grand order)` of index `c` in the moment-major layout (the
+/// inverse of [`global`]).
+fn component_of(parts: &[(usize, usize)], n: usize, c: usize) -> (usize, usize) {
+    let mut moff = 0;
+    for &(o, d) in parts {
+        if c < moff + d * n {
+            return ((c - moff) / d, o + (c - moff) % d);
+        }
+        moff += d * n;
+    }
+    unreachable!("index {c} beyond the kept moments")
 }
 
 /// Index in the moment-major layout of component `i` (grand order within the kept

@@ -116,7 +116,7 @@ enum Command {
     /// Write the dense grand mobility matrix (.npy or .json).
     #[command(
         long_about = "Write the dense grand mobility matrix of the spheres in --particles.\n\n\
-        .npy: a float64 C-order 2-D array (numpy.load). .json: {\"layout\": ..., \
+        .npy: a float64 2-D array in Fortran order (numpy.load). .json: {\"layout\": ..., \
         \"moments\": ..., \"n\": number of particles, \"dimension\": rows, \"matrix\": \
         [[row 0], [row 1], ...]}, every number printed to full round-trip precision.",
         after_long_help = LONG_HELP
@@ -1208,21 +1208,24 @@ fn run_matrix(args: &MobilityArgs, resistance: bool) -> Result<(), CliError> {
 
 /// NPY format version 1.0: magic, version, little-endian header length, a Python dict
 /// literal padded with spaces to a multiple of 64 bytes (newline included), then the
-/// data, C order.
+/// data.
 fn write_npy(w: &mut impl Write, m: &DMatrix<f64>, pb: &ProgressBar) -> io::Result<()> {
     let (rows, cols) = m.shape();
-    write_npy_header(w, &[rows, cols])?;
-    for i in 0..rows {
-        for j in 0..cols {
-            w.write_all(&m[(i, j)].to_le_bytes())?;
-        }
+    // nalgebra stores columns contiguously: written as they are, in Fortran order
+    write_npy_header(w, &[rows, cols], true)?;
+    let mut bytes = Vec::with_capacity(8 * rows);
+    for col in m.as_slice().chunks_exact(rows) {
+        bytes.clear();
+        bytes.extend(col.iter().flat_map(|v| v.to_le_bytes()));
+        w.write_all(&bytes)?;
         pb.inc(1);
     }
     Ok(())
 }
 
-/// The NPY v1.0 preamble of a little-endian float64 C-order array of any `shape`.
-fn write_npy_header(w: &mut impl Write, shape: &[usize]) -> io::Result<()> {
+/// The NPY v1.0 preamble of a little-endian float64 array of any `shape`, in C order
+/// (last index fastest) or Fortran order (first index fastest).
+fn write_npy_header(w: &mut impl Write, shape: &[usize], fortran: bool) -> io::Result<()> {
     let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
     // a 1-tuple needs its trailing comma
     let tuple = if dims.len() == 1 {
@@ -1230,7 +1233,8 @@ fn write_npy_header(w: &mut impl Write, shape: &[usize]) -> io::Result<()> {
     } else {
         dims.join(", ")
     };
-    let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({tuple}), }}");
+    let order = if fortran { "True" } else { "False" };
+    let mut header = format!("{{'descr': '<f8', 'fortran_order': {order}, 'shape': ({tuple}), }}");
     let unpadded = 10 + header.len() + 1;
     header.push_str(&" ".repeat((64 - unpadded % 64) % 64));
     header.push('\n');
@@ -1739,7 +1743,7 @@ fn simulate(
     let ft = bd.moments == Moments::FT;
     let mut orientation = vec![[1.0, 0.0, 0.0, 0.0]; n];
     if npy {
-        write_npy_header(w, &[frames, n, if ft { 7 } else { 3 }]).map_err(io_error)?;
+        write_npy_header(w, &[frames, n, if ft { 7 } else { 3 }], false).map_err(io_error)?;
     } else if ft {
         writeln!(w, "step,time,particle,x,y,z,qw,qx,qy,qz").map_err(io_error)?;
     } else {

@@ -247,7 +247,7 @@ impl<P: LaneProduct<K>, const K: usize> WithLanes for Tile<'_, P, K> {
 
 /// The rounds of tiles: first the diagonal `(I, I)`, then the off-diagonal pairs by
 /// the circle method, each block at most once per round.
-fn rounds(blocks: usize) -> Vec<Vec<(usize, usize)>> {
+pub(crate) fn rounds(blocks: usize) -> Vec<Vec<(usize, usize)>> {
     let mut out = vec![(0..blocks).map(|b| (b, b)).collect::<Vec<_>>()];
     if blocks < 2 {
         return out;

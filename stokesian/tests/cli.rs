@@ -129,7 +129,7 @@ fn moments_name(m: Moments) -> &'static str {
     }
 }
 
-/// Parse an NPY v1.0 file of little-endian float64 in C order.
+/// Parse an NPY v1.0 file of little-endian float64, C or Fortran order.
 fn read_npy(path: &Path) -> DMatrix<f64> {
     let bytes = fs::read(path).expect("read npy");
     assert_eq!(&bytes[..6], b"\x93NUMPY", "magic");
@@ -143,7 +143,11 @@ fn read_npy(path: &Path) -> DMatrix<f64> {
     let header = std::str::from_utf8(&bytes[10..10 + hlen]).expect("ascii header");
     assert!(header.ends_with('\n'), "header ends with a newline");
     assert!(header.contains("'descr': '<f8'"), "{header}");
-    assert!(header.contains("'fortran_order': False"), "{header}");
+    let fortran = header.contains("'fortran_order': True");
+    assert!(
+        fortran || header.contains("'fortran_order': False"),
+        "{header}"
+    );
     let shape = header
         .split("'shape': (")
         .nth(1)
@@ -163,7 +167,11 @@ fn read_npy(path: &Path) -> DMatrix<f64> {
         .chunks_exact(8)
         .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
         .collect();
-    DMatrix::from_row_slice(r, c, &values)
+    if fortran {
+        DMatrix::from_column_slice(r, c, &values)
+    } else {
+        DMatrix::from_row_slice(r, c, &values)
+    }
 }
 
 fn read_json(path: &Path) -> (serde_json::Value, DMatrix<f64>) {
@@ -1090,7 +1098,11 @@ fn read_npy_3d(path: &Path) -> ([usize; 3], Vec<f64>) {
     let header = std::str::from_utf8(&bytes[10..10 + hlen]).expect("ascii header");
     assert!(header.ends_with('\n'));
     assert!(header.contains("'descr': '<f8'"), "{header}");
-    assert!(header.contains("'fortran_order': False"), "{header}");
+    let fortran = header.contains("'fortran_order': True");
+    assert!(
+        fortran || header.contains("'fortran_order': False"),
+        "{header}"
+    );
     let shape = header
         .split("'shape': (")
         .nth(1)
