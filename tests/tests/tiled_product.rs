@@ -35,6 +35,77 @@ fn tiled_product_equals_the_dense_matrix_on_every_instruction_set() {
     }
 }
 
+/// The dense assembly (tiles of particle groups) puts every block where the layout of
+/// Eq. 1 says, exactly as the kernel returns it: `M^{ab}` for `a <= b` and its transpose
+/// below, the self blocks on the diagonal, the equal-radius kernel where radii match.
+/// 37 spheres: more than the serial threshold, three groups, the last one partial.
+/// Compared bit for bit: the assembly copies values and computes none.
+#[test]
+fn dense_assembly_places_every_block_exactly() {
+    let mut rng = ChaCha8Rng::seed_from_u64(24);
+    for (name, conf) in all_confinements() {
+        let mut ps = random_spheres(&mut rng, &conf, 37, (0.4, 1.2), 0.05, 40.0);
+        // a few equal radii (the equal-radius kernels); shrinking keeps them apart
+        for p in ps.iter_mut().step_by(5) {
+            p.a = 0.4;
+        }
+        let s = System::new(conf.clone(), 0.9, ps, false).unwrap();
+        let n = s.len();
+        for moments in [Moments::F, Moments::FT, Moments::FTS] {
+            let k = moments.per_particle();
+            let m = s.mobility(moments);
+            // component i of particle a in the moment-major layout
+            let at = |a: usize, i: usize| match i {
+                0..3 => 3 * a + i,
+                3..6 => 3 * n + 3 * a + i - 3,
+                _ => 6 * n + 5 * a + i - 6,
+            };
+            for a in 0..n {
+                for b in a..n {
+                    let (p, q) = (&s.particles()[a], &s.particles()[b]);
+                    let blk: Vec<f64> = match moments {
+                        Moments::F => {
+                            let g = if a == b {
+                                kernels::self_f(&conf, 0.9, p.x, p.a)
+                            } else {
+                                kernels::pair_f(&conf, 0.9, p.x, p.a, q.x, q.a)
+                            };
+                            g.uf.concat()
+                        }
+                        Moments::FT => {
+                            let g = if a == b {
+                                kernels::self_ft(&conf, 0.9, p.x, p.a)
+                            } else {
+                                kernels::pair_ft(&conf, 0.9, p.x, p.a, q.x, q.a)
+                            };
+                            g.matrix().concat()
+                        }
+                        Moments::FTS => {
+                            let g = s.pair_blocks(a, b).matrix();
+                            (0..11 * 11).map(|e| g[(e / 11, e % 11)]).collect()
+                        }
+                    };
+                    for i in 0..k {
+                        for j in 0..k {
+                            let v = blk[i * k + j];
+                            assert_eq!(
+                                m[(at(a, i), at(b, j))].to_bits(),
+                                v.to_bits(),
+                                "{name} {moments:?} M^{{{a}{b}}}[{i}][{j}]"
+                            );
+                            assert_eq!(
+                                m[(at(b, j), at(a, i))].to_bits(),
+                                v.to_bits(),
+                                "{name} {moments:?} M^{{{b}{a}}}[{j}][{i}]"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// Bit for bit the same with 1, 2 and 3 threads, on every instruction set: the tiles'
 /// schedule fixes the order of every sum.
 #[test]
