@@ -49,7 +49,7 @@ fn dense_assembly_places_every_block_exactly() {
         for p in ps.iter_mut().step_by(5) {
             p.a = 0.4;
         }
-        let s = System::new(conf.clone(), 0.9, ps, false).unwrap();
+        let s = System::new(conf, 0.9, ps, false).unwrap();
         let n = s.len();
         for moments in [Moments::F, Moments::FT, Moments::FTS] {
             let k = moments.per_particle();
