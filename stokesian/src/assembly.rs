@@ -367,7 +367,7 @@ pub fn check_spd(m: &DMatrix<f64>) -> SpdCheck {
     let sym = (m + m.transpose()) * 0.5;
     SpdCheck {
         asymmetry,
-        positive_definite: sym.cholesky().is_some(),
+        positive_definite: crate::dense::Cholesky::new(&sym).is_some(),
     }
 }
 
@@ -393,8 +393,11 @@ pub fn solve_fts(
             rhs[5 * a + c] -= e_inf[c];
         }
     }
-    let (s, cholesky) = match m_es.clone().cholesky() {
-        Some(ch) => (ch.solve(&rhs), true),
+    let (s, cholesky) = match crate::dense::Cholesky::new(&m_es) {
+        Some(ch) => (
+            nalgebra::DVector::from_vec(ch.solve(rhs.as_slice())),
+            true,
+        ),
         None => (m_es.lu().solve(&rhs).ok_or(SingularStressletBlock)?, false),
     };
     let m_ufl = m.view((0, 0), (6 * n, 6 * n));

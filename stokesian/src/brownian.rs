@@ -15,8 +15,8 @@
 //! repulsion from each boundary plane, a lateral harmonic trap, and a uniform torque.
 
 use crate::assembly::{Moments, System};
+use crate::dense::{mul_vec, Cholesky};
 use crate::input::{InputError, Particle};
-use nalgebra::DVector;
 use rand::Rng;
 use rand_distr::StandardNormal;
 use std::f64::consts::PI;
@@ -335,13 +335,9 @@ impl System {
             }
             Noise::Cholesky => {
                 let m = self.mobility(bd.moments);
-                let mf = &m * DVector::from_column_slice(&f);
-                let l = m
-                    .cholesky()
-                    .ok_or(BrownianError::NotPositiveDefinite(step))?
-                    .l();
-                let noise = l * DVector::from_column_slice(w) * scale;
-                (mf.as_slice().to_vec(), noise.as_slice().to_vec())
+                let chol = Cholesky::new(&m).ok_or(BrownianError::NotPositiveDefinite(step))?;
+                let noise = chol.l_mul(w).into_iter().map(|v| v * scale).collect();
+                (mul_vec(&m, &f), noise)
             }
             Noise::Lanczos { tol } => {
                 let (y, k) = lanczos_sqrt(|x| self.apply(bd.moments, x), w, tol, w.len())
@@ -390,24 +386,26 @@ impl System {
                 "the Fixman midpoint scheme with Lanczos noise (it needs B^-T W; use Cholesky)",
             ));
         }
-        let w = DVector::from_column_slice(w);
         let m = self.mobility(bd.moments);
-        let chol = m
-            .clone()
-            .cholesky()
-            .ok_or(BrownianError::NotPositiveDefinite(step))?;
-        let f = DVector::from_vec(self.generalised_forces(&bd.forces, bd.moments));
-        let half = (&m * f) * (0.5 * bd.dt) + chol.l() * &w * (0.5 * bd.kt * bd.dt).sqrt();
-        let mid = self.displaced(half.as_slice(), step)?;
+        let chol = Cholesky::new(&m).ok_or(BrownianError::NotPositiveDefinite(step))?;
+        let f = self.generalised_forces(&bd.forces, bd.moments);
+        let (drift_half, noise_half) = ((0.5 * bd.dt), (0.5 * bd.kt * bd.dt).sqrt());
+        let half: Vec<f64> = mul_vec(&m, &f)
+            .iter()
+            .zip(chol.l_mul(w))
+            .map(|(mf, lw)| mf * drift_half + lw * noise_half)
+            .collect();
+        let mid = self.displaced(&half, step)?;
         let m_mid = mid.mobility(bd.moments);
-        let f_mid = DVector::from_vec(mid.generalised_forces(&bd.forces, bd.moments));
-        let y = chol
-            .l()
-            .transpose()
-            .solve_upper_triangular(&w)
-            .ok_or(BrownianError::NotPositiveDefinite(step))?;
-        let dx = &m_mid * (f_mid * bd.dt + y * (2.0 * bd.kt * bd.dt).sqrt());
-        Ok(dx.as_slice().to_vec())
+        let f_mid = mid.generalised_forces(&bd.forces, bd.moments);
+        let y = chol.lt_solve(w);
+        let scale = (2.0 * bd.kt * bd.dt).sqrt();
+        let rhs: Vec<f64> = f_mid
+            .iter()
+            .zip(&y)
+            .map(|(f, y)| f * bd.dt + y * scale)
+            .collect();
+        Ok(mul_vec(&m_mid, &rhs))
     }
 
     /// The system with every centre moved by the `U` rows of `increment` (moment-major:

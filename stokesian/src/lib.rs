@@ -8,6 +8,7 @@
 
 mod assembly;
 mod brownian;
+pub mod dense;
 pub mod doublet;
 pub mod exact;
 mod input;

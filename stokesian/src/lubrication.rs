@@ -19,6 +19,7 @@
 //! enters with the sign of a positive-definite resistance.
 
 use crate::assembly::{Moments, System};
+use crate::dense::Cholesky;
 use crate::two_sphere::{PairScalars, PairSeries};
 use kernels::{basis_both, basis_rows, pair, self_mobility, Confinement};
 use nalgebra::{DMatrix, SMatrix};
@@ -395,8 +396,7 @@ impl System {
         let eta = self.viscosity();
         let ps = self.particles();
         let m = self.mobility(moments);
-        let mut r = m
-            .cholesky()
+        let mut r = Cholesky::new(&m)
             .ok_or(ResistanceError::MobilityNotPositiveDefinite)?
             .inverse();
         let no_slip: Vec<(f64, bool)> = match *self.confinement() {
@@ -469,17 +469,12 @@ impl System {
 /// Returns the solution and a condition estimate `(max L_ii / min L_ii)^2` of `R`
 /// (a lower bound on the 2-norm condition number, cheap from the factor).
 pub fn solve_resistance(r: &DMatrix<f64>, f: &[f64]) -> Result<(Vec<f64>, f64), ResistanceError> {
-    let c = r
-        .clone()
-        .cholesky()
-        .ok_or(ResistanceError::ResistanceNotPositiveDefinite)?;
-    let l = c.l();
-    let diag: Vec<f64> = (0..l.nrows()).map(|i| l[(i, i)]).collect();
-    let (mx, mn) = diag.iter().fold((0.0f64, f64::INFINITY), |(mx, mn), &v| {
-        (mx.max(v), mn.min(v))
-    });
-    let x = c.solve(&nalgebra::DVector::from_column_slice(f));
-    Ok((x.iter().copied().collect(), (mx / mn).powi(2)))
+    let c = Cholesky::new(r).ok_or(ResistanceError::ResistanceNotPositiveDefinite)?;
+    let (mx, mn) = c
+        .diagonal()
+        .iter()
+        .fold((0.0f64, f64::INFINITY), |(mx, mn), &v| (mx.max(v), mn.min(v)));
+    Ok((c.solve(f), (mx / mn).powi(2)))
 }
 
 /// Velocities of rigid spheres from forces, torques and an imposed strain with the FTS
