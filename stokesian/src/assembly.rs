@@ -394,10 +394,7 @@ pub fn solve_fts(
         }
     }
     let (s, cholesky) = match crate::dense::Cholesky::new(&m_es) {
-        Some(ch) => (
-            nalgebra::DVector::from_vec(ch.solve(rhs.as_slice())),
-            true,
-        ),
+        Some(ch) => (nalgebra::DVector::from_vec(ch.solve(rhs.as_slice())), true),
         None => (m_es.lu().solve(&rhs).ok_or(SingularStressletBlock)?, false),
     };
     let m_ufl = m.view((0, 0), (6 * n, 6 * n));

@@ -4,10 +4,13 @@
 //! and small systems; a `DMatrix` is column-major like faer's matrices and is viewed by
 //! faer in place, never copied on the way in. (nalgebra's unblocked Cholesky of the
 //! 3000 x 3000 F mobility of 1000 spheres took 2.3 s on this machine, faer's 0.22 s.)
+//! Below [`SMALL`] rows the factorisation is nalgebra's: faer hands every call to the
+//! thread pool and allocates its workspace, which cost 12 us for a 6 x 6 matrix (the FT
+//! resistance of one sphere, factored three times per lubricated Brownian step).
 
 use faer::linalg::solvers::{DenseSolveCore, Llt, Solve};
 use faer::{Mat, MatRef, Side};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 /// faer's view of a nalgebra matrix (no copy).
 fn view(m: &DMatrix<f64>) -> MatRef<'_, f64> {
@@ -30,58 +33,95 @@ pub fn mul_vec(m: &DMatrix<f64>, x: &[f64]) -> Vec<f64> {
     to_vec(view(m) * column(x))
 }
 
+/// Dimension below which [`Cholesky`] uses nalgebra's unblocked factorisation.
+pub const SMALL: usize = 96;
+
 /// The Cholesky factorisation `M = L L^T` of a symmetric positive-definite matrix (its
 /// lower triangle is read).
-pub struct Cholesky {
-    llt: Llt<f64>,
+pub enum Cholesky {
+    /// Below [`SMALL`]: nalgebra's.
+    Small(nalgebra::Cholesky<f64, nalgebra::Dyn>),
+    /// faer's blocked, multithreaded factorisation.
+    Large(Llt<f64>),
 }
 
 impl Cholesky {
     /// Factor `m`; `None` if it is not (numerically) positive definite.
     pub fn new(m: &DMatrix<f64>) -> Option<Cholesky> {
         assert_eq!(m.nrows(), m.ncols(), "a square matrix");
-        view(m).llt(Side::Lower).ok().map(|llt| Cholesky { llt })
+        if m.nrows() < SMALL {
+            m.clone().cholesky().map(Cholesky::Small)
+        } else {
+            view(m).llt(Side::Lower).ok().map(Cholesky::Large)
+        }
     }
 
     /// The dimension.
     pub fn dim(&self) -> usize {
-        self.llt.L().nrows()
+        match self {
+            Cholesky::Small(c) => c.l_dirty().nrows(),
+            Cholesky::Large(c) => c.L().nrows(),
+        }
     }
 
     /// `L w`: a vector of covariance `M` from standard normal `w`.
     pub fn l_mul(&self, w: &[f64]) -> Vec<f64> {
         assert_eq!(self.dim(), w.len(), "factor-vector dimensions");
-        to_vec(self.llt.L() * column(w))
+        match self {
+            Cholesky::Small(c) => (c.l() * DVector::from_column_slice(w)).data.into(),
+            Cholesky::Large(c) => to_vec(c.L() * column(w)),
+        }
     }
 
     /// `L^{-T} w`: a vector of covariance `M^{-1}` from standard normal `w`.
     pub fn lt_solve(&self, w: &[f64]) -> Vec<f64> {
         assert_eq!(self.dim(), w.len(), "factor-vector dimensions");
-        let mut x = Mat::from_fn(w.len(), 1, |i, _| w[i]);
-        self.llt
-            .L()
-            .transpose()
-            .solve_upper_triangular_in_place(x.as_mut());
-        to_vec(x)
+        match self {
+            Cholesky::Small(c) => {
+                let mut x = DVector::from_column_slice(w);
+                c.l().tr_solve_lower_triangular_mut(&mut x);
+                x.data.into()
+            }
+            Cholesky::Large(c) => {
+                let mut x = Mat::from_fn(w.len(), 1, |i, _| w[i]);
+                c.L()
+                    .transpose()
+                    .solve_upper_triangular_in_place(x.as_mut());
+                to_vec(x)
+            }
+        }
     }
 
     /// `M^{-1} b`.
     pub fn solve(&self, b: &[f64]) -> Vec<f64> {
         assert_eq!(self.dim(), b.len(), "factor-vector dimensions");
-        to_vec(self.llt.solve(column(b)))
+        match self {
+            Cholesky::Small(c) => c.solve(&DVector::from_column_slice(b)).data.into(),
+            Cholesky::Large(c) => to_vec(c.solve(column(b))),
+        }
     }
 
     /// `M^{-1}`, symmetric.
     pub fn inverse(&self) -> DMatrix<f64> {
-        let inv = self.llt.inverse();
-        let n = self.dim();
-        DMatrix::from_fn(n, n, |i, j| inv[(i.max(j), i.min(j))])
+        match self {
+            Cholesky::Small(c) => c.inverse(),
+            Cholesky::Large(c) => {
+                let inv = c.inverse();
+                let n = self.dim();
+                DMatrix::from_fn(n, n, |i, j| inv[(i.max(j), i.min(j))])
+            }
+        }
     }
 
     /// The diagonal of `L`.
     pub fn diagonal(&self) -> Vec<f64> {
-        let l = self.llt.L();
-        (0..l.nrows()).map(|i| l[(i, i)]).collect()
+        match self {
+            Cholesky::Small(c) => c.l_dirty().diagonal().data.into(),
+            Cholesky::Large(c) => {
+                let l = c.L();
+                (0..l.nrows()).map(|i| l[(i, i)]).collect()
+            }
+        }
     }
 }
 
@@ -93,7 +133,12 @@ mod tests {
     /// 1e-12 relative (both backward stable; condition number about 10 here).
     #[test]
     fn agrees_with_nalgebra() {
-        let n = 40;
+        for n in [40, 2 * SMALL] {
+            agrees_with_nalgebra_at(n);
+        }
+    }
+
+    fn agrees_with_nalgebra_at(n: usize) {
         let b = DMatrix::from_fn(n, n, |i, j| ((i * 7 + j * 13) % 11) as f64 / 11.0 - 0.5);
         let m = &b * b.transpose() + DMatrix::identity(n, n) * (n as f64 / 4.0);
         let w: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
@@ -109,7 +154,10 @@ mod tests {
         assert!(close(&ours.solve(&w), theirs.solve(&wv).as_slice()));
         let lt = theirs.l().transpose().solve_upper_triangular(&wv).unwrap();
         assert!(close(&ours.lt_solve(&w), lt.as_slice()));
-        assert!(close(ours.inverse().as_slice(), theirs.inverse().as_slice()));
+        assert!(close(
+            ours.inverse().as_slice(),
+            theirs.inverse().as_slice()
+        ));
         assert!(close(&mul_vec(&m, &w), (&m * &wv).as_slice()));
         let not_spd = DMatrix::from_fn(3, 3, |i, j| if i == j { -1.0 } else { 0.0 });
         assert!(Cholesky::new(&not_spd).is_none());

@@ -417,7 +417,8 @@ impl System {
                     continue;
                 }
                 let nrm = [0.0, 0.0, if above { 1.0 } else { -1.0 }];
-                let exact = DMatrix::from_fn(6, 6, |i, j| wall_block(eta, p.a, eps, nrm)[(i, j)]);
+                let block = wall_block(eta, p.a, eps, nrm);
+                let exact = DMatrix::from_fn(6, 6, |i, j| block[(i, j)]);
                 let idx: Vec<usize> = (0..k).map(|c| global_index(n, a, c)).collect();
                 let far = single_wall_self(eta, p.x, p.a, plane, k);
                 add_correction(&mut r, &idx, &exact, far, k, 6)?;
@@ -473,7 +474,9 @@ pub fn solve_resistance(r: &DMatrix<f64>, f: &[f64]) -> Result<(Vec<f64>, f64), 
     let (mx, mn) = c
         .diagonal()
         .iter()
-        .fold((0.0f64, f64::INFINITY), |(mx, mn), &v| (mx.max(v), mn.min(v)));
+        .fold((0.0f64, f64::INFINITY), |(mx, mn), &v| {
+            (mx.max(v), mn.min(v))
+        });
     Ok((c.solve(f), (mx / mn).powi(2)))
 }
 
