@@ -348,6 +348,7 @@ fn brownian(c: &mut Criterion) {
                 }
                 let bd = Brownian {
                     hydrodynamics: true,
+                    lubrication: None,
                     moments,
                     scheme,
                     kt: 1.0,

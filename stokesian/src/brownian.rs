@@ -13,6 +13,17 @@
 //! not change the mobility of spheres; [`rotate`] updates a unit quaternion). External
 //! forces: a uniform weight along `-z`, an exponential (screened-electrostatic)
 //! repulsion from each boundary plane, a lateral harmonic trap, and a uniform torque.
+//!
+//! With lubrication (Brownian Stokesian dynamics, [`LubricatedDynamics`]) the mobility is
+//! the inverse of the resistance of Eq. 19, `R = M^-1 + R_lub - R_lub^inf` (FT level;
+//! the F level is the same with torque-free spheres), and
+//!
+//! `x(t + dt) = x + (R^-1 F + kT div R^-1) dt + sqrt(2 kT dt) L^-T W`, `R = L L^T`,
+//!
+//! the noise `L^-T W` having covariance `R^-1`; the drift `kT div R^-1` by a random
+//! finite difference (Delong, Balboa Usabiaga & Donev 2014; Sprinkle et al. 2017):
+//! `(1/delta) [R^-1(q + delta/2 D W~) - R^-1(q - delta/2 D W~)] D^-1 W~`, `W~` standard
+//! normal on the translations, `D` the radii, whose mean is `div R^-1 + O(delta^2)`.
 
 use crate::assembly::{Moments, System};
 use crate::dense::{mul_vec, Cholesky};
@@ -77,6 +88,38 @@ pub struct Brownian {
     pub moments: Moments,
     /// The time integrator.
     pub scheme: Scheme,
+    /// Lubricated dynamics (Brownian Stokesian dynamics): the resistance of Eq. 19 in
+    /// place of the far-field mobility. `None`: the far-field mobility.
+    pub lubrication: Option<LubricatedDynamics>,
+}
+
+/// Brownian Stokesian dynamics: velocities, noise and drift from the lubricated
+/// resistance (module docs). Needs hydrodynamic interactions, Cholesky noise and the
+/// Euler-Maruyama scheme.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LubricatedDynamics {
+    /// Where the lubrication corrections of Eq. 19 are switched on.
+    pub lubrication: crate::Lubrication,
+    /// The random finite difference's step `delta`, in units of each sphere's radius
+    /// (e.g. `1e-3`: truncation error `O(delta^2)`, round-off `O(eps / delta)`, both far
+    /// below the statistical error of any run). Where a gap (to a boundary or between
+    /// two spheres, over the smaller radius) is below `10 delta`, the step of that
+    /// configuration is a tenth of the gap instead, so that the displaced
+    /// configurations never touch (a step that depends on the configuration and not on
+    /// `W~` keeps the estimate unbiased).
+    pub rfd_step: f64,
+}
+
+impl Brownian {
+    /// Standard normal numbers one step of `n` spheres takes: `3N` at the F level, `6N`
+    /// at FT; with lubrication `6N` for the noise (the resistance is FT even for
+    /// torque-free spheres) and `3N` for the random finite difference.
+    pub fn random_numbers(&self, n: usize) -> usize {
+        match self.lubrication {
+            Some(_) => 9 * n,
+            None => self.moments.per_particle() * n,
+        }
+    }
 }
 
 /// The time integrator.
@@ -167,10 +210,18 @@ pub enum BrownianError {
     /// The mobility lost positive definiteness (cannot happen for valid input).
     #[error("step {0}: the mobility is not positive definite")]
     NotPositiveDefinite(usize),
+    /// The lubricated resistance cannot be formed.
+    #[error("step {step}: {source}")]
+    Resistance {
+        /// Step number.
+        step: usize,
+        /// Why.
+        source: crate::ResistanceError,
+    },
     /// The random numbers given to [`System::brownian_increment`] do not match the system.
     #[error("{found} random numbers for a system with {expected} degrees of freedom")]
     RandomNumbers {
-        /// Degrees of freedom (3N or 6N).
+        /// Numbers a step takes ([`Brownian::random_numbers`]).
         expected: usize,
         /// Numbers given.
         found: usize,
@@ -255,7 +306,7 @@ impl System {
         rng: &mut impl Rng,
         step: usize,
     ) -> Result<Step, BrownianError> {
-        let w: Vec<f64> = (0..bd.moments.per_particle() * self.len())
+        let w: Vec<f64> = (0..bd.random_numbers(self.len()))
             .map(|_| rng.sample::<f64, _>(StandardNormal))
             .collect();
         let (increment, lanczos_iterations) = self.increment(bd, &w, step)?;
@@ -266,8 +317,9 @@ impl System {
         })
     }
 
-    /// The displacement of one step for given standard normal numbers `w` (`3N` at the F
-    /// level, `6N` at FT), moment-major: translations (`3N`), then at FT the rotation
+    /// The displacement of one step for given standard normal numbers `w`
+    /// ([`Brownian::random_numbers`]: `3N` at the F level, `6N` at FT, `9N` with
+    /// lubrication), moment-major: translations (`3N`), then at FT the rotation
     /// vectors (`3N`). [`System::brownian_step`] draws `w` and applies this; with `w`
     /// given, the step is a deterministic function (for variance-reduced tests, or
     /// random numbers from elsewhere).
@@ -297,12 +349,15 @@ impl System {
                 "an external torque at the F level (torque-free spheres; use FT)",
             ));
         }
-        let expected = bd.moments.per_particle() * self.len();
+        let expected = bd.random_numbers(self.len());
         if w.len() != expected {
             return Err(BrownianError::RandomNumbers {
                 expected,
                 found: w.len(),
             });
+        }
+        if let Some(lub) = &bd.lubrication {
+            return Ok((self.lubricated_step(bd, lub, w, step)?, None));
         }
         match bd.scheme {
             Scheme::EulerMaruyama => self.euler_maruyama(bd, w, step),
@@ -406,6 +461,117 @@ impl System {
             .map(|(f, y)| f * bd.dt + y * scale)
             .collect();
         Ok(mul_vec(&m_mid, &rhs))
+    }
+
+    /// Brownian Stokesian dynamics (module docs): `w` is `6N` numbers for the noise,
+    /// then `3N` for the random finite difference.
+    fn lubricated_step(
+        &self,
+        bd: &Brownian,
+        lub: &LubricatedDynamics,
+        w: &[f64],
+        step: usize,
+    ) -> Result<Vec<f64>, BrownianError> {
+        if !bd.hydrodynamics {
+            return Err(BrownianError::Unsupported(
+                "lubrication without hydrodynamic interactions",
+            ));
+        }
+        if bd.noise != Noise::Cholesky {
+            return Err(BrownianError::Unsupported(
+                "lubrication with Lanczos noise (the noise is L^-T W from the Cholesky \
+                 factor of the resistance)",
+            ));
+        }
+        if bd.scheme != Scheme::EulerMaruyama {
+            return Err(BrownianError::Unsupported(
+                "lubrication with Fixman's scheme (the drift comes from a random finite \
+                 difference; use Euler-Maruyama)",
+            ));
+        }
+        let n = self.len();
+        let (noise_w, rfd_w) = w.split_at(6 * n);
+        let r = self
+            .resistance(Moments::FT, &lub.lubrication)
+            .map_err(|source| BrownianError::Resistance { step, source })?;
+        let chol = Cholesky::new(&r).ok_or(BrownianError::NotPositiveDefinite(step))?;
+        // torques are zero at the F level (checked by the caller)
+        let u = chol.solve(&self.generalised_forces(&bd.forces, Moments::FT));
+        let noise = chol.lt_solve(noise_w);
+        let drift = if bd.drift {
+            self.lubricated_divergence(lub, rfd_w, step)?
+        } else {
+            vec![0.0; 6 * n]
+        };
+        let scale = (2.0 * bd.kt * bd.dt).sqrt();
+        let dx = (0..bd.moments.per_particle() * n)
+            .map(|i| (u[i] + bd.kt * drift[i]) * bd.dt + scale * noise[i])
+            .collect();
+        Ok(dx)
+    }
+
+    /// `div R^-1` of the lubricated FT resistance (`6N`, moment-major: the translational
+    /// and rotational rows, the divergence over the positions) by one random finite
+    /// difference with the `3N` standard normal numbers `w` (module docs): an unbiased
+    /// estimate up to `O(delta^2)`, `delta = lub.rfd_step` in units of each radius.
+    /// Two resistances and their Cholesky factors at configurations displaced by
+    /// `+-delta a W~ / 2`.
+    pub fn lubricated_divergence(
+        &self,
+        lub: &LubricatedDynamics,
+        w: &[f64],
+        step: usize,
+    ) -> Result<Vec<f64>, BrownianError> {
+        let n = self.len();
+        if w.len() != 3 * n {
+            return Err(BrownianError::RandomNumbers {
+                expected: 3 * n,
+                found: w.len(),
+            });
+        }
+        let delta = lub.rfd_step.min(0.1 * self.smallest_gap());
+        let radius = |i: usize| self.particles()[i / 3].a;
+        let shift: Vec<f64> = (0..3 * n).map(|i| 0.5 * delta * radius(i) * w[i]).collect();
+        let v: Vec<f64> = (0..6 * n)
+            .map(|i| if i < 3 * n { w[i] / radius(i) } else { 0.0 })
+            .collect();
+        let mobility_times_v = |sign: f64| -> Result<Vec<f64>, BrownianError> {
+            let moved: Vec<f64> = shift.iter().map(|s| sign * s).collect();
+            let r = self
+                .displaced(&moved, step)?
+                .resistance(Moments::FT, &lub.lubrication)
+                .map_err(|source| BrownianError::Resistance { step, source })?;
+            Ok(Cholesky::new(&r)
+                .ok_or(BrownianError::NotPositiveDefinite(step))?
+                .solve(&v))
+        };
+        let plus = mobility_times_v(1.0)?;
+        let minus = mobility_times_v(-1.0)?;
+        Ok(plus
+            .iter()
+            .zip(&minus)
+            .map(|(p, m)| (p - m) / delta)
+            .collect())
+    }
+
+    /// The smallest gap over the radius (the smaller of the two for a pair) of any
+    /// sphere to a boundary or to another sphere; infinite for one sphere in free space.
+    fn smallest_gap(&self) -> f64 {
+        let ps = self.particles();
+        let mut gap = f64::INFINITY;
+        for (a, p) in ps.iter().enumerate() {
+            for (plane, _) in self.confinement().boundaries() {
+                gap = gap.min(((p.x[2] - plane).abs() - p.a) / p.a);
+            }
+            for q in &ps[a + 1..] {
+                let r = (0..3)
+                    .map(|i| (p.x[i] - q.x[i]).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                gap = gap.min((r - p.a - q.a) / p.a.min(q.a));
+            }
+        }
+        gap
     }
 
     /// The system with every centre moved by the `U` rows of `increment` (moment-major:

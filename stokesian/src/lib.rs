@@ -18,8 +18,8 @@ pub mod two_sphere;
 
 pub use assembly::{check_spd, solve_fts, Moments, SingularStressletBlock, SpdCheck, System};
 pub use brownian::{
-    lanczos_sqrt, rotate, Brownian, BrownianError, ExternalForces, LanczosError, Noise, Scheme,
-    Step,
+    lanczos_sqrt, rotate, Brownian, BrownianError, ExternalForces, LanczosError,
+    LubricatedDynamics, Noise, Scheme, Step,
 };
 pub use input::{validate, InputError, Particle};
 pub use kernels::lanes::Isa;

@@ -413,6 +413,22 @@ struct BrownianArgs {
     /// distribution); for comparison only. Only with --scheme euler-maruyama.
     #[arg(long)]
     no_drift: bool,
+    /// Lubricated Brownian dynamics (Brownian Stokesian dynamics): velocities, noise
+    /// and drift from the resistance with lubrication of Eq. 19 (as `stokesian
+    /// resistance`), R^-1 F + kT div R^-1 + sqrt(2 kT / dt) L^-T W with R = L L^T, the
+    /// drift by a random finite difference. F (torque-free spheres) or FT; Cholesky
+    /// noise and --scheme euler-maruyama only. Each step factors three resistances.
+    #[arg(long)]
+    lubrication: bool,
+    /// The random finite difference's step with --lubrication, in units of each
+    /// sphere's radius; keep it below the smallest gap over the radius.
+    #[arg(
+        long,
+        value_name = "DELTA",
+        default_value_t = 1e-3,
+        requires = "lubrication"
+    )]
+    rfd_step: f64,
     /// Write every K-th step (step 0 always).
     #[arg(long, value_name = "K", default_value_t = 1)]
     every: usize,
@@ -1528,9 +1544,10 @@ fn velocity(
 
 /// A bar over the `len` time steps.
 fn steps_bar(pb: &ProgressBar, len: u64, message: String) {
-    let style =
-        ProgressStyle::with_template("{msg} {wide_bar} {pos}/{len} steps [{elapsed}, eta {eta}]")
-            .unwrap_or_else(|_| ProgressStyle::default_bar());
+    let style = ProgressStyle::with_template(
+        "{msg} {wide_bar} {pos}/{len} steps [{elapsed}, {per_sec}, eta {eta}]",
+    )
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
     pb.set_style(style);
     pb.set_length(len);
     pb.set_position(0);
@@ -1616,6 +1633,35 @@ fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
             });
         }
     }
+    let lubrication = if args.lubrication {
+        if args.lanczos.is_some() {
+            return Err(CliError::Inapplicable {
+                option: "--lanczos",
+                context: "--lubrication (the noise comes from the Cholesky factor of the \
+                          resistance)"
+                    .to_string(),
+            });
+        }
+        if scheme == stokesian::Scheme::FixmanMidpoint {
+            return Err(CliError::Inapplicable {
+                option: "--scheme fixman",
+                context: "--lubrication (its drift comes from a random finite difference; \
+                          use --scheme euler-maruyama)"
+                    .to_string(),
+            });
+        }
+        positive(
+            "--rfd-step",
+            args.rfd_step,
+            "the random finite difference's step",
+        )?;
+        Some(stokesian::LubricatedDynamics {
+            lubrication: stokesian::Lubrication::default(),
+            rfd_step: args.rfd_step,
+        })
+    } else {
+        None
+    };
     let noise = match args.lanczos {
         None => stokesian::Noise::Cholesky,
         Some(tol) => {
@@ -1667,6 +1713,7 @@ fn run_brownian(args: &BrownianArgs) -> Result<(), CliError> {
         kt: args.kt,
         dt: args.dt,
         drift: !args.no_drift,
+        lubrication,
         forces: ExternalForces {
             weight: args.weight,
             strength: args.repulsion_strength,

@@ -1030,6 +1030,7 @@ fn bd_library(seed: u64, dt: f64) -> (Vec<Vec<[f64; 3]>>, usize) {
     let bd = stokesian::Brownian {
         noise: stokesian::Noise::Cholesky,
         hydrodynamics: true,
+        lubrication: None,
         moments: Moments::F,
         scheme: stokesian::Scheme::EulerMaruyama,
         kt: BD_KT,
@@ -1393,6 +1394,7 @@ fn bd_library_ft(seed: u64, scheme: stokesian::Scheme, noise: stokesian::Noise) 
     let bd = stokesian::Brownian {
         noise,
         hydrodynamics: true,
+        lubrication: None,
         moments: Moments::FT,
         scheme,
         kt: BD_KT,

@@ -9,6 +9,7 @@ pub mod closed_forms;
 pub mod configurations;
 pub mod exact;
 pub mod paper;
+pub mod statistics;
 pub mod stiff;
 
 use kernels::{Confinement, Grand};

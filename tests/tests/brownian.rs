@@ -1,6 +1,7 @@
 //! Brownian dynamics near a wall, validated statistically (fixed seeds; confidence
 //! levels stated per test).
 
+use integration_tests::statistics::{boltzmann_height_cdf, ks};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use stokesian::{Brownian, Confinement, ExternalForces, Moments, Noise, Particle, Scheme, System};
@@ -33,6 +34,7 @@ fn heights(
     let bd = Brownian {
         noise: stokesian::Noise::Cholesky,
         hydrodynamics: true,
+        lubrication: None,
         moments: Moments::F,
         scheme,
         kt: 1.0,
@@ -68,40 +70,6 @@ fn heights(
     (out, rejected)
 }
 
-/// The Boltzmann CDF of the height, `P(z) ~ exp(-U(z)/kT)` for z > a, by the trapezoid
-/// rule on a fine grid (step 1e-4 a; the density varies on the scale 0.1 a).
-fn boltzmann_cdf() -> impl Fn(f64) -> f64 {
-    let (z0, z1, n) = (1.0, 12.0, 110_000);
-    let dz = (z1 - z0) / n as f64;
-    let dens: Vec<f64> = (0..=n)
-        .map(|k| (-FORCES.potential_above(z0 + k as f64 * dz, 1.0, 0.0)).exp())
-        .collect();
-    let mut cdf = vec![0.0; n + 1];
-    for k in 1..=n {
-        cdf[k] = cdf[k - 1] + 0.5 * (dens[k] + dens[k - 1]) * dz;
-    }
-    let total = cdf[n];
-    move |z: f64| {
-        let k = (((z - z0) / dz).floor().max(0.0) as usize).min(n - 1);
-        let t = ((z - z0) / dz - k as f64).clamp(0.0, 1.0);
-        (cdf[k] + t * (cdf[k + 1] - cdf[k])) / total
-    }
-}
-
-/// Kolmogorov-Smirnov statistic of `samples` against `cdf`.
-fn ks(mut samples: Vec<f64>, cdf: impl Fn(f64) -> f64) -> f64 {
-    samples.sort_by(f64::total_cmp);
-    let n = samples.len() as f64;
-    samples
-        .iter()
-        .enumerate()
-        .map(|(i, &z)| {
-            let f = cdf(z);
-            (f - i as f64 / n).abs().max(((i + 1) as f64 / n - f).abs())
-        })
-        .fold(0.0, f64::max)
-}
-
 /// One sphere under gravity and a wall repulsion: with the drift kT div M the height
 /// histogram is the Boltzmann distribution (Kolmogorov-Smirnov at the 1% level, critical
 /// value 1.628/sqrt(n)); without it, it is not (the scheme then samples
@@ -111,7 +79,7 @@ fn ks(mut samples: Vec<f64>, cdf: impl Fn(f64) -> f64) -> f64 {
 /// instead of the divergence kernels, samples Boltzmann too.
 #[test]
 fn heights_follow_boltzmann_only_with_the_drift() {
-    let cdf = boltzmann_cdf();
+    let cdf = boltzmann_height_cdf(&FORCES, 1.0);
     let steps = 1_500_000;
     let em = Scheme::EulerMaruyama;
     let (with, rejected_with) = heights(em, true, steps, 2000, 10_000, 1);
@@ -156,6 +124,7 @@ fn force_free(moments: Moments, scheme: Scheme, noise: Noise) -> Brownian {
     Brownian {
         noise,
         hydrodynamics: true,
+        lubrication: None,
         moments,
         scheme,
         kt: 1.0,
@@ -268,6 +237,7 @@ fn two_sphere_samples(
     let bd = Brownian {
         noise: Noise::Cholesky,
         hydrodynamics,
+        lubrication: None,
         moments: Moments::F,
         scheme: Scheme::EulerMaruyama,
         kt: 1.0,

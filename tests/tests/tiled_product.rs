@@ -219,6 +219,7 @@ fn seeded_brownian_runs_do_not_depend_on_the_number_of_threads() {
             let bd = Brownian {
                 noise,
                 hydrodynamics: true,
+                lubrication: None,
                 moments,
                 scheme: Scheme::EulerMaruyama,
                 kt: 1.0,
