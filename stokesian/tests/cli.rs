@@ -1026,11 +1026,20 @@ fn bd_args<'a>(particles: &'a str, seed: &'a str, out: &'a str) -> Vec<&'a str> 
 /// The same run through the library: positions (N x 3 per frame) of every step, and
 /// the number of rejected (redrawn) steps.
 fn bd_library(seed: u64, dt: f64) -> (Vec<Vec<[f64; 3]>>, usize) {
+    bd_library_with(seed, dt, None)
+}
+
+/// [`bd_library`] with or without lubrication.
+fn bd_library_with(
+    seed: u64,
+    dt: f64,
+    lubrication: Option<stokesian::LubricatedDynamics>,
+) -> (Vec<Vec<[f64; 3]>>, usize) {
     use rand::SeedableRng;
     let bd = stokesian::Brownian {
         noise: stokesian::Noise::Cholesky,
         hydrodynamics: true,
-        lubrication: None,
+        lubrication,
         moments: Moments::F,
         scheme: stokesian::Scheme::EulerMaruyama,
         kt: BD_KT,
@@ -1187,6 +1196,39 @@ fn brownian_csv_equals_the_library_bit_for_bit() {
     assert_frames_bit_equal(&got_sparse, &sparse);
 }
 
+/// `--lubrication`: the same trajectory as the library's lubricated dynamics (the pair
+/// starts within the pair lubrication range), different from the far-field run, and
+/// the `.npy` loads with the shape of the frames.
+#[test]
+fn brownian_lubrication_equals_the_library_bit_for_bit() {
+    let dir = Dir::new("bd-lub");
+    let p = dir.file("particles.csv", BD_PARTICLES);
+    let out = dir.path("traj.csv");
+    let mut args = bd_args(s(&p), "5", s(&out));
+    args.push("--lubrication");
+    assert_ok(&run(&args));
+    let got = read_trajectory_csv(&out, 2, BD_DT);
+    let lub = stokesian::LubricatedDynamics {
+        lubrication: stokesian::Lubrication::default(),
+        rfd_step: 1e-3,
+    };
+    let (want, _) = bd_library_with(5, BD_DT, Some(lub));
+    assert_frames_bit_equal(&got, &want);
+    let (far, _) = bd_library(5, BD_DT);
+    assert_ne!(got[BD_STEPS], far[BD_STEPS]);
+    let npy = dir.path("traj.npy");
+    let mut args = bd_args(s(&p), "5", s(&npy));
+    args.push("--lubrication");
+    assert_ok(&run(&args));
+    let (shape, values) = read_npy_3d(&npy);
+    assert_eq!(shape, [BD_STEPS + 1, 2, 3]);
+    let flat: Vec<f64> = want.iter().flatten().flatten().copied().collect();
+    assert!(values
+        .iter()
+        .zip(&flat)
+        .all(|(a, b)| a.to_bits() == b.to_bits()));
+}
+
 #[test]
 fn brownian_no_drift_differs_and_rejected_steps_are_redrawn_as_in_the_library() {
     let dir = Dir::new("bd-nodrift");
@@ -1338,6 +1380,19 @@ fn brownian_bad_inputs_fail_without_output() {
         &["--no-drift does not apply", "--scheme fixman"],
     );
     extra(&["--lanczos", "0"], &["--lanczos", "positive"]);
+    extra(
+        &["--lubrication", "--lanczos", "1e-6"],
+        &["--lanczos does not apply", "--lubrication"],
+    );
+    extra(
+        &["--lubrication", "--scheme", "fixman"],
+        &["--scheme fixman does not apply", "--lubrication"],
+    );
+    extra(&["--rfd-step", "1e-4"], &["--lubrication"]);
+    extra(
+        &["--lubrication", "--rfd-step", "0"],
+        &["--rfd-step", "positive"],
+    );
     extra(&["--trap", "-1"], &["--trap", ">= 0"]);
 
     // a sphere cutting the wall at z = 0.25 (line 3, particle 1)
