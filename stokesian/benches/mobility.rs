@@ -318,6 +318,34 @@ fn dense(c: &mut Criterion) {
     g.finish();
 }
 
+/// The dense Cholesky factorisation (faer, `stokesian::dense`) of the wall mobility of
+/// N = 1000 spheres at F (3000 rows), FT (6000) and FTS (11000); the flop count
+/// `n^3 / 3` is printed alongside, so that GFLOP/s = flops / time.
+fn cholesky(c: &mut Criterion) {
+    let mut g = c.benchmark_group("dense Cholesky (faer)");
+    g.sample_size(10).measurement_time(Duration::from_secs(20));
+    let s = System::new(
+        Confinement::Wall { height: 0.0 },
+        1.0,
+        suspension(1000, 4),
+        false,
+    )
+    .unwrap();
+    for moments in [Moments::F, Moments::FT, Moments::FTS] {
+        let m = s.mobility(moments);
+        let n = m.nrows() as f64;
+        println!(
+            "dense Cholesky {moments:?}: {} rows, {:.3e} flops (n^3 / 3)",
+            m.nrows(),
+            n * n * n / 3.0
+        );
+        g.bench_function(BenchmarkId::new(format!("{moments:?}"), 1000), |b| {
+            b.iter(|| stokesian::dense::Cholesky::new(&m).unwrap())
+        });
+    }
+    g.finish();
+}
+
 fn brownian(c: &mut Criterion) {
     use stokesian::{Brownian, ExternalForces, Noise, Scheme};
     let mut g = c.benchmark_group("wall Brownian step");
@@ -330,6 +358,11 @@ fn brownian(c: &mut Criterion) {
             Noise::Lanczos { tol: 1e-6 },
         ),
         ("Fixman Cholesky", Scheme::FixmanMidpoint, Noise::Cholesky),
+        (
+            "EM Cholesky lubricated",
+            Scheme::EulerMaruyama,
+            Noise::Cholesky,
+        ),
     ];
     for n in [10usize, 100, 1000] {
         let s = System::new(
@@ -341,14 +374,18 @@ fn brownian(c: &mut Criterion) {
         .unwrap();
         for moments in [Moments::F, Moments::FT] {
             for (name, scheme, noise) in variants {
-                // two dense factorisations of a 6000 x 6000 FT matrix per Fixman step take
-                // minutes per sample: N = 1000 FT is measured with Euler-Maruyama only
-                if n == 1000 && moments == Moments::FT && scheme == Scheme::FixmanMidpoint {
+                let lubricated = name.ends_with("lubricated");
+                // three 6N x 6N resistances (each inverting the far-field mobility) per
+                // lubricated step: measured up to N = 100
+                if lubricated && n > 100 {
                     continue;
                 }
                 let bd = Brownian {
                     hydrodynamics: true,
-                    lubrication: None,
+                    lubrication: lubricated.then_some(stokesian::LubricatedDynamics {
+                        lubrication: stokesian::Lubrication::default(),
+                        rfd_step: 1e-3,
+                    }),
                     moments,
                     scheme,
                     kt: 1.0,
@@ -385,6 +422,7 @@ criterion_group!(
     products,
     products_isa,
     dense,
+    cholesky,
     brownian
 );
 criterion_main!(benches);
