@@ -1,5 +1,5 @@
-//! Statistics for the Brownian tests: the Kolmogorov-Smirnov statistic and the
-//! Boltzmann distribution of one sphere's height above a wall.
+//! Statistics for the Brownian tests: the Kolmogorov-Smirnov statistics (one and two
+//! samples) and the Boltzmann distribution of one sphere's height above a wall.
 
 use stokesian::ExternalForces;
 
@@ -15,6 +15,23 @@ pub fn ks(mut samples: Vec<f64>, cdf: impl Fn(f64) -> f64) -> f64 {
             (f - i as f64 / n).abs().max(((i + 1) as f64 / n - f).abs())
         })
         .fold(0.0, f64::max)
+}
+
+/// Two-sample Kolmogorov-Smirnov statistic.
+pub fn ks2(mut a: Vec<f64>, mut b: Vec<f64>) -> f64 {
+    a.sort_by(f64::total_cmp);
+    b.sort_by(f64::total_cmp);
+    let (n, m) = (a.len(), b.len());
+    let (mut i, mut j, mut d) = (0, 0, 0.0f64);
+    while i < n && j < m {
+        if a[i] <= b[j] {
+            i += 1;
+        } else {
+            j += 1;
+        }
+        d = d.max((i as f64 / n as f64 - j as f64 / m as f64).abs());
+    }
+    d
 }
 
 /// The Boltzmann CDF of the centre height `z` of a sphere of radius `a` above a wall at

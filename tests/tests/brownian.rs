@@ -1,7 +1,7 @@
 //! Brownian dynamics near a wall, validated statistically (fixed seeds; confidence
 //! levels stated per test).
 
-use integration_tests::statistics::{boltzmann_height_cdf, ks};
+use integration_tests::statistics::{boltzmann_height_cdf, ks, ks2};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use stokesian::{Brownian, Confinement, ExternalForces, Moments, Noise, Particle, Scheme, System};
@@ -277,23 +277,6 @@ fn two_sphere_samples(
         }
     }
     (sep, height)
-}
-
-/// Two-sample Kolmogorov-Smirnov statistic.
-fn ks2(mut a: Vec<f64>, mut b: Vec<f64>) -> f64 {
-    a.sort_by(f64::total_cmp);
-    b.sort_by(f64::total_cmp);
-    let (n, m) = (a.len(), b.len());
-    let (mut i, mut j, mut d) = (0, 0, 0.0f64);
-    while i < n && j < m {
-        if a[i] <= b[j] {
-            i += 1;
-        } else {
-            j += 1;
-        }
-        d = d.max((i as f64 / n as f64 - j as f64 / m as f64).abs());
-    }
-    d
 }
 
 /// Two spheres above a wall, under gravity, a wall repulsion and a weak lateral trap
