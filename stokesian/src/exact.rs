@@ -643,3 +643,26 @@ pub fn rotation_parallel_truncated(h_over_a: f64, nmax: usize) -> (f64, f64) {
 pub fn rotation_parallel(h_over_a: f64) -> (f64, f64) {
     rotation_parallel_truncated(h_over_a, oneill_terms(h_over_a))
 }
+
+/// The five sphere-wall functions `(X^A_w, Y^A_w, F^r*, Y^C_w, X^C_w)` of
+/// [`brenner_xa_wall`], [`oneill_parallel`], [`rotation_parallel`] and
+/// [`jeffery_xc_wall`] at the gap over radius `eps = h/a - 1` given as such: the
+/// bispherical geometry is computed from `eps` itself, not from `h/a = 1 + eps`, whose
+/// rounding alone would change `eps` by `1e-16/eps` relative (1e-9 at `eps = 1e-7`, and
+/// `X^A_w ~ 1/eps` with it).
+pub fn wall_functions_at_gap(eps: f64) -> [f64; 5] {
+    let g = geom(eps);
+    let nmax = (30.0 / g.alpha).ceil() as usize + 10;
+    let (sf, _) = parallel_sums(g, nmax, Parallel::Translation);
+    let (rf, rt) = parallel_sums(g, nmax, Parallel::Rotation);
+    [
+        axisym(g, Kind::Wall).0,
+        SQRT_2 / 6.0 * g.s1 * sf,
+        -SQRT_2 / 6.0 * g.s1 * g.s1 * rf,
+        (1.0 - g.s1.powi(3) / (4.0 * SQRT_2) * rt) / 3.0,
+        sum_positive((-3.0 * g.alpha).exp(), |n| {
+            (g.s1 * csch(n as f64 * g.alpha)).powi(3)
+        })
+        .0,
+    ]
+}

@@ -13,6 +13,7 @@ pub mod doublet;
 pub mod exact;
 mod input;
 mod lubrication;
+pub mod tables;
 mod tiled;
 pub mod two_sphere;
 
@@ -25,6 +26,6 @@ pub use input::{validate, InputError, Particle};
 pub use kernels::lanes::Isa;
 pub use kernels::Confinement;
 pub use lubrication::{
-    solve_resistance, solve_resistance_fts, wall_functions, wall_near_contact, Lubrication,
-    ResistanceError, WallFunctions,
+    solve_resistance, solve_resistance_fts, wall_functions, wall_near_contact, wall_series,
+    Lubrication, ResistanceError, WallFunctions,
 };

@@ -7,8 +7,10 @@
 //!   `xi = 2r/(a1 + a2) - 2 < pair_cutoff`; `R^{P,inf}` the inverse of the FT or FTS
 //!   mobility of the isolated pair in unbounded fluid, from our own kernels.
 //! - `R^W`: the exact sphere-wall resistance (Brenner 1961; O'Neill 1964; Dean & O'Neill
-//!   1963 with Goldman, Cox & Brenner 1967; Jeffery 1915; near-contact forms below
-//!   eps = 1e-3), for spheres with `eps = (h - a)/a < wall_cutoff` from a no-slip wall;
+//!   1963 with Goldman, Cox & Brenner 1967; Jeffery 1915), from the generated tables of
+//!   [`crate::tables`], for every sphere with `eps = (h - a)/a < wall_cutoff` (by default
+//!   every sphere closer than 1000 radii, beyond which `R^W` equals `R^{W,inf}` to 1e-12:
+//!   no switch, the correction is continuous and smooth in the height);
 //!   `R^{W,inf}` the inverse of the FT self mobility of the sphere with that wall alone,
 //!   from our kernels.
 //!
@@ -35,7 +37,8 @@ pub struct Lubrication {
     /// Pairs with surface gap over radius `xi < pair_cutoff` get `R^P - R^{P,inf}`.
     pub pair_cutoff: f64,
     /// Spheres with gap over radius `eps < wall_cutoff` from a no-slip wall get
-    /// `R^W - R^{W,inf}`.
+    /// `R^W - R^{W,inf}` (never beyond [`crate::tables::EPS_MAX`], where it is below
+    /// 1e-12 of the far field).
     pub wall_cutoff: f64,
 }
 
@@ -43,14 +46,14 @@ impl Default for Lubrication {
     /// Pairs: `xi < 2`, i.e. centres closer than twice the sum of the radii (`r < 4 a`
     /// for equal spheres, the range of Brady's and Townsend's codes), where the exact
     /// two-sphere resistance differs from the inverse of the far-field pair mobility by
-    /// more than a few per cent of the isolated drag (measured, README). Wall: `eps < 1`,
-    /// with the exact sphere-wall series, as Bossis, Meunier & Sherwood (1991) tabulate
-    /// exact values up to eps = 1; beyond, the far-field self mobility is within 5%
-    /// (measured, README).
+    /// more than a few per cent of the isolated drag (measured, README). Wall: no
+    /// cutoff (`INFINITY`): the exact sphere-wall functions from the tables wherever
+    /// they differ from the far field by more than 1e-12, so that the resistance is
+    /// continuous and smooth in the height.
     fn default() -> Self {
         Lubrication {
             pair_cutoff: 2.0,
-            wall_cutoff: 1.0,
+            wall_cutoff: f64::INFINITY,
         }
     }
 }
@@ -72,26 +75,22 @@ pub enum ResistanceError {
     ResistanceNotPositiveDefinite,
 }
 
-/// Sphere-wall resistance functions at `eps = (h - a)/a`: the exact bispherical series
-/// ([`crate::exact`]: Brenner 1961, O'Neill 1964, Dean & O'Neill 1963 as corrected by
-/// Goldman, Cox & Brenner 1967, Jeffery 1915) for `eps >= 1e-3`, and the near-contact
-/// forms of [`wall_near_contact`] below, where they agree with the series to 3e-6
-/// (measured at eps = 1e-3: X^A 4e-11, Y^A 1e-8, F^r 7e-7, Y^C 5e-7, X^C 2.8e-6) and the
-/// series would need thousands of terms.
+/// Sphere-wall resistance functions at `eps = (h - a)/a`, exact: the generated tables
+/// of [`crate::tables`] (piecewise Chebyshev in `ln eps`, within 1e-10 of the series,
+/// `tests/tests/wall_tables.rs`) for `eps` up to 1e3, the near-contact forms continued
+/// from them below `1e-7`, and the series beyond `1e3`.
 pub fn wall_functions(eps: f64) -> WallFunctions {
-    if eps < 1e-3 {
-        return wall_near_contact(eps);
-    }
-    let h = 1.0 + eps;
-    let (ya, _) = crate::exact::oneill_parallel(h);
-    let (fr, yc) = crate::exact::rotation_parallel(h);
-    WallFunctions {
-        xa: crate::exact::brenner_xa_wall(h),
-        ya,
-        fr,
-        yc,
-        xc: crate::exact::jeffery_xc_wall(h),
-    }
+    crate::tables::wall_functions(eps).unwrap_or_else(|| wall_series(eps))
+}
+
+/// The exact bispherical series at `eps = (h - a)/a` ([`crate::exact`]: Brenner 1961,
+/// O'Neill 1964, Dean & O'Neill 1963 as corrected by Goldman, Cox & Brenner 1967,
+/// Jeffery 1915; [`crate::exact::wall_functions_at_gap`]): what the tables are made
+/// from. Converged to round-off at every `eps >= 1e-7` (thousands of terms at the
+/// smallest gaps: 34 ms for the five functions at `eps = 1e-7`).
+pub fn wall_series(eps: f64) -> WallFunctions {
+    let [xa, ya, fr, yc, xc] = crate::exact::wall_functions_at_gap(eps);
+    WallFunctions { xa, ya, fr, yc, xc }
 }
 
 /// Near-contact sphere-wall resistance functions at `eps = (h - a)/a`, normalised as
@@ -413,7 +412,7 @@ impl System {
                     plane - p.x[2]
                 };
                 let eps = (h - p.a) / p.a;
-                if eps >= lub.wall_cutoff {
+                if eps >= lub.wall_cutoff || eps > crate::tables::EPS_MAX {
                     continue;
                 }
                 let nrm = [0.0, 0.0, if above { 1.0 } else { -1.0 }];

@@ -130,7 +130,12 @@ fn sphere_wall(sweep: usize) -> Result<Case> {
             let (fr, yc) = rotation_parallel(h);
             Ok(vec![brenner_xa_wall(h), ya, fr, yc, jeffery_xc_wall(h)])
         },
-        inside: |h| h - 1.0 < Lubrication::default().wall_cutoff,
+        inside: |h| {
+            h - 1.0
+                < Lubrication::default()
+                    .wall_cutoff
+                    .min(stokesian::tables::EPS_MAX)
+        },
         read: |r| wall_functions_of(r).to_vec(),
     })
 }
