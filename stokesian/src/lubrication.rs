@@ -424,20 +424,9 @@ impl System {
             }
         }
         // R^P - R^{P,inf}, per close pair; the two-sphere series built once per size
-        // ratio (all 22 functions at FTS, the ten force-torque ones at FT)
-        let mut series: Vec<PairSeries> = Vec::new();
-        let series_for = |series: &mut Vec<PairSeries>, lambda: f64| {
-            if let Some(i) = series.iter().position(|s| s.lambda() == lambda) {
-                return Ok(i);
-            }
-            let s = if k == 11 {
-                PairSeries::new(lambda)
-            } else {
-                PairSeries::new_ft(lambda)
-            };
-            series.push(s.map_err(ResistanceError::TwoSphere)?);
-            Ok::<_, ResistanceError>(series.len() - 1)
-        };
+        // ratio in the process (all 22 functions at FTS, the ten force-torque ones at FT)
+        let series_for =
+            |lambda: f64| PairSeries::cached(lambda, k != 11).map_err(ResistanceError::TwoSphere);
         for a in 0..n {
             for b in a + 1..n {
                 let (p, q) = (&ps[a], &ps[b]);
@@ -447,10 +436,9 @@ impl System {
                 if s_dash - 2.0 >= lub.pair_cutoff {
                     continue;
                 }
-                let i = series_for(&mut series, q.a / p.a)?;
-                let j = series_for(&mut series, p.a / q.a)?;
+                let (si, sj) = (series_for(q.a / p.a)?, series_for(p.a / q.a)?);
                 let d = [dx[0] / dist, dx[1] / dist, dx[2] / dist];
-                let exact = pair_block(eta, s_dash, [(p.a, &series[i]), (q.a, &series[j])], d, k)
+                let exact = pair_block(eta, s_dash, [(p.a, &si), (q.a, &sj)], d, k)
                     .map_err(ResistanceError::TwoSphere)?;
                 let idx: Vec<usize> = (0..2 * k)
                     .map(|i| global_index(n, if i < k { a } else { b }, i % k))

@@ -98,6 +98,7 @@
 //! ([`PairSeries::near_contact`] is provided for comparison). Measured errors: tests
 //! `two_sphere_exact.rs`.
 
+use std::collections::HashMap;
 use std::f64::consts::LN_2;
 use std::sync::OnceLock;
 use thiserror::Error;
@@ -259,6 +260,9 @@ pub const NAMES: [&str; 22] = [
 /// Number of remainder coefficients kept per function (one parity of `0..=TRUNCATION`).
 const HALF: usize = TRUNCATION / 2 + 1;
 
+/// Most series [`PairSeries::cached`] keeps.
+pub const CACHED_RATIOS: usize = 4096;
+
 /// The series of all 22 functions for one size ratio: the remainders `r_m` (module docs)
 /// and the singular coefficients. Building it costs `O(TRUNCATION^2)` per function (and,
 /// on the first use in a process, the coefficient tables); evaluating it at a separation
@@ -282,6 +286,36 @@ impl PairSeries {
     /// `Y^C` and `X^C` tables.
     pub fn new_ft(lambda: f64) -> Result<Self, TwoSphereError> {
         Self::with_count(lambda, 10)
+    }
+
+    /// The series for `lambda` (all 22 functions, or the ten force-torque ones when
+    /// `force_torque_only`) from a process-wide cache: built once per size ratio and
+    /// level (about 0.6 ms each), then shared. A lubricated Brownian step forms three
+    /// resistances, each needing the series of every size ratio of its close pairs.
+    /// The cache holds at most [`CACHED_RATIOS`] series (about 35 kB each); beyond, a
+    /// series is built for the call alone.
+    pub fn cached(
+        lambda: f64,
+        force_torque_only: bool,
+    ) -> Result<std::sync::Arc<PairSeries>, TwoSphereError> {
+        type Cache = std::sync::Mutex<HashMap<(u64, bool), std::sync::Arc<PairSeries>>>;
+        static CACHE: OnceLock<Cache> = OnceLock::new();
+        let cache = CACHE.get_or_init(Default::default);
+        let key = (lambda.to_bits(), force_torque_only);
+        if let Some(s) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
+            return Ok(s);
+        }
+        let built = std::sync::Arc::new(if force_torque_only {
+            Self::new_ft(lambda)?
+        } else {
+            Self::new(lambda)?
+        });
+        if let Ok(mut c) = cache.lock() {
+            if c.len() < CACHED_RATIOS {
+                c.insert(key, built.clone());
+            }
+        }
+        Ok(built)
     }
 
     fn with_count(lambda: f64, count: usize) -> Result<Self, TwoSphereError> {

@@ -11,6 +11,7 @@
 //! [`table`] (markdown tables and number formatting) and [`plot`] (log-log scatter
 //! plots).
 
+pub mod brownian;
 pub mod closed;
 pub mod numerics;
 pub mod physics;
@@ -40,6 +41,8 @@ pub struct Config {
     pub min_time: Duration,
     /// Heights of the sphere-wall sweep and gaps of the two-sphere sweep (section b).
     pub sweep: usize,
+    /// Brownian steps of each run of section e.
+    pub brownian_steps: usize,
     /// Draw a progress bar.
     pub progress: bool,
 }
@@ -53,6 +56,7 @@ impl Config {
             slow_cases: 20,
             min_time: Duration::from_millis(150),
             sweep: 12,
+            brownian_steps: 1_200_000,
             progress: true,
         }
     }
@@ -65,6 +69,7 @@ impl Config {
             slow_cases: 1,
             min_time: Duration::from_millis(2),
             sweep: 3,
+            brownian_steps: 4_000,
             progress: false,
         }
     }
@@ -103,6 +108,7 @@ pub const SECTIONS: &[SectionFn] = &[
     physics::section,
     stiff::section,
     scenes::section,
+    brownian::section,
 ];
 
 /// Run the whole report into `cfg.out` (deleted and recreated) and return the path of
