@@ -1,7 +1,45 @@
-//! Statistics for the Brownian tests: the Kolmogorov-Smirnov statistics (one and two
-//! samples) and the Boltzmann distribution of one sphere's height above a wall.
+//! Statistics for the Brownian tests: a seeded run sampled at intervals, the
+//! Kolmogorov-Smirnov statistics (one and two samples) and the Boltzmann distribution of
+//! one sphere's height above a wall.
 
-use stokesian::ExternalForces;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use stokesian::{Brownian, BrownianError, ExternalForces, System};
+
+/// `steps` Brownian steps of `bd` from `start` with the ChaCha8 stream of `seed`; a step
+/// that would overlap a boundary or another sphere is redrawn (and counted). Every
+/// `every` steps from `burn` on, `observe` the system. Returns the observations and the
+/// number of redrawn steps.
+pub fn sample<T>(
+    bd: &Brownian,
+    start: System,
+    (steps, every, burn): (usize, usize, usize),
+    seed: u64,
+    observe: impl Fn(&System) -> T,
+) -> (Vec<T>, usize) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (mut s, mut out, mut redrawn) = (start, Vec::new(), 0);
+    for step in 0..steps {
+        s = loop {
+            match s.brownian_step(bd, &mut rng, step) {
+                Ok(next) => break next.system,
+                Err(BrownianError::Invalid { .. }) => redrawn += 1,
+                Err(e) => panic!("step {step}: {e}"),
+            }
+        };
+        if step >= burn && step % every == 0 {
+            out.push(observe(&s));
+        }
+    }
+    (out, redrawn)
+}
+
+/// (separation, height of sphere 0) of the first two spheres.
+pub fn separation_and_height(s: &System) -> (f64, f64) {
+    let (p, q) = (s.particles()[0].x, s.particles()[1].x);
+    let r = (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
+    (r, p[2])
+}
 
 /// Kolmogorov-Smirnov statistic of `samples` against `cdf`.
 pub fn ks(mut samples: Vec<f64>, cdf: impl Fn(f64) -> f64) -> f64 {

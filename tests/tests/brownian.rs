@@ -1,7 +1,7 @@
 //! Brownian dynamics near a wall, validated statistically (fixed seeds; confidence
 //! levels stated per test).
 
-use integration_tests::statistics::{boltzmann_height_cdf, ks, ks2};
+use integration_tests::statistics::{boltzmann_height_cdf, ks, ks2, sample, separation_and_height};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use stokesian::{Brownian, Confinement, ExternalForces, Moments, Noise, Particle, Scheme, System};
@@ -42,8 +42,7 @@ fn heights(
         drift,
         forces: FORCES,
     };
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut s = System::new(
+    let start = System::new(
         WALL,
         1.0,
         vec![Particle {
@@ -53,21 +52,9 @@ fn heights(
         false,
     )
     .unwrap();
-    let mut out = Vec::new();
-    let mut rejected = 0;
-    for step in 0..steps {
-        s = loop {
-            match s.brownian_step(&bd, &mut rng, step) {
-                Ok(next) => break next.system,
-                Err(stokesian::BrownianError::Invalid { .. }) => rejected += 1,
-                Err(e) => panic!("{e}"),
-            }
-        };
-        if step >= burn && step % every == 0 {
-            out.push(s.particles()[0].x[2]);
-        }
-    }
-    (out, rejected)
+    sample(&bd, start, (steps, every, burn), seed, |s| {
+        s.particles()[0].x[2]
+    })
 }
 
 /// One sphere under gravity and a wall repulsion: with the drift kT div M the height
@@ -249,7 +236,6 @@ fn two_sphere_samples(
             ..FORCES
         },
     };
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let start = vec![
         Particle {
             x: [-1.5, 0.0, 1.5],
@@ -260,23 +246,15 @@ fn two_sphere_samples(
             a: 1.0,
         },
     ];
-    let mut s = System::new(WALL, 1.0, start, false).unwrap();
-    let (mut sep, mut height) = (Vec::new(), Vec::new());
-    for step in 0..steps {
-        s = loop {
-            match s.brownian_step(&bd, &mut rng, step) {
-                Ok(next) => break next.system,
-                Err(stokesian::BrownianError::Invalid { .. }) => {}
-                Err(e) => panic!("{e}"),
-            }
-        };
-        if step >= 10 * every && step % every == 0 {
-            let (p, q) = (s.particles()[0].x, s.particles()[1].x);
-            sep.push((0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt());
-            height.push(p[2]);
-        }
-    }
-    (sep, height)
+    let start = System::new(WALL, 1.0, start, false).unwrap();
+    let (samples, _) = sample(
+        &bd,
+        start,
+        (steps, every, 10 * every),
+        seed,
+        separation_and_height,
+    );
+    samples.into_iter().unzip()
 }
 
 /// Two spheres above a wall, under gravity, a wall repulsion and a weak lateral trap

@@ -3,7 +3,7 @@
 //! short-time diffusion against the exact sphere-wall functions, and the equilibrium
 //! distribution of a sedimented sphere against Boltzmann's.
 
-use integration_tests::statistics::{boltzmann_height_cdf, ks};
+use integration_tests::statistics::{boltzmann_height_cdf, ks, sample};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
@@ -213,8 +213,7 @@ const SEDIMENTED: ExternalForces = ExternalForces {
 /// after `burn`, and the number of redrawn steps.
 fn lubricated_heights(drift: bool, steps: usize, every: usize, burn: usize) -> (Vec<f64>, usize) {
     let bd = lubricated(Moments::F, 0.01, drift, SEDIMENTED);
-    let mut rng = ChaCha8Rng::seed_from_u64(43);
-    let mut s = System::new(
+    let start = System::new(
         WALL,
         1.0,
         vec![Particle {
@@ -224,20 +223,9 @@ fn lubricated_heights(drift: bool, steps: usize, every: usize, burn: usize) -> (
         false,
     )
     .unwrap();
-    let (mut out, mut rejected) = (Vec::new(), 0);
-    for step in 0..steps {
-        s = loop {
-            match s.brownian_step(&bd, &mut rng, step) {
-                Ok(next) => break next.system,
-                Err(stokesian::BrownianError::Invalid { .. }) => rejected += 1,
-                Err(e) => panic!("{e}"),
-            }
-        };
-        if step >= burn && step % every == 0 {
-            out.push(s.particles()[0].x[2]);
-        }
-    }
-    (out, rejected)
+    sample(&bd, start, (steps, every, burn), 43, |s| {
+        s.particles()[0].x[2]
+    })
 }
 
 /// With the random-finite-difference drift the heights follow Boltzmann's distribution

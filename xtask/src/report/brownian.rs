@@ -8,14 +8,12 @@
 
 use super::{Ctx, Section};
 use anyhow::Result;
-use integration_tests::statistics::ks2;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
+use integration_tests::statistics::{ks2, sample, separation_and_height};
 use std::fmt::Write as _;
 use std::time::Instant;
 use stokesian::{
-    Brownian, BrownianError, Confinement, ExternalForces, LubricatedDynamics, Lubrication, Moments,
-    Noise, Particle, Scheme, System,
+    Brownian, Confinement, ExternalForces, LubricatedDynamics, Lubrication, Moments, Noise,
+    Particle, Scheme, System,
 };
 
 /// Gravity 1 kT/a, repulsion 50 kT/a over 0.1 a, lateral trap 0.5 kT/a^2 (kT / trap =
@@ -55,24 +53,16 @@ fn samples(lubricated: bool, steps: usize, every: usize, seed: u64) -> (Vec<f64>
             a: 1.0,
         },
     ];
-    let mut s =
+    let start =
         System::new(Confinement::Wall { height: 0.0 }, 1.0, start, false).expect("a valid start");
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let (mut sep, mut height, mut redrawn) = (Vec::new(), Vec::new(), 0);
-    for step in 0..steps {
-        s = loop {
-            match s.brownian_step(&bd, &mut rng, step) {
-                Ok(next) => break next.system,
-                Err(BrownianError::Invalid { .. }) => redrawn += 1,
-                Err(e) => panic!("step {step}: {e}"),
-            }
-        };
-        if step >= 10 * every && step % every == 0 {
-            let (p, q) = (s.particles()[0].x, s.particles()[1].x);
-            sep.push((0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt());
-            height.push(p[2]);
-        }
-    }
+    let (samples, redrawn) = sample(
+        &bd,
+        start,
+        (steps, every, 10 * every),
+        seed,
+        separation_and_height,
+    );
+    let (sep, height) = samples.into_iter().unzip();
     (sep, height, redrawn)
 }
 
