@@ -238,10 +238,11 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
         "Resistance functions from the solver against exact results, at the truncation levels F, FT and FTS, \
          far field only (the inverse of `System::mobility`; at FTS its force-torque block, i.e. rigid spheres in a \
          quiescent fluid, stresslets eliminated; at F, `(M_UF)^-1`) and with lubrication (`System::resistance` with \
-         `Lubrication::default()`: pairs closer than r = 2 (a1 + a2), walls closer than a gap of one radius; F has no \
-         lubrication level). Error: `|computed / exact - 1|`, the largest over the sweep per function, the median over all \
-         functions and the sweep, and the largest over all functions inside the lubrication cutoff (wall: h < 2 a; pair: \
-         xi < 2); beyond the cutoffs Eq. 19 is the far-field inverse.\n\n\
+         `Lubrication::default()`: pairs closer than r = 2 (a1 + a2), every sphere closer than 1000 radii to a wall, from \
+         the generated sphere-wall tables; F has no lubrication level). Error: `|computed / exact - 1|`, the largest over \
+         the sweep per function, the median over all functions and the sweep, and the largest over all functions inside \
+         the lubrication range (wall: every height of the sweep; pair: xi < 2); beyond the pair cutoff Eq. 19 is the \
+         far-field inverse.\n\n\
          - One sphere of radius a above a no-slip wall, {} heights h/a = {} (geometric in the gap): X^A_w normal translation \
          (Brenner 1961), Y^A_w parallel translation (O'Neill 1964), F^r the translation-rotation coupling and Y^C_w rotation \
          parallel to the wall (Dean & O'Neill 1963 as corrected by Goldman, Cox & Brenner 1967), X^C_w rotation about the \
