@@ -353,7 +353,11 @@ pub fn jeffery_xc_wall(h_over_a: f64) -> f64 {
 
 /// [`jeffery_xc_wall`] with the number of terms summed.
 pub fn jeffery_xc_wall_terms(h_over_a: f64) -> (f64, usize) {
-    let g = geom_h(h_over_a);
+    jeffery_xc(geom_h(h_over_a))
+}
+
+/// [`jeffery_xc_wall_terms`] of a geometry.
+fn jeffery_xc(g: Geom) -> (f64, usize) {
     sum_positive((-3.0 * g.alpha).exp(), |n| {
         (g.s1 * csch(n as f64 * g.alpha)).powi(3)
     })
@@ -449,7 +453,11 @@ fn ycoth_m1(y: f64) -> f64 {
 /// doubling `N` changes the results by less than 1e-15 relative (tests). `N = 2132` at
 /// `h/a = 1.0001`, 21 at `h/a = 10`.
 pub fn oneill_terms(h_over_a: f64) -> usize {
-    let g = geom_h(h_over_a);
+    terms(geom_h(h_over_a))
+}
+
+/// [`oneill_terms`] of a geometry.
+fn terms(g: Geom) -> usize {
     (30.0 / g.alpha).ceil() as usize + 10
 }
 
@@ -576,7 +584,11 @@ fn parallel_sums(g: Geom, nmax: usize, which: Parallel) -> (f64, f64) {
 
 /// `(Y^A_w, T^t*)` of O'Neill (1964) with `N` unknowns; see [`oneill_parallel`].
 pub fn oneill_parallel_truncated(h_over_a: f64, nmax: usize) -> (f64, f64) {
-    let g = geom_h(h_over_a);
+    translation(geom_h(h_over_a), nmax)
+}
+
+/// [`oneill_parallel_truncated`] of a geometry.
+fn translation(g: Geom, nmax: usize) -> (f64, f64) {
     assert!(nmax >= 2);
     let (sf, st) = parallel_sums(g, nmax, Parallel::Translation);
     (SQRT_2 / 6.0 * g.s1 * sf, g.s1 * g.s1 / (12.0 * SQRT_2) * st)
@@ -608,7 +620,11 @@ pub fn oneill_parallel(h_over_a: f64) -> (f64, f64) {
 
 /// `(F^r*, Y^C_w)` of Dean & O'Neill (1963) with `N` unknowns; see [`rotation_parallel`].
 pub fn rotation_parallel_truncated(h_over_a: f64, nmax: usize) -> (f64, f64) {
-    let g = geom_h(h_over_a);
+    rotation(geom_h(h_over_a), nmax)
+}
+
+/// [`rotation_parallel_truncated`] of a geometry.
+fn rotation(g: Geom, nmax: usize) -> (f64, f64) {
     assert!(nmax >= 2);
     let (sf, st) = parallel_sums(g, nmax, Parallel::Rotation);
     (
@@ -652,17 +668,7 @@ pub fn rotation_parallel(h_over_a: f64) -> (f64, f64) {
 /// `X^A_w ~ 1/eps` with it).
 pub fn wall_functions_at_gap(eps: f64) -> [f64; 5] {
     let g = geom(eps);
-    let nmax = (30.0 / g.alpha).ceil() as usize + 10;
-    let (sf, _) = parallel_sums(g, nmax, Parallel::Translation);
-    let (rf, rt) = parallel_sums(g, nmax, Parallel::Rotation);
-    [
-        axisym(g, Kind::Wall).0,
-        SQRT_2 / 6.0 * g.s1 * sf,
-        -SQRT_2 / 6.0 * g.s1 * g.s1 * rf,
-        (1.0 - g.s1.powi(3) / (4.0 * SQRT_2) * rt) / 3.0,
-        sum_positive((-3.0 * g.alpha).exp(), |n| {
-            (g.s1 * csch(n as f64 * g.alpha)).powi(3)
-        })
-        .0,
-    ]
+    let (ya, _) = translation(g, terms(g));
+    let (fr, yc) = rotation(g, terms(g));
+    [axisym(g, Kind::Wall).0, ya, fr, yc, jeffery_xc(g).0]
 }
