@@ -3,9 +3,10 @@
 //!
 //! - `R^P`: the exact two-sphere resistance ([`crate::two_sphere`]: Jeffrey & Onishi
 //!   1984 and Jeffrey 1992 as corrected by Townsend 2023, any size ratio, Kim & Karrila
-//!   normalisation; all 22 functions at FTS), for pairs with
-//!   `xi = 2r/(a1 + a2) - 2 < pair_cutoff`; `R^{P,inf}` the inverse of the FT or FTS
-//!   mobility of the isolated pair in unbounded fluid, from our own kernels.
+//!   normalisation; all 22 functions at FTS), for every pair whose correction may
+//!   exceed a stated tolerance, switched off smoothly beyond ([`Lubrication::pair_window`]:
+//!   no step, no kink); `R^{P,inf}` the inverse of the FT or FTS mobility of the
+//!   isolated pair in unbounded fluid, from our own kernels.
 //! - `R^W`: the exact sphere-wall resistance (Brenner 1961; O'Neill 1964; Dean & O'Neill
 //!   1963 with Goldman, Cox & Brenner 1967; Jeffery 1915), from the generated tables of
 //!   [`crate::tables`], for every sphere with `eps = (h - a)/a < wall_cutoff` (by default
@@ -34,8 +35,12 @@ const ZETA3: f64 = 1.202_056_903_159_594_3;
 /// Where lubrication is switched on.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Lubrication {
-    /// Pairs with surface gap over radius `xi < pair_cutoff` get `R^P - R^{P,inf}`.
-    pub pair_cutoff: f64,
+    /// The two-sphere correction `R^P - R^{P,inf}` is kept in full wherever it may exceed
+    /// this tolerance (its largest entry, lengths in units of the larger radius, over the
+    /// drag `6 pi eta a` of the smaller sphere),
+    /// and switched off smoothly beyond ([`Lubrication::pair_window`]): `0` keeps it at
+    /// every separation, `INFINITY` drops it everywhere.
+    pub pair_tolerance: f64,
     /// Spheres with gap over radius `eps < wall_cutoff` from a no-slip wall get
     /// `R^W - R^{W,inf}` (never beyond [`crate::tables::EPS_MAX`], where it is below
     /// 1e-12 of the far field).
@@ -43,18 +48,60 @@ pub struct Lubrication {
 }
 
 impl Default for Lubrication {
-    /// Pairs: `xi < 2`, i.e. centres closer than twice the sum of the radii (`r < 4 a`
-    /// for equal spheres, the range of Brady's and Townsend's codes), where the exact
-    /// two-sphere resistance differs from the inverse of the far-field pair mobility by
-    /// more than a few per cent of the isolated drag (measured, README). Wall: no
-    /// cutoff (`INFINITY`): the exact sphere-wall functions from the tables wherever
-    /// they differ from the far field by more than 1e-12, so that the resistance is
-    /// continuous and smooth in the height.
+    /// Pairs: tolerance 1e-3 (the correction kept in full out to `s' = 9.3` at FT and
+    /// `s' = 5.6` at FTS, `s' = 2r/(a1 + a2)`). Wall: no cutoff (`INFINITY`): the exact
+    /// sphere-wall functions from the tables wherever they differ from the far field by
+    /// more than 1e-12, so that the resistance is continuous and smooth in the height.
     fn default() -> Self {
         Lubrication {
-            pair_cutoff: 2.0,
+            pair_tolerance: 1e-3,
             wall_cutoff: f64::INFINITY,
         }
+    }
+}
+
+/// Far from contact the largest entry of the two-sphere correction `R^P - R^{P,inf}`
+/// (lengths in units of the larger radius) over `6 pi eta a_min` is below `C s'^-k`: `(C, k)` at FT and FTS. Measured
+/// over `lambda = 0.01, 0.03, 0.1, 0.3, 1` (the others follow by exchanging the spheres)
+/// and `s' = 3 ... 40`: the correction decays as `s'^-4` at FT (the far-field FT mobility
+/// misses the `O(r^-4)` reflections) and as `s'^-6` at FTS; the largest products were
+/// 7.4 (FT, `lambda = 0.3`, `s' = 3`) and 29.6 (FTS, `lambda = 0.3`, `s' = 3`). Test
+/// `pair_correction_is_below_the_tolerance_outside_its_window`.
+const PAIR_DECAY: [(f64, i32); 2] = [(7.5, 4), (30.0, 6)];
+
+impl Lubrication {
+    /// Lubrication with the two-sphere correction at every separation and the
+    /// sphere-wall correction at every height.
+    pub fn everywhere() -> Self {
+        Lubrication {
+            pair_tolerance: 0.0,
+            wall_cutoff: f64::INFINITY,
+        }
+    }
+
+    /// The separations `(s0, s1)`, `s' = 2r/(a1 + a2)`, between which the pair correction
+    /// is switched off: in full below `s0 = (C/tol)^(1/k)` (the bound of `PAIR_DECAY`, so
+    /// that beyond `s0` it is below the tolerance), times a quintic smoothstep falling
+    /// from 1 to 0 on `[s0, 1.25 s0]` (continuous with two continuous derivatives), and
+    /// not at all beyond. `moments` is FT or FTS (F has no lubrication).
+    pub fn pair_window(&self, moments: Moments) -> (f64, f64) {
+        let (c, k) = PAIR_DECAY[usize::from(moments == Moments::FTS)];
+        let s0 = (c / self.pair_tolerance).powf(1.0 / f64::from(k));
+        (s0, 1.25 * s0)
+    }
+}
+
+/// The weight of the pair correction at `s'` for the window `(s0, s1)`
+/// ([`Lubrication::pair_window`]): 1 below `s0`, 0 above `s1`, `1 - x^3 (10 - 15 x + 6 x^2)`
+/// between, `x = (s' - s0)/(s1 - s0)`.
+fn pair_weight(s_dash: f64, (s0, s1): (f64, f64)) -> f64 {
+    if s_dash <= s0 {
+        1.0
+    } else if s_dash >= s1 {
+        0.0
+    } else {
+        let x = (s_dash - s0) / (s1 - s0);
+        1.0 - x * x * x * (10.0 + x * (-15.0 + 6.0 * x))
     }
 }
 
@@ -345,7 +392,7 @@ fn global_index(n: usize, a: usize, c: usize) -> usize {
     }
 }
 
-/// Add `exact - far^-1` to `r` on the rows and columns `idx` (per-particle blocks of
+/// Add `weight (exact - far^-1)` to `r` on the rows and columns `idx` (per-particle blocks of
 /// `k` components): where the exact resistance is known, which is the leading `known`
 /// components of each particle (`known` = 6: force-torque only); elsewhere the
 /// far-field inverse is kept (the correction is zero).
@@ -356,6 +403,7 @@ fn add_correction(
     far: DMatrix<f64>,
     k: usize,
     known: usize,
+    weight: f64,
 ) -> Result<(), ResistanceError> {
     let far_inv = far
         .cholesky()
@@ -366,7 +414,7 @@ fn add_correction(
     for i in 0..idx.len() {
         for j in 0..idx.len() {
             if i % k < known && j % k < known {
-                r[(idx[i], idx[j])] += exact[(local(i), local(j))] - far_inv[(i, j)];
+                r[(idx[i], idx[j])] += weight * (exact[(local(i), local(j))] - far_inv[(i, j)]);
             }
         }
     }
@@ -379,8 +427,7 @@ impl System {
     /// `(U, Omega[, -E_inf])`. At FTS the lubrication corrections act on the force-torque
     /// blocks (the exact two-sphere and sphere-wall functions used here are those of
     /// translation and rotation); the stresslet rows and columns keep the far-field
-    /// inverse. Overlapping spheres are rejected at construction unless allowed; pairs
-    /// within the cutoff must have equal radii.
+    /// inverse. Overlapping spheres are rejected at construction unless allowed.
     pub fn resistance(
         &self,
         moments: Moments,
@@ -420,11 +467,12 @@ impl System {
                 let exact = DMatrix::from_fn(6, 6, |i, j| block[(i, j)]);
                 let idx: Vec<usize> = (0..k).map(|c| global_index(n, a, c)).collect();
                 let far = single_wall_self(eta, p.x, p.a, plane, k);
-                add_correction(&mut r, &idx, &exact, far, k, 6)?;
+                add_correction(&mut r, &idx, &exact, far, k, 6, 1.0)?;
             }
         }
         // R^P - R^{P,inf}, per close pair; the two-sphere series built once per size
         // ratio in the process (all 22 functions at FTS, the ten force-torque ones at FT)
+        let window = lub.pair_window(moments);
         let series_for =
             |lambda: f64| PairSeries::cached(lambda, k != 11).map_err(ResistanceError::TwoSphere);
         for a in 0..n {
@@ -433,7 +481,8 @@ impl System {
                 let dx: [f64; 3] = std::array::from_fn(|c| q.x[c] - p.x[c]);
                 let dist = (dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]).sqrt();
                 let s_dash = 2.0 * dist / (p.a + q.a);
-                if s_dash - 2.0 >= lub.pair_cutoff {
+                let weight = pair_weight(s_dash, window);
+                if weight == 0.0 {
                     continue;
                 }
                 let (si, sj) = (series_for(q.a / p.a)?, series_for(p.a / q.a)?);
@@ -444,7 +493,7 @@ impl System {
                     .map(|i| global_index(n, if i < k { a } else { b }, i % k))
                     .collect();
                 let far = free_pair_mobility(eta, (p.x, p.a), (q.x, q.a), k);
-                add_correction(&mut r, &idx, &exact, far, k, k)?;
+                add_correction(&mut r, &idx, &exact, far, k, k, weight)?;
             }
         }
         // Exact symmetry (the corrections are symmetric to round-off).

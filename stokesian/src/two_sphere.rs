@@ -6,8 +6,10 @@
 //! the lubrication singularities are carried by closed-form functions of `s'` and only a
 //! regular remainder is summed as a power series.
 //!
-//! This module owns the 22 scalar functions, the one-off tables of the JO84/J92
-//! recurrence coefficients, and the near-contact constants `K(lambda)` derived from them.
+//! This module owns the 22 scalar functions, the JO84/J92 recurrence coefficients (made
+//! by `cargo xtask gen` from [`generate_coefficients`] and committed in
+//! `src/generated/two_sphere_coefficients.bin`), and the near-contact constants
+//! `K(lambda)` derived from them.
 //!
 //! # Geometry, normalisation and signs
 //!
@@ -78,13 +80,13 @@
 //! # Truncation, cost and accuracy
 //!
 //! The series are summed to `m <= TRUNCATION` (= 200). The coefficient tables (`P, V, Q`
-//! over `n + p + q <= TRUNCATION + 2`) do not depend on `lambda`; they are built once per
-//! family on first use (`OnceLock`, the families in parallel threads) and reduced to the
-//! `O(TRUNCATION^2)` numbers `R_{k, m-q, q}`: about 10 s of CPU (5.7 s of wall time on
-//! 2 cores) for all seven families, roughly half for the four force-torque ones, and
-//! ~30 MB transient memory per family. A [`PairSeries`] for one `lambda` costs ~0.6 ms;
-//! each evaluation at a separation ~4.4 us and no allocation (test
-//! `cost_of_tables_and_calls`).
+//! over `n + p + q <= TRUNCATION + 2`) do not depend on `lambda`; the generator evaluates
+//! them (about 10 s of CPU for the seven families, ~30 MB transient memory each) and keeps
+//! the `O(TRUNCATION^2)` numbers `R_{k, m-q, q}` (11 triangles of 20301 numbers, 1.8 MB),
+//! which a process reads on first use (about 2 ms). A [`PairSeries`] for one `lambda`
+//! costs ~0.6 ms; each evaluation at a separation sums only the terms that add more than
+//! 1e-17 (all of them near contact, about a third at `s' = 4`): 1.8 us on average over
+//! `s'` in `[2, 4]`, no allocation (test `cost_of_tables_and_calls`).
 //!
 //! The neglected remainder is largest at contact. For `lambda` near 1 the remainders
 //! oscillate in sign with amplitude `~10-200/m^3` (largest for `M`), so the contact
@@ -264,9 +266,9 @@ const HALF: usize = TRUNCATION / 2 + 1;
 pub const CACHED_RATIOS: usize = 4096;
 
 /// The series of all 22 functions for one size ratio: the remainders `r_m` (module docs)
-/// and the singular coefficients. Building it costs `O(TRUNCATION^2)` per function (and,
-/// on the first use in a process, the coefficient tables); evaluating it at a separation
-/// costs `O(TRUNCATION)` per function and does not allocate. Use it when many separations
+/// and the singular coefficients. Building it costs `O(TRUNCATION^2)` per function;
+/// evaluating it at a separation at most `O(TRUNCATION)` per function, without
+/// allocating. Use it when many separations
 /// share one `lambda`.
 #[derive(Clone, Debug)]
 pub struct PairSeries {
@@ -274,6 +276,8 @@ pub struct PairSeries {
     count: usize,
     remainder: [[f64; HALF]; 22],
     singular: [[f64; 3]; 22],
+    /// `ln` of the largest `|r_m|` of any function: sets how many terms a separation needs.
+    ln_largest: f64,
 }
 
 impl PairSeries {
@@ -282,8 +286,8 @@ impl PairSeries {
         Self::with_count(lambda, 22)
     }
 
-    /// The ten force-torque functions only: builds (on first use) only the `X^A`, `Y^A`,
-    /// `Y^C` and `X^C` tables.
+    /// The ten force-torque functions only (reads only the `X^A`, `Y^A`, `Y^C` and `X^C`
+    /// coefficients).
     pub fn new_ft(lambda: f64) -> Result<Self, TwoSphereError> {
         Self::with_count(lambda, 10)
     }
@@ -320,12 +324,12 @@ impl PairSeries {
 
     fn with_count(lambda: f64, count: usize) -> Result<Self, TwoSphereError> {
         check_lambda(lambda)?;
-        ensure_tables(count);
         let mut out = PairSeries {
             lambda,
             count,
             remainder: [[0.0; HALF]; 22],
             singular: [[0.0; 3]; 22],
+            ln_largest: 0.0,
         };
         for (k, f) in FUNCTIONS.iter().enumerate().take(count) {
             let tri_r = &f.table.triangles()[f.output];
@@ -339,6 +343,11 @@ impl PairSeries {
                 }
             }
         }
+        let largest = out.remainder[..count]
+            .iter()
+            .flatten()
+            .fold(f64::MIN_POSITIVE, |m, r| m.max(r.abs()));
+        out.ln_largest = largest.ln();
         Ok(out)
     }
 
@@ -353,9 +362,16 @@ impl PairSeries {
         let geo = Geometry::new(s_dash)?;
         let mut out = [0.0; 22];
         let t2 = geo.t * geo.t;
+        // Terms beyond `j` add less than 1e-17 in all: `largest t^(2j) / (1 - t^2)`.
+        let terms = ((1e-17f64.ln() + (1.0 - t2).ln() - self.ln_largest) / t2.ln()).ceil();
+        let terms = if terms.is_finite() {
+            (terms.max(1.0) as usize).min(HALF)
+        } else {
+            HALF
+        };
         for (k, f) in FUNCTIONS.iter().enumerate().take(self.count) {
             // remainder series by Horner in t^2, then the closed forms
-            let sum = self.remainder[k]
+            let sum = self.remainder[k][..terms]
                 .iter()
                 .rev()
                 .fold(0.0, |acc, &r| acc * t2 + r);
@@ -407,44 +423,17 @@ impl PairSeries {
 
 /// The 22 resistance functions at separation `s_dash = 2r/(a1+a2) > 2` and size ratio
 /// `lambda = a2/a1` in `[1e-2, 1e2]` ([`PairSeries::new`] then [`PairSeries::scalars`]; no
-/// heap allocation after the first call, which builds the coefficient tables).
+/// heap allocation after the first call, which reads the coefficients).
 pub fn resistance_scalars(s_dash: f64, lambda: f64) -> Result<PairScalars, TwoSphereError> {
     Geometry::new(s_dash)?;
     PairSeries::new(lambda)?.scalars(s_dash)
 }
 
-/// The ten force-torque functions only ([`PairSeries::new_ft`]; about half the one-off
-/// cost of [`resistance_scalars`]).
+/// The ten force-torque functions only ([`PairSeries::new_ft`]; about half the cost of
+/// [`resistance_scalars`]).
 pub fn resistance_scalars_ft(s_dash: f64, lambda: f64) -> Result<FtScalars, TwoSphereError> {
     Geometry::new(s_dash)?;
     Ok(PairSeries::new_ft(lambda)?.scalars(s_dash)?.ft())
-}
-
-/// Builds the tables the first `count` functions need, concurrently (one thread per
-/// family not yet built).
-fn ensure_tables(count: usize) {
-    let tables: &[Table] = if count <= 10 {
-        &[Table::Ya, Table::Yc, Table::Xa, Table::Xc]
-    } else {
-        &[
-            Table::Ya,
-            Table::Ym,
-            Table::Zm,
-            Table::Yc,
-            Table::Xa,
-            Table::Xm,
-            Table::Xc,
-        ]
-    };
-    std::thread::scope(|scope| {
-        for &t in tables {
-            if !t.is_built() {
-                scope.spawn(move || {
-                    t.triangles();
-                });
-            }
-        }
-    });
 }
 
 /// The singular coefficients `[h1, h2, h3]` of each function near contact (`1/xi`,
@@ -818,6 +807,17 @@ static XC: Family = Family {
     outputs: &[(true, 1)],
 };
 
+/// The recurrence coefficients of every family, as written by `cargo xtask gen` from
+/// [`generate_coefficients`]: the triangles `R_{n, m-q, q}` (`0 <= q <= m <=
+/// TRUNCATION`, row by row) of each family's outputs, families in the order of
+/// [`Table::ALL`], little-endian `f64`. They do not depend on `lambda`; `gen --check`
+/// fails when this file differs from a fresh evaluation of the recurrences.
+static COEFFICIENTS: &[u8; 11 * TRIANGLE * 8] =
+    include_bytes!("generated/two_sphere_coefficients.bin");
+
+/// Numbers in one triangle.
+const TRIANGLE: usize = TRUNCATION * (TRUNCATION + 1) / 2 + TRUNCATION + 1;
+
 static T_XA: OnceLock<Triangles> = OnceLock::new();
 static T_XM: OnceLock<Triangles> = OnceLock::new();
 static T_YA: OnceLock<Triangles> = OnceLock::new();
@@ -826,7 +826,7 @@ static T_YM: OnceLock<Triangles> = OnceLock::new();
 static T_ZM: OnceLock<Triangles> = OnceLock::new();
 static T_XC: OnceLock<Triangles> = OnceLock::new();
 
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, PartialEq)]
 enum Table {
     Xa,
     Xm,
@@ -838,6 +838,17 @@ enum Table {
 }
 
 impl Table {
+    /// The order of the families in [`COEFFICIENTS`].
+    const ALL: [Table; 7] = [
+        Table::Xa,
+        Table::Xm,
+        Table::Ya,
+        Table::Yc,
+        Table::Ym,
+        Table::Zm,
+        Table::Xc,
+    ];
+
     fn lock(self) -> &'static OnceLock<Triangles> {
         match self {
             Table::Xa => &T_XA,
@@ -850,21 +861,51 @@ impl Table {
         }
     }
 
-    fn is_built(self) -> bool {
-        self.lock().get().is_some()
-    }
-
-    fn triangles(self) -> &'static Triangles {
+    fn family(self) -> &'static Family {
         match self {
-            Table::Xa => T_XA.get_or_init(|| build(&XA)),
-            Table::Xm => T_XM.get_or_init(|| build(&XM)),
-            Table::Ya => T_YA.get_or_init(|| build(&YA)),
-            Table::Yc => T_YC.get_or_init(|| build(&YC)),
-            Table::Ym => T_YM.get_or_init(|| build(&YM)),
-            Table::Zm => T_ZM.get_or_init(|| build(&ZM)),
-            Table::Xc => T_XC.get_or_init(|| build(&XC)),
+            Table::Xa => &XA,
+            Table::Xm => &XM,
+            Table::Ya => &YA,
+            Table::Yc => &YC,
+            Table::Ym => &YM,
+            Table::Zm => &ZM,
+            Table::Xc => &XC,
         }
     }
+
+    /// The family's triangles, read from [`COEFFICIENTS`] on first use (a copy of
+    /// about 160 kB per triangle, no arithmetic).
+    fn triangles(self) -> &'static Triangles {
+        self.lock().get_or_init(|| {
+            let before: usize = Table::ALL
+                .iter()
+                .take_while(|&&t| t != self)
+                .map(|t| t.family().outputs.len())
+                .sum();
+            (0..self.family().outputs.len())
+                .map(|k| {
+                    let start = (before + k) * TRIANGLE * 8;
+                    COEFFICIENTS[start..start + TRIANGLE * 8]
+                        .chunks_exact(8)
+                        .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+                        .collect()
+                })
+                .collect()
+        })
+    }
+}
+
+/// The contents of `src/generated/two_sphere_coefficients.bin` ([`COEFFICIENTS`]): the
+/// recurrences of every family evaluated to `TRUNCATION` (about 10 s of CPU, the
+/// families in parallel).
+pub fn generate_coefficients() -> Vec<u8> {
+    use rayon::prelude::*;
+    let built: Vec<Triangles> = Table::ALL.par_iter().map(|t| build(t.family())).collect();
+    built
+        .iter()
+        .flatten()
+        .flat_map(|tri| tri.iter().flat_map(|v| v.to_le_bytes()))
+        .collect()
 }
 
 // ------------------------------------------------------------------ the 22 functions

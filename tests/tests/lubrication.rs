@@ -21,7 +21,8 @@ fn ix(n: usize, a: usize, k: usize) -> usize {
     }
 }
 
-/// For two spheres in unbounded fluid within the cutoff, Eq. 19 collapses to the exact
+/// For two spheres in unbounded fluid with the pair correction everywhere, Eq. 19
+/// collapses at every separation (inside and far beyond the old cutoff `xi = 2`) to the exact
 /// two-sphere resistance (M^-1 and R^{P,inf} are the same matrix), so the assembled R
 /// must show the Kim & Karrila tensor forms with the functions of
 /// `stokesian::two_sphere`. Tolerance 1e-9 relative: M^-1 - R^{P,inf} cancels to
@@ -29,7 +30,7 @@ fn ix(n: usize, a: usize, k: usize) -> usize {
 #[test]
 fn isolated_pair_resistance_is_the_two_sphere_tensor() {
     for moments in [Moments::FT, Moments::FTS] {
-        for xi in [1e-3, 0.5] {
+        for xi in [1e-3, 0.5, 2.0, 8.0, 30.0] {
             isolated_pair(moments, xi);
         }
     }
@@ -43,7 +44,7 @@ fn isolated_pair(moments: Moments, xi: f64) {
         false,
     )
     .unwrap();
-    let r = s.resistance(moments, &Lubrication::default()).unwrap();
+    let r = s.resistance(moments, &Lubrication::everywhere()).unwrap();
     let f = resistance_scalars(2.0 + xi, 1.0).unwrap();
     let (sa, sb, sc) = (6.0 * PI, 4.0 * PI, 8.0 * PI);
     let checks = [
@@ -100,7 +101,7 @@ fn exact_pair_resistance_tends_to_the_far_field_inverse() {
             .resistance(
                 Moments::FTS,
                 &Lubrication {
-                    pair_cutoff: 0.0,
+                    pair_tolerance: f64::INFINITY,
                     wall_cutoff: 0.0,
                 },
             )
@@ -109,7 +110,7 @@ fn exact_pair_resistance_tends_to_the_far_field_inverse() {
             .resistance(
                 Moments::FTS,
                 &Lubrication {
-                    pair_cutoff: 100.0,
+                    pair_tolerance: 0.0,
                     wall_cutoff: 0.0,
                 },
             )

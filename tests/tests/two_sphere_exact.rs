@@ -362,7 +362,7 @@ fn cost_of_tables_and_calls() {
     }
     let per_eval = t0.elapsed() / n;
     println!(
-        "\ncost (TRUNCATION = {TRUNCATION}): first call (tables, unless another test built \
+        "\ncost (TRUNCATION = {TRUNCATION}): first call (reads the coefficients, unless another test did \
          them) {first:?}; resistance_scalars {per_call:?} per call; PairSeries::scalars \
          {per_eval:?} per call"
     );

@@ -161,7 +161,7 @@ fn two_spheres(sweep: usize) -> Result<Case> {
                 xa11, xa12, xc11, xc12, s.y11a, s.y12a, s.y11b, s.y12b, s.y11c, s.y12c,
             ])
         },
-        inside: |xi| xi < Lubrication::default().pair_cutoff,
+        inside: |xi| 2.0 + xi < Lubrication::default().pair_window(stokesian::Moments::FT).0,
         read: |r| pair_functions_of(r).to_vec(),
     })
 }
