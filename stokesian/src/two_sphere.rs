@@ -543,7 +543,11 @@ fn tri(m: usize, q: usize) -> usize {
     m * (m + 1) / 2 + q
 }
 
-/// Flat storage of `(n, p, q)`, `n >= 1`, `p, q >= 0`, `n + p + q <= top`.
+/// Flat storage of `(n, p, q)`, `n >= 1`, `p, q >= 0`, `n + p + q <= top`, ordered by `q`,
+/// then `n + p`, then `n`: the recurrences read, for one coefficient, the children
+/// `(s, sigma - s, r)` at fixed `sigma` and `r` for consecutive `s`, which this order
+/// makes adjacent in memory (in `(n, p, q)` order every child was a cache miss, and
+/// building took several times longer).
 struct Tetra {
     top: usize,
     off: Vec<usize>,
@@ -555,10 +559,10 @@ impl Tetra {
         let w = top + 1;
         let mut off = vec![usize::MAX; w * w];
         let mut len = 0;
-        for n in 1..=top {
-            for p in 0..=(top - n) {
-                off[n * w + p] = len;
-                len += top - n - p + 1;
+        for q in 0..top {
+            for sigma in 1..=(top - q) {
+                off[q * w + sigma] = len;
+                len += sigma; // n = 1..=sigma
             }
         }
         Tetra { top, off, len }
@@ -571,7 +575,7 @@ impl Tetra {
         if p < 0 || q < 0 {
             None
         } else {
-            Some(self.off[n * (self.top + 1) + p as usize] + q as usize)
+            Some(self.off[q as usize * (self.top + 1) + n + p as usize] + n - 1)
         }
     }
 }
@@ -896,11 +900,18 @@ impl Table {
 }
 
 /// The contents of `src/generated/two_sphere_coefficients.bin` ([`COEFFICIENTS`]): the
-/// recurrences of every family evaluated to `TRUNCATION` (about 10 s of CPU, the
-/// families in parallel).
+/// recurrences of every family evaluated to `TRUNCATION` (about 10 s of CPU, one thread
+/// per family: not rayon's pool, which the other generators of `cargo xtask gen` share).
 pub fn generate_coefficients() -> Vec<u8> {
-    use rayon::prelude::*;
-    let built: Vec<Triangles> = Table::ALL.par_iter().map(|t| build(t.family())).collect();
+    let built: Vec<Triangles> = std::thread::scope(|scope| {
+        let jobs: Vec<_> = Table::ALL
+            .iter()
+            .map(|t| scope.spawn(|| build(t.family())))
+            .collect();
+        jobs.into_iter()
+            .map(|j| j.join().expect("the recurrences do not panic"))
+            .collect()
+    });
     built
         .iter()
         .flatten()
