@@ -361,10 +361,16 @@ fn cost_of_tables_and_calls() {
         acc += series.scalars(2.01 + 0.01 * i as f64).unwrap().x11a;
     }
     let per_eval = t0.elapsed() / n;
+    // near contact every term is summed: the slowest separations
+    let t0 = std::time::Instant::now();
+    for i in 0..n {
+        acc += series.scalars(2.0 + 1e-4 * (1 + i) as f64).unwrap().x11a;
+    }
+    let per_eval_contact = t0.elapsed() / n;
     println!(
         "\ncost (TRUNCATION = {TRUNCATION}): first call (reads the coefficients, unless another test did \
          them) {first:?}; resistance_scalars {per_call:?} per call; PairSeries::scalars \
-         {per_eval:?} per call"
+         {per_eval:?} per call (s' in [2.01, 4]), {per_eval_contact:?} near contact (xi <= 0.02)"
     );
     assert!(acc.is_finite() && p.x11a > 1.0);
     assert!(p.x11a.is_finite() && PI > 3.0);
