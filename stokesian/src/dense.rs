@@ -104,7 +104,7 @@ impl Cholesky {
     /// `M^{-1}`, symmetric.
     pub fn inverse(&self) -> DMatrix<f64> {
         match self {
-            Cholesky::Small(c) => c.inverse(),
+            Cholesky::Small(c) => small_inverse(c.l_dirty()),
             Cholesky::Large(c) => {
                 let inv = c.inverse();
                 let n = self.dim();
@@ -125,6 +125,32 @@ impl Cholesky {
     }
 }
 
+/// `M^{-1} = L^-T L^-1` from the lower triangle of `l`: `X = L^-1` by forward
+/// substitution, column by column, then the lower triangle of `X^T X`, mirrored; about
+/// `n^3/3` flops in all. nalgebra's inverse solves the identity one column at a time
+/// through its generic solver, which took a quarter of a lubricated resistance's time in
+/// its 22 x 22 pair inverses.
+fn small_inverse(l: &DMatrix<f64>) -> DMatrix<f64> {
+    let n = l.nrows();
+    let mut x = DMatrix::zeros(n, n);
+    for j in 0..n {
+        x[(j, j)] = 1.0 / l[(j, j)];
+        for i in j + 1..n {
+            let s: f64 = (j..i).map(|k| l[(i, k)] * x[(k, j)]).sum();
+            x[(i, j)] = -s / l[(i, i)];
+        }
+    }
+    let mut inv = DMatrix::zeros(n, n);
+    for j in 0..n {
+        for i in j..n {
+            let v: f64 = (i..n).map(|k| x[(k, i)] * x[(k, j)]).sum();
+            inv[(i, j)] = v;
+            inv[(j, i)] = v;
+        }
+    }
+    inv
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -133,7 +159,7 @@ mod tests {
     /// 1e-12 relative (both backward stable; condition number about 10 here).
     #[test]
     fn agrees_with_nalgebra() {
-        for n in [40, 2 * SMALL] {
+        for n in [1, 22, 40, 2 * SMALL] {
             agrees_with_nalgebra_at(n);
         }
     }

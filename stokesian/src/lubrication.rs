@@ -405,8 +405,7 @@ fn add_correction(
     known: usize,
     weight: f64,
 ) -> Result<(), ResistanceError> {
-    let far_inv = far
-        .cholesky()
+    let far_inv = Cholesky::new(&far)
         .ok_or(ResistanceError::MobilityNotPositiveDefinite)?
         .inverse();
     let ek = exact.nrows() / (idx.len() / k); // components per particle in `exact`
