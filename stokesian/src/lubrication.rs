@@ -13,7 +13,11 @@
 //!   every sphere closer than 1000 radii, beyond which `R^W` equals `R^{W,inf}` to 1e-12:
 //!   no switch, the correction is continuous and smooth in the height);
 //!   `R^{W,inf}` the inverse of the FT self mobility of the sphere with that wall alone,
-//!   from our kernels.
+//!   from our kernels. At FTS the wall's stresslet rows keep the far-field inverse.
+//! - `R^W` at a flat free surface: exact in every block, stresslets included, because
+//!   the sphere and its mirror image are two equal spheres (`s' = 2h/a`) moving as
+//!   each other's reflection; switched off like a pair correction; `R^{W,inf}` the
+//!   inverse of our own free-surface self mobility.
 //!
 //! Coefficients are those collected, with their sources and a second check, in
 //! `shared/reference/lubrication.md` (sections 1.5 and 2.2); each is annotated below.
@@ -356,11 +360,56 @@ fn pair_block(
 }
 
 /// The self mobility (per-particle layout `[U, Omega, E]`, truncated to `k` = 6 or 11
-/// components) of a sphere with one no-slip wall at height `plane`.
-fn single_wall_self(eta: f64, x: [f64; 3], a: f64, plane: f64, k: usize) -> DMatrix<f64> {
-    // Blake's image holds on either side of its plane (see kernel-gen green::slit).
-    let m = self_mobility(&Confinement::Wall { height: plane }, eta, x, a).matrix();
+/// components) of a sphere with one plane boundary (a no-slip wall: Blake's image holds
+/// on either side of its plane, see kernel-gen green::slit; or a free surface).
+fn single_boundary_self(
+    boundary: &Confinement,
+    eta: f64,
+    x: [f64; 3],
+    a: f64,
+    k: usize,
+) -> DMatrix<f64> {
+    let m = self_mobility(boundary, eta, x, a).matrix();
     DMatrix::from_fn(k, k, |i, j| m[(i, j)])
+}
+
+/// The mirror image in a horizontal plane on the per-particle components `[U, Omega,
+/// E]` (`k` = 6 or 11): `U -> P U`, `Omega -> -P Omega` (an axial vector),
+/// `E -> P E P` in the orthonormal strain basis, `P = diag(1, 1, -1)`.
+fn mirror(k: usize) -> DMatrix<f64> {
+    let p = |i: usize| if i == 2 { -1.0 } else { 1.0 };
+    let mut t = [[[[0.0; 3]; 3]; 3]; 3];
+    for (i, ti) in t.iter_mut().enumerate() {
+        for (j, tij) in ti.iter_mut().enumerate() {
+            tij[i][j] = p(i) * p(j);
+        }
+    }
+    let strain = basis_both(&t);
+    DMatrix::from_fn(k, k, |i, j| match (i, j) {
+        (0..=2, 0..=2) if i == j => p(i),
+        (3..=5, 3..=5) if i == j => -p(i - 3),
+        (6.., 6..) => strain[i - 6][j - 6],
+        _ => 0.0,
+    })
+}
+
+/// `R^W` of a sphere of radius `a` at height `h` above a flat free surface (`k` = 6 or
+/// 11 components, every block exact): by symmetry the sphere and its mirror image moving
+/// as its reflection, two equal spheres at `s' = 2h/a`, so `R^W = R_11 + R_12 Q` with the
+/// two-sphere blocks seen from the sphere and `Q` the mirror map (Brenner 1961 for the
+/// normal translation, `X11A - X12A`; Jeffery 1915 for the rotation about the normal,
+/// `X11C + X12C`; the others by the same reflection).
+fn free_surface_block(
+    eta: f64,
+    a: f64,
+    s_dash: f64,
+    series: &PairSeries,
+    k: usize,
+) -> Result<DMatrix<f64>, crate::two_sphere::TwoSphereError> {
+    let pair = pair_block(eta, s_dash, [(a, series), (a, series)], [0.0, 0.0, -1.0], k)?;
+    let r11 = pair.view((0, 0), (k, k));
+    let r12 = pair.view((0, k), (k, k));
+    Ok(r11 + r12 * mirror(k))
 }
 
 /// The mobility of an isolated pair of spheres in unbounded fluid, per-particle layout
@@ -423,10 +472,10 @@ fn add_correction(
 impl System {
     /// The grand resistance with lubrication (Eq. 19) at the FT or FTS level, in the
     /// layout of [`System::mobility`] with rows `(F, L[, S])` and columns
-    /// `(U, Omega[, -E_inf])`. At FTS the lubrication corrections act on the force-torque
-    /// blocks (the exact two-sphere and sphere-wall functions used here are those of
-    /// translation and rotation); the stresslet rows and columns keep the far-field
-    /// inverse. Overlapping spheres are rejected at construction unless allowed.
+    /// `(U, Omega[, -E_inf])`. At FTS the pair and free-surface corrections cover every
+    /// block; the no-slip walls' only the force-torque blocks (exact sphere-wall
+    /// stresslet functions are not available), their stresslet rows and columns keep the
+    /// far-field inverse. Overlapping spheres are rejected at construction unless allowed.
     pub fn resistance(
         &self,
         moments: Moments,
@@ -465,7 +514,8 @@ impl System {
                 let block = wall_block(eta, p.a, eps, nrm);
                 let exact = DMatrix::from_fn(6, 6, |i, j| block[(i, j)]);
                 let idx: Vec<usize> = (0..k).map(|c| global_index(n, a, c)).collect();
-                let far = single_wall_self(eta, p.x, p.a, plane, k);
+                let wall = Confinement::Wall { height: plane };
+                let far = single_boundary_self(&wall, eta, p.x, p.a, k);
                 add_correction(&mut r, &idx, &exact, far, k, 6, 1.0)?;
             }
         }
@@ -474,6 +524,22 @@ impl System {
         let window = lub.pair_window(moments);
         let series_for =
             |lambda: f64| PairSeries::cached(lambda, k != 11).map_err(ResistanceError::TwoSphere);
+        // R^W - R^{W,inf} at a free surface: a pair correction, sphere and image
+        if let Confinement::FreeSurface { height } = *self.confinement() {
+            let series = series_for(1.0)?;
+            for (a, p) in ps.iter().enumerate() {
+                let s_dash = 2.0 * (p.x[2] - height) / p.a;
+                let weight = pair_weight(s_dash, window);
+                if weight == 0.0 {
+                    continue;
+                }
+                let exact = free_surface_block(eta, p.a, s_dash, &series, k)
+                    .map_err(ResistanceError::TwoSphere)?;
+                let idx: Vec<usize> = (0..k).map(|c| global_index(n, a, c)).collect();
+                let far = single_boundary_self(self.confinement(), eta, p.x, p.a, k);
+                add_correction(&mut r, &idx, &exact, far, k, k, weight)?;
+            }
+        }
         for a in 0..n {
             for b in a + 1..n {
                 let (p, q) = (&ps[a], &ps[b]);
