@@ -1947,7 +1947,7 @@ fn causes_are_named_right() {
     assert_fails(
         &o,
         &[
-            "particles.csv line 2 (particle 0): radius 1e-301 with viscosity 1.0",
+            "particles.csv line 2 (particle 0): radius 1e-301 with viscosity 1",
             "other units",
         ],
         &dir,
@@ -2138,5 +2138,106 @@ proptest::proptest! {
         if !o.status.success() {
             proptest::prop_assert!(!u.exists(), "output left behind");
         }
+    }
+}
+
+/// The nastiest command lines found: each fails with its cause named (and no output),
+/// or succeeds with a finite matrix.
+#[test]
+fn corpus_of_nasty_command_lines() {
+    let dir = Dir::new("corpus");
+    let out = dir.path("M.npy");
+    let failures: [(&str, &[&str], &str); 8] = [
+        (
+            "0,0,2,1",
+            &["--confinement", "wall", "--viscosity", "5e-324"],
+            "particles.csv line 2 (particle 0): radius 1 with viscosity 5e-324: 1/(viscosity a^3)",
+        ),
+        (
+            "0,0,1e308,1",
+            &["--confinement", "wall", "--boundary-height", "1e308"],
+            "particles.csv line 2 (particle 0): centre z = 1e308 is not inside the fluid (boundary at z = 1e308)",
+        ),
+        (
+            "0,0,2,1",
+            &["--confinement", "slit", "--gap", "inf"],
+            "--gap inf: the slit width must be a positive finite number",
+        ),
+        (
+            "0,0,2,1",
+            &["--confinement", "interface", "--lambda", "NaN"],
+            "--lambda NaN: the viscosity ratio must be a non-negative finite number",
+        ),
+        (
+            "0,0,1.5,1",
+            &["--confinement", "slit", "--gap", "1e-300"],
+            "centre z = 1.5 is not inside the fluid (boundary at z = 1e-300)",
+        ),
+        (
+            "-1e308,0,2,1\n1e308,0,2,1",
+            &["--confinement", "wall"],
+            "the mobility has entries that are not finite numbers: the lengths (from 1.000e0, the smallest radius, to inf",
+        ),
+        (
+            "0,0,2,1\n0,0,2,1",
+            &["--confinement", "wall", "--allow-overlap"],
+            "particles.csv lines 2 and 3 (particles 0 and 1): the two spheres have the same centre",
+        ),
+        (
+            "0,0,1e-300,1",
+            &["--confinement", "wall", "--allow-overlap"],
+            "particles.csv line 2 (particle 0): sphere of radius 1 overlaps the boundary at z = 0 (centre-to-boundary distance 1e-300 < radius; --allow-overlap accepts this)), where the kernels are not meaningful",
+        ),
+    ];
+    for (rows, options, message) in failures {
+        let p = dir.file("particles.csv", &format!("x,y,z,radius\n{rows}\n"));
+        let mut args = vec![
+            "mobility",
+            "--moments",
+            "F",
+            "--particles",
+            s(&p),
+            "--out",
+            s(&out),
+        ];
+        args.extend(options);
+        let o = run(&args);
+        assert_fails(&o, &[message], &dir, &["particles.csv"]);
+        if !options.contains(&"--allow-overlap") {
+            assert!(!stderr(&o).contains("overlap"), "{}", stderr(&o));
+        }
+    }
+    let successes: [(&str, &[&str]); 3] = [
+        (
+            "0,0,1e308,1",
+            &["--confinement", "wall", "--boundary-height", "-1e308"],
+        ),
+        (
+            "0,0,2,1",
+            &["--confinement", "interface", "--lambda", "1e308"],
+        ),
+        (
+            "0,0,2e100,1e100\n1e101,0,2e100,1e100",
+            &["--confinement", "wall"],
+        ),
+    ];
+    for (rows, options) in successes {
+        let p = dir.file("particles.csv", &format!("x,y,z,radius\n{rows}\n"));
+        let mut args = vec![
+            "mobility",
+            "--moments",
+            "F",
+            "--particles",
+            s(&p),
+            "--out",
+            s(&out),
+        ];
+        args.extend(options);
+        assert_ok(&run(&args));
+        assert!(
+            read_npy(&out).iter().all(|v| v.is_finite()),
+            "{rows} {options:?}"
+        );
+        fs::remove_file(&out).expect("remove output");
     }
 }

@@ -452,7 +452,6 @@ fn simulate(
         }
         pb.inc(1);
     }
-    drop(frame);
     frames_out.finish().map_err(io_error)
 }
 

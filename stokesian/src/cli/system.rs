@@ -381,11 +381,11 @@ fn input_error(e: InputError, table: &Table) -> CliError {
         InputError::BadRadius { index, value } => particle_error(
             table,
             index,
-            format!("radius {value} must be a positive finite number"),
+            format!("radius {} must be a positive finite number", num(value)),
         ),
         InputError::BadViscosity(value) => CliError::BadOption {
             option: "--viscosity",
-            value: value.to_string(),
+            value: num(value),
             reason: "must be a positive finite number".to_string(),
         },
         InputError::BadParameter { name, value, why } => CliError::BadOption {
@@ -395,24 +395,30 @@ fn input_error(e: InputError, table: &Table) -> CliError {
                 "height" => "--boundary-height",
                 _ => "confinement parameter",
             },
-            value: value.to_string(),
+            value: num(value),
             reason: why.to_string(),
         },
         InputError::Unrepresentable { index, a, eta } => particle_error(
             table,
             index,
             format!(
-                "radius {a:?} with viscosity {eta:?}: 1/(viscosity a^3), the scale of the \
+                "radius {} with viscosity {}: 1/(viscosity a^3), the scale of the \
                  rotation and strain mobilities, is outside the range of double precision; \
                  express lengths and viscosity in other units (for spheres of a \
                  micrometre, lengths in micrometres) so that radii and viscosity are \
-                 nearer 1"
+                 nearer 1",
+                num(a),
+                num(eta)
             ),
         ),
         InputError::OutsideFluid { index, z, boundary } => particle_error(
             table,
             index,
-            format!("centre z = {z} is not inside the fluid (boundary at z = {boundary})"),
+            format!(
+                "centre z = {} is not inside the fluid (boundary at z = {})",
+                num(z),
+                num(boundary)
+            ),
         ),
         InputError::OverlapsBoundary {
             index,
@@ -423,9 +429,11 @@ fn input_error(e: InputError, table: &Table) -> CliError {
             table,
             index,
             format!(
-                "sphere of radius {a} overlaps the boundary at z = {boundary} \
-                 (centre-to-boundary distance {distance} < radius; \
-                 --allow-overlap accepts this)"
+                "sphere of radius {} overlaps the boundary at z = {} \
+                 (centre-to-boundary distance {} < radius; --allow-overlap accepts this)",
+                num(a),
+                num(boundary),
+                num(distance)
             ),
         ),
         InputError::Overlap {
@@ -437,8 +445,10 @@ fn input_error(e: InputError, table: &Table) -> CliError {
             first,
             second,
             format!(
-                "spheres overlap: centre distance {distance} < sum of radii {sum} \
-                 (--allow-overlap accepts this)"
+                "spheres overlap: centre distance {} < sum of radii {} \
+                 (--allow-overlap accepts this)",
+                num(distance),
+                num(sum)
             ),
         ),
         InputError::SameCentre { first, second } => pair(
@@ -451,6 +461,16 @@ fn input_error(e: InputError, table: &Table) -> CliError {
     }
 }
 
+/// A number as Rust prints it (shortest round trip), in exponent form when it is very
+/// large or very small (`1e-301`, not three hundred zeros).
+pub fn num(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-5..1e16).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 /// A positive finite option value.
 pub fn positive(option: &'static str, value: f64, what: &str) -> Result<(), CliError> {
     if value.is_finite() && value > 0.0 {
@@ -458,7 +478,7 @@ pub fn positive(option: &'static str, value: f64, what: &str) -> Result<(), CliE
     } else {
         Err(CliError::BadOption {
             option,
-            value: value.to_string(),
+            value: num(value),
             reason: format!("{what} must be a positive finite number"),
         })
     }
@@ -471,7 +491,7 @@ pub fn finite(option: &'static str, value: f64) -> Result<(), CliError> {
     } else {
         Err(CliError::BadOption {
             option,
-            value: value.to_string(),
+            value: num(value),
             reason: "must be a finite number".to_string(),
         })
     }

@@ -180,9 +180,9 @@ fn bad_csv_files_name_what_is_wrong() {
 /// An NPY v1.0 file with this header dictionary and data.
 fn npy_raw(dict: &str, data: &[u8]) -> Vec<u8> {
     let mut header = dict.to_string();
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
+    // magic, version, length, text and newline: a multiple of 64 bytes
+    let pad = (64 - (10 + header.len() + 1) % 64) % 64;
+    header.push_str(&" ".repeat(pad));
     header.push('\n');
     let mut out = b"\x93NUMPY\x01\x00".to_vec();
     out.extend((header.len() as u16).to_le_bytes());
