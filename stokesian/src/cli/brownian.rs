@@ -3,7 +3,7 @@
 //! lubrication), written frame by frame as CSV or `.npy`.
 
 use super::error::CliError;
-use super::output::{self, check_out, has_extension, npy_writer, write_atomically};
+use super::output::{self, check_out, has_extension, write_atomically, write_npy_header};
 use super::system::{finite, parse_components, positive, ConfinementArg, MomentsArg, SystemArgs};
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
@@ -400,7 +400,8 @@ fn simulate(
     let mut orientation = vec![[1.0, 0.0, 0.0, 0.0]; n];
     let mut frames_out = if npy {
         let shape = [frames, n, if ft { 7 } else { 3 }];
-        Frames::Npy(npy_writer(w, &shape, npyz::Order::C).map_err(io_error)?)
+        write_npy_header(w, &shape, npyz::Order::C).map_err(io_error)?;
+        Frames::Npy(w)
     } else {
         let header = if ft {
             "step,time,particle,x,y,z,qw,qx,qy,qz"
@@ -452,13 +453,13 @@ fn simulate(
         }
         pb.inc(1);
     }
-    frames_out.finish().map_err(io_error)
+    Ok(())
 }
 
 /// Where the frames go: CSV lines, or a `.npy` array of shape (frames, N, 3 or 7).
 enum Frames<W: Write> {
     Csv(W),
-    Npy(npyz::NpyWriter<f64, W>),
+    Npy(W),
 }
 
 impl<W: Write> Frames<W> {
@@ -477,17 +478,9 @@ impl<W: Write> Frames<W> {
                     write!(w, "{step},{time:?},{a},")?;
                     output::write_csv_row(w, p.x.iter().chain(q).copied())?;
                 }
-                Frames::Npy(w) => w.extend(p.x.iter().chain(q).copied())?,
+                Frames::Npy(w) => output::write_f64s(w, p.x.iter().chain(q).copied())?,
             }
         }
         Ok(())
-    }
-
-    /// Check that the `.npy` array is complete.
-    fn finish(self) -> io::Result<()> {
-        match self {
-            Frames::Csv(_) => Ok(()),
-            Frames::Npy(w) => w.finish(),
-        }
     }
 }
