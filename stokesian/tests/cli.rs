@@ -1642,13 +1642,7 @@ fn doublet_writes_csv_and_plots_and_rejects_bad_grids() {
 
 /// A `.npy` file of float64 (or, with `single`, float32) `rows`, C or Fortran order.
 fn write_npy_rows(path: &Path, rows: &[Vec<f64>], fortran: bool, single: bool) {
-    use npyz::WriterBuilder;
     let (r, c) = (rows.len(), rows[0].len());
-    let order = if fortran {
-        npyz::Order::Fortran
-    } else {
-        npyz::Order::C
-    };
     let at = |k: usize| {
         if fortran {
             rows[k % r][k / r]
@@ -1656,30 +1650,37 @@ fn write_npy_rows(path: &Path, rows: &[Vec<f64>], fortran: bool, single: bool) {
             rows[k / c][k % c]
         }
     };
-    let mut out = Vec::new();
     if single {
-        let mut w = npyz::WriteOptions::<f32>::new()
-            .default_dtype()
-            .shape(&[r as u64, c as u64])
-            .order(order)
-            .writer(&mut out)
-            .begin_nd()
-            .expect("npy header");
-        w.extend((0..r * c).map(|k| at(k) as f32))
-            .expect("npy data");
-        w.finish().expect("npy complete");
+        write_npy_values(path, &[r, c], fortran, (0..r * c).map(|k| at(k) as f32));
     } else {
-        let mut w = npyz::WriteOptions::<f64>::new()
-            .default_dtype()
-            .shape(&[r as u64, c as u64])
-            .order(order)
-            .writer(&mut out)
-            .begin_nd()
-            .expect("npy header");
-        w.extend((0..r * c).map(at)).expect("npy data");
-        w.finish().expect("npy complete");
+        write_npy_values(path, &[r, c], fortran, (0..r * c).map(at));
     }
-    fs::write(path, out).expect("write npy");
+}
+
+/// A `.npy` file of `values` (of any type npyz writes) of this `shape`.
+fn write_npy_values<T: npyz::AutoSerialize>(
+    path: &Path,
+    shape: &[usize],
+    fortran: bool,
+    values: impl IntoIterator<Item = T>,
+) {
+    use npyz::WriterBuilder;
+    let order = if fortran {
+        npyz::Order::Fortran
+    } else {
+        npyz::Order::C
+    };
+    let shape: Vec<u64> = shape.iter().map(|&d| d as u64).collect();
+    let file = fs::File::create(path).expect("create npy");
+    let mut w = npyz::WriteOptions::<T>::new()
+        .default_dtype()
+        .shape(&shape)
+        .order(order)
+        .writer(std::io::BufWriter::new(file))
+        .begin_nd()
+        .expect("npy header");
+    w.extend(values).expect("npy data");
+    w.finish().expect("npy complete");
 }
 
 /// `velocity --moments FTS` and `mobility --moments FTS` on `particles` (and `forces`)
@@ -1691,24 +1692,25 @@ fn outputs(
     extra: &[&str],
 ) -> (Vec<u8>, Vec<u8>, String) {
     let (u, m) = (dir.path("U.csv"), dir.path("M.npy"));
-    let mut args = vec!["velocity", "--moments", "FTS", "--particles", s(particles)];
-    args.extend(SYSTEM_ARGS);
-    args.extend(["--forces", s(forces), "--out", s(&u)]);
-    args.extend(extra);
-    let o = run(&args);
-    assert_ok(&o);
-    let mut args = vec!["mobility", "--moments", "FTS", "--particles", s(particles)];
-    args.extend(SYSTEM_ARGS);
-    args.extend(["--out", s(&m)]);
-    args.extend(extra);
-    let o2 = run(&args);
-    assert_ok(&o2);
+    let mut err = String::new();
+    for command in [
+        vec!["velocity", "--forces", s(forces), "--out", s(&u)],
+        vec!["mobility", "--out", s(&m)],
+    ] {
+        let mut args = command;
+        args.extend(["--moments", "FTS", "--particles", s(particles)]);
+        args.extend(SYSTEM_ARGS);
+        args.extend(extra);
+        let o = run(&args);
+        assert_ok(&o);
+        err += &stderr(&o);
+    }
     let read = |p: &Path| {
         let b = fs::read(p).expect("output");
         fs::remove_file(p).expect("remove output");
         b
     };
-    (read(&u), read(&m), stderr(&o) + &stderr(&o2))
+    (read(&u), read(&m), err)
 }
 
 /// Reordered and extra columns, CRLF, a byte-order mark, quoted numbers and `.npy` (C
@@ -1870,18 +1872,7 @@ fn bad_tables_and_npy_files_are_named() {
         &dir,
         &["forces.csv", "p.npy", "particles.csv"],
     );
-    {
-        use npyz::WriterBuilder;
-        let file = fs::File::create(&p).expect("create p.npy");
-        let mut w = npyz::WriteOptions::<i32>::new()
-            .default_dtype()
-            .shape(&[1, 4])
-            .writer(file)
-            .begin_nd()
-            .expect("npy header");
-        w.extend([0, 0, 2, 1]).expect("npy data");
-        w.finish().expect("npy complete");
-    }
+    write_npy_values(&p, &[1, 4], false, [0i32, 0, 2, 1]);
     assert_fails(
         &mobility(&[]),
         &["p.npy: dtype '<i4': expected a 2-D float64 or float32 array"],

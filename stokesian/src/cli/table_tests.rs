@@ -90,6 +90,26 @@ fn every_spelling_of_the_table_reads_as_the_canonical_csv() {
     assert_eq!(t.places, [2, 4, 5]);
 }
 
+/// `values` as a `.npy` array of `shape` with the dtype `descr`, in `order`.
+fn encode<T: npyz::Serialize>(
+    descr: &str,
+    shape: &[u64],
+    order: Order,
+    values: impl IntoIterator<Item = T>,
+) -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut w = npyz::WriteOptions::<T>::new()
+        .dtype(npyz::DType::parse(&format!("'{descr}'")).unwrap())
+        .shape(shape)
+        .order(order)
+        .writer(&mut out)
+        .begin_nd()
+        .unwrap();
+    w.extend(values).unwrap();
+    w.finish().unwrap();
+    out
+}
+
 /// The canonical table as `.npy`: `dtype` ('<f8', '>f8', '<f4'), C or Fortran order.
 fn npy(descr: &str, order: Order) -> Vec<u8> {
     let (table, _) = csv(CANONICAL.as_bytes(), &PARTICLES).unwrap();
@@ -98,30 +118,12 @@ fn npy(descr: &str, order: Order) -> Vec<u8> {
         Order::C => table.rows[k / c][k % c],
         Order::Fortran => table.rows[k % r][k / r],
     };
-    let mut out = Vec::new();
-    let dtype = npyz::DType::parse(&format!("'{descr}'")).unwrap();
+    let shape = [r as u64, c as u64];
     if descr.ends_with('4') {
-        let mut w = npyz::WriteOptions::<f32>::new()
-            .dtype(dtype)
-            .shape(&[r as u64, c as u64])
-            .order(order)
-            .writer(&mut out)
-            .begin_nd()
-            .unwrap();
-        w.extend((0..r * c).map(|k| at(k) as f32)).unwrap();
-        w.finish().unwrap();
+        encode(descr, &shape, order, (0..r * c).map(|k| at(k) as f32))
     } else {
-        let mut w = npyz::WriteOptions::<f64>::new()
-            .dtype(dtype)
-            .shape(&[r as u64, c as u64])
-            .order(order)
-            .writer(&mut out)
-            .begin_nd()
-            .unwrap();
-        w.extend((0..r * c).map(at)).unwrap();
-        w.finish().unwrap();
+        encode(descr, &shape, order, (0..r * c).map(at))
     }
-    out
 }
 
 #[test]
@@ -199,52 +201,41 @@ fn bad_npy_files_name_what_is_wrong() {
         m.starts_with("p.npy: not a readable NumPy .npy file"),
         "{m}"
     );
-    let m = read(&npy_raw(
-        "{'descr': '<i8', 'fortran_order': False, 'shape': (1, 4), }",
-        &[0; 32],
-    ));
-    assert!(
-        m.contains("dtype '<i8': expected a 2-D float64 or float32 array"),
-        "{m}"
-    );
-    let m = read(&npy_raw(
-        "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 3), }",
-        &[0; 48],
-    ));
-    assert!(
-        m.contains("shape (2, 3): expected a 2-D float64 or float32 array of shape (N, 4)"),
-        "{m}"
-    );
-    let m = read(&npy_raw(
-        "{'descr': '<f8', 'fortran_order': False, 'shape': (8,), }",
-        &[0; 64],
-    ));
-    assert!(m.contains("shape (8): expected"), "{m}");
-    let m = read(&npy_raw(
-        "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 4), }",
-        &[0; 40],
-    ));
-    assert!(m.contains("truncated"), "{m}");
-    // a header promising 2^62 x 4 values (its product overflows u64) allocates nothing
-    let m = read(&npy_raw(
-        "{'descr': '<f8', 'fortran_order': False, 'shape': (4611686018427387904, 4), }",
-        &[0; 32],
-    ));
-    assert!(m.contains("truncated"), "{m}");
-    let m = read(&npy_raw(
-        "{'descr': [('x', '<f8')], 'fortran_order': False, 'shape': (1, 4), }",
-        &[0; 32],
-    ));
-    assert!(m.contains("dtype"), "{m}");
-    // a forces file of the wrong width names the columns that do not apply
-    let m = message(read_npy(
-        "f.npy".to_string(),
-        &npy_raw(
-            "{'descr': '<f8', 'fortran_order': False, 'shape': (1, 6), }",
-            &[0; 48],
+    let cases = [
+        (
+            "'<i8'",
+            "(1, 4)",
+            32,
+            "dtype '<i8': expected a 2-D float64 or float32 array",
         ),
-        &FORCES_F,
-    ));
+        (
+            "'<f8'",
+            "(2, 3)",
+            48,
+            "shape (2, 3): expected a 2-D float64 or float32 array of shape (N, 4)",
+        ),
+        ("'<f8'", "(8,)", 64, "shape (8): expected"),
+        ("'<f8'", "(2, 4)", 40, "truncated"),
+        // a header promising 2^62 x 4 values (the product overflows u64) allocates nothing
+        ("'<f8'", "(4611686018427387904, 4)", 32, "truncated"),
+        (
+            "[('x', '<f8')]",
+            "(1, 4)",
+            32,
+            "dtype [('x', '<f8'), ]: expected",
+        ),
+    ];
+    for (descr, shape, bytes, needle) in cases {
+        let dict = format!("{{'descr': {descr}, 'fortran_order': False, 'shape': {shape}, }}");
+        let m = read(&npy_raw(&dict, &vec![0; bytes]));
+        assert!(m.contains(needle), "{m}");
+    }
+    // a forces file of the wrong width names the columns that do not apply
+    let wide = npy_raw(
+        "{'descr': '<f8', 'fortran_order': False, 'shape': (1, 6), }",
+        &[0; 48],
+    );
+    let m = message(read_npy("f.npy".to_string(), &wide, &FORCES_F));
     assert!(
         m.contains("shape (1, 6)") && m.contains("tx, ty, tz need --moments FT"),
         "{m}"
