@@ -3,8 +3,9 @@
 //! lubrication), written frame by frame as CSV or `.npy`.
 
 use super::error::CliError;
+use super::options::{finite, parse_components, positive};
 use super::output::{self, check_out, has_extension, write_atomically, write_npy_header};
-use super::system::{finite, parse_components, positive, ConfinementArg, MomentsArg, SystemArgs};
+use super::system::{ConfinementArg, MomentsArg, SystemArgs};
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use rand::SeedableRng;

@@ -3,9 +3,9 @@
 //! plot.
 
 use super::error::CliError;
+use super::options::finite;
 use super::output::{self, check_out, temporary, write_atomically};
 use super::plot;
-use super::system::finite;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget};
 use std::fs;

@@ -4,6 +4,7 @@
 //! | module | owns |
 //! |---|---|
 //! | `system` | the shared system arguments, their validation, the causes of non-finite results |
+//! | `options` | checks of single option values, numbers in messages |
 //! | `table` | input formats: CSV with named columns, `.npy` |
 //! | `output` | output formats (`.npy`, JSON, CSV), atomic writes, progress on stderr |
 //! | `error` | [`CliError`](error::CliError), every failure with its message |
@@ -20,6 +21,7 @@ mod brownian;
 mod doublet;
 mod error;
 mod matrix;
+mod options;
 mod output;
 mod plot;
 mod system;
@@ -176,5 +178,16 @@ pub fn main() -> ExitCode {
             eprintln!("stokesian: error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// clap's own consistency checks of the definitions (run in debug builds only when
+    /// the command parses its arguments; here in every build).
+    #[test]
+    fn the_command_line_definition_is_consistent() {
+        use clap::CommandFactory;
+        super::Cli::command().debug_assert();
     }
 }

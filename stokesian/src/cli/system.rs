@@ -1,9 +1,10 @@
 //! The system arguments every subcommand shares (confinement, truncation or scene file,
 //! particles, viscosity, boundary parameters, overlaps), their validation and the
-//! mapping of the library's [`InputError`] to files, lines and options; the checks of
-//! single option values; and the cause named when a result is not finite.
+//! mapping of the library's [`InputError`] to files, lines and options; and the cause
+//! named when a result is not finite.
 
 use super::error::CliError;
+use super::options::{num, positive};
 use super::table::{self, Columns, Table};
 use clap::{Args, ValueEnum};
 use std::fs;
@@ -109,14 +110,14 @@ const PARTICLES: Columns = Columns {
     required: &["x", "y", "z", "radius"],
     refused: &[],
     refused_why: "",
-    hint: " (one sphere per line: centre x,y,z and radius; --radius A for centres only)",
+    hint: " (one sphere per row: centre x,y,z and radius; --radius A for centres only)",
 };
 const CENTRES: Columns = Columns {
     what: "particles",
     required: &["x", "y", "z"],
     refused: &["radius"],
     refused_why: "conflicts with --radius (give the radii in the file or by --radius, not both)",
-    hint: " (one sphere centre per line; the radius is --radius)",
+    hint: " (one sphere centre per row; the radius is --radius)",
 };
 
 impl SystemArgs {
@@ -302,25 +303,44 @@ impl Setup {
         }
     }
 
-    /// What in this system can make the kernels' numbers meaningless: overlaps only
-    /// where `--allow-overlap` accepted some, a slit, or else the length scales.
-    pub fn suspects(&self) -> String {
+    /// The overlaps `--allow-overlap` accepted, if it accepted any.
+    fn accepted_overlap(&self) -> Option<String> {
         let s = &self.system;
-        if self.allow_overlap {
-            let strict = stokesian::validate(s.confinement(), s.viscosity(), s.particles(), false);
-            if let Err(e) = strict {
-                return format!(
-                    "spheres accepted with --allow-overlap overlap ({}), where the kernels \
-                     are not meaningful",
-                    input_error(e, &self.table)
-                );
-            }
+        if !self.allow_overlap {
+            return None;
         }
-        if matches!(s.confinement(), Confinement::Slit { .. }) {
-            return "the slit's superposed images are not positive definite near a wall \
-                    of a narrow slit: widen --gap"
-                .to_string();
+        let strict = stokesian::validate(s.confinement(), s.viscosity(), s.particles(), false);
+        strict.err().map(|e| {
+            format!(
+                "spheres accepted with --allow-overlap overlap ({}), where the kernels are \
+                 not meaningful",
+                input_error(e, &self.table)
+            )
+        })
+    }
+
+    /// Why the stresslet block is not positive definite: accepted overlaps, a narrow
+    /// slit, or neither (unexpected).
+    pub fn indefinite(&self) -> String {
+        if let Some(overlap) = self.accepted_overlap() {
+            overlap
+        } else if matches!(self.system.confinement(), Confinement::Slit { .. }) {
+            "the slit's superposed images are not positive definite near a wall of a \
+             narrow slit: widen --gap"
+                .to_string()
+        } else {
+            "unexpected for spheres clear of each other and of the boundaries; please \
+             report it with the input"
+                .to_string()
         }
+    }
+
+    /// Why results are not finite: accepted overlaps, or else the length scales.
+    fn suspects(&self) -> String {
+        if let Some(overlap) = self.accepted_overlap() {
+            return overlap;
+        }
+        let s = &self.system;
         // the smallest and largest lengths: radii, the extent of the centres, and the
         // distances to the boundary planes
         let ps = s.particles();
@@ -459,64 +479,4 @@ fn input_error(e: InputError, table: &Table) -> CliError {
                 .to_string(),
         ),
     }
-}
-
-/// A number as Rust prints it (shortest round trip), in exponent form when it is very
-/// large or very small (`1e-301`, not three hundred zeros).
-pub fn num(v: f64) -> String {
-    if v != 0.0 && v.is_finite() && !(1e-5..1e16).contains(&v.abs()) {
-        format!("{v:e}")
-    } else {
-        format!("{v}")
-    }
-}
-
-/// A positive finite option value.
-pub fn positive(option: &'static str, value: f64, what: &str) -> Result<(), CliError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(CliError::BadOption {
-            option,
-            value: num(value),
-            reason: format!("{what} must be a positive finite number"),
-        })
-    }
-}
-
-/// A finite option value.
-pub fn finite(option: &'static str, value: f64) -> Result<(), CliError> {
-    if value.is_finite() {
-        Ok(())
-    } else {
-        Err(CliError::BadOption {
-            option,
-            value: num(value),
-            reason: "must be a finite number".to_string(),
-        })
-    }
-}
-
-/// Comma-separated finite numbers given to `option`.
-pub fn parse_components(option: &'static str, text: &str) -> Result<Vec<f64>, CliError> {
-    let bad = |reason: String| CliError::BadOption {
-        option,
-        value: text.to_string(),
-        reason,
-    };
-    let mut values = Vec::new();
-    for (k, f) in text.split(',').enumerate() {
-        let f = f.trim();
-        let v: f64 = f
-            .parse()
-            .map_err(|_| bad(format!("component {} ({f:?}) is not a number", k + 1)))?;
-        if !v.is_finite() {
-            return Err(bad(format!(
-                "component {} is {v}, not a finite number",
-                k + 1
-            )));
-        }
-        values.push(v);
-    }
-    Ok(values)
 }

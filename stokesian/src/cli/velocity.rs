@@ -3,8 +3,9 @@
 //! for at FTS, or from the resistance with lubrication.
 
 use super::error::CliError;
+use super::options::parse_components;
 use super::output::{self, check_out, write_atomically};
-use super::system::{parse_components, particle_error, MomentsArg, Setup, SystemArgs};
+use super::system::{particle_error, MomentsArg, Setup, SystemArgs};
 use super::table::{self, Columns};
 use clap::Args;
 use indicatif::ProgressBar;
@@ -44,14 +45,14 @@ const FORCES: Columns = Columns {
     required: &["fx", "fy", "fz"],
     refused: &["tx", "ty", "tz"],
     refused_why: "give torques, which need --moments FT or FTS",
-    hint: " (force on the fluid, one particle per line)",
+    hint: " (force on the fluid, one particle per row)",
 };
 const FORCES_TORQUES: Columns = Columns {
     what: "forces",
     required: &["fx", "fy", "fz", "tx", "ty", "tz"],
     refused: &[],
     refused_why: "",
-    hint: " (force and torque on the fluid, one particle per line)",
+    hint: " (force and torque on the fluid, one particle per row)",
 };
 
 /// Check the options, compute and write the velocities.
@@ -179,14 +180,15 @@ fn velocity(
             let m = setup.system.mobility(Moments::FTS);
             setup.check_finite(m.as_slice(), "mobility")?;
             pb.set_message("solving for the stresslets");
-            let (u, cholesky) = stokesian::solve_fts(&m, &x, &strain)
-                .map_err(|reason| CliError::Numerical(format!("{reason}: {}", setup.suspects())))?;
+            let (u, cholesky) = stokesian::solve_fts(&m, &x, &strain).map_err(|reason| {
+                CliError::Numerical(format!("{reason}: {}", setup.indefinite()))
+            })?;
             if !cholesky {
                 pb.suspend(|| {
                     eprintln!(
                         "stokesian: warning: the stresslet block M_ES is not positive \
                          definite ({}); solved by LU",
-                        setup.suspects()
+                        setup.indefinite()
                     )
                 });
             }
