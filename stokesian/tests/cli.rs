@@ -2058,7 +2058,7 @@ fn assert_clean_outcome(o: &Output, dir: &Dir, out: &Path, inputs: &[&str]) {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 40, ..Default::default() })]
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 128, ..Default::default() })]
 
     /// Any numbers as coordinates, radii, viscosity, boundary height, lambda and gap.
     #[test]

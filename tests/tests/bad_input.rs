@@ -160,7 +160,7 @@ fn confinement() -> impl proptest::strategy::Strategy<Value = Confinement> {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig { cases: 400, ..Default::default() })]
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 2000, ..Default::default() })]
 
     /// Any numbers as coordinates, radii, viscosity and confinement parameters: a typed
     /// error or a valid system, never a panic; a valid system's matrix has its shape and

@@ -279,7 +279,7 @@ fn nasty_bytes() -> impl Strategy<Value = Vec<u8>> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 2048, ..ProptestConfig::default() })]
 
     /// Any bytes: a table or a typed error, never a panic, and every row has the
     /// columns asked for.
