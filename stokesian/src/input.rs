@@ -207,7 +207,8 @@ pub fn validate(
 /// centre, such pairs are neighbours: `O(N log N)`).
 fn first_same_centre(particles: &[Particle]) -> Option<(usize, usize)> {
     let mut order: Vec<usize> = (0..particles.len()).collect();
-    let key = |i: usize| particles[i].x;
+    // adding zero makes -0 and +0 the same key, as they are the same point
+    let key = |i: usize| particles[i].x.map(|v| v + 0.0);
     order.sort_by(|&i, &j| {
         let (p, q) = (key(i), key(j));
         (0..3)

@@ -228,4 +228,18 @@ fn corpus_of_extreme_inputs() {
         };
         assert_eq!(e.to_string(), want);
     }
+    // -0 and +0 are the same point, whatever lies between them in sorted order
+    let signed = vec![
+        p([-0.0, 1.0, 3.0], 0.1),
+        p([0.0, 0.0, 3.0], 0.1),
+        p([0.0, 1.0, 3.0], 0.1),
+    ];
+    let e = System::new(WALL, 1.0, signed, true).expect_err("same centre");
+    assert_eq!(
+        e,
+        InputError::SameCentre {
+            first: 0,
+            second: 2
+        }
+    );
 }
