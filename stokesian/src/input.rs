@@ -49,6 +49,18 @@ pub enum InputError {
         /// What it must be.
         why: &'static str,
     },
+    /// The length scale is outside the range where `1 / (eta a^3)`, the scale of the
+    /// rotation and strain mobilities, and its inverse are normal double-precision
+    /// numbers: the kernels' results would overflow or vanish.
+    #[error("particle {index}: radius {a:?} with viscosity {eta:?}: 1/(viscosity a^3) is outside the range of double precision; express lengths and viscosity in other units so that radii and viscosity are nearer 1")]
+    Unrepresentable {
+        /// Particle index.
+        index: usize,
+        /// Radius.
+        a: f64,
+        /// Viscosity.
+        eta: f64,
+    },
     /// The centre is at or beyond a boundary.
     #[error(
         "particle {index}: centre z = {z} is not inside the fluid (boundary at z = {boundary})"
@@ -87,6 +99,15 @@ pub enum InputError {
         /// Sum of radii.
         sum: f64,
     },
+    /// Two spheres have the same centre: the pair kernels are undefined, overlaps
+    /// allowed or not.
+    #[error("particles {first} and {second} have the same centre; the mobility is undefined")]
+    SameCentre {
+        /// First particle.
+        first: usize,
+        /// Second particle.
+        second: usize,
+    },
 }
 
 /// The confinement's parameters checked, and its boundary planes `(z, fluid is above)`.
@@ -111,8 +132,9 @@ fn planes(conf: &Confinement) -> Result<Vec<(f64, bool)>, InputError> {
 }
 
 /// Check everything the kernels assume: finite positions, positive radii and
-/// viscosity, centres inside the fluid, spheres clear of the boundaries, and (unless
-/// `allow_overlap`) spheres clear of each other.
+/// viscosity at a representable length scale, centres inside the fluid, spheres clear
+/// of the boundaries and (unless `allow_overlap`) of each other, and no two centres
+/// the same.
 pub fn validate(
     conf: &Confinement,
     eta: f64,
@@ -135,6 +157,10 @@ pub fn validate(
         }
         if !(p.a > 0.0 && p.a.is_finite()) {
             return Err(InputError::BadRadius { index, value: p.a });
+        }
+        let scale = eta * p.a * p.a * p.a;
+        if !(scale.is_normal() && scale.recip().is_normal()) {
+            return Err(InputError::Unrepresentable { index, a: p.a, eta });
         }
         for &(boundary, above) in &planes {
             let distance = if above {
@@ -171,7 +197,30 @@ pub fn validate(
             });
         }
     }
+    if let Some((first, second)) = first_same_centre(particles) {
+        return Err(InputError::SameCentre { first, second });
+    }
     Ok(())
+}
+
+/// The first pair `(i, j)`, `i < j`, of spheres with the same centre, if any (sorted by
+/// centre, such pairs are neighbours: `O(N log N)`).
+fn first_same_centre(particles: &[Particle]) -> Option<(usize, usize)> {
+    let mut order: Vec<usize> = (0..particles.len()).collect();
+    // adding zero makes -0 and +0 the same key, as they are the same point
+    let key = |i: usize| particles[i].x.map(|v| v + 0.0);
+    order.sort_by(|&i, &j| {
+        let (p, q) = (key(i), key(j));
+        (0..3)
+            .map(|k| p[k].total_cmp(&q[k]))
+            .find(|o| o.is_ne())
+            .unwrap_or(i.cmp(&j))
+    });
+    order
+        .windows(2)
+        .filter(|w| key(w[0]) == key(w[1]))
+        .map(|w| (w[0].min(w[1]), w[0].max(w[1])))
+        .min()
 }
 
 /// The overlapping pair `(i, j)`, `i < j`, that comes first in index order, if any.

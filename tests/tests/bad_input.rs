@@ -124,3 +124,122 @@ fn matrix_free_product_equals_dense() {
         assert!(d <= 1e-13 * dense.norm(), "{moments:?}: {d:e}");
     }
 }
+
+/// A number from the corners of double precision, or any at all.
+fn nasty() -> impl proptest::strategy::Strategy<Value = f64> {
+    use proptest::prelude::*;
+    prop_oneof![
+        Just(f64::NAN),
+        Just(f64::INFINITY),
+        Just(f64::NEG_INFINITY),
+        Just(0.0),
+        Just(-0.0),
+        Just(5e-324),
+        Just(1e-310),
+        Just(1e-301),
+        Just(f64::MIN_POSITIVE),
+        Just(1e308),
+        Just(-1e308),
+        Just(f64::MAX),
+        -4.0..4.0,
+        0.5..3.0,
+        any::<f64>(),
+    ]
+}
+
+/// Any confinement with any parameters.
+fn confinement() -> impl proptest::strategy::Strategy<Value = Confinement> {
+    use proptest::prelude::*;
+    prop_oneof![
+        Just(Confinement::Free),
+        nasty().prop_map(|height| Confinement::Wall { height }),
+        nasty().prop_map(|height| Confinement::FreeSurface { height }),
+        (nasty(), nasty()).prop_map(|(height, lambda)| Confinement::Interface { height, lambda }),
+        (nasty(), nasty()).prop_map(|(height, gap)| Confinement::Slit { height, gap }),
+    ]
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 2000, ..Default::default() })]
+
+    /// Any numbers as coordinates, radii, viscosity and confinement parameters: a typed
+    /// error or a valid system, never a panic; a valid system's matrix has its shape and
+    /// the radii and scales the validation promises.
+    #[test]
+    fn system_new_never_panics(
+        conf in confinement(),
+        eta in nasty(),
+        coords in proptest::collection::vec((nasty(), nasty(), nasty(), nasty()), 0..4),
+        allow_overlap in proptest::bool::ANY,
+    ) {
+        let ps: Vec<Particle> = coords.iter().map(|&(x, y, z, a)| p([x, y, z], a)).collect();
+        match System::new(conf, eta, ps.clone(), allow_overlap) {
+            Err(e) => proptest::prop_assert!(!e.to_string().is_empty()),
+            Ok(s) => {
+                for q in s.particles() {
+                    let scale = eta * q.a * q.a * q.a;
+                    proptest::prop_assert!(q.a > 0.0 && scale.is_normal() && scale.recip().is_normal());
+                    proptest::prop_assert!(q.x.iter().all(|v| v.is_finite()));
+                }
+                let m = s.mobility(Moments::F);
+                proptest::prop_assert_eq!(m.shape(), (3 * ps.len(), 3 * ps.len()));
+            }
+        }
+    }
+}
+
+/// The nastiest inputs found: a unit-scale mistake, scales at the edge of double
+/// precision, and centres that coincide (an error even with overlaps allowed).
+#[test]
+fn corpus_of_extreme_inputs() {
+    let unrepresentable = [
+        (1e-301, 1.0),
+        (1e-110, 1.0),
+        (1e110, 1.0),
+        (1.0, 1e-310),
+        (1.0, 5e-324),
+        (1e-100, 1e-20),
+    ];
+    for (a, eta) in unrepresentable {
+        let e = System::new(WALL, eta, vec![p([0.0, 0.0, 3.0 * a], a)], false)
+            .expect_err("unrepresentable scale");
+        assert!(
+            matches!(e, InputError::Unrepresentable { index: 0, .. }),
+            "a = {a}, eta = {eta}: {e}"
+        );
+        assert!(e.to_string().contains("other units"), "{e}");
+    }
+    // the edges that are still representable
+    for (a, eta) in [(1e-100, 1.0), (1e100, 1.0), (1.0, 1e300)] {
+        System::new(WALL, eta, vec![p([0.0, 0.0, 3.0 * a], a)], false)
+            .unwrap_or_else(|e| panic!("a = {a}, eta = {eta}: {e}"));
+    }
+    let same = vec![
+        p([1.0, 2.0, 3.0], 1.0),
+        p([5.0, 0.0, 3.0], 1.0),
+        p([1.0, 2.0, 3.0], 0.5),
+    ];
+    for allow in [false, true] {
+        let e = System::new(WALL, 1.0, same.clone(), allow).expect_err("same centre");
+        let want = if allow {
+            "particles 0 and 2 have the same centre; the mobility is undefined"
+        } else {
+            "particles 0 and 2 overlap: centre distance 0 < sum of radii 1.5"
+        };
+        assert_eq!(e.to_string(), want);
+    }
+    // -0 and +0 are the same point, whatever lies between them in sorted order
+    let signed = vec![
+        p([-0.0, 1.0, 3.0], 0.1),
+        p([0.0, 0.0, 3.0], 0.1),
+        p([0.0, 1.0, 3.0], 0.1),
+    ];
+    let e = System::new(WALL, 1.0, signed, true).expect_err("same centre");
+    assert_eq!(
+        e,
+        InputError::SameCentre {
+            first: 0,
+            second: 2
+        }
+    );
+}

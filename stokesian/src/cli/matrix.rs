@@ -1,0 +1,102 @@
+//! `mobility` and `resistance`: assemble the dense grand mobility, or the grand
+//! resistance with lubrication (Eq. 19), optionally check it, and write it as `.npy` or
+//! JSON.
+
+use super::error::CliError;
+use super::output::{self, check_out, has_extension, write_atomically};
+use super::system::SystemArgs;
+use clap::Args;
+use std::path::PathBuf;
+
+/// `mobility` and `resistance`.
+#[derive(Args, Debug)]
+pub struct MatrixArgs {
+    #[command(flatten)]
+    pub system: SystemArgs,
+    /// Output file: .npy (NumPy float64 array) or .json.
+    #[arg(long, value_name = "M.npy|M.json")]
+    pub out: PathBuf,
+    /// Check that the matrix is symmetric and positive definite (Cholesky) before
+    /// writing it; report on stderr, and fail without writing if it is not.
+    #[arg(long)]
+    pub check: bool,
+}
+
+/// Assemble (the resistance if `resistance`), optionally check, and write the matrix.
+pub fn run(args: &MatrixArgs, resistance: bool) -> Result<(), CliError> {
+    check_out(&args.out, &["npy", "json"])?;
+    let pb = &output::spinner();
+    pb.set_message("reading particles");
+    let result = assemble_and_write(args, resistance, pb);
+    pb.finish_and_clear();
+    let (dim, n, moments) = result?;
+    let what = if resistance { "resistance" } else { "mobility" };
+    output::report(format!(
+        "wrote {}: {dim} x {dim} {moments} grand {what} of {n} spheres",
+        args.out.display(),
+    ));
+    Ok(())
+}
+
+/// The work of [`run`]; returns the dimension, the number of spheres and the truncation.
+fn assemble_and_write(
+    args: &MatrixArgs,
+    resistance: bool,
+    pb: &indicatif::ProgressBar,
+) -> Result<(usize, usize, &'static str), CliError> {
+    let setup = args.system.setup()?;
+    let n = setup.system.len();
+    let moments = setup.moments;
+    let dim = moments.moments().per_particle() * n;
+    let what = if resistance { "resistance" } else { "mobility" };
+    pb.set_message(format!(
+        "assembling the {dim} x {dim} {} grand {what} of {n} spheres",
+        moments.name()
+    ));
+    let m = if resistance {
+        setup
+            .system
+            .resistance(moments.moments(), &stokesian::Lubrication::default())?
+    } else {
+        setup.system.mobility(moments.moments())
+    };
+    setup.check_finite(m.as_slice(), what)?;
+    if args.check {
+        pb.set_message("checking symmetry and positive definiteness (Cholesky)");
+        let c = stokesian::check_spd(&m);
+        let cholesky = if c.positive_definite {
+            "succeeds"
+        } else {
+            "fails"
+        };
+        if !c.passed() {
+            return Err(CliError::NotSpd {
+                moments: moments.name(),
+                asymmetry: c.asymmetry,
+                cholesky,
+            });
+        }
+        pb.suspend(|| {
+            eprintln!(
+                "check: |M - M^T|/|M| = {:e}; Cholesky {cholesky}: symmetric positive definite",
+                c.asymmetry
+            )
+        });
+    }
+    output::bar(
+        pb,
+        m.nrows() as u64,
+        "rows",
+        false,
+        format!("writing {}", args.out.display()),
+    );
+    let json = has_extension(&args.out, "json");
+    write_atomically(&args.out, |w| {
+        if json {
+            output::write_json(w, &m, n, moments.name(), pb)
+        } else {
+            output::write_npy(w, &m, pb)
+        }
+    })?;
+    Ok((dim, n, moments.name()))
+}

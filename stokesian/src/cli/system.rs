@@ -1,0 +1,482 @@
+//! The system arguments every subcommand shares (confinement, truncation or scene file,
+//! particles, viscosity, boundary parameters, overlaps), their validation and the
+//! mapping of the library's [`InputError`] to files, lines and options; and the cause
+//! named when a result is not finite.
+
+use super::error::CliError;
+use super::options::{num, positive};
+use super::table::{self, Columns, Table};
+use clap::{Args, ValueEnum};
+use std::fs;
+use std::path::PathBuf;
+use stokesian::{Confinement, InputError, Moments, Particle, System};
+
+/// The system: confinement, truncation, particles, viscosity.
+#[derive(Args, Debug)]
+pub struct SystemArgs {
+    /// The boundary: free (none), wall, free-surface, interface (needs --lambda) or slit
+    /// (needs --gap).
+    #[arg(long, value_enum, required_unless_present = "scene")]
+    pub confinement: Option<ConfinementArg>,
+    /// Truncation of the multipole expansion: F, FT or FTS.
+    #[arg(
+        long,
+        value_enum,
+        ignore_case = true,
+        required_unless_present = "scene"
+    )]
+    pub moments: Option<MomentsArg>,
+    /// A scene file (scenes/*.toml) giving the confinement and the truncation instead of
+    /// --confinement and --moments (its other keys concern the generated kernels).
+    #[arg(long, value_name = "scene.toml", conflicts_with_all = ["confinement", "moments"])]
+    pub scene: Option<PathBuf>,
+    /// The spheres: CSV with columns x,y,z,radius (any order, other columns ignored) or
+    /// .npy of shape (N, 4); with --radius, x,y,z or (N, 3).
+    #[arg(long, value_name = "particles.csv|particles.npy")]
+    pub particles: PathBuf,
+    /// The radius of every sphere, for a particles file of centres only (x,y,z).
+    #[arg(long, value_name = "A", allow_negative_numbers = true)]
+    pub radius: Option<f64>,
+    /// Viscosity of the fluid that holds the spheres.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub viscosity: f64,
+    /// Height of the boundary plane z = H [default: 0; not for free].
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    pub boundary_height: Option<f64>,
+    /// Interface only: viscosity ratio (liquid below / liquid holding the spheres), >= 0.
+    #[arg(long, value_name = "L", allow_negative_numbers = true)]
+    pub lambda: Option<f64>,
+    /// Slit only: distance from the lower wall to the upper wall (> 0).
+    #[arg(long, value_name = "G", allow_negative_numbers = true)]
+    pub gap: Option<f64>,
+    /// Accept spheres that overlap each other or cut a boundary (normally an error).
+    #[arg(long)]
+    pub allow_overlap: bool,
+}
+
+/// `--confinement`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ConfinementArg {
+    /// Unbounded fluid.
+    Free,
+    /// No-slip plane wall at z = H.
+    Wall,
+    /// Flat free surface at z = H.
+    #[value(alias = "free_surface")]
+    FreeSurface,
+    /// Flat liquid-liquid interface at z = H, viscosity ratio --lambda.
+    Interface,
+    /// Two no-slip walls at z = H and z = H + --gap.
+    Slit,
+}
+
+/// `--moments`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MomentsArg {
+    /// Forces only.
+    #[value(name = "F")]
+    F,
+    /// Forces and torques.
+    #[value(name = "FT")]
+    Ft,
+    /// Forces, torques and stresslets.
+    #[value(name = "FTS")]
+    Fts,
+}
+
+impl MomentsArg {
+    /// The library's truncation.
+    pub fn moments(self) -> Moments {
+        match self {
+            MomentsArg::F => Moments::F,
+            MomentsArg::Ft => Moments::FT,
+            MomentsArg::Fts => Moments::FTS,
+        }
+    }
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            MomentsArg::F => "F",
+            MomentsArg::Ft => "FT",
+            MomentsArg::Fts => "FTS",
+        }
+    }
+}
+
+/// The particles file's columns, with and without `--radius`.
+const PARTICLES: Columns = Columns {
+    what: "particles",
+    required: &["x", "y", "z", "radius"],
+    refused: &[],
+    refused_why: "",
+    hint: " (one sphere per row: centre x,y,z and radius; --radius A for centres only)",
+};
+const CENTRES: Columns = Columns {
+    what: "particles",
+    required: &["x", "y", "z"],
+    refused: &["radius"],
+    refused_why: "conflicts with --radius (give the radii in the file or by --radius, not both)",
+    hint: " (one sphere centre per row; the radius is --radius)",
+};
+
+impl SystemArgs {
+    /// With `--scene`, read the confinement and the truncation from the scene file (clap
+    /// has already made `--scene` exclusive with `--confinement` and `--moments`, and
+    /// required one or the other). A TOML syntax error names its line and column.
+    pub fn resolve_scene(&mut self) -> Result<(), CliError> {
+        let Some(path) = &self.scene else {
+            return Ok(());
+        };
+        let shown = path.display().to_string();
+        let text = fs::read_to_string(path).map_err(|source| CliError::Read {
+            what: "scene",
+            path: shown.clone(),
+            source,
+        })?;
+        let bad = |reason: String| CliError::Scene {
+            path: shown.clone(),
+            reason,
+        };
+        let table: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| bad(e.to_string().trim_end().to_string()))?;
+        const KEYS: [&str; 6] = [
+            "name",
+            "confinement",
+            "moments",
+            "radii",
+            "outputs",
+            "description",
+        ];
+        if let Some(key) = table.keys().find(|k| !KEYS.contains(&k.as_str())) {
+            return Err(bad(format!(
+                "unknown key `{key}` (a scene has {})",
+                KEYS.join(", ")
+            )));
+        }
+        let string = |key: &str| match table.get(key) {
+            Some(toml::Value::String(v)) => Ok(v.clone()),
+            Some(_) => Err(bad(format!("`{key}` must be a string"))),
+            None => Err(bad(format!("`{key}` is missing"))),
+        };
+        let c = string("confinement")?;
+        self.confinement = Some(
+            ConfinementArg::from_str(&c, true)
+                .map_err(|_| bad(format!("unknown confinement `{c}`")))?,
+        );
+        let m = string("moments")?;
+        self.moments = Some(
+            MomentsArg::from_str(&m, true)
+                .map_err(|_| bad(format!("unknown moments `{m}` (F, FT or FTS)")))?,
+        );
+        Ok(())
+    }
+
+    /// The confinement kind (given, or read by [`SystemArgs::resolve_scene`]).
+    pub fn kind(&self) -> ConfinementArg {
+        self.confinement
+            .expect("clap requires --confinement or --scene, and resolve_scene reads the scene")
+    }
+
+    /// The truncation (given, or read by [`SystemArgs::resolve_scene`]).
+    pub fn truncation(&self) -> MomentsArg {
+        self.moments
+            .expect("clap requires --moments or --scene, and resolve_scene reads the scene")
+    }
+
+    /// The confinement from the command line, with a clear error for a missing or
+    /// inapplicable parameter (the values themselves are the library's to check).
+    fn confinement(&self) -> Result<Confinement, CliError> {
+        let (name, shown) = match self.kind() {
+            ConfinementArg::Free => ("free", "free"),
+            ConfinementArg::Wall => ("wall", "wall"),
+            ConfinementArg::FreeSurface => ("free_surface", "free-surface"),
+            ConfinementArg::Interface => ("interface", "interface"),
+            ConfinementArg::Slit => ("slit", "slit"),
+        };
+        let inapplicable = |option: &'static str| CliError::Inapplicable {
+            option,
+            context: format!("--confinement {shown}"),
+        };
+        if self.lambda.is_some() && self.kind() != ConfinementArg::Interface {
+            return Err(inapplicable("--lambda"));
+        }
+        if self.gap.is_some() && self.kind() != ConfinementArg::Slit {
+            return Err(inapplicable("--gap"));
+        }
+        let height = self.boundary_height.unwrap_or(0.0);
+        let params: Vec<f64> = match self.kind() {
+            ConfinementArg::Free => {
+                if self.boundary_height.is_some() {
+                    return Err(inapplicable("--boundary-height"));
+                }
+                vec![]
+            }
+            ConfinementArg::Wall | ConfinementArg::FreeSurface => vec![height],
+            ConfinementArg::Interface => {
+                let lambda = self.lambda.ok_or(CliError::MissingOption {
+                    confinement: shown,
+                    option: "--lambda",
+                    what: "the viscosity ratio of the liquid below the interface to the \
+                           liquid holding the spheres",
+                })?;
+                vec![height, lambda]
+            }
+            ConfinementArg::Slit => {
+                let gap = self.gap.ok_or(CliError::MissingOption {
+                    confinement: shown,
+                    option: "--gap",
+                    what: "the distance from the lower wall to the upper wall",
+                })?;
+                vec![height, gap]
+            }
+        };
+        Confinement::from_name(name, &params).ok_or_else(|| CliError::BadOption {
+            option: "--confinement",
+            value: shown.to_string(),
+            reason: "not a confinement the kernels know".to_string(),
+        })
+    }
+
+    /// Read and validate the particles (the library validates the physics).
+    pub fn setup(&self) -> Result<Setup, CliError> {
+        let conf = self.confinement()?;
+        if let Some(a) = self.radius {
+            positive("--radius", a, "the radius")?;
+        }
+        let columns = if self.radius.is_some() {
+            &CENTRES
+        } else {
+            &PARTICLES
+        };
+        let table = table::read(&self.particles, columns)?;
+        if table.rows.is_empty() {
+            return Err(CliError::NoParticles { path: table.path });
+        }
+        let particles: Vec<Particle> = table
+            .rows
+            .iter()
+            .map(|r| Particle {
+                x: [r[0], r[1], r[2]],
+                a: self.radius.unwrap_or_else(|| r[3]),
+            })
+            .collect();
+        let system = System::new(conf, self.viscosity, particles, self.allow_overlap)
+            .map_err(|e| input_error(e, &table))?;
+        Ok(Setup {
+            system,
+            table,
+            moments: self.truncation(),
+            allow_overlap: self.allow_overlap,
+        })
+    }
+}
+
+/// The validated system and where its particles came from.
+pub struct Setup {
+    /// The spheres in their confinement.
+    pub system: System,
+    /// The particles file.
+    pub table: Table,
+    /// The truncation.
+    pub moments: MomentsArg,
+    /// Whether overlaps were accepted.
+    pub allow_overlap: bool,
+}
+
+impl Setup {
+    /// The error for a result (`what`) with entries that are not finite numbers.
+    pub fn non_finite(&self, what: &str) -> CliError {
+        CliError::Numerical(format!(
+            "the {what} has entries that are not finite numbers: {}; nothing written",
+            self.suspects()
+        ))
+    }
+
+    /// Check that `values` (the `what`) are finite.
+    pub fn check_finite(&self, values: &[f64], what: &str) -> Result<(), CliError> {
+        if values.iter().all(|v| v.is_finite()) {
+            Ok(())
+        } else {
+            Err(self.non_finite(what))
+        }
+    }
+
+    /// The overlaps `--allow-overlap` accepted, if it accepted any.
+    fn accepted_overlap(&self) -> Option<String> {
+        let s = &self.system;
+        if !self.allow_overlap {
+            return None;
+        }
+        let strict = stokesian::validate(s.confinement(), s.viscosity(), s.particles(), false);
+        strict.err().map(|e| {
+            format!(
+                "spheres accepted with --allow-overlap overlap ({}), where the kernels are \
+                 not meaningful",
+                input_error(e, &self.table)
+            )
+        })
+    }
+
+    /// Why the stresslet block is not positive definite: accepted overlaps, a narrow
+    /// slit, or neither (unexpected).
+    pub fn indefinite(&self) -> String {
+        if let Some(overlap) = self.accepted_overlap() {
+            overlap
+        } else if matches!(self.system.confinement(), Confinement::Slit { .. }) {
+            "the slit's superposed images are not positive definite near a wall of a \
+             narrow slit: widen --gap"
+                .to_string()
+        } else {
+            "unexpected for spheres clear of each other and of the boundaries; please \
+             report it with the input"
+                .to_string()
+        }
+    }
+
+    /// Why results are not finite: accepted overlaps, or else the length scales.
+    fn suspects(&self) -> String {
+        if let Some(overlap) = self.accepted_overlap() {
+            return overlap;
+        }
+        let s = &self.system;
+        // the smallest and largest lengths: radii, the extent of the centres, and the
+        // distances to the boundary planes
+        let ps = s.particles();
+        let radii = ps.iter().map(|p| p.a);
+        let lo = radii.clone().fold(f64::INFINITY, f64::min);
+        let mut hi = radii.fold(0.0, f64::max);
+        for k in 0..3 {
+            let (min, max) = ps
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+                    (l.min(p.x[k]), h.max(p.x[k]))
+                });
+            hi = hi.max(max - min);
+            for (plane, _) in s.confinement().boundaries() {
+                hi = hi.max((max - plane).abs()).max((min - plane).abs());
+            }
+        }
+        format!(
+            "the lengths (from {lo:.3e}, the smallest radius, to {hi:.3e}, the largest radius, \
+             extent of the centres or distance to a boundary) and the viscosity {:.3e} are at \
+             scales where the kernels' powers of lengths (a^-3 / viscosity and beyond) leave \
+             the range of double precision; express lengths and viscosity in other units \
+             (for spheres of a micrometre, lengths in micrometres) so that radii, distances \
+             and viscosity are nearer 1",
+            s.viscosity()
+        )
+    }
+}
+
+/// `CliError::Particle` for row `index` of `table`.
+pub fn particle_error(table: &Table, index: usize, reason: String) -> CliError {
+    CliError::Particle {
+        path: table.path.clone(),
+        place: table.place(index),
+        index,
+        reason,
+    }
+}
+
+/// Map the library's 0-based particle errors to file lines (or rows) and option names.
+fn input_error(e: InputError, table: &Table) -> CliError {
+    let pair = |a: usize, b: usize, reason: String| CliError::Pair {
+        path: table.path.clone(),
+        places: table.places(a, b),
+        a,
+        b,
+        reason,
+    };
+    match e {
+        InputError::Empty => CliError::NoParticles {
+            path: table.path.clone(),
+        },
+        InputError::NonFinitePosition { index, axis, value } => particle_error(
+            table,
+            index,
+            format!("coordinate {axis} is {value}, not a finite number"),
+        ),
+        InputError::BadRadius { index, value } => particle_error(
+            table,
+            index,
+            format!("radius {} must be a positive finite number", num(value)),
+        ),
+        InputError::BadViscosity(value) => CliError::BadOption {
+            option: "--viscosity",
+            value: num(value),
+            reason: "must be a positive finite number".to_string(),
+        },
+        InputError::BadParameter { name, value, why } => CliError::BadOption {
+            option: match name {
+                "lambda" => "--lambda",
+                "gap" => "--gap",
+                "height" => "--boundary-height",
+                _ => "confinement parameter",
+            },
+            value: num(value),
+            reason: why.to_string(),
+        },
+        InputError::Unrepresentable { index, a, eta } => particle_error(
+            table,
+            index,
+            format!(
+                "radius {} with viscosity {}: 1/(viscosity a^3), the scale of the \
+                 rotation and strain mobilities, is outside the range of double precision; \
+                 express lengths and viscosity in other units (for spheres of a \
+                 micrometre, lengths in micrometres) so that radii and viscosity are \
+                 nearer 1",
+                num(a),
+                num(eta)
+            ),
+        ),
+        InputError::OutsideFluid { index, z, boundary } => particle_error(
+            table,
+            index,
+            format!(
+                "centre z = {} is not inside the fluid (boundary at z = {})",
+                num(z),
+                num(boundary)
+            ),
+        ),
+        InputError::OverlapsBoundary {
+            index,
+            a,
+            distance,
+            boundary,
+        } => particle_error(
+            table,
+            index,
+            format!(
+                "sphere of radius {} overlaps the boundary at z = {} \
+                 (centre-to-boundary distance {} < radius; --allow-overlap accepts this)",
+                num(a),
+                num(boundary),
+                num(distance)
+            ),
+        ),
+        InputError::Overlap {
+            first,
+            second,
+            distance,
+            sum,
+        } => pair(
+            first,
+            second,
+            format!(
+                "spheres overlap: centre distance {} < sum of radii {} \
+                 (--allow-overlap accepts this)",
+                num(distance),
+                num(sum)
+            ),
+        ),
+        InputError::SameCentre { first, second } => pair(
+            first,
+            second,
+            "the two spheres have the same centre; the mobility is undefined even with \
+             --allow-overlap"
+                .to_string(),
+        ),
+    }
+}

@@ -1,0 +1,279 @@
+//! `velocity`: velocities (and rotation rates) of force- and torque-given spheres in a
+//! quiescent fluid or a uniform strain: matrix-free at F and FT, the stresslets solved
+//! for at FTS, or from the resistance with lubrication.
+
+use super::error::CliError;
+use super::options::parse_components;
+use super::output::{self, check_out, write_atomically};
+use super::system::{particle_error, MomentsArg, Setup, SystemArgs};
+use super::table::{self, Columns};
+use clap::Args;
+use indicatif::ProgressBar;
+use std::io::Write;
+use std::path::PathBuf;
+use stokesian::Moments;
+
+/// `velocity`: the system, the forces and the output.
+#[derive(Args, Debug)]
+pub struct VelocityArgs {
+    #[command(flatten)]
+    pub system: SystemArgs,
+    /// Forces (fx,fy,fz) and, for FT and FTS, torques (tx,ty,tz) exerted by each
+    /// particle on the fluid, in the order of --particles: CSV with these columns (any
+    /// order, other columns ignored) or .npy of shape (N, 3) or (N, 6).
+    #[arg(long, value_name = "forces.csv|forces.npy")]
+    pub forces: PathBuf,
+    /// FTS only: uniform imposed rate of strain E_inf (symmetric, traceless), either 9
+    /// comma-separated Cartesian components row-major E11,E12,E13,E21,E22,E23,E31,E32,E33,
+    /// or 5 components in the orthonormal basis B1..B5 (E_m = B_m : E). The 9 components must
+    /// be symmetric and traceless to 1e-9 of the largest. Default: zero. The output is then
+    /// relative to the ambient flow at each centre (U - U_inf, Omega - Omega_inf).
+    #[arg(long, value_name = "E11,E12,...,E33", allow_hyphen_values = true)]
+    pub strain: Option<String>,
+    /// FT and FTS: include lubrication (Eq. 19) and solve R U = F by Cholesky; the condition
+    /// estimate of R is reported on stderr, and the run fails if it exceeds 1e14.
+    #[arg(long)]
+    pub lubrication: bool,
+    /// Output CSV file: ux,uy,uz (F) or ux,uy,uz,wx,wy,wz (FT, FTS).
+    #[arg(long, value_name = "U.csv")]
+    pub out: PathBuf,
+}
+
+/// The forces file's columns at F, and with torques at FT and FTS.
+const FORCES: Columns = Columns {
+    what: "forces",
+    required: &["fx", "fy", "fz"],
+    refused: &["tx", "ty", "tz"],
+    refused_why: "give torques, which need --moments FT or FTS",
+    hint: " (force on the fluid, one particle per row)",
+};
+const FORCES_TORQUES: Columns = Columns {
+    what: "forces",
+    required: &["fx", "fy", "fz", "tx", "ty", "tz"],
+    refused: &[],
+    refused_why: "",
+    hint: " (force and torque on the fluid, one particle per row)",
+};
+
+/// Check the options, compute and write the velocities.
+pub fn run(args: &VelocityArgs) -> Result<(), CliError> {
+    check_out(&args.out, &[])?;
+    let moments = args.system.truncation();
+    let strain = match (&args.strain, moments) {
+        (None, _) => [0.0; 5],
+        (Some(s), MomentsArg::Fts) => parse_strain(s)?,
+        (Some(_), m) => {
+            return Err(CliError::Inapplicable {
+                option: "--strain",
+                context: format!(
+                    "--moments {}: without stresslets the spheres follow a uniform strain \
+                     and U - U_inf does not depend on it (use --moments FTS)",
+                    m.name()
+                ),
+            })
+        }
+    };
+    if moments == MomentsArg::F && args.lubrication {
+        return Err(CliError::Inapplicable {
+            option: "--lubrication",
+            context: "--moments F: lubrication needs torques and rotations (use FT or FTS)"
+                .to_string(),
+        });
+    }
+    let pb = output::spinner();
+    pb.set_message("reading input");
+    let result = velocity(args, moments, strain, &pb);
+    pb.finish_and_clear();
+    let (n, what) = result?;
+    output::report(format!(
+        "wrote {}: {what} of {n} spheres ({})",
+        args.out.display(),
+        moments.name()
+    ));
+    Ok(())
+}
+
+/// Read the forces of `setup`'s particles, moment-major (all forces, then all torques).
+fn read_forces(args: &VelocityArgs, setup: &Setup, torques: bool) -> Result<Vec<f64>, CliError> {
+    let columns = if torques { &FORCES_TORQUES } else { &FORCES };
+    let forces = table::read(&args.forces, columns)?;
+    let n = setup.system.len();
+    if forces.rows.len() != n {
+        return Err(CliError::RowCount {
+            forces: forces.path,
+            rows: forces.rows.len(),
+            particles: setup.table.path.clone(),
+            n,
+        });
+    }
+    for (index, row) in forces.rows.iter().enumerate() {
+        if let Some((v, c)) = row
+            .iter()
+            .zip(columns.required)
+            .find(|(v, _)| !v.is_finite())
+        {
+            return Err(particle_error(
+                &forces,
+                index,
+                format!("{c} = {v} is not a finite number"),
+            ));
+        }
+    }
+    let k = columns.required.len();
+    let mut x = vec![0.0; k * n];
+    for (a, row) in forces.rows.iter().enumerate() {
+        for i in 0..3 {
+            x[3 * a + i] = row[i];
+            if torques {
+                x[3 * n + 3 * a + i] = row[3 + i];
+            }
+        }
+    }
+    Ok(x)
+}
+
+/// The work of [`run`]; returns the number of spheres and what was written.
+fn velocity(
+    args: &VelocityArgs,
+    moments: MomentsArg,
+    strain: [f64; 5],
+    pb: &ProgressBar,
+) -> Result<(usize, &'static str), CliError> {
+    let setup = args.system.setup()?;
+    let n = setup.system.len();
+    let torques = moments != MomentsArg::F;
+    let x = read_forces(args, &setup, torques)?;
+    let u = match moments {
+        MomentsArg::Ft | MomentsArg::Fts if args.lubrication => {
+            pb.set_message(format!(
+                "forming the {} resistance with lubrication of {n} spheres",
+                moments.name()
+            ));
+            let r = setup
+                .system
+                .resistance(moments.moments(), &stokesian::Lubrication::default())?;
+            setup.check_finite(r.as_slice(), "resistance")?;
+            pb.set_message("solving R U = F (Cholesky)");
+            let (u, cond) = if moments == MomentsArg::Fts {
+                stokesian::solve_resistance_fts(&r, &x, &strain)?
+            } else {
+                stokesian::solve_resistance(&r, &x)?
+            };
+            pb.suspend(|| eprintln!("stokesian: condition estimate of R: {cond:e}"));
+            if cond.is_nan() || cond > 1e14 {
+                return Err(CliError::IllConditioned(cond));
+            }
+            u
+        }
+        MomentsArg::F | MomentsArg::Ft => {
+            pb.set_message(format!(
+                "computing velocities of {n} spheres (matrix-free, {} pairs)",
+                n * (n + 1) / 2
+            ));
+            setup.system.apply(moments.moments(), &x)
+        }
+        MomentsArg::Fts => {
+            let dim = 11 * n;
+            pb.set_message(format!(
+                "assembling the {dim} x {dim} FTS grand mobility of {n} spheres"
+            ));
+            let m = setup.system.mobility(Moments::FTS);
+            setup.check_finite(m.as_slice(), "mobility")?;
+            pb.set_message("solving for the stresslets");
+            let (u, cholesky) = stokesian::solve_fts(&m, &x, &strain).map_err(|reason| {
+                CliError::Numerical(format!("{reason}: {}", setup.indefinite()))
+            })?;
+            if !cholesky {
+                pb.suspend(|| {
+                    eprintln!(
+                        "stokesian: warning: the stresslet block M_ES is not positive \
+                         definite ({}); solved by LU",
+                        setup.indefinite()
+                    )
+                });
+            }
+            u
+        }
+    };
+    setup.check_finite(&u, "velocity")?;
+    pb.set_message(format!("writing {}", args.out.display()));
+    write_atomically(&args.out, |w| {
+        let header = if torques {
+            "ux,uy,uz,wx,wy,wz"
+        } else {
+            "ux,uy,uz"
+        };
+        writeln!(w, "{header}")?;
+        for a in 0..n {
+            let rotation = if torques {
+                3 * n + 3 * a..3 * n + 3 * a + 3
+            } else {
+                0..0
+            };
+            output::write_csv_row(w, u[3 * a..3 * a + 3].iter().chain(&u[rotation]).copied())?;
+        }
+        Ok(())
+    })?;
+    Ok((
+        n,
+        if torques {
+            "velocities and rotation rates"
+        } else {
+            "velocities"
+        },
+    ))
+}
+
+/// A uniform rate of strain in the 5-component orthonormal basis, `E_m = B_m : E`.
+fn parse_strain(text: &str) -> Result<[f64; 5], CliError> {
+    let bad = |reason: String| CliError::BadOption {
+        option: "--strain",
+        value: text.to_string(),
+        reason,
+    };
+    let values = parse_components("--strain", text)?;
+    match values.len() {
+        5 => {
+            let mut e = [0.0; 5];
+            e.copy_from_slice(&values);
+            Ok(e)
+        }
+        9 => {
+            let e = |i: usize, j: usize| values[3 * i + j];
+            let scale = values.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+            let tol = 1e-9 * scale;
+            for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+                if (e(i, j) - e(j, i)).abs() > tol {
+                    return Err(bad(format!(
+                        "not symmetric: E{}{} = {} but E{}{} = {}",
+                        i + 1,
+                        j + 1,
+                        e(i, j),
+                        j + 1,
+                        i + 1,
+                        e(j, i)
+                    )));
+                }
+            }
+            let trace = e(0, 0) + e(1, 1) + e(2, 2);
+            if trace.abs() > tol {
+                return Err(bad(format!(
+                    "not traceless: E11 + E22 + E33 = {trace} (an incompressible flow has \
+                     a traceless rate of strain)"
+                )));
+            }
+            let mut out = [0.0; 5];
+            for (m, b) in kernels::STRAIN_BASIS.iter().enumerate() {
+                out[m] = (0..3)
+                    .flat_map(|i| (0..3).map(move |j| (i, j)))
+                    .map(|(i, j)| b[i][j] * e(i, j))
+                    .sum();
+            }
+            Ok(out)
+        }
+        k => Err(bad(format!(
+            "expected 9 comma-separated Cartesian components E11,E12,E13,E21,E22,E23,E31,\
+             E32,E33 (row-major) or 5 components in the orthonormal basis B1..B5, found {k}"
+        ))),
+    }
+}
