@@ -134,12 +134,15 @@ enum Command {
     #[command(
         long_about = "Write the FT or FTS grand resistance with lubrication (Swan & Brady \
         Eq. 19): R = M^-1 + R^P + R^W - (R^P,inf + R^W,inf), rows (F, L[, S]), columns \
-        (U, Omega[, -E_inf]), same layout and formats as `mobility`. Near-contact two-sphere \
-        terms (equal spheres, gap < 0.1 a, near-contact forms) and the exact sphere-wall \
-        resistance (no-slip walls, gap < 1 a, bispherical series) are added to the inverse \
-        of the far-field mobility, and their own far-field parts subtracted; at FTS these \
-        corrections act on the force-torque blocks and the stresslet blocks keep the \
-        far-field inverse.",
+        (U, Omega[, -E_inf]), same layout and formats as `mobility`. The exact two-sphere \
+        resistance (any size ratio from 1e-2 to 1e2, twin-multipole series to contact) of \
+        every pair whose correction may exceed 1e-3 of the smaller sphere's drag (switched \
+        off smoothly beyond), the exact sphere-wall resistance (no-slip walls, every height \
+        up to 1000 radii) and the exact resistance near a free surface (the sphere and its \
+        mirror image) are added to the inverse of the far-field mobility, and their own \
+        far-field parts subtracted. At FTS the pair and free-surface corrections cover \
+        every block; a no-slip wall's only the force-torque blocks (its stresslet blocks \
+        keep the far-field inverse).",
         after_long_help = LONG_HELP
     )]
     Resistance(matrix::MatrixArgs),
