@@ -21,6 +21,20 @@ pub fn sphere_above_wall(h: f64) -> System {
     .expect("a sphere above the wall")
 }
 
+/// One unit sphere with its centre at height `h` above a flat free surface at 0.
+pub fn sphere_above_free_surface(h: f64) -> System {
+    System::new(
+        Confinement::FreeSurface { height: 0.0 },
+        1.0,
+        vec![Particle {
+            x: [0.0, 0.0, h],
+            a: 1.0,
+        }],
+        false,
+    )
+    .expect("a sphere above the free surface")
+}
+
 /// Two unit spheres in unbounded fluid at surface gap `xi`, line of centres along x.
 pub fn equal_pair(xi: f64) -> System {
     System::new(
@@ -51,6 +65,16 @@ pub fn wall_functions_of(r: &DMatrix<f64>) -> [Option<f64>; 5] {
         Some(r[(0, 0)] / (6.0 * PI)),
         ft.then(|| -r[(4, 0)] / (6.0 * PI)),
         ft.then(|| r[(3, 3)] / (8.0 * PI)),
+        ft.then(|| r[(5, 5)] / (8.0 * PI)),
+    ]
+}
+
+/// The normal translation and the rotation about the normal of
+/// [`sphere_above_free_surface`] (`X^A`, `X^C`; F: the rotation `None`).
+pub fn free_surface_functions_of(r: &DMatrix<f64>) -> [Option<f64>; 2] {
+    let ft = r.nrows() > 3;
+    [
+        Some(r[(2, 2)] / (6.0 * PI)),
         ft.then(|| r[(5, 5)] / (8.0 * PI)),
     ]
 }
