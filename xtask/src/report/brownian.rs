@@ -97,7 +97,7 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
         "Two unit spheres above a no-slip wall (viscosity 1, kT = 1), buoyant weight 1 kT/a, wall repulsion \
          50 kT/a with screening length 0.1 a, lateral harmonic trap 0.5 kT/a^2, dt = 0.02, {steps} steps per run, \
          Euler-Maruyama, overlapping steps redrawn. Lubricated: `Brownian::lubrication` with `Lubrication::default()` \
-         (exact sphere-wall resistance at every height, exact two-sphere resistance for centres closer than 4 a), \
+         (exact sphere-wall resistance at every height, exact two-sphere resistance wherever its correction may exceed 1e-3 of the drag, a smoothstep beyond: s' < 9.31 at FT), \
          noise `L^-T W` from the Cholesky factor of the resistance, the drift `kT div R^-1` by a random finite \
          difference (step 1e-3 a). Reference: the same forces without hydrodynamic interactions (isolated Stokes \
          mobilities). Samples every {every} steps after {} steps; two-sample Kolmogorov-Smirnov at the 1% level \
