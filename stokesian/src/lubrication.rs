@@ -74,6 +74,14 @@ impl Default for Lubrication {
 const PAIR_DECAY: [(f64, i32); 2] = [(7.5, 4), (30.0, 6)];
 
 impl Lubrication {
+    /// No correction anywhere: the resistance is the inverse of the far-field mobility.
+    pub const fn none() -> Self {
+        Lubrication {
+            pair_tolerance: f64::INFINITY,
+            wall_cutoff: 0.0,
+        }
+    }
+
     /// Lubrication with the two-sphere correction at every separation and the
     /// sphere-wall correction at every height.
     pub fn everywhere() -> Self {

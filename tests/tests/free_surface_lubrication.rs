@@ -73,15 +73,7 @@ fn exact_free_surface_resistance_tends_to_the_far_field_inverse() {
     let exact = s
         .resistance(Moments::FTS, &Lubrication::everywhere())
         .unwrap();
-    let far = s
-        .resistance(
-            Moments::FTS,
-            &Lubrication {
-                pair_tolerance: f64::INFINITY,
-                wall_cutoff: 0.0,
-            },
-        )
-        .unwrap();
+    let far = s.resistance(Moments::FTS, &Lubrication::none()).unwrap();
     let whole = exact.norm();
     let ranges = [(0, 3), (3, 3), (6, 5)];
     let mut largest = 0.0f64;
@@ -104,15 +96,7 @@ fn exact_free_surface_resistance_tends_to_the_far_field_inverse() {
     let e = near
         .resistance(Moments::FTS, &Lubrication::everywhere())
         .unwrap();
-    let f = near
-        .resistance(
-            Moments::FTS,
-            &Lubrication {
-                pair_tolerance: f64::INFINITY,
-                wall_cutoff: 0.0,
-            },
-        )
-        .unwrap();
+    let f = near.resistance(Moments::FTS, &Lubrication::none()).unwrap();
     assert!((e[(2, 2)] - f[(2, 2)]).abs() > 0.5 * f[(2, 2)].abs());
 }
 

@@ -17,10 +17,7 @@ const WALL: Confinement = Confinement::Wall { height: 0.0 };
 
 /// No lubrication correction anywhere: the resistance is the inverse of the far-field
 /// FT mobility, so `div R^-1` is the divergence the generated kernels compute.
-const NO_CORRECTION: Lubrication = Lubrication {
-    pair_tolerance: f64::INFINITY,
-    wall_cutoff: 0.0,
-};
+const NO_CORRECTION: Lubrication = Lubrication::none();
 
 fn three_spheres() -> System {
     let ps = vec![

@@ -97,23 +97,9 @@ fn exact_pair_resistance_tends_to_the_far_field_inverse() {
             },
         ];
         let s = System::new(Confinement::Free, 0.9, ps, false).unwrap();
-        let far = s
-            .resistance(
-                Moments::FTS,
-                &Lubrication {
-                    pair_tolerance: f64::INFINITY,
-                    wall_cutoff: 0.0,
-                },
-            )
-            .unwrap();
+        let far = s.resistance(Moments::FTS, &Lubrication::none()).unwrap();
         let exact = s
-            .resistance(
-                Moments::FTS,
-                &Lubrication {
-                    pair_tolerance: 0.0,
-                    wall_cutoff: 0.0,
-                },
-            )
+            .resistance(Moments::FTS, &Lubrication::everywhere())
             .unwrap();
         // moment-major ranges of U, Omega, E of particle a
         let range = |m: usize, a: usize| match m {

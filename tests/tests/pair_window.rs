@@ -28,15 +28,7 @@ fn pair(small: f64, s_dash: f64, swap: bool) -> System {
 
 fn correction(s: &System, moments: Moments) -> f64 {
     let with = s.resistance(moments, &Lubrication::everywhere()).unwrap();
-    let without = s
-        .resistance(
-            moments,
-            &Lubrication {
-                pair_tolerance: f64::INFINITY,
-                wall_cutoff: 0.0,
-            },
-        )
-        .unwrap();
+    let without = s.resistance(moments, &Lubrication::none()).unwrap();
     (with - without).abs().max()
 }
 
