@@ -253,3 +253,38 @@ def test_the_example_runs_without_matplotlib(tmp_path):
                        capture_output=True, text=True, cwd=tmp_path)
     assert p.returncode == 0, p.stderr
     assert "mean height" in p.stdout
+
+
+def test_long_calls_release_the_gil():
+    # A Brownian run of about a second in a thread while this thread keeps time: with the GIL
+    # held for the call this thread would stand still for its whole length; released, it
+    # is only ever held up for the interpreter's switch interval (5 ms) and scheduling
+    # (tens of ms on a loaded machine). Pass: the longest stall is under a quarter of the
+    # call.
+    import threading
+    import time
+
+    rng = np.random.default_rng(0)
+    grid = np.array([(i % 8, i // 8) for i in range(48)], dtype=float) * 3.0
+    x = np.column_stack([grid + rng.uniform(-0.2, 0.2, grid.shape), rng.uniform(2, 4, 48)])
+    s = stokesian.System(x, 1.0)
+    started, done, span = threading.Event(), threading.Event(), []
+
+    def work():
+        started.set()
+        t = time.perf_counter()
+        s.brownian(1500, 1e-5, 1.0, 0)
+        span.append(time.perf_counter() - t)
+        done.set()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    started.wait()
+    last, stall = time.perf_counter(), 0.0
+    while not done.is_set():
+        now = time.perf_counter()
+        stall = max(stall, now - last)
+        last = now
+    worker.join()
+    assert span[0] > 0.2, f"the call took {span[0]:.3f} s: too short to tell"
+    assert stall < span[0] / 4, f"stalled {stall:.3f} s during a {span[0]:.3f} s call"

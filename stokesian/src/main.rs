@@ -25,8 +25,6 @@
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use nalgebra::DMatrix;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use std::fs::{self, File};
 use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -1773,7 +1771,7 @@ struct Tally {
 /// Integrate and write the frames (step 0 and every `--every`-th step) to `w`.
 fn simulate(
     w: &mut impl Write,
-    mut system: System,
+    system: System,
     bd: &Brownian,
     args: &BrownianArgs,
     npy: bool,
@@ -1786,9 +1784,8 @@ fn simulate(
     };
     let n = system.len();
     let frames = args.steps / args.every + 1;
-    // FT: each sphere's orientation, a unit quaternion starting at the identity
+    // FT: each sphere's orientation (a unit quaternion) is written too
     let ft = bd.moments == Moments::FT;
-    let mut orientation = vec![[1.0, 0.0, 0.0, 0.0]; n];
     if npy {
         write_npy_header(w, &[frames, n, if ft { 7 } else { 3 }], false).map_err(io_error)?;
     } else if ft {
@@ -1822,40 +1819,44 @@ fn simulate(
         }
         Ok(())
     };
-    frame(w, 0, &system, &orientation).map_err(io_error)?;
-    let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
-    for step in 1..=args.steps {
-        system = loop {
-            match system.brownian_step(bd, &mut rng, step) {
-                Ok(next) => {
-                    for (q, theta) in orientation.iter_mut().zip(&next.rotation) {
-                        *q = stokesian::rotate(*q, *theta);
-                    }
-                    if let Some(k) = next.lanczos_iterations {
-                        tally.lanczos_sum += k;
-                        tally.lanczos_max = tally.lanczos_max.max(k);
-                    }
-                    break next.system;
-                }
-                Err(BrownianError::Invalid { step, source }) => {
-                    tally.rejections += 1;
-                    if tally.rejections > args.max_rejections {
-                        return Err(CliError::TooManyRejections {
-                            rejections: tally.rejections,
-                            max: args.max_rejections,
-                            step,
-                            reason: source.to_string(),
-                        });
-                    }
-                }
-                Err(e) => return Err(CliError::Brownian(e)),
-            }
-        };
-        if step % args.every == 0 {
-            frame(w, step, &system, &orientation).map_err(io_error)?;
+    // the library's run (seeded ChaCha8, invalid steps redrawn); the first write error
+    // stops the writing and is reported after the run
+    let run = stokesian::Run {
+        steps: args.steps,
+        every: args.every,
+        seed: args.seed,
+        max_rejections: args.max_rejections,
+    };
+    let mut written: io::Result<()> = Ok(());
+    let result = system.brownian_run(bd, &run, |step, system, orientation| {
+        if written.is_ok() {
+            written = frame(&mut *w, step, system, orientation);
         }
-        pb.inc(1);
-    }
+        pb.set_position(step as u64);
+    });
+    let t = match result {
+        Ok(t) => t,
+        Err(BrownianError::TooManyRejections {
+            rejections,
+            max,
+            step,
+            source,
+        }) => {
+            return Err(CliError::TooManyRejections {
+                rejections,
+                max,
+                step,
+                reason: source.to_string(),
+            })
+        }
+        Err(e) => return Err(CliError::Brownian(e)),
+    };
+    written.map_err(io_error)?;
+    *tally = Tally {
+        rejections: t.rejections,
+        lanczos_sum: t.lanczos_sum,
+        lanczos_max: t.lanczos_max,
+    };
     Ok(())
 }
 

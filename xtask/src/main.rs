@@ -283,18 +283,16 @@ fn test() -> Result<()> {
             recompiled.join(", ")
         );
     }
-    let built = t0.elapsed();
+    // printed before pytest, whose summary line (with its own time) closes the run
+    println!(
+        "xtask test: the Python environment and module took {:.1} s",
+        t0.elapsed().as_secs_f64()
+    );
     run(Command::new(&python)
         .args(["-m", "pytest", "-q"])
         .arg(root.join("python/tests"))
         .env("STOKESIAN_CLI", target.join("release").join("stokesian"))
-        .current_dir(&root))?;
-    println!(
-        "xtask test: Python environment and module in {:.1} s, pytest in {:.1} s",
-        built.as_secs_f64(),
-        (t0.elapsed() - built).as_secs_f64()
-    );
-    Ok(())
+        .current_dir(&root))
 }
 
 fn main() -> Result<()> {
