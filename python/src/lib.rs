@@ -711,7 +711,8 @@ impl NBody {
         Ok(())
     }
 
-    /// The positions, `(N, 3)` or `(3N,)`; later outputs take this shape.
+    /// The positions, `(N, 3)` or `(3N,)`; later outputs take this shape. Invalid
+    /// positions raise ValueError and leave the previous ones in place.
     #[allow(non_snake_case)]
     fn setPositions(&mut self, py: Python<'_>, positions: Floats) -> PyResult<()> {
         let (Some(eta), Some(radius)) = (self.viscosity, self.radius.clone()) else {
@@ -743,7 +744,7 @@ impl NBody {
         } else {
             Confinement::Free
         };
-        self.system = None;
+        // on an error the previous positions stay
         let system = py
             .detach(|| System::new(conf, eta, ps, false))
             .map_err(value_error)?;

@@ -197,7 +197,8 @@ class NBody:
         the noise (None: drawn from the operating system)."""
     def setPositions(self, positions: ArrayLike) -> None:
         """Positions of shape (N, 3) or (3N,); the outputs of ``sqrtMdotW`` and ``divM``
-        take this shape."""
+        take this shape. Invalid positions (NaN, overlapping spheres, a sphere cutting or
+        below the wall) raise ValueError and leave the previous positions in place."""
     def Mdot(self, forces: Optional[ArrayLike] = None, torques: Optional[ArrayLike] = None) -> Output:
         """``(linear, angular) = M [F; T]``: velocities (length/time) and angular
         velocities (rad/time) from forces and torques on the particles, each shaped

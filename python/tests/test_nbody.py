@@ -343,3 +343,14 @@ def test_bad_positions_and_forces(tmp_path, cli):
         s.initialize(1.0, 1.0)
         s.setPositions(np.array([[0.0, 0.0, 2.0]]))
         s.LangevinVelocities(0.0, 1.0)
+
+
+def test_refused_positions_leave_the_previous_ones():
+    positions, forces, _ = wall_configuration(3)
+    s = solver(positions)
+    before = s.Mdot(forces)[0]
+    bad = positions.copy()
+    bad[1] = bad[0] + np.array([0.5, 0.0, 0.0])  # overlaps sphere 0
+    with pytest.raises(ValueError, match="overlap"):
+        s.setPositions(bad)
+    assert np.array_equal(s.Mdot(forces)[0], before)
