@@ -237,9 +237,184 @@ pub enum BrownianError {
         /// Why.
         source: LanczosError,
     },
+    /// A setting is out of range ([`Brownian::check`], [`Run`]).
+    #[error("{name} = {value}: {why}")]
+    BadSetting {
+        /// The setting's name.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// What it must be.
+        why: &'static str,
+    },
+    /// A run redrew more steps than it allows ([`Run::max_rejections`]).
+    #[error("{rejections} rejected steps, more than max_rejections = {max}: the last, at step {step}, {source}. The time step is too large for the forces and distances near contact: use a smaller dt (or raise max_rejections)")]
+    TooManyRejections {
+        /// Steps redrawn so far.
+        rejections: usize,
+        /// The limit.
+        max: usize,
+        /// The step of the last rejection.
+        step: usize,
+        /// Why the last one was rejected.
+        source: InputError,
+    },
+}
+
+/// A trajectory: how many steps, which of them to keep, the random numbers, and how many
+/// invalid steps (a sphere through a boundary or another sphere) may be redrawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Run {
+    /// Number of time steps.
+    pub steps: usize,
+    /// Keep every `every`-th step (step 0 always); at least 1.
+    pub every: usize,
+    /// Seed of the standard normal numbers (ChaCha8): the same seed, the same trajectory.
+    pub seed: u64,
+    /// Fail after more than this many redrawn steps in total.
+    pub max_rejections: usize,
+}
+
+/// What a [`System::brownian_run`] counted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RunTally {
+    /// Steps rejected (invalid new configuration) and redrawn.
+    pub rejections: usize,
+    /// Lanczos iterations summed over the steps (Lanczos noise).
+    pub lanczos_sum: usize,
+    /// The most Lanczos iterations one step took.
+    pub lanczos_max: usize,
+}
+
+impl Brownian {
+    /// Every number in range: `dt`, `kt` and the repulsion's `debye` positive and finite,
+    /// the weight, repulsion strength and torque finite, the trap stiffness finite and
+    /// non-negative, the Lanczos tolerance and the random finite difference's step
+    /// positive; and no drift switched off under Fixman's scheme (its drift comes from
+    /// the midpoint). The other unsupported combinations are reported by the step itself.
+    pub fn check(&self) -> Result<(), BrownianError> {
+        let bad = |name, value, why| Err(BrownianError::BadSetting { name, value, why });
+        let positive = "must be a positive finite number";
+        let finite = "must be a finite number";
+        if !(self.dt > 0.0 && self.dt.is_finite()) {
+            return bad(
+                "dt",
+                self.dt,
+                "the time step must be a positive finite number",
+            );
+        }
+        if !(self.kt > 0.0 && self.kt.is_finite()) {
+            return bad(
+                "kt",
+                self.kt,
+                "the thermal energy must be a positive finite number",
+            );
+        }
+        let f = &self.forces;
+        if !(f.debye > 0.0 && f.debye.is_finite()) {
+            return bad("debye_length", f.debye, positive);
+        }
+        if !f.weight.is_finite() {
+            return bad("weight", f.weight, finite);
+        }
+        if !f.strength.is_finite() {
+            return bad("repulsion_strength", f.strength, finite);
+        }
+        if !(f.trap >= 0.0 && f.trap.is_finite()) {
+            return bad(
+                "trap",
+                f.trap,
+                "the trap stiffness must be a finite number >= 0",
+            );
+        }
+        if let Some(&t) = f.torque.iter().find(|t| !t.is_finite()) {
+            return bad("torque", t, finite);
+        }
+        if let Noise::Lanczos { tol } = self.noise {
+            if !(tol > 0.0 && tol.is_finite()) {
+                return bad(
+                    "lanczos",
+                    tol,
+                    "the relative tolerance must be a positive finite number",
+                );
+            }
+        }
+        if let Some(lub) = &self.lubrication {
+            if !(lub.rfd_step > 0.0 && lub.rfd_step.is_finite()) {
+                return bad("rfd_step", lub.rfd_step, positive);
+            }
+        }
+        if self.scheme == Scheme::FixmanMidpoint && !self.drift {
+            return Err(BrownianError::Unsupported(
+                "switching the drift off with Fixman's scheme (its drift comes from the \
+                 midpoint)",
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl System {
+    /// A trajectory of `run.steps` steps of `bd` from this system, the standard normal
+    /// numbers drawn from ChaCha8 seeded with `run.seed`; a step whose new configuration
+    /// is invalid is redrawn (up to `run.max_rejections` in total). `frame(step, system,
+    /// orientations)` receives step 0 and every `run.every`-th step; the orientations are
+    /// unit quaternions `(w, x, y, z)` starting at the identity (FT level; they stay the
+    /// identity at the F level).
+    pub fn brownian_run(
+        self,
+        bd: &Brownian,
+        run: &Run,
+        mut frame: impl FnMut(usize, &System, &[[f64; 4]]),
+    ) -> Result<RunTally, BrownianError> {
+        use rand::SeedableRng;
+        bd.check()?;
+        if run.every == 0 {
+            return Err(BrownianError::BadSetting {
+                name: "every",
+                value: 0.0,
+                why: "must be at least 1 (keep every K-th step)",
+            });
+        }
+        let mut tally = RunTally::default();
+        let mut system = self;
+        let mut orientation = vec![[1.0, 0.0, 0.0, 0.0]; system.len()];
+        frame(0, &system, &orientation);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(run.seed);
+        for step in 1..=run.steps {
+            system = loop {
+                match system.brownian_step(bd, &mut rng, step) {
+                    Ok(next) => {
+                        for (q, theta) in orientation.iter_mut().zip(&next.rotation) {
+                            *q = rotate(*q, *theta);
+                        }
+                        if let Some(k) = next.lanczos_iterations {
+                            tally.lanczos_sum += k;
+                            tally.lanczos_max = tally.lanczos_max.max(k);
+                        }
+                        break next.system;
+                    }
+                    Err(BrownianError::Invalid { step, source }) => {
+                        tally.rejections += 1;
+                        if tally.rejections > run.max_rejections {
+                            return Err(BrownianError::TooManyRejections {
+                                rejections: tally.rejections,
+                                max: run.max_rejections,
+                                step,
+                                source,
+                            });
+                        }
+                    }
+                    Err(e) => return Err(e),
+                }
+            };
+            if step % run.every == 0 {
+                frame(step, &system, &orientation);
+            }
+        }
+        Ok(tally)
+    }
+
     /// External forces on every sphere, `3N` (particle-major).
     pub fn external_forces(&self, f: &ExternalForces) -> Vec<f64> {
         let mut out = vec![0.0; 3 * self.len()];
@@ -748,4 +923,133 @@ pub fn lanczos_sqrt(
         iterations: alpha.len(),
         change,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    fn bd() -> Brownian {
+        Brownian {
+            kt: 1.0,
+            dt: 1e-3,
+            drift: true,
+            forces: ExternalForces {
+                weight: 0.5,
+                strength: 0.0,
+                debye: 1.0,
+                trap: 0.0,
+                torque: [0.0; 3],
+            },
+            noise: Noise::Cholesky,
+            hydrodynamics: true,
+            moments: Moments::F,
+            scheme: Scheme::EulerMaruyama,
+            lubrication: None,
+        }
+    }
+
+    fn system() -> System {
+        let p = |x, z| Particle {
+            x: [x, 0.0, z],
+            a: 1.0,
+        };
+        System::new(
+            kernels::Confinement::Wall { height: 0.0 },
+            1.0,
+            vec![p(0.0, 2.0), p(3.0, 1.5)],
+            false,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn a_run_is_its_steps_with_every_kth_kept() {
+        let run = Run {
+            steps: 6,
+            every: 3,
+            seed: 9,
+            max_rejections: 0,
+        };
+        let mut frames = Vec::new();
+        let tally = system()
+            .brownian_run(&bd(), &run, |step, s, q| {
+                assert_eq!(q, &[[1.0, 0.0, 0.0, 0.0]; 2]);
+                frames.push((step, s.particles().to_vec()));
+            })
+            .unwrap();
+        assert_eq!(tally, RunTally::default());
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+        let mut s = system();
+        let mut want = vec![(0, s.particles().to_vec())];
+        for step in 1..=6 {
+            s = s.brownian_step(&bd(), &mut rng, step).unwrap().system;
+            if step % 3 == 0 {
+                want.push((step, s.particles().to_vec()));
+            }
+        }
+        assert_eq!(frames, want);
+    }
+
+    #[test]
+    fn settings_out_of_range_are_refused() {
+        let run = Run {
+            steps: 1,
+            every: 1,
+            seed: 0,
+            max_rejections: 0,
+        };
+        let refused = |b: Brownian, name: &str| match system().brownian_run(&b, &run, |_, _, _| {})
+        {
+            Err(BrownianError::BadSetting { name: n, .. }) => assert_eq!(n, name),
+            other => panic!("{name}: {other:?}"),
+        };
+        refused(Brownian { dt: 0.0, ..bd() }, "dt");
+        refused(
+            Brownian {
+                kt: f64::NAN,
+                ..bd()
+            },
+            "kt",
+        );
+        let mut b = bd();
+        b.forces.trap = -1.0;
+        refused(b, "trap");
+        b = bd();
+        b.forces.debye = 0.0;
+        refused(b, "debye_length");
+        b = bd();
+        b.noise = Noise::Lanczos { tol: -1.0 };
+        refused(b, "lanczos");
+        let every0 = Run { every: 0, ..run };
+        assert!(matches!(
+            system().brownian_run(&bd(), &every0, |_, _, _| {}),
+            Err(BrownianError::BadSetting { name: "every", .. })
+        ));
+        // a step that always crosses the wall: redrawn until the limit
+        let heavy = Brownian {
+            dt: 10.0,
+            forces: ExternalForces {
+                weight: 100.0,
+                ..bd().forces
+            },
+            ..bd()
+        };
+        assert!(matches!(
+            system().brownian_run(
+                &heavy,
+                &Run {
+                    max_rejections: 3,
+                    ..run
+                },
+                |_, _, _| {}
+            ),
+            Err(BrownianError::TooManyRejections {
+                rejections: 4,
+                max: 3,
+                ..
+            })
+        ));
+    }
 }

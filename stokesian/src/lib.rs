@@ -16,11 +16,12 @@ mod lubrication;
 pub mod tables;
 mod tiled;
 pub mod two_sphere;
+mod velocity;
 
 pub use assembly::{check_spd, solve_fts, Moments, SingularStressletBlock, SpdCheck, System};
 pub use brownian::{
     lanczos_sqrt, rotate, Brownian, BrownianError, ExternalForces, LanczosError,
-    LubricatedDynamics, Noise, Scheme, Step,
+    LubricatedDynamics, Noise, Run, RunTally, Scheme, Step,
 };
 pub use input::{validate, InputError, Particle};
 pub use kernels::lanes::Isa;
@@ -29,3 +30,4 @@ pub use lubrication::{
     solve_resistance, solve_resistance_fts, wall_functions, wall_near_contact, wall_series,
     Lubrication, ResistanceError, WallFunctions,
 };
+pub use velocity::{strain_components, Velocities, VelocityError, MAX_CONDITION};

@@ -3,11 +3,14 @@
 //! `--check`) fail when they are stale. `cargo xtask gen --scene FILE [--out PATH]`:
 //! generate one scene as a standalone module. `cargo xtask report`: check that the
 //! committed kernels are up to date, then measure and write `report/` ([`report`]).
+//! `cargo xtask test`: every test, Rust and Python ([`test`]).
 
 use anyhow::{bail, Context, Result};
 use kernel_gen::catalog::GeneratedFile;
 use kernel_gen::scene::Scene;
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
 use std::time::Instant;
 
 mod report;
@@ -27,7 +30,9 @@ fn usage() -> &'static str {
      gen --scene FILE          generate only what the scene FILE needs, as a standalone module\n\
                                (default output: target/scenes/<name>.rs)\n\
      report                    check the committed kernels (as gen --check), then measure them and the solver and\n\
-                               write report/REPORT.md with its plots (deleted and recreated); --quick: a reduced sample"
+                               write report/REPORT.md with its plots (deleted and recreated); --quick: a reduced sample\n\
+     test                      every test: cargo test --workspace --release, then the Python module built into\n\
+                               target/python-venv (maturin, numpy, pytest from PyPI) and its pytest tests"
 }
 
 /// Names of the registered Green's functions.
@@ -219,6 +224,102 @@ fn run_report(quick: bool) -> Result<()> {
     Ok(())
 }
 
+/// Run `cmd`, failing with its name if it fails.
+fn run(cmd: &mut Command) -> Result<()> {
+    let status = cmd
+        .status()
+        .with_context(|| format!("cannot start {cmd:?}"))?;
+    if !status.success() {
+        bail!("{cmd:?} failed ({status})");
+    }
+    Ok(())
+}
+
+/// Crates of the solver that the Python build must find compiled by `cargo test`.
+const SHARED: &[&str] = &["faer ", "nalgebra ", "kernels ", "lanes ", "stokesian "];
+
+/// `cargo xtask test`: `cargo test --workspace --release`; then a virtual environment in
+/// `target/python-venv` (created once) with maturin, numpy and pytest from PyPI, the
+/// module `python/` built into it by `maturin develop --release` in the workspace's own
+/// target directory and release profile (so the solver's crates compiled by the cargo
+/// tests are reused: a warning names any that is compiled again), and its pytest tests,
+/// given the command-line binary those tests compare with.
+fn test() -> Result<()> {
+    let root = root();
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target"));
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    run(Command::new(&cargo)
+        .args(["test", "--workspace", "--release"])
+        .current_dir(&root))?;
+    let t0 = Instant::now();
+    let venv = target.join("python-venv");
+    let python = venv.join("bin").join("python");
+    if !python.exists() {
+        let system = std::env::var_os("PYTHON").unwrap_or_else(|| "python3".into());
+        run(Command::new(system).arg("-m").arg("venv").arg(&venv))?;
+    }
+    run(Command::new(&python).args([
+        "-m",
+        "pip",
+        "install",
+        "--quiet",
+        "--disable-pip-version-check",
+        "maturin>=1.9,<2",
+        "numpy",
+        "pytest",
+    ]))?;
+    let path = std::env::join_paths(std::iter::once(venv.join("bin")).chain(
+        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),
+    ))?;
+    let mut build = Command::new(venv.join("bin").join("maturin"));
+    build
+        .args(["develop", "--release", "--manifest-path"])
+        .arg(root.join("python/Cargo.toml"))
+        .env("CARGO_TARGET_DIR", &target)
+        .env("VIRTUAL_ENV", &venv)
+        .env("PATH", &path)
+        .stderr(Stdio::piped());
+    let mut child = build
+        .spawn()
+        .with_context(|| format!("cannot start {build:?}"))?;
+    let mut recompiled = Vec::new();
+    if let Some(err) = child.stderr.take() {
+        for line in BufReader::new(err).lines() {
+            let line = line?;
+            eprintln!("{line}");
+            if let Some(name) = line.trim_start().strip_prefix("Compiling ") {
+                if SHARED.iter().any(|s| name.starts_with(s)) {
+                    recompiled.push(name.to_string());
+                }
+            }
+        }
+    }
+    let status = child.wait()?;
+    if !status.success() {
+        bail!("{build:?} failed ({status})");
+    }
+    if !recompiled.is_empty() {
+        eprintln!(
+            "xtask test: warning: the Python build compiled {} again: the features of \
+             python/Cargo.toml and of the workspace have drifted apart (see the comments in \
+             python/Cargo.toml and tests/Cargo.toml)",
+            recompiled.join(", ")
+        );
+    }
+    // printed before pytest, whose summary line (with its own time) closes the run
+    println!(
+        "xtask test: the Python environment and module took {:.1} s",
+        t0.elapsed().as_secs_f64()
+    );
+    run(Command::new(&python)
+        .args(["-m", "pytest", "-q"])
+        .arg(root.join("python/tests"))
+        .env("STOKESIAN_CLI", target.join("release").join("stokesian"))
+        .current_dir(&root))
+}
+
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args
@@ -233,6 +334,7 @@ fn main() -> Result<()> {
         ["gen", "--scene", file, "--out", out] => gen_scene(Path::new(file), Some(Path::new(out))),
         ["report"] => run_report(false),
         ["report", "--quick"] => run_report(true),
+        ["test"] => test(),
         ["help"] | ["--help"] | ["-h"] | [] => {
             println!("{}", usage());
             Ok(())

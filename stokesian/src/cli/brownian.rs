@@ -8,8 +8,6 @@ use super::output::{self, check_out, has_extension, write_atomically, write_npy_
 use super::system::{ConfinementArg, MomentsArg, SystemArgs};
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use std::io::{self, Write};
 use std::path::PathBuf;
 use stokesian::{Brownian, BrownianError, ExternalForces, Moments, System};
@@ -383,7 +381,7 @@ struct Tally {
 /// Integrate and write the frames (step 0 and every `--every`-th step) to `w`.
 fn simulate(
     w: &mut impl Write,
-    mut system: System,
+    system: System,
     bd: &Brownian,
     args: &BrownianArgs,
     npy: bool,
@@ -396,9 +394,8 @@ fn simulate(
     };
     let n = system.len();
     let frames = args.steps / args.every + 1;
-    // FT: each sphere's orientation, a unit quaternion starting at the identity
+    // FT: each sphere's orientation (a unit quaternion) is written too
     let ft = bd.moments == Moments::FT;
-    let mut orientation = vec![[1.0, 0.0, 0.0, 0.0]; n];
     let mut frames_out = if npy {
         let shape = [frames, n, if ft { 7 } else { 3 }];
         write_npy_header(w, &shape, npyz::Order::C).map_err(io_error)?;
@@ -412,48 +409,49 @@ fn simulate(
         writeln!(w, "{header}").map_err(io_error)?;
         Frames::Csv(w)
     };
-    let mut frame = |step: usize, system: &System, orientation: &[[f64; 4]]| {
-        frames_out.write(
-            step,
-            step as f64 * bd.dt,
-            system,
-            if ft { orientation } else { &[] },
-        )
+    // the library's run (seeded ChaCha8, invalid steps redrawn); the first write error
+    // stops the writing and is reported after the run
+    let run = stokesian::Run {
+        steps: args.steps,
+        every: args.every,
+        seed: args.seed,
+        max_rejections: args.max_rejections,
     };
-    frame(0, &system, &orientation).map_err(io_error)?;
-    let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
-    for step in 1..=args.steps {
-        system = loop {
-            match system.brownian_step(bd, &mut rng, step) {
-                Ok(next) => {
-                    for (q, theta) in orientation.iter_mut().zip(&next.rotation) {
-                        *q = stokesian::rotate(*q, *theta);
-                    }
-                    if let Some(k) = next.lanczos_iterations {
-                        tally.lanczos_sum += k;
-                        tally.lanczos_max = tally.lanczos_max.max(k);
-                    }
-                    break next.system;
-                }
-                Err(BrownianError::Invalid { step, source }) => {
-                    tally.rejections += 1;
-                    if tally.rejections > args.max_rejections {
-                        return Err(CliError::TooManyRejections {
-                            rejections: tally.rejections,
-                            max: args.max_rejections,
-                            step,
-                            reason: source.to_string(),
-                        });
-                    }
-                }
-                Err(e) => return Err(CliError::Brownian(e)),
-            }
-        };
-        if step % args.every == 0 {
-            frame(step, &system, &orientation).map_err(io_error)?;
+    let mut written: io::Result<()> = Ok(());
+    let result = system.brownian_run(bd, &run, |step, system, orientation| {
+        if written.is_ok() {
+            written = frames_out.write(
+                step,
+                step as f64 * bd.dt,
+                system,
+                if ft { orientation } else { &[] },
+            );
         }
-        pb.inc(1);
-    }
+        pb.set_position(step as u64);
+    });
+    let t = match result {
+        Ok(t) => t,
+        Err(BrownianError::TooManyRejections {
+            rejections,
+            max,
+            step,
+            source,
+        }) => {
+            return Err(CliError::TooManyRejections {
+                rejections,
+                max,
+                step,
+                reason: source.to_string(),
+            })
+        }
+        Err(e) => return Err(CliError::Brownian(e)),
+    };
+    written.map_err(io_error)?;
+    *tally = Tally {
+        rejections: t.rejections,
+        lanczos_sum: t.lanczos_sum,
+        lanczos_max: t.lanczos_max,
+    };
     Ok(())
 }
 

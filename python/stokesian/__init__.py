@@ -1,0 +1,19 @@
+"""stokesian: hydrodynamic interactions of spheres in Stokes flow, unbounded and near a
+plane wall, a free surface, a liquid-liquid interface or in a slit (Swan & Brady, Phys.
+Fluids 19, 113306, 2007), from generated kernels.
+
+- :class:`System`: the whole solver (dense grand mobility F, FT, FTS; matrix-free
+  products; velocities with or without lubrication; the resistance of Eq. 19; the
+  Brownian drift; Brownian dynamics).
+- :class:`NBody`: libMobility's interface (``NBody("open", "open", "open")`` or
+  ``("open", "open", "single_wall")``), so that a libMobility script changes one import.
+
+Units: any consistent set (SI: m, Pa s, N, N m, s). Sign: forces and torques are those
+the particles exert on the fluid, i.e. the external force and torque on each particle;
+velocities are along the force (the mobility is positive definite). Every error of the
+library raises ``ValueError`` with the library's message.
+"""
+
+from ._stokesian import NBody, System
+
+__all__ = ["NBody", "System"]

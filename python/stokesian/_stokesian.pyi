@@ -1,0 +1,224 @@
+"""Type stubs of the compiled module ``stokesian._stokesian`` (re-exported by ``stokesian``).
+
+Units: any consistent set; SI is the usual choice (positions and radii in m, viscosity in
+Pa s, forces in N, torques in N m, time in s, kT in J). Velocities come out in m/s,
+rotation rates in rad/s, mobilities in the matching units (U/F in m/(N s)).
+
+Sign: forces, torques and stresslets are those the particles exert ON THE FLUID, which
+with no particle inertia equal the external force and torque acting on each particle
+(gravity minus buoyancy, traps, magnetic torques): a sphere that sinks under gravity has
+``fz = -(buoyant weight) < 0`` and moves along ``-z``. This is libMobility's convention
+too (``M F`` with ``F`` the force on the particle).
+
+Layout (DESIGN.md, Swan & Brady Eq. 1): vectors and matrices are moment-major, particle-
+major within a moment: all U (3N: U1x, U1y, U1z, U2x, ...), then all Omega (3N), then
+all E (5N, in the orthonormal strain basis B1..B5 of the command line's help); the
+mobility maps (F, L, S) to (U - U_inf, Omega - Omega_inf, -E_inf).
+
+Errors: every error of the library (bad shapes, NaN, overlapping spheres, a sphere below
+the wall, a matrix that is not positive definite, ...) raises ``ValueError`` with the
+library's message.
+"""
+
+from typing import ClassVar, Literal, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+ArrayLike = npt.ArrayLike
+Moments = Literal["F", "FT", "FTS"]
+Confinement = Literal["free", "wall", "free_surface", "interface", "slit"]
+
+class System:
+    """Spheres in Stokes flow in one confinement, validated once on construction.
+
+    ``System(positions, radii, *, confinement="wall", viscosity=1.0, boundary_height=0.0,
+    lam=None, gap=None, allow_overlap=False)``
+
+    positions: centres, shape (N, 3) or (3N,), length units.
+    radii: one radius for all spheres, or one per sphere (shape (N,)).
+    confinement: ``"free"`` (unbounded; boundary_height must stay 0), ``"wall"`` (no-slip
+        plane ``z = boundary_height``, fluid above), ``"free_surface"``, ``"interface"``
+        (needs ``lam``, the viscosity ratio of the liquid below to the liquid holding the
+        spheres, >= 0) or ``"slit"`` (walls at ``z = boundary_height`` and
+        ``boundary_height + gap``; needs ``gap`` > 0).
+    viscosity: of the fluid holding the spheres (> 0).
+    allow_overlap: accept spheres overlapping each other or cutting a boundary (otherwise
+        a ValueError naming the particles).
+    """
+
+    def __init__(
+        self,
+        positions: ArrayLike,
+        radii: Union[float, ArrayLike],
+        *,
+        confinement: Confinement = "wall",
+        viscosity: float = 1.0,
+        boundary_height: float = 0.0,
+        lam: Optional[float] = None,
+        gap: Optional[float] = None,
+        allow_overlap: bool = False,
+    ) -> None: ...
+    def __len__(self) -> int: ...
+    @property
+    def positions(self) -> npt.NDArray[np.float64]:
+        """The centres, shape (N, 3)."""
+    @property
+    def radii(self) -> npt.NDArray[np.float64]:
+        """The radii, shape (N,)."""
+    @property
+    def confinement(self) -> str:
+        """The confinement's name."""
+    @property
+    def viscosity(self) -> float:
+        """The viscosity."""
+    def mobility(self, moments: Moments = "F") -> npt.NDArray[np.float64]:
+        """The dense grand mobility, shape (kN, kN), k = 3 (F), 6 (FT), 11 (FTS), in the
+        moment-major layout (module docstring); symmetric positive definite. U/F in
+        length/(force time). Returned in Fortran order (the library's own), no copy."""
+    def apply(self, moments: Moments, x: ArrayLike) -> npt.NDArray[np.float64]:
+        """``M x`` without forming M: x has kN entries, moment-major (forces, then
+        torques, then stresslets); the result likewise (U, Omega, -E_inf). Bit for bit
+        independent of the number of threads."""
+    def velocities(
+        self,
+        forces: ArrayLike,
+        torques: Optional[ArrayLike] = None,
+        strain: Optional[ArrayLike] = None,
+        lubrication: bool = False,
+    ) -> Tuple[npt.NDArray[np.float64], Optional[npt.NDArray[np.float64]]]:
+        """Velocities (N, 3) and rotation rates (N, 3) of the spheres under ``forces``
+        and ``torques`` (on the fluid = on the particles; shape (N, 3) or (3N,)) in a
+        fluid at rest or under the uniform rate of strain ``strain`` (shape (5,) in the
+        orthonormal basis, or a symmetric traceless (3, 3) tensor, 1/time).
+
+        The truncation follows the arguments: F (forces only; rotation rates None),
+        FT (torques given, or ``lubrication``), FTS (``strain`` given: stresslets solved
+        for, velocities relative to the ambient flow at each centre). ``lubrication``:
+        the resistance of Eq. 19 (exact sphere-wall and two-sphere functions) solved by
+        Cholesky; ValueError above a condition estimate of 1e14."""
+    def resistance(self, moments: Moments = "FT", lubrication: bool = True) -> npt.NDArray[np.float64]:
+        """The grand resistance (kN, kN), FT or FTS, same layout as the mobility; rows
+        are what the particles exert on the fluid, columns (U - U_inf, Omega - Omega_inf,
+        -E_inf). With ``lubrication`` Eq. 19, otherwise the inverse of the far-field
+        mobility."""
+    def divergence(self, moments: Moments = "F") -> npt.NDArray[np.float64]:
+        """``div M`` (3N at F; 6N at FT, the translational then the rotational rows),
+        ``sum_b sum_j d/dx_bj M^ab_ij``, exact, from the generated divergence kernels;
+        units of the mobility over length."""
+    def brownian(
+        self,
+        steps: int,
+        dt: float,
+        kt: float = 1.0,
+        seed: int = 0,
+        *,
+        moments: Literal["F", "FT"] = "F",
+        weight: float = 0.0,
+        repulsion_strength: float = 0.0,
+        debye_length: float = 1.0,
+        torque: Optional[Sequence[float]] = None,
+        trap: float = 0.0,
+        scheme: Literal["euler-maruyama", "fixman"] = "euler-maruyama",
+        lanczos: Optional[float] = None,
+        drift: bool = True,
+        lubrication: bool = False,
+        rfd_step: float = 1e-3,
+        every: int = 1,
+        max_rejections: int = 1000,
+        hydrodynamics: bool = True,
+    ) -> npt.NDArray[np.float64]:
+        """Overdamped Brownian dynamics from this configuration, as ``stokesian brownian``
+        (same options, same random numbers: ChaCha8 seeded with ``seed``, so the same
+        seed gives the command line's trajectory bit for bit).
+
+        ``x(t + dt) = x + (M F + kt div M) dt + sqrt(2 kt dt) M^(1/2) W``.
+
+        steps: number of time steps; dt: the time step (> 0, time units); kt: thermal
+        energy (> 0, energy units); weight: buoyant weight of each sphere, a force
+        ``-weight e_z``; repulsion_strength, debye_length: a force
+        ``strength exp(-gap / debye_length)`` from each boundary plane into the fluid;
+        torque: FT only, the torque on every sphere; trap: stiffness of a harmonic trap
+        towards the axis x = y = 0; scheme: Euler-Maruyama with the exact drift, or
+        Fixman's midpoint; lanczos: tolerance of a Lanczos square root instead of
+        Cholesky; drift: False leaves the drift out (wrong near a boundary; for
+        comparison); lubrication: Brownian Stokesian dynamics with the resistance of
+        Eq. 19 (drift by a random finite difference of step ``rfd_step`` radii);
+        every: keep every K-th step (step 0 always); max_rejections: invalid steps (a
+        sphere through a boundary or another) are redrawn, at most this many;
+        hydrodynamics: False gives each sphere its isolated Stokes mobility.
+
+        Returns the frames: shape (frames, N, 3) at F, (frames, N, 7) at FT (centre,
+        then the orientation quaternion w, x, y, z)."""
+
+Output = Tuple[npt.NDArray[np.float64], Optional[npt.NDArray[np.float64]]]
+
+class NBody:
+    """libMobility's ``NBody`` solver with this library's kernels, so that a libMobility
+    script runs by changing its import.
+
+    Free space (``"open", "open", "open"``): the Rotne-Prager-Yamakawa mobility of
+    non-overlapping spheres. Above a no-slip wall (``"open", "open", "single_wall"``,
+    the wall at ``z = wallHeight``): the Rotne-Prager-Blake mobility of Swan & Brady
+    (2007) and, beyond libMobility, its exact divergence. Periodic boundaries and two
+    walls raise ValueError. Overlapping spheres, or spheres cutting the wall, raise
+    ValueError (libMobility's regularised overlap forms are not implemented).
+
+    Units and sign as libMobility: ``Mdot`` maps the force (torque) acting on each
+    particle to its velocity (angular velocity), in the units of the viscosity, radius
+    and positions given; the self mobility is ``1/(6 pi viscosity radius)``.
+    Double precision only (``precision == "double"``).
+    """
+
+    precision: ClassVar[str]
+    def __init__(self, periodicityX: str, periodicityY: str, periodicityZ: str) -> None: ...
+    def setParameters(
+        self,
+        algorithm: str = "advise",
+        Nbatch: int = -1,
+        NperBatch: int = -1,
+        wallHeight: Optional[float] = 0.0,
+        delta: Optional[float] = None,
+    ) -> None:
+        """``wallHeight``: the height of the wall (single_wall only). The other
+        arguments are libMobility's algorithm and batching choices, accepted and ignored
+        (every algorithm computes the same here)."""
+    def initialize(
+        self,
+        viscosity: float,
+        hydrodynamicRadius: Union[float, ArrayLike],
+        includeAngular: bool = False,
+        tolerance: float = 1e-4,
+        seed: Optional[int] = None,
+    ) -> None:
+        """``hydrodynamicRadius``: one radius, or (beyond libMobility) an array of N
+        radii. ``includeAngular``: torques in, angular velocities out. ``tolerance``:
+        relative tolerance of the Lanczos square root in ``sqrtMdotW``. ``seed``: of
+        the noise (None: drawn from the operating system)."""
+    def setPositions(self, positions: ArrayLike) -> None:
+        """Positions of shape (N, 3) or (3N,); the outputs of ``sqrtMdotW`` and ``divM``
+        take this shape. Invalid positions (NaN, overlapping spheres, a sphere cutting or
+        below the wall) raise ValueError and leave the previous positions in place."""
+    def Mdot(self, forces: Optional[ArrayLike] = None, torques: Optional[ArrayLike] = None) -> Output:
+        """``(linear, angular) = M [F; T]``: velocities (length/time) and angular
+        velocities (rad/time) from forces and torques on the particles, each shaped
+        like its input ((N, 3) or (3N,)); ``angular`` is None unless ``includeAngular``.
+        Torques without ``includeAngular``, or calling before ``setPositions``, raise
+        ValueError."""
+    def sqrtMdotW(self, prefactor: float = 1.0) -> Output:
+        """``prefactor M^(1/2) W``, W standard normal (covariance ``prefactor^2 M``),
+        by a Lanczos iteration to ``tolerance``."""
+    def divM(self, prefactor: float = 1.0) -> Output:
+        """``prefactor div M`` (``sum_j d M_ij / d x_j``), exact, from the generated
+        divergence kernels (zero in free space for non-overlapping spheres)."""
+    def LangevinVelocities(
+        self,
+        dt: float,
+        kbt: float,
+        forces: Optional[ArrayLike] = None,
+        torques: Optional[ArrayLike] = None,
+    ) -> Output:
+        """``M [F; T] + sqrt(2 kbt / dt) M^(1/2) W + kbt div M``: the velocities of one
+        Euler-Maruyama step of length ``dt`` at thermal energy ``kbt``."""
+    def clean(self) -> None:
+        """Forget the parameters and positions (``initialize`` again before use)."""

@@ -1,0 +1,290 @@
+"""stokesian.System: the solver from NumPy, against the command line (which reads and
+writes files through the same library) bit for bit, and its errors."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stokesian
+from conftest import read_csv, wall_configuration, write_forces, write_particles
+
+CONFINEMENTS = [
+    ("free", dict(confinement="free"), ["--confinement", "free"]),
+    ("wall", dict(confinement="wall", boundary_height=0.25),
+     ["--confinement", "wall", "--boundary-height", "0.25"]),
+    ("free_surface", dict(confinement="free_surface"), ["--confinement", "free-surface"]),
+    ("interface", dict(confinement="interface", lam=0.3),
+     ["--confinement", "interface", "--lambda", "0.3"]),
+    ("slit", dict(confinement="slit", gap=40.0), ["--confinement", "slit", "--gap", "40"]),
+]
+
+
+@pytest.mark.parametrize("name,kwargs,flags", CONFINEMENTS)
+@pytest.mark.parametrize("moments", ["F", "FT", "FTS"])
+def test_mobility_equals_cli_bit_for_bit(tmp_path, cli, name, kwargs, flags, moments):
+    positions, _, _ = wall_configuration(5)
+    radii = np.array([1.0, 0.8, 1.2, 1.0, 0.9])
+    s = stokesian.System(positions, radii, viscosity=1.3, **kwargs)
+    assert s.confinement == name and len(s) == 5
+    m = s.mobility(moments)
+    k = {"F": 3, "FT": 6, "FTS": 11}[moments]
+    assert m.shape == (5 * k, 5 * k)
+    p = write_particles(tmp_path / "p.csv", positions, radii)
+    cli("mobility", *flags, "--moments", moments, "--viscosity", "1.3", "--particles", p,
+        "--out", tmp_path / "m.npy")
+    assert np.array_equal(m, np.load(tmp_path / "m.npy"))
+    # symmetric positive definite (the slit is wide enough here)
+    assert np.allclose(m, m.T, rtol=0, atol=1e-14 * np.abs(m).max())
+    np.linalg.cholesky(m)
+
+
+@pytest.mark.parametrize("moments", ["F", "FT", "FTS"])
+def test_apply_equals_mobility_times_x(moments):
+    positions, _, _ = wall_configuration(6)
+    s = stokesian.System(positions, 1.0)
+    k = {"F": 3, "FT": 6, "FTS": 11}[moments]
+    x = np.random.default_rng(2).normal(size=6 * k)
+    got = s.apply(moments, x)
+    want = s.mobility(moments) @ x
+    # tiled sums against a dense product: round-off of sums of 6 terms
+    assert np.linalg.norm(got - want) <= 1e-13 * np.linalg.norm(want)
+
+
+@pytest.mark.parametrize("moments,lubrication", [("F", False), ("FT", False), ("FTS", False),
+                                                 ("FT", True), ("FTS", True)])
+def test_velocities_equal_cli_bit_for_bit(tmp_path, cli, moments, lubrication):
+    positions, forces, torques = wall_configuration(4)
+    positions[1] = positions[0] + np.array([2.05, 0.0, 0.0])  # a pair near contact
+    s = stokesian.System(positions, 1.0)
+    strain = np.array([0.1, -0.2, 0.05, 0.3, 0.0]) if moments == "FTS" else None
+    t = torques if moments != "F" else None
+    u, w = s.velocities(forces, t, strain=strain, lubrication=lubrication)
+    p = write_particles(tmp_path / "p.csv", positions, 1.0)
+    f = write_forces(tmp_path / "f.csv", forces, t)
+    extra = ["--lubrication"] if lubrication else []
+    if strain is not None:
+        extra += ["--strain", ",".join(repr(float(v)) for v in strain)]
+    cli("velocity", "--confinement", "wall", "--moments", moments, "--particles", p,
+        "--forces", f, "--out", tmp_path / "u.csv", *extra)
+    want = read_csv(tmp_path / "u.csv")
+    assert np.array_equal(u, want[:, :3])
+    if moments == "F":
+        assert w is None
+    else:
+        assert np.array_equal(w, want[:, 3:])
+
+
+def test_strain_as_cartesian_tensor_equals_the_basis_components():
+    positions, forces, torques = wall_configuration(3)
+    s = stokesian.System(positions, 1.0)
+    e = np.array([[0.1, 0.2, 0.0], [0.2, -0.3, 0.05], [0.0, 0.05, 0.2]])
+    r2, r6 = np.sqrt(2), np.sqrt(6)
+    basis = [
+        np.array([[0, 1, 0], [1, 0, 0], [0, 0, 0]]) / r2,
+        np.array([[0, 0, 1], [0, 0, 0], [1, 0, 0]]) / r2,
+        np.array([[0, 0, 0], [0, 0, 1], [0, 1, 0]]) / r2,
+        np.array([[1, 0, 0], [0, -1, 0], [0, 0, 0]]) / r2,
+        np.array([[-1, 0, 0], [0, -1, 0], [0, 0, 2]]) / r6,
+    ]
+    comps = np.array([np.sum(b * e) for b in basis])
+    u1, w1 = s.velocities(forces, torques, strain=e)
+    u2, w2 = s.velocities(forces, torques, strain=comps)
+    assert np.allclose(u1, u2, rtol=1e-14, atol=1e-16)
+    assert np.allclose(w1, w2, rtol=1e-14, atol=1e-16)
+
+
+@pytest.mark.parametrize("moments", ["FT", "FTS"])
+def test_resistance_equals_cli_bit_for_bit(tmp_path, cli, moments):
+    positions, _, _ = wall_configuration(4)
+    positions[1] = positions[0] + np.array([2.1, 0.0, 0.0])
+    s = stokesian.System(positions, 1.0)
+    r = s.resistance(moments)
+    p = write_particles(tmp_path / "p.csv", positions, 1.0)
+    cli("resistance", "--confinement", "wall", "--moments", moments, "--particles", p,
+        "--out", tmp_path / "r.npy")
+    assert np.array_equal(r, np.load(tmp_path / "r.npy"))
+    # without lubrication: the inverse of the far-field mobility (to the round-off of
+    # inverting a matrix of condition ~1e2)
+    r0 = s.resistance(moments, lubrication=False)
+    assert np.allclose(r0 @ s.mobility(moments), np.eye(len(r0)), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "moments,options,flags",
+    [
+        ("F", dict(weight=0.5, repulsion_strength=2.0, debye_length=0.2),
+         ["--weight", "0.5", "--repulsion-strength", "2", "--debye-length", "0.2"]),
+        ("FT", dict(torque=[0.0, 0.3, 0.0], trap=0.1, every=2),
+         ["--torque", "0,0.3,0", "--trap", "0.1", "--every", "2"]),
+        ("F", dict(scheme="fixman", weight=0.2), ["--scheme", "fixman", "--weight", "0.2"]),
+        ("F", dict(lanczos=1e-8), ["--lanczos", "1e-8"]),
+        ("F", dict(lubrication=True, weight=0.3), ["--lubrication", "--weight", "0.3"]),
+    ],
+)
+def test_brownian_equals_cli_bit_for_bit(tmp_path, cli, moments, options, flags):
+    positions = np.array([[0.0, 0.0, 1.6], [2.4, 0.2, 1.4], [-0.3, 2.5, 2.2]])
+    s = stokesian.System(positions, 1.0)
+    traj = s.brownian(10, 1e-3, 1.0, 42, moments=moments, **options)
+    every = options.get("every", 1)
+    assert traj.shape == (10 // every + 1, 3, 7 if moments == "FT" else 3)
+    assert np.array_equal(traj[0, :, :3], positions)
+    p = write_particles(tmp_path / "p.csv", positions, 1.0)
+    cli("brownian", "--confinement", "wall", "--moments", moments, "--particles", p,
+        "--steps", "10", "--dt", "1e-3", "--kt", "1", "--seed", "42", *flags,
+        "--out", tmp_path / "t.npy")
+    assert np.array_equal(traj, np.load(tmp_path / "t.npy"))
+
+
+def test_divergence_is_the_nbody_divm():
+    positions, _, _ = wall_configuration(4)
+    s = stokesian.System(positions, 1.0)
+    nb = stokesian.NBody("open", "open", "single_wall")
+    nb.setParameters(wallHeight=0.0)
+    nb.initialize(1.0, 1.0, includeAngular=True)
+    nb.setPositions(positions)
+    lin, ang = nb.divM()
+    d = s.divergence("FT")
+    assert np.array_equal(d, np.concatenate([lin.ravel(), ang.ravel()]))
+    assert np.array_equal(s.divergence("F"), lin.ravel())
+
+
+def test_zero_copy_reads_of_contiguous_arrays_do_not_change_them():
+    positions, forces, _ = wall_configuration(4)
+    keep = positions.copy()
+    s = stokesian.System(positions, 1.0)
+    s.velocities(forces)
+    assert np.array_equal(positions, keep)
+    assert np.array_equal(s.positions, keep)
+    assert np.array_equal(s.radii, np.ones(4))
+
+
+# ---- errors: ValueError with the library's message ----------------------------------
+
+
+def test_bad_systems_raise_value_error(tmp_path, cli):
+    ok = np.array([[0.0, 0.0, 2.0], [3.0, 0.0, 2.0]])
+    with pytest.raises(ValueError, match="confinement 'moon'|confinement \"moon\""):
+        stokesian.System(ok, 1.0, confinement="moon")
+    with pytest.raises(ValueError, match="needs lam"):
+        stokesian.System(ok, 1.0, confinement="interface")
+    with pytest.raises(ValueError, match="needs gap"):
+        stokesian.System(ok, 1.0, confinement="slit")
+    with pytest.raises(ValueError, match="gap does not apply"):
+        stokesian.System(ok, 1.0, confinement="wall", gap=3.0)
+    with pytest.raises(ValueError, match="boundary_height does not apply"):
+        stokesian.System(ok, 1.0, confinement="free", boundary_height=1.0)
+    with pytest.raises(ValueError, match="lambda = -1"):
+        stokesian.System(ok, 1.0, confinement="interface", lam=-1.0)
+    with pytest.raises(ValueError, match="viscosity"):
+        stokesian.System(ok, 1.0, viscosity=-1.0)
+    with pytest.raises(ValueError, match="radii"):
+        stokesian.System(ok, [1.0, 1.0, 1.0])
+    with pytest.raises(ValueError, match="shape"):
+        stokesian.System(np.zeros((2, 4)), 1.0)
+    with pytest.raises(ValueError, match="no particles"):
+        stokesian.System(np.zeros((0, 3)), 1.0)
+    # the same message as the command line for the library's errors
+    for x, r in [(np.array([[0.0, 0.0, 2.0], [1.0, 0.0, 2.0]]), 1.0),
+                 (np.array([[0.0, 0.0, -2.0]]), 1.0),
+                 (np.array([[0.0, 0.0, 2.0]]), -0.5),
+                 (np.array([[0.0, np.inf, 2.0]]), 1.0)]:
+        with pytest.raises(ValueError) as e:
+            stokesian.System(x, r)
+        p = write_particles(tmp_path / "p.csv", x, r)
+        out = cli("mobility", "--confinement", "wall", "--moments", "F", "--particles", p, "--out",
+                  tmp_path / "m.npy", ok=False)
+        reason = str(e.value).split(": ", 1)[1].split(" < ")[0].split(" (")[0]
+        assert out.returncode != 0 and reason in out.stderr, (str(e.value), out.stderr)
+    # overlaps accepted on request
+    stokesian.System(np.array([[0.0, 0.0, 2.0], [1.0, 0.0, 2.0]]), 1.0, allow_overlap=True)
+
+
+def test_bad_calls_raise_value_error():
+    positions, forces, torques = wall_configuration(3)
+    s = stokesian.System(positions, 1.0)
+    with pytest.raises(ValueError, match="moments"):
+        s.mobility("FTSX")
+    with pytest.raises(ValueError, match="needs 9"):
+        s.apply("F", np.ones(8))
+    with pytest.raises(ValueError, match="rows for 3 particles"):
+        s.velocities(np.ones((4, 3)))
+    with pytest.raises(ValueError, match="not a finite number"):
+        s.velocities(np.full((3, 3), np.nan))
+    with pytest.raises(ValueError, match="symmetric and traceless"):
+        s.velocities(forces, torques, strain=np.eye(3))
+    with pytest.raises(ValueError, match="lubrication needs torques"):
+        s.resistance("F")
+    with pytest.raises(ValueError, match="dt = 0"):
+        s.brownian(3, 0.0, 1.0, 0)
+    with pytest.raises(ValueError, match="kt = -1"):
+        s.brownian(3, 1e-3, -1.0, 0)
+    with pytest.raises(ValueError, match="every"):
+        s.brownian(3, 1e-3, 1.0, 0, every=0)
+    with pytest.raises(ValueError, match="FTS Brownian dynamics is not implemented"):
+        s.brownian(3, 1e-3, 1.0, 0, moments="FTS")
+    with pytest.raises(ValueError, match="external torque at the F level"):
+        s.brownian(3, 1e-3, 1.0, 0, torque=[0.0, 0.0, 1.0])
+    with pytest.raises(ValueError, match="scheme"):
+        s.brownian(3, 1e-3, 1.0, 0, scheme="leapfrog")
+    with pytest.raises(ValueError, match="Fixman"):
+        s.brownian(3, 1e-3, 1.0, 0, scheme="fixman", drift=False)
+    # steps so large that every one is rejected
+    with pytest.raises(ValueError, match="rejected steps, more than max_rejections = 5"):
+        s.brownian(3, 10.0, 1.0, 0, weight=100.0, max_rejections=5)
+
+
+def test_not_positive_definite_raises_value_error():
+    # a sphere near a wall of a narrow slit: the superposed images are not positive
+    # definite (README), so the far-field mobility cannot be inverted
+    s = stokesian.System(np.array([[0.0, 0.0, 1.05]]), 1.0, confinement="slit", gap=3.0)
+    assert np.linalg.eigvalsh(s.mobility("FT")).min() < 0
+    with pytest.raises(ValueError, match="not positive definite"):
+        s.resistance("FT")
+    with pytest.raises(ValueError, match="not positive definite"):
+        s.brownian(2, 1e-4, 1.0, 0)
+
+
+def test_the_example_runs_without_matplotlib(tmp_path):
+    example = Path(__file__).resolve().parents[1] / "examples" / "sedimentation.py"
+    p = subprocess.run([sys.executable, str(example), "--steps", "20", "--no-plot"],
+                       capture_output=True, text=True, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert "mean height" in p.stdout
+
+
+def test_long_calls_release_the_gil():
+    # A Brownian run of about a second in a thread while this thread keeps time: with the GIL
+    # held for the call this thread would stand still for its whole length; released, it
+    # is only ever held up for the interpreter's switch interval (5 ms) and scheduling
+    # (tens of ms on a loaded machine). Pass: the longest stall is under a quarter of the
+    # call.
+    import threading
+    import time
+
+    rng = np.random.default_rng(0)
+    grid = np.array([(i % 8, i // 8) for i in range(48)], dtype=float) * 3.0
+    x = np.column_stack([grid + rng.uniform(-0.2, 0.2, grid.shape), rng.uniform(2, 4, 48)])
+    s = stokesian.System(x, 1.0)
+    started, done, span = threading.Event(), threading.Event(), []
+
+    def work():
+        started.set()
+        t = time.perf_counter()
+        s.brownian(1500, 1e-5, 1.0, 0)
+        span.append(time.perf_counter() - t)
+        done.set()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    started.wait()
+    last, stall = time.perf_counter(), 0.0
+    while not done.is_set():
+        now = time.perf_counter()
+        stall = max(stall, now - last)
+        last = now
+    worker.join()
+    assert span[0] > 0.2, f"the call took {span[0]:.3f} s: too short to tell"
+    assert stall < span[0] / 4, f"stalled {stall:.3f} s during a {span[0]:.3f} s call"

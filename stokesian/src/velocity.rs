@@ -1,0 +1,250 @@
+//! Velocities of spheres from given forces, torques and an imposed strain: the mobility
+//! problem at F, FT or FTS, far field or with lubrication (what `stokesian velocity`
+//! computes, as a library call).
+
+use crate::assembly::{solve_fts, Moments, SingularStressletBlock, System};
+use crate::lubrication::{solve_resistance, solve_resistance_fts, Lubrication, ResistanceError};
+use thiserror::Error;
+
+/// Above this condition estimate of the lubricated resistance the velocities are refused.
+pub const MAX_CONDITION: f64 = 1e14;
+
+/// The velocities and how they were obtained.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Velocities {
+    /// `U - U_inf` (`3N`) and, at FT and FTS, `Omega - Omega_inf` (`3N`), moment-major.
+    pub u: Vec<f64>,
+    /// With lubrication, the condition estimate of the resistance that was solved.
+    pub condition: Option<f64>,
+    /// At FTS without lubrication: whether the stresslet block was solved by Cholesky
+    /// (`false`: by LU, as it is not positive definite; never for valid input).
+    pub stresslet_cholesky: bool,
+}
+
+/// Why the velocities cannot be computed.
+#[derive(Debug, Error, PartialEq)]
+pub enum VelocityError {
+    /// The forces (and torques) do not match the system.
+    #[error("{found} forces and torques for {n} particles at {moments:?}: expected {expected} (3N forces, then 3N torques at FT and FTS)")]
+    Length {
+        /// The truncation.
+        moments: Moments,
+        /// Number of particles.
+        n: usize,
+        /// Numbers expected.
+        expected: usize,
+        /// Numbers given.
+        found: usize,
+    },
+    /// A force, torque or strain component is NaN or infinite.
+    #[error("{what} component {index} is {value}, not a finite number")]
+    NonFinite {
+        /// `force or torque` or `strain`.
+        what: &'static str,
+        /// Index in the moment-major vector.
+        index: usize,
+        /// The value.
+        value: f64,
+    },
+    /// An imposed strain without stresslets: rigid spheres then follow it exactly.
+    #[error("an imposed strain needs the stresslets (FTS): without them the spheres follow a uniform strain and U - U_inf does not depend on it (asked for {0:?})")]
+    StrainWithoutStresslets(Moments),
+    /// The resistance with lubrication cannot be formed or factored.
+    #[error("{0}")]
+    Resistance(#[from] ResistanceError),
+    /// The resistance is too ill-conditioned to solve.
+    #[error("the resistance with lubrication is too ill-conditioned to solve (condition estimate {0:e} > 1e14)")]
+    IllConditioned(f64),
+    /// The stresslet block cannot be solved.
+    #[error("{0} (overlapping spheres accepted, or a narrow slit?)")]
+    Singular(#[from] SingularStressletBlock),
+    /// A Cartesian rate of strain that is not symmetric and traceless.
+    #[error(
+        "a rate of strain must be symmetric and traceless (to 1e-9 of its largest component): {0}"
+    )]
+    NotSymmetricTraceless(String),
+    /// The mobility or the result has entries that are not finite.
+    #[error("the {0} has entries that are not finite numbers (overlapping spheres accepted too close together?)")]
+    NotFinite(&'static str),
+}
+
+/// The 5 components `E_m = B_m : E` in the orthonormal basis
+/// [`kernels::STRAIN_BASIS`] of a Cartesian rate of strain `e` (row-major), which must be
+/// symmetric and traceless to `1e-9` of its largest component.
+pub fn strain_components(e: &[[f64; 3]; 3]) -> Result<[f64; 5], VelocityError> {
+    let scale = e.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
+    let tol = 1e-9 * scale;
+    for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+        if (e[i][j] - e[j][i]).abs() > tol {
+            return Err(VelocityError::NotSymmetricTraceless(format!(
+                "E{}{} = {} but E{}{} = {}",
+                i + 1,
+                j + 1,
+                e[i][j],
+                j + 1,
+                i + 1,
+                e[j][i]
+            )));
+        }
+    }
+    let trace = e[0][0] + e[1][1] + e[2][2];
+    if trace.abs() > tol {
+        return Err(VelocityError::NotSymmetricTraceless(format!(
+            "E11 + E22 + E33 = {trace}"
+        )));
+    }
+    let mut out = [0.0; 5];
+    for (m, b) in kernels::STRAIN_BASIS.iter().enumerate() {
+        out[m] = (0..3)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .map(|(i, j)| b[i][j] * e[i][j])
+            .sum();
+    }
+    Ok(out)
+}
+
+impl System {
+    /// The velocities of the spheres under forces and torques `x` (`3N` at F, `6N` at FT
+    /// and FTS, moment-major: what the particles exert on the fluid) and the uniform
+    /// imposed strain `e_inf` (5 components in the orthonormal basis; FTS only, zero
+    /// otherwise). Far field: `M x` (F, FT, matrix-free) or the FTS mobility problem
+    /// ([`solve_fts`]). With `lubrication` (FT, FTS): the resistance of Eq. 19 solved by
+    /// Cholesky ([`solve_resistance`], [`solve_resistance_fts`]), refused above a
+    /// condition estimate of [`MAX_CONDITION`].
+    pub fn velocities(
+        &self,
+        moments: Moments,
+        x: &[f64],
+        e_inf: &[f64; 5],
+        lubrication: Option<&Lubrication>,
+    ) -> Result<Velocities, VelocityError> {
+        let n = self.len();
+        let expected = if moments == Moments::F { 3 * n } else { 6 * n };
+        if x.len() != expected {
+            return Err(VelocityError::Length {
+                moments,
+                n,
+                expected,
+                found: x.len(),
+            });
+        }
+        let non_finite = |what, v: &[f64]| {
+            v.iter()
+                .position(|v| !v.is_finite())
+                .map(|index| VelocityError::NonFinite {
+                    what,
+                    index,
+                    value: v[index],
+                })
+        };
+        if let Some(e) = non_finite("force or torque", x).or(non_finite("strain", e_inf)) {
+            return Err(e);
+        }
+        if moments != Moments::FTS && *e_inf != [0.0; 5] {
+            return Err(VelocityError::StrainWithoutStresslets(moments));
+        }
+        let mut out = Velocities {
+            u: Vec::new(),
+            condition: None,
+            stresslet_cholesky: true,
+        };
+        match (moments, lubrication) {
+            (_, Some(lub)) => {
+                let r = self.resistance(moments, lub)?;
+                let (u, cond) = if moments == Moments::FTS {
+                    solve_resistance_fts(&r, x, e_inf)?
+                } else {
+                    solve_resistance(&r, x)?
+                };
+                if cond.is_nan() || cond > MAX_CONDITION {
+                    return Err(VelocityError::IllConditioned(cond));
+                }
+                out.u = u;
+                out.condition = Some(cond);
+            }
+            (Moments::F | Moments::FT, None) => out.u = self.apply(moments, x),
+            (Moments::FTS, None) => {
+                let m = self.mobility(Moments::FTS);
+                if !m.iter().all(|v| v.is_finite()) {
+                    return Err(VelocityError::NotFinite("mobility"));
+                }
+                let (u, cholesky) = solve_fts(&m, x, e_inf)?;
+                out.u = u;
+                out.stresslet_cholesky = cholesky;
+            }
+        }
+        if !out.u.iter().all(|v| v.is_finite()) {
+            return Err(VelocityError::NotFinite("velocity"));
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strain_components_are_the_basis_projections_and_checked() {
+        // E = B_4 (e1e1 - e2e2)/sqrt2 scaled by 3: components (0, 0, 0, 3, 0)
+        let r = 3.0 / 2f64.sqrt();
+        let e = [[r, 0.0, 0.0], [0.0, -r, 0.0], [0.0, 0.0, 0.0]];
+        let c = strain_components(&e).unwrap();
+        assert!(
+            (c[3] - 3.0).abs() < 1e-15 && c.iter().enumerate().all(|(m, v)| m == 3 || *v == 0.0)
+        );
+        let mut bad = e;
+        bad[0][1] = 1.0;
+        assert!(matches!(
+            strain_components(&bad),
+            Err(VelocityError::NotSymmetricTraceless(_))
+        ));
+        assert!(matches!(
+            strain_components(&[[1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]),
+            Err(VelocityError::NotSymmetricTraceless(_))
+        ));
+    }
+
+    #[test]
+    fn velocities_refuse_bad_input() {
+        let p = |z| crate::Particle {
+            x: [0.0, 0.0, z],
+            a: 1.0,
+        };
+        let s = System::new(
+            kernels::Confinement::Wall { height: 0.0 },
+            1.0,
+            vec![p(2.0)],
+            false,
+        )
+        .unwrap();
+        let e0 = [0.0; 5];
+        assert!(matches!(
+            s.velocities(Moments::F, &[1.0; 4], &e0, None),
+            Err(VelocityError::Length {
+                expected: 3,
+                found: 4,
+                ..
+            })
+        ));
+        assert!(matches!(
+            s.velocities(Moments::F, &[1.0, f64::NAN, 0.0], &e0, None),
+            Err(VelocityError::NonFinite { index: 1, .. })
+        ));
+        assert!(matches!(
+            s.velocities(Moments::FT, &[0.0; 6], &[1.0, 0.0, 0.0, 0.0, 0.0], None),
+            Err(VelocityError::StrainWithoutStresslets(Moments::FT))
+        ));
+        assert!(matches!(
+            s.velocities(Moments::F, &[0.0; 3], &e0, Some(&Lubrication::default())),
+            Err(VelocityError::Resistance(ResistanceError::Unsupported(
+                Moments::F
+            )))
+        ));
+        // F without lubrication is M x
+        let u = s
+            .velocities(Moments::F, &[1.0, 0.0, 0.0], &e0, None)
+            .unwrap();
+        assert_eq!(u.u, s.apply(Moments::F, &[1.0, 0.0, 0.0]));
+    }
+}
