@@ -330,14 +330,11 @@ impl PySystem {
         lubrication: bool,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let m = self::moments(moments)?;
-        // zero cutoffs switch every correction off: R = M^-1
+        // without lubrication, R = M^-1
         let lub = if lubrication {
             Lubrication::default()
         } else {
-            Lubrication {
-                pair_cutoff: 0.0,
-                wall_cutoff: 0.0,
-            }
+            Lubrication::none()
         };
         let s = &self.system;
         matrix(
