@@ -64,7 +64,7 @@ pub enum VelocityError {
     )]
     NotSymmetricTraceless(String),
     /// The mobility or the result has entries that are not finite.
-    #[error("the {0} has entries that are not finite numbers (overlapping spheres accepted too close together?)")]
+    #[error("the {0} has entries that are not finite numbers (spheres accepted although they overlap, or lengths and viscosity near the limits of double precision)")]
     NotFinite(&'static str),
 }
 
@@ -77,7 +77,7 @@ pub fn strain_components(e: &[[f64; 3]; 3]) -> Result<[f64; 5], VelocityError> {
     for (i, j) in [(0, 1), (0, 2), (1, 2)] {
         if (e[i][j] - e[j][i]).abs() > tol {
             return Err(VelocityError::NotSymmetricTraceless(format!(
-                "E{}{} = {} but E{}{} = {}",
+                "not symmetric: E{}{} = {} but E{}{} = {}",
                 i + 1,
                 j + 1,
                 e[i][j],
@@ -90,7 +90,8 @@ pub fn strain_components(e: &[[f64; 3]; 3]) -> Result<[f64; 5], VelocityError> {
     let trace = e[0][0] + e[1][1] + e[2][2];
     if trace.abs() > tol {
         return Err(VelocityError::NotSymmetricTraceless(format!(
-            "E11 + E22 + E33 = {trace}"
+            "not traceless: E11 + E22 + E33 = {trace} (an incompressible flow has a traceless \
+             rate of strain)"
         )));
     }
     let mut out = [0.0; 5];
@@ -151,6 +152,9 @@ impl System {
         match (moments, lubrication) {
             (_, Some(lub)) => {
                 let r = self.resistance(moments, lub)?;
+                if !r.iter().all(|v| v.is_finite()) {
+                    return Err(VelocityError::NotFinite("resistance"));
+                }
                 let (u, cond) = if moments == Moments::FTS {
                     solve_resistance_fts(&r, x, e_inf)?
                 } else {

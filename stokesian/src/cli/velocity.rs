@@ -11,7 +11,7 @@ use clap::Args;
 use indicatif::ProgressBar;
 use std::io::Write;
 use std::path::PathBuf;
-use stokesian::Moments;
+use stokesian::{strain_components, Lubrication, VelocityError};
 
 /// `velocity`: the system, the forces and the output.
 #[derive(Args, Debug)]
@@ -143,59 +143,50 @@ fn velocity(
     let n = setup.system.len();
     let torques = moments != MomentsArg::F;
     let x = read_forces(args, &setup, torques)?;
-    let u = match moments {
-        MomentsArg::Ft | MomentsArg::Fts if args.lubrication => {
-            pb.set_message(format!(
-                "forming the {} resistance with lubrication of {n} spheres",
-                moments.name()
-            ));
-            let r = setup
-                .system
-                .resistance(moments.moments(), &stokesian::Lubrication::default())?;
-            setup.check_finite(r.as_slice(), "resistance")?;
-            pb.set_message("solving R U = F (Cholesky)");
-            let (u, cond) = if moments == MomentsArg::Fts {
-                stokesian::solve_resistance_fts(&r, &x, &strain)?
-            } else {
-                stokesian::solve_resistance(&r, &x)?
-            };
-            pb.suspend(|| eprintln!("stokesian: condition estimate of R: {cond:e}"));
-            if cond.is_nan() || cond > 1e14 {
-                return Err(CliError::IllConditioned(cond));
-            }
-            u
-        }
-        MomentsArg::F | MomentsArg::Ft => {
-            pb.set_message(format!(
-                "computing velocities of {n} spheres (matrix-free, {} pairs)",
-                n * (n + 1) / 2
-            ));
-            setup.system.apply(moments.moments(), &x)
-        }
-        MomentsArg::Fts => {
-            let dim = 11 * n;
-            pb.set_message(format!(
-                "assembling the {dim} x {dim} FTS grand mobility of {n} spheres"
-            ));
-            let m = setup.system.mobility(Moments::FTS);
-            setup.check_finite(m.as_slice(), "mobility")?;
-            pb.set_message("solving for the stresslets");
-            let (u, cholesky) = stokesian::solve_fts(&m, &x, &strain).map_err(|reason| {
+    let lub = Lubrication::default();
+    let lubrication = (torques && args.lubrication).then_some(&lub);
+    let dim = 11 * n;
+    pb.set_message(match (moments, lubrication) {
+        (_, Some(_)) => format!(
+            "forming the {} resistance with lubrication of {n} spheres and solving R U = F \
+             (Cholesky)",
+            moments.name()
+        ),
+        (MomentsArg::Fts, None) => format!(
+            "assembling the {dim} x {dim} FTS grand mobility of {n} spheres and solving for \
+             the stresslets"
+        ),
+        _ => format!(
+            "computing velocities of {n} spheres (matrix-free, {} pairs)",
+            n * (n + 1) / 2
+        ),
+    });
+    // the library's call; its numerical failures get the causes only the command knows
+    let v = setup
+        .system
+        .velocities(moments.moments(), &x, &strain, lubrication)
+        .map_err(|e| match e {
+            VelocityError::NotFinite(what) => setup.non_finite(what),
+            VelocityError::Singular(reason) => {
                 CliError::Numerical(format!("{reason}: {}", setup.indefinite()))
-            })?;
-            if !cholesky {
-                pb.suspend(|| {
-                    eprintln!(
-                        "stokesian: warning: the stresslet block M_ES is not positive \
-                         definite ({}); solved by LU",
-                        setup.indefinite()
-                    )
-                });
             }
-            u
-        }
-    };
-    setup.check_finite(&u, "velocity")?;
+            VelocityError::IllConditioned(cond) => CliError::IllConditioned(cond),
+            VelocityError::Resistance(r) => CliError::Resistance(r),
+            other => CliError::Numerical(other.to_string()),
+        })?;
+    if let Some(cond) = v.condition {
+        pb.suspend(|| eprintln!("stokesian: condition estimate of R: {cond:e}"));
+    }
+    if !v.stresslet_cholesky {
+        pb.suspend(|| {
+            eprintln!(
+                "stokesian: warning: the stresslet block M_ES is not positive definite ({}); \
+                 solved by LU",
+                setup.indefinite()
+            )
+        });
+    }
+    let u = v.u;
     pb.set_message(format!("writing {}", args.out.display()));
     write_atomically(&args.out, |w| {
         let header = if torques {
@@ -239,37 +230,12 @@ fn parse_strain(text: &str) -> Result<[f64; 5], CliError> {
             Ok(e)
         }
         9 => {
-            let e = |i: usize, j: usize| values[3 * i + j];
-            let scale = values.iter().fold(0.0f64, |s, v| s.max(v.abs()));
-            let tol = 1e-9 * scale;
-            for (i, j) in [(0, 1), (0, 2), (1, 2)] {
-                if (e(i, j) - e(j, i)).abs() > tol {
-                    return Err(bad(format!(
-                        "not symmetric: E{}{} = {} but E{}{} = {}",
-                        i + 1,
-                        j + 1,
-                        e(i, j),
-                        j + 1,
-                        i + 1,
-                        e(j, i)
-                    )));
-                }
-            }
-            let trace = e(0, 0) + e(1, 1) + e(2, 2);
-            if trace.abs() > tol {
-                return Err(bad(format!(
-                    "not traceless: E11 + E22 + E33 = {trace} (an incompressible flow has \
-                     a traceless rate of strain)"
-                )));
-            }
-            let mut out = [0.0; 5];
-            for (m, b) in kernels::STRAIN_BASIS.iter().enumerate() {
-                out[m] = (0..3)
-                    .flat_map(|i| (0..3).map(move |j| (i, j)))
-                    .map(|(i, j)| b[i][j] * e(i, j))
-                    .sum();
-            }
-            Ok(out)
+            let e: [[f64; 3]; 3] =
+                std::array::from_fn(|i| std::array::from_fn(|j| values[3 * i + j]));
+            strain_components(&e).map_err(|e| match e {
+                VelocityError::NotSymmetricTraceless(detail) => bad(detail),
+                other => bad(other.to_string()),
+            })
         }
         k => Err(bad(format!(
             "expected 9 comma-separated Cartesian components E11,E12,E13,E21,E22,E23,E31,\
