@@ -831,13 +831,8 @@ static COEFFICIENTS: &[u8; 11 * TRIANGLE * 8] =
 /// Numbers in one triangle.
 const TRIANGLE: usize = TRUNCATION * (TRUNCATION + 1) / 2 + TRUNCATION + 1;
 
-static T_XA: OnceLock<Triangles> = OnceLock::new();
-static T_XM: OnceLock<Triangles> = OnceLock::new();
-static T_YA: OnceLock<Triangles> = OnceLock::new();
-static T_YC: OnceLock<Triangles> = OnceLock::new();
-static T_YM: OnceLock<Triangles> = OnceLock::new();
-static T_ZM: OnceLock<Triangles> = OnceLock::new();
-static T_XC: OnceLock<Triangles> = OnceLock::new();
+/// Each family's triangles once read, indexed by `Table as usize`.
+static TRIANGLES: [OnceLock<Triangles>; 7] = [const { OnceLock::new() }; 7];
 
 #[derive(Clone, Copy, PartialEq)]
 enum Table {
@@ -851,7 +846,8 @@ enum Table {
 }
 
 impl Table {
-    /// The order of the families in [`COEFFICIENTS`].
+    /// The order of the families in [`COEFFICIENTS`] (that of the declaration, which
+    /// `Table as usize` follows).
     const ALL: [Table; 7] = [
         Table::Xa,
         Table::Xm,
@@ -861,18 +857,6 @@ impl Table {
         Table::Zm,
         Table::Xc,
     ];
-
-    fn lock(self) -> &'static OnceLock<Triangles> {
-        match self {
-            Table::Xa => &T_XA,
-            Table::Xm => &T_XM,
-            Table::Ya => &T_YA,
-            Table::Yc => &T_YC,
-            Table::Ym => &T_YM,
-            Table::Zm => &T_ZM,
-            Table::Xc => &T_XC,
-        }
-    }
 
     fn family(self) -> &'static Family {
         match self {
@@ -889,7 +873,7 @@ impl Table {
     /// The family's triangles, read from [`COEFFICIENTS`] on first use (a copy of
     /// about 160 kB per triangle, no arithmetic).
     fn triangles(self) -> &'static Triangles {
-        self.lock().get_or_init(|| {
+        TRIANGLES[self as usize].get_or_init(|| {
             let before: usize = Table::ALL
                 .iter()
                 .take_while(|&&t| t != self)
@@ -1153,6 +1137,12 @@ static FUNCTIONS: [Function; 22] = [
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `TRIANGLES` is indexed by `Table as usize`, `COEFFICIENTS` ordered by `Table::ALL`.
+    #[test]
+    fn table_order_is_the_declaration_order() {
+        assert!(Table::ALL.iter().enumerate().all(|(i, &t)| t as usize == i));
+    }
 
     #[test]
     fn bad_input_is_a_typed_error() {
