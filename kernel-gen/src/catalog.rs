@@ -28,6 +28,8 @@ struct Family {
     name: &'static str,
     title: &'static str,
     params: &'static [&'static str],
+    /// The dimension of each parameter.
+    dimensions: Vec<green::Dimension>,
     /// `(height expression, fluid above)` of each boundary plane.
     boundaries: Vec<(TokenStream, bool)>,
     file: GeneratedFile,
@@ -64,6 +66,7 @@ fn dispatch(families: &[Family]) -> TokenStream {
     let mut from_arms = Vec::new();
     let mut param_arms = Vec::new();
     let mut bound_arms = Vec::new();
+    let mut unit_arms = Vec::new();
     let mut pair_arms = Vec::new();
     let mut equal_arms = Vec::new();
     let mut self_arms = Vec::new();
@@ -101,6 +104,7 @@ fn dispatch(families: &[Family]) -> TokenStream {
             from_arms.push(quote!(#name if params.is_empty() => Some(Confinement::#v)));
             param_arms.push(quote!(Confinement::#v => vec![]));
             bound_arms.push(quote!(Confinement::#v => vec![#(#bounds),*]));
+            unit_arms.push(quote!(Confinement::#v => Confinement::#v));
             pair_arms.push(quote!(Confinement::#v => #m::#fpair(xa, xb, aa, ab, eta)));
             equal_arms.push(quote!(Confinement::#v => #m::#fequal(xa, xb, a, eta)));
             self_arms.push(quote!(Confinement::#v => #m::#fself(x, a, eta)));
@@ -114,6 +118,17 @@ fn dispatch(families: &[Family]) -> TokenStream {
                 let _ = (#(#fields,)*);
                 vec![#(#bounds),*]
             }));
+            let scaled: Vec<TokenStream> = fields
+                .iter()
+                .zip(&f.dimensions)
+                .map(|(p, d)| match d {
+                    green::Dimension::Height => quote!(#p: (#p - origin) / unit),
+                    green::Dimension::Length => quote!(#p: #p / unit),
+                    green::Dimension::Number => quote!(#p),
+                })
+                .collect();
+            unit_arms
+                .push(quote!(Confinement::#v { #(#fields),* } => Confinement::#v { #(#scaled),* }));
             pair_arms.push(quote!(Confinement::#v { #(#fields),* } => #m::#fpair(xa, xb, aa, ab, eta, #(#fields),*)));
             equal_arms.push(quote!(Confinement::#v { #(#fields),* } => #m::#fequal(xa, xb, a, eta, #(#fields),*)));
             self_arms.push(
@@ -248,6 +263,19 @@ fn dispatch(families: &[Family]) -> TokenStream {
             pub fn boundaries(&self) -> Vec<(f64, bool)> {
                 match *self {
                     #(#bound_arms),*
+                }
+            }
+
+            /// The same confinement with lengths measured in units of `unit` and
+            /// heights from `x3 = origin`: a height `h` becomes `(h - origin) / unit`, a
+            /// length `l / unit`; pure numbers stay. With the viscosity as the unit of
+            /// viscosity, a mobility block coupling a moment of length dimension `p`
+            /// (force 0; torque, stresslet 1) to a response of dimension `q` (velocity 0;
+            /// rotation, strain 1) becomes `eta unit^(1 + p + q)` times itself.
+            pub fn in_units(&self, origin: f64, unit: f64) -> Confinement {
+                let _ = (origin, unit);
+                match *self {
+                    #(#unit_arms),*
                 }
             }
         }
@@ -518,6 +546,7 @@ impl Visitor for Collect<'_> {
             name: g.name(),
             title: g.title(),
             params: g.params(),
+            dimensions: g.params().iter().map(|p| g.dimension(p)).collect(),
             boundaries,
             file,
             single,

@@ -325,7 +325,8 @@ pub struct Drift<const K: usize> {
 }
 
 /// A scalar pair product evaluated lane by lane: the lane twin of a confinement that
-/// has no lane kernel of its own (the general path). Returns `(a, b)` as lanes.
+/// has no lane kernel of its own (the general path), in `f64` whatever the lanes'
+/// element. Returns `(a, b)` as lanes.
 #[inline(always)]
 pub fn lane_by_lane<L: lanes::Lane, const K: usize>(
     f: impl Fn([f64; 3], f64, [f64; 3], f64, [f64; K], [f64; K]) -> Product<K>,
@@ -336,18 +337,17 @@ pub fn lane_by_lane<L: lanes::Lane, const K: usize>(
     va: [L; K],
     vb: [L; K],
 ) -> ([L; K], [L; K]) {
-    const MAX: usize = 8;
-    assert!(L::WIDTH <= MAX, "at most {MAX} lanes");
+    use lanes::{Element, MAX_WIDTH};
     let unpack = |v: L| {
-        let mut b = [0.0; MAX];
+        let mut b = [L::Elem::default(); MAX_WIDTH];
         v.store(&mut b);
-        b
+        b.map(Element::to_f64)
     };
     let (xa, xb) = (xa.map(unpack), xb.map(unpack));
     let (aa, ab) = (unpack(aa), unpack(ab));
     let (va, vb) = (va.map(unpack), vb.map(unpack));
-    let mut a = [[0.0; MAX]; K];
-    let mut b = [[0.0; MAX]; K];
+    let mut a = [[L::Elem::default(); MAX_WIDTH]; K];
+    let mut b = [[L::Elem::default(); MAX_WIDTH]; K];
     for l in 0..L::WIDTH {
         let p = f(
             std::array::from_fn(|k| xa[k][l]),
@@ -358,8 +358,8 @@ pub fn lane_by_lane<L: lanes::Lane, const K: usize>(
             std::array::from_fn(|k| vb[k][l]),
         );
         for k in 0..K {
-            a[k][l] = p.a[k];
-            b[k][l] = p.b[k];
+            a[k][l] = L::Elem::from_f64(p.a[k]);
+            b[k][l] = L::Elem::from_f64(p.b[k]);
         }
     }
     (a.map(|v| L::load(&v)), b.map(|v| L::load(&v)))

@@ -1,13 +1,16 @@
-//! Lanes: `f64` vectors that evaluate several pairs per instruction, for the lane
-//! kernels that `cargo xtask gen` emits (generic over [`Lane`]).
+//! Lanes: vectors of `f64` or `f32` that evaluate several pairs per instruction, for
+//! the lane kernels that `cargo xtask gen` emits (generic over [`Lane`]).
 //!
-//! [`Lane`] is implemented by `f64` (one pair: the portable fallback) and, on x86-64,
-//! by 4 lanes of AVX2 with FMA and 8 lanes of AVX-512F (types private to this crate).
-//! Code generic over [`Lane`] runs through [`dispatch`], which picks the widest
-//! instruction set the processor has, detected at run time, and compiles the generic
+//! [`Lane`] is implemented by `f64` and `f32` (one pair: the portable fallback) and, on
+//! x86-64, by AVX2 with FMA (4 `f64` or 8 `f32` lanes) and AVX-512F (8 `f64` or 16
+//! `f32` lanes; types private to this crate). The element type ([`Element`]) is chosen
+//! by the code ([`WithLanes::Elem`]); the instruction set by [`dispatch`], which picks
+//! the widest one the processor has, detected at run time, and compiles the generic
 //! code for it (`#[target_feature]`); [`dispatch_with`] forces one ([`Isa`]), for tests
 //! and benchmarks. A plain `cargo build --release` is therefore fast on any x86-64 and
-//! correct everywhere else.
+//! correct everywhere else. The `f32` lanes are the single-precision twins: the same
+//! generated kernels (their literals rounded to `f32` by [`Lane::splat`]) with twice as
+//! many pairs per instruction.
 //!
 //! Everything called inside [`WithLanes::run`] must be `#[inline(always)]` so that it is
 //! compiled with the instruction set of the dispatching function. The intrinsics are
@@ -18,7 +21,73 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 #[cfg(target_arch = "x86_64")]
 mod x86;
 
-/// A vector of `WIDTH` `f64` lanes with IEEE arithmetic in each lane.
+mod private {
+    pub trait Sealed {}
+    impl Sealed for f64 {}
+    impl Sealed for f32 {}
+}
+
+/// An element type of lanes: `f64` or `f32`.
+pub trait Element:
+    Copy + Default + PartialEq + PartialOrd + std::fmt::Debug + Send + Sync + 'static + private::Sealed
+{
+    /// `v` rounded to this type.
+    fn from_f64(v: f64) -> Self;
+    /// The value as `f64` (exact).
+    fn to_f64(self) -> f64;
+    /// Run `w` with lanes of this element on `isa`, or hand it back if this processor
+    /// lacks `isa` (what [`dispatch_with`] calls).
+    fn run_with<W: WithLanes<Elem = Self>>(isa: Isa, w: W) -> Result<W::Output, W>;
+}
+
+impl Element for f64 {
+    #[inline(always)]
+    fn from_f64(v: f64) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self
+    }
+    fn run_with<W: WithLanes<Elem = f64>>(isa: Isa, w: W) -> Result<W::Output, W> {
+        match isa {
+            Isa::Scalar => Ok(w.run::<f64>()),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => x86::run_avx2_f64(w),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => x86::run_avx512_f64(w),
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => Err(w),
+        }
+    }
+}
+
+impl Element for f32 {
+    #[inline(always)]
+    fn from_f64(v: f64) -> Self {
+        v as f32
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        f64::from(self)
+    }
+    fn run_with<W: WithLanes<Elem = f32>>(isa: Isa, w: W) -> Result<W::Output, W> {
+        match isa {
+            Isa::Scalar => Ok(w.run::<f32>()),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => x86::run_avx2_f32(w),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => x86::run_avx512_f32(w),
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => Err(w),
+        }
+    }
+}
+
+/// The most lanes of any lane type (16 `f32` lanes of AVX-512).
+pub const MAX_WIDTH: usize = 16;
+
+/// A vector of `WIDTH` lanes of [`Lane::Elem`] with IEEE arithmetic in each lane.
 pub trait Lane:
     Copy
     + Add<Output = Self>
@@ -27,16 +96,18 @@ pub trait Lane:
     + Div<Output = Self>
     + Neg<Output = Self>
 {
-    /// Number of lanes.
+    /// Number of lanes (at most [`MAX_WIDTH`]).
     const WIDTH: usize;
+    /// The element type of each lane.
+    type Elem: Element;
     /// The result of a lane-wise comparison.
     type Mask: Copy;
-    /// Every lane `v`.
+    /// Every lane `v` (rounded to [`Lane::Elem`]).
     fn splat(v: f64) -> Self;
     /// Lanes `s[0..WIDTH]` (panics if `s` is shorter).
-    fn load(s: &[f64]) -> Self;
+    fn load(s: &[Self::Elem]) -> Self;
     /// Write the lanes to `s[0..WIDTH]` (panics if `s` is shorter).
-    fn store(self, s: &mut [f64]);
+    fn store(self, s: &mut [Self::Elem]);
     /// Lanes `0, 1, ..., WIDTH - 1`.
     fn iota() -> Self;
     /// Lane-wise square root: correctly rounded, or within an ulp where an
@@ -65,12 +136,15 @@ pub trait Lane:
     fn any(m: Self::Mask) -> bool;
     /// Whether `m` holds in every lane.
     fn all(m: Self::Mask) -> bool;
-    /// The sum of the lanes, in lane order (a fixed order: reproducible results).
+    /// The sum of the lanes in `f64`, in lane order (a fixed order: reproducible
+    /// results).
     #[inline(always)]
     fn sum(self) -> f64 {
-        let mut buf = [0.0; 8];
+        let mut buf = [Self::Elem::default(); MAX_WIDTH];
         self.store(&mut buf[..Self::WIDTH]);
-        buf[..Self::WIDTH].iter().fold(0.0, |acc, v| acc + v)
+        buf[..Self::WIDTH]
+            .iter()
+            .fold(0.0, |acc, v| acc + v.to_f64())
     }
     /// `self^n` by repeated squaring (`1 / self^|n|` for negative `n`).
     #[inline(always)]
@@ -105,75 +179,86 @@ pub fn select_array<L: Lane, const N: usize>(m: L::Mask, a: [L; N], b: [L; N]) -
     std::array::from_fn(|k| L::select(m, a[k], b[k]))
 }
 
-impl Lane for f64 {
-    const WIDTH: usize = 1;
-    type Mask = bool;
-    #[inline(always)]
-    fn splat(v: f64) -> Self {
-        v
-    }
-    #[inline(always)]
-    fn load(s: &[f64]) -> Self {
-        s[0]
-    }
-    #[inline(always)]
-    fn store(self, s: &mut [f64]) {
-        s[0] = self;
-    }
-    #[inline(always)]
-    fn iota() -> Self {
-        0.0
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        f64::sqrt(self)
-    }
-    #[inline(always)]
-    fn mul_add(self, b: Self, c: Self) -> Self {
-        // Without a guaranteed FMA unit `f64::mul_add` may be a slow library call.
-        self * b + c
-    }
-    #[inline(always)]
-    fn mul_sub(self, b: Self, c: Self) -> Self {
-        self * b - c
-    }
-    #[inline(always)]
-    fn neg_mul_add(self, b: Self, c: Self) -> Self {
-        c - self * b
-    }
-    #[inline(always)]
-    fn gt(self, o: Self) -> bool {
-        self > o
-    }
-    #[inline(always)]
-    fn and(m1: bool, m2: bool) -> bool {
-        m1 && m2
-    }
-    #[inline(always)]
-    fn select(m: bool, a: Self, b: Self) -> Self {
-        if m {
-            a
-        } else {
-            b
+/// The scalar fallbacks, `f64` and `f32`: one pair at a time.
+macro_rules! scalar_lane {
+    ($t:ident) => {
+        impl Lane for $t {
+            const WIDTH: usize = 1;
+            type Elem = $t;
+            type Mask = bool;
+            #[inline(always)]
+            fn splat(v: f64) -> Self {
+                $t::from_f64(v)
+            }
+            #[inline(always)]
+            fn load(s: &[$t]) -> Self {
+                s[0]
+            }
+            #[inline(always)]
+            fn store(self, s: &mut [$t]) {
+                s[0] = self;
+            }
+            #[inline(always)]
+            fn iota() -> Self {
+                0.0
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                $t::sqrt(self)
+            }
+            #[inline(always)]
+            fn mul_add(self, b: Self, c: Self) -> Self {
+                // Without a guaranteed FMA unit `f64::mul_add` may be a slow library call.
+                self * b + c
+            }
+            #[inline(always)]
+            fn mul_sub(self, b: Self, c: Self) -> Self {
+                self * b - c
+            }
+            #[inline(always)]
+            fn neg_mul_add(self, b: Self, c: Self) -> Self {
+                c - self * b
+            }
+            #[inline(always)]
+            fn gt(self, o: Self) -> bool {
+                self > o
+            }
+            #[inline(always)]
+            fn and(m1: bool, m2: bool) -> bool {
+                m1 && m2
+            }
+            #[inline(always)]
+            fn select(m: bool, a: Self, b: Self) -> Self {
+                if m {
+                    a
+                } else {
+                    b
+                }
+            }
+            #[inline(always)]
+            fn any(m: bool) -> bool {
+                m
+            }
+            #[inline(always)]
+            fn all(m: bool) -> bool {
+                m
+            }
         }
-    }
-    #[inline(always)]
-    fn any(m: bool) -> bool {
-        m
-    }
-    #[inline(always)]
-    fn all(m: bool) -> bool {
-        m
-    }
+    };
 }
 
+scalar_lane!(f64);
+scalar_lane!(f32);
+
 /// Code generic over the lane type, run by [`dispatch`].
-pub trait WithLanes {
+pub trait WithLanes: Sized {
+    /// The element type of the lanes the code runs on (`f64` or `f32`).
+    type Elem: Element;
     /// What the code returns.
     type Output;
     /// The code, for lane type `L`. Mark it `#[inline(always)]`, and everything it
     /// calls with lanes too.
-    fn run<L: Lane>(self) -> Self::Output;
+    fn run<L: Lane<Elem = Self::Elem>>(self) -> Self::Output;
 }
 
 /// An instruction set for the lanes.
@@ -188,12 +273,20 @@ pub enum Isa {
 }
 
 impl Isa {
-    /// Lanes per vector.
+    /// `f64` lanes per vector (twice as many `f32` lanes on AVX2 and AVX-512).
     pub fn width(self) -> usize {
         match self {
             Isa::Scalar => 1,
             Isa::Avx2 => 4,
             Isa::Avx512 => 8,
+        }
+    }
+
+    /// Lanes per vector of elements `E`.
+    pub fn width_of<E: Element>(self) -> usize {
+        match self {
+            Isa::Scalar => 1,
+            _ => self.width() * 8 / std::mem::size_of::<E>(),
         }
     }
 
@@ -257,15 +350,7 @@ pub fn dispatch<W: WithLanes>(w: W) -> W::Output {
 
 /// Run `w` with the lanes of `isa`, or hand it back if this processor lacks `isa`.
 pub fn dispatch_with<W: WithLanes>(isa: Isa, w: W) -> Result<W::Output, W> {
-    match isa {
-        Isa::Scalar => Ok(w.run::<f64>()),
-        #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 => x86::run_avx2(w),
-        #[cfg(target_arch = "x86_64")]
-        Isa::Avx512 => x86::run_avx512(w),
-        #[cfg(not(target_arch = "x86_64"))]
-        _ => Err(w),
-    }
+    W::Elem::run_with(isa, w)
 }
 
 #[cfg(test)]
@@ -274,9 +359,10 @@ mod tests {
 
     struct Probe(Vec<f64>);
     impl WithLanes for Probe {
+        type Elem = f64;
         type Output = Vec<f64>;
         #[inline(always)]
-        fn run<L: Lane>(self) -> Vec<f64> {
+        fn run<L: Lane<Elem = f64>>(self) -> Vec<f64> {
             let mut out = vec![0.0; self.0.len()];
             for (x, o) in self.0.chunks(L::WIDTH).zip(out.chunks_mut(L::WIDTH)) {
                 let v = L::load(x);
@@ -318,19 +404,75 @@ mod tests {
         }
     }
 
+    /// The probe of [`every_instruction_set_computes_the_same_lanes`] in `f32`.
+    struct Probe32(Vec<f32>);
+    impl WithLanes for Probe32 {
+        type Elem = f32;
+        type Output = Vec<f32>;
+        #[inline(always)]
+        fn run<L: Lane<Elem = f32>>(self) -> Vec<f32> {
+            let mut out = vec![0.0; self.0.len()];
+            for (x, o) in self.0.chunks(L::WIDTH).zip(out.chunks_mut(L::WIDTH)) {
+                let v = L::load(x);
+                let r = L::select(
+                    v.gt(L::splat(0.0)),
+                    v.sqrt().mul_add(L::splat(2.0), L::splat(1.0)) * v.recip(),
+                    -v.powi(3) - L::iota(),
+                );
+                r.store(o);
+            }
+            out
+        }
+    }
+
+    #[test]
+    fn every_instruction_set_computes_the_same_f32_lanes() {
+        let x: Vec<f32> = (0..64).map(|k| (k as f32 - 20.0) * 0.37).collect();
+        for isa in Isa::all_available() {
+            let got = dispatch_with(isa, Probe32(x.clone())).ok().unwrap();
+            for (k, g) in got.iter().enumerate() {
+                let v = x[k] as f64;
+                let iota = (k % isa.width_of::<f32>()) as f64;
+                let e = if v > 0.0 {
+                    (v.sqrt() * 2.0 + 1.0) / v
+                } else {
+                    -(v * v * v) - iota
+                };
+                // each of the ~4 roundings (sqrt and recip within an ulp) costs an f32
+                // ulp of the result or less: 8 ulps of f32 against the exact value
+                assert!(
+                    (*g as f64 - e).abs() <= 8.0 * f32::EPSILON as f64 * e.abs(),
+                    "{isa:?} {k}: {g} {e}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn sums_are_in_lane_order() {
         struct S;
         impl WithLanes for S {
+            type Elem = f64;
             type Output = f64;
             #[inline(always)]
-            fn run<L: Lane>(self) -> f64 {
+            fn run<L: Lane<Elem = f64>>(self) -> f64 {
+                (L::iota() + L::splat(1.0)).sum()
+            }
+        }
+        struct S32;
+        impl WithLanes for S32 {
+            type Elem = f32;
+            type Output = f64;
+            #[inline(always)]
+            fn run<L: Lane<Elem = f32>>(self) -> f64 {
                 (L::iota() + L::splat(1.0)).sum()
             }
         }
         for isa in Isa::all_available() {
             let w = isa.width() as f64;
             assert_eq!(dispatch_with(isa, S).ok().unwrap(), w * (w + 1.0) / 2.0);
+            let w = isa.width_of::<f32>() as f64;
+            assert_eq!(dispatch_with(isa, S32).ok().unwrap(), w * (w + 1.0) / 2.0);
         }
     }
 }

@@ -1,8 +1,8 @@
-//! The x86-64 lanes: 4 lanes of AVX2 with FMA ([`F64x4`]) and 8 lanes of AVX-512F
-//! ([`F64x8`]), and the dispatch into code compiled for them.
+//! The x86-64 lanes: AVX2 with FMA ([`F64x4`], [`F32x8`]) and AVX-512F ([`F64x8`],
+//! [`F32x16`]), and the dispatch into code compiled for them.
 //!
 //! Soundness rests on one fact: a value of these private types exists only inside
-//! [`WithLanes::run`] as called by [`run_avx2`] or [`run_avx512`], which check with
+//! [`WithLanes::run`] as called by the `run_*` functions below, which check with
 //! `is_x86_feature_detected!` that this processor has the instructions first. Every
 //! intrinsic below is therefore executed on a processor that has it.
 #![allow(unsafe_code)]
@@ -19,31 +19,59 @@ pub(crate) fn has_avx512() -> bool {
     is_x86_feature_detected!("avx512f") && has_avx2()
 }
 
-#[target_feature(enable = "avx2,fma")]
-fn avx2_body<W: WithLanes>(w: W) -> W::Output {
-    w.run::<F64x4>()
+/// The dispatch into code compiled for one instruction set and lane type: a body
+/// with the target features, and the run-time check before it.
+macro_rules! runner {
+    ($run:ident, $body:ident, $features:literal, $has:ident, $lane:ident, $elem:ty) => {
+        #[target_feature(enable = $features)]
+        fn $body<W: WithLanes<Elem = $elem>>(w: W) -> W::Output {
+            w.run::<$lane>()
+        }
+
+        pub(crate) fn $run<W: WithLanes<Elem = $elem>>(w: W) -> Result<W::Output, W> {
+            if !$has() {
+                return Err(w);
+            }
+            // SAFETY: this processor has the features the body is compiled with,
+            // checked on the line above (`has_avx2`: AVX2 and FMA; `has_avx512`:
+            // AVX-512F as well).
+            Ok(unsafe { $body(w) })
+        }
+    };
 }
 
-#[target_feature(enable = "avx512f,avx2,fma")]
-fn avx512_body<W: WithLanes>(w: W) -> W::Output {
-    w.run::<F64x8>()
-}
-
-pub(crate) fn run_avx2<W: WithLanes>(w: W) -> Result<W::Output, W> {
-    if !has_avx2() {
-        return Err(w);
-    }
-    // SAFETY: this processor has AVX2 and FMA, checked on the line above.
-    Ok(unsafe { avx2_body(w) })
-}
-
-pub(crate) fn run_avx512<W: WithLanes>(w: W) -> Result<W::Output, W> {
-    if !has_avx512() {
-        return Err(w);
-    }
-    // SAFETY: this processor has AVX-512F, AVX2 and FMA, checked on the line above.
-    Ok(unsafe { avx512_body(w) })
-}
+runner!(
+    run_avx2_f64,
+    avx2_f64_body,
+    "avx2,fma",
+    has_avx2,
+    F64x4,
+    f64
+);
+runner!(
+    run_avx512_f64,
+    avx512_body,
+    "avx512f,avx2,fma",
+    has_avx512,
+    F64x8,
+    f64
+);
+runner!(
+    run_avx2_f32,
+    avx2_f32_body,
+    "avx2,fma",
+    has_avx2,
+    F32x8,
+    f32
+);
+runner!(
+    run_avx512_f32,
+    avx512_f32_body,
+    "avx512f,avx2,fma",
+    has_avx512,
+    F32x16,
+    f32
+);
 
 /// Four `f64` lanes in an AVX register.
 #[derive(Clone, Copy)]
@@ -52,6 +80,14 @@ pub struct F64x4(__m256d);
 /// Eight `f64` lanes in an AVX-512 register.
 #[derive(Clone, Copy)]
 pub struct F64x8(__m512d);
+
+/// Eight `f32` lanes in an AVX register.
+#[derive(Clone, Copy)]
+pub struct F32x8(__m256);
+
+/// Sixteen `f32` lanes in an AVX-512 register.
+#[derive(Clone, Copy)]
+pub struct F32x16(__m512);
 
 /// The binary operators of one lane type from one intrinsic each.
 macro_rules! binary {
@@ -70,6 +106,8 @@ macro_rules! binary {
 
 binary!(F64x4, Add add _mm256_add_pd, Sub sub _mm256_sub_pd, Mul mul _mm256_mul_pd, Div div _mm256_div_pd);
 binary!(F64x8, Add add _mm512_add_pd, Sub sub _mm512_sub_pd, Mul mul _mm512_mul_pd, Div div _mm512_div_pd);
+binary!(F32x8, Add add _mm256_add_ps, Sub sub _mm256_sub_ps, Mul mul _mm256_mul_ps, Div div _mm256_div_ps);
+binary!(F32x16, Add add _mm512_add_ps, Sub sub _mm512_sub_ps, Mul mul _mm512_mul_ps, Div div _mm512_div_ps);
 
 impl Neg for F64x4 {
     type Output = F64x4;
@@ -98,6 +136,7 @@ impl Neg for F64x8 {
 
 impl Lane for F64x4 {
     const WIDTH: usize = 4;
+    type Elem = f64;
     type Mask = __m256d;
     #[inline(always)]
     fn splat(v: f64) -> Self {
@@ -171,6 +210,7 @@ impl Lane for F64x4 {
 
 impl Lane for F64x8 {
     const WIDTH: usize = 8;
+    type Elem = f64;
     type Mask = __mmask8;
     #[inline(always)]
     fn splat(v: f64) -> Self {
@@ -270,5 +310,204 @@ impl Lane for F64x8 {
     #[inline(always)]
     fn all(m: __mmask8) -> bool {
         m == 0xFF
+    }
+}
+
+impl Neg for F32x8 {
+    type Output = F32x8;
+    #[inline(always)]
+    fn neg(self) -> F32x8 {
+        // SAFETY: AVX was detected before this value existed (module documentation).
+        F32x8(unsafe { _mm256_xor_ps(self.0, _mm256_set1_ps(-0.0)) })
+    }
+}
+
+impl Neg for F32x16 {
+    type Output = F32x16;
+    #[inline(always)]
+    fn neg(self) -> F32x16 {
+        // SAFETY: AVX-512F was detected before this value existed (module
+        // documentation); the sign bit is flipped by an integer xor, as for `F64x8`.
+        F32x16(unsafe {
+            _mm512_castsi512_ps(_mm512_xor_si512(
+                _mm512_castps_si512(self.0),
+                _mm512_set1_epi32(i32::MIN),
+            ))
+        })
+    }
+}
+
+impl Lane for F32x8 {
+    const WIDTH: usize = 8;
+    type Elem = f32;
+    type Mask = __m256;
+    #[inline(always)]
+    fn splat(v: f64) -> Self {
+        // SAFETY: called only inside code dispatched after detection (module docs).
+        F32x8(unsafe { _mm256_set1_ps(v as f32) })
+    }
+    #[inline(always)]
+    fn load(s: &[f32]) -> Self {
+        let s = &s[..8];
+        // SAFETY: `s` holds 8 f32 (bounds-checked above); unaligned load.
+        F32x8(unsafe { _mm256_loadu_ps(s.as_ptr()) })
+    }
+    #[inline(always)]
+    fn store(self, s: &mut [f32]) {
+        let s = &mut s[..8];
+        // SAFETY: `s` has room for 8 f32 (bounds-checked above); unaligned store.
+        unsafe { _mm256_storeu_ps(s.as_mut_ptr(), self.0) }
+    }
+    #[inline(always)]
+    fn iota() -> Self {
+        // SAFETY: as `splat`.
+        F32x8(unsafe { _mm256_setr_ps(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0) })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // SAFETY: as `splat`.
+        F32x8(unsafe { _mm256_sqrt_ps(self.0) })
+    }
+    #[inline(always)]
+    fn mul_add(self, b: Self, c: Self) -> Self {
+        // SAFETY: FMA is part of the detected set (module docs).
+        F32x8(unsafe { _mm256_fmadd_ps(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn mul_sub(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F32x8(unsafe { _mm256_fmsub_ps(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn neg_mul_add(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F32x8(unsafe { _mm256_fnmadd_ps(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> __m256 {
+        // SAFETY: as `splat`.
+        unsafe { _mm256_cmp_ps::<_CMP_GT_OQ>(self.0, o.0) }
+    }
+    #[inline(always)]
+    fn and(m1: __m256, m2: __m256) -> __m256 {
+        // SAFETY: as `splat`.
+        unsafe { _mm256_and_ps(m1, m2) }
+    }
+    #[inline(always)]
+    fn select(m: __m256, a: Self, b: Self) -> Self {
+        // SAFETY: as `splat`.
+        F32x8(unsafe { _mm256_blendv_ps(b.0, a.0, m) })
+    }
+    #[inline(always)]
+    fn any(m: __m256) -> bool {
+        // SAFETY: as `splat`.
+        unsafe { _mm256_movemask_ps(m) != 0 }
+    }
+    #[inline(always)]
+    fn all(m: __m256) -> bool {
+        // SAFETY: as `splat`.
+        unsafe { _mm256_movemask_ps(m) == 0xFF }
+    }
+}
+
+impl Lane for F32x16 {
+    const WIDTH: usize = 16;
+    type Elem = f32;
+    type Mask = __mmask16;
+    #[inline(always)]
+    fn splat(v: f64) -> Self {
+        // SAFETY: called only inside code dispatched after detection (module docs).
+        F32x16(unsafe { _mm512_set1_ps(v as f32) })
+    }
+    #[inline(always)]
+    fn load(s: &[f32]) -> Self {
+        let s = &s[..16];
+        // SAFETY: `s` holds 16 f32 (bounds-checked above); unaligned load.
+        F32x16(unsafe { _mm512_loadu_ps(s.as_ptr()) })
+    }
+    #[inline(always)]
+    fn store(self, s: &mut [f32]) {
+        let s = &mut s[..16];
+        // SAFETY: `s` has room for 16 f32 (bounds-checked above); unaligned store.
+        unsafe { _mm512_storeu_ps(s.as_mut_ptr(), self.0) }
+    }
+    #[inline(always)]
+    fn iota() -> Self {
+        // SAFETY: as `splat`.
+        F32x16(unsafe {
+            _mm512_setr_ps(
+                0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0, 13.0, 14.0,
+                15.0,
+            )
+        })
+    }
+    /// `x r` with `r` the reciprocal square root from `vrsqrt14ps` (14 bits) after one
+    /// Newton step (28 bits), then one correction `s + (r/2) (x - s^2)`: within an ulp
+    /// of `f32`, on the multiply-add ports, as for `F64x8`. `sqrt(0) = 0`.
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // SAFETY: as `splat` (AVX-512F has `vrsqrt14ps`).
+        unsafe {
+            let x = self.0;
+            let half = _mm512_set1_ps(0.5);
+            let hx = _mm512_mul_ps(half, x);
+            let r = _mm512_rsqrt14_ps(x);
+            let rr = _mm512_mul_ps(r, r);
+            let r = _mm512_mul_ps(r, _mm512_fnmadd_ps(hx, rr, _mm512_set1_ps(1.5)));
+            let s = _mm512_mul_ps(x, r);
+            let d = _mm512_fnmadd_ps(s, s, x);
+            let s = _mm512_fmadd_ps(_mm512_mul_ps(half, r), d, s);
+            let positive = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(x, _mm512_setzero_ps());
+            F32x16(_mm512_mask_blend_ps(positive, _mm512_setzero_ps(), s))
+        }
+    }
+    /// `vrcp14ps` (14 bits) after one Newton step `y + y (1 - x y)`: within an ulp of
+    /// `f32`.
+    #[inline(always)]
+    fn recip(self) -> Self {
+        // SAFETY: as `splat` (AVX-512F has `vrcp14ps`).
+        unsafe {
+            let x = self.0;
+            let y = _mm512_rcp14_ps(x);
+            let e = _mm512_fnmadd_ps(x, y, _mm512_set1_ps(1.0));
+            F32x16(_mm512_fmadd_ps(y, e, y))
+        }
+    }
+    #[inline(always)]
+    fn mul_add(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `splat`.
+        F32x16(unsafe { _mm512_fmadd_ps(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn mul_sub(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F32x16(unsafe { _mm512_fmsub_ps(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn neg_mul_add(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F32x16(unsafe { _mm512_fnmadd_ps(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> __mmask16 {
+        // SAFETY: as `splat`.
+        unsafe { _mm512_cmp_ps_mask::<_CMP_GT_OQ>(self.0, o.0) }
+    }
+    #[inline(always)]
+    fn and(m1: __mmask16, m2: __mmask16) -> __mmask16 {
+        m1 & m2
+    }
+    #[inline(always)]
+    fn select(m: __mmask16, a: Self, b: Self) -> Self {
+        // SAFETY: as `splat`.
+        F32x16(unsafe { _mm512_mask_blend_ps(m, b.0, a.0) })
+    }
+    #[inline(always)]
+    fn any(m: __mmask16) -> bool {
+        m != 0
+    }
+    #[inline(always)]
+    fn all(m: __mmask16) -> bool {
+        m == 0xFFFF
     }
 }

@@ -14,7 +14,7 @@ use kernels::{
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Duration;
-use stokesian::{Moments, Particle, System};
+use stokesian::{Moments, Particle, Precision, System};
 
 /// `n` unit spheres at random in a box above a wall at z = 0, volume fraction about 5%
 /// (hard-sphere rejection), heights from 1.1 a.
@@ -171,9 +171,10 @@ struct LanePass<'a> {
 }
 
 impl WithLanes for LanePass<'_> {
+    type Elem = f64;
     type Output = f64;
     #[inline(always)]
-    fn run<L: Lane>(self) -> f64 {
+    fn run<L: Lane<Elem = f64>>(self) -> f64 {
         let p = self.pairs;
         let mut sum = L::splat(0.0);
         for j in (0..p.aa.len()).step_by(L::WIDTH) {
@@ -269,7 +270,7 @@ fn products_isa(c: &mut Criterion) {
             for isa in Isa::all_available() {
                 let id = BenchmarkId::new(format!("{moments:?} {}", isa.name()), n);
                 g.bench_with_input(id, &x, |b, x| {
-                    b.iter(|| s.apply_with_isa(moments, black_box(x), isa))
+                    b.iter(|| s.apply_with(moments, black_box(x), isa, Precision::Double))
                 });
             }
         }

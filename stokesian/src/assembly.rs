@@ -33,6 +33,19 @@ pub enum Moments {
     FTS,
 }
 
+/// The arithmetic of the matrix-free product ([`System::apply_with`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum Precision {
+    /// `f64` lanes: the kernels' full accuracy (about 1e-15 per pair).
+    #[default]
+    Double,
+    /// `f32` lanes, twice as many pairs per instruction, in units where the largest
+    /// radius, the viscosity and the largest moment are 1 (so any units of the input
+    /// work); every total is still summed in `f64`. About 1e-6 relative to the
+    /// product's largest entry.
+    Single,
+}
+
 impl Moments {
     /// Rows (and columns) per particle.
     pub fn per_particle(self) -> usize {
@@ -60,6 +73,7 @@ pub struct System {
     confinement: Confinement,
     viscosity: f64,
     particles: Vec<Particle>,
+    precision: Precision,
 }
 
 impl System {
@@ -76,7 +90,21 @@ impl System {
             confinement,
             viscosity,
             particles,
+            precision: Precision::Double,
         })
+    }
+
+    /// The same system with the matrix-free product [`System::apply`] (and with it the
+    /// far-field F and FT velocities, [`System::velocities`]) in `precision`. Dense
+    /// matrices, resistances and Brownian dynamics stay in double precision.
+    pub fn with_precision(mut self, precision: Precision) -> System {
+        self.precision = precision;
+        self
+    }
+
+    /// The precision of [`System::apply`].
+    pub fn precision(&self) -> Precision {
+        self.precision
     }
 
     /// The particles.
@@ -265,13 +293,20 @@ impl System {
     /// `M^{ba} x_a` together, by the lane kernels on the widest instruction set this
     /// processor has, in tiles whose schedule alone fixes the order of every sum: the
     /// result does not depend on the number of threads ([`crate::tiled`]).
+    /// In the system's precision ([`System::with_precision`]; double by default).
     pub fn apply(&self, moments: Moments, x: &[f64]) -> Vec<f64> {
-        self.apply_with_isa(moments, x, Isa::best())
+        self.apply_with(moments, x, Isa::best(), self.precision)
     }
 
     /// [`System::apply`] on the lanes of `isa` (`Isa::all_available()` lists this
-    /// processor's); panics if this processor lacks `isa`.
-    pub fn apply_with_isa(&self, moments: Moments, x: &[f64], isa: Isa) -> Vec<f64> {
+    /// processor's) in `precision`; panics if this processor lacks `isa`.
+    pub fn apply_with(
+        &self,
+        moments: Moments,
+        x: &[f64],
+        isa: Isa,
+        precision: Precision,
+    ) -> Vec<f64> {
         let n = self.len();
         let k = moments.per_particle();
         let parts = moments.parts();
@@ -293,6 +328,7 @@ impl System {
             &ps,
             &xs,
             isa,
+            precision,
             n >= PARALLEL_MIN,
         );
         let mut out = vec![0.0; k * n];

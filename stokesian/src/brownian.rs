@@ -25,9 +25,10 @@
 //! `(1/delta) [R^-1(q + delta/2 D W~) - R^-1(q - delta/2 D W~)] D^-1 W~`, `W~` standard
 //! normal on the translations, `D` the radii, whose mean is `div R^-1 + O(delta^2)`.
 
-use crate::assembly::{Moments, System};
+use crate::assembly::{Moments, Precision, System};
 use crate::dense::{mul_vec, Cholesky};
 use crate::input::{InputError, Particle};
+use kernels::lanes::Isa;
 use rand::Rng;
 use rand_distr::StandardNormal;
 use std::f64::consts::PI;
@@ -454,7 +455,7 @@ impl System {
             eta: self.viscosity(),
         };
         // each unordered pair once, in tiles: the same bits with any number of threads
-        let acc = crate::tiled::apply(
+        let acc = crate::tiled::apply::<_, f64, 6>(
             &div,
             &ps,
             &vec![[0.0; 6]; n],
@@ -570,11 +571,16 @@ impl System {
                 (mul_vec(&m, &f), noise)
             }
             Noise::Lanczos { tol } => {
-                let (y, k) = lanczos_sqrt(|x| self.apply(bd.moments, x), w, tol, w.len())
-                    .map_err(|source| BrownianError::Lanczos { step, source })?;
+                let (y, k) = lanczos_sqrt(
+                    |x| self.apply_with(bd.moments, x, Isa::best(), Precision::Double),
+                    w,
+                    tol,
+                    w.len(),
+                )
+                .map_err(|source| BrownianError::Lanczos { step, source })?;
                 iterations = Some(k);
                 (
-                    self.apply(bd.moments, &f),
+                    self.apply_with(bd.moments, &f, Isa::best(), Precision::Double),
                     y.iter().map(|v| v * scale).collect(),
                 )
             }

@@ -18,7 +18,9 @@ mod tiled;
 pub mod two_sphere;
 mod velocity;
 
-pub use assembly::{check_spd, solve_fts, Moments, SingularStressletBlock, SpdCheck, System};
+pub use assembly::{
+    check_spd, solve_fts, Moments, Precision, SingularStressletBlock, SpdCheck, System,
+};
 pub use brownian::{
     lanczos_sqrt, rotate, Brownian, BrownianError, ExternalForces, LanczosError,
     LubricatedDynamics, Noise, Run, RunTally, Scheme, Step,

@@ -14,15 +14,25 @@
 //! 1, 2 or 3 threads, on any machine with the same instruction set. No allocation per
 //! pair or per tile. The Brownian drift (the generated divergence kernels summed over
 //! pairs) runs through the same tiles ([`Divergence`]).
+//!
+//! The lanes hold `f64` or, for the single-precision product ([`Precision::Single`]),
+//! `f32`: twice the pairs per instruction. Single precision runs in units where the
+//! largest radius, the viscosity and the largest moment are 1 and heights are measured
+//! from the first boundary (`Confinement::in_units`), so no intermediate of the kernels
+//! overflows or underflows `f32` whatever the user's units; each tile's sums are
+//! carried in `f32` and every total in `f64`.
 
-use crate::assembly::Moments;
-use kernels::lanes::{self, Isa, Lane, WithLanes};
+use crate::assembly::{Moments, Precision};
+use kernels::lanes::{self, Element, Isa, Lane, WithLanes};
 use kernels::{lane_by_lane, Confinement};
 use rayon::prelude::*;
 use std::sync::Mutex;
 
 /// Particles per block: a multiple of every lane width.
 pub(crate) const BLOCK: usize = 64;
+
+/// The most moments per particle (FTS).
+const MAX_K: usize = 11;
 
 /// A pair product over lanes: `(M^{ab} vb, M^{ba} va)` for `L::WIDTH` pairs.
 pub(crate) trait LaneProduct<const K: usize>: Sync {
@@ -166,16 +176,16 @@ impl LaneProduct<6> for Divergence<'_> {
 }
 
 /// Particles and moments as structure of arrays, padded to whole blocks.
-struct Soa<const K: usize> {
+struct Soa<E, const K: usize> {
     n: usize,
-    x: [Vec<f64>; 3],
-    a: Vec<f64>,
-    v: [Vec<f64>; K],
+    x: [Vec<E>; 3],
+    a: Vec<E>,
+    v: [Vec<E>; K],
 }
 
 /// One tile `(I, J)` for the lanes of the instruction set it is dispatched to.
-struct Tile<'a, P, const K: usize> {
-    soa: &'a Soa<K>,
+struct Tile<'a, P, E, const K: usize> {
+    soa: &'a Soa<E, K>,
     product: &'a P,
     bi: usize,
     bj: usize,
@@ -186,18 +196,21 @@ struct Tile<'a, P, const K: usize> {
     out_j: Option<&'a mut [f64]>,
 }
 
-impl<P: LaneProduct<K>, const K: usize> WithLanes for Tile<'_, P, K> {
+impl<P: LaneProduct<K>, E: Element, const K: usize> WithLanes for Tile<'_, P, E, K> {
+    type Elem = E;
     type Output = ();
     #[inline(always)]
-    fn run<L: Lane>(self) {
+    fn run<L: Lane<Elem = E>>(self) {
         let Tile {
             soa,
             product,
             bi,
             bj,
             out_i,
-            mut out_j,
+            out_j,
         } = self;
+        // block J's sums over this tile, in the lanes' precision
+        let mut sums_j = [E::default(); MAX_K * BLOCK];
         let w = L::WIDTH;
         let n = L::splat(soa.n as f64);
         let diagonal = bi == bj;
@@ -207,9 +220,9 @@ impl<P: LaneProduct<K>, const K: usize> WithLanes for Tile<'_, P, K> {
             if i >= soa.n {
                 break;
             }
-            let xa: [L; 3] = std::array::from_fn(|k| L::splat(soa.x[k][i]));
-            let aa = L::splat(soa.a[i]);
-            let va: [L; K] = std::array::from_fn(|c| L::splat(soa.v[c][i]));
+            let xa: [L; 3] = std::array::from_fn(|k| L::splat(soa.x[k][i].to_f64()));
+            let aa = L::splat(soa.a[i].to_f64());
+            let va: [L; K] = std::array::from_fn(|c| L::splat(soa.v[c][i].to_f64()));
             let mut acc = [L::splat(0.0); K];
             // on the diagonal, the chunks holding j > i
             let start = if diagonal { (ii + 1) / w * w } else { 0 };
@@ -228,19 +241,22 @@ impl<P: LaneProduct<K>, const K: usize> WithLanes for Tile<'_, P, K> {
                 let vb: [L; K] = std::array::from_fn(|c| L::load(&soa.v[c][j..]));
                 let (pa, pb) = product.eval(xa, aa, xb, ab, va, vb);
                 let zero = L::splat(0.0);
-                let outj: &mut [f64] = match out_j.as_deref_mut() {
-                    Some(o) => o,
-                    None => &mut *out_i,
-                };
                 for c in 0..K {
                     acc[c] = acc[c] + L::select(valid, pa[c], zero);
-                    let slot = &mut outj[c * BLOCK + jj..];
+                    let slot = &mut sums_j[c * BLOCK + jj..];
                     (L::load(slot) + L::select(valid, pb[c], zero)).store(slot);
                 }
             }
             for c in 0..K {
                 out_i[c * BLOCK + ii] += acc[c].sum();
             }
+        }
+        let out_j = match out_j {
+            Some(o) => o,
+            None => out_i,
+        };
+        for (o, s) in out_j.iter_mut().zip(&sums_j[..K * BLOCK]) {
+            *o += s.to_f64();
         }
     }
 }
@@ -273,9 +289,10 @@ pub(crate) fn rounds(blocks: usize) -> Vec<Vec<(usize, usize)>> {
 }
 
 /// `M x` for particles `(centre, radius)` and moments `xs` (`K` per particle, grand
-/// order), by tiles on the lanes of `isa` (which this processor must have); `K`
-/// accumulators per particle returned in particle order.
-pub(crate) fn apply<P: LaneProduct<K>, const K: usize>(
+/// order), by tiles on the lanes of `isa` (which this processor must have) holding
+/// elements `E`; `K` accumulators per particle returned in particle order. The self
+/// terms are evaluated in `f64`.
+pub(crate) fn apply<P: LaneProduct<K>, E: Element, const K: usize>(
     product: &P,
     particles: &[([f64; 3], f64)],
     xs: &[[f64; K]],
@@ -288,13 +305,14 @@ pub(crate) fn apply<P: LaneProduct<K>, const K: usize>(
     // padding: copies of the last particle, never counted (masked lanes)
     let last = n - 1;
     let at = |j: usize| j.min(last);
-    let soa = Soa::<K> {
+    let e = E::from_f64;
+    let soa = Soa::<E, K> {
         n,
-        x: std::array::from_fn(|k| (0..padded).map(|j| particles[at(j)].0[k]).collect()),
-        a: (0..padded).map(|j| particles[at(j)].1).collect(),
+        x: std::array::from_fn(|k| (0..padded).map(|j| e(particles[at(j)].0[k])).collect()),
+        a: (0..padded).map(|j| e(particles[at(j)].1)).collect(),
         v: std::array::from_fn(|c| {
             (0..padded)
-                .map(|j| if j < n { xs[j][c] } else { 0.0 })
+                .map(|j| e(if j < n { xs[j][c] } else { 0.0 }))
                 .collect()
         }),
     };
@@ -343,7 +361,8 @@ pub(crate) fn apply<P: LaneProduct<K>, const K: usize>(
         .collect()
 }
 
-/// The product for a truncation (F, FT or FTS).
+/// The product for a truncation (F, FT or FTS) in `precision`.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn apply_moments(
     conf: &Confinement,
     eta: f64,
@@ -351,9 +370,10 @@ pub(crate) fn apply_moments(
     particles: &[([f64; 3], f64)],
     xs: &[f64],
     isa: Isa,
+    precision: Precision,
     parallel: bool,
 ) -> Vec<f64> {
-    fn run<P: LaneProduct<K>, const K: usize>(
+    fn run<P: LaneProduct<K>, E: Element, const K: usize>(
         p: &P,
         ps: &[([f64; 3], f64)],
         xs: &[f64],
@@ -364,12 +384,100 @@ pub(crate) fn apply_moments(
             .chunks(K)
             .map(|c| std::array::from_fn(|i| c[i]))
             .collect();
-        apply(p, ps, &v, isa, parallel).concat()
+        apply::<P, E, K>(p, ps, &v, isa, parallel).concat()
     }
-    match moments {
-        Moments::F => run(&ProductF { conf, eta }, particles, xs, isa, parallel),
-        Moments::FT => run(&ProductFT { conf, eta }, particles, xs, isa, parallel),
-        Moments::FTS => run(&ProductFTS { conf, eta }, particles, xs, isa, parallel),
+    fn by_moments<E: Element>(
+        conf: &Confinement,
+        eta: f64,
+        moments: Moments,
+        ps: &[([f64; 3], f64)],
+        xs: &[f64],
+        isa: Isa,
+        parallel: bool,
+    ) -> Vec<f64> {
+        match moments {
+            Moments::F => run::<_, E, 3>(&ProductF { conf, eta }, ps, xs, isa, parallel),
+            Moments::FT => run::<_, E, 6>(&ProductFT { conf, eta }, ps, xs, isa, parallel),
+            Moments::FTS => run::<_, E, 11>(&ProductFTS { conf, eta }, ps, xs, isa, parallel),
+        }
+    }
+    match precision {
+        Precision::Double => by_moments::<f64>(conf, eta, moments, particles, xs, isa, parallel),
+        Precision::Single => {
+            let units = Units::of(conf, particles, xs, moments.per_particle());
+            let ps: Vec<([f64; 3], f64)> = particles
+                .iter()
+                .map(|&(x, a)| (units.position(x), a / units.length))
+                .collect();
+            let k = moments.per_particle();
+            let scaled: Vec<f64> = xs
+                .iter()
+                .enumerate()
+                .map(|(i, v)| v / units.moment(i % k))
+                .collect();
+            let conf = conf.in_units(units.origin[2], units.length);
+            let out = by_moments::<f32>(&conf, 1.0, moments, &ps, &scaled, isa, parallel);
+            out.iter()
+                .enumerate()
+                .map(|(i, y)| y * units.response(i % k, eta))
+                .collect()
+        }
+    }
+}
+
+/// The units of the single-precision product: lengths in units of the largest radius,
+/// measured laterally from the centroid and vertically from the first boundary (the
+/// centroid in free space); the viscosity 1; moments scaled so that the largest is 1.
+struct Units {
+    origin: [f64; 3],
+    length: f64,
+    /// The largest moment, each in the new unit of length.
+    scale: f64,
+}
+
+impl Units {
+    fn of(conf: &Confinement, particles: &[([f64; 3], f64)], xs: &[f64], k: usize) -> Units {
+        let n = particles.len() as f64;
+        let centroid: [f64; 3] =
+            std::array::from_fn(|c| particles.iter().map(|p| p.0[c]).sum::<f64>() / n);
+        let first = conf.boundaries().first().map(|b| b.0);
+        let origin = [centroid[0], centroid[1], first.unwrap_or(centroid[2])];
+        let length = particles.iter().map(|p| p.1).fold(0.0, f64::max);
+        let mut u = Units {
+            origin,
+            length,
+            scale: 1.0,
+        };
+        let largest = xs
+            .iter()
+            .enumerate()
+            .map(|(i, v)| (v / u.moment(i % k)).abs())
+            .fold(0.0, f64::max);
+        if largest > 0.0 {
+            u.scale = largest;
+        }
+        u
+    }
+
+    fn position(&self, x: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|c| (x[c] - self.origin[c]) / self.length)
+    }
+
+    /// The unit of moment component `c` (0-2 forces; then torques and stresslets,
+    /// one length more).
+    fn moment(&self, c: usize) -> f64 {
+        if c < 3 {
+            self.scale
+        } else {
+            self.scale * self.length
+        }
+    }
+
+    /// The unit of response component `c` (0-2 velocities; then rotations and strains,
+    /// one inverse length more): `Confinement::in_units`.
+    fn response(&self, c: usize, eta: f64) -> f64 {
+        let q = if c < 3 { 1 } else { 2 };
+        self.scale / (eta * self.length.powi(q))
     }
 }
 

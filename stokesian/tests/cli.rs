@@ -361,37 +361,67 @@ fn velocity_f_and_ft_equal_mobility_times_forces() {
         .join("\n");
     let f3 = dir.file("forces3.csv", &f3);
     let f6 = dir.file("forces6.csv", FORCES);
-    for (moments, file, k, header) in [
-        (Moments::F, &f3, 3, "ux,uy,uz"),
-        (Moments::FT, &f6, 6, "ux,uy,uz,wx,wy,wz"),
-    ] {
-        let out = dir.path(&format!("U_{}.csv", moments_name(moments)));
-        let mut args = vec!["velocity"];
-        args.extend(SYSTEM_ARGS);
-        args.extend([
-            "--moments",
-            moments_name(moments),
-            "--particles",
-            s(&p),
-            "--forces",
-            s(file),
-            "--out",
-            s(&out),
-        ]);
-        let o = run(&args);
-        assert_ok(&o);
-        let rows = read_csv(&out, header);
-        assert_eq!(rows.len(), 3);
-        let got = velocity_vector(&rows);
-        let m = system(WALL).mobility(moments);
-        let want = &m * DVector::from_vec(force_vector(k));
-        let e = rel_err(&got, want.as_slice());
-        assert!(
-            e <= 1e-14,
-            "{}: relative error {e:e}",
-            moments_name(moments)
-        );
+    // single precision: f32 lanes, 2e-6 of the largest velocity (as the library's
+    // `tests/single_precision.rs`: 2e-6 per pair at worst)
+    for (precision, tol) in [("double", 1e-14), ("single", 2e-6)] {
+        for (moments, file, k, header) in [
+            (Moments::F, &f3, 3, "ux,uy,uz"),
+            (Moments::FT, &f6, 6, "ux,uy,uz,wx,wy,wz"),
+        ] {
+            let out = dir.path(&format!("U_{}_{precision}.csv", moments_name(moments)));
+            let mut args = vec!["velocity"];
+            args.extend(SYSTEM_ARGS);
+            args.extend([
+                "--moments",
+                moments_name(moments),
+                "--particles",
+                s(&p),
+                "--forces",
+                s(file),
+                "--precision",
+                precision,
+                "--out",
+                s(&out),
+            ]);
+            let o = run(&args);
+            assert_ok(&o);
+            let rows = read_csv(&out, header);
+            assert_eq!(rows.len(), 3);
+            let got = velocity_vector(&rows);
+            let m = system(WALL).mobility(moments);
+            let want = &m * DVector::from_vec(force_vector(k));
+            let e = rel_err(&got, want.as_slice());
+            assert!(
+                e <= tol,
+                "{} {precision}: relative error {e:e}",
+                moments_name(moments)
+            );
+        }
     }
+    // refused where it does not apply
+    let out = dir.path("U_refused.csv");
+    let mut args = vec!["velocity"];
+    args.extend(SYSTEM_ARGS);
+    args.extend([
+        "--moments",
+        "FT",
+        "--lubrication",
+        "--precision",
+        "single",
+        "--particles",
+        s(&p),
+        "--forces",
+        s(&f6),
+        "--out",
+        s(&out),
+    ]);
+    let o = run(&args);
+    assert!(
+        !o.status.success() && stderr(&o).contains("--precision single"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
 }
 
 /// `(U, Omega)` of an FTS system by the explicit Schur complement

@@ -6,7 +6,7 @@
 //! the canonical frame is the identity), with near and far lanes mixed in one vector.
 
 use integration_tests::{all_confinements, bounds, norm, random_spheres};
-use kernels::lanes::{dispatch_with, Isa, Lane, WithLanes};
+use kernels::lanes::{dispatch_with, Element, Isa, Lane, WithLanes};
 use kernels::{product_f, product_f_lanes, product_ft, product_ft_lanes, Confinement};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -21,22 +21,26 @@ struct Pair {
     v: [f64; 12],
 }
 
-/// The lane kernels over a list of pairs (a multiple of 8), outputs `a` then `b` per
-/// pair.
-struct Run<'a> {
+/// The lane kernels over a list of pairs (a multiple of 16), outputs `a` then `b` per
+/// pair, on lanes of `E` (inputs rounded to `E`).
+struct Run<'a, E> {
     conf: &'a Confinement,
     pairs: &'a [Pair],
     ft: bool,
+    elem: std::marker::PhantomData<E>,
 }
 
-impl WithLanes for Run<'_> {
+impl<E: Element> WithLanes for Run<'_, E> {
+    type Elem = E;
     type Output = Vec<Vec<f64>>;
     #[inline(always)]
-    fn run<L: Lane>(self) -> Vec<Vec<f64>> {
+    fn run<L: Lane<Elem = E>>(self) -> Vec<Vec<f64>> {
         let w = L::WIDTH;
         let mut out = Vec::new();
         for chunk in self.pairs.chunks(w) {
-            let col = |f: &dyn Fn(&Pair) -> f64| L::load(&chunk.iter().map(f).collect::<Vec<_>>());
+            let col = |f: &dyn Fn(&Pair) -> f64| {
+                L::load(&chunk.iter().map(|p| E::from_f64(f(p))).collect::<Vec<E>>())
+            };
             let xa: [L; 3] = std::array::from_fn(|k| col(&|p| p.xa[k]));
             let xb: [L; 3] = std::array::from_fn(|k| col(&|p| p.xb[k]));
             let (aa, ab) = (col(&|p| p.aa), col(&|p| p.ab));
@@ -51,10 +55,10 @@ impl WithLanes for Run<'_> {
             };
             let mut per_pair = vec![vec![0.0; lanes.len()]; w];
             for (k, v) in lanes.iter().enumerate() {
-                let mut buf = vec![0.0; w];
+                let mut buf = vec![E::default(); w];
                 v.store(&mut buf);
                 for l in 0..w {
-                    per_pair[l][k] = buf[l];
+                    per_pair[l][k] = buf[l].to_f64();
                 }
             }
             out.extend(per_pair);
@@ -143,23 +147,30 @@ fn pairs(conf: &Confinement, rng: &mut ChaCha8Rng) -> Vec<Pair> {
         let j = rng.gen_range(0..=i);
         out.swap(i, j);
     }
-    while out.len() % 8 != 0 {
+    while out.len() % 16 != 0 {
         out.push(out[0]);
     }
     out
 }
 
-/// Tolerance 1e-13 of the larger output vector's norm, plus, for the wall, 8 ulps times
-/// the direct sum's cancellation factor `rho^2 / (h_a h_b)`: the lane kernels perform
-/// the same operations as the scalar ones except that multiply-adds round once instead
-/// of twice and reciprocals share divisions (a few ulps each; blending the far and
-/// near branches rather than branching is exact), so they differ by the kernels'
-/// round-off amplified by the cancellation between the terms of the direct sum (about
-/// 1e2 at most away from the wall's lateral switch, `rho^2 / (h_a h_b)` up to 4e4 just
-/// below it). Measured: printed by `-- --nocapture`.
-#[test]
-fn lane_kernels_equal_the_scalar_kernels_on_every_instruction_set() {
-    let mut rng = ChaCha8Rng::seed_from_u64(5);
+/// The wall's cancellation factor `rho^2 / (h_a h_b)` of a pair (0 elsewhere).
+fn cancellation(name: &str, conf: &Confinement, p: &Pair) -> f64 {
+    let (lo, _) = bounds(conf);
+    let lo = if lo.is_finite() { lo } else { 0.0 };
+    let rho2 = (p.xa[0] - p.xb[0]).powi(2) + (p.xa[1] - p.xb[1]).powi(2);
+    if name == "wall" {
+        rho2 / ((p.xa[2] - lo) * (p.xb[2] - lo))
+    } else {
+        0.0
+    }
+}
+
+/// Every confinement, F and FT, on every instruction set with lanes of `E`: the
+/// largest relative difference to the scalar `f64` kernels (of the larger output
+/// vector's norm) must stay within `tol(cancellation factor)`; returns nothing,
+/// prints the largest per case.
+fn lanes_against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let isas = Isa::all_available();
     println!("instruction sets on this processor: {isas:?}");
     for (name, conf) in all_confinements() {
@@ -167,34 +178,20 @@ fn lane_kernels_equal_the_scalar_kernels_on_every_instruction_set() {
         for ft in [false, true] {
             let expect: Vec<Vec<f64>> = list.iter().map(|p| scalar(&conf, p, ft)).collect();
             for &isa in &isas {
-                let got = dispatch_with(
-                    isa,
-                    Run {
-                        conf: &conf,
-                        pairs: &list,
-                        ft,
-                    },
-                )
-                .ok()
-                .expect("available");
+                let run = Run::<E> {
+                    conf: &conf,
+                    pairs: &list,
+                    ft,
+                    elem: std::marker::PhantomData,
+                };
+                let got = dispatch_with(isa, run).ok().expect("available");
                 let mut worst = (0.0f64, 0usize);
                 for (k, (g, e)) in got.iter().zip(&expect).enumerate() {
                     let d: Vec<f64> = g.iter().zip(e).map(|(x, y)| x - y).collect();
                     let half = e.len() / 2;
                     let scale = norm(&e[..half]).max(norm(&e[half..]));
                     let rel = norm(&d) / scale;
-                    // the wall's direct sum cancels to rho^2 / (h_a h_b) below its lateral
-                    // switch (README, stiff cases): two evaluations rounded differently
-                    // differ by a few ulps times that factor
-                    let (lo, _) = bounds(&conf);
-                    let (p, lo) = (&list[k], if lo.is_finite() { lo } else { 0.0 });
-                    let rho2 = (p.xa[0] - p.xb[0]).powi(2) + (p.xa[1] - p.xb[1]).powi(2);
-                    let cancel = if name == "wall" {
-                        rho2 / ((p.xa[2] - lo) * (p.xb[2] - lo))
-                    } else {
-                        0.0
-                    };
-                    let tol = 1e-13 + 8.0 * f64::EPSILON * cancel;
+                    let tol = tol(cancellation(name, &conf, &list[k]));
                     if rel > worst.0 {
                         worst = (rel, k);
                     }
@@ -217,4 +214,29 @@ fn lane_kernels_equal_the_scalar_kernels_on_every_instruction_set() {
             }
         }
     }
+}
+
+/// Tolerance 1e-13 of the larger output vector's norm, plus, for the wall, 8 ulps times
+/// the direct sum's cancellation factor `rho^2 / (h_a h_b)`: the lane kernels perform
+/// the same operations as the scalar ones except that multiply-adds round once instead
+/// of twice and reciprocals share divisions (a few ulps each; blending the far and
+/// near branches rather than branching is exact), so they differ by the kernels'
+/// round-off amplified by the cancellation between the terms of the direct sum (about
+/// 1e2 at most away from the wall's lateral switch, `rho^2 / (h_a h_b)` up to 4e4 just
+/// below it). Measured: printed by `-- --nocapture`.
+#[test]
+fn lane_kernels_equal_the_scalar_kernels_on_every_instruction_set() {
+    lanes_against_scalar::<f64>(5, |cancel| 1e-13 + 8.0 * f64::EPSILON * cancel);
+}
+
+/// The single-precision twins (`f32` lanes: the same generated kernels, literals and
+/// inputs rounded to `f32`) against the `f64` scalar kernels. Tolerance 2e-5 of the
+/// larger output vector's norm plus 8 `f32` ulps times the wall's cancellation factor:
+/// the inputs and some 300 operations per pair each round at 6e-8, which add up like a
+/// random walk to a few 1e-7 on the outputs (the report's scalar `f32` kernels: 1e-6 to
+/// 6e-6 per block), with a margin of a few; the direct sum's cancellation amplifies
+/// them as in `f64`. Measured: printed by `-- --nocapture`.
+#[test]
+fn single_precision_lanes_equal_the_scalar_kernels_on_every_instruction_set() {
+    lanes_against_scalar::<f32>(6, |cancel| 2e-5 + 8.0 * f64::from(f32::EPSILON) * cancel);
 }

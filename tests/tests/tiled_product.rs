@@ -7,7 +7,7 @@ use integration_tests::{all_confinements, random_spheres};
 use nalgebra::DVector;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use stokesian::{Isa, Moments, System};
+use stokesian::{Isa, Moments, Precision, System};
 
 /// 1e-13 of `|M x|`: the same kernels summed in another order, the lanes with fused
 /// multiply-adds (lanes = scalar to 1e-14 per pair, `tests/lanes.rs`).
@@ -23,7 +23,7 @@ fn tiled_product_equals_the_dense_matrix_on_every_instruction_set() {
             let x: Vec<f64> = (0..m.ncols()).map(|_| rng.gen_range(-1.0..1.0)).collect();
             let dense = &m * DVector::from_column_slice(&x);
             for isa in Isa::all_available() {
-                let got = s.apply_with_isa(moments, &x, isa);
+                let got = s.apply_with(moments, &x, isa, Precision::Double);
                 let d = (DVector::from_column_slice(&got) - &dense).norm();
                 assert!(
                     d <= 1e-13 * dense.norm(),
@@ -106,8 +106,8 @@ fn dense_assembly_places_every_block_exactly() {
     }
 }
 
-/// Bit for bit the same with 1, 2 and 3 threads, on every instruction set: the tiles'
-/// schedule fixes the order of every sum.
+/// Bit for bit the same with 1, 2 and 3 threads, on every instruction set, in double
+/// and single precision: the tiles' schedule fixes the order of every sum.
 #[test]
 fn tiled_product_does_not_depend_on_the_number_of_threads() {
     let mut rng = ChaCha8Rng::seed_from_u64(22);
@@ -123,21 +123,26 @@ fn tiled_product_does_not_depend_on_the_number_of_threads() {
             .map(|_| rng.gen_range(-1.0..1.0))
             .collect();
         for isa in Isa::all_available() {
-            let with = |threads: usize| {
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .unwrap()
-                    .install(|| s.apply_with_isa(moments, &x, isa))
-            };
-            let one = with(1);
-            for threads in [2, 3] {
-                let other = with(threads);
-                let same = one
-                    .iter()
-                    .zip(&other)
-                    .all(|(a, b)| a.to_bits() == b.to_bits());
-                assert!(same, "{moments:?} {isa:?}: 1 and {threads} threads differ");
+            for precision in [Precision::Double, Precision::Single] {
+                let with = |threads: usize| {
+                    rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .unwrap()
+                        .install(|| s.apply_with(moments, &x, isa, precision))
+                };
+                let one = with(1);
+                for threads in [2, 3] {
+                    let other = with(threads);
+                    let same = one
+                        .iter()
+                        .zip(&other)
+                        .all(|(a, b)| a.to_bits() == b.to_bits());
+                    assert!(
+                        same,
+                        "{moments:?} {isa:?} {precision:?}: 1 and {threads} threads differ"
+                    );
+                }
             }
         }
     }

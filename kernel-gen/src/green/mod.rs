@@ -115,6 +115,17 @@ pub trait Green {
     fn title(&self) -> &'static str;
     /// Run-time parameters, in order, as kernel argument names (e.g. `["height"]`).
     fn params(&self) -> &'static [&'static str];
+    /// The dimension of parameter `name`: by default that of the names in use
+    /// ([`param_dimension`]); a Green's function with a parameter of a new name states
+    /// it here (generation stops with a message otherwise).
+    fn dimension(&self, name: &str) -> Dimension {
+        param_dimension(name).unwrap_or_else(|| {
+            panic!(
+                "{}: state the dimension of the parameter `{name}` (Green::dimension)",
+                self.name()
+            )
+        })
+    }
     /// The reflected field `J^w(x, y)` in units of `1/(8 pi eta)`, as ordinary Rust.
     fn reflected<S: Scalar>(&self, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S>;
     /// The image structure of [`Green::reflected`] for the Eq. 10 path, if it has one.
@@ -171,6 +182,29 @@ pub fn param_doc(name: &str) -> &'static str {
         "lambda" => "viscosity ratio lambda of the liquid beyond the interface to this one",
         "gap" => "distance from the lower wall to the upper wall",
         _ => "parameter of the Green's function",
+    }
+}
+
+/// How a run-time parameter changes when lengths are measured in another unit from
+/// another origin of `x3` (what [`Green::dimension`] states for each parameter).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dimension {
+    /// A position on the `x3` axis: `(p - origin) / unit`.
+    Height,
+    /// A distance: `p / unit`.
+    Length,
+    /// A pure number (a viscosity ratio): unchanged.
+    Number,
+}
+
+/// The dimensions of the parameter names in use (the default of
+/// [`Green::dimension`]).
+pub fn param_dimension(name: &str) -> Option<Dimension> {
+    match name {
+        "height" => Some(Dimension::Height),
+        "gap" => Some(Dimension::Length),
+        "lambda" => Some(Dimension::Number),
+        _ => None,
     }
 }
 

@@ -776,6 +776,40 @@ impl Confinement {
             }
         }
     }
+    /// The same confinement with lengths measured in units of `unit` and
+    /// heights from `x3 = origin`: a height `h` becomes `(h - origin) / unit`, a
+    /// length `l / unit`; pure numbers stay. With the viscosity as the unit of
+    /// viscosity, a mobility block coupling a moment of length dimension `p`
+    /// (force 0; torque, stresslet 1) to a response of dimension `q` (velocity 0;
+    /// rotation, strain 1) becomes `eta unit^(1 + p + q)` times itself.
+    pub fn in_units(&self, origin: f64, unit: f64) -> Confinement {
+        let _ = (origin, unit);
+        match *self {
+            Confinement::Free => Confinement::Free,
+            Confinement::Wall { height } => {
+                Confinement::Wall {
+                    height: (height - origin) / unit,
+                }
+            }
+            Confinement::FreeSurface { height } => {
+                Confinement::FreeSurface {
+                    height: (height - origin) / unit,
+                }
+            }
+            Confinement::Interface { height, lambda } => {
+                Confinement::Interface {
+                    height: (height - origin) / unit,
+                    lambda,
+                }
+            }
+            Confinement::Slit { height, gap } => {
+                Confinement::Slit {
+                    height: (height - origin) / unit,
+                    gap: gap / unit,
+                }
+            }
+        }
+    }
 }
 /// `M^{ab}` for two distinct particles: the response of particle `a` (centre
 /// `xa`, radius `aa`) to the force, torque and stresslet of particle `b`.

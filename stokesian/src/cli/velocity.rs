@@ -7,11 +7,11 @@ use super::options::parse_components;
 use super::output::{self, check_out, write_atomically};
 use super::system::{particle_error, MomentsArg, Setup, SystemArgs};
 use super::table::{self, Columns};
-use clap::Args;
+use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use std::io::Write;
 use std::path::PathBuf;
-use stokesian::{strain_components, Lubrication, VelocityError};
+use stokesian::{strain_components, Lubrication, Precision, VelocityError};
 
 /// `velocity`: the system, the forces and the output.
 #[derive(Args, Debug)]
@@ -34,9 +34,23 @@ pub struct VelocityArgs {
     /// estimate of R is reported on stderr, and the run fails if it exceeds 1e14.
     #[arg(long)]
     pub lubrication: bool,
+    /// Arithmetic of the matrix-free product (F and FT without --lubrication): double
+    /// (f64 lanes, about 1e-15 per pair) or single (f32 lanes: twice the pairs per
+    /// instruction, about 1e-7 relative to the largest velocity; any units of input).
+    #[arg(long, value_enum, default_value = "double")]
+    pub precision: PrecisionArg,
     /// Output CSV file: ux,uy,uz (F) or ux,uy,uz,wx,wy,wz (FT, FTS).
     #[arg(long, value_name = "U.csv")]
     pub out: PathBuf,
+}
+
+/// `--precision`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PrecisionArg {
+    /// f64 lanes.
+    Double,
+    /// f32 lanes.
+    Single,
 }
 
 /// The forces file's columns at F, and with torques at FT and FTS.
@@ -77,6 +91,14 @@ pub fn run(args: &VelocityArgs) -> Result<(), CliError> {
         return Err(CliError::Inapplicable {
             option: "--lubrication",
             context: "--moments F: lubrication needs torques and rotations (use FT or FTS)"
+                .to_string(),
+        });
+    }
+    if args.precision == PrecisionArg::Single && (args.lubrication || moments == MomentsArg::Fts) {
+        return Err(CliError::Inapplicable {
+            option: "--precision single",
+            context: "single precision is for the matrix-free product (F or FT without \
+                      --lubrication); resistances and the FTS solve are in double precision"
                 .to_string(),
         });
     }
@@ -161,9 +183,15 @@ fn velocity(
             n * (n + 1) / 2
         ),
     });
+    let precision = match args.precision {
+        PrecisionArg::Double => Precision::Double,
+        PrecisionArg::Single => Precision::Single,
+    };
     // the library's call; its numerical failures get the causes only the command knows
     let v = setup
         .system
+        .clone()
+        .with_precision(precision)
         .velocities(moments.moments(), &x, &strain, lubrication)
         .map_err(|e| match e {
             VelocityError::NotFinite(what) => setup.non_finite(what),

@@ -198,9 +198,10 @@ fn lane_ns(
         ft: bool,
     }
     impl WithLanes for Pass<'_> {
+        type Elem = f64;
         type Output = f64;
         #[inline(always)]
-        fn run<L: Lane>(self) -> f64 {
+        fn run<L: Lane<Elem = f64>>(self) -> f64 {
             let mut sum = L::splat(0.0);
             for chunk in self.cases.chunks(L::WIDTH) {
                 let mut buf = [[0.0; 8]; 8];
