@@ -6,7 +6,7 @@
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use kernels::lanes::{dispatch_with, Isa, Lane, WithLanes};
+use kernels::lanes::{dispatch_with, Element, Isa, Lane, WithLanes};
 use kernels::{
     pair, pair_equal, pair_f, pair_ft, product_f, product_f_lanes, product_ft, product_ft_lanes,
     Confinement,
@@ -141,12 +141,26 @@ fn per_pair(c: &mut Criterion) {
 }
 
 /// Pairs in structure of arrays: field and source centres, radii, moments.
-struct Pairs {
-    xa: [Vec<f64>; 3],
-    xb: [Vec<f64>; 3],
-    aa: Vec<f64>,
-    ab: Vec<f64>,
-    v: [Vec<f64>; 12],
+struct Pairs<E = f64> {
+    xa: [Vec<E>; 3],
+    xb: [Vec<E>; 3],
+    aa: Vec<E>,
+    ab: Vec<E>,
+    v: [Vec<E>; 12],
+}
+
+impl Pairs {
+    /// The same pairs rounded to `E`.
+    fn to<E: Element>(&self) -> Pairs<E> {
+        let c = |v: &Vec<f64>| v.iter().map(|&x| E::from_f64(x)).collect::<Vec<E>>();
+        Pairs {
+            xa: self.xa.each_ref().map(c),
+            xb: self.xb.each_ref().map(c),
+            aa: c(&self.aa),
+            ab: c(&self.ab),
+            v: self.v.each_ref().map(c),
+        }
+    }
 }
 
 /// `n` pairs above the plane z = 0: heights 1.5 to 5, lateral distances up to 200.
@@ -164,17 +178,17 @@ fn pairs(n: usize) -> Pairs {
 
 /// Every pair of `pairs` through the lane kernel of one truncation; the sum of the
 /// outputs (so nothing is optimised away).
-struct LanePass<'a> {
+struct LanePass<'a, E> {
     conf: &'a Confinement,
-    pairs: &'a Pairs,
+    pairs: &'a Pairs<E>,
     ft: bool,
 }
 
-impl WithLanes for LanePass<'_> {
-    type Elem = f64;
+impl<E: Element> WithLanes for LanePass<'_, E> {
+    type Elem = E;
     type Output = f64;
     #[inline(always)]
-    fn run<L: Lane<Elem = f64>>(self) -> f64 {
+    fn run<L: Lane<Elem = E>>(self) -> f64 {
         let p = self.pairs;
         let mut sum = L::splat(0.0);
         for j in (0..p.aa.len()).step_by(L::WIDTH) {
@@ -200,11 +214,12 @@ impl WithLanes for LanePass<'_> {
 }
 
 /// Time per pair of the fused pair products (F, FT), scalar kernel and lane kernels
-/// on each instruction set, over 1024 pairs near the wall.
+/// on each instruction set, `f64` and `f32` lanes, over 1024 pairs near the wall.
 fn per_pair_lanes(c: &mut Criterion) {
     let mut g = c.benchmark_group("pair product lanes");
     let n = 1024;
     let p = pairs(n);
+    let p32 = p.to::<f32>();
     g.throughput(Throughput::Elements(n as u64));
     for (name, conf) in [
         ("free", Confinement::Free),
@@ -245,13 +260,24 @@ fn per_pair_lanes(c: &mut Criterion) {
                         dispatch_with(isa, pass).ok()
                     })
                 });
+                let id = BenchmarkId::new(format!("{m} lanes {} f32", isa.name()), name);
+                g.bench_function(id, |b| {
+                    b.iter(|| {
+                        let pass = LanePass {
+                            conf: black_box(&conf),
+                            pairs: &p32,
+                            ft,
+                        };
+                        dispatch_with(isa, pass).ok()
+                    })
+                });
             }
         }
     }
     g.finish();
 }
 
-/// `M x` near the wall per instruction set (F and FT, N = 1e3 and 1e4).
+/// `M x` near the wall per instruction set and precision (F and FT, N = 1e3 and 1e4).
 fn products_isa(c: &mut Criterion) {
     let mut g = c.benchmark_group("wall product M x per instruction set");
     g.sample_size(10).measurement_time(Duration::from_secs(10));
@@ -268,10 +294,12 @@ fn products_isa(c: &mut Criterion) {
                 .map(|k| (k % 7) as f64 - 3.0)
                 .collect();
             for isa in Isa::all_available() {
-                let id = BenchmarkId::new(format!("{moments:?} {}", isa.name()), n);
-                g.bench_with_input(id, &x, |b, x| {
-                    b.iter(|| s.apply_with(moments, black_box(x), isa, Precision::Double))
-                });
+                for (precision, suffix) in [(Precision::Double, ""), (Precision::Single, " f32")] {
+                    let id = BenchmarkId::new(format!("{moments:?} {}{suffix}", isa.name()), n);
+                    g.bench_with_input(id, &x, |b, x| {
+                        b.iter(|| s.apply_with(moments, black_box(x), isa, precision))
+                    });
+                }
             }
         }
     }
