@@ -36,7 +36,7 @@ use crate::dd::Dd;
 use crate::green::{self, Green, ImageTerm, Mat3};
 use crate::jet::{Jet, Layout};
 use crate::operators::{Deriv, Derivatives, Term};
-use crate::poly::Poly;
+use crate::poly::{Poly, VARS};
 use crate::scalar::Scalar;
 use std::collections::{BTreeMap, HashMap};
 
@@ -103,6 +103,24 @@ fn stokeslet_atoms(
     out
 }
 
+/// How [`Structured`] turns atoms into arithmetic: the generator traces each kernel in
+/// every way and keeps the cheapest ([`crate::scene::trace`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Collection {
+    /// The atoms' values combined one by one (the jets' coefficients as the jet rules
+    /// compute them); kernels with many blocks share atoms between entries this way.
+    Atoms,
+    /// The atoms of one centre, potential, order and radius-and-height factor
+    /// collected as one polynomial in the unit vector, evaluated by Horner's rule.
+    Centres,
+    /// Everything of one block entry at one centre collected as one polynomial in the
+    /// unit vector `e` and the dimensionless `h/|R|`, `a_a^2/|R|^2`, `a_b^2/|R|^2`,
+    /// times one power of `1/|R|` (each term of an entry has the entry's dimension), by
+    /// Horner's rule; the differences `phi(R) - phi(r)` of a cancelling image as in
+    /// `Centres`.
+    Entries,
+}
+
 /// The non-atom factor of a group of atoms: `weight * h_plane^q`, or 1 for free space.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 enum Factor {
@@ -134,9 +152,8 @@ pub struct Structured<S> {
     jets: HashMap<(usize, Potential), Jet<S>>,
     /// The jets of the potentials about a symbolic unit vector ([`Poly`]), per potential.
     poly_jets: HashMap<Potential, Jet<Poly>>,
-    /// Collect each group of atoms at one centre as one polynomial in the unit vector
-    /// ([`crate::poly`]) instead of combining the atoms' values.
-    collect: bool,
+    /// How atoms become arithmetic.
+    collect: Collection,
     units: HashMap<usize, (S, S, [S; 3])>,
 }
 
@@ -179,13 +196,9 @@ impl<S: Scalar> Structured<S> {
         self
     }
 
-    /// Combine the atoms' values one by one (the jets' coefficients as computed by the
-    /// jet rules) instead of collecting each group as one polynomial in the unit vector
-    /// evaluated by Horner's rule (the default). Kernels with many blocks share the
-    /// atoms between entries and can be cheaper this way; the generator keeps the
-    /// cheaper of the two ([`crate::scene::trace`]).
-    pub fn atom_by_atom(mut self) -> Self {
-        self.collect = false;
+    /// Turn atoms into arithmetic as `c` says (default [`Collection::Centres`]).
+    pub fn collecting(mut self, c: Collection) -> Self {
+        self.collect = c;
         self
     }
 
@@ -229,7 +242,7 @@ impl<S: Scalar> Structured<S> {
             degree,
             jets: HashMap::new(),
             poly_jets: HashMap::new(),
-            collect: true,
+            collect: Collection::Centres,
             units: HashMap::new(),
         }
     }
@@ -463,31 +476,32 @@ impl<S: Scalar> Structured<S> {
         }
         let mut acc: Option<S> = None;
         for ((centre, pot, n), list) in groups {
-            let sum = if self.collect && self.difference_plane(centre).is_none() {
-                // one polynomial in the unit vector, evaluated by Horner's rule
-                let mut p = Poly::default();
-                for (a, c) in &list {
-                    let d = self.poly_jet(pot).derivative(&a.nu);
-                    p.add_scaled(&d, Dd::new(*c));
-                }
-                let (_, _, e) = self.unit(centre);
-                let v = p.eval(&e);
-                (!v.is_known_zero()).then_some(v)
-            } else {
-                let mut sum: Option<S> = None;
-                for (a, c) in list {
-                    let v = self.atom_at_unit(&a);
-                    if v.is_known_zero() {
-                        continue;
+            let sum =
+                if self.collect != Collection::Atoms && self.difference_plane(centre).is_none() {
+                    // one polynomial in the unit vector, evaluated by Horner's rule
+                    let mut p = Poly::default();
+                    for (a, c) in &list {
+                        let d = self.poly_jet(pot).derivative(&a.nu);
+                        p.add_scaled(&d, Dd::new(*c));
                     }
-                    let v = if c == 1.0 { v } else { S::cst(c) * v };
-                    sum = Some(match sum {
-                        None => v,
-                        Some(s) => s + v,
-                    });
-                }
-                sum
-            };
+                    let (_, _, e) = self.unit(centre);
+                    let v = p.eval(&e);
+                    (!v.is_known_zero()).then_some(v)
+                } else {
+                    let mut sum: Option<S> = None;
+                    for (a, c) in list {
+                        let v = self.atom_at_unit(&a);
+                        if v.is_known_zero() {
+                            continue;
+                        }
+                        let v = if c == 1.0 { v } else { S::cst(c) * v };
+                        sum = Some(match sum {
+                            None => v,
+                            Some(s) => s + v,
+                        });
+                    }
+                    sum
+                };
             let Some(sum) = sum else { continue };
             let p = match pot {
                 Potential::R => 1,
@@ -533,6 +547,96 @@ impl<S: Scalar> Structured<S> {
     }
 }
 
+impl<S: Scalar> Structured<S> {
+    /// [`Collection::Entries`]: every atom of one entry at one centre (and weight) in
+    /// one polynomial `sum c e^m t^q alpha^pa beta^pb` with `t = h |R|^-1`, `alpha =
+    /// a_a^2 |R|^-2`, `beta = a_b^2 |R|^-2`, times `|R|^-k` (one `k` per entry by
+    /// dimension; kept apart should another occur); the atoms of difference centres go
+    /// through [`Structured::evaluate`].
+    fn evaluate_entries(
+        &mut self,
+        groups: BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>>,
+        aa2: &S,
+        ab2: &S,
+    ) -> S {
+        let mut polys: BTreeMap<(usize, Option<usize>, i32), Poly> = BTreeMap::new();
+        let mut rest: BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>> = BTreeMap::new();
+        for ((pa, pb, f), atoms) in groups {
+            for (a, c) in atoms {
+                if c == 0.0 {
+                    continue;
+                }
+                if self.difference_plane(a.centre).is_some() {
+                    rest.entry((pa, pb, f)).or_default().insert(a, c);
+                    continue;
+                }
+                let (q, weight) = match f {
+                    Factor::Free => (0, None),
+                    Factor::Image { plane, weight, q } => {
+                        debug_assert_eq!(a.centre, 1 + plane, "image atoms sit on their plane");
+                        (q, Some(weight))
+                    }
+                };
+                let n: i32 = a.nu.iter().map(|&k| k as i32).sum();
+                let p = match a.pot {
+                    Potential::R => 1,
+                    Potential::InvR => -1,
+                };
+                let k = n - p - 2 * (pa as i32 + pb as i32) - q as i32;
+                let d = self.poly_jet(a.pot).derivative(&a.nu);
+                let mut shift = [0u8; VARS];
+                shift[3] = q;
+                shift[4] = pa;
+                shift[5] = pb;
+                polys
+                    .entry((a.centre, weight, k))
+                    .or_default()
+                    .add_shifted(&d, Dd::new(c), shift);
+            }
+        }
+        let mut out: Option<S> = None;
+        for ((centre, weight, k), p) in polys {
+            if p.is_empty() {
+                continue;
+            }
+            let (_, inv, e) = self.unit(centre);
+            let inv2 = inv.clone() * inv.clone();
+            let t = match centre.checked_sub(1) {
+                Some(plane) => self.heights[plane].clone() * inv.clone(),
+                None => S::cst(0.0),
+            };
+            let vars: [S; VARS] = [
+                e[0].clone(),
+                e[1].clone(),
+                e[2].clone(),
+                t,
+                aa2.clone() * inv2.clone(),
+                ab2.clone() * inv2,
+            ];
+            let mut v = p.eval_all(&vars);
+            if v.is_known_zero() {
+                continue;
+            }
+            v = self.inv_norm_pow(centre, k) * v;
+            if let Some(w) = weight {
+                v = self.weights[w].clone() * v;
+            }
+            out = Some(match out {
+                None => v,
+                Some(o) => o + v,
+            });
+        }
+        if !rest.is_empty() {
+            let r = self.evaluate(rest, aa2, ab2);
+            out = Some(match out {
+                None => r,
+                Some(o) => o + r,
+            });
+        }
+        out.unwrap_or_else(|| S::cst(0.0))
+    }
+}
+
 impl<S: Scalar> Derivatives<S> for Structured<S> {
     fn get(&mut self, d: &Deriv) -> S {
         let mut m = BTreeMap::new();
@@ -560,7 +664,11 @@ impl<S: Scalar> Derivatives<S> for Structured<S> {
             }
         }
         self.absorb_free(&mut groups);
-        self.evaluate(groups, aa2, ab2)
+        if self.collect == Collection::Entries {
+            self.evaluate_entries(groups, aa2, ab2)
+        } else {
+            self.evaluate(groups, aa2, ab2)
+        }
     }
 }
 

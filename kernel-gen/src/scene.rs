@@ -7,7 +7,7 @@
 //! are dimensional: the Green's functions in units of `1/(8 pi eta)` are scaled by
 //! `1/(8 pi eta)` as the last step.
 
-use crate::derivatives::{GenericJets, Part, Structured};
+use crate::derivatives::{Collection, GenericJets, Part, Structured};
 use crate::expr::{Ex, Graph, Id, Trace};
 use crate::frame::Frame;
 use crate::green::Green;
@@ -272,16 +272,15 @@ fn shape(r: Response, m: Moment, b: Basis) -> Vec<usize> {
     s
 }
 
-/// Trace kernel `spec` for Green's function `g`. With the structured path, twice: the
-/// atoms of each centre collected as polynomials in the unit vector
-/// ([`crate::poly`]) and combined atom by atom; the cheaper trace (operations of the
-/// direct sum) is kept.
+/// Trace kernel `spec` for Green's function `g`. With the structured path, once per
+/// [`Collection`]: the atoms of each centre collected as polynomials in the unit vector
+/// ([`crate::poly`]), combined atom by atom, and each entry collected whole; the
+/// cheapest trace (operations of the direct sum; the first of equals) is kept.
 pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
-    let collected = trace_with(g, spec, true);
+    let first = trace_with(g, spec, Collection::Centres);
     if g.image_terms().is_none() || spec.path == Path::Generic {
-        return collected;
+        return first;
     }
-    let by_atom = trace_with(g, spec, false);
     let cost = |t: &Traced| {
         let mut ids = t.output_ids();
         if let Some(f) = &t.far {
@@ -289,14 +288,18 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
         }
         t.graph.op_count(&ids).total()
     };
-    if cost(&by_atom) < cost(&collected) {
-        by_atom
-    } else {
-        collected
+    let mut best = (cost(&first), first);
+    for c in [Collection::Atoms, Collection::Entries] {
+        let t = trace_with(g, spec, c);
+        let k = cost(&t);
+        if k < best.0 {
+            best = (k, t);
+        }
     }
+    best.1
 }
 
-fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: bool) -> Traced {
+fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: Collection) -> Traced {
     let t = Trace::begin();
     let mut args = Vec::new();
     let mut point = |t: &Trace, name: &str, doc: &str| -> [Ex; 3] {
@@ -611,7 +614,17 @@ pub fn evaluate_direct<G: Green, S: Scalar>(g: &G, spec: &KernelSpec, inputs: &[
     let params = take(g.params().len());
     let order = spec.order();
     let scale = S::cst(1.0 / (8.0 * std::f64::consts::PI)) / eta;
-    let values = block_values(g, spec, &xa, &xb, &aa, &ab, &params, order, false);
+    let values = block_values(
+        g,
+        spec,
+        &xa,
+        &xb,
+        &aa,
+        &ab,
+        &params,
+        order,
+        Collection::Atoms,
+    );
     let blocks: Vec<Vec<S>> = values
         .into_iter()
         .map(|v| v.into_iter().map(|x| scale.clone() * x).collect())
@@ -717,13 +730,13 @@ impl<S: Scalar> Source<S> {
         xb: &[S; 3],
         p: &[S],
         order: usize,
-        collect: bool,
+        collect: Collection,
     ) -> Self {
         let pair = spec.interaction == Interaction::Pair;
         if g.image_terms().is_some() && spec.path != Path::Generic {
             let explicit = spec.path != Path::StructuredNoExplicitHeight;
             let s = Structured::new(g, xa, xb, p, order, pair, explicit);
-            let s = if collect { s } else { s.atom_by_atom() };
+            let s = s.collecting(collect);
             Source::Structured(if spec.path == Path::StructuredDirectSum {
                 s.direct_sum()
             } else {
@@ -756,7 +769,7 @@ fn block_values<G: Green, S: Scalar>(
     ab: &S,
     params: &[S],
     order: usize,
-    collect: bool,
+    collect: Collection,
 ) -> Vec<Vec<S>> {
     let mut src = Source::new(g, spec, xa, xb, params, order, collect);
     let (aa2, ab2) = (aa.clone() * aa.clone(), ab.clone() * ab.clone());
@@ -808,7 +821,7 @@ fn divergence_outputs<G: Green>(
     params: &[Ex],
     order: usize,
     scale: &Ex,
-    collect: bool,
+    collect: Collection,
 ) -> Vec<BlockOut> {
     let pair = spec.interaction == Interaction::Pair;
     let l = Layout::get(if pair { 6 } else { 3 }, 1);

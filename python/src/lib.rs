@@ -21,8 +21,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use stokesian::{
-    lanczos_sqrt, Brownian, Confinement, ExternalForces, LubricatedDynamics, Lubrication, Moments,
-    Noise, Particle, Run, Scheme, System,
+    lanczos_sqrt, Brownian, Confinement, ExternalForces, Isa, LubricatedDynamics, Lubrication,
+    Moments, Noise, Particle, Precision, Run, Scheme, System,
 };
 
 /// A library error as `ValueError` with its message.
@@ -79,6 +79,17 @@ fn moments(name: &str) -> PyResult<Moments> {
         "FTS" => Ok(Moments::FTS),
         _ => Err(PyValueError::new_err(format!(
             "moments = {name:?}: must be \"F\", \"FT\" or \"FTS\""
+        ))),
+    }
+}
+
+/// `"double"` or `"single"`.
+fn precision(name: &str) -> PyResult<Precision> {
+    match name {
+        "double" => Ok(Precision::Double),
+        "single" => Ok(Precision::Single),
+        _ => Err(PyValueError::new_err(format!(
+            "precision = {name:?}: must be \"double\" or \"single\""
         ))),
     }
 }
@@ -254,14 +265,18 @@ impl PySystem {
         matrix(py, py.detach(|| s.mobility(m)))
     }
 
-    /// `M x` without forming `M`: `x` of length kN, moment-major.
+    /// `M x` without forming `M`: `x` of length kN, moment-major; `precision`
+    /// `"single"` runs the `f32` lanes.
+    #[pyo3(signature = (moments, x, *, precision = "double"))]
     fn apply<'py>(
         &self,
         py: Python<'py>,
         moments: &str,
         x: Floats,
+        precision: &str,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let m = self::moments(moments)?;
+        let p = self::precision(precision)?;
         let expected = m.per_particle() * self.system.len();
         let x = x.values();
         if x.len() != expected {
@@ -273,7 +288,10 @@ impl PySystem {
         }
         let s = &self.system;
         let x: &[f64] = &x;
-        Ok(PyArray1::from_vec(py, py.detach(|| s.apply(m, x))))
+        Ok(PyArray1::from_vec(
+            py,
+            py.detach(|| s.apply_with(m, x, Isa::best(), p)),
+        ))
     }
 
     /// Velocities `(N, 3)` and rotation rates `(N, 3)` (None at the F level) of spheres

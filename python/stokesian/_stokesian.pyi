@@ -76,10 +76,18 @@ class System:
         """The dense grand mobility, shape (kN, kN), k = 3 (F), 6 (FT), 11 (FTS), in the
         moment-major layout (module docstring); symmetric positive definite. U/F in
         length/(force time). Returned in Fortran order (the library's own), no copy."""
-    def apply(self, moments: Moments, x: ArrayLike) -> npt.NDArray[np.float64]:
+    def apply(
+        self,
+        moments: Moments,
+        x: ArrayLike,
+        *,
+        precision: Literal["double", "single"] = "double",
+    ) -> npt.NDArray[np.float64]:
         """``M x`` without forming M: x has kN entries, moment-major (forces, then
         torques, then stresslets); the result likewise (U, Omega, -E_inf). Bit for bit
-        independent of the number of threads."""
+        independent of the number of threads. ``precision="single"`` runs the f32
+        lanes (twice the pairs per instruction, about 1e-7 relative to the result's
+        norm, any units of input)."""
     def velocities(
         self,
         forces: ArrayLike,

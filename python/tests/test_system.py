@@ -53,6 +53,24 @@ def test_apply_equals_mobility_times_x(moments):
     assert np.linalg.norm(got - want) <= 1e-13 * np.linalg.norm(want)
 
 
+@pytest.mark.parametrize("moments", ["F", "FT", "FTS"])
+def test_single_precision_apply_in_si_units(moments):
+    # radii of 1 um in water, pN forces: the f32 lanes run in their own units
+    positions, _, _ = wall_configuration(6)
+    s = stokesian.System(positions * 1e-6, 1e-6, viscosity=1e-3)
+    k = {"F": 3, "FT": 6, "FTS": 11}[moments]
+    x = np.random.default_rng(3).normal(size=6 * k) * 1e-12
+    want = s.apply(moments, x)
+    got = s.apply(moments, x, precision="single")
+    # f32 lanes: 2e-6 of the norm (tests/tests/single_precision.rs), per part since
+    # velocities and rotation rates differ by 1e6 in these units
+    for part in (slice(0, 18), slice(18, None)):
+        if want[part].size:
+            assert np.linalg.norm(got[part] - want[part]) <= 2e-6 * np.linalg.norm(want[part])
+    with pytest.raises(ValueError, match="precision"):
+        s.apply(moments, x, precision="half")
+
+
 @pytest.mark.parametrize("moments,lubrication", [("F", False), ("FT", False), ("FTS", False),
                                                  ("FT", True), ("FTS", True)])
 def test_velocities_equal_cli_bit_for_bit(tmp_path, cli, moments, lubrication):

@@ -1975,14 +1975,16 @@ fn causes_are_named_right() {
         &["particles.csv"],
     );
     assert!(!stderr(&o).contains("allow-overlap"), "{}", stderr(&o));
-    // valid spheres whose pair kernels leave double precision: the scale is named
-    let tiny = "x,y,z,radius\n0,0,0,1e-70\n3e-70,0,0,1e-70\n";
+    // valid spheres whose pair kernels leave double precision (the wall's lateral far
+    // field, an expansion in powers of 1/rho; the near kernels, collected in
+    // dimensionless variables, stay finite at these scales): the scale is named
+    let tiny = "x,y,z,radius\n0,0,2e-70,1e-70\n1e-60,0,2e-70,1e-70\n";
     let p = dir.file("particles.csv", tiny);
     let out = dir.path("M.npy");
     let o = run(&[
         "mobility",
         "--confinement",
-        "free",
+        "wall",
         "--moments",
         "FTS",
         "--particles",
@@ -2004,7 +2006,7 @@ fn causes_are_named_right() {
     let o = run(&[
         "mobility",
         "--confinement",
-        "free",
+        "wall",
         "--moments",
         "FTS",
         "--particles",

@@ -39,7 +39,7 @@ pub fn free_f_self(x: [f64; 3], a: f64, eta: f64) -> BlocksF {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 84 flops (23 add/sub, 52 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 76 flops (19 add/sub, 48 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> BlocksF {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -66,68 +66,60 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
     let t21: f64 = 1.0 / t20;
     let t22: f64 = t6 * t21;
     let t23: f64 = t13 * t21;
-    let t24: f64 = t22.powi(2);
-    let t25: f64 = t24 + (-1.0);
-    let t26: f64 = t21 * t25;
-    let t27: f64 = t21 * 2.0;
-    let t28: f64 = t26 + t27;
-    let t29: f64 = t24 * (-6.0);
-    let t30: f64 = 2.0 + t29;
-    let t31: f64 = t21 * t21;
-    let t32: f64 = t21 * t31;
-    let t33: f64 = t30 * t32;
-    let t34: f64 = t17 * t33;
-    let t35: f64 = t28 + t34;
-    let t36: f64 = t16 * t33;
-    let t37: f64 = t35 + t36;
-    let t38: f64 = t22 * t23;
-    let t39: f64 = t21 * t38;
-    let t40: f64 = t23 * (-6.0);
-    let t41: f64 = t22 * t40;
-    let t42: f64 = t32 * t41;
-    let t43: f64 = t17 * t42;
-    let t44: f64 = t39 + t43;
-    let t45: f64 = t16 * t42;
-    let t46: f64 = t44 + t45;
-    let t47: f64 = t27 - t21;
-    let t48: f64 = 2.0 * t32;
-    let t49: f64 = t17 * t48;
-    let t50: f64 = t47 + t49;
-    let t51: f64 = t16 * t48;
-    let t52: f64 = t50 + t51;
-    let t53: f64 = 2.0 - t24;
-    let t54: f64 = t21 * t53;
-    let t55: f64 = t24 * 6.0;
-    let t56: f64 = t55 + (-4.0);
-    let t57: f64 = t32 * t56;
-    let t58: f64 = t17 * t57;
-    let t59: f64 = t54 + t58;
-    let t60: f64 = t16 * t57;
-    let t61: f64 = t59 + t60;
-    let t62: f64 = t0 * t37;
-    let t63: f64 = t0 * t46;
-    let t64: f64 = t0 * t52;
-    let t65: f64 = t0 * t61;
-    let t66: f64 = t10 * t62;
-    let t67: f64 = t10 * t66;
-    let t68: f64 = t12 * t64;
-    let t69: f64 = t12 * t68;
-    let t70: f64 = t67 + t69;
-    let t71: f64 = t12 * t62;
-    let t72: f64 = t10 * t71;
-    let t73: f64 = t10 * t64;
-    let t74: f64 = t12 * t73;
-    let t75: f64 = t72 - t74;
-    let t76: f64 = t10 * t63;
-    let t77: f64 = t12 * t66;
-    let t78: f64 = t10 * t68;
-    let t79: f64 = t77 - t78;
-    let t80: f64 = t12 * t71;
-    let t81: f64 = t10 * t73;
-    let t82: f64 = t80 + t81;
-    let t83: f64 = t12 * t63;
+    let t24: f64 = t21 * t21;
+    let t25: f64 = t16 * t24;
+    let t26: f64 = t17 * t24;
+    let t27: f64 = t22.powi(2);
+    let t28: f64 = t25 * (-6.0);
+    let t29: f64 = t26 * (-6.0);
+    let t30: f64 = 1.0 + t29;
+    let t31: f64 = t28 + t30;
+    let t32: f64 = t27 * t31;
+    let t33: f64 = t25 * 2.0;
+    let t34: f64 = t26 * 2.0;
+    let t35: f64 = 1.0 + t34;
+    let t36: f64 = t33 + t35;
+    let t37: f64 = t32 + t36;
+    let t38: f64 = t21 * t37;
+    let t39: f64 = t23 * t31;
+    let t40: f64 = t22 * t39;
+    let t41: f64 = t21 * t40;
+    let t42: f64 = t21 * t36;
+    let t43: f64 = t25 * 6.0;
+    let t44: f64 = t26 * 6.0;
+    let t45: f64 = t44 + (-1.0);
+    let t46: f64 = t43 + t45;
+    let t47: f64 = t27 * t46;
+    let t48: f64 = t25 * (-4.0);
+    let t49: f64 = t26 * (-4.0);
+    let t50: f64 = 2.0 + t49;
+    let t51: f64 = t48 + t50;
+    let t52: f64 = t47 + t51;
+    let t53: f64 = t21 * t52;
+    let t54: f64 = t0 * t38;
+    let t55: f64 = t0 * t41;
+    let t56: f64 = t0 * t42;
+    let t57: f64 = t0 * t53;
+    let t58: f64 = t10 * t54;
+    let t59: f64 = t10 * t58;
+    let t60: f64 = t12 * t56;
+    let t61: f64 = t12 * t60;
+    let t62: f64 = t59 + t61;
+    let t63: f64 = t12 * t54;
+    let t64: f64 = t10 * t63;
+    let t65: f64 = t10 * t56;
+    let t66: f64 = t12 * t65;
+    let t67: f64 = t64 - t66;
+    let t68: f64 = t10 * t55;
+    let t69: f64 = t12 * t58;
+    let t70: f64 = t10 * t60;
+    let t71: f64 = t69 - t70;
+    let t72: f64 = t12 * t63;
+    let t73: f64 = t10 * t65;
+    let t74: f64 = t72 + t73;
+    let t75: f64 = t12 * t55;
     BlocksF {
-        uf: [[t70, t75, t76], [t79, t82, t83], [t76, t83, t65]],
+        uf: [[t62, t67, t68], [t71, t74, t75], [t68, t75, t57]],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the F blocks, pair equal.
@@ -141,7 +133,7 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
 /// - `a`: radius of the particle(s)
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 78 flops (23 add/sub, 46 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 69 flops (19 add/sub, 41 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksF {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -166,64 +158,55 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
     let t19: f64 = 1.0 / t18;
     let t20: f64 = t6 * t19;
     let t21: f64 = t13 * t19;
-    let t22: f64 = t20.powi(2);
-    let t23: f64 = t22 + (-1.0);
-    let t24: f64 = t19 * t23;
-    let t25: f64 = t19 * 2.0;
-    let t26: f64 = t24 + t25;
-    let t27: f64 = t22 * (-6.0);
-    let t28: f64 = 2.0 + t27;
-    let t29: f64 = t19 * t19;
-    let t30: f64 = t19 * t29;
-    let t31: f64 = t28 * t30;
-    let t32: f64 = t15 * t31;
-    let t33: f64 = t26 + t32;
-    let t34: f64 = t32 + t33;
-    let t35: f64 = t20 * t21;
+    let t22: f64 = t19 * t19;
+    let t23: f64 = t15 * t22;
+    let t24: f64 = t20.powi(2);
+    let t25: f64 = t23 * (-6.0);
+    let t26: f64 = 1.0 + t25;
+    let t27: f64 = t25 + t26;
+    let t28: f64 = t24 * t27;
+    let t29: f64 = t23 * 2.0;
+    let t30: f64 = 1.0 + t29;
+    let t31: f64 = t29 + t30;
+    let t32: f64 = t28 + t31;
+    let t33: f64 = t19 * t32;
+    let t34: f64 = t21 * t27;
+    let t35: f64 = t20 * t34;
     let t36: f64 = t19 * t35;
-    let t37: f64 = t21 * (-6.0);
-    let t38: f64 = t20 * t37;
-    let t39: f64 = t30 * t38;
-    let t40: f64 = t15 * t39;
-    let t41: f64 = t36 + t40;
-    let t42: f64 = t40 + t41;
-    let t43: f64 = t25 - t19;
-    let t44: f64 = 2.0 * t30;
-    let t45: f64 = t15 * t44;
-    let t46: f64 = t43 + t45;
-    let t47: f64 = t45 + t46;
-    let t48: f64 = 2.0 - t22;
-    let t49: f64 = t19 * t48;
-    let t50: f64 = t22 * 6.0;
-    let t51: f64 = t50 + (-4.0);
-    let t52: f64 = t30 * t51;
-    let t53: f64 = t15 * t52;
-    let t54: f64 = t49 + t53;
-    let t55: f64 = t53 + t54;
-    let t56: f64 = t0 * t34;
-    let t57: f64 = t0 * t42;
-    let t58: f64 = t0 * t47;
-    let t59: f64 = t0 * t55;
-    let t60: f64 = t10 * t56;
-    let t61: f64 = t10 * t60;
-    let t62: f64 = t12 * t58;
-    let t63: f64 = t12 * t62;
-    let t64: f64 = t61 + t63;
+    let t37: f64 = t19 * t31;
+    let t38: f64 = t23 * 6.0;
+    let t39: f64 = t38 + (-1.0);
+    let t40: f64 = t38 + t39;
+    let t41: f64 = t24 * t40;
+    let t42: f64 = t23 * (-4.0);
+    let t43: f64 = 2.0 + t42;
+    let t44: f64 = t42 + t43;
+    let t45: f64 = t41 + t44;
+    let t46: f64 = t19 * t45;
+    let t47: f64 = t0 * t33;
+    let t48: f64 = t0 * t36;
+    let t49: f64 = t0 * t37;
+    let t50: f64 = t0 * t46;
+    let t51: f64 = t10 * t47;
+    let t52: f64 = t10 * t51;
+    let t53: f64 = t12 * t49;
+    let t54: f64 = t12 * t53;
+    let t55: f64 = t52 + t54;
+    let t56: f64 = t12 * t47;
+    let t57: f64 = t10 * t56;
+    let t58: f64 = t10 * t49;
+    let t59: f64 = t12 * t58;
+    let t60: f64 = t57 - t59;
+    let t61: f64 = t10 * t48;
+    let t62: f64 = t12 * t51;
+    let t63: f64 = t10 * t53;
+    let t64: f64 = t62 - t63;
     let t65: f64 = t12 * t56;
-    let t66: f64 = t10 * t65;
-    let t67: f64 = t10 * t58;
-    let t68: f64 = t12 * t67;
-    let t69: f64 = t66 - t68;
-    let t70: f64 = t10 * t57;
-    let t71: f64 = t12 * t60;
-    let t72: f64 = t10 * t62;
-    let t73: f64 = t71 - t72;
-    let t74: f64 = t12 * t65;
-    let t75: f64 = t10 * t67;
-    let t76: f64 = t74 + t75;
-    let t77: f64 = t12 * t57;
+    let t66: f64 = t10 * t58;
+    let t67: f64 = t65 + t66;
+    let t68: f64 = t12 * t48;
     BlocksF {
-        uf: [[t64, t69, t70], [t73, t76, t77], [t70, t77, t59]],
+        uf: [[t55, t60, t61], [t64, t67, t68], [t61, t68, t50]],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair product.
@@ -240,7 +223,7 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 104 flops (31 add/sub, 64 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 96 flops (27 add/sub, 60 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair_product(
     xa: [f64; 3],
@@ -275,89 +258,81 @@ pub fn free_f_pair_product(
     let t21: f64 = 1.0 / t20;
     let t22: f64 = t6 * t21;
     let t23: f64 = t13 * t21;
-    let t24: f64 = t22.powi(2);
-    let t25: f64 = t24 + (-1.0);
-    let t26: f64 = t21 * t25;
-    let t27: f64 = t21 * 2.0;
-    let t28: f64 = t26 + t27;
-    let t29: f64 = t24 * (-6.0);
-    let t30: f64 = 2.0 + t29;
-    let t31: f64 = t21 * t21;
-    let t32: f64 = t21 * t31;
-    let t33: f64 = t30 * t32;
-    let t34: f64 = t17 * t33;
-    let t35: f64 = t28 + t34;
-    let t36: f64 = t16 * t33;
-    let t37: f64 = t35 + t36;
-    let t38: f64 = t22 * t23;
-    let t39: f64 = t21 * t38;
-    let t40: f64 = t23 * (-6.0);
-    let t41: f64 = t22 * t40;
-    let t42: f64 = t32 * t41;
-    let t43: f64 = t17 * t42;
-    let t44: f64 = t39 + t43;
-    let t45: f64 = t16 * t42;
-    let t46: f64 = t44 + t45;
-    let t47: f64 = t27 - t21;
-    let t48: f64 = 2.0 * t32;
-    let t49: f64 = t17 * t48;
-    let t50: f64 = t47 + t49;
-    let t51: f64 = t16 * t48;
-    let t52: f64 = t50 + t51;
-    let t53: f64 = 2.0 - t24;
-    let t54: f64 = t21 * t53;
-    let t55: f64 = t24 * 6.0;
-    let t56: f64 = t55 + (-4.0);
-    let t57: f64 = t32 * t56;
-    let t58: f64 = t17 * t57;
-    let t59: f64 = t54 + t58;
-    let t60: f64 = t16 * t57;
-    let t61: f64 = t59 + t60;
-    let t62: f64 = t0 * t37;
-    let t63: f64 = t0 * t46;
-    let t64: f64 = t0 * t52;
-    let t65: f64 = t0 * t61;
-    let t66: f64 = va[0] * t10;
-    let t67: f64 = va[1] * t12;
-    let t68: f64 = t66 + t67;
-    let t69: f64 = va[0] * t12;
-    let t70: f64 = va[1] * t10;
-    let t71: f64 = t70 - t69;
-    let t72: f64 = vb[0] * t10;
-    let t73: f64 = vb[1] * t12;
-    let t74: f64 = t72 + t73;
-    let t75: f64 = vb[0] * t12;
-    let t76: f64 = vb[1] * t10;
-    let t77: f64 = t76 - t75;
-    let t78: f64 = t62 * t74;
-    let t79: f64 = t62 * t68;
-    let t80: f64 = vb[2] * t63;
-    let t81: f64 = t78 + t80;
-    let t82: f64 = t63 * t68;
-    let t83: f64 = t64 * t77;
-    let t84: f64 = t64 * t71;
-    let t85: f64 = t63 * t74;
-    let t86: f64 = va[2] * t63;
-    let t87: f64 = t79 + t86;
-    let t88: f64 = vb[2] * t65;
-    let t89: f64 = t85 + t88;
-    let t90: f64 = va[2] * t65;
-    let t91: f64 = t82 + t90;
-    let t92: f64 = t10 * t81;
-    let t93: f64 = t12 * t83;
-    let t94: f64 = t92 - t93;
-    let t95: f64 = t12 * t81;
-    let t96: f64 = t10 * t83;
-    let t97: f64 = t95 + t96;
-    let t98: f64 = t10 * t87;
-    let t99: f64 = t12 * t84;
-    let t100: f64 = t98 - t99;
-    let t101: f64 = t12 * t87;
-    let t102: f64 = t10 * t84;
-    let t103: f64 = t101 + t102;
+    let t24: f64 = t21 * t21;
+    let t25: f64 = t16 * t24;
+    let t26: f64 = t17 * t24;
+    let t27: f64 = t22.powi(2);
+    let t28: f64 = t25 * (-6.0);
+    let t29: f64 = t26 * (-6.0);
+    let t30: f64 = 1.0 + t29;
+    let t31: f64 = t28 + t30;
+    let t32: f64 = t27 * t31;
+    let t33: f64 = t25 * 2.0;
+    let t34: f64 = t26 * 2.0;
+    let t35: f64 = 1.0 + t34;
+    let t36: f64 = t33 + t35;
+    let t37: f64 = t32 + t36;
+    let t38: f64 = t21 * t37;
+    let t39: f64 = t23 * t31;
+    let t40: f64 = t22 * t39;
+    let t41: f64 = t21 * t40;
+    let t42: f64 = t21 * t36;
+    let t43: f64 = t25 * 6.0;
+    let t44: f64 = t26 * 6.0;
+    let t45: f64 = t44 + (-1.0);
+    let t46: f64 = t43 + t45;
+    let t47: f64 = t27 * t46;
+    let t48: f64 = t25 * (-4.0);
+    let t49: f64 = t26 * (-4.0);
+    let t50: f64 = 2.0 + t49;
+    let t51: f64 = t48 + t50;
+    let t52: f64 = t47 + t51;
+    let t53: f64 = t21 * t52;
+    let t54: f64 = t0 * t38;
+    let t55: f64 = t0 * t41;
+    let t56: f64 = t0 * t42;
+    let t57: f64 = t0 * t53;
+    let t58: f64 = va[0] * t10;
+    let t59: f64 = va[1] * t12;
+    let t60: f64 = t58 + t59;
+    let t61: f64 = va[0] * t12;
+    let t62: f64 = va[1] * t10;
+    let t63: f64 = t62 - t61;
+    let t64: f64 = vb[0] * t10;
+    let t65: f64 = vb[1] * t12;
+    let t66: f64 = t64 + t65;
+    let t67: f64 = vb[0] * t12;
+    let t68: f64 = vb[1] * t10;
+    let t69: f64 = t68 - t67;
+    let t70: f64 = t54 * t66;
+    let t71: f64 = t54 * t60;
+    let t72: f64 = vb[2] * t55;
+    let t73: f64 = t70 + t72;
+    let t74: f64 = t55 * t60;
+    let t75: f64 = t56 * t69;
+    let t76: f64 = t56 * t63;
+    let t77: f64 = t55 * t66;
+    let t78: f64 = va[2] * t55;
+    let t79: f64 = t71 + t78;
+    let t80: f64 = vb[2] * t57;
+    let t81: f64 = t77 + t80;
+    let t82: f64 = va[2] * t57;
+    let t83: f64 = t74 + t82;
+    let t84: f64 = t10 * t73;
+    let t85: f64 = t12 * t75;
+    let t86: f64 = t84 - t85;
+    let t87: f64 = t12 * t73;
+    let t88: f64 = t10 * t75;
+    let t89: f64 = t87 + t88;
+    let t90: f64 = t10 * t79;
+    let t91: f64 = t12 * t76;
+    let t92: f64 = t90 - t91;
+    let t93: f64 = t12 * t79;
+    let t94: f64 = t10 * t76;
+    let t95: f64 = t93 + t94;
     Product::<3> {
-        a: [t94, t97, t89],
-        b: [t100, t103, t91],
+        a: [t86, t89, t81],
+        b: [t92, t95, t83],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair product.
@@ -365,7 +340,7 @@ pub fn free_f_pair_product(
 /// Pruned to what the scene needs.
 /// Jets truncated at derivative order 4 of G.
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_pair_product`'s fields. Operation count with fused multiply-adds: 81 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_pair_product`'s fields. Operation count with fused multiply-adds: 74 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_f_pair_product_lanes<L: lanes::Lane>(
@@ -402,64 +377,57 @@ pub fn free_f_pair_product_lanes<L: lanes::Lane>(
         let t21: L = t19 * L::splat(0.16666666666666666);
         let t22: L = t5 * t12;
         let t23: L = t7 * t12;
-        let t24: L = t22.powi(2);
-        let t25: L = t24 + L::splat(-1.0);
-        let t26: L = t12 * L::splat(2.0);
-        let t27: L = t12.mul_add(t25, t26);
-        let t28: L = t24.mul_add(L::splat(-6.0), L::splat(2.0));
-        let t29: L = t12 * t12;
-        let t30: L = t12 * t29;
-        let t31: L = t28 * t30;
-        let t32: L = t21.mul_add(t31, t27);
-        let t33: L = t20.mul_add(t31, t32);
-        let t34: L = t22 * t23;
-        let t35: L = t23 * L::splat(-6.0);
-        let t36: L = t22 * t35;
-        let t37: L = t30 * t36;
-        let t38: L = t21 * t37;
-        let t39: L = t12.mul_add(t34, t38);
-        let t40: L = t20.mul_add(t37, t39);
-        let t41: L = t26 - t12;
-        let t42: L = L::splat(2.0) * t30;
-        let t43: L = t21.mul_add(t42, t41);
-        let t44: L = t20.mul_add(t42, t43);
-        let t45: L = L::splat(2.0) - t24;
-        let t46: L = t24.mul_add(L::splat(6.0), L::splat(-4.0));
-        let t47: L = t30 * t46;
-        let t48: L = t21 * t47;
-        let t49: L = t12.mul_add(t45, t48);
-        let t50: L = t20.mul_add(t47, t49);
-        let t51: L = t0 * t33;
-        let t52: L = t0 * t40;
-        let t53: L = t0 * t44;
-        let t54: L = t0 * t50;
-        let t55: L = va[1] * t17;
-        let t56: L = va[0].mul_add(t15, t55);
-        let t57: L = va[0] * t17;
-        let t58: L = va[1].mul_sub(t15, t57);
-        let t59: L = vb[1] * t17;
-        let t60: L = vb[0].mul_add(t15, t59);
-        let t61: L = vb[0] * t17;
-        let t62: L = vb[1].mul_sub(t15, t61);
-        let t63: L = vb[2] * t52;
-        let t64: L = t51.mul_add(t60, t63);
-        let t65: L = t53 * t62;
-        let t66: L = t53 * t58;
-        let t67: L = va[2] * t52;
-        let t68: L = t51.mul_add(t56, t67);
-        let t69: L = vb[2] * t54;
-        let t70: L = t52.mul_add(t60, t69);
-        let t71: L = va[2] * t54;
-        let t72: L = t52.mul_add(t56, t71);
-        let t73: L = t17 * t65;
-        let t74: L = t15.mul_sub(t64, t73);
-        let t75: L = t15 * t65;
-        let t76: L = t17.mul_add(t64, t75);
-        let t77: L = t17 * t66;
-        let t78: L = t15.mul_sub(t68, t77);
-        let t79: L = t15 * t66;
-        let t80: L = t17.mul_add(t68, t79);
-        [t74, t76, t70, t78, t80, t72]
+        let t24: L = t12 * t12;
+        let t25: L = t20 * t24;
+        let t26: L = t21 * t24;
+        let t27: L = t22.powi(2);
+        let t28: L = t26.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t29: L = t25.mul_add(L::splat(-6.0), t28);
+        let t30: L = t26.mul_add(L::splat(2.0), L::splat(1.0));
+        let t31: L = t25.mul_add(L::splat(2.0), t30);
+        let t32: L = t27.mul_add(t29, t31);
+        let t33: L = t12 * t32;
+        let t34: L = t23 * t29;
+        let t35: L = t22 * t34;
+        let t36: L = t12 * t35;
+        let t37: L = t12 * t31;
+        let t38: L = t26.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t39: L = t25.mul_add(L::splat(6.0), t38);
+        let t40: L = t26.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t41: L = t25.mul_add(L::splat(-4.0), t40);
+        let t42: L = t27.mul_add(t39, t41);
+        let t43: L = t12 * t42;
+        let t44: L = t0 * t33;
+        let t45: L = t0 * t36;
+        let t46: L = t0 * t37;
+        let t47: L = t0 * t43;
+        let t48: L = va[1] * t17;
+        let t49: L = va[0].mul_add(t15, t48);
+        let t50: L = va[0] * t17;
+        let t51: L = va[1].mul_sub(t15, t50);
+        let t52: L = vb[1] * t17;
+        let t53: L = vb[0].mul_add(t15, t52);
+        let t54: L = vb[0] * t17;
+        let t55: L = vb[1].mul_sub(t15, t54);
+        let t56: L = vb[2] * t45;
+        let t57: L = t44.mul_add(t53, t56);
+        let t58: L = t46 * t55;
+        let t59: L = t46 * t51;
+        let t60: L = va[2] * t45;
+        let t61: L = t44.mul_add(t49, t60);
+        let t62: L = vb[2] * t47;
+        let t63: L = t45.mul_add(t53, t62);
+        let t64: L = va[2] * t47;
+        let t65: L = t45.mul_add(t49, t64);
+        let t66: L = t17 * t58;
+        let t67: L = t15.mul_sub(t57, t66);
+        let t68: L = t15 * t58;
+        let t69: L = t17.mul_add(t57, t68);
+        let t70: L = t17 * t59;
+        let t71: L = t15.mul_sub(t61, t70);
+        let t72: L = t15 * t59;
+        let t73: L = t17.mul_add(t61, t72);
+        [t67, t69, t63, t71, t73, t65]
     };
     out
 }
@@ -476,7 +444,7 @@ pub fn free_f_pair_product_lanes<L: lanes::Lane>(
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 98 flops (31 add/sub, 58 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 89 flops (27 add/sub, 53 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair_equal_product(
     xa: [f64; 3],
@@ -508,84 +476,75 @@ pub fn free_f_pair_equal_product(
     let t19: f64 = 1.0 / t18;
     let t20: f64 = t6 * t19;
     let t21: f64 = t13 * t19;
-    let t22: f64 = t20.powi(2);
-    let t23: f64 = t22 + (-1.0);
-    let t24: f64 = t19 * t23;
-    let t25: f64 = t19 * 2.0;
-    let t26: f64 = t24 + t25;
-    let t27: f64 = t22 * (-6.0);
-    let t28: f64 = 2.0 + t27;
-    let t29: f64 = t19 * t19;
-    let t30: f64 = t19 * t29;
-    let t31: f64 = t28 * t30;
-    let t32: f64 = t15 * t31;
-    let t33: f64 = t26 + t32;
-    let t34: f64 = t32 + t33;
-    let t35: f64 = t20 * t21;
+    let t22: f64 = t19 * t19;
+    let t23: f64 = t15 * t22;
+    let t24: f64 = t20.powi(2);
+    let t25: f64 = t23 * (-6.0);
+    let t26: f64 = 1.0 + t25;
+    let t27: f64 = t25 + t26;
+    let t28: f64 = t24 * t27;
+    let t29: f64 = t23 * 2.0;
+    let t30: f64 = 1.0 + t29;
+    let t31: f64 = t29 + t30;
+    let t32: f64 = t28 + t31;
+    let t33: f64 = t19 * t32;
+    let t34: f64 = t21 * t27;
+    let t35: f64 = t20 * t34;
     let t36: f64 = t19 * t35;
-    let t37: f64 = t21 * (-6.0);
-    let t38: f64 = t20 * t37;
-    let t39: f64 = t30 * t38;
-    let t40: f64 = t15 * t39;
-    let t41: f64 = t36 + t40;
-    let t42: f64 = t40 + t41;
-    let t43: f64 = t25 - t19;
-    let t44: f64 = 2.0 * t30;
-    let t45: f64 = t15 * t44;
-    let t46: f64 = t43 + t45;
-    let t47: f64 = t45 + t46;
-    let t48: f64 = 2.0 - t22;
-    let t49: f64 = t19 * t48;
-    let t50: f64 = t22 * 6.0;
-    let t51: f64 = t50 + (-4.0);
-    let t52: f64 = t30 * t51;
-    let t53: f64 = t15 * t52;
-    let t54: f64 = t49 + t53;
-    let t55: f64 = t53 + t54;
-    let t56: f64 = t0 * t34;
-    let t57: f64 = t0 * t42;
-    let t58: f64 = t0 * t47;
-    let t59: f64 = t0 * t55;
-    let t60: f64 = va[0] * t10;
-    let t61: f64 = va[1] * t12;
-    let t62: f64 = t60 + t61;
-    let t63: f64 = va[0] * t12;
-    let t64: f64 = va[1] * t10;
-    let t65: f64 = t64 - t63;
-    let t66: f64 = vb[0] * t10;
-    let t67: f64 = vb[1] * t12;
-    let t68: f64 = t66 + t67;
-    let t69: f64 = vb[0] * t12;
-    let t70: f64 = vb[1] * t10;
-    let t71: f64 = t70 - t69;
-    let t72: f64 = t56 * t68;
-    let t73: f64 = t56 * t62;
-    let t74: f64 = vb[2] * t57;
-    let t75: f64 = t72 + t74;
-    let t76: f64 = t57 * t62;
-    let t77: f64 = t58 * t71;
-    let t78: f64 = t58 * t65;
-    let t79: f64 = t57 * t68;
-    let t80: f64 = va[2] * t57;
-    let t81: f64 = t73 + t80;
-    let t82: f64 = vb[2] * t59;
-    let t83: f64 = t79 + t82;
-    let t84: f64 = va[2] * t59;
-    let t85: f64 = t76 + t84;
-    let t86: f64 = t10 * t75;
-    let t87: f64 = t12 * t77;
-    let t88: f64 = t86 - t87;
-    let t89: f64 = t12 * t75;
-    let t90: f64 = t10 * t77;
-    let t91: f64 = t89 + t90;
-    let t92: f64 = t10 * t81;
-    let t93: f64 = t12 * t78;
-    let t94: f64 = t92 - t93;
-    let t95: f64 = t12 * t81;
-    let t96: f64 = t10 * t78;
-    let t97: f64 = t95 + t96;
+    let t37: f64 = t19 * t31;
+    let t38: f64 = t23 * 6.0;
+    let t39: f64 = t38 + (-1.0);
+    let t40: f64 = t38 + t39;
+    let t41: f64 = t24 * t40;
+    let t42: f64 = t23 * (-4.0);
+    let t43: f64 = 2.0 + t42;
+    let t44: f64 = t42 + t43;
+    let t45: f64 = t41 + t44;
+    let t46: f64 = t19 * t45;
+    let t47: f64 = t0 * t33;
+    let t48: f64 = t0 * t36;
+    let t49: f64 = t0 * t37;
+    let t50: f64 = t0 * t46;
+    let t51: f64 = va[0] * t10;
+    let t52: f64 = va[1] * t12;
+    let t53: f64 = t51 + t52;
+    let t54: f64 = va[0] * t12;
+    let t55: f64 = va[1] * t10;
+    let t56: f64 = t55 - t54;
+    let t57: f64 = vb[0] * t10;
+    let t58: f64 = vb[1] * t12;
+    let t59: f64 = t57 + t58;
+    let t60: f64 = vb[0] * t12;
+    let t61: f64 = vb[1] * t10;
+    let t62: f64 = t61 - t60;
+    let t63: f64 = t47 * t59;
+    let t64: f64 = t47 * t53;
+    let t65: f64 = vb[2] * t48;
+    let t66: f64 = t63 + t65;
+    let t67: f64 = t48 * t53;
+    let t68: f64 = t49 * t62;
+    let t69: f64 = t49 * t56;
+    let t70: f64 = t48 * t59;
+    let t71: f64 = va[2] * t48;
+    let t72: f64 = t64 + t71;
+    let t73: f64 = vb[2] * t50;
+    let t74: f64 = t70 + t73;
+    let t75: f64 = va[2] * t50;
+    let t76: f64 = t67 + t75;
+    let t77: f64 = t10 * t66;
+    let t78: f64 = t12 * t68;
+    let t79: f64 = t77 - t78;
+    let t80: f64 = t12 * t66;
+    let t81: f64 = t10 * t68;
+    let t82: f64 = t80 + t81;
+    let t83: f64 = t10 * t72;
+    let t84: f64 = t12 * t69;
+    let t85: f64 = t83 - t84;
+    let t86: f64 = t12 * t72;
+    let t87: f64 = t10 * t69;
+    let t88: f64 = t86 + t87;
     Product::<3> {
-        a: [t88, t91, t83],
-        b: [t94, t97, t85],
+        a: [t79, t82, t74],
+        b: [t85, t88, t76],
     }
 }
