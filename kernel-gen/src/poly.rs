@@ -206,9 +206,7 @@ impl Mul for Poly {
     fn mul(self, b: Poly) -> Poly {
         let mut out = Poly::default();
         for (m, c) in &self.0 {
-            for (n, d) in &b.0 {
-                out.add_term(std::array::from_fn(|k| m[k] + n[k]), *c * *d);
-            }
+            out.add_shifted(&b, *c, *m);
         }
         out
     }
