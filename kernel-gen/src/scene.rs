@@ -272,12 +272,15 @@ fn shape(r: Response, m: Moment, b: Basis) -> Vec<usize> {
     s
 }
 
-/// Trace kernel `spec` for Green's function `g`. With the structured path, once per
-/// [`Collection`]: the atoms of each centre collected as polynomials in the unit vector
-/// ([`crate::poly`]), combined atom by atom, and each entry collected whole; the
-/// cheapest trace (operations of the direct sum; the first of equals) is kept.
+/// Trace kernel `spec` for Green's function `g`. With the structured path, twice: each
+/// entry collected whole ([`Collection::Entries`], polynomials of [`crate::poly`]) and
+/// the atoms combined one by one ([`Collection::Atoms`]); the cheaper trace
+/// (operations of the direct sum; the first of equals) is kept. The per-centre
+/// collection ([`Collection::Centres`]) is not traced: it collects a subset of what
+/// `Entries` collects and cost more in every shipped kernel (measured when `Entries`
+/// came, 2026-12-02), and a third trace would take generation past 10 s.
 pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
-    let first = trace_with(g, spec, Collection::Centres);
+    let first = trace_with(g, spec, Collection::Entries);
     if g.image_terms().is_none() || spec.path == Path::Generic {
         return first;
     }
@@ -288,15 +291,12 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
         }
         t.graph.op_count(&ids).total()
     };
-    let mut best = (cost(&first), first);
-    for c in [Collection::Atoms, Collection::Entries] {
-        let t = trace_with(g, spec, c);
-        let k = cost(&t);
-        if k < best.0 {
-            best = (k, t);
-        }
+    let by_atom = trace_with(g, spec, Collection::Atoms);
+    if cost(&by_atom) < cost(&first) {
+        by_atom
+    } else {
+        first
     }
-    best.1
 }
 
 fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: Collection) -> Traced {
