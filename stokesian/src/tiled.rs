@@ -401,28 +401,28 @@ pub(crate) fn apply_moments(
             Moments::FTS => run::<_, E, 11>(&ProductFTS { conf, eta }, ps, xs, isa, parallel),
         }
     }
-    match precision {
-        Precision::Double => by_moments::<f64>(conf, eta, moments, particles, xs, isa, parallel),
-        Precision::Single => {
-            let units = Units::of(conf, particles, xs, moments.per_particle());
-            let ps: Vec<([f64; 3], f64)> = particles
-                .iter()
-                .map(|&(x, a)| (units.position(x), a / units.length))
-                .collect();
-            let k = moments.per_particle();
-            let scaled: Vec<f64> = xs
-                .iter()
-                .enumerate()
-                .map(|(i, v)| v / units.moment(i % k))
-                .collect();
-            let conf = conf.in_units(units.origin[2], units.length);
-            let out = by_moments::<f32>(&conf, 1.0, moments, &ps, &scaled, isa, parallel);
-            out.iter()
-                .enumerate()
-                .map(|(i, y)| y * units.response(i % k, eta))
-                .collect()
-        }
+    // the tiles' masks count particles in the lanes' precision: exact in `f32` below 2^24
+    let single = precision == Precision::Single && particles.len() + BLOCK < 1 << 24;
+    if !single {
+        return by_moments::<f64>(conf, eta, moments, particles, xs, isa, parallel);
     }
+    let k = moments.per_particle();
+    let units = Units::of(conf, particles, xs, k);
+    let ps: Vec<([f64; 3], f64)> = particles
+        .iter()
+        .map(|&(x, a)| (units.position(x), a / units.length))
+        .collect();
+    let scaled: Vec<f64> = xs
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v / units.moment(i % k))
+        .collect();
+    let conf = conf.in_units(units.origin[2], units.length);
+    let out = by_moments::<f32>(&conf, 1.0, moments, &ps, &scaled, isa, parallel);
+    out.iter()
+        .enumerate()
+        .map(|(i, y)| y * units.response(i % k, eta))
+        .collect()
 }
 
 /// The units of the single-precision product: lengths in units of the largest radius,
