@@ -75,11 +75,6 @@ impl Poly {
         }
     }
 
-    /// Number of monomials.
-    pub fn len(&self) -> usize {
-        self.0.len()
-    }
-
     /// Whether there are no monomials.
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()

@@ -213,6 +213,27 @@ impl<E: Element> WithLanes for LanePass<'_, E> {
     }
 }
 
+/// Benchmark `id`: every pair of `pairs` through the lane kernels on `isa`.
+fn lane_pass<E: Element>(
+    g: &mut criterion::BenchmarkGroup<criterion::measurement::WallTime>,
+    id: BenchmarkId,
+    conf: &Confinement,
+    pairs: &Pairs<E>,
+    ft: bool,
+    isa: Isa,
+) {
+    g.bench_function(id, |b| {
+        b.iter(|| {
+            let pass = LanePass {
+                conf: black_box(conf),
+                pairs,
+                ft,
+            };
+            dispatch_with(isa, pass).ok()
+        })
+    });
+}
+
 /// Time per pair of the fused pair products (F, FT), scalar kernel and lane kernels
 /// on each instruction set, `f64` and `f32` lanes, over 1024 pairs near the wall.
 fn per_pair_lanes(c: &mut Criterion) {
@@ -249,28 +270,10 @@ fn per_pair_lanes(c: &mut Criterion) {
                 })
             });
             for isa in Isa::all_available() {
-                let id = BenchmarkId::new(format!("{m} lanes {}", isa.name()), name);
-                g.bench_function(id, |b| {
-                    b.iter(|| {
-                        let pass = LanePass {
-                            conf: black_box(&conf),
-                            pairs: &p,
-                            ft,
-                        };
-                        dispatch_with(isa, pass).ok()
-                    })
-                });
-                let id = BenchmarkId::new(format!("{m} lanes {} f32", isa.name()), name);
-                g.bench_function(id, |b| {
-                    b.iter(|| {
-                        let pass = LanePass {
-                            conf: black_box(&conf),
-                            pairs: &p32,
-                            ft,
-                        };
-                        dispatch_with(isa, pass).ok()
-                    })
-                });
+                let id = format!("{m} lanes {}", isa.name());
+                lane_pass(&mut g, BenchmarkId::new(&id, name), &conf, &p, ft, isa);
+                let id = BenchmarkId::new(format!("{id} f32"), name);
+                lane_pass(&mut g, id, &conf, &p32, ft, isa);
             }
         }
     }
