@@ -113,6 +113,10 @@ fn statements(
                 let a = v(&a);
                 quote!(#a.sqrt())
             }
+            Op::Rsqrt(a) => {
+                let a = v(&a);
+                quote!(1.0 / #a.sqrt())
+            }
             Op::Powi(a, n) => {
                 let a = v(&a);
                 let n = Literal::i32_unsuffixed(n);
@@ -625,9 +629,21 @@ impl LaneEmitter<'_> {
                 let a = self.v(a);
                 quote!(-#a)
             }
-            Op::Sqrt(a) => {
+            // where the lane form also needs 1/sqrt(a), both come from one rsqrt
+            Op::Sqrt(a) => match g.find(Op::Rsqrt(a)).filter(|&r| self.want[r as usize]) {
+                Some(r) => {
+                    self.emit(r);
+                    let (a, r) = (self.v(a), self.v(r));
+                    quote!(#a.sqrt_with(#r))
+                }
+                None => {
+                    let a = self.v(a);
+                    quote!(#a.sqrt())
+                }
+            },
+            Op::Rsqrt(a) => {
                 let a = self.v(a);
-                quote!(#a.sqrt())
+                quote!(#a.rsqrt())
             }
             Op::Powi(a, n) => {
                 let a = self.v(a);
@@ -654,11 +670,14 @@ impl LaneEmitter<'_> {
 /// Returns the function and its operation count (a fused multiply-add counts once).
 pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
     let t = k.traced;
-    let g = &t.graph;
-    let outputs = t.output_ids();
-    let far_ids = t.far_ids();
-    let swap_cond: Vec<Id> = t.swap.iter().flat_map(|w| [w.cond.0, w.cond.1]).collect();
-    let far_cond: Vec<Id> = t.far.iter().flat_map(|f| f.condition_ids()).collect();
+    // the lane form: reciprocal square roots in place of square roots then divisions
+    let (lane_graph, map) = t.graph.lane_form();
+    let g = &lane_graph;
+    let m = |ids: Vec<Id>| -> Vec<Id> { ids.into_iter().map(|i| map[i as usize]).collect() };
+    let outputs = m(t.output_ids());
+    let far_ids = m(t.far_ids());
+    let swap_cond: Vec<Id> = m(t.swap.iter().flat_map(|w| [w.cond.0, w.cond.1]).collect());
+    let far_cond: Vec<Id> = m(t.far.iter().flat_map(|f| f.condition_ids()).collect());
     let near_all: Vec<Id> = outputs.iter().chain(&far_cond).copied().collect();
     let far_all: Vec<Id> = far_ids.iter().chain(&far_cond).copied().collect();
     let live_near = g.live(&near_all);
@@ -684,8 +703,12 @@ pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
         Some(w) => {
             let mut name: Vec<Option<TokenStream>> = vec![None; g.len()];
             let stmts = lane_statements(g, &live_swap, &fusion, &mut name, &mut next);
-            let l = name[w.cond.0 as usize].clone().expect("condition named");
-            let r = name[w.cond.1 as usize].clone().expect("condition named");
+            let l = name[swap_cond[0] as usize]
+                .clone()
+                .expect("condition named");
+            let r = name[swap_cond[1] as usize]
+                .clone()
+                .expect("condition named");
             // only the arguments that change places
             let moved: Vec<usize> = (0..t.args.len()).filter(|&i| w.args[i] != i).collect();
             let mine: Vec<Ident> = moved.iter().map(|&i| ident(&t.args[i].name)).collect();
@@ -731,6 +754,7 @@ pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
                 .conds
                 .iter()
                 .map(|&(l, r)| {
+                    let (l, r) = (map[l as usize], map[r as usize]);
                     let l = name[l as usize].clone().expect("condition named");
                     let r = name[r as usize].clone().expect("condition named");
                     quote!(#l.gt(#r))
@@ -817,6 +841,10 @@ pub fn inline(g: &Graph, id: Id) -> TokenStream {
         Op::Sqrt(a) => {
             let a = v(a);
             quote!(#a.sqrt())
+        }
+        Op::Rsqrt(a) => {
+            let a = v(a);
+            quote!((1.0 / #a.sqrt()))
         }
         Op::Powi(a, n) => {
             let a = v(a);

@@ -45,6 +45,8 @@ pub enum Op {
     Neg(Id),
     /// `sqrt(a)`.
     Sqrt(Id),
+    /// `1 / sqrt(a)`: only in the lane form of a graph ([`Graph::lane_form`]).
+    Rsqrt(Id),
     /// `a^n` for an integer `n` outside `{0, 1}`.
     Powi(Id, i32),
     /// `if l > r { a } else { b }`: `Select(l, r, a, b)` (a per-lane blend in the lane
@@ -58,7 +60,7 @@ impl Op {
         match self {
             Op::Input(_) | Op::Const(_) => vec![],
             Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) => vec![a, b],
-            Op::Neg(a) | Op::Sqrt(a) | Op::Powi(a, _) => vec![a],
+            Op::Neg(a) | Op::Sqrt(a) | Op::Rsqrt(a) | Op::Powi(a, _) => vec![a],
             Op::Select(l, r, a, b) => vec![l, r, a, b],
         }
     }
@@ -358,6 +360,94 @@ impl Graph {
         self.intern(Op::Select(l, r, a, b))
     }
 
+    /// The node `op`, if the graph holds it.
+    pub fn find(&self, op: Op) -> Option<Id> {
+        self.index.get(&op).copied()
+    }
+
+    /// The graph rewritten for the lane kernels, and the new id of every old node: each
+    /// quotient `c / x` whose divisor is made of square roots becomes a product with
+    /// reciprocal square roots, so that `1/|R|`, `1/rho` and `|R|/|r|` come from
+    /// `rsqrt` (one pipelined instruction and Newton steps, in parallel) instead of
+    /// a square root and then a division after it (two latencies in a row). The
+    /// rules, applied to the divisor recursively: `1/sqrt(y) = rsqrt(y)`,
+    /// `1/rsqrt(y) = sqrt(y)`, `1/(1/y) = y`, `1/(p q) = (1/p)(1/q)`,
+    /// `1/p^n = (1/p)^n` and `1/select(c, p, q) = select(c, 1/p, 1/q)`, each taken only
+    /// where every factor has a reciprocal without a division (a constant counts), or,
+    /// for a product, where one factor has: `c/(p q) = (c/q) (1/p)`. Everything else
+    /// is copied.
+    pub fn lane_form(&self) -> (Graph, Vec<Id>) {
+        let mut g = Graph {
+            inputs: self.inputs.clone(),
+            ..Graph::default()
+        };
+        let mut map: Vec<Id> = Vec::with_capacity(self.nodes.len());
+        for &op in &self.nodes {
+            let m = |a: Id| map[a as usize];
+            let id = match op {
+                Op::Input(k) => g.intern(Op::Input(k)),
+                Op::Const(b) => g.intern(Op::Const(b)),
+                Op::Add(a, b) => g.add(m(a), m(b)),
+                Op::Sub(a, b) => g.sub(m(a), m(b)),
+                Op::Mul(a, b) => g.mul(m(a), m(b)),
+                Op::Div(a, b) => {
+                    let (a, b) = (m(a), m(b));
+                    match g.cheap_reciprocal(b) {
+                        Some(r) => g.mul(a, r),
+                        None => match g.nodes[b as usize] {
+                            Op::Mul(p, q) => match (g.cheap_reciprocal(p), g.cheap_reciprocal(q)) {
+                                (Some(r), None) => {
+                                    let d = g.div(a, q);
+                                    g.mul(d, r)
+                                }
+                                (None, Some(r)) => {
+                                    let d = g.div(a, p);
+                                    g.mul(d, r)
+                                }
+                                _ => g.div(a, b),
+                            },
+                            _ => g.div(a, b),
+                        },
+                    }
+                }
+                Op::Neg(a) => g.neg(m(a)),
+                Op::Sqrt(a) => g.sqrt(m(a)),
+                Op::Rsqrt(a) => g.intern(Op::Rsqrt(m(a))),
+                Op::Powi(a, n) => g.powi(m(a), n),
+                Op::Select(l, r, a, b) => g.select_gt(m(l), m(r), m(a), m(b)),
+            };
+            map.push(id);
+        }
+        (g, map)
+    }
+
+    /// `1/x` built without a division, where the rules of [`Graph::lane_form`] allow.
+    fn cheap_reciprocal(&mut self, x: Id) -> Option<Id> {
+        if let Some(c) = self.as_const(x) {
+            return Some(self.constant(1.0 / c));
+        }
+        match self.nodes[x as usize] {
+            Op::Sqrt(y) => Some(self.intern(Op::Rsqrt(y))),
+            Op::Rsqrt(y) => Some(self.sqrt(y)),
+            Op::Div(c, y) if self.as_const(c) == Some(1.0) => Some(y),
+            Op::Mul(p, q) => {
+                let rp = self.cheap_reciprocal(p)?;
+                let rq = self.cheap_reciprocal(q)?;
+                Some(self.mul(rp, rq))
+            }
+            Op::Powi(p, n) => {
+                let rp = self.cheap_reciprocal(p)?;
+                Some(self.powi(rp, n))
+            }
+            Op::Select(l, r, p, q) => {
+                let rp = self.cheap_reciprocal(p)?;
+                let rq = self.cheap_reciprocal(q)?;
+                Some(self.select_gt(l, r, rp, rq))
+            }
+            _ => None,
+        }
+    }
+
     /// Which nodes the outputs depend on (dead-code elimination).
     pub fn live(&self, outputs: &[Id]) -> Vec<bool> {
         let mut live = vec![false; self.nodes.len()];
@@ -381,7 +471,7 @@ impl Graph {
                 Op::Add(..) | Op::Sub(..) => c.add += 1,
                 Op::Mul(..) => c.mul += 1,
                 Op::Div(..) => c.div += 1,
-                Op::Sqrt(_) => c.sqrt += 1,
+                Op::Sqrt(_) | Op::Rsqrt(_) => c.sqrt += 1,
                 Op::Powi(..) => c.powi += 1,
                 Op::Neg(_) => c.neg += 1,
                 Op::Select(..) => c.select += 1,
@@ -412,6 +502,7 @@ impl Graph {
                 Op::Div(a, b) => v(a) / v(b),
                 Op::Neg(a) => -v(a),
                 Op::Sqrt(a) => v(a).sqrt(),
+                Op::Rsqrt(a) => S::cst(1.0) / v(a).sqrt(),
                 Op::Powi(a, n) => v(a).powi(*n),
                 Op::Select(l, r, a, b) => {
                     if v(l).to_f64() > v(r).to_f64() {
@@ -628,5 +719,40 @@ mod tests {
         let xd = Dd::new(1.0) + Dd::new(1e-20);
         let w: Vec<Dd> = g.eval(&[xd, Dd::new(1.0)], &[out.0]);
         assert!((w[0] - Dd::new(2.0)).to_f64().abs() < 1e-30);
+    }
+
+    #[test]
+    fn lane_form_takes_reciprocals_of_square_roots_without_divisions() {
+        let t = Trace::begin();
+        let x = t.input("x");
+        let y = t.input("y");
+        let z = t.input("z");
+        let (sx, sy) = (x.sqrt(), y.sqrt());
+        // 1/|R|, 1/(rho |R|) guarded at rho = 0, |R|/|r| as the traces build them
+        let inv = Ex::cst(1.0) / sx;
+        let guarded = Ex::cst(3.0) / (Ex::select_gt(y, Ex::cst(0.0), sy, Ex::cst(2.0)) * sx);
+        let ratio = Ex::cst(1.0) / (sy * inv);
+        // a divisor with one factor that needs a division keeps just that one
+        let mixed = z / (sx * (y + z));
+        let g = t.finish();
+        let outs = [inv.0, guarded.0, ratio.0, mixed.0];
+        let (l, map) = g.lane_form();
+        let new: Vec<Id> = outs.iter().map(|&o| map[o as usize]).collect();
+        let c = l.op_count(&new[..3]);
+        // rsqrt(x), rsqrt(y) and sqrt(x) (which the lanes take from rsqrt(x))
+        assert_eq!((c.div, c.sqrt), (0, 3), "{c}");
+        assert_eq!(l.op_count(&new[3..]).div, 1);
+        assert!(l.find(Op::Rsqrt(map[x.0 as usize])).is_some());
+        // the same values (to rounding), on both sides of the select
+        for inputs in [[2.0, 3.0, 0.5], [5.0, 0.0, 7.0]] {
+            let want: Vec<f64> = g.eval(&inputs, &outs);
+            let got: Vec<f64> = l.eval(&inputs, &new);
+            for (w, v) in want.iter().zip(&got) {
+                assert!(
+                    w == v || (w - v).abs() <= 4.0 * f64::EPSILON * w.abs(),
+                    "{w} {v}"
+                );
+            }
+        }
     }
 }

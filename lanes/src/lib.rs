@@ -114,6 +114,20 @@ pub trait Lane:
     /// instruction set computes it from an approximate reciprocal square root refined
     /// by Newton's method (AVX-512: its square root and division are not pipelined).
     fn sqrt(self) -> Self;
+    /// `1 / sqrt(self)`: the correctly rounded square root divided into one, or within
+    /// about an ulp where an instruction set refines an approximate reciprocal square
+    /// root by Newton's method.
+    #[inline(always)]
+    fn rsqrt(self) -> Self {
+        Self::splat(1.0) / self.sqrt()
+    }
+    /// `sqrt(self)` where `r = self.rsqrt()` is at hand: as [`Lane::sqrt`], from `r`
+    /// where the instruction set computes square roots that way (0 where `self` is 0).
+    #[inline(always)]
+    fn sqrt_with(self, r: Self) -> Self {
+        let _ = r;
+        self.sqrt()
+    }
     /// `1 / self`: correctly rounded, or within an ulp as for [`Lane::sqrt`].
     #[inline(always)]
     fn recip(self) -> Self {
@@ -443,6 +457,69 @@ mod tests {
                 assert!(
                     (*g as f64 - e).abs() <= 8.0 * f32::EPSILON as f64 * e.abs(),
                     "{isa:?} {k}: {g} {e}"
+                );
+            }
+        }
+    }
+
+    /// `rsqrt` and `sqrt_with` on every instruction set, `f64` and `f32`.
+    struct Roots<E>(Vec<E>);
+    impl<E: Element> WithLanes for Roots<E> {
+        type Elem = E;
+        type Output = Vec<(f64, f64)>;
+        #[inline(always)]
+        fn run<L: Lane<Elem = E>>(self) -> Vec<(f64, f64)> {
+            let (mut r, mut s) = (
+                vec![E::default(); self.0.len()],
+                vec![E::default(); self.0.len()],
+            );
+            for k in (0..self.0.len()).step_by(L::WIDTH) {
+                let x = L::load(&self.0[k..]);
+                let q = x.rsqrt();
+                q.store(&mut r[k..]);
+                x.sqrt_with(q).store(&mut s[k..]);
+            }
+            r.iter()
+                .zip(&s)
+                .map(|(a, b)| (a.to_f64(), b.to_f64()))
+                .collect()
+        }
+    }
+
+    #[test]
+    fn reciprocal_square_roots_on_every_instruction_set() {
+        // 0, then 63 positive numbers over 28 binades (64 values: a multiple of every width)
+        let x: Vec<f64> = (0..64)
+            .map(|k| if k == 0 { 0.0 } else { 1.37f64.powi(k - 30) })
+            .collect();
+        let x32: Vec<f32> = x.iter().map(|&v| v as f32).collect();
+        for isa in Isa::all_available() {
+            let got = dispatch_with(isa, Roots(x.clone())).ok().unwrap();
+            let got32 = dispatch_with(isa, Roots(x32.clone())).ok().unwrap();
+            assert_eq!((got[0].1, got32[0].1), (0.0, 0.0), "{isa:?}: sqrt(0)");
+            for k in 1..x.len() {
+                // Newton's steps from 14 bits, or a square root and a division: 2 ulps
+                let (r, s) = got[k];
+                let (e_r, e_s) = (1.0 / x[k].sqrt(), x[k].sqrt());
+                assert!(
+                    (r - e_r).abs() <= 2.0 * f64::EPSILON * e_r,
+                    "{isa:?} {k}: {r} {e_r}"
+                );
+                assert!(
+                    (s - e_s).abs() <= 2.0 * f64::EPSILON * e_s,
+                    "{isa:?} {k}: {s} {e_s}"
+                );
+                let (r, s) = got32[k];
+                let v = x32[k] as f64;
+                let (e_r, e_s) = (1.0 / v.sqrt(), v.sqrt());
+                let eps = f32::EPSILON as f64;
+                assert!(
+                    (r - e_r).abs() <= 2.0 * eps * e_r,
+                    "{isa:?} f32 {k}: {r} {e_r}"
+                );
+                assert!(
+                    (s - e_s).abs() <= 2.0 * eps * e_s,
+                    "{isa:?} f32 {k}: {s} {e_s}"
                 );
             }
         }

@@ -241,20 +241,33 @@ impl Lane for F64x8 {
     /// infinite arguments occur in the kernels.
     #[inline(always)]
     fn sqrt(self) -> Self {
+        self.sqrt_with(self.rsqrt())
+    }
+    /// `vrsqrt14pd` (14 bits) after two Newton steps `r (3/2 - x r^2 / 2)`.
+    #[inline(always)]
+    fn rsqrt(self) -> Self {
         // SAFETY: as `splat` (AVX-512F has `vrsqrt14pd`).
         unsafe {
             let x = self.0;
-            let half = _mm512_set1_pd(0.5);
+            let hx = _mm512_mul_pd(_mm512_set1_pd(0.5), x);
             let three_halves = _mm512_set1_pd(1.5);
-            let hx = _mm512_mul_pd(half, x);
             let mut r = _mm512_rsqrt14_pd(x);
             for _ in 0..2 {
                 let rr = _mm512_mul_pd(r, r);
                 r = _mm512_mul_pd(r, _mm512_fnmadd_pd(hx, rr, three_halves));
             }
+            F64x8(r)
+        }
+    }
+    /// `s = x r` corrected by one step `s + (r/2)(x - s^2)`: within an ulp.
+    #[inline(always)]
+    fn sqrt_with(self, r: Self) -> Self {
+        // SAFETY: as `splat`.
+        unsafe {
+            let (x, r) = (self.0, r.0);
             let s = _mm512_mul_pd(x, r);
             let d = _mm512_fnmadd_pd(s, s, x);
-            let s = _mm512_fmadd_pd(_mm512_mul_pd(half, r), d, s);
+            let s = _mm512_fmadd_pd(_mm512_mul_pd(_mm512_set1_pd(0.5), r), d, s);
             let positive = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(x, _mm512_setzero_pd());
             F64x8(_mm512_mask_blend_pd(positive, _mm512_setzero_pd(), s))
         }
@@ -446,17 +459,32 @@ impl Lane for F32x16 {
     /// of `f32`, on the multiply-add ports, as for `F64x8`. `sqrt(0) = 0`.
     #[inline(always)]
     fn sqrt(self) -> Self {
+        self.sqrt_with(self.rsqrt())
+    }
+    /// `vrsqrt14ps` (14 bits) after one Newton step `r (3/2 - x r^2 / 2)`.
+    #[inline(always)]
+    fn rsqrt(self) -> Self {
         // SAFETY: as `splat` (AVX-512F has `vrsqrt14ps`).
         unsafe {
             let x = self.0;
-            let half = _mm512_set1_ps(0.5);
-            let hx = _mm512_mul_ps(half, x);
+            let hx = _mm512_mul_ps(_mm512_set1_ps(0.5), x);
             let r = _mm512_rsqrt14_ps(x);
             let rr = _mm512_mul_ps(r, r);
-            let r = _mm512_mul_ps(r, _mm512_fnmadd_ps(hx, rr, _mm512_set1_ps(1.5)));
+            F32x16(_mm512_mul_ps(
+                r,
+                _mm512_fnmadd_ps(hx, rr, _mm512_set1_ps(1.5)),
+            ))
+        }
+    }
+    /// `s = x r` corrected by one step `s + (r/2)(x - s^2)`: within an ulp of `f32`.
+    #[inline(always)]
+    fn sqrt_with(self, r: Self) -> Self {
+        // SAFETY: as `splat`.
+        unsafe {
+            let (x, r) = (self.0, r.0);
             let s = _mm512_mul_ps(x, r);
             let d = _mm512_fnmadd_ps(s, s, x);
-            let s = _mm512_fmadd_ps(_mm512_mul_ps(half, r), d, s);
+            let s = _mm512_fmadd_ps(_mm512_mul_ps(_mm512_set1_ps(0.5), r), d, s);
             let positive = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(x, _mm512_setzero_ps());
             F32x16(_mm512_mask_blend_ps(positive, _mm512_setzero_ps(), s))
         }
