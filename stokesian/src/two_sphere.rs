@@ -260,8 +260,10 @@ pub const NAMES: [&str; 22] = [
     "Y11G", "Y12G", "Y11H", "Y12H", "X11M", "X12M", "Y11M", "Y12M", "Z11M", "Z12M",
 ];
 
-/// Number of remainder coefficients kept per function (one parity of `0..=TRUNCATION`).
-const HALF: usize = TRUNCATION / 2 + 1;
+/// Number of remainder coefficients kept per function (one parity of `0..=truncation`).
+fn half(truncation: usize) -> usize {
+    truncation / 2 + 1
+}
 
 /// Most series [`PairSeries::cached`] keeps.
 pub const CACHED_RATIOS: usize = 4096;
@@ -278,7 +280,7 @@ pub struct PairSeries {
     /// `remainder[j][k]`: the `j`-th coefficient of function `k`, stored power by power so
     /// that the 22 Horner sums advance together (independent chains, in vector lanes):
     /// one function after another, each waited on its own chain of dependent steps.
-    remainder: [[f64; 22]; HALF],
+    remainder: Vec<[f64; 22]>,
     singular: [[f64; 3]; 22],
     /// `ln` of the largest `|r_m|` of any function: sets how many terms a separation needs.
     ln_largest: f64,
@@ -328,20 +330,51 @@ impl PairSeries {
 
     fn with_count(lambda: f64, count: usize) -> Result<Self, TwoSphereError> {
         check_lambda(lambda)?;
+        Ok(Self::summed(lambda, count, TRUNCATION, |t: Table| {
+            t.triangles()
+        }))
+    }
+
+    /// The series of all 22 functions for any size ratio `lambda > 0`, summed to `m <=
+    /// truncation` (at most `coefficients.truncation()`), from coefficients built at run
+    /// time: for studies of the truncation and of large size ratios (the limit of a
+    /// sphere beside a plane). The committed coefficients reach `m = 200`, enough for
+    /// [`LAMBDA_MIN`] `<= lambda <= 1/LAMBDA_MIN` at the accuracy of the module docs;
+    /// larger ratios need more terms, the more the closer the spheres.
+    pub fn from_coefficients(
+        coefficients: &Coefficients,
+        lambda: f64,
+        truncation: usize,
+    ) -> Result<Self, TwoSphereError> {
+        if !(lambda.is_finite() && lambda > 0.0) {
+            return Err(TwoSphereError::SizeRatio(lambda));
+        }
+        let truncation = truncation.min(coefficients.truncation);
+        Ok(Self::summed(lambda, 22, truncation, |t: Table| {
+            &coefficients.triangles[t as usize]
+        }))
+    }
+
+    fn summed<'c>(
+        lambda: f64,
+        count: usize,
+        truncation: usize,
+        triangles: impl Fn(Table) -> &'c Triangles,
+    ) -> Self {
         let mut out = PairSeries {
             lambda,
             count,
-            remainder: [[0.0; 22]; HALF],
+            remainder: vec![[0.0; 22]; half(truncation)],
             singular: [[0.0; 3]; 22],
             ln_largest: 0.0,
         };
         for (k, f) in FUNCTIONS.iter().enumerate().take(count) {
-            let tri_r = &f.table.triangles()[f.output];
+            let tri_r = &triangles(f.table)[f.output];
             let h = (f.singular)(lambda);
             out.singular[k] = h;
             for (j, row) in out.remainder.iter_mut().enumerate() {
                 let m = 2 * j + f.first_m();
-                if m <= TRUNCATION {
+                if m <= truncation {
                     let s = singular_taylor(f.odd, m);
                     row[k] =
                         f.coefficient(tri_r, lambda, m) - h[0] * s[0] - h[1] * s[1] - h[2] * s[2];
@@ -354,7 +387,7 @@ impl PairSeries {
             .flatten()
             .fold(f64::MIN_POSITIVE, |m, r| m.max(r.abs()));
         out.ln_largest = largest.ln();
-        Ok(out)
+        out
     }
 
     /// The size ratio.
@@ -371,9 +404,9 @@ impl PairSeries {
         // Terms beyond `j` add less than 1e-17 in all: `largest t^(2j) / (1 - t^2)`.
         let terms = ((1e-17f64.ln() + (1.0 - t2).ln() - self.ln_largest) / t2.ln()).ceil();
         let terms = if terms.is_finite() {
-            (terms.max(1.0) as usize).min(HALF)
+            (terms.max(1.0) as usize).min(self.remainder.len())
         } else {
-            HALF
+            self.remainder.len()
         };
         // the remainder series by Horner in t^2, all functions at once
         let mut sums = [0.0; 22];
@@ -431,8 +464,8 @@ impl PairSeries {
 }
 
 /// The 22 resistance functions at separation `s_dash = 2r/(a1+a2) > 2` and size ratio
-/// `lambda = a2/a1` in `[1e-2, 1e2]` ([`PairSeries::new`] then [`PairSeries::scalars`]; no
-/// heap allocation after the first call, which reads the coefficients).
+/// `lambda = a2/a1` in `[1e-2, 1e2]` ([`PairSeries::new`] then [`PairSeries::scalars`]; one
+/// allocation, the series' remainders).
 pub fn resistance_scalars(s_dash: f64, lambda: f64) -> Result<PairScalars, TwoSphereError> {
     Geometry::new(s_dash)?;
     PairSeries::new(lambda)?.scalars(s_dash)
@@ -600,10 +633,10 @@ fn binomials(nmax: usize) -> Vec<Vec<f64>> {
     b
 }
 
-/// Builds the `P, V, Q` tables of one family up to total order `TRUNCATION + 1` and
+/// Builds the `P, V, Q` tables of one family up to total order `truncation + 2` and
 /// extracts the requested triangles.
-fn build(family: &Family) -> Triangles {
-    let top = TRUNCATION + 2; // n = 2 outputs need n + m <= top
+fn build(family: &Family, truncation: usize) -> Triangles {
+    let top = truncation + 2; // n = 2 outputs need n + m <= top
     let tet = Tetra::new(top);
     let binom = binomials(2 * top + 2);
     let mut p_t = vec![0.0; tet.len];
@@ -766,8 +799,8 @@ fn build(family: &Family) -> Triangles {
         .iter()
         .map(|&(use_q, n)| {
             let src = if use_q { &q_t } else { &p_t };
-            let mut out = vec![0.0; tri(TRUNCATION, TRUNCATION) + 1];
-            for m in 0..=TRUNCATION {
+            let mut out = vec![0.0; tri(truncation, truncation) + 1];
+            for m in 0..=truncation {
                 for q in 0..=m {
                     out[tri(m, q)] = src[tet.at(n, (m - q) as i64, q as i64).expect("in range")];
                 }
@@ -892,20 +925,46 @@ impl Table {
     }
 }
 
+/// The recurrence coefficients of every family to a chosen truncation, built at run time
+/// (for [`PairSeries::from_coefficients`]; the library itself reads the committed ones,
+/// [`TRUNCATION`]). Building costs `O(truncation^4)`: about 10 s of CPU at 200 terms,
+/// a minute at 400, and memory `O(truncation^3)` while it runs.
+pub struct Coefficients {
+    truncation: usize,
+    /// Indexed by `Table as usize`.
+    triangles: Vec<Triangles>,
+}
+
+impl Coefficients {
+    /// The recurrences of every family evaluated to `m <= truncation` (one thread per
+    /// family: not rayon's pool, which the other generators of `cargo xtask gen` share).
+    pub fn build(truncation: usize) -> Self {
+        let triangles = std::thread::scope(|scope| {
+            let jobs: Vec<_> = Table::ALL
+                .iter()
+                .map(|t| scope.spawn(move || build(t.family(), truncation)))
+                .collect();
+            jobs.into_iter()
+                .map(|j| j.join().expect("the recurrences do not panic"))
+                .collect()
+        });
+        Coefficients {
+            truncation,
+            triangles,
+        }
+    }
+
+    /// The largest power of `2/s'` the coefficients reach.
+    pub fn truncation(&self) -> usize {
+        self.truncation
+    }
+}
+
 /// The contents of `src/generated/two_sphere_coefficients.bin` ([`COEFFICIENTS`]): the
-/// recurrences of every family evaluated to `TRUNCATION` (about 10 s of CPU, one thread
-/// per family: not rayon's pool, which the other generators of `cargo xtask gen` share).
+/// recurrences of every family evaluated to [`TRUNCATION`] ([`Coefficients::build`]).
 pub fn generate_coefficients() -> Vec<u8> {
-    let built: Vec<Triangles> = std::thread::scope(|scope| {
-        let jobs: Vec<_> = Table::ALL
-            .iter()
-            .map(|t| scope.spawn(|| build(t.family())))
-            .collect();
-        jobs.into_iter()
-            .map(|j| j.join().expect("the recurrences do not panic"))
-            .collect()
-    });
-    built
+    Coefficients::build(TRUNCATION)
+        .triangles
         .iter()
         .flatten()
         .flat_map(|tri| tri.iter().flat_map(|v| v.to_le_bytes()))
@@ -1162,5 +1221,47 @@ mod tests {
                 Err(TwoSphereError::SizeRatio(_))
             ));
         }
+        let c = Coefficients::build(4);
+        for l in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(PairSeries::from_coefficients(&c, l, 4).is_err());
+        }
+    }
+
+    /// Coefficients built at run time to 80 terms give the committed series where 80
+    /// terms suffice (`s' = 4`: `t^80 = 8e-25`), every function, both sides of 1 in
+    /// `lambda`; and beyond the committed range of `lambda` the series is finite.
+    #[test]
+    fn run_time_coefficients_sum_to_the_committed_series() {
+        let c = Coefficients::build(80);
+        assert_eq!(c.truncation(), 80);
+        for lambda in [0.2, 1.0, 7.0] {
+            let want = PairSeries::new(lambda)
+                .unwrap()
+                .scalars(4.0)
+                .unwrap()
+                .to_array();
+            let got = PairSeries::from_coefficients(&c, lambda, 80)
+                .unwrap()
+                .scalars(4.0)
+                .unwrap()
+                .to_array();
+            for k in 0..22 {
+                // the same terms in the same order but 80 instead of 200 of them: the
+                // rest are below 1e-17 of the largest at s' = 4
+                let tol = 1e-14 * want[k].abs().max(1.0);
+                assert!(
+                    (got[k] - want[k]).abs() <= tol,
+                    "{} {lambda}: {} {}",
+                    NAMES[k],
+                    got[k],
+                    want[k]
+                );
+            }
+        }
+        let far = PairSeries::from_coefficients(&c, 1e4, 80)
+            .unwrap()
+            .scalars(30.0)
+            .unwrap();
+        assert!(far.to_array().iter().all(|v| v.is_finite()));
     }
 }

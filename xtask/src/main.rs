@@ -14,6 +14,7 @@ use std::process::{Command, Stdio};
 use std::time::Instant;
 
 mod report;
+mod wall_limit;
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -24,6 +25,7 @@ fn root() -> PathBuf {
 
 fn usage() -> &'static str {
     "usage: cargo xtask gen [--check] | cargo xtask gen --scene FILE [--out PATH] | cargo xtask report [--quick]\n\
+     | cargo xtask test | cargo xtask wall-limit [--truncation N]\n\
      \n\
      gen                       regenerate kernels/src/generated/ from kernel-gen and scenes/*.toml\n\
      gen --check               exit non-zero if the committed kernels differ from what the generator produces\n\
@@ -32,7 +34,9 @@ fn usage() -> &'static str {
      report                    check the committed kernels (as gen --check), then measure them and the solver and\n\
                                write report/REPORT.md with its plots (deleted and recreated); --quick: a reduced sample\n\
      test                      every test: cargo test --workspace --release, then the Python module built into\n\
-                               target/python-venv (maturin, numpy, pytest from PyPI) and its pytest tests"
+                               target/python-venv (maturin, numpy, pytest from PyPI) and its pytest tests\n\
+     wall-limit [--truncation N]  the sphere-plane functions as the two-sphere limit of a large second sphere\n\
+                               (coefficients built to N terms, default 400; a table in Markdown on stdout)"
 }
 
 /// Names of the registered Green's functions.
@@ -335,6 +339,7 @@ fn main() -> Result<()> {
         ["report"] => run_report(false),
         ["report", "--quick"] => run_report(true),
         ["test"] => test(),
+        ["wall-limit", rest @ ..] => wall_limit::run(rest),
         ["help"] | ["--help"] | ["-h"] | [] => {
             println!("{}", usage());
             Ok(())
