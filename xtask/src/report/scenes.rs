@@ -331,7 +331,7 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
          product kernels with fixed moment vectors. Kernels of scenes that serve the dispatch are called through it \
          (`kernels::pair_f`, `product_f`, `self_f` and the FT counterparts; equal radii select the equal-radius kernel), \
          the others through their generated module. The lane kernels (`..._lanes (fma)`: a fused multiply-add counts once, \
-         reciprocals share divisions) are timed per pair on the widest instruction set of this processor, over the \
+         divisors of square roots become reciprocal square roots, the other reciprocals share divisions) are timed per pair on the widest instruction set of this processor, over the \
          configurations that fit the first one's confinement, `L::WIDTH` pairs per call.\n",
         scenes.len(),
         ctx.cfg.cases
