@@ -390,26 +390,7 @@ impl Graph {
                 Op::Add(a, b) => g.add(m(a), m(b)),
                 Op::Sub(a, b) => g.sub(m(a), m(b)),
                 Op::Mul(a, b) => g.mul(m(a), m(b)),
-                Op::Div(a, b) => {
-                    let (a, b) = (m(a), m(b));
-                    match g.cheap_reciprocal(b) {
-                        Some(r) => g.mul(a, r),
-                        None => match g.nodes[b as usize] {
-                            Op::Mul(p, q) => match (g.cheap_reciprocal(p), g.cheap_reciprocal(q)) {
-                                (Some(r), None) => {
-                                    let d = g.div(a, q);
-                                    g.mul(d, r)
-                                }
-                                (None, Some(r)) => {
-                                    let d = g.div(a, p);
-                                    g.mul(d, r)
-                                }
-                                _ => g.div(a, b),
-                            },
-                            _ => g.div(a, b),
-                        },
-                    }
-                }
+                Op::Div(a, b) => g.quotient_by_roots(m(a), m(b)),
                 Op::Neg(a) => g.neg(m(a)),
                 Op::Sqrt(a) => g.sqrt(m(a)),
                 Op::Rsqrt(a) => g.intern(Op::Rsqrt(m(a))),
@@ -419,6 +400,24 @@ impl Graph {
             map.push(id);
         }
         (g, map)
+    }
+
+    /// `a / b` by the rules of [`Graph::lane_form`]: `a (1/b)` where `1/b` needs no
+    /// division, `(a/q) (1/p)` where only the factor `p` of `b = p q` has such a
+    /// reciprocal, else the division itself.
+    fn quotient_by_roots(&mut self, a: Id, b: Id) -> Id {
+        if let Some(r) = self.cheap_reciprocal(b) {
+            return self.mul(a, r);
+        }
+        if let Op::Mul(p, q) = self.nodes[b as usize] {
+            for (root, other) in [(p, q), (q, p)] {
+                if let Some(r) = self.cheap_reciprocal(root) {
+                    let d = self.div(a, other);
+                    return self.mul(d, r);
+                }
+            }
+        }
+        self.div(a, b)
     }
 
     /// `1/x` built without a division, where the rules of [`Graph::lane_form`] allow.
