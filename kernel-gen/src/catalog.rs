@@ -32,6 +32,9 @@ struct Family {
     dimensions: Vec<green::Dimension>,
     /// `(height expression, fluid above)` of each boundary plane.
     boundaries: Vec<(TokenStream, bool)>,
+    /// Whether its pair kernels exchange the particles' roles by height
+    /// ([`crate::scene::Swap`], where the Green's function has a cancelling image).
+    exchanges: bool,
     file: GeneratedFile,
     /// Its single-precision self and pair kernels (items of [`SINGLE`]).
     single: TokenStream,
@@ -72,6 +75,8 @@ fn dispatch(families: &[Family]) -> TokenStream {
     let mut self_arms = Vec::new();
     let mut div_pair_arms = Vec::new();
     let mut div_lane_arms = Vec::new();
+    let mut div_ordered_arms = Vec::new();
+    let mut exchange_arms = Vec::new();
     let mut div_self_arms = Vec::new();
     let mut truncated: Vec<Vec<TokenStream>> = Vec::new();
     for f in families {
@@ -150,6 +155,17 @@ fn dispatch(families: &[Family]) -> TokenStream {
         div_lane_arms.push(
             quote!(#pattern => #m::#fdpl(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)),
         );
+        let fdpo = ident(&format!("{}_pair_divergence_lanes_ordered", f.name));
+        div_ordered_arms.push(
+            quote!(#pattern => #m::#fdpo(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)),
+        );
+        let exchanges = f.exchanges;
+        let any = if fields.is_empty() {
+            quote!(Confinement::#v)
+        } else {
+            quote!(Confinement::#v { .. })
+        };
+        exchange_arms.push(quote!(#any => #exchanges));
         div_self_arms.push(quote!(#pattern => #m::#fds(x, a, eta, #(#fields),*)));
         truncated.push(truncated_arms(f, &pattern, &m, &fields));
     }
@@ -163,16 +179,23 @@ fn dispatch(families: &[Family]) -> TokenStream {
             ident(&format!("self_{lo}")),
             ident(&format!("product_{lo}")),
         );
-        let arms_pair: Vec<TokenStream> = truncated.iter().map(|t| t[4 * k].clone()).collect();
-        let arms_self: Vec<TokenStream> = truncated.iter().map(|t| t[4 * k + 1].clone()).collect();
-        let arms_prod: Vec<TokenStream> = truncated.iter().map(|t| t[4 * k + 2].clone()).collect();
-        let arms_lanes: Vec<TokenStream> = truncated.iter().map(|t| t[4 * k + 3].clone()).collect();
+        let arm = |i: usize| -> Vec<TokenStream> {
+            truncated.iter().map(|t| t[5 * k + i].clone()).collect()
+        };
+        let (arms_pair, arms_self, arms_prod) = (arm(0), arm(1), arm(2));
+        let (arms_lanes, arms_ordered) = (arm(3), arm(4));
         let flanes = ident(&format!("product_{lo}_lanes"));
+        let fordered = ident(&format!("product_{lo}_lanes_ordered"));
         let n2 = 2 * n;
         let d_lanes = format!(
             " The lane twin of [`product_{lo}`]: `L::WIDTH` pairs at once, returning `a` then \
              `b` (`{n2}` lanes); the scene's lane kernel, or the scalar product lane by lane for \
              a confinement without one."
+        );
+        let d_ordered = format!(
+            " [`product_{lo}_lanes`] without the exchange of roles: for pairs in which `b` is \
+             no higher than `a` ([`Confinement::exchanges_by_height`]; there the same values as \
+             the exchanging kernel)."
         );
         let upper = moments_label(moments);
         let d_pair =
@@ -198,6 +221,11 @@ fn dispatch(families: &[Family]) -> TokenStream {
             pub fn #flanes<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L, va: [L; #n], vb: [L; #n]) -> [L; #n2] {
                 match *conf { #(#arms_lanes),* }
             }
+            #[doc = #d_ordered]
+            #[inline(always)]
+            pub fn #fordered<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L, va: [L; #n], vb: [L; #n]) -> [L; #n2] {
+                match *conf { #(#arms_ordered),* }
+            }
         });
     }
     quote! {
@@ -216,6 +244,13 @@ fn dispatch(families: &[Family]) -> TokenStream {
         #[inline(always)]
         pub fn pair_divergence_lanes<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; 12] {
             match *conf { #(#div_lane_arms),* }
+        }
+
+        /// [`pair_divergence_lanes`] without the exchange of roles: for pairs in which `b`
+        /// is no higher than `a` ([`Confinement::exchanges_by_height`]).
+        #[inline(always)]
+        pub fn pair_divergence_lanes_ordered<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; 12] {
+            match *conf { #(#div_ordered_arms),* }
         }
 
         /// The Brownian drift of one particle's self mobility: `sum_j d/dx_j M^{aa}_{ij}`,
@@ -256,6 +291,18 @@ fn dispatch(families: &[Family]) -> TokenStream {
             pub fn params(&self) -> Vec<(&'static str, f64)> {
                 match *self {
                     #(#param_arms),*
+                }
+            }
+
+            /// Whether the pair kernels exchange the particles' roles where `b` is higher
+            /// (larger `x3`) than `a`, keeping the accuracy of the direct sum
+            /// (`M^{ab} = (M^{ba})^T`, evaluated with the lower particle as the source).
+            /// The `*_lanes_ordered` kernels skip that exchange: a caller that orders the
+            /// particles by `x3`, highest first, and passes the earlier one as `a` gets
+            /// the same values with fewer operations.
+            pub fn exchanges_by_height(&self) -> bool {
+                match *self {
+                    #(#exchange_arms),*
                 }
             }
 
@@ -547,6 +594,7 @@ impl Visitor for Collect<'_> {
             title: g.title(),
             params: g.params(),
             dimensions: g.params().iter().map(|p| g.dimension(p)).collect(),
+            exchanges: g.cancelling_image().is_some(),
             boundaries,
             file,
             single,
@@ -646,8 +694,10 @@ fn truncated_arms(
                 arms.push(quote!(#pattern => if aa == ab { #m::#pe(xa, xb, aa, eta, #(#fields),*) } else { #m::#p(xa, xb, aa, ab, eta, #(#fields),*) }));
                 arms.push(quote!(#pattern => #m::#s(x, a, eta, #(#fields),*)));
                 arms.push(quote!(#pattern => if aa == ab { #m::#ppe(xa, xb, aa, eta, #(#fields,)* va, vb) } else { #m::#pp(xa, xb, aa, ab, eta, #(#fields,)* va, vb) }));
-                let ppl = ident(&format!("{name}_pair_product_lanes"));
-                arms.push(quote!(#pattern => #m::#ppl(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields),)* va, vb)));
+                for suffix in ["lanes", "lanes_ordered"] {
+                    let ppl = ident(&format!("{name}_pair_product_{suffix}"));
+                    arms.push(quote!(#pattern => #m::#ppl(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields),)* va, vb)));
+                }
             }
             None => {
                 let (p, pe, s) = (
@@ -662,11 +712,13 @@ fn truncated_arms(
                 arms.push(quote!(#pattern => #ty::from(&#pair).product(va, vb)));
                 let fprod = ident(&format!("product_{}", moments.lower()));
                 let n = moments.per_particle();
-                arms.push(quote!(#pattern => {
+                let by_lane = quote!(#pattern => {
                     let _ = (#(#fields,)*);
                     let (a, b) = crate::blocks::lane_by_lane(|xa, aa, xb, ab, va, vb| #fprod(conf, eta, xa, aa, xb, ab, va, vb), xa, aa, xb, ab, va, vb);
                     std::array::from_fn(|i| if i < #n { a[i] } else { b[i - #n] })
-                }));
+                });
+                arms.push(by_lane.clone());
+                arms.push(by_lane);
             }
         }
     }

@@ -697,11 +697,17 @@ pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
     let n_out = outputs.len();
 
     let mut next = 0usize;
-    // the exchange of roles: its condition on the arguments as given, in a block
-    let swap_code = match &t.swap {
-        None => quote!(),
+    let params: Vec<TokenStream> = t.args.iter().map(|a| param(a, &quote!(L))).collect();
+    let arg_names: Vec<Ident> = t.args.iter().map(|a| ident(&a.name)).collect();
+    let fname = ident(&format!("{}_lanes", k.name));
+    let ordered = ident(&format!("{}_lanes_ordered", k.name));
+    // the exchange of roles: its condition on the arguments as given, the arguments
+    // exchanged per lane, the kernel without exchange, its outputs exchanged back
+    let exchanging = match &t.swap {
+        None => None,
         Some(w) => {
             let mut name: Vec<Option<TokenStream>> = vec![None; g.len()];
+            let mut next = 0usize;
             let stmts = lane_statements(g, &live_swap, &fusion, &mut name, &mut next);
             let l = name[swap_cond[0] as usize]
                 .clone()
@@ -722,13 +728,24 @@ pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
                     }
                 })
                 .collect();
-            quote! {
+            let outs: Vec<TokenStream> = w
+                .outputs
+                .iter()
+                .enumerate()
+                .map(|(i, &j)| {
+                    let (i, j) = (Literal::usize_unsuffixed(i), Literal::usize_unsuffixed(j));
+                    quote!(L::select(swap, out[#j], out[#i]))
+                })
+                .collect();
+            Some(quote! {
                 let swap = {
                     #(#stmts)*
                     #l.gt(#r)
                 };
                 let (#(#mine),*) = (#(#picks),*);
-            }
+                let out = #ordered(#(#arg_names),*);
+                [#(#outs),*]
+            })
         }
     };
     let mut name: Vec<Option<TokenStream>> = vec![None; g.len()];
@@ -772,23 +789,6 @@ pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
             }
         }
     };
-    let ret = match &t.swap {
-        None => quote!(out),
-        Some(w) => {
-            let picks: Vec<TokenStream> = w
-                .outputs
-                .iter()
-                .enumerate()
-                .map(|(i, &j)| {
-                    let (i, j) = (Literal::usize_unsuffixed(i), Literal::usize_unsuffixed(j));
-                    quote!(L::select(swap, out[#j], out[#i]))
-                })
-                .collect();
-            quote!([#(#picks),*])
-        }
-    };
-    let params: Vec<TokenStream> = t.args.iter().map(|a| param(a, &quote!(L))).collect();
-    let fname = ident(&format!("{}_lanes", k.name));
     let mut doc = k.doc.clone();
     doc.push(String::new());
     doc.push(format!(
@@ -797,15 +797,41 @@ pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
         k.name
     ));
     let doc_attrs = doc_attrs(&doc);
-    let f = quote! {
-        #(#doc_attrs)*
-        #[inline(always)]
-        #[allow(unused_variables)]
-        pub fn #fname<L: lanes::Lane>(#(#params),*) -> [L; #n_out] {
-            #swap_code
-            #(#pre)*
-            #body
-            #ret
+    let f = match exchanging {
+        None => quote! {
+            #(#doc_attrs)*
+            #[inline(always)]
+            #[allow(unused_variables)]
+            pub fn #fname<L: lanes::Lane>(#(#params),*) -> [L; #n_out] {
+                #(#pre)*
+                #body
+                out
+            }
+            pub use #fname as #ordered;
+        },
+        Some(exchange) => {
+            let d_ordered = format!(
+                " [`{fname}`] without the exchange of roles: the same values in lanes \
+                 where `b` is no farther than `a` from the cancelling plane; elsewhere the \
+                 same tensor with the cancellation the exchange avoids. The caller orders \
+                 the particles (by height, highest first) and passes the earlier one as `a`."
+            );
+            quote! {
+                #(#doc_attrs)*
+                #[inline(always)]
+                #[allow(unused_variables)]
+                pub fn #fname<L: lanes::Lane>(#(#params),*) -> [L; #n_out] {
+                    #exchange
+                }
+                #[doc = #d_ordered]
+                #[inline(always)]
+                #[allow(unused_variables)]
+                pub fn #ordered<L: lanes::Lane>(#(#params),*) -> [L; #n_out] {
+                    #(#pre)*
+                    #body
+                    out
+                }
+            }
         }
     };
     (f, count)

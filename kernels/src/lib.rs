@@ -34,8 +34,9 @@ pub use blocks::{
     GrandCartesian, Product, STRAIN_BASIS,
 };
 pub use generated::{
-    pair, pair_divergence, pair_divergence_lanes, pair_equal, pair_f, pair_ft, product_f,
-    product_f_lanes, product_ft, product_ft_lanes, self_divergence, self_f, self_ft, self_mobility,
+    pair, pair_divergence, pair_divergence_lanes, pair_divergence_lanes_ordered, pair_equal,
+    pair_f, pair_ft, product_f, product_f_lanes, product_f_lanes_ordered, product_ft,
+    product_ft_lanes, product_ft_lanes_ordered, self_divergence, self_f, self_ft, self_mobility,
     Confinement,
 };
 pub use lanes;

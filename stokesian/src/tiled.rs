@@ -15,6 +15,11 @@
 //! pair or per tile. The Brownian drift (the generated divergence kernels summed over
 //! pairs) runs through the same tiles ([`Divergence`]).
 //!
+//! Near a no-slip wall the kernels evaluate `M^{ab}` with the lower particle as the
+//! source (`Confinement::exchanges_by_height`). The particles are therefore ordered by
+//! height, highest first, and every tile calls the `*_lanes_ordered` kernels, which skip
+//! the per-lane exchange (its comparison and selects): the same values, pair by pair.
+//!
 //! The lanes hold `f64` or, for the single-precision product ([`Precision::Single`]),
 //! `f32`: twice the pairs per instruction. Single precision runs in units where the
 //! largest radius, the viscosity and the largest moment are 1 and heights are measured
@@ -36,6 +41,10 @@ const MAX_K: usize = 11;
 
 /// A pair product over lanes: `(M^{ab} vb, M^{ba} va)` for `L::WIDTH` pairs.
 pub(crate) trait LaneProduct<const K: usize>: Sync {
+    /// Whether [`LaneProduct::eval`] wants `a` no lower than `b` (its kernels skip the
+    /// exchange of roles, [`Confinement::exchanges_by_height`]): the particles are then
+    /// ordered by height, highest first.
+    fn by_height(&self) -> bool;
     /// The product of lanes of pairs.
     fn eval<L: Lane>(
         &self,
@@ -70,6 +79,9 @@ macro_rules! generated_lanes {
         }
 
         impl LaneProduct<$k> for $name<'_> {
+            fn by_height(&self) -> bool {
+                self.conf.exchanges_by_height()
+            }
             #[inline(always)]
             fn eval<L: Lane>(
                 &self,
@@ -93,14 +105,14 @@ generated_lanes!(
     /// The F products of a confinement (generated lane kernels).
     ProductF,
     3,
-    product_f_lanes,
+    product_f_lanes_ordered,
     self_f
 );
 generated_lanes!(
     /// The FT products of a confinement (generated lane kernels).
     ProductFT,
     6,
-    product_ft_lanes,
+    product_ft_lanes_ordered,
     self_ft
 );
 
@@ -112,6 +124,10 @@ pub(crate) struct ProductFTS<'a> {
 }
 
 impl LaneProduct<11> for ProductFTS<'_> {
+    fn by_height(&self) -> bool {
+        // the scalar kernels exchange the roles themselves
+        false
+    }
     #[inline(always)]
     fn eval<L: Lane>(
         &self,
@@ -156,6 +172,9 @@ pub(crate) struct Divergence<'a> {
 }
 
 impl LaneProduct<6> for Divergence<'_> {
+    fn by_height(&self) -> bool {
+        self.conf.exchanges_by_height()
+    }
     #[inline(always)]
     fn eval<L: Lane>(
         &self,
@@ -166,7 +185,7 @@ impl LaneProduct<6> for Divergence<'_> {
         _va: [L; 6],
         _vb: [L; 6],
     ) -> ([L; 6], [L; 6]) {
-        halves(kernels::pair_divergence_lanes(
+        halves(kernels::pair_divergence_lanes_ordered(
             self.conf, self.eta, xa, aa, xb, ab,
         ))
     }
@@ -299,6 +318,15 @@ pub(crate) fn apply<P: LaneProduct<K>, E: Element, const K: usize>(
     isa: Isa,
     parallel: bool,
 ) -> Vec<[f64; K]> {
+    // the order of the lane kernels' pairs: by height, highest first, where they skip
+    // the exchange of roles (a stable sort: the order and every sum are fixed by the
+    // input alone); as given otherwise
+    let mut order: Vec<usize> = (0..particles.len()).collect();
+    if product.by_height() {
+        order.sort_by(|&i, &j| particles[j].0[2].total_cmp(&particles[i].0[2]));
+    }
+    let particles: Vec<([f64; 3], f64)> = order.iter().map(|&i| particles[i]).collect();
+    let xs: Vec<[f64; K]> = order.iter().map(|&i| xs[i]).collect();
     let n = particles.len();
     let blocks = n.div_ceil(BLOCK);
     let padded = blocks * BLOCK;
@@ -356,9 +384,11 @@ pub(crate) fn apply<P: LaneProduct<K>, E: Element, const K: usize>(
         .into_iter()
         .map(|m| m.into_inner().expect("no tile panics"))
         .collect();
-    (0..n)
-        .map(|i| std::array::from_fn(|c| out[i / BLOCK][c * BLOCK + i % BLOCK]))
-        .collect()
+    let mut res = vec![[0.0; K]; n];
+    for (s, &i) in order.iter().enumerate() {
+        res[i] = std::array::from_fn(|c| out[s / BLOCK][c * BLOCK + s % BLOCK]);
+    }
+    res
 }
 
 /// The product for a truncation (F, FT or FTS) in `precision`.

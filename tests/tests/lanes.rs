@@ -4,10 +4,15 @@
 //! on random pairs, and on pairs straddling every branch of the scalar kernels (the
 //! exchange of roles at equal heights, the lateral far-field switch, `rho = 0` where
 //! the canonical frame is the identity), with near and far lanes mixed in one vector.
+//! The `*_lanes_ordered` kernels (no exchange of roles) equal the exchanging ones bit for
+//! bit on pairs ordered by height, as the tiled product passes them.
 
 use integration_tests::{all_confinements, bounds, norm, random_spheres};
 use kernels::lanes::{dispatch_with, Element, Isa, Lane, WithLanes};
-use kernels::{product_f, product_f_lanes, product_ft, product_ft_lanes, Confinement};
+use kernels::{
+    product_f, product_f_lanes, product_f_lanes_ordered, product_ft, product_ft_lanes,
+    product_ft_lanes_ordered, Confinement,
+};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -27,6 +32,8 @@ struct Run<'a, E> {
     conf: &'a Confinement,
     pairs: &'a [Pair],
     ft: bool,
+    /// The kernels without the exchange of roles.
+    ordered: bool,
     elem: std::marker::PhantomData<E>,
 }
 
@@ -47,11 +54,19 @@ impl<E: Element> WithLanes for Run<'_, E> {
             let lanes: Vec<L> = if self.ft {
                 let va: [L; 6] = std::array::from_fn(|k| col(&|p| p.v[k]));
                 let vb: [L; 6] = std::array::from_fn(|k| col(&|p| p.v[6 + k]));
-                product_ft_lanes(self.conf, 1.3, xa, aa, xb, ab, va, vb).to_vec()
+                if self.ordered {
+                    product_ft_lanes_ordered(self.conf, 1.3, xa, aa, xb, ab, va, vb).to_vec()
+                } else {
+                    product_ft_lanes(self.conf, 1.3, xa, aa, xb, ab, va, vb).to_vec()
+                }
             } else {
                 let va: [L; 3] = std::array::from_fn(|k| col(&|p| p.v[k]));
                 let vb: [L; 3] = std::array::from_fn(|k| col(&|p| p.v[6 + k]));
-                product_f_lanes(self.conf, 1.3, xa, aa, xb, ab, va, vb).to_vec()
+                if self.ordered {
+                    product_f_lanes_ordered(self.conf, 1.3, xa, aa, xb, ab, va, vb).to_vec()
+                } else {
+                    product_f_lanes(self.conf, 1.3, xa, aa, xb, ab, va, vb).to_vec()
+                }
             };
             let mut per_pair = vec![vec![0.0; lanes.len()]; w];
             for (k, v) in lanes.iter().enumerate() {
@@ -182,6 +197,7 @@ fn lanes_against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64) {
                     conf: &conf,
                     pairs: &list,
                     ft,
+                    ordered: false,
                     elem: std::marker::PhantomData,
                 };
                 let got = dispatch_with(isa, run).ok().expect("available");
@@ -239,4 +255,62 @@ fn lane_kernels_equal_the_scalar_kernels_on_every_instruction_set() {
 #[test]
 fn single_precision_lanes_equal_the_scalar_kernels_on_every_instruction_set() {
     lanes_against_scalar::<f32>(6, |cancel| 2e-5 + 8.0 * f64::from(f32::EPSILON) * cancel);
+}
+
+/// The kernels without the exchange of roles (`product_f_lanes_ordered`,
+/// `product_ft_lanes_ordered`) on pairs with `a` at least as high as `b` (the order of the
+/// tiled product) give the exchanging kernels' values bit for bit: the exchange is then
+/// the identity in every lane, equal heights included. Every confinement, F and FT,
+/// every instruction set, `f64` and `f32` lanes.
+#[test]
+fn ordered_lane_kernels_equal_the_exchanging_ones_on_ordered_pairs() {
+    fn check<E: Element>(seed: u64) {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        for (name, conf) in all_confinements() {
+            let list: Vec<Pair> = pairs(&conf, &mut rng)
+                .into_iter()
+                .map(|p| {
+                    if p.xb[2] > p.xa[2] {
+                        let mut v = [0.0; 12];
+                        v[..6].copy_from_slice(&p.v[6..]);
+                        v[6..].copy_from_slice(&p.v[..6]);
+                        Pair {
+                            xa: p.xb,
+                            aa: p.ab,
+                            xb: p.xa,
+                            ab: p.aa,
+                            v,
+                        }
+                    } else {
+                        p
+                    }
+                })
+                .collect();
+            assert!(
+                list.iter().any(|p| p.xa[2] == p.xb[2]),
+                "equal heights are tested"
+            );
+            for ft in [false, true] {
+                for &isa in &Isa::all_available() {
+                    let run = |ordered| {
+                        let r = Run::<E> {
+                            conf: &conf,
+                            pairs: &list,
+                            ft,
+                            ordered,
+                            elem: std::marker::PhantomData,
+                        };
+                        dispatch_with(isa, r).ok().expect("available")
+                    };
+                    let (exchanging, ordered) = (run(false), run(true));
+                    for (k, (e, o)) in exchanging.iter().zip(&ordered).enumerate() {
+                        let same = e.iter().zip(o).all(|(x, y)| x.to_bits() == y.to_bits());
+                        assert!(same, "{name} {isa:?} ft {ft} pair {k}:\n{e:?}\n{o:?}");
+                    }
+                }
+            }
+        }
+    }
+    check::<f64>(7);
+    check::<f32>(8);
 }

@@ -2565,3 +2565,4 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
     };
     out
 }
+pub use free_pair_divergence_lanes as free_pair_divergence_lanes_ordered;

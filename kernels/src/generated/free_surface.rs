@@ -4257,3 +4257,4 @@ pub fn free_surface_pair_divergence_lanes<L: lanes::Lane>(
     };
     out
 }
+pub use free_surface_pair_divergence_lanes as free_surface_pair_divergence_lanes_ordered;

@@ -9631,3 +9631,4 @@ pub fn interface_pair_divergence_lanes<L: lanes::Lane>(
     };
     out
 }
+pub use interface_pair_divergence_lanes as interface_pair_divergence_lanes_ordered;

@@ -287,6 +287,82 @@ pub fn product_f_lanes<L: lanes::Lane>(
         }
     }
 }
+/// [`product_f_lanes`] without the exchange of roles: for pairs in which `b` is no higher than `a` ([`Confinement::exchanges_by_height`]; there the same values as the exchanging kernel).
+#[inline(always)]
+pub fn product_f_lanes_ordered<L: lanes::Lane>(
+    conf: &Confinement,
+    eta: f64,
+    xa: [L; 3],
+    aa: L,
+    xb: [L; 3],
+    ab: L,
+    va: [L; 3usize],
+    vb: [L; 3usize],
+) -> [L; 6usize] {
+    match *conf {
+        Confinement::Free => {
+            scene_free_f::free_f_pair_product_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                va,
+                vb,
+            )
+        }
+        Confinement::Wall { height } => {
+            scene_wall_f::wall_f_pair_product_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                va,
+                vb,
+            )
+        }
+        Confinement::FreeSurface { height } => {
+            scene_free_surface_f::free_surface_f_pair_product_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                va,
+                vb,
+            )
+        }
+        Confinement::Interface { height, lambda } => {
+            scene_interface_f::interface_f_pair_product_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(lambda),
+                va,
+                vb,
+            )
+        }
+        Confinement::Slit { height, gap } => {
+            scene_slit_f::slit_f_pair_product_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(gap),
+                va,
+                vb,
+            )
+        }
+    }
+}
 /// The FT blocks of `M^{ab}` (equal-radius kernels when `aa == ab`).
 pub fn pair_ft(
     conf: &Confinement,
@@ -559,6 +635,82 @@ pub fn product_ft_lanes<L: lanes::Lane>(
         }
     }
 }
+/// [`product_ft_lanes`] without the exchange of roles: for pairs in which `b` is no higher than `a` ([`Confinement::exchanges_by_height`]; there the same values as the exchanging kernel).
+#[inline(always)]
+pub fn product_ft_lanes_ordered<L: lanes::Lane>(
+    conf: &Confinement,
+    eta: f64,
+    xa: [L; 3],
+    aa: L,
+    xb: [L; 3],
+    ab: L,
+    va: [L; 6usize],
+    vb: [L; 6usize],
+) -> [L; 12usize] {
+    match *conf {
+        Confinement::Free => {
+            scene_free_ft::free_ft_pair_product_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                va,
+                vb,
+            )
+        }
+        Confinement::Wall { height } => {
+            scene_wall_ft::wall_ft_pair_product_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                va,
+                vb,
+            )
+        }
+        Confinement::FreeSurface { height } => {
+            scene_free_surface_ft::free_surface_ft_pair_product_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                va,
+                vb,
+            )
+        }
+        Confinement::Interface { height, lambda } => {
+            scene_interface_ft::interface_ft_pair_product_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(lambda),
+                va,
+                vb,
+            )
+        }
+        Confinement::Slit { height, gap } => {
+            scene_slit_ft::slit_ft_pair_product_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(gap),
+                va,
+                vb,
+            )
+        }
+    }
+}
 /// The Brownian drift of a pair: `a` = the divergence of `M^{ab}` over the
 /// position of `b` (`sum_j d/dxb_j M_{ij}`, rows U then Omega, force columns),
 /// `b` = that of `M^{ba}` over the position of `a`.
@@ -633,6 +785,65 @@ pub fn pair_divergence_lanes<L: lanes::Lane>(
         }
         Confinement::Slit { height, gap } => {
             slit::slit_pair_divergence_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(gap),
+            )
+        }
+    }
+}
+/// [`pair_divergence_lanes`] without the exchange of roles: for pairs in which `b`
+/// is no higher than `a` ([`Confinement::exchanges_by_height`]).
+#[inline(always)]
+pub fn pair_divergence_lanes_ordered<L: lanes::Lane>(
+    conf: &Confinement,
+    eta: f64,
+    xa: [L; 3],
+    aa: L,
+    xb: [L; 3],
+    ab: L,
+) -> [L; 12] {
+    match *conf {
+        Confinement::Free => {
+            free::free_pair_divergence_lanes_ordered(xa, xb, aa, ab, L::splat(eta))
+        }
+        Confinement::Wall { height } => {
+            wall::wall_pair_divergence_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+            )
+        }
+        Confinement::FreeSurface { height } => {
+            free_surface::free_surface_pair_divergence_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+            )
+        }
+        Confinement::Interface { height, lambda } => {
+            interface::interface_pair_divergence_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(lambda),
+            )
+        }
+        Confinement::Slit { height, gap } => {
+            slit::slit_pair_divergence_lanes_ordered(
                 xa,
                 xb,
                 aa,
@@ -752,6 +963,21 @@ impl Confinement {
                 vec![("height", height), ("lambda", lambda)]
             }
             Confinement::Slit { height, gap } => vec![("height", height), ("gap", gap)],
+        }
+    }
+    /// Whether the pair kernels exchange the particles' roles where `b` is higher
+    /// (larger `x3`) than `a`, keeping the accuracy of the direct sum
+    /// (`M^{ab} = (M^{ba})^T`, evaluated with the lower particle as the source).
+    /// The `*_lanes_ordered` kernels skip that exchange: a caller that orders the
+    /// particles by `x3`, highest first, and passes the earlier one as `a` gets
+    /// the same values with fewer operations.
+    pub fn exchanges_by_height(&self) -> bool {
+        match *self {
+            Confinement::Free => false,
+            Confinement::Wall { .. } => true,
+            Confinement::FreeSurface { .. } => false,
+            Confinement::Interface { .. } => false,
+            Confinement::Slit { .. } => false,
         }
     }
     /// The boundary planes: `(height, fluid is above it)`.

@@ -428,6 +428,7 @@ pub fn free_f_pair_product_lanes<L: lanes::Lane>(
     };
     out
 }
+pub use free_f_pair_product_lanes as free_f_pair_product_lanes_ordered;
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair equal product.
 ///
 /// Pruned to what the scene needs.

@@ -688,6 +688,7 @@ pub fn free_ft_pair_product_lanes<L: lanes::Lane>(
     };
     out
 }
+pub use free_ft_pair_product_lanes as free_ft_pair_product_lanes_ordered;
 /// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair equal product.
 ///
 /// Pruned to what the scene needs.

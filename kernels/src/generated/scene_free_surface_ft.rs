@@ -1116,6 +1116,7 @@ pub fn free_surface_ft_pair_product_lanes<L: lanes::Lane>(
     };
     out
 }
+pub use free_surface_ft_pair_product_lanes as free_surface_ft_pair_product_lanes_ordered;
 /// Scene `free_surface_ft` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair equal product.
 ///
 /// Pruned to what the scene needs.

@@ -1270,6 +1270,7 @@ pub fn interface_f_pair_product_lanes<L: lanes::Lane>(
     };
     out
 }
+pub use interface_f_pair_product_lanes as interface_f_pair_product_lanes_ordered;
 /// Scene `interface_f` (flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair equal product.
 ///
 /// Pruned to what the scene needs.

@@ -2122,6 +2122,7 @@ pub fn interface_ft_pair_product_lanes<L: lanes::Lane>(
     };
     out
 }
+pub use interface_ft_pair_product_lanes as interface_ft_pair_product_lanes_ordered;
 /// Scene `interface_ft` (flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair equal product.
 ///
 /// Pruned to what the scene needs.

@@ -1641,6 +1641,7 @@ pub fn slit_f_pair_product_lanes<L: lanes::Lane>(
     };
     out
 }
+pub use slit_f_pair_product_lanes as slit_f_pair_product_lanes_ordered;
 /// Scene `slit_f` (slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair equal product.
 ///
 /// Pruned to what the scene needs.

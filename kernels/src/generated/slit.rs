@@ -13324,3 +13324,4 @@ pub fn slit_pair_divergence_lanes<L: lanes::Lane>(
     };
     out
 }
+pub use slit_pair_divergence_lanes as slit_pair_divergence_lanes_ordered;
