@@ -84,7 +84,8 @@
 //! them (about 10 s of CPU for the seven families, ~30 MB transient memory each) and keeps
 //! the `O(TRUNCATION^2)` numbers `R_{k, m-q, q}` (11 triangles of 20301 numbers, 1.8 MB),
 //! which a process reads on first use (about 2 ms). A [`PairSeries`] for one `lambda`
-//! costs ~0.6 ms; each evaluation at a separation sums only the terms that add more than
+//! costs 70-100 us (the 11 triangles' rows interleaved and summed side by side as sums of
+//! products, [`row_sums`]); each evaluation at a separation sums only the terms that add more than
 //! 1e-17 (all of them near contact, about a third at `s' = 4`), the 22 Horner sums side
 //! by side: 0.27 us on average over `s'` in `[2, 4]`, 0.37 us near contact, no allocation
 //! (test `cost_of_tables_and_calls`).
@@ -292,15 +293,14 @@ impl PairSeries {
         Self::with_count(lambda, 22)
     }
 
-    /// The ten force-torque functions only (reads only the `X^A`, `Y^A`, `Y^C` and `X^C`
-    /// coefficients).
+    /// The ten force-torque functions only.
     pub fn new_ft(lambda: f64) -> Result<Self, TwoSphereError> {
         Self::with_count(lambda, 10)
     }
 
     /// The series for `lambda` (all 22 functions, or the ten force-torque ones when
     /// `force_torque_only`) from a process-wide cache: built once per size ratio and
-    /// level (about 0.6 ms each), then shared. A lubricated Brownian step forms three
+    /// level (70-100 us each), then shared. A lubricated Brownian step forms three
     /// resistances, each needing the series of every size ratio of its close pairs.
     /// The cache holds at most [`CACHED_RATIOS`] series (about 35 kB each); beyond, a
     /// series is built for the call alone.
@@ -330,9 +330,9 @@ impl PairSeries {
 
     fn with_count(lambda: f64, count: usize) -> Result<Self, TwoSphereError> {
         check_lambda(lambda)?;
-        Ok(Self::summed(lambda, count, TRUNCATION, |t: Table| {
-            t.triangles()
-        }))
+        static ROWS: OnceLock<Vec<[f64; SOURCES]>> = OnceLock::new();
+        let rows = ROWS.get_or_init(|| interleave(TRUNCATION, |t| t.triangles()));
+        Ok(Self::summed(lambda, count, TRUNCATION, rows))
     }
 
     /// The series of all 22 functions for any size ratio `lambda > 0`, summed to `m <=
@@ -350,17 +350,14 @@ impl PairSeries {
             return Err(TwoSphereError::SizeRatio(lambda));
         }
         let truncation = truncation.min(coefficients.truncation);
-        Ok(Self::summed(lambda, 22, truncation, |t: Table| {
+        let rows = interleave(coefficients.truncation, |t| {
             &coefficients.triangles[t as usize]
-        }))
+        });
+        Ok(Self::summed(lambda, 22, truncation, &rows))
     }
 
-    fn summed<'c>(
-        lambda: f64,
-        count: usize,
-        truncation: usize,
-        triangles: impl Fn(Table) -> &'c Triangles,
-    ) -> Self {
+    /// The series from the triangles' rows interleaved ([`interleave`]).
+    fn summed(lambda: f64, count: usize, truncation: usize, rows: &[[f64; SOURCES]]) -> Self {
         let mut out = PairSeries {
             lambda,
             count,
@@ -369,16 +366,41 @@ impl PairSeries {
             ln_largest: 0.0,
         };
         for (k, f) in FUNCTIONS.iter().enumerate().take(count) {
-            let tri_r = &triangles(f.table)[f.output];
-            let h = (f.singular)(lambda);
-            out.singular[k] = h;
-            for (j, row) in out.remainder.iter_mut().enumerate() {
-                let m = 2 * j + f.first_m();
-                if m <= truncation {
-                    let s = singular_taylor(f.odd, m);
-                    row[k] =
-                        f.coefficient(tri_r, lambda, m) - h[0] * s[0] - h[1] * s[1] - h[2] * s[2];
+            out.singular[k] = (f.singular)(lambda);
+        }
+        // `x^i` for `lambda <= 1` (`x = lambda`), else `x^(truncation - i)` (`x = 1/lambda`),
+        // so that the powers of row `m` are `powers[..=m]`, or `powers[truncation - m..]`
+        let x = if lambda <= 1.0 { lambda } else { 1.0 / lambda };
+        // (below 1e-290 set to zero: the committed coefficients reach 5e58, so the terms
+        // dropped are below 1e-231, and subnormal numbers would slow every product down)
+        let mut powers = vec![1.0; truncation + 1];
+        for i in 1..=truncation {
+            let p = powers[i - 1] * x;
+            powers[i] = if p < 1e-290 { 0.0 } else { p };
+        }
+        if lambda > 1.0 {
+            powers.reverse();
+        }
+        for m in 0..=truncation {
+            let p = if lambda <= 1.0 {
+                &powers[..=m]
+            } else {
+                &powers[truncation - m..]
+            };
+            let sums = row_sums(&rows[tri(m, 0)..=tri(m, m)], p);
+            // what every function of this parity shares
+            let power = (if lambda <= 1.0 { 1.0 } else { lambda } / (1.0 + lambda)).powi(m as i32);
+            let odd = m % 2 == 1;
+            let s = singular_taylor(odd, m);
+            for (k, f) in FUNCTIONS.iter().enumerate().take(count) {
+                if f.odd != odd {
+                    continue;
                 }
+                let h = out.singular[k];
+                out.remainder[m / 2][k] = f.coefficient(sums[k / 2], power, lambda, m)
+                    - h[0] * s[0]
+                    - h[1] * s[1]
+                    - h[2] * s[2];
             }
         }
         let largest = out
@@ -987,32 +1009,66 @@ struct Function {
     singular: fn(f64) -> [f64; 3],
 }
 
+/// The distinct triangles of [`FUNCTIONS`]: each "11" function shares its triangle with
+/// the "12" function of the other parity, so function `k` reads triangle `k / 2`.
+const SOURCES: usize = 11;
+
+/// The rows of the [`SOURCES`] triangles to `truncation`, interleaved: entry `tri(m, q)`
+/// holds `R_{m-q,q}` of every triangle, so that their sums ([`row_sums`])
+/// advance side by side in vector lanes.
+fn interleave<'c>(
+    truncation: usize,
+    triangles: impl Fn(Table) -> &'c Triangles,
+) -> Vec<[f64; SOURCES]> {
+    let tris: Vec<&[f64]> = (0..SOURCES)
+        .map(|s| {
+            let f = &FUNCTIONS[2 * s];
+            &triangles(f.table)[f.output][..]
+        })
+        .collect();
+    (0..=tri(truncation, truncation))
+        .map(|i| std::array::from_fn(|s| tris[s][i]))
+        .collect()
+}
+
+/// `sum_q R_{m-q,q} lambda^q` of every triangle at `m` for `lambda <= 1`, and
+/// `sum_q R_{m-q,q} lambda^{q-m}` (the power `lambda^m` left to
+/// [`Function::coefficient`]) otherwise, so that no power overflows: `rows` is row `m`,
+/// `powers` holds `lambda^q` or `lambda^(q-m)`. A sum of products in two partial sums
+/// rather than Horner's chain of dependent steps: the triangles' sums advance side by
+/// side in vector lanes and the products overlap in the pipeline.
+fn row_sums(rows: &[[f64; SOURCES]], powers: &[f64]) -> [f64; SOURCES] {
+    let mut acc = [[0.0; SOURCES]; 2];
+    let add = |acc: &mut [f64; SOURCES], c: &[f64; SOURCES], p: f64| {
+        for (a, c) in acc.iter_mut().zip(c) {
+            *a += c * p;
+        }
+    };
+    let (rc, pc) = (rows.chunks_exact(2), powers.chunks_exact(2));
+    let (rr, pr) = (rc.remainder(), pc.remainder());
+    for (c, p) in rc.zip(pc) {
+        add(&mut acc[0], &c[0], p[0]);
+        add(&mut acc[1], &c[1], p[1]);
+    }
+    for (c, &p) in rr.iter().zip(pr) {
+        add(&mut acc[0], c, p);
+    }
+    std::array::from_fn(|s| acc[0][s] + acc[1][s])
+}
+
 impl Function {
-    /// `a_m` for this `lambda` (the factor included). `sum_q R_q lambda^q/(1+lambda)^m` is
-    /// evaluated as `nu^m sum R_q lambda^q` (Horner in `lambda`) for `lambda <= 1` and as
-    /// `mu^m sum R_q lambda^{q-m}` (Horner in `1/lambda`) otherwise, `mu = lambda/(1+lambda)`,
-    /// `nu = 1/(1+lambda)`, so that no power overflows.
+    /// `a_m` for this `lambda` (the factor included) from the sum of its triangle's row
+    /// `m` by [`row_sums`] and `power`: `nu^m sum R_q lambda^q` for `lambda <= 1`, and
+    /// `mu^m sum R_q lambda^{q-m}` otherwise, `mu = lambda/(1+lambda)`, `nu = 1/(1+lambda)`
+    /// (`power` is `nu^m` or `mu^m`).
     #[inline]
-    fn coefficient(&self, tri_r: &[f64], lambda: f64, m: usize) -> f64 {
-        let row = &tri_r[tri(m, 0)..=tri(m, m)];
-        let poly = if lambda <= 1.0 {
-            let nu = 1.0 / (1.0 + lambda);
-            row.iter().rev().fold(0.0, |acc, &c| acc * lambda + c) * nu.powi(m as i32)
-        } else {
-            let mu = lambda / (1.0 + lambda);
-            let il = 1.0 / lambda;
-            row.iter().fold(0.0, |acc, &c| acc * il + c) * mu.powi(m as i32)
-        };
+    fn coefficient(&self, sum: f64, power: f64, lambda: f64, m: usize) -> f64 {
         let shift = if self.shifted && m % 2 == 1 {
             lambda
         } else {
             1.0
         };
-        self.factor * poly * shift
-    }
-
-    fn first_m(&self) -> usize {
-        usize::from(self.odd)
+        self.factor * (sum * power) * shift
     }
 }
 

@@ -367,10 +367,19 @@ fn cost_of_tables_and_calls() {
         acc += series.scalars(2.0 + 1e-4 * (1 + i) as f64).unwrap().x11a;
     }
     let per_eval_contact = t0.elapsed() / n;
+    // a new size ratio: its series built from the coefficients (read above)
+    let t0 = std::time::Instant::now();
+    let ratios = 50;
+    for i in 0..ratios {
+        let s = PairSeries::new(0.05 + 0.37 * f64::from(i)).unwrap();
+        acc += s.scalars(2.5).unwrap().x11a;
+    }
+    let per_ratio = t0.elapsed() / ratios;
     println!(
         "\ncost (TRUNCATION = {TRUNCATION}): first call (reads the coefficients, unless another test did \
          them) {first:?}; resistance_scalars {per_call:?} per call; PairSeries::scalars \
-         {per_eval:?} per call (s' in [2.01, 4]), {per_eval_contact:?} near contact (xi <= 0.02)"
+         {per_eval:?} per call (s' in [2.01, 4]), {per_eval_contact:?} near contact (xi <= 0.02); \
+         PairSeries::new {per_ratio:?} per size ratio (lambda 0.05 to 18)"
     );
     assert!(acc.is_finite() && p.x11a > 1.0);
     assert!(p.x11a.is_finite() && PI > 3.0);
