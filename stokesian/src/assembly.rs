@@ -15,6 +15,13 @@ use std::sync::Mutex;
 /// steps of two spheres).
 pub(crate) const PARALLEL_MIN: usize = 32;
 
+thread_local! {
+    /// The tile buffers of [`System::mobility`] on this thread (row-major and
+    /// column-major blocks of one tile).
+    static TILE_BUFFERS: std::cell::RefCell<(Vec<f64>, Vec<f64>)> =
+        const { std::cell::RefCell::new((Vec::new(), Vec::new())) };
+}
+
 /// Particles per group in the dense assembly's tiles: a tile's blocks
 /// (`DENSE_GROUP^2 K^2` values, 248 KB at FTS) stay in the L2 cache while they are
 /// written out, and a round has enough tiles to balance a few threads at `N` of a
@@ -273,16 +280,27 @@ impl System {
                 }
             }
         };
-        let buffers = || {
-            let len = DENSE_GROUP * DENSE_GROUP * kk;
-            (vec![0.0; len], vec![0.0; len])
+        // each thread's buffers, kept from tile to tile and call to call (a tile writes
+        // every value it reads, so they are never cleared)
+        let len = DENSE_GROUP * DENSE_GROUP * kk;
+        let fresh = || (vec![0.0; len], vec![0.0; len]);
+        let buffered = |t: &(usize, usize)| {
+            TILE_BUFFERS.with(|cell| match cell.try_borrow_mut() {
+                Ok(mut b) => {
+                    if b.0.len() < len {
+                        *b = fresh();
+                    }
+                    tile(&mut b, t)
+                }
+                // (only if a tile ever ran inside another on this thread)
+                Err(_) => tile(&mut fresh(), t),
+            })
         };
         for round in crate::tiled::rounds(groups) {
             if n >= PARALLEL_MIN {
-                round.par_iter().for_each_init(buffers, tile);
+                round.par_iter().for_each(buffered);
             } else {
-                let mut bufs = buffers();
-                round.iter().for_each(|t| tile(&mut bufs, t));
+                round.iter().for_each(buffered);
             }
         }
         drop(columns);
