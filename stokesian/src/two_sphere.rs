@@ -84,7 +84,7 @@
 //! them (about 10 s of CPU for the seven families, ~30 MB transient memory each) and keeps
 //! the `O(TRUNCATION^2)` numbers `R_{k, m-q, q}` (11 triangles of 20301 numbers, 1.8 MB),
 //! which a process reads on first use (about 2 ms). A [`PairSeries`] for one `lambda`
-//! costs 70-100 us (the 11 triangles' rows interleaved and summed side by side as sums of
+//! costs 60-95 us (the 11 triangles' rows interleaved and summed side by side as sums of
 //! products, [`row_sums`]); each evaluation at a separation sums only the terms that add more than
 //! 1e-17 (all of them near contact, about a third at `s' = 4`), the 22 Horner sums side
 //! by side: 0.27 us on average over `s'` in `[2, 4]`, 0.37 us near contact, no allocation
@@ -300,7 +300,7 @@ impl PairSeries {
 
     /// The series for `lambda` (all 22 functions, or the ten force-torque ones when
     /// `force_torque_only`) from a process-wide cache: built once per size ratio and
-    /// level (70-100 us each), then shared. A lubricated Brownian step forms three
+    /// level (60-95 us each), then shared. A lubricated Brownian step forms three
     /// resistances, each needing the series of every size ratio of its close pairs.
     /// The cache holds at most [`CACHED_RATIOS`] series (about 35 kB each); beyond, a
     /// series is built for the call alone.
