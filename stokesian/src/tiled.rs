@@ -5,7 +5,8 @@
 //! The particles are cut into blocks of [`BLOCK`] (positions, radii and moments as
 //! structure of arrays, padded to whole blocks). A tile is a pair of blocks `(I, J)`,
 //! `I <= J`: particle `i` of `I` against the particles of `J` in lanes
-//! (`lanes::Lane::WIDTH` at a time; `j > i` on the diagonal), `a_i` summed in lanes and
+//! (`lanes::Lane::WIDTH` at a time; `j > i` on the diagonal; lanes past the last particle
+//! masked, and no masks at all where block `J` is whole and off the diagonal), `a_i` summed in lanes and
 //! reduced in lane order at the end of the row, `b_j` added lane-wise to block `J`.
 //! The tiles are scheduled in rounds in which every block appears at most once (the
 //! diagonal tiles, then the off-diagonal ones by the circle method of round-robin
@@ -229,11 +230,22 @@ impl<P: LaneProduct<K>, E: Element, const K: usize> WithLanes for Tile<'_, P, E,
             out_j,
         } = self;
         // block J's sums over this tile, in the lanes' precision
-        let mut sums_j = [E::default(); MAX_K * BLOCK];
+        let mut sums_j = [[E::default(); BLOCK]; MAX_K];
         let w = L::WIDTH;
         let n = L::splat(soa.n as f64);
         let diagonal = bi == bj;
         let (i0, j0) = (bi * BLOCK, bj * BLOCK);
+        // block J as arrays of one block (padded), so that no load needs a bounds check
+        fn block<E>(v: &[E], j0: usize) -> &[E; BLOCK] {
+            v[j0..j0 + BLOCK]
+                .try_into()
+                .expect("padded to whole blocks")
+        }
+        let xj: [&[E; BLOCK]; 3] = std::array::from_fn(|k| block(&soa.x[k], j0));
+        let aj = block(&soa.a, j0);
+        let vj: [&[E; BLOCK]; K] = std::array::from_fn(|c| block(&soa.v[c], j0));
+        // every lane of every chunk a pair to count: off the diagonal, block J whole
+        let whole = !diagonal && j0 + BLOCK <= soa.n;
         for ii in 0..BLOCK {
             let i = i0 + ii;
             if i >= soa.n {
@@ -244,26 +256,38 @@ impl<P: LaneProduct<K>, E: Element, const K: usize> WithLanes for Tile<'_, P, E,
             let va: [L; K] = std::array::from_fn(|c| L::splat(soa.v[c][i].to_f64()));
             let mut acc = [L::splat(0.0); K];
             // on the diagonal, the chunks holding j > i
-            let start = if diagonal { (ii + 1) / w * w } else { 0 };
-            for jj in (start..BLOCK).step_by(w) {
+            let first = if diagonal { (ii + 1) / w } else { 0 };
+            for chunk in first..BLOCK / w {
+                let jj = chunk * w;
                 let j = j0 + jj;
-                let index = L::iota() + L::splat(j as f64);
-                let mut valid = n.gt(index);
-                if diagonal {
-                    valid = L::and(valid, index.gt(L::splat(i as f64)));
+                let valid = if whole {
+                    None
+                } else {
+                    let index = L::iota() + L::splat(j as f64);
+                    let mut valid = n.gt(index);
+                    if diagonal {
+                        valid = L::and(valid, index.gt(L::splat(i as f64)));
+                    }
+                    if !L::any(valid) {
+                        continue;
+                    }
+                    Some(valid)
+                };
+                let xb: [L; 3] = std::array::from_fn(|k| L::load(&xj[k][jj..]));
+                let ab = L::load(&aj[jj..]);
+                let vb: [L; K] = std::array::from_fn(|c| L::load(&vj[c][jj..]));
+                let (mut pa, mut pb) = product.eval(xa, aa, xb, ab, va, vb);
+                if let Some(valid) = valid {
+                    let zero = L::splat(0.0);
+                    for c in 0..K {
+                        pa[c] = L::select(valid, pa[c], zero);
+                        pb[c] = L::select(valid, pb[c], zero);
+                    }
                 }
-                if !L::any(valid) {
-                    continue;
-                }
-                let xb: [L; 3] = std::array::from_fn(|k| L::load(&soa.x[k][j..]));
-                let ab = L::load(&soa.a[j..]);
-                let vb: [L; K] = std::array::from_fn(|c| L::load(&soa.v[c][j..]));
-                let (pa, pb) = product.eval(xa, aa, xb, ab, va, vb);
-                let zero = L::splat(0.0);
                 for c in 0..K {
-                    acc[c] = acc[c] + L::select(valid, pa[c], zero);
-                    let slot = &mut sums_j[c * BLOCK + jj..];
-                    (L::load(slot) + L::select(valid, pb[c], zero)).store(slot);
+                    acc[c] = acc[c] + pa[c];
+                    let slot = &mut sums_j[c][jj..];
+                    (L::load(slot) + pb[c]).store(slot);
                 }
             }
             for c in 0..K {
@@ -274,7 +298,7 @@ impl<P: LaneProduct<K>, E: Element, const K: usize> WithLanes for Tile<'_, P, E,
             Some(o) => o,
             None => out_i,
         };
-        for (o, s) in out_j.iter_mut().zip(&sums_j[..K * BLOCK]) {
+        for (o, s) in out_j.iter_mut().zip(sums_j[..K].iter().flatten()) {
             *o += s.to_f64();
         }
     }
