@@ -6,7 +6,8 @@
 //! structure of arrays, padded to whole blocks). A tile is a pair of blocks `(I, J)`,
 //! `I <= J`: particle `i` of `I` against the particles of `J` in lanes
 //! (`lanes::Lane::WIDTH` at a time; `j > i` on the diagonal; lanes past the last particle
-//! masked, and no masks at all where block `J` is whole and off the diagonal), `a_i` summed in lanes and
+//! masked; block `J` as fixed-size arrays, so that no load needs a bounds check), `a_i`
+//! summed in lanes and
 //! reduced in lane order at the end of the row, `b_j` added lane-wise to block `J`.
 //! The tiles are scheduled in rounds in which every block appears at most once (the
 //! diagonal tiles, then the off-diagonal ones by the circle method of round-robin
@@ -244,8 +245,6 @@ impl<P: LaneProduct<K>, E: Element, const K: usize> WithLanes for Tile<'_, P, E,
         let xj: [&[E; BLOCK]; 3] = std::array::from_fn(|k| block(&soa.x[k], j0));
         let aj = block(&soa.a, j0);
         let vj: [&[E; BLOCK]; K] = std::array::from_fn(|c| block(&soa.v[c], j0));
-        // every lane of every chunk a pair to count: off the diagonal, block J whole
-        let whole = !diagonal && j0 + BLOCK <= soa.n;
         for ii in 0..BLOCK {
             let i = i0 + ii;
             if i >= soa.n {
@@ -260,29 +259,22 @@ impl<P: LaneProduct<K>, E: Element, const K: usize> WithLanes for Tile<'_, P, E,
             for chunk in first..BLOCK / w {
                 let jj = chunk * w;
                 let j = j0 + jj;
-                let valid = if whole {
-                    None
-                } else {
-                    let index = L::iota() + L::splat(j as f64);
-                    let mut valid = n.gt(index);
-                    if diagonal {
-                        valid = L::and(valid, index.gt(L::splat(i as f64)));
-                    }
-                    if !L::any(valid) {
-                        continue;
-                    }
-                    Some(valid)
-                };
+                let index = L::iota() + L::splat(j as f64);
+                let mut valid = n.gt(index);
+                if diagonal {
+                    valid = L::and(valid, index.gt(L::splat(i as f64)));
+                }
+                if !L::any(valid) {
+                    continue;
+                }
                 let xb: [L; 3] = std::array::from_fn(|k| L::load(&xj[k][jj..]));
                 let ab = L::load(&aj[jj..]);
                 let vb: [L; K] = std::array::from_fn(|c| L::load(&vj[c][jj..]));
                 let (mut pa, mut pb) = product.eval(xa, aa, xb, ab, va, vb);
-                if let Some(valid) = valid {
-                    let zero = L::splat(0.0);
-                    for c in 0..K {
-                        pa[c] = L::select(valid, pa[c], zero);
-                        pb[c] = L::select(valid, pb[c], zero);
-                    }
+                let zero = L::splat(0.0);
+                for c in 0..K {
+                    pa[c] = L::select(valid, pa[c], zero);
+                    pb[c] = L::select(valid, pb[c], zero);
                 }
                 for c in 0..K {
                     acc[c] = acc[c] + pa[c];
