@@ -281,7 +281,7 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
          `jeffery_xc_free_surface`), both independent of the two-sphere series that Eq. 19 uses here.\n\n\
          Time per particle: forming the resistance (assembly of the mobility, Cholesky inverse, lubrication where used) for \
          every configuration of the sweep, divided by the number of configurations and of spheres (the two-sphere \
-         series of a size ratio, formed once per process in 0.6 ms, are formed during the warm-up and not timed).\n",
+         series of a size ratio, formed once per process in 60-95 us, are formed during the warm-up and not timed).\n",
         heights.len(),
         fmt(&heights),
         gaps.len(),
