@@ -7,8 +7,8 @@
 //! `I <= J`: particle `i` of `I` against the particles of `J` in lanes
 //! (`lanes::Lane::WIDTH` at a time; `j > i` on the diagonal; lanes past the last particle
 //! masked; block `J` as fixed-size arrays, so that no load needs a bounds check), `a_i`
-//! summed in lanes and
-//! reduced in lane order at the end of the row, `b_j` added lane-wise to block `J`.
+//! summed in lanes and reduced in lane order at the end of the row, `b_j` added
+//! lane-wise to block `J`.
 //! The tiles are scheduled in rounds in which every block appears at most once (the
 //! diagonal tiles, then the off-diagonal ones by the circle method of round-robin
 //! tournaments), so the tiles of a round run in parallel on disjoint blocks and every
@@ -270,16 +270,12 @@ impl<P: LaneProduct<K>, E: Element, const K: usize> WithLanes for Tile<'_, P, E,
                 let xb: [L; 3] = std::array::from_fn(|k| L::load(&xj[k][jj..]));
                 let ab = L::load(&aj[jj..]);
                 let vb: [L; K] = std::array::from_fn(|c| L::load(&vj[c][jj..]));
-                let (mut pa, mut pb) = product.eval(xa, aa, xb, ab, va, vb);
+                let (pa, pb) = product.eval(xa, aa, xb, ab, va, vb);
                 let zero = L::splat(0.0);
                 for c in 0..K {
-                    pa[c] = L::select(valid, pa[c], zero);
-                    pb[c] = L::select(valid, pb[c], zero);
-                }
-                for c in 0..K {
-                    acc[c] = acc[c] + pa[c];
+                    acc[c] = acc[c] + L::select(valid, pa[c], zero);
                     let slot = &mut sums_j[c][jj..];
-                    (L::load(slot) + pb[c]).store(slot);
+                    (L::load(slot) + L::select(valid, pb[c], zero)).store(slot);
                 }
             }
             for c in 0..K {
