@@ -84,10 +84,10 @@
 //! them (about 10 s of CPU for the seven families, ~30 MB transient memory each) and keeps
 //! the `O(TRUNCATION^2)` numbers `R_{k, m-q, q}` (11 triangles of 20301 numbers, 1.8 MB),
 //! which a process reads on first use (about 2 ms). A [`PairSeries`] for one `lambda`
-//! costs 60-95 us (the 11 triangles' rows interleaved and summed side by side as sums of
-//! products, [`row_sums`]); each evaluation at a separation sums only the terms that add more than
-//! 1e-17 (all of them near contact, about a third at `s' = 4`), the 22 Horner sums side
-//! by side: 0.27 us on average over `s'` in `[2, 4]`, 0.37 us near contact, no allocation
+//! costs 60-95 us (the 11 triangles' rows interleaved and summed side by side as sums
+//! of products, [`row_sums`]); each evaluation at a separation sums only the terms that
+//! add more than 1e-17 (all of them near contact, about a third at `s' = 4`), the 22
+//! Horner sums side by side: 0.27 us on average over `s'` in `[2, 4]`, 0.37 us near contact, no allocation
 //! (test `cost_of_tables_and_calls`).
 //!
 //! The neglected remainder is largest at contact. For `lambda` near 1 the remainders
@@ -350,9 +350,7 @@ impl PairSeries {
             return Err(TwoSphereError::SizeRatio(lambda));
         }
         let truncation = truncation.min(coefficients.truncation);
-        let rows = interleave(coefficients.truncation, |t| {
-            &coefficients.triangles[t as usize]
-        });
+        let rows = interleave(truncation, |t| &coefficients.triangles[t as usize]);
         Ok(Self::summed(lambda, 22, truncation, &rows))
     }
 
