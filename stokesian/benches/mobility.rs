@@ -447,6 +447,52 @@ fn brownian(c: &mut Criterion) {
     g.finish();
 }
 
+/// The FT resistance with lubrication of `N = 300` spheres of radii 0.5-1.5 (random
+/// sequential addition in a cube above the wall, volume fraction 0.2, gaps above 0.02 of
+/// the radii' sum), so that nearly every pair has its own size ratio and its own
+/// two-sphere series: the default pair tolerance (1e-6), 1e-3, every pair corrected,
+/// none.
+fn lubricated_resistance(c: &mut Criterion) {
+    use stokesian::Lubrication;
+    let mut g = c.benchmark_group("polydisperse lubricated resistance");
+    g.sample_size(10).measurement_time(Duration::from_secs(20));
+    let n = 300;
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let side = (n as f64 * 4.19 / 0.2).cbrt();
+    let mut ps: Vec<Particle> = Vec::with_capacity(n);
+    while ps.len() < n {
+        let a = rng.gen_range(0.5..1.5);
+        let x = [
+            rng.gen_range(0.0..side),
+            rng.gen_range(0.0..side),
+            rng.gen_range(1.05 * a..side),
+        ];
+        let clear = |q: &Particle| {
+            let d2: f64 = (0..3).map(|c| (q.x[c] - x[c]).powi(2)).sum();
+            d2.sqrt() > 1.02 * (q.a + a)
+        };
+        if ps.iter().all(clear) {
+            ps.push(Particle { x, a });
+        }
+    }
+    let s = System::new(Confinement::Wall { height: 0.0 }, 1.0, ps, false).unwrap();
+    let coarse = Lubrication {
+        pair_tolerance: 1e-3,
+        ..Lubrication::default()
+    };
+    for (name, lub) in [
+        ("default", Lubrication::default()),
+        ("tolerance 1e-3", coarse),
+        ("everywhere", Lubrication::everywhere()),
+        ("none", Lubrication::none()),
+    ] {
+        g.bench_function(BenchmarkId::new(format!("FT {name}"), n), |b| {
+            b.iter(|| s.resistance(Moments::FT, &lub).unwrap())
+        });
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
     per_pair,
@@ -455,6 +501,7 @@ criterion_group!(
     products_isa,
     dense,
     cholesky,
-    brownian
+    brownian,
+    lubricated_resistance
 );
 criterion_main!(benches);

@@ -30,6 +30,7 @@ use crate::dense::Cholesky;
 use crate::two_sphere::{PairScalars, PairSeries};
 use kernels::{basis_both, basis_rows, pair, self_mobility, Confinement};
 use nalgebra::{DMatrix, SMatrix};
+use rayon::prelude::*;
 use std::f64::consts::PI;
 use thiserror::Error;
 
@@ -52,13 +53,17 @@ pub struct Lubrication {
 }
 
 impl Default for Lubrication {
-    /// Pairs: tolerance 1e-3 (the correction kept in full out to `s' = 9.3` at FT and
-    /// `s' = 5.6` at FTS, `s' = 2r/(a1 + a2)`). Wall: no cutoff (`INFINITY`): the exact
-    /// sphere-wall functions from the tables wherever they differ from the far field by
-    /// more than 1e-12, so that the resistance is continuous and smooth in the height.
+    /// Pairs: tolerance 1e-6 (the correction kept in full out to `s' = 52.3` at FT and
+    /// `s' = 17.6` at FTS, `s' = 2r/(a1 + a2)`), so that two spheres get the exact
+    /// functions to 1e-6 of the smaller sphere's drag at every separation; 1e-3 (out to
+    /// `s' = 9.3` and 5.6) costs a third less in a dense suspension and drops
+    /// corrections that add up to ~1e-2 there (README). Wall: no cutoff (`INFINITY`):
+    /// the exact sphere-wall functions from the tables wherever they differ from the far
+    /// field by more than 1e-12, so that the resistance is continuous and smooth in the
+    /// height.
     fn default() -> Self {
         Lubrication {
-            pair_tolerance: 1e-3,
+            pair_tolerance: 1e-6,
             wall_cutoff: f64::INFINITY,
         }
     }
@@ -462,19 +467,49 @@ fn add_correction(
     known: usize,
     weight: f64,
 ) -> Result<(), ResistanceError> {
+    let c = correction(exact, far, k, known, weight)?;
+    scatter(r, idx, &c, k, known);
+    Ok(())
+}
+
+/// `weight (exact - far^-1)` in the layout of `far` (particles of `k` components; `exact`
+/// holds the leading `known` of each), zero where the exact resistance is not known.
+fn correction(
+    exact: &DMatrix<f64>,
+    far: DMatrix<f64>,
+    k: usize,
+    known: usize,
+    weight: f64,
+) -> Result<DMatrix<f64>, ResistanceError> {
     let far_inv = Cholesky::new(&far)
         .ok_or(ResistanceError::MobilityNotPositiveDefinite)?
         .inverse();
-    let ek = exact.nrows() / (idx.len() / k); // components per particle in `exact`
+    let ek = exact.nrows() / (far.nrows() / k); // components per particle in `exact`
     let local = |i: usize| (i / k) * ek + i % k;
+    Ok(DMatrix::from_fn(far.nrows(), far.ncols(), |i, j| {
+        if i % k < known && j % k < known {
+            weight * (exact[(local(i), local(j))] - far_inv[(i, j)])
+        } else {
+            0.0
+        }
+    }))
+}
+
+/// Add the correction `c` (from [`correction`]) to `r` on the rows and columns `idx`.
+fn scatter(r: &mut DMatrix<f64>, idx: &[usize], c: &DMatrix<f64>, k: usize, known: usize) {
     for i in 0..idx.len() {
         for j in 0..idx.len() {
             if i % k < known && j % k < known {
-                r[(idx[i], idx[j])] += weight * (exact[(local(i), local(j))] - far_inv[(i, j)]);
+                r[(idx[i], idx[j])] += c[(i, j)];
             }
         }
     }
-    Ok(())
+}
+
+/// The distance between two centres.
+fn distance(x: [f64; 3], y: [f64; 3]) -> f64 {
+    let d: [f64; 3] = std::array::from_fn(|c| y[c] - x[c]);
+    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
 }
 
 impl System {
@@ -528,13 +563,15 @@ impl System {
             }
         }
         // R^P - R^{P,inf}, per close pair; the two-sphere series built once per size
-        // ratio in the process (all 22 functions at FTS, the ten force-torque ones at FT)
+        // ratio in the process (all 22 functions at FTS, the ten force-torque ones at FT),
+        // summed only as far as the closest pair of that ratio so far needs
         let window = lub.pair_window(moments);
-        let series_for =
-            |lambda: f64| PairSeries::cached(lambda, k != 11).map_err(ResistanceError::TwoSphere);
+        let series_for = |lambda: f64, s_dash: f64| {
+            PairSeries::cached_at(lambda, k != 11, s_dash).map_err(ResistanceError::TwoSphere)
+        };
         // R^W - R^{W,inf} at a free surface: a pair correction, sphere and image
         if let Confinement::FreeSurface { height } = *self.confinement() {
-            let series = series_for(1.0)?;
+            let series = PairSeries::cached(1.0, k != 11).map_err(ResistanceError::TwoSphere)?;
             for (a, p) in ps.iter().enumerate() {
                 let s_dash = 2.0 * (p.x[2] - height) / p.a;
                 let weight = pair_weight(s_dash, window);
@@ -548,25 +585,37 @@ impl System {
                 add_correction(&mut r, &idx, &exact, far, k, k, weight)?;
             }
         }
-        for a in 0..n {
-            for b in a + 1..n {
-                let (p, q) = (&ps[a], &ps[b]);
-                let dx: [f64; 3] = std::array::from_fn(|c| q.x[c] - p.x[c]);
-                let dist = (dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]).sqrt();
-                let s_dash = 2.0 * dist / (p.a + q.a);
+        // the pairs within the window, in order; their corrections evaluated in parallel
+        // and added in that order, so the sum does not depend on the threads
+        let close: Vec<(usize, usize, f64, f64)> = (0..n)
+            .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
+            .filter_map(|(a, b)| {
+                let s_dash = 2.0 * distance(ps[a].x, ps[b].x) / (ps[a].a + ps[b].a);
                 let weight = pair_weight(s_dash, window);
-                if weight == 0.0 {
-                    continue;
-                }
-                let (si, sj) = (series_for(q.a / p.a)?, series_for(p.a / q.a)?);
-                let d = [dx[0] / dist, dx[1] / dist, dx[2] / dist];
-                let exact = pair_block(eta, s_dash, [(p.a, &si), (q.a, &sj)], d, k)
-                    .map_err(ResistanceError::TwoSphere)?;
+                (weight != 0.0).then_some((a, b, s_dash, weight))
+            })
+            .collect();
+        // (in chunks, so that the corrections waiting to be added stay a few MB)
+        for chunk in close.chunks(2048) {
+            let corrections: Vec<DMatrix<f64>> = chunk
+                .par_iter()
+                .map(|&(a, b, s_dash, weight)| {
+                    let (p, q) = (&ps[a], &ps[b]);
+                    let si = series_for(q.a / p.a, s_dash)?;
+                    let sj = series_for(p.a / q.a, s_dash)?;
+                    let dist = distance(p.x, q.x);
+                    let d: [f64; 3] = std::array::from_fn(|c| (q.x[c] - p.x[c]) / dist);
+                    let exact = pair_block(eta, s_dash, [(p.a, &si), (q.a, &sj)], d, k)
+                        .map_err(ResistanceError::TwoSphere)?;
+                    let far = free_pair_mobility(eta, (p.x, p.a), (q.x, q.a), k);
+                    correction(&exact, far, k, k, weight)
+                })
+                .collect::<Result<_, _>>()?;
+            for (&(a, b, _, _), c) in chunk.iter().zip(&corrections) {
                 let idx: Vec<usize> = (0..2 * k)
                     .map(|i| global_index(n, if i < k { a } else { b }, i % k))
                     .collect();
-                let far = free_pair_mobility(eta, (p.x, p.a), (q.x, q.a), k);
-                add_correction(&mut r, &idx, &exact, far, k, k, weight)?;
+                scatter(&mut r, &idx, c, k, k);
             }
         }
         // Exact symmetry (the corrections are symmetric to round-off).

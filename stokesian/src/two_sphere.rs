@@ -85,10 +85,14 @@
 //! the `O(TRUNCATION^2)` numbers `R_{k, m-q, q}` (11 triangles of 20301 numbers, 1.8 MB),
 //! which a process reads on first use (about 2 ms). A [`PairSeries`] for one `lambda`
 //! costs 60-95 us (the 11 triangles' rows interleaved and summed side by side as sums
-//! of products, [`row_sums`]); each evaluation at a separation sums only the terms that
-//! add more than 1e-17 (all of them near contact, about a third at `s' = 4`), the 22
-//! Horner sums side by side: 0.27 us on average over `s'` in `[2, 4]`, 0.37 us near contact, no allocation
-//! (test `cost_of_tables_and_calls`).
+//! of products, [`row_sums`]); each evaluation at a separation sums the terms that may
+//! add more than 1e-17 with every remainder at its bound [`REMAINDER_BOUND`] (all of
+//! them near contact, 37 of 101 rows at `s' = 4`, 16 at `s' = 10`), the 22 Horner sums
+//! side by side: 0.27 us on average over `s'` in `[2, 4]`, 0.37 us near contact, no
+//! allocation. A series for pairs at `s'` and beyond needs only those terms:
+//! [`PairSeries::cached_at`] sums no more (30-37 us at `s' = 4`, 12-16 us at `s' = 10`
+//! against 67-76 us for the whole series, test `cost_of_tables_and_calls`), with the
+//! same values bit for bit.
 //!
 //! The neglected remainder is largest at contact. For `lambda` near 1 the remainders
 //! oscillate in sign with amplitude `~10-200/m^3` (largest for `M`), so the contact
@@ -123,6 +127,10 @@ pub enum TwoSphereError {
     /// `lambda = a2/a1` not finite or outside `[LAMBDA_MIN, 1/LAMBDA_MIN]`.
     #[error("size ratio lambda = {0} must be finite and within [1e-2, 1e2]")]
     SizeRatio(f64),
+    /// A series summed for far pairs ([`PairSeries::cached_at`]) asked for a closer
+    /// separation, which needs terms it does not hold.
+    #[error("separation s' = {0} needs terms beyond those this series was summed to (it was summed for a farther pair)")]
+    Truncated(f64),
 }
 
 /// The ten force-torque resistance functions (Kim & Karrila normalisation, module docs).
@@ -269,6 +277,36 @@ fn half(truncation: usize) -> usize {
 /// Most series [`PairSeries::cached`] keeps.
 pub const CACHED_RATIOS: usize = 4096;
 
+/// A bound on every remainder coefficient `|r_m|` of every function for `LAMBDA_MIN <=
+/// lambda <= 1/LAMBDA_MIN`: ten times the largest over 401 ratios spaced evenly in
+/// `ln lambda` (5.1e3, at `m = 0`; beyond `m = 50` all are below 0.5), test
+/// `remainders_are_below_their_bound`. It sets how many terms a separation may need
+/// before the series is summed ([`rows_for`]).
+const REMAINDER_BOUND: f64 = 5.1e4;
+
+/// How many rows of remainders (powers `t^2j`, `t = 2/s'`) add more than 1e-17 in all at
+/// `t^2 = t2` when no `|r_m|` exceeds `exp(ln_largest)`: the tail beyond is below
+/// `largest t^(2j) / (1 - t^2)`. Not finite at contact (`t2 = 1`).
+fn rows_for(t2: f64, ln_largest: f64) -> f64 {
+    ((1e-17f64.ln() + (1.0 - t2).ln() - ln_largest) / t2.ln()).ceil()
+}
+
+/// The rows a series needs for every separation `s' >= s_dash` (all of them at contact
+/// or for a separation that is not valid).
+fn rows_needed(s_dash: f64) -> usize {
+    let all = half(TRUNCATION);
+    if !(s_dash.is_finite() && s_dash > 2.0) {
+        return all;
+    }
+    let t = 2.0 / s_dash;
+    let rows = rows_for(t * t, REMAINDER_BOUND.ln());
+    if rows.is_finite() {
+        (rows.max(1.0) as usize).min(all)
+    } else {
+        all
+    }
+}
+
 /// The series of all 22 functions for one size ratio: the remainders `r_m` (module docs)
 /// and the singular coefficients. Building it costs `O(TRUNCATION^2)` per function;
 /// evaluating it at a separation at most `O(TRUNCATION)` per function, without
@@ -282,8 +320,14 @@ pub struct PairSeries {
     /// that the 22 Horner sums advance together (independent chains, in vector lanes):
     /// one function after another, each waited on its own chain of dependent steps.
     remainder: Vec<[f64; 22]>,
+    /// Summed for far pairs only ([`PairSeries::cached_at`]): a separation that needs
+    /// more rows than it holds ([`rows_needed`]) is an error.
+    far_only: bool,
     singular: [[f64; 3]; 22],
-    /// `ln` of the largest `|r_m|` of any function: sets how many terms a separation needs.
+    /// `ln` of the largest `|r_m|` of any function: with [`REMAINDER_BOUND`], the larger
+    /// of the two, sets how many terms a separation needs (the bound, within the committed
+    /// range of `lambda`: so every series of a ratio, however far it was summed, sums the
+    /// same terms at a separation, and gives the same values bit for bit).
     ln_largest: f64,
 }
 
@@ -298,7 +342,7 @@ impl PairSeries {
         Self::with_count(lambda, 10)
     }
 
-    /// The series for `lambda` (all 22 functions, or the ten force-torque ones when
+    /// The whole series for `lambda` (all 22 functions, or the ten force-torque ones when
     /// `force_torque_only`) from a process-wide cache: built once per size ratio and
     /// level (60-95 us each), then shared. A lubricated Brownian step forms three
     /// resistances, each needing the series of every size ratio of its close pairs.
@@ -308,20 +352,42 @@ impl PairSeries {
         lambda: f64,
         force_torque_only: bool,
     ) -> Result<std::sync::Arc<PairSeries>, TwoSphereError> {
+        Self::cached_rows(lambda, force_torque_only, half(TRUNCATION))
+    }
+
+    /// As [`PairSeries::cached`], but summed only as far as separations `s' >= s_dash`
+    /// need ([`REMAINDER_BOUND`]): a far pair's costs a fraction of a whole one (module
+    /// docs: about 2/5 at `s' = 4`, 1/5 at `s' = 10`; every term near contact). At those separations its
+    /// values equal the full series' bit for bit (the same terms, summed alike). A closer
+    /// pair of the same ratio replaces the cached series by one with at least twice the
+    /// terms.
+    pub fn cached_at(
+        lambda: f64,
+        force_torque_only: bool,
+        s_dash: f64,
+    ) -> Result<std::sync::Arc<PairSeries>, TwoSphereError> {
+        Self::cached_rows(lambda, force_torque_only, rows_needed(s_dash))
+    }
+
+    fn cached_rows(
+        lambda: f64,
+        force_torque_only: bool,
+        rows: usize,
+    ) -> Result<std::sync::Arc<PairSeries>, TwoSphereError> {
         type Cache = std::sync::Mutex<HashMap<(u64, bool), std::sync::Arc<PairSeries>>>;
         static CACHE: OnceLock<Cache> = OnceLock::new();
         let cache = CACHE.get_or_init(Default::default);
         let key = (lambda.to_bits(), force_torque_only);
-        if let Some(s) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
-            return Ok(s);
-        }
-        let built = std::sync::Arc::new(if force_torque_only {
-            Self::new_ft(lambda)?
-        } else {
-            Self::new(lambda)?
-        });
+        let held = cache.lock().ok().and_then(|c| c.get(&key).cloned());
+        let rows = match held {
+            Some(s) if s.remainder.len() >= rows => return Ok(s),
+            Some(s) => rows.max(2 * s.remainder.len()).min(half(TRUNCATION)),
+            None => rows,
+        };
+        let count = if force_torque_only { 10 } else { 22 };
+        let built = std::sync::Arc::new(Self::with_rows(lambda, count, rows)?);
         if let Ok(mut c) = cache.lock() {
-            if c.len() < CACHED_RATIOS {
+            if c.len() < CACHED_RATIOS || c.contains_key(&key) {
                 c.insert(key, built.clone());
             }
         }
@@ -329,10 +395,18 @@ impl PairSeries {
     }
 
     fn with_count(lambda: f64, count: usize) -> Result<Self, TwoSphereError> {
+        Self::with_rows(lambda, count, half(TRUNCATION))
+    }
+
+    /// The committed series summed to its first `rows` rows (`m <= 2 rows - 1`).
+    fn with_rows(lambda: f64, count: usize, rows: usize) -> Result<Self, TwoSphereError> {
         check_lambda(lambda)?;
         static ROWS: OnceLock<Vec<[f64; SOURCES]>> = OnceLock::new();
-        let rows = ROWS.get_or_init(|| interleave(TRUNCATION, |t| t.triangles()));
-        Ok(Self::summed(lambda, count, TRUNCATION, rows))
+        let all = ROWS.get_or_init(|| interleave(TRUNCATION, |t| t.triangles()));
+        let truncation = (2 * rows.max(1) - 1).min(TRUNCATION);
+        let mut out = Self::summed(lambda, count, truncation, all);
+        out.far_only = truncation < TRUNCATION;
+        Ok(out)
     }
 
     /// The series of all 22 functions for any size ratio `lambda > 0`, summed to `m <=
@@ -360,6 +434,7 @@ impl PairSeries {
             lambda,
             count,
             remainder: vec![[0.0; 22]; half(truncation)],
+            far_only: false,
             singular: [[0.0; 3]; 22],
             ln_largest: 0.0,
         };
@@ -419,10 +494,13 @@ impl PairSeries {
     /// zero).
     pub fn scalars(&self, s_dash: f64) -> Result<PairScalars, TwoSphereError> {
         let geo = Geometry::new(s_dash)?;
+        if self.far_only && rows_needed(s_dash) > self.remainder.len() {
+            return Err(TwoSphereError::Truncated(s_dash));
+        }
         let mut out = [0.0; 22];
         let t2 = geo.t * geo.t;
         // Terms beyond `j` add less than 1e-17 in all: `largest t^(2j) / (1 - t^2)`.
-        let terms = ((1e-17f64.ln() + (1.0 - t2).ln() - self.ln_largest) / t2.ln()).ceil();
+        let terms = rows_for(t2, self.ln_largest.max(REMAINDER_BOUND.ln()));
         let terms = if terms.is_finite() {
             (terms.max(1.0) as usize).min(self.remainder.len())
         } else {
@@ -1279,6 +1357,67 @@ mod tests {
         for l in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert!(PairSeries::from_coefficients(&c, l, 4).is_err());
         }
+    }
+
+    /// [`REMAINDER_BOUND`] is ten times every remainder of every function over 401 size
+    /// ratios evenly spaced in `ln lambda` across the committed range (the functions are
+    /// smooth in `lambda`; the largest, 5.1e3, is at `m = 0` and the smallest ratio).
+    #[test]
+    fn remainders_are_below_their_bound() {
+        let mut largest = 0.0f64;
+        for i in 0..=400 {
+            let lambda = LAMBDA_MIN.powf(1.0 - f64::from(i) / 200.0);
+            let s = PairSeries::new(lambda).unwrap();
+            largest = largest.max(s.ln_largest.exp());
+        }
+        println!("largest remainder {largest:e}, bound {REMAINDER_BOUND:e}");
+        assert!(10.0 * largest <= REMAINDER_BOUND * 1.01, "{largest:e}");
+        assert!(
+            largest > 0.5 * REMAINDER_BOUND / 10.0,
+            "the bound is loose: {largest:e}"
+        );
+    }
+
+    /// A series summed for far pairs gives the full series' values bit for bit at the
+    /// separation it was summed for and beyond, is cheaper (fewer rows), and refuses a
+    /// closer separation with a typed error; the cache hands out a longer series for a
+    /// closer pair of the same ratio.
+    #[test]
+    fn series_summed_for_far_pairs_equal_the_full_series() {
+        for lambda in [0.013, 0.37, 1.0, 4.1, 77.0] {
+            let full = PairSeries::new(lambda).unwrap();
+            for s_dash in [2.2, 3.0, 4.0, 10.0, 60.0] {
+                let far = PairSeries::with_rows(lambda, 22, rows_needed(s_dash)).unwrap();
+                assert!(far.remainder.len() <= full.remainder.len());
+                if s_dash >= 4.0 {
+                    // at most 40% of the rows, so at most 1/6 of the cost (37 of 101 at 4)
+                    assert!(far.far_only && 5 * far.remainder.len() < 2 * full.remainder.len());
+                }
+                for s in [s_dash, 1.3 * s_dash, 10.0 * s_dash] {
+                    assert_eq!(
+                        far.scalars(s).unwrap().to_array(),
+                        full.scalars(s).unwrap().to_array(),
+                        "lambda {lambda} summed for {s_dash}, at {s}"
+                    );
+                }
+                if far.far_only {
+                    assert_eq!(
+                        far.scalars(2.1).unwrap_err(),
+                        TwoSphereError::Truncated(2.1)
+                    );
+                }
+            }
+        }
+        // a ratio no other test uses, so that the cache starts without it
+        let lambda = 0.123_456_7;
+        let far = PairSeries::cached_at(lambda, false, 20.0).unwrap();
+        let near = PairSeries::cached_at(lambda, false, 2.5).unwrap();
+        assert!(far.far_only && near.remainder.len() > far.remainder.len());
+        assert!(near.scalars(2.5).is_ok() && far.scalars(2.5).is_err());
+        assert!(std::sync::Arc::ptr_eq(
+            &near,
+            &PairSeries::cached_at(lambda, false, 5.0).unwrap()
+        ));
     }
 
     /// Coefficients built at run time to 80 terms give the committed series where 80

@@ -276,3 +276,38 @@ fn resistance_is_spd_down_to_tiny_gaps() {
         }
     }
 }
+
+/// The pair corrections are evaluated in parallel and added in the order of the pairs,
+/// and the series of each size ratio give the same values however far they were summed
+/// (`PairSeries::cached_at`): the lubricated resistance of unequal spheres near a wall is
+/// the same bit for bit with 1, 2 and 3 threads, FT and FTS, every pair corrected.
+#[test]
+fn resistance_does_not_depend_on_the_number_of_threads() {
+    // 27 spheres of radii 0.5-1.4 on a jittered lattice 1.5-6 radii above the wall,
+    // gaps from 0.1 to several radii: close and far pairs, many size ratios
+    let ps: Vec<Particle> = (0..27)
+        .map(|i| {
+            let (u, v, w) = ((i % 3) as f64, ((i / 3) % 3) as f64, (i / 9) as f64);
+            let a = 0.5 + 0.9 * ((i * 7) % 11) as f64 / 10.0;
+            let x = [3.1 * u + 0.2 * (i % 2) as f64, 3.2 * v, 1.6 + 3.3 * w];
+            Particle { x, a }
+        })
+        .collect();
+    let s = System::new(Confinement::Wall { height: 0.0 }, 1.0, ps, false).unwrap();
+    for moments in [Moments::FT, Moments::FTS] {
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| s.resistance(moments, &Lubrication::everywhere()).unwrap())
+        };
+        let one = run(1);
+        for threads in [2, 3] {
+            assert!(
+                run(threads) == one,
+                "{moments:?}: {threads} threads differ from 1"
+            );
+        }
+    }
+}

@@ -375,11 +375,27 @@ fn cost_of_tables_and_calls() {
         acc += s.scalars(2.5).unwrap().x11a;
     }
     let per_ratio = t0.elapsed() / ratios;
+    // summed only as far as a pair at s' needs (ratios no other test asks for, so that
+    // each is built here)
+    let far: Vec<_> = [4.0, 10.0]
+        .iter()
+        .enumerate()
+        .map(|(k, &s_dash)| {
+            let t0 = std::time::Instant::now();
+            for i in 0..500 {
+                let lambda = 0.051 + 0.037 * f64::from(i) + 0.001 * k as f64;
+                let s = PairSeries::cached_at(lambda, false, s_dash).unwrap();
+                acc += s.scalars(s_dash).unwrap().x11a;
+            }
+            (s_dash, t0.elapsed() / 500)
+        })
+        .collect();
     println!(
         "\ncost (TRUNCATION = {TRUNCATION}): first call (reads the coefficients, unless another test did \
          them) {first:?}; resistance_scalars {per_call:?} per call; PairSeries::scalars \
          {per_eval:?} per call (s' in [2.01, 4]), {per_eval_contact:?} near contact (xi <= 0.02); \
-         PairSeries::new {per_ratio:?} per size ratio (lambda 0.05 to 18)"
+         PairSeries::new {per_ratio:?} per size ratio (lambda 0.05 to 18); \
+         PairSeries::cached_at, a new ratio summed for a pair at s' (and beyond): {far:?}"
     );
     assert!(acc.is_finite() && p.x11a > 1.0);
     assert!(p.x11a.is_finite() && PI > 3.0);
