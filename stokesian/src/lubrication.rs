@@ -591,20 +591,20 @@ impl System {
         let close: Vec<(usize, usize, f64, f64)> = (0..n)
             .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
             .filter_map(|(a, b)| {
-                let s_dash = 2.0 * distance(ps[a].x, ps[b].x) / (ps[a].a + ps[b].a);
-                let weight = pair_weight(s_dash, window);
-                (weight != 0.0).then_some((a, b, s_dash, weight))
+                let dist = distance(ps[a].x, ps[b].x);
+                let weight = pair_weight(2.0 * dist / (ps[a].a + ps[b].a), window);
+                (weight != 0.0).then_some((a, b, dist, weight))
             })
             .collect();
         // (in chunks, so that the corrections waiting to be added stay a few MB)
         for chunk in close.chunks(2048) {
             let corrections: Vec<DMatrix<f64>> = chunk
                 .par_iter()
-                .map(|&(a, b, s_dash, weight)| {
+                .map(|&(a, b, dist, weight)| {
                     let (p, q) = (&ps[a], &ps[b]);
+                    let s_dash = 2.0 * dist / (p.a + q.a);
                     let si = series_for(q.a / p.a, s_dash)?;
                     let sj = series_for(p.a / q.a, s_dash)?;
-                    let dist = distance(p.x, q.x);
                     let d: [f64; 3] = std::array::from_fn(|c| (q.x[c] - p.x[c]) / dist);
                     let exact = pair_block(eta, s_dash, [(p.a, &si), (q.a, &sj)], d, k)
                         .map_err(ResistanceError::TwoSphere)?;
