@@ -30,6 +30,23 @@ fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
 
+/// The lubrication settings of `pair_tolerance` (the library's default without it),
+/// checked; a tolerance without `lubrication` is an error.
+fn lubrication_settings(lubrication: bool, pair_tolerance: Option<f64>) -> PyResult<Lubrication> {
+    let lub = Lubrication::default();
+    let Some(tol) = pair_tolerance else {
+        return Ok(lub);
+    };
+    if !lubrication {
+        return Err(PyValueError::new_err(
+            "pair_tolerance applies with lubrication=True only",
+        ));
+    }
+    let lub = lub.with_pair_tolerance(tol);
+    lub.check().map_err(value_error)?;
+    Ok(lub)
+}
+
 /// A NumPy array (or anything `numpy.asarray` accepts) as `f64`s in C order: borrowed
 /// without a copy when NumPy already holds them contiguously, copied otherwise.
 struct Floats<'py> {
@@ -296,7 +313,7 @@ impl PySystem {
 
     /// Velocities `(N, 3)` and rotation rates `(N, 3)` (None at the F level) of spheres
     /// under `forces` and `torques` (`(N, 3)` or `(3N,)`) and the imposed strain.
-    #[pyo3(signature = (forces, torques = None, strain = None, lubrication = false))]
+    #[pyo3(signature = (forces, torques = None, strain = None, lubrication = false, pair_tolerance = None))]
     fn velocities<'py>(
         &self,
         py: Python<'py>,
@@ -304,6 +321,7 @@ impl PySystem {
         torques: Option<Floats>,
         strain: Option<Floats>,
         lubrication: bool,
+        pair_tolerance: Option<f64>,
     ) -> PyResult<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>)> {
         let n = self.system.len();
         let m = match (&strain, &torques) {
@@ -322,7 +340,7 @@ impl PySystem {
             None => [0.0; 5],
             Some(s) => strain_basis(s)?,
         };
-        let lub = Lubrication::default();
+        let lub = lubrication_settings(lubrication, pair_tolerance)?;
         let s = &self.system;
         let v = py
             .detach(|| s.velocities(m, &x, &e, lubrication.then_some(&lub)))
@@ -340,19 +358,19 @@ impl PySystem {
 
     /// The grand resistance `(kN, kN)` (FT or FTS), with lubrication (Eq. 19) or the
     /// inverse of the far-field mobility.
-    #[pyo3(signature = (moments = "FT", lubrication = true))]
+    #[pyo3(signature = (moments = "FT", lubrication = true, pair_tolerance = None))]
     fn resistance<'py>(
         &self,
         py: Python<'py>,
         moments: &str,
         lubrication: bool,
+        pair_tolerance: Option<f64>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let m = self::moments(moments)?;
         // without lubrication, R = M^-1
-        let lub = if lubrication {
-            Lubrication::default()
-        } else {
-            Lubrication::none()
+        let lub = match lubrication_settings(lubrication, pair_tolerance)? {
+            _ if !lubrication => Lubrication::none(),
+            lub => lub,
         };
         let s = &self.system;
         matrix(
@@ -382,7 +400,7 @@ impl PySystem {
     /// Overdamped Brownian dynamics (see the stub for the options); returns the frames,
     /// `(frames, N, 3)` at F and `(frames, N, 7)` at FT (centre, then orientation
     /// quaternion w, x, y, z).
-    #[pyo3(signature = (steps, dt, kt = 1.0, seed = 0, *, moments = "F", weight = 0.0, repulsion_strength = 0.0, debye_length = 1.0, torque = None, trap = 0.0, scheme = "euler-maruyama", lanczos = None, drift = true, lubrication = false, rfd_step = 1e-3, every = 1, max_rejections = 1000, hydrodynamics = true))]
+    #[pyo3(signature = (steps, dt, kt = 1.0, seed = 0, *, moments = "F", weight = 0.0, repulsion_strength = 0.0, debye_length = 1.0, torque = None, trap = 0.0, scheme = "euler-maruyama", lanczos = None, drift = true, lubrication = false, rfd_step = 1e-3, pair_tolerance = None, every = 1, max_rejections = 1000, hydrodynamics = true))]
     #[allow(clippy::too_many_arguments)]
     fn brownian<'py>(
         &self,
@@ -402,11 +420,13 @@ impl PySystem {
         drift: bool,
         lubrication: bool,
         rfd_step: f64,
+        pair_tolerance: Option<f64>,
         every: usize,
         max_rejections: usize,
         hydrodynamics: bool,
     ) -> PyResult<Bound<'py, PyArray3<f64>>> {
         let m = self::moments(moments)?;
+        let lub = lubrication_settings(lubrication, pair_tolerance)?;
         let scheme = match scheme {
             "euler-maruyama" | "euler_maruyama" => Scheme::EulerMaruyama,
             "fixman" => Scheme::FixmanMidpoint,
@@ -435,7 +455,7 @@ impl PySystem {
             moments: m,
             scheme,
             lubrication: lubrication.then_some(LubricatedDynamics {
-                lubrication: Lubrication::default(),
+                lubrication: lub,
                 rfd_step,
             }),
         };

@@ -94,6 +94,7 @@ class System:
         torques: Optional[ArrayLike] = None,
         strain: Optional[ArrayLike] = None,
         lubrication: bool = False,
+        pair_tolerance: Optional[float] = None,
     ) -> Tuple[npt.NDArray[np.float64], Optional[npt.NDArray[np.float64]]]:
         """Velocities (N, 3) and rotation rates (N, 3) of the spheres under ``forces``
         and ``torques`` (on the fluid = on the particles; shape (N, 3) or (3N,)) in a
@@ -104,12 +105,22 @@ class System:
         FT (torques given, or ``lubrication``), FTS (``strain`` given: stresslets solved
         for, velocities relative to the ambient flow at each centre). ``lubrication``:
         the resistance of Eq. 19 (exact sphere-wall and two-sphere functions) solved by
-        Cholesky; ValueError above a condition estimate of 1e14."""
-    def resistance(self, moments: Moments = "FT", lubrication: bool = True) -> npt.NDArray[np.float64]:
+        Cholesky; ValueError above a condition estimate of 1e14. ``pair_tolerance``
+        (with ``lubrication``; default 1e-6): as in ``resistance``."""
+    def resistance(
+        self,
+        moments: Moments = "FT",
+        lubrication: bool = True,
+        pair_tolerance: Optional[float] = None,
+    ) -> npt.NDArray[np.float64]:
         """The grand resistance (kN, kN), FT or FTS, same layout as the mobility; rows
         are what the particles exert on the fluid, columns (U - U_inf, Omega - Omega_inf,
         -E_inf). With ``lubrication`` Eq. 19, otherwise the inverse of the far-field
-        mobility."""
+        mobility. ``pair_tolerance`` (default 1e-6, as ``--pair-tolerance``): each pair's
+        exact two-sphere correction is kept where it may exceed this fraction of the
+        smaller sphere's drag, and switched off smoothly beyond (0: every pair; inf:
+        none; 1e-3 is cheaper in a dense suspension); ValueError if negative or NaN, or
+        given without ``lubrication``."""
     def divergence(self, moments: Moments = "F") -> npt.NDArray[np.float64]:
         """``div M`` (3N at F; 6N at FT, the translational then the rotational rows),
         ``sum_b sum_j d/dx_bj M^ab_ij``, exact, from the generated divergence kernels;
@@ -132,6 +143,7 @@ class System:
         drift: bool = True,
         lubrication: bool = False,
         rfd_step: float = 1e-3,
+        pair_tolerance: Optional[float] = None,
         every: int = 1,
         max_rejections: int = 1000,
         hydrodynamics: bool = True,
@@ -151,7 +163,8 @@ class System:
         Fixman's midpoint; lanczos: tolerance of a Lanczos square root instead of
         Cholesky; drift: False leaves the drift out (wrong near a boundary; for
         comparison); lubrication: Brownian Stokesian dynamics with the resistance of
-        Eq. 19 (drift by a random finite difference of step ``rfd_step`` radii);
+        Eq. 19 (drift by a random finite difference of step ``rfd_step`` radii;
+        ``pair_tolerance`` as in ``resistance``);
         every: keep every K-th step (step 0 always); max_rejections: invalid steps (a
         sphere through a boundary or another) are redrawn, at most this many;
         hydrodynamics: False gives each sphere its isolated Stokes mobility.

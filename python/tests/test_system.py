@@ -130,6 +130,36 @@ def test_resistance_equals_cli_bit_for_bit(tmp_path, cli, moments):
     assert np.allclose(r0 @ s.mobility(moments), np.eye(len(r0)), rtol=0, atol=1e-12)
 
 
+def test_pair_tolerance_equals_cli_bit_for_bit(tmp_path, cli):
+    positions = np.array([[0.0, 0.0, 1.6], [2.4, 0.2, 1.4], [-0.3, 2.5, 2.2]])
+    s = stokesian.System(positions, 1.0)
+    p = write_particles(tmp_path / "p.csv", positions, 1.0)
+    got = {}
+    for tol in ["0", "1e-3", "inf"]:
+        got[tol] = s.resistance("FT", pair_tolerance=float(tol))
+        cli("resistance", "--confinement", "wall", "--moments", "FT", "--particles", p,
+            "--pair-tolerance", tol, "--out", tmp_path / "r.npy")
+        assert np.array_equal(got[tol], np.load(tmp_path / "r.npy"))
+    # the default is 1e-6; the closest pair (s' = 2.42) is corrected at 1e-3, not at inf
+    assert np.array_equal(s.resistance("FT"), s.resistance("FT", pair_tolerance=1e-6))
+    assert np.linalg.norm(got["1e-3"] - got["inf"]) > 1e-3 * np.linalg.norm(got["inf"])
+    forces = np.array([[0.0, 0.0, -1.0], [0.5, 0.0, 0.0], [0.0, 0.2, 0.0]])
+    u, _ = s.velocities(forces, lubrication=True, pair_tolerance=1e-3)
+    cli("velocity", "--confinement", "wall", "--moments", "FT", "--particles", p,
+        "--forces", write_forces(tmp_path / "f.csv", forces, np.zeros((3, 3))),
+        "--lubrication", "--pair-tolerance", "1e-3", "--out", tmp_path / "u.csv")
+    assert np.array_equal(u, read_csv(tmp_path / "u.csv")[:, :3])
+    for bad in [-1.0, float("nan")]:
+        with pytest.raises(ValueError, match="pair tolerance is .*: it must be a number >= 0"):
+            s.resistance("FT", pair_tolerance=bad)
+        with pytest.raises(ValueError, match="pair tolerance"):
+            s.brownian(1, 1e-3, lubrication=True, pair_tolerance=bad)
+    with pytest.raises(ValueError, match="with lubrication=True only"):
+        s.resistance("FT", lubrication=False, pair_tolerance=1e-3)
+    with pytest.raises(ValueError, match="with lubrication=True only"):
+        s.velocities(forces, pair_tolerance=1e-3)
+
+
 @pytest.mark.parametrize(
     "moments,options,flags",
     [

@@ -344,6 +344,11 @@ impl Brownian {
             if !(lub.rfd_step > 0.0 && lub.rfd_step.is_finite()) {
                 return bad("rfd_step", lub.rfd_step, positive);
             }
+            if let Err(crate::ResistanceError::Setting { what, value, need }) =
+                lub.lubrication.check()
+            {
+                return bad(what, value, need);
+            }
         }
         if self.scheme == Scheme::FixmanMidpoint && !self.drift {
             return Err(BrownianError::Unsupported(

@@ -97,6 +97,35 @@ impl Lubrication {
         }
     }
 
+    /// The same with the pair tolerance `tol` ([`Lubrication::pair_tolerance`]).
+    pub fn with_pair_tolerance(self, tol: f64) -> Self {
+        Lubrication {
+            pair_tolerance: tol,
+            ..self
+        }
+    }
+
+    /// The settings are usable: a pair tolerance `>= 0` (`INFINITY` switches the pair
+    /// correction off) and a wall cutoff that is not NaN. [`System::resistance`] checks
+    /// them before anything is computed.
+    pub fn check(&self) -> Result<(), ResistanceError> {
+        if self.pair_tolerance.is_nan() || self.pair_tolerance < 0.0 {
+            return Err(ResistanceError::Setting {
+                what: "pair tolerance",
+                value: self.pair_tolerance,
+                need: "must be a number >= 0 (0: every pair corrected; inf: none)",
+            });
+        }
+        if self.wall_cutoff.is_nan() {
+            return Err(ResistanceError::Setting {
+                what: "wall cutoff",
+                value: self.wall_cutoff,
+                need: "must be a number (inf: every height; 0 or below: no wall correction)",
+            });
+        }
+        Ok(())
+    }
+
     /// The separations `(s0, s1)`, `s' = 2r/(a1 + a2)`, between which the pair correction
     /// is switched off: in full below `s0 = (C/tol)^(1/k)` (the bound of `PAIR_DECAY`, so
     /// that beyond `s0` it is below the tolerance), times a quintic smoothstep falling
@@ -126,6 +155,16 @@ fn pair_weight(s_dash: f64, (s0, s1): (f64, f64)) -> f64 {
 /// Why a resistance cannot be formed.
 #[derive(Debug, Error, PartialEq)]
 pub enum ResistanceError {
+    /// A setting of [`Lubrication`] out of its range.
+    #[error("lubrication: the {what} is {value}: it {need}")]
+    Setting {
+        /// Which setting.
+        what: &'static str,
+        /// Its value.
+        value: f64,
+        /// What it must be.
+        need: &'static str,
+    },
     /// The F level has no rotations, so no resistance with lubrication.
     #[error("lubrication needs torques and rotations: use FT or FTS (asked for {0:?})")]
     Unsupported(Moments),
@@ -530,6 +569,7 @@ impl System {
             Moments::FTS => 11,
             Moments::F => return Err(ResistanceError::Unsupported(moments)),
         };
+        lub.check()?;
         let n = self.len();
         let eta = self.viscosity();
         let ps = self.particles();

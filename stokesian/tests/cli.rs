@@ -1007,6 +1007,72 @@ fn resistance_and_lubricated_velocity() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `--pair-tolerance` reaches the library: `resistance` equals
+/// `System::resistance` with that tolerance bit for bit (0: every pair corrected; inf:
+/// none, which differs where the spheres are close); a negative or NaN tolerance, the
+/// option on `mobility`, or on `velocity` without `--lubrication` fail with a message.
+#[test]
+fn pair_tolerance_option() {
+    use stokesian::Lubrication;
+    let dir = Dir::new("pair-tolerance");
+    let p = dir.file("particles.csv", PARTICLES);
+    let resistance = |tol: &str, out: &Path| {
+        let mut args = vec!["resistance"];
+        args.extend(SYSTEM_ARGS);
+        let out = s(out);
+        args.extend(["--moments", "FT", "--particles", s(&p), "--out", out]);
+        args.extend(["--pair-tolerance", tol]);
+        run(&args)
+    };
+    let mut got = Vec::new();
+    for (tol, value) in [("0", 0.0), ("1e-3", 1e-3), ("inf", f64::INFINITY)] {
+        let out = dir.path(&format!("R-{tol}.npy"));
+        assert_ok(&resistance(tol, &out));
+        let lub = Lubrication::default().with_pair_tolerance(value);
+        let want = system(WALL).resistance(Moments::FT, &lub).unwrap();
+        let m = read_npy(&out);
+        assert_bit_equal(&m, &want, &format!("--pair-tolerance {tol}"));
+        got.push(m);
+    }
+    // the closest pair (s' = 2.56) is corrected at 1e-3 (out to s' = 9.3), not at inf;
+    // the relative change is of the order of the correction there (about 1e-2)
+    assert!((&got[1] - &got[2]).norm() > 1e-3 * got[2].norm());
+    for tol in ["0", "1e-3", "inf"] {
+        fs::remove_file(dir.path(&format!("R-{tol}.npy"))).unwrap();
+    }
+    for tol in ["-1", "nan"] {
+        let o = resistance(tol, &dir.path("R.npy"));
+        assert_fails(
+            &o,
+            &[
+                "--pair-tolerance",
+                "the pair tolerance must be a number >= 0",
+            ],
+            &dir,
+            &["particles.csv"],
+        );
+    }
+    let o = mobility_fails(&dir, PARTICLES, &["--pair-tolerance", "1e-3"]);
+    assert_fails(
+        &o,
+        &["--pair-tolerance does not apply to `mobility`"],
+        &dir,
+        &["particles.csv"],
+    );
+    let f = dir.file("forces.csv", FORCES);
+    let out = dir.path("U.csv");
+    let mut args = vec!["velocity"];
+    args.extend(SYSTEM_ARGS);
+    args.extend(["--moments", "FT", "--particles", s(&p), "--forces", s(&f)]);
+    args.extend(["--out", s(&out), "--pair-tolerance", "1e-3"]);
+    assert_fails(
+        &run(&args),
+        &["--lubrication"],
+        &dir,
+        &["forces.csv", "particles.csv"],
+    );
+}
+
 // ---------------------------------------------------------------------------------
 // `stokesian brownian`
 

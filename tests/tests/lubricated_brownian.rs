@@ -9,8 +9,8 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use std::f64::consts::PI;
 use stokesian::{
-    wall_functions, Brownian, Confinement, ExternalForces, LubricatedDynamics, Lubrication,
-    Moments, Noise, Particle, Scheme, System,
+    wall_functions, Brownian, BrownianError, Confinement, ExternalForces, LubricatedDynamics,
+    Lubrication, Moments, Noise, Particle, ResistanceError, Scheme, System,
 };
 
 const WALL: Confinement = Confinement::Wall { height: 0.0 };
@@ -244,4 +244,70 @@ fn lubricated_heights_follow_boltzmann_only_with_the_drift() {
     assert!(d_with < critical);
     assert!(d_without > critical);
     assert!(rejected < steps / 1000, "{rejected} steps redrawn");
+}
+
+/// Lubrication settings out of range are typed errors before anything is computed: a
+/// negative or NaN pair tolerance and a NaN wall cutoff, from `System::resistance` and
+/// from `Brownian::check`; 0 and infinity are valid (every pair, no pair).
+#[test]
+fn lubrication_settings_out_of_range_are_typed_errors() {
+    let s = System::new(
+        Confinement::Wall { height: 0.0 },
+        1.0,
+        vec![
+            Particle {
+                x: [0.0, 0.0, 1.5],
+                a: 1.0,
+            },
+            Particle {
+                x: [2.5, 0.0, 1.5],
+                a: 0.5,
+            },
+        ],
+        false,
+    )
+    .unwrap();
+    let bad = [
+        Lubrication::default().with_pair_tolerance(-1e-3),
+        Lubrication::default().with_pair_tolerance(f64::NAN),
+        Lubrication {
+            wall_cutoff: f64::NAN,
+            ..Lubrication::default()
+        },
+    ];
+    for lub in bad {
+        for m in [Moments::FT, Moments::FTS] {
+            match s.resistance(m, &lub) {
+                Err(ResistanceError::Setting { .. }) => {}
+                other => panic!("{lub:?} {m:?}: {other:?}"),
+            }
+        }
+        let mut bd = lubricated(Moments::FT, 1e-3, true, NO_FORCES);
+        bd.lubrication.as_mut().unwrap().lubrication = lub;
+        match bd.check() {
+            Err(BrownianError::BadSetting { name, .. }) => {
+                assert!(name == "pair tolerance" || name == "wall cutoff", "{name}")
+            }
+            other => panic!("{lub:?}: {other:?}"),
+        }
+    }
+    for tol in [0.0, f64::INFINITY] {
+        let lub = Lubrication::default().with_pair_tolerance(tol);
+        assert!(s.resistance(Moments::FT, &lub).is_ok());
+        let mut bd = lubricated(Moments::FT, 1e-3, true, NO_FORCES);
+        bd.lubrication.as_mut().unwrap().lubrication = lub;
+        assert!(bd.check().is_ok());
+    }
+    // the message names the setting and its range
+    let e = s
+        .resistance(
+            Moments::FT,
+            &Lubrication::default().with_pair_tolerance(-1.0),
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("pair tolerance is -1: it must be a number >= 0"),
+        "{e}"
+    );
 }

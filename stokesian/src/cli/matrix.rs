@@ -3,6 +3,7 @@
 //! JSON.
 
 use super::error::CliError;
+use super::options::{lubrication, PAIR_TOLERANCE_HELP};
 use super::output::{self, check_out, has_extension, write_atomically};
 use super::system::SystemArgs;
 use clap::Args;
@@ -20,14 +21,23 @@ pub struct MatrixArgs {
     /// writing it; report on stderr, and fail without writing if it is not.
     #[arg(long)]
     pub check: bool,
+    #[arg(long, value_name = "TOL", help = PAIR_TOLERANCE_HELP, allow_hyphen_values = true)]
+    pub pair_tolerance: Option<f64>,
 }
 
 /// Assemble (the resistance if `resistance`), optionally check, and write the matrix.
 pub fn run(args: &MatrixArgs, resistance: bool) -> Result<(), CliError> {
     check_out(&args.out, &["npy", "json"])?;
+    if !resistance && args.pair_tolerance.is_some() {
+        return Err(CliError::Inapplicable {
+            option: "--pair-tolerance",
+            context: "`mobility` (lubrication is in `resistance`)".to_string(),
+        });
+    }
+    let lub = lubrication(args.pair_tolerance)?;
     let pb = &output::spinner();
     pb.set_message("reading particles");
-    let result = assemble_and_write(args, resistance, pb);
+    let result = assemble_and_write(args, resistance.then_some(&lub), pb);
     pb.finish_and_clear();
     let (dim, n, moments) = result?;
     let what = if resistance { "resistance" } else { "mobility" };
@@ -38,27 +48,29 @@ pub fn run(args: &MatrixArgs, resistance: bool) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The work of [`run`]; returns the dimension, the number of spheres and the truncation.
+/// The work of [`run`] (the resistance with `lubrication` if given, else the mobility);
+/// returns the dimension, the number of spheres and the truncation.
 fn assemble_and_write(
     args: &MatrixArgs,
-    resistance: bool,
+    lubrication: Option<&stokesian::Lubrication>,
     pb: &indicatif::ProgressBar,
 ) -> Result<(usize, usize, &'static str), CliError> {
     let setup = args.system.setup()?;
     let n = setup.system.len();
     let moments = setup.moments;
     let dim = moments.moments().per_particle() * n;
-    let what = if resistance { "resistance" } else { "mobility" };
+    let what = if lubrication.is_some() {
+        "resistance"
+    } else {
+        "mobility"
+    };
     pb.set_message(format!(
         "assembling the {dim} x {dim} {} grand {what} of {n} spheres",
         moments.name()
     ));
-    let m = if resistance {
-        setup
-            .system
-            .resistance(moments.moments(), &stokesian::Lubrication::default())?
-    } else {
-        setup.system.mobility(moments.moments())
+    let m = match lubrication {
+        Some(lub) => setup.system.resistance(moments.moments(), lub)?,
+        None => setup.system.mobility(moments.moments()),
     };
     setup.check_finite(m.as_slice(), what)?;
     if args.check {

@@ -137,9 +137,9 @@ enum Command {
         (U, Omega[, -E_inf]), same layout and formats as `mobility`. The exact two-sphere \
         resistance (any size ratio from 1e-2 to 1e2, twin-multipole series to contact) of \
         every pair whose correction may exceed 1e-6 of the smaller sphere's drag (switched \
-        off smoothly beyond), the exact sphere-wall resistance (no-slip walls, every height \
-        up to 1000 radii) and the exact resistance near a free surface (the sphere and its \
-        mirror image) are added to the inverse of the far-field mobility, and their own \
+        off smoothly beyond; --pair-tolerance), the exact sphere-wall resistance (no-slip \
+        walls, every height up to 1000 radii) and the exact resistance near a free \
+        surface (the sphere and its mirror image) are added to the inverse of the far-field mobility, and their own \
         far-field parts subtracted. At FTS the pair and free-surface corrections cover \
         every block; a no-slip wall's only the force-torque blocks (its stresslet blocks \
         keep the far-field inverse).",

@@ -3,7 +3,7 @@
 //! for at FTS, or from the resistance with lubrication.
 
 use super::error::CliError;
-use super::options::parse_components;
+use super::options::{lubrication, parse_components, PAIR_TOLERANCE_HELP};
 use super::output::{self, check_out, write_atomically};
 use super::system::{particle_error, MomentsArg, Setup, SystemArgs};
 use super::table::{self, Columns};
@@ -11,7 +11,7 @@ use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use std::io::Write;
 use std::path::PathBuf;
-use stokesian::{strain_components, Lubrication, Precision, VelocityError};
+use stokesian::{strain_components, Precision, VelocityError};
 
 /// `velocity`: the system, the forces and the output.
 #[derive(Args, Debug)]
@@ -34,6 +34,14 @@ pub struct VelocityArgs {
     /// estimate of R is reported on stderr, and the run fails if it exceeds 1e14.
     #[arg(long)]
     pub lubrication: bool,
+    #[arg(
+        long,
+        value_name = "TOL",
+        help = PAIR_TOLERANCE_HELP,
+        requires = "lubrication",
+        allow_hyphen_values = true
+    )]
+    pub pair_tolerance: Option<f64>,
     /// Arithmetic of the matrix-free product (F and FT without --lubrication): double
     /// (f64 lanes, about 1e-15 per pair) or single (f32 lanes: twice the pairs per
     /// instruction, about 1e-7 relative to the largest velocity; any units of input).
@@ -165,7 +173,7 @@ fn velocity(
     let n = setup.system.len();
     let torques = moments != MomentsArg::F;
     let x = read_forces(args, &setup, torques)?;
-    let lub = Lubrication::default();
+    let lub = lubrication(args.pair_tolerance)?;
     let lubrication = (torques && args.lubrication).then_some(&lub);
     let dim = 11 * n;
     pb.set_message(match (moments, lubrication) {
