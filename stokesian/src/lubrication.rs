@@ -28,7 +28,7 @@
 use crate::assembly::{Moments, System};
 use crate::dense::Cholesky;
 use crate::two_sphere::{PairScalars, PairSeries};
-use kernels::{basis_both, basis_rows, pair, self_mobility, Confinement};
+use kernels::{basis_both, basis_rows, pair, pair_ft, self_ft, self_mobility, Confinement};
 use nalgebra::{DMatrix, SMatrix};
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -275,7 +275,7 @@ type M3 = SMatrix<f64, 3, 3>;
 /// the other sphere, `same` for the "11" functions: `A, B (= R_LU), C` (3x3) and the
 /// stresslet rows `S-U` (`G`), `S-Omega` (`H`), `S-E` (`M`) contracted with the
 /// orthonormal strain basis (5x3, 5x3, 5x5). Tensor forms: lubrication.md 1.2 (Kim &
-/// Karrila sec. 7.2).
+/// Karrila sec. 7.2). Without `stresslets` (FT) the stresslet rows are left zero.
 struct OrderedPair {
     a: M3,
     b: M3,
@@ -285,7 +285,14 @@ struct OrderedPair {
     m: SMatrix<f64, 5, 5>,
 }
 
-fn ordered_pair(eta: f64, radius: f64, f: &PairScalars, same: bool, d: [f64; 3]) -> OrderedPair {
+fn ordered_pair(
+    eta: f64,
+    radius: f64,
+    f: &PairScalars,
+    same: bool,
+    d: [f64; 3],
+    stresslets: bool,
+) -> OrderedPair {
     let pick = |one: f64, two: f64| if same { one } else { two };
     let (xa, ya) = (pick(f.x11a, f.x12a), pick(f.y11a, f.y12a));
     let yb = pick(f.y11b, f.y12b);
@@ -310,6 +317,16 @@ fn ordered_pair(eta: f64, radius: f64, f: &PairScalars, same: bool, d: [f64; 3])
     let a = M3::from_fn(|i, j| sa * (xa * d[i] * d[j] + ya * (dl(i, j) - d[i] * d[j])));
     let c = M3::from_fn(|i, j| sc * (xc * d[i] * d[j] + yc * (dl(i, j) - d[i] * d[j])));
     let b = M3::from_fn(|i, j| sb * yb * (0..3).map(|k| eps3(i, j, k) * d[k]).sum::<f64>());
+    if !stresslets {
+        return OrderedPair {
+            a,
+            b,
+            c,
+            g: SMatrix::zeros(),
+            h: SMatrix::zeros(),
+            m: SMatrix::zeros(),
+        };
+    }
     let g3 = |i: usize, j: usize, k: usize| {
         sg * (xg * (d[i] * d[j] - dl(i, j) / 3.0) * d[k]
             + yg * (d[i] * dl(j, k) + d[j] * dl(i, k) - 2.0 * d[i] * d[j] * d[k]))
@@ -377,7 +394,7 @@ fn pair_block(
         let f = series.scalars(s_dash)?;
         let dd = if al == 0 { d } else { d.map(|v| -v) };
         for be in 0..2 {
-            blocks.push(ordered_pair(eta, radius, &f, al == be, dd));
+            blocks.push(ordered_pair(eta, radius, &f, al == be, dd, k == 11));
         }
     }
     let blk = |al: usize, be: usize| &blocks[2 * al + be];
@@ -473,15 +490,29 @@ fn free_pair_mobility(
     (x2, a2): ([f64; 3], f64),
     k: usize,
 ) -> DMatrix<f64> {
-    let s1 = self_mobility(&Confinement::Free, eta, x1, a1).matrix();
-    let s2 = self_mobility(&Confinement::Free, eta, x2, a2).matrix();
-    let p = pair(&Confinement::Free, eta, x1, a1, x2, a2).matrix();
-    DMatrix::from_fn(2 * k, 2 * k, |i, j| match (i / k, j / k) {
-        (0, 0) => s1[(i, j)],
-        (1, 1) => s2[(i - k, j - k)],
-        (0, 1) => p[(i, j - k)],
-        _ => p[(j, i - k)],
-    })
+    let free = &Confinement::Free;
+    let assemble = |s1: &dyn Fn(usize, usize) -> f64,
+                    s2: &dyn Fn(usize, usize) -> f64,
+                    p: &dyn Fn(usize, usize) -> f64| {
+        DMatrix::from_fn(2 * k, 2 * k, |i, j| match (i / k, j / k) {
+            (0, 0) => s1(i, j),
+            (1, 1) => s2(i - k, j - k),
+            (0, 1) => p(i, j - k),
+            _ => p(j, i - k),
+        })
+    };
+    if k == 6 {
+        // the FT kernels: the FTS ones would compute the stresslet blocks to drop them
+        let s1 = self_ft(free, eta, x1, a1).matrix();
+        let s2 = self_ft(free, eta, x2, a2).matrix();
+        let p = pair_ft(free, eta, x1, a1, x2, a2).matrix();
+        assemble(&|i, j| s1[i][j], &|i, j| s2[i][j], &|i, j| p[i][j])
+    } else {
+        let s1 = self_mobility(free, eta, x1, a1).matrix();
+        let s2 = self_mobility(free, eta, x2, a2).matrix();
+        let p = pair(free, eta, x1, a1, x2, a2).matrix();
+        assemble(&|i, j| s1[(i, j)], &|i, j| s2[(i, j)], &|i, j| p[(i, j)])
+    }
 }
 
 /// Global index (moment-major layout of [`System::mobility`]) of component `c` of

@@ -460,7 +460,13 @@ impl PairSeries {
             } else {
                 &powers[truncation - m..]
             };
-            let sums = row_sums(&rows[tri(m, 0)..=tri(m, m)], p);
+            let row = &rows[tri(m, 0)..=tri(m, m)];
+            let mut sums = [0.0; SOURCES];
+            if count <= 2 * FT_SOURCES {
+                sums[..FT_SOURCES].copy_from_slice(&row_sums::<FT_SOURCES>(row, p));
+            } else {
+                sums = row_sums::<SOURCES>(row, p);
+            }
             // what every function of this parity shares
             let power = (if lambda <= 1.0 { 1.0 } else { lambda } / (1.0 + lambda)).powi(m as i32);
             let odd = m % 2 == 1;
@@ -1089,6 +1095,9 @@ struct Function {
 /// the "12" function of the other parity, so function `k` reads triangle `k / 2`.
 const SOURCES: usize = 11;
 
+/// The triangles of the ten force-torque functions (`x11a` to `y12c`): the first five.
+const FT_SOURCES: usize = 5;
+
 /// The rows of the [`SOURCES`] triangles to `truncation`, interleaved: entry `tri(m, q)`
 /// holds `R_{m-q,q}` of every triangle, so that their sums ([`row_sums`])
 /// advance side by side in vector lanes.
@@ -1113,9 +1122,11 @@ fn interleave<'c>(
 /// `powers` holds `lambda^q` or `lambda^(q-m)`. A sum of products in two partial sums
 /// rather than Horner's chain of dependent steps: the triangles' sums advance side by
 /// side in vector lanes and the products overlap in the pipeline.
-fn row_sums(rows: &[[f64; SOURCES]], powers: &[f64]) -> [f64; SOURCES] {
-    let mut acc = [[0.0; SOURCES]; 2];
-    let add = |acc: &mut [f64; SOURCES], c: &[f64; SOURCES], p: f64| {
+/// Only the first `N` triangles are summed (the force-torque functions read the first
+/// five), each exactly as when all are.
+fn row_sums<const N: usize>(rows: &[[f64; SOURCES]], powers: &[f64]) -> [f64; N] {
+    let mut acc = [[0.0; N]; 2];
+    let add = |acc: &mut [f64; N], c: &[f64; SOURCES], p: f64| {
         for (a, c) in acc.iter_mut().zip(c) {
             *a += c * p;
         }
@@ -1381,11 +1392,21 @@ mod tests {
     /// A series summed for far pairs gives the full series' values bit for bit at the
     /// separation it was summed for and beyond, is cheaper (fewer rows), and refuses a
     /// closer separation with a typed error; the cache hands out a longer series for a
-    /// closer pair of the same ratio.
+    /// closer pair of the same ratio. The force-torque series (which sums five of the
+    /// eleven triangles) gives the full series' force-torque functions bit for bit.
     #[test]
     fn series_summed_for_far_pairs_equal_the_full_series() {
         for lambda in [0.013, 0.37, 1.0, 4.1, 77.0] {
             let full = PairSeries::new(lambda).unwrap();
+            let ft = PairSeries::new_ft(lambda).unwrap();
+            let ft_far = PairSeries::with_rows(lambda, 10, rows_needed(4.0)).unwrap();
+            for s in [2.0001, 2.2, 4.0, 60.0] {
+                let want = full.scalars(s).unwrap().ft();
+                assert_eq!(ft.scalars(s).unwrap().ft(), want, "lambda {lambda} at {s}");
+                if s >= 4.0 {
+                    assert_eq!(ft_far.scalars(s).unwrap().ft(), want);
+                }
+            }
             for s_dash in [2.2, 3.0, 4.0, 10.0, 60.0] {
                 let far = PairSeries::with_rows(lambda, 22, rows_needed(s_dash)).unwrap();
                 assert!(far.remainder.len() <= full.remainder.len());
