@@ -13,6 +13,7 @@ pub mod doublet;
 pub mod exact;
 mod input;
 mod lubrication;
+pub mod pair_tables;
 pub mod tables;
 mod tiled;
 pub mod two_sphere;

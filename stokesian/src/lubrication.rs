@@ -381,17 +381,11 @@ fn ordered_pair(
 /// other sphere; JO84 eq. 1.9, lubrication.md 1.3); the force rows' rotation and strain
 /// columns are the transposes of the other ordered pair's torque and stresslet rows
 /// (`B~^{ab} = (B^{ba})^T`, `G~^{ab} = (G^{ba})^T`, `H~^{ab} = (H^{ba})^T`, JO84 eq. 1.4).
-fn pair_block(
-    eta: f64,
-    s_dash: f64,
-    spheres: [(f64, &PairSeries); 2],
-    d: [f64; 3],
-    k: usize,
-) -> Result<DMatrix<f64>, crate::two_sphere::TwoSphereError> {
+/// `spheres` holds each sphere's radius and the functions seen from it ([`pair_scalars`]).
+fn pair_block(eta: f64, spheres: [(f64, PairScalars); 2], d: [f64; 3], k: usize) -> DMatrix<f64> {
     let mut blocks = Vec::with_capacity(4);
     for al in 0..2 {
-        let (radius, series) = spheres[al];
-        let f = series.scalars(s_dash)?;
+        let (radius, f) = spheres[al];
         let dd = if al == 0 { d } else { d.map(|v| -v) };
         for be in 0..2 {
             blocks.push(ordered_pair(eta, radius, &f, al == be, dd, k == 11));
@@ -426,7 +420,7 @@ fn pair_block(
             }
         }
     }
-    Ok(r)
+    r
 }
 
 /// The self mobility (per-particle layout `[U, Omega, E]`, truncated to `k` = 6 or 11
@@ -473,13 +467,29 @@ fn free_surface_block(
     eta: f64,
     a: f64,
     s_dash: f64,
-    series: &PairSeries,
     k: usize,
-) -> Result<DMatrix<f64>, crate::two_sphere::TwoSphereError> {
-    let pair = pair_block(eta, s_dash, [(a, series), (a, series)], [0.0, 0.0, -1.0], k)?;
+) -> Result<DMatrix<f64>, ResistanceError> {
+    let f = pair_scalars(s_dash, 1.0, k != 11)?;
+    let pair = pair_block(eta, [(a, f), (a, f)], [0.0, 0.0, -1.0], k);
     let r11 = pair.view((0, 0), (k, k));
     let r12 = pair.view((0, k), (k, k));
     Ok(r11 + r12 * mirror(k))
+}
+
+/// The two-sphere functions at `s_dash` seen from a sphere whose partner is `lambda`
+/// times its size (all 22, or the ten force-torque ones when `ft_only`): from the
+/// generated far-pair tables for `s' >= 3` ([`crate::pair_tables`], within 4e-12 of the
+/// series), closer from the series, built once per size ratio in the process and summed
+/// only as far as the closest pair of that ratio so far needs
+/// ([`PairSeries::cached_at`]).
+fn pair_scalars(s_dash: f64, lambda: f64, ft_only: bool) -> Result<PairScalars, ResistanceError> {
+    let count = if ft_only { 10 } else { 22 };
+    if let Some(f) = crate::pair_tables::far_scalars(s_dash, lambda, count) {
+        return Ok(f);
+    }
+    PairSeries::cached_at(lambda, ft_only, s_dash)
+        .and_then(|s| s.scalars(s_dash))
+        .map_err(ResistanceError::TwoSphere)
 }
 
 /// The mobility of an isolated pair of spheres in unbounded fluid, per-particle layout
@@ -634,24 +644,18 @@ impl System {
                 add_correction(&mut r, &idx, &exact, far, k, 6, 1.0)?;
             }
         }
-        // R^P - R^{P,inf}, per close pair; the two-sphere series built once per size
-        // ratio in the process (all 22 functions at FTS, the ten force-torque ones at FT),
-        // summed only as far as the closest pair of that ratio so far needs
+        // R^P - R^{P,inf}, per close pair (all 22 two-sphere functions at FTS, the ten
+        // force-torque ones at FT: pair_scalars)
         let window = lub.pair_window(moments);
-        let series_for = |lambda: f64, s_dash: f64| {
-            PairSeries::cached_at(lambda, k != 11, s_dash).map_err(ResistanceError::TwoSphere)
-        };
         // R^W - R^{W,inf} at a free surface: a pair correction, sphere and image
         if let Confinement::FreeSurface { height } = *self.confinement() {
-            let series = PairSeries::cached(1.0, k != 11).map_err(ResistanceError::TwoSphere)?;
             for (a, p) in ps.iter().enumerate() {
                 let s_dash = 2.0 * (p.x[2] - height) / p.a;
                 let weight = pair_weight(s_dash, window);
                 if weight == 0.0 {
                     continue;
                 }
-                let exact = free_surface_block(eta, p.a, s_dash, &series, k)
-                    .map_err(ResistanceError::TwoSphere)?;
+                let exact = free_surface_block(eta, p.a, s_dash, k)?;
                 let idx: Vec<usize> = (0..k).map(|c| global_index(n, a, c)).collect();
                 let far = single_boundary_self(self.confinement(), eta, p.x, p.a, k);
                 add_correction(&mut r, &idx, &exact, far, k, k, weight)?;
@@ -674,11 +678,10 @@ impl System {
                 .map(|&(a, b, dist, weight)| {
                     let (p, q) = (&ps[a], &ps[b]);
                     let s_dash = 2.0 * dist / (p.a + q.a);
-                    let si = series_for(q.a / p.a, s_dash)?;
-                    let sj = series_for(p.a / q.a, s_dash)?;
+                    let fi = pair_scalars(s_dash, q.a / p.a, k != 11)?;
+                    let fj = pair_scalars(s_dash, p.a / q.a, k != 11)?;
                     let d: [f64; 3] = std::array::from_fn(|c| (q.x[c] - p.x[c]) / dist);
-                    let exact = pair_block(eta, s_dash, [(p.a, &si), (q.a, &sj)], d, k)
-                        .map_err(ResistanceError::TwoSphere)?;
+                    let exact = pair_block(eta, [(p.a, fi), (q.a, fj)], d, k);
                     let far = free_pair_mobility(eta, (p.x, p.a), (q.x, q.a), k);
                     correction(&exact, far, k, k, weight)
                 })
@@ -756,7 +759,8 @@ mod tests {
             PairSeries::new(a1 / a2).unwrap(),
         );
         let d = [0.6, 0.0, 0.8];
-        let r = pair_block(1.3, 2.2, [(a1, &s1), (a2, &s2)], d, 11).unwrap();
+        let (f1, f2) = (s1.scalars(2.2).unwrap(), s2.scalars(2.2).unwrap());
+        let r = pair_block(1.3, [(a1, f1), (a2, f2)], d, 11);
         assert!((&r - r.transpose()).norm() < 1e-12 * r.norm());
         let w = wall_block(1.0, 1.0, 1e-3, [0.0, 0.0, 1.0]);
         assert!((w - w.transpose()).norm() < 1e-14 * w.norm());

@@ -233,7 +233,8 @@ impl PairScalars {
         }
     }
 
-    fn from_array(v: [f64; 22]) -> Self {
+    /// The inverse of [`PairScalars::to_array`].
+    pub fn from_array(v: [f64; 22]) -> Self {
         let [x11a, x12a, y11a, y12a, y11b, y12b, x11c, x12c, y11c, y12c, x11g, x12g, y11g, y12g, y11h, y12h, x11m, x12m, y11m, y12m, z11m, z12m] =
             v;
         PairScalars {
