@@ -3,7 +3,8 @@
 //!
 //! - `R^P`: the exact two-sphere resistance ([`crate::two_sphere`]: Jeffrey & Onishi
 //!   1984 and Jeffrey 1992 as corrected by Townsend 2023, any size ratio, Kim & Karrila
-//!   normalisation; all 22 functions at FTS), for every pair whose correction may
+//!   normalisation; all 22 functions at FTS; for `s' >= 3` from the generated tables of
+//!   [`crate::pair_tables`]), for every pair whose correction may
 //!   exceed a stated tolerance, switched off smoothly beyond ([`Lubrication::pair_window`]:
 //!   no step, no kink); `R^{P,inf}` the inverse of the FT or FTS mobility of the
 //!   isolated pair in unbounded fluid, from our own kernels.

@@ -12,7 +12,7 @@
 //! equal parts of `[mu(1e-2), mu(1e2)]`) of `TERMS x TERMS` coefficients per function.
 //! A pair then costs `TERMS^2` multiply-adds per function and no series: a
 //! polydisperse suspension, where nearly every pair has its own ratio, builds no
-//! series for its pairs beyond `S_MIN` (the series of a new ratio cost 5-20 us; a
+//! series for its pairs beyond `S_MIN` (the series of a new ratio cost 5-60 us; a
 //! process-wide cache holds at most [`crate::two_sphere::CACHED_RATIOS`] of them).
 //! Closer pairs keep the series, which converge to contact.
 //!
@@ -104,12 +104,15 @@ pub fn far_scalars(s_dash: f64, lambda: f64, count: usize) -> Option<PairScalars
     let mut out = [0.0; FUNCTIONS];
     for (k, o) in out.iter_mut().enumerate().take(count.min(FUNCTIONS)) {
         let start = ((k * T_PATCHES + pt) * MU_PATCHES + pm) * PATCH;
-        let c = &data[start..start + PATCH];
-        *o = c
-            .chunks_exact(TERMS)
-            .zip(&ct)
-            .map(|(row, ti)| ti * row.iter().zip(&cm).map(|(c, mj)| c * mj).sum::<f64>())
-            .sum();
+        // sum_j T_j(mu) sum_i T_i(t) c_ij: the inner sums side by side (in vector lanes),
+        // not one chain of dependent additions per row
+        let mut inner = [0.0; TERMS];
+        for (row, ti) in data[start..start + PATCH].chunks_exact(TERMS).zip(&ct) {
+            for (s, c) in inner.iter_mut().zip(row) {
+                *s += ti * c;
+            }
+        }
+        *o = inner.iter().zip(&cm).map(|(s, mj)| s * mj).sum();
     }
     Some(PairScalars::from_array(out))
 }

@@ -390,6 +390,22 @@ fn cost_of_tables_and_calls() {
             (s_dash, t0.elapsed() / 500)
         })
         .collect();
+    // the far-pair tables (s' >= 3): every pair its own ratio, no series
+    let tables: Vec<_> = [10, 22]
+        .iter()
+        .map(|&count| {
+            let t0 = std::time::Instant::now();
+            for i in 0..2000 {
+                let lambda = 0.011 + 0.049 * f64::from(i);
+                let s_dash = 3.0 + 0.01 * f64::from(i);
+                acc += stokesian::pair_tables::far_scalars(s_dash, lambda, count)
+                    .unwrap()
+                    .x11a;
+            }
+            (count, t0.elapsed() / 2000)
+        })
+        .collect();
+    println!("\nfar-pair tables (functions, time per call): {tables:?}");
     println!(
         "\ncost (TRUNCATION = {TRUNCATION}): first call (reads the coefficients, unless another test did \
          them) {first:?}; resistance_scalars {per_call:?} per call; PairSeries::scalars \
