@@ -40,17 +40,24 @@ const PATCH: usize = TERMS * TERMS;
 const LEN: usize = FUNCTIONS * T_PATCHES * MU_PATCHES * PATCH;
 
 /// The coefficients as written by `cargo xtask gen` from [`generate`]: for each function,
-/// `t` patch, `mu` patch, `t` term, the `mu` terms; little-endian `f64`.
-static DATA: &[u8; LEN * 8] = include_bytes!("generated/two_sphere_far.bin");
+/// `t` patch, `mu` patch, `t` term, the `mu` terms; little-endian `f64`. Not typed by its
+/// length, so that a file of another shape (the constants above changed, the file not yet
+/// regenerated) still compiles, and `cargo xtask gen` can write the new one.
+static DATA: &[u8] = include_bytes!("generated/two_sphere_far.bin");
 
-/// The coefficients, read once.
-fn table() -> &'static [f64] {
-    static TABLE: OnceLock<Vec<f64>> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        DATA.chunks_exact(8)
-            .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of eight bytes")))
-            .collect()
-    })
+/// The coefficients, read once; `None` if the file does not have the tables' shape
+/// (then every pair takes the series, and `cargo xtask gen --check` reports the file).
+fn table() -> Option<&'static [f64]> {
+    static TABLE: OnceLock<Option<Vec<f64>>> = OnceLock::new();
+    TABLE
+        .get_or_init(|| {
+            (DATA.len() == LEN * 8).then(|| {
+                DATA.chunks_exact(8)
+                    .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of eight bytes")))
+                    .collect()
+            })
+        })
+        .as_deref()
 }
 
 /// `mu` of `lambda`.
@@ -91,7 +98,8 @@ fn chebyshev_values(x: f64) -> [f64; TERMS] {
 
 /// The first `count` functions (10: the force-torque ones; 22: all, in the order of
 /// [`PairScalars::to_array`]; the others zero) at `s_dash >= S_MIN` and `lambda` in
-/// `[1e-2, 1e2]` from the tables; `None` outside.
+/// `[1e-2, 1e2]` from the tables; `None` outside (or if the committed file does not have
+/// the tables' shape).
 pub fn far_scalars(s_dash: f64, lambda: f64, count: usize) -> Option<PairScalars> {
     if !(s_dash >= S_MIN && (LAMBDA_MIN..=1.0 / LAMBDA_MIN).contains(&lambda)) {
         return None;
@@ -100,7 +108,7 @@ pub fn far_scalars(s_dash: f64, lambda: f64, count: usize) -> Option<PairScalars
     let (lo, hi) = mu_patch(0);
     let (pm, xm) = locate(mu(lambda), lo, hi - lo, MU_PATCHES);
     let (ct, cm) = (chebyshev_values(xt), chebyshev_values(xm));
-    let data = table();
+    let data = table()?;
     let mut out = [0.0; FUNCTIONS];
     for (k, o) in out.iter_mut().enumerate().take(count.min(FUNCTIONS)) {
         let start = ((k * T_PATCHES + pt) * MU_PATCHES + pm) * PATCH;
