@@ -251,22 +251,7 @@ fn lubricated_heights_follow_boltzmann_only_with_the_drift() {
 /// from `Brownian::check`; 0 and infinity are valid (every pair, no pair).
 #[test]
 fn lubrication_settings_out_of_range_are_typed_errors() {
-    let s = System::new(
-        Confinement::Wall { height: 0.0 },
-        1.0,
-        vec![
-            Particle {
-                x: [0.0, 0.0, 1.5],
-                a: 1.0,
-            },
-            Particle {
-                x: [2.5, 0.0, 1.5],
-                a: 0.5,
-            },
-        ],
-        false,
-    )
-    .unwrap();
+    let s = three_spheres();
     let bad = [
         Lubrication::default().with_pair_tolerance(-1e-3),
         Lubrication::default().with_pair_tolerance(f64::NAN),

@@ -3,7 +3,7 @@
 //! lubrication), written frame by frame as CSV or `.npy`.
 
 use super::error::CliError;
-use super::options::{finite, parse_components, positive, PAIR_TOLERANCE_HELP};
+use super::options::{finite, parse_components, positive, PairToleranceArg};
 use super::output::{self, check_out, has_extension, write_atomically, write_npy_header};
 use super::system::{ConfinementArg, MomentsArg, SystemArgs};
 use clap::{Args, ValueEnum};
@@ -169,14 +169,8 @@ pub struct BrownianArgs {
         requires = "lubrication"
     )]
     rfd_step: f64,
-    #[arg(
-        long,
-        value_name = "TOL",
-        help = PAIR_TOLERANCE_HELP,
-        requires = "lubrication",
-        allow_hyphen_values = true
-    )]
-    pair_tolerance: Option<f64>,
+    #[command(flatten)]
+    pair_tolerance: PairToleranceArg,
     /// Write every K-th step (step 0 always).
     #[arg(long, value_name = "K", default_value_t = 1)]
     every: usize,
@@ -270,7 +264,7 @@ pub fn run(args: &BrownianArgs) -> Result<(), CliError> {
             "the random finite difference's step",
         )?;
         Some(stokesian::LubricatedDynamics {
-            lubrication: super::options::lubrication(args.pair_tolerance)?,
+            lubrication: super::options::lubrication(args.pair_tolerance.pair_tolerance)?,
             rfd_step: args.rfd_step,
         })
     } else {

@@ -34,6 +34,20 @@ pub const PAIR_TOLERANCE_HELP: &str = "Lubrication: keep the exact two-sphere co
     corrects every pair, inf none. 1e-3 reaches s' = 2r/(a1 + a2) = 9.3 at FT (5.6 at \
     FTS), the default 1e-6 reaches 52.3 (17.6).";
 
+/// `--pair-tolerance` where it needs `--lubrication` (`velocity`, `brownian`; flattened
+/// into their arguments).
+#[derive(clap::Args, Debug)]
+pub struct PairToleranceArg {
+    #[arg(
+        long,
+        value_name = "TOL",
+        help = PAIR_TOLERANCE_HELP,
+        requires = "lubrication",
+        allow_hyphen_values = true
+    )]
+    pub pair_tolerance: Option<f64>,
+}
+
 /// The lubrication settings of `--pair-tolerance` (the library's default without it).
 pub fn lubrication(pair_tolerance: Option<f64>) -> Result<stokesian::Lubrication, CliError> {
     let lub = stokesian::Lubrication::default();

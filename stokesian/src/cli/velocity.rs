@@ -3,7 +3,7 @@
 //! for at FTS, or from the resistance with lubrication.
 
 use super::error::CliError;
-use super::options::{lubrication, parse_components, PAIR_TOLERANCE_HELP};
+use super::options::{lubrication, parse_components, PairToleranceArg};
 use super::output::{self, check_out, write_atomically};
 use super::system::{particle_error, MomentsArg, Setup, SystemArgs};
 use super::table::{self, Columns};
@@ -34,14 +34,8 @@ pub struct VelocityArgs {
     /// estimate of R is reported on stderr, and the run fails if it exceeds 1e14.
     #[arg(long)]
     pub lubrication: bool,
-    #[arg(
-        long,
-        value_name = "TOL",
-        help = PAIR_TOLERANCE_HELP,
-        requires = "lubrication",
-        allow_hyphen_values = true
-    )]
-    pub pair_tolerance: Option<f64>,
+    #[command(flatten)]
+    pub pair_tolerance: PairToleranceArg,
     /// Arithmetic of the matrix-free product (F and FT without --lubrication): double
     /// (f64 lanes, about 1e-15 per pair) or single (f32 lanes: twice the pairs per
     /// instruction, about 1e-7 relative to the largest velocity; any units of input).
@@ -173,7 +167,7 @@ fn velocity(
     let n = setup.system.len();
     let torques = moments != MomentsArg::F;
     let x = read_forces(args, &setup, torques)?;
-    let lub = lubrication(args.pair_tolerance)?;
+    let lub = lubrication(args.pair_tolerance.pair_tolerance)?;
     let lubrication = (torques && args.lubrication).then_some(&lub);
     let dim = 11 * n;
     pb.set_message(match (moments, lubrication) {
