@@ -479,13 +479,12 @@ fn free_surface_block(
 
 /// The two-sphere functions at `s_dash` seen from a sphere whose partner is `lambda`
 /// times its size (all 22, or the ten force-torque ones when `ft_only`): from the
-/// generated far-pair tables for `s' >= 3` ([`crate::pair_tables`], within 4e-12 of the
-/// series), closer from the series, built once per size ratio in the process and summed
-/// only as far as the closest pair of that ratio so far needs
-/// ([`PairSeries::cached_at`]).
+/// generated tables ([`crate::pair_tables`], far and near, within 1.1e-9 (near) and 3.1e-12 (far) of the series);
+/// only if a committed table file does not have its table's shape, from the series,
+/// built once per size ratio in the process ([`PairSeries::cached_at`]).
 fn pair_scalars(s_dash: f64, lambda: f64, ft_only: bool) -> Result<PairScalars, ResistanceError> {
     let count = if ft_only { 10 } else { 22 };
-    if let Some(f) = crate::pair_tables::far_scalars(s_dash, lambda, count) {
+    if let Some(f) = crate::pair_tables::scalars(s_dash, lambda, count) {
         return Ok(f);
     }
     PairSeries::cached_at(lambda, ft_only, s_dash)

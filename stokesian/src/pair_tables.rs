@@ -1,183 +1,367 @@
-//! Generated tables of the 22 two-sphere resistance functions for separations `s' =
-//! 2r/(a1 + a2) >= S_MIN` (3) and size ratios `lambda = a2/a1` in `[1e-2, 1e2]`: 2-D
-//! Chebyshev fits in `t = 2/s'` and `mu = lambda/(1 + lambda)`, made by `cargo xtask
-//! gen` from the twin-multipole series of [`crate::two_sphere`] and committed in
-//! `src/generated/two_sphere_far.bin`.
+//! Generated tables of the 22 two-sphere resistance functions at every separation `s' =
+//! 2r/(a1 + a2) > 2` and size ratio `lambda = a2/a1` in `[1e-2, 1e2]`: 2-D Chebyshev
+//! fits made by `cargo xtask gen` from the twin-multipole series of
+//! [`crate::two_sphere`] and committed in `src/generated/two_sphere_far.bin` and
+//! `src/generated/two_sphere_near.bin`. No series is built at run time.
 //!
-//! Each function is a power series in `t` with coefficients that are polynomials in
-//! `mu` ([`crate::two_sphere`], module docs): analytic on `t < 1`, so on `t <= 2/3` it
-//! is fitted to round-off by a few Chebyshev terms in each variable, with no singular
-//! part to take out (the lubrication singularities sit at contact, `t = 1`). The tables
-//! hold `T_PATCHES x MU_PATCHES` patches (`t` in `[0, 1/3]`, `[1/3, 2/3]`; `mu` in four
-//! equal parts of `[mu(1e-2), mu(1e2)]`) of `TERMS x TERMS` coefficients per function.
-//! A pair then costs `TERMS^2` multiply-adds per function and no series: a
-//! polydisperse suspension, where nearly every pair has its own ratio, builds no
-//! series for its pairs beyond `S_MIN` (the series of a new ratio cost 5-60 us; a
-//! process-wide cache holds at most [`crate::two_sphere::CACHED_RATIOS`] of them).
-//! Closer pairs keep the series, which converge to contact.
+//! - **Far** (`s' >= S_MIN = 3`): each function is a power series in `t = 2/s'` with
+//!   coefficients that are polynomials in `mu = lambda/(1 + lambda)` ([`crate::two_sphere`],
+//!   module docs): analytic on `t < 1`, so on `t <= 2/3` it is fitted to round-off in `t`
+//!   and `mu` with no singular part to take out (the lubrication singularities sit at
+//!   contact, `t = 1`).
+//! - **Near** (`2 < s' < 3`, gap `xi = s' - 2` in `(0, 1)`): the series' closed forms
+//!   carry the singular terms `1/xi`, `ln(1/xi)` and `xi ln(1/xi)` exactly
+//!   ([`crate::two_sphere::singular_parts`], evaluated at run time); the tables fit only
+//!   the regular remainder ([`crate::two_sphere::PairSeries::regular`]), continuous up to
+//!   contact, in `u = ln xi` and `ln lambda`. In `u` the remainder's first non-analytic
+//!   term, `xi^2 ln xi`, is smooth, and the remainder tends to its contact value
+//!   exponentially as `u -> -infinity`. The table reaches `xi = exp(U_MIN)` (2.3e-16),
+//!   below the smallest gap of a separation in `f64` (`s' - 2` is a multiple of
+//!   4.4e-16), so it covers every separation with no clamp (tried: cut at `xi = 3.8e-11`
+//!   and held constant below, the remainder's `O(xi)` slope, up to a few hundred at
+//!   `lambda = 100`, left 3e-9 at `xi = 1e-14`). The patches in `u` shrink towards
+//!   `xi = 1`, where the remainder varies most;
+//!   `ln lambda` resolves the large-ratio remainders near contact, which vary too fast in
+//!   `mu` near `mu = 1` for a few patches (tried: 16 patches in `mu` were still 2.7e-2
+//!   off, 8 in `ln lambda` 6e-10).
+//!
+//! Each table holds, patch by patch (separation variable, then ratio variable), every
+//! function's `terms x RATIO_TERMS` coefficients, so a pair reads one contiguous block
+//! and costs `terms x RATIO_TERMS` multiply-adds per function.
 //!
 //! Accuracy against the series between the nodes (`tests/tests/two_sphere_tables.rs`):
 //! see README ("Resistance with lubrication").
 
 use crate::tables::{chebyshev_coefficients, chebyshev_nodes};
-use crate::two_sphere::{PairScalars, PairSeries, LAMBDA_MIN};
+use crate::two_sphere::{singular_parts, PairScalars, PairSeries, LAMBDA_MIN};
+use kernels::lanes::{Lane, WithLanes};
 use std::sync::OnceLock;
 
-/// The smallest separation `s'` of the tables.
+/// The smallest separation `s'` of the far table, the largest (excluded) of the near one.
 pub const S_MIN: f64 = 3.0;
-/// Patches in `t = 2/s'` (equal parts of `[0, 2/S_MIN]`).
-pub const T_PATCHES: usize = 2;
-/// Patches in `mu = lambda/(1 + lambda)` (equal parts of `[mu(LAMBDA_MIN),
-/// mu(1/LAMBDA_MIN)]`).
-pub const MU_PATCHES: usize = 4;
-/// Chebyshev coefficients per variable and patch (degree + 1).
-pub const TERMS: usize = 16;
+/// `ln xi` at the near table's contact end (`xi` = 2.3e-16, below the smallest gap of a
+/// separation `s' > 2` in `f64`; a smaller `ln xi` would be taken as `U_MIN`).
+pub const U_MIN: f64 = -36.0;
+/// Chebyshev coefficients in the ratio variable, per patch (degree + 1), in both tables.
+pub const RATIO_TERMS: usize = 16;
 /// The functions, in the order of [`PairScalars::to_array`].
 const FUNCTIONS: usize = 22;
-/// Coefficients of one function on one patch.
-const PATCH: usize = TERMS * TERMS;
-/// Numbers in the tables.
-const LEN: usize = FUNCTIONS * T_PATCHES * MU_PATCHES * PATCH;
+/// The most Chebyshev coefficients in a separation variable.
+// (RATIO_TERMS a multiple of every lane width: the ratio terms fill whole vectors; the
+// separation terms even: the rows are summed two at a time, `PatchSums`)
+const _: () = assert!(RATIO_TERMS.is_multiple_of(kernels::lanes::MAX_WIDTH));
+const _: () =
+    assert!(FAR.separation.terms.is_multiple_of(2) && NEAR.separation.terms.is_multiple_of(2));
+const MAX_TERMS: usize = 20;
 
-/// The coefficients as written by `cargo xtask gen` from [`generate`]: for each function,
-/// `t` patch, `mu` patch, `t` term, the `mu` terms; little-endian `f64`. Not typed by its
-/// length, so that a file of another shape (the constants above changed, the file not yet
-/// regenerated) still compiles, and `cargo xtask gen` can write the new one.
-static DATA: &[u8] = include_bytes!("generated/two_sphere_far.bin");
-
-/// The coefficients, read once; `None` if the file does not have the tables' shape
-/// (then every pair takes the series, and `cargo xtask gen --check` reports the file).
-fn table() -> Option<&'static [f64]> {
-    static TABLE: OnceLock<Option<Vec<f64>>> = OnceLock::new();
-    TABLE
-        .get_or_init(|| {
-            (DATA.len() == LEN * 8).then(|| {
-                DATA.chunks_exact(8)
-                    .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of eight bytes")))
-                    .collect()
-            })
-        })
-        .as_deref()
+/// One variable of a table: `patches` parts of `[lo, hi]`, part `k` ending at `hi - (hi -
+/// lo) (1 - (k + 1)/patches)^grading` (equal parts for `grading = 1`, shrinking towards
+/// `hi` for larger), with `terms` Chebyshev coefficients on each.
+#[derive(Clone, Copy, Debug)]
+struct Axis {
+    lo: f64,
+    hi: f64,
+    patches: usize,
+    grading: i32,
+    terms: usize,
 }
 
-/// `mu` of `lambda`.
+impl Axis {
+    /// The left end of part `k` (`k = patches`: `hi`).
+    fn bound(&self, k: usize) -> f64 {
+        if k == 0 {
+            return self.lo;
+        }
+        let left = 1.0 - k as f64 / self.patches as f64;
+        self.hi - (self.hi - self.lo) * left.powi(self.grading)
+    }
+
+    /// The part holding `x` (clamped to the ends) and `x` mapped to `[-1, 1]` on it.
+    fn locate(&self, x: f64) -> (usize, f64) {
+        let mut p = 0;
+        while p + 1 < self.patches && x >= self.bound(p + 1) {
+            p += 1;
+        }
+        let (a, b) = (self.bound(p), self.bound(p + 1));
+        (p, ((2.0 * x - a - b) / (b - a)).clamp(-1.0, 1.0))
+    }
+
+    /// The Chebyshev points of every part.
+    fn nodes(&self) -> Vec<Vec<f64>> {
+        (0..self.patches)
+            .map(|p| chebyshev_nodes(self.bound(p), self.bound(p + 1), self.terms))
+            .collect()
+    }
+}
+
+/// A table: its file, its two variables (separation, ratio) and the coefficients, read once.
+struct Table {
+    file: &'static [u8],
+    separation: Axis,
+    ratio: Axis,
+    read: &'static OnceLock<Option<Vec<f64>>>,
+}
+
+/// `mu = lambda/(1 + lambda)`, the far table's ratio variable.
 fn mu(lambda: f64) -> f64 {
     lambda / (1.0 + lambda)
 }
 
-/// The ends of `t` patch `p`.
-fn t_patch(p: usize) -> (f64, f64) {
-    let w = 2.0 / S_MIN / T_PATCHES as f64;
-    (p as f64 * w, (p + 1) as f64 * w)
+/// `t = 2/s'` on two equal patches of `[0, 2/S_MIN]`; `mu` on four equal patches of
+/// `[mu(1e-2), mu(1e2)]`.
+static FAR: Table = Table {
+    file: include_bytes!("generated/two_sphere_far.bin"),
+    separation: Axis {
+        lo: 0.0,
+        hi: 2.0 / S_MIN,
+        patches: 2,
+        grading: 1,
+        terms: 16,
+    },
+    ratio: Axis {
+        lo: LAMBDA_MIN / (1.0 + LAMBDA_MIN),
+        hi: 1.0 / (1.0 + LAMBDA_MIN),
+        patches: 4,
+        grading: 1,
+        terms: RATIO_TERMS,
+    },
+    read: &FAR_READ,
+};
+static FAR_READ: OnceLock<Option<Vec<f64>>> = OnceLock::new();
+
+/// `u = ln xi` on six patches of `[U_MIN, 0]` shrinking quadratically towards `xi = 1`
+/// (ends -36, -25, -16, -9, -4, -1, 0); `ln lambda` on eight equal patches of
+/// `[ln 1e-2, ln 1e2]`.
+static NEAR: Table = Table {
+    file: include_bytes!("generated/two_sphere_near.bin"),
+    separation: Axis {
+        lo: U_MIN,
+        hi: 0.0,
+        patches: 6,
+        grading: 2,
+        terms: 20,
+    },
+    ratio: Axis {
+        lo: -4.605_170_185_988_091,
+        hi: 4.605_170_185_988_091,
+        patches: 8,
+        grading: 1,
+        terms: RATIO_TERMS,
+    },
+    read: &NEAR_READ,
+};
+static NEAR_READ: OnceLock<Option<Vec<f64>>> = OnceLock::new();
+
+impl Table {
+    /// Numbers in the table.
+    fn len(&self) -> usize {
+        self.separation.patches * self.ratio.patches * FUNCTIONS * self.patch()
+    }
+
+    /// Coefficients of one function on one patch.
+    fn patch(&self) -> usize {
+        self.separation.terms * self.ratio.terms
+    }
+
+    /// The coefficients (little-endian `f64` in the file); `None` if the file does not
+    /// have the table's shape (then the callers take the series, and `cargo xtask gen
+    /// --check` reports the file). Not typed by length, so that a file of another shape
+    /// (the axes changed, the file not yet regenerated) still compiles.
+    fn coefficients(&self) -> Option<&'static [f64]> {
+        self.read
+            .get_or_init(|| {
+                (self.file.len() == self.len() * 8).then(|| {
+                    self.file
+                        .chunks_exact(8)
+                        .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of eight")))
+                        .collect()
+                })
+            })
+            .as_deref()
+    }
+
+    /// The first `count` functions at separation variable `x` and ratio variable `y`.
+    fn evaluate(&self, x: f64, y: f64, count: usize) -> Option<[f64; FUNCTIONS]> {
+        let data = self.coefficients()?;
+        let (px, x) = self.separation.locate(x);
+        let (py, y) = self.ratio.locate(y);
+        let cx = chebyshev_values(x, self.separation.terms);
+        let cy: [f64; RATIO_TERMS] = std::array::from_fn({
+            let all = chebyshev_values(y, RATIO_TERMS);
+            move |j| all[j]
+        });
+        let size = self.patch();
+        let start = (px * self.ratio.patches + py) * FUNCTIONS * size;
+        let mut out = [0.0; FUNCTIONS];
+        let count = count.min(FUNCTIONS);
+        kernels::lanes::dispatch(PatchSums {
+            block: &data[start..start + count * size],
+            cx: &cx[..self.separation.terms],
+            cy: &cy,
+            out: &mut out[..count],
+        });
+        Some(out)
+    }
+
+    /// The table's contents: every function's coefficients on every patch, from
+    /// `values(ratio node) -> (separation node -> the 22 values)` at the Chebyshev points
+    /// of the first kind (each ratio node's series built once, in parallel).
+    fn generate<F>(&self, values: F) -> Vec<u8>
+    where
+        F: Fn(f64, &[f64]) -> Vec<[f64; FUNCTIONS]> + Sync,
+    {
+        use rayon::prelude::*;
+        let (sx, sy) = (self.separation.nodes(), self.ratio.nodes());
+        let flat: Vec<f64> = sx.concat();
+        // at[py][j][px * terms + i]: the functions at ratio node j of patch py and
+        // separation node i of patch px
+        let at: Vec<Vec<Vec<[f64; FUNCTIONS]>>> = sy
+            .iter()
+            .map(|nodes| nodes.par_iter().map(|&y| values(y, &flat)).collect())
+            .collect();
+        let (nx, ny) = (self.separation.terms, self.ratio.terms);
+        let mut out = Vec::with_capacity(self.len() * 8);
+        for px in 0..self.separation.patches {
+            for at_y in &at {
+                for k in 0..FUNCTIONS {
+                    // along the ratio for each separation node, then along the
+                    // separation for each ratio term
+                    let rows: Vec<Vec<f64>> = (0..nx)
+                        .map(|i| {
+                            let v: Vec<f64> = at_y.iter().map(|v| v[px * nx + i][k]).collect();
+                            chebyshev_coefficients(&v)
+                        })
+                        .collect();
+                    let mut patch = vec![0.0; nx * ny];
+                    for j in 0..ny {
+                        let c =
+                            chebyshev_coefficients(&rows.iter().map(|r| r[j]).collect::<Vec<_>>());
+                        for (i, ci) in c.into_iter().enumerate() {
+                            patch[i * ny + j] = ci;
+                        }
+                    }
+                    out.extend(patch.iter().flat_map(|v| v.to_le_bytes()));
+                }
+            }
+        }
+        out
+    }
 }
 
-/// The ends of `mu` patch `p`.
-fn mu_patch(p: usize) -> (f64, f64) {
-    let (lo, hi) = (mu(LAMBDA_MIN), mu(1.0 / LAMBDA_MIN));
-    let w = (hi - lo) / MU_PATCHES as f64;
-    (lo + p as f64 * w, lo + (p + 1) as f64 * w)
+/// `sum_j T_j(y) sum_i T_i(x) c_ij` of each function of one patch, on the widest vector
+/// lanes of the processor ([`kernels::lanes`]): the ratio terms `j` in lanes, the rows `i`
+/// as multiply-adds into them (independent chains side by side), then one dot product.
+struct PatchSums<'a> {
+    /// The patch's coefficients, function after function, row `i` after row.
+    block: &'a [f64],
+    /// `T_i(x)` of the rows.
+    cx: &'a [f64],
+    /// `T_j(y)`.
+    cy: &'a [f64; RATIO_TERMS],
+    out: &'a mut [f64],
 }
 
-/// The patch of `x` among `n` equal parts starting at `lo` of width `w`, and `x` mapped to
-/// `[-1, 1]` on it (the last patch takes its right end).
-fn locate(x: f64, lo: f64, w: f64, n: usize) -> (usize, f64) {
-    let p = (((x - lo) / w).floor().max(0.0) as usize).min(n - 1);
-    let a = lo + p as f64 * w;
-    (p, 2.0 * (x - a) / w - 1.0)
+impl WithLanes for PatchSums<'_> {
+    type Elem = f64;
+    type Output = ();
+
+    #[inline(always)]
+    fn run<L: Lane<Elem = f64>>(self) {
+        let vectors = RATIO_TERMS / L::WIDTH;
+        let size = self.cx.len() * RATIO_TERMS;
+        for (o, c) in self.out.iter_mut().zip(self.block.chunks_exact(size)) {
+            // even and odd rows in two sets of accumulators: twice the independent chains
+            // (every table has an even number of rows)
+            let (mut even, mut odd) = ([L::splat(0.0); RATIO_TERMS], [L::splat(0.0); RATIO_TERMS]);
+            for (rows, x) in c.chunks_exact(2 * RATIO_TERMS).zip(self.cx.chunks_exact(2)) {
+                let (x0, x1) = (L::splat(x[0]), L::splat(x[1]));
+                for v in 0..vectors {
+                    let j = v * L::WIDTH;
+                    even[v] = L::load(&rows[j..]).mul_add(x0, even[v]);
+                    odd[v] = L::load(&rows[RATIO_TERMS + j..]).mul_add(x1, odd[v]);
+                }
+            }
+            let mut total = L::splat(0.0);
+            for v in 0..vectors {
+                let y = L::load(&self.cy[v * L::WIDTH..]);
+                total = (even[v] + odd[v]).mul_add(y, total);
+            }
+            *o = total.sum();
+        }
+    }
 }
 
-/// `T_0(x) ... T_(TERMS-1)(x)`.
-fn chebyshev_values(x: f64) -> [f64; TERMS] {
-    let mut t = [1.0; TERMS];
+/// `T_0(x) ... T_(terms-1)(x)` (the rest zero).
+fn chebyshev_values(x: f64, terms: usize) -> [f64; MAX_TERMS] {
+    let mut t = [0.0; MAX_TERMS];
+    t[0] = 1.0;
     t[1] = x;
-    for j in 2..TERMS {
+    for j in 2..terms.min(MAX_TERMS) {
         t[j] = 2.0 * x * t[j - 1] - t[j - 2];
     }
     t
 }
 
-/// The first `count` functions (10: the force-torque ones; 22: all, in the order of
-/// [`PairScalars::to_array`]; the others zero) at `s_dash >= S_MIN` and `lambda` in
-/// `[1e-2, 1e2]` from the tables; `None` outside (or if the committed file does not have
-/// the tables' shape).
-pub fn far_scalars(s_dash: f64, lambda: f64, count: usize) -> Option<PairScalars> {
-    if !(s_dash >= S_MIN && (LAMBDA_MIN..=1.0 / LAMBDA_MIN).contains(&lambda)) {
-        return None;
-    }
-    let (pt, xt) = locate(2.0 / s_dash, 0.0, t_patch(0).1, T_PATCHES);
-    let (lo, hi) = mu_patch(0);
-    let (pm, xm) = locate(mu(lambda), lo, hi - lo, MU_PATCHES);
-    let (ct, cm) = (chebyshev_values(xt), chebyshev_values(xm));
-    let data = table()?;
-    let mut out = [0.0; FUNCTIONS];
-    for (k, o) in out.iter_mut().enumerate().take(count.min(FUNCTIONS)) {
-        let start = ((k * T_PATCHES + pt) * MU_PATCHES + pm) * PATCH;
-        // sum_j T_j(mu) sum_i T_i(t) c_ij: the inner sums side by side (in vector lanes),
-        // not one chain of dependent additions per row
-        let mut inner = [0.0; TERMS];
-        for (row, ti) in data[start..start + PATCH].chunks_exact(TERMS).zip(&ct) {
-            for (s, c) in inner.iter_mut().zip(row) {
-                *s += ti * c;
-            }
-        }
-        *o = inner.iter().zip(&cm).map(|(s, mj)| s * mj).sum();
-    }
-    Some(PairScalars::from_array(out))
+/// Whether `lambda` is in the tables' range.
+fn in_range(lambda: f64) -> bool {
+    (LAMBDA_MIN..=1.0 / LAMBDA_MIN).contains(&lambda)
 }
 
-/// The contents of `src/generated/two_sphere_far.bin`: every function's coefficients on
-/// every patch, from the series at the Chebyshev points of the first kind (the series of
-/// each node's ratio built once, in parallel).
-pub fn generate() -> Vec<u8> {
-    use rayon::prelude::*;
-    // values[pm][j][pt][i][k]: function k at mu node j of patch pm, t node i of patch pt
-    let values: Vec<Vec<Vec<Vec<[f64; FUNCTIONS]>>>> = (0..MU_PATCHES)
-        .map(|pm| {
-            let (a, b) = mu_patch(pm);
-            chebyshev_nodes(a, b, TERMS)
-                .into_par_iter()
-                .map(|m| {
-                    let series = PairSeries::new(m / (1.0 - m)).expect("lambda in range");
-                    (0..T_PATCHES)
-                        .map(|pt| {
-                            let (a, b) = t_patch(pt);
-                            chebyshev_nodes(a, b, TERMS)
-                                .into_iter()
-                                .map(|t| {
-                                    series
-                                        .scalars(2.0 / t)
-                                        .expect("separation in range")
-                                        .to_array()
-                                })
-                                .collect()
-                        })
-                        .collect()
-                })
-                .collect()
-        })
-        .collect();
-    let mut out = Vec::with_capacity(LEN * 8);
-    for k in 0..FUNCTIONS {
-        for pt in 0..T_PATCHES {
-            for at_mu in &values {
-                // along mu for each t node, then along t for each mu term
-                let rows: Vec<Vec<f64>> = (0..TERMS)
-                    .map(|i| {
-                        chebyshev_coefficients(
-                            &at_mu.iter().map(|v| v[pt][i][k]).collect::<Vec<_>>(),
-                        )
-                    })
-                    .collect();
-                let mut patch = vec![0.0; PATCH];
-                for j in 0..TERMS {
-                    let c = chebyshev_coefficients(&rows.iter().map(|r| r[j]).collect::<Vec<_>>());
-                    for (i, ci) in c.into_iter().enumerate() {
-                        patch[i * TERMS + j] = ci;
-                    }
-                }
-                out.extend(patch.iter().flat_map(|v| v.to_le_bytes()));
-            }
-        }
+/// The first `count` functions (10: the force-torque ones; 22: all, in the order of
+/// [`PairScalars::to_array`]; the others zero) at any `s_dash > 2` and `lambda` in `[1e-2,
+/// 1e2]`, from the far or the near table; `None` outside (or if a committed file does
+/// not have its table's shape).
+pub fn scalars(s_dash: f64, lambda: f64, count: usize) -> Option<PairScalars> {
+    far_scalars(s_dash, lambda, count).or_else(|| near_scalars(s_dash, lambda, count))
+}
+
+/// The far table: `s_dash >= S_MIN`, else `None` (as [`scalars`]).
+pub fn far_scalars(s_dash: f64, lambda: f64, count: usize) -> Option<PairScalars> {
+    if !(s_dash >= S_MIN && in_range(lambda)) {
+        return None;
     }
-    out
+    FAR.evaluate(2.0 / s_dash, mu(lambda), count)
+        .map(PairScalars::from_array)
+}
+
+/// The near table and the singular closed forms: `2 < s_dash < S_MIN`, else `None` (as
+/// [`scalars`]).
+pub fn near_scalars(s_dash: f64, lambda: f64, count: usize) -> Option<PairScalars> {
+    if !(s_dash > 2.0 && s_dash < S_MIN && in_range(lambda)) {
+        return None;
+    }
+    // exact for s' in (2, 4] (Sterbenz), as in the series
+    let u = (s_dash - 2.0).ln().max(U_MIN);
+    let regular = NEAR.evaluate(u, lambda.ln(), count)?;
+    let singular = singular_parts(s_dash, lambda, count).ok()?;
+    Some(PairScalars::from_array(std::array::from_fn(|k| {
+        singular[k] + regular[k]
+    })))
+}
+
+/// The contents of `src/generated/two_sphere_far.bin`: the functions from the series at
+/// the far table's nodes.
+pub fn generate() -> Vec<u8> {
+    FAR.generate(|m, ts| {
+        let series = PairSeries::new(m / (1.0 - m)).expect("lambda in range");
+        ts.iter()
+            .map(|t| {
+                series
+                    .scalars(2.0 / t)
+                    .expect("separation in range")
+                    .to_array()
+            })
+            .collect()
+    })
+}
+
+/// The contents of `src/generated/two_sphere_near.bin`: the regular remainders from the
+/// series at the near table's nodes.
+pub fn generate_near() -> Vec<u8> {
+    NEAR.generate(|ln_lambda, us| {
+        let series = PairSeries::new(ln_lambda.exp()).expect("lambda in range");
+        us.iter()
+            .map(|u| series.regular(2.0 + u.exp()).expect("separation in range"))
+            .collect()
+    })
 }

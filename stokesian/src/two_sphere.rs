@@ -501,10 +501,27 @@ impl PairSeries {
     /// zero).
     pub fn scalars(&self, s_dash: f64) -> Result<PairScalars, TwoSphereError> {
         let geo = Geometry::new(s_dash)?;
+        let regular = self.regular_at(s_dash, &geo)?;
+        Ok(PairScalars::from_array(std::array::from_fn(|k| {
+            if k < self.count {
+                singular_part(k, &self.singular[k], &geo) + regular[k]
+            } else {
+                0.0
+            }
+        })))
+    }
+
+    /// The regular parts `F - h . S(t)` of the functions at `s_dash` (module docs: the
+    /// remainder series `sum_m r_m t^m`), continuous up to contact: what the near-contact
+    /// tables of [`crate::pair_tables`] fit.
+    pub fn regular(&self, s_dash: f64) -> Result<[f64; 22], TwoSphereError> {
+        self.regular_at(s_dash, &Geometry::new(s_dash)?)
+    }
+
+    fn regular_at(&self, s_dash: f64, geo: &Geometry) -> Result<[f64; 22], TwoSphereError> {
         if self.far_only && rows_needed(s_dash) > self.remainder.len() {
             return Err(TwoSphereError::Truncated(s_dash));
         }
-        let mut out = [0.0; 22];
         let t2 = geo.t * geo.t;
         // Terms beyond `j` add less than 1e-17 in all: `largest t^(2j) / (1 - t^2)`.
         let terms = rows_for(t2, self.ln_largest.max(REMAINDER_BOUND.ln()));
@@ -520,14 +537,12 @@ impl PairSeries {
                 *acc = *acc * t2 + r;
             }
         }
-        // then the closed forms
-        for (k, f) in FUNCTIONS.iter().enumerate().take(self.count) {
-            let sum = if f.odd { sums[k] * geo.t } else { sums[k] };
-            let closed = if f.odd { geo.odd } else { geo.even };
-            let h = self.singular[k];
-            out[k] = h[0] * closed[0] + h[1] * closed[1] + h[2] * closed[2] + sum;
+        for (k, f) in FUNCTIONS.iter().enumerate() {
+            if f.odd {
+                sums[k] *= geo.t;
+            }
         }
-        Ok(PairScalars::from_array(out))
+        Ok(sums)
     }
 
     /// The near-contact constants `K(lambda)` (`lubrication.md` 1.4, Kim & Karrila
@@ -581,6 +596,29 @@ pub fn resistance_scalars(s_dash: f64, lambda: f64) -> Result<PairScalars, TwoSp
 pub fn resistance_scalars_ft(s_dash: f64, lambda: f64) -> Result<FtScalars, TwoSphereError> {
     Geometry::new(s_dash)?;
     Ok(PairSeries::new_ft(lambda)?.scalars(s_dash)?.ft())
+}
+
+/// The singular parts `h . S(t)` of the first `count` functions (module docs: the closed
+/// forms carrying `1/xi`, `ln(1/xi)` and `xi ln(1/xi)` exactly, times the coefficients of
+/// `lambda`) at `s_dash > 2`; the others zero. With [`PairSeries::regular`] they add up to
+/// [`PairSeries::scalars`], bit for bit.
+pub fn singular_parts(s_dash: f64, lambda: f64, count: usize) -> Result<[f64; 22], TwoSphereError> {
+    check_lambda(lambda)?;
+    let geo = Geometry::new(s_dash)?;
+    Ok(std::array::from_fn(|k| {
+        if k < count {
+            singular_part(k, &(FUNCTIONS[k].singular)(lambda), &geo)
+        } else {
+            0.0
+        }
+    }))
+}
+
+/// `h . S(t)` of function `k`.
+#[inline]
+fn singular_part(k: usize, h: &[f64; 3], geo: &Geometry) -> f64 {
+    let closed = if FUNCTIONS[k].odd { geo.odd } else { geo.even };
+    h[0] * closed[0] + h[1] * closed[1] + h[2] * closed[2]
 }
 
 /// The singular coefficients `[h1, h2, h3]` of each function near contact (`1/xi`,

@@ -390,22 +390,34 @@ fn cost_of_tables_and_calls() {
             (s_dash, t0.elapsed() / 500)
         })
         .collect();
-    // the far-pair tables (s' >= 3): every pair its own ratio, no series
+    // the tables: every pair its own ratio, no series; far (s' in [3, 23]) and near
+    // (xi = s' - 2 from 1e-6 to 1, evenly in ln xi), both in a cache-warm loop, after
+    // the files are read
+    for s_dash in [2.5, 4.0] {
+        acc += stokesian::pair_tables::scalars(s_dash, 1.0, 22)
+            .unwrap()
+            .x11a;
+    }
     let tables: Vec<_> = [10, 22]
         .iter()
-        .map(|&count| {
+        .flat_map(|&count| [(count, true), (count, false)])
+        .map(|(count, far)| {
             let t0 = std::time::Instant::now();
             for i in 0..2000 {
                 let lambda = 0.011 + 0.049 * f64::from(i);
-                let s_dash = 3.0 + 0.01 * f64::from(i);
-                acc += stokesian::pair_tables::far_scalars(s_dash, lambda, count)
+                let s_dash = if far {
+                    3.0 + 0.01 * f64::from(i)
+                } else {
+                    2.0 + (-13.8 * (1.0 - f64::from(i) / 2000.0)).exp()
+                };
+                acc += stokesian::pair_tables::scalars(s_dash, lambda, count)
                     .unwrap()
                     .x11a;
             }
-            (count, t0.elapsed() / 2000)
+            (count, if far { "far" } else { "near" }, t0.elapsed() / 2000)
         })
         .collect();
-    println!("\nfar-pair tables (functions, time per call): {tables:?}");
+    println!("\ntables (functions, table, time per call): {tables:?}");
     println!(
         "\ncost (TRUNCATION = {TRUNCATION}): first call (reads the coefficients, unless another test did \
          them) {first:?}; resistance_scalars {per_call:?} per call; PairSeries::scalars \

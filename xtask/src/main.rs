@@ -126,19 +126,25 @@ fn gen(check: bool) -> Result<()> {
         let t = Instant::now();
         (f(), t.elapsed())
     };
-    let ((files, elapsed), (wall_tables, t_wall), (coefficients, t_pair), (far, t_far)) =
-        std::thread::scope(|scope| {
-            let wall = scope.spawn(|| timed(|| stokesian::tables::generate().into_bytes()));
-            let pair = scope.spawn(|| timed(stokesian::two_sphere::generate_coefficients));
-            let far = scope.spawn(|| timed(stokesian::pair_tables::generate));
-            let t = Instant::now();
-            let files = kernel_gen::catalog::generate(&scenes);
-            let kernels = (files, t.elapsed());
-            let join = |h: std::thread::ScopedJoinHandle<'_, _>| {
-                h.join().expect("the table generators do not panic")
-            };
-            (kernels, join(wall), join(pair), join(far))
-        });
+    let (
+        (files, elapsed),
+        (wall_tables, t_wall),
+        (coefficients, t_pair),
+        (far, t_far),
+        (near, t_near),
+    ) = std::thread::scope(|scope| {
+        let wall = scope.spawn(|| timed(|| stokesian::tables::generate().into_bytes()));
+        let pair = scope.spawn(|| timed(stokesian::two_sphere::generate_coefficients));
+        let far = scope.spawn(|| timed(stokesian::pair_tables::generate));
+        let near = scope.spawn(|| timed(stokesian::pair_tables::generate_near));
+        let t = Instant::now();
+        let files = kernel_gen::catalog::generate(&scenes);
+        let kernels = (files, t.elapsed());
+        let join = |h: std::thread::ScopedJoinHandle<'_, _>| {
+            h.join().expect("the table generators do not panic")
+        };
+        (kernels, join(wall), join(pair), join(far), join(near))
+    });
     let dir = root().join("kernels/src/generated");
     let mut stale = Vec::new();
     for f in &files {
@@ -173,6 +179,7 @@ fn gen(check: bool) -> Result<()> {
             coefficients,
         ),
         ("stokesian/src/generated/two_sphere_far.bin", far),
+        ("stokesian/src/generated/two_sphere_near.bin", near),
     ] {
         let path = root().join(name);
         if std::fs::read(&path).ok().as_deref() != Some(bytes.as_slice()) {
@@ -186,13 +193,14 @@ fn gen(check: bool) -> Result<()> {
     print_counts(&files);
     println!(
         "generated {} files in {:.2} s, the sphere-wall tables in {:.2} s, the two-sphere \
-         recurrence coefficients in {:.2} s and far-pair tables in {:.2} s, concurrently: \
-         {:.2} s in all",
+         recurrence coefficients in {:.2} s and the two-sphere tables in {:.2} s (far) and \
+         {:.2} s (near), concurrently: {:.2} s in all",
         files.len(),
         elapsed.as_secs_f64(),
         t_wall.as_secs_f64(),
         t_pair.as_secs_f64(),
         t_far.as_secs_f64(),
+        t_near.as_secs_f64(),
         start.elapsed().as_secs_f64()
     );
     if check {
