@@ -3,8 +3,8 @@
 //!
 //! - `R^P`: the exact two-sphere resistance ([`crate::two_sphere`]: Jeffrey & Onishi
 //!   1984 and Jeffrey 1992 as corrected by Townsend 2023, any size ratio, Kim & Karrila
-//!   normalisation; all 22 functions at FTS; for `s' >= 3` from the generated tables of
-//!   [`crate::pair_tables`]), for every pair whose correction may
+//!   normalisation; all 22 functions at FTS; from the generated tables of
+//!   [`crate::pair_tables`], no series built at run time), for every pair whose correction may
 //!   exceed a stated tolerance, switched off smoothly beyond ([`Lubrication::pair_window`]:
 //!   no step, no kink); `R^{P,inf}` the inverse of the FT or FTS mobility of the
 //!   isolated pair in unbounded fluid, from our own kernels.
@@ -479,7 +479,8 @@ fn free_surface_block(
 
 /// The two-sphere functions at `s_dash` seen from a sphere whose partner is `lambda`
 /// times its size (all 22, or the ten force-torque ones when `ft_only`): from the
-/// generated tables ([`crate::pair_tables`], far and near, within 1.1e-9 (near) and 3.1e-12 (far) of the series);
+/// generated tables ([`crate::pair_tables`], far and near, within 1.1e-9 (near) and 5.9e-12
+/// (far) of the series);
 /// only if a committed table file does not have its table's shape, from the series,
 /// built once per size ratio in the process ([`PairSeries::cached_at`]).
 fn pair_scalars(s_dash: f64, lambda: f64, ft_only: bool) -> Result<PairScalars, ResistanceError> {

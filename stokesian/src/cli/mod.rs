@@ -135,7 +135,7 @@ enum Command {
         long_about = "Write the FT or FTS grand resistance with lubrication (Swan & Brady \
         Eq. 19): R = M^-1 + R^P + R^W - (R^P,inf + R^W,inf), rows (F, L[, S]), columns \
         (U, Omega[, -E_inf]), same layout and formats as `mobility`. The exact two-sphere \
-        resistance (any size ratio from 1e-2 to 1e2, twin-multipole series to contact) of \
+        resistance (any size ratio from 1e-2 to 1e2, generated tables of the twin-multipole series, to contact) of \
         every pair whose correction may exceed 1e-6 of the smaller sphere's drag (switched \
         off smoothly beyond; --pair-tolerance), the exact sphere-wall resistance (no-slip \
         walls, every height up to 1000 radii) and the exact resistance near a free \
