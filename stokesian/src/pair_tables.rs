@@ -196,7 +196,7 @@ impl Table {
         let start = (px * self.ratio.patches + py) * FUNCTIONS * size;
         let mut out = [0.0; FUNCTIONS];
         // an even number of functions (`PatchSums`; FUNCTIONS is even)
-        let summed = (count.min(FUNCTIONS) + 1) / 2 * 2;
+        let summed = count.min(FUNCTIONS).next_multiple_of(2);
         kernels::lanes::dispatch(PatchSums {
             block: &data[start..start + summed * size],
             cx: &cx[..self.separation.terms],
