@@ -26,8 +26,8 @@
 //!   off, 8 in `ln lambda` 6e-10).
 //!
 //! Each table holds, patch by patch (separation variable, then ratio variable), every
-//! function's `terms x RATIO_TERMS` coefficients, so a pair reads one contiguous block
-//! and costs `terms x RATIO_TERMS` multiply-adds per function.
+//! function's `terms` x `terms` coefficients (separation x ratio), so a pair reads one
+//! contiguous block and costs their product in multiply-adds per function.
 //!
 //! Accuracy against the series between the nodes (`tests/tests/two_sphere_tables.rs`):
 //! see README ("Resistance with lubrication").
@@ -42,17 +42,20 @@ pub const S_MIN: f64 = 3.0;
 /// `ln xi` at the near table's contact end (`xi` = 2.3e-16, below the smallest gap of a
 /// separation `s' > 2` in `f64`; a smaller `ln xi` would be taken as `U_MIN`).
 pub const U_MIN: f64 = -36.0;
-/// Chebyshev coefficients in the ratio variable, per patch (degree + 1), in both tables.
-pub const RATIO_TERMS: usize = 16;
 /// The functions, in the order of [`PairScalars::to_array`].
 const FUNCTIONS: usize = 22;
 /// The most Chebyshev coefficients in a separation variable.
-// (RATIO_TERMS a multiple of every lane width: the ratio terms fill whole vectors; the
-// separation terms even: the rows are summed two at a time, `PatchSums`)
-const _: () = assert!(RATIO_TERMS.is_multiple_of(kernels::lanes::MAX_WIDTH));
-const _: () =
-    assert!(FAR.separation.terms.is_multiple_of(2) && NEAR.separation.terms.is_multiple_of(2));
 const MAX_TERMS: usize = 20;
+/// The widest `f64` lanes: the ratio terms of a table fill whole vectors of any width.
+const F64_LANES: usize = 8;
+// (the functions even in number: they are summed two at a time, `PatchSums`)
+const _: () = assert!(FUNCTIONS.is_multiple_of(2));
+const _: () = assert!(
+    (FAR.ratio.terms == F64_LANES || FAR.ratio.terms == 2 * F64_LANES)
+        && (NEAR.ratio.terms == F64_LANES || NEAR.ratio.terms == 2 * F64_LANES)
+        && FAR.separation.terms <= MAX_TERMS
+        && NEAR.separation.terms <= MAX_TERMS
+);
 
 /// One variable of a table: `patches` parts of `[lo, hi]`, part `k` ending at `hi - (hi -
 /// lo) (1 - (k + 1)/patches)^grading` (equal parts for `grading = 1`, shrinking towards
@@ -73,13 +76,29 @@ impl Axis {
             return self.lo;
         }
         let left = 1.0 - k as f64 / self.patches as f64;
-        self.hi - (self.hi - self.lo) * left.powi(self.grading)
+        let scaled = match self.grading {
+            1 => left,
+            2 => left * left,
+            g => left.powi(g),
+        };
+        self.hi - (self.hi - self.lo) * scaled
     }
 
     /// The part holding `x` (clamped to the ends) and `x` mapped to `[-1, 1]` on it.
     fn locate(&self, x: f64) -> (usize, f64) {
-        let mut p = 0;
-        while p + 1 < self.patches && x >= self.bound(p + 1) {
+        // the bounds inverted (a root of the grading), then settled against them exactly
+        let left = ((self.hi - x) / (self.hi - self.lo)).clamp(0.0, 1.0);
+        let root = match self.grading {
+            1 => left,
+            2 => left.sqrt(),
+            g => left.powf(1.0 / f64::from(g)),
+        };
+        let n = self.patches;
+        let mut p = ((n as f64 * (1.0 - root)) as usize).min(n - 1);
+        while p > 0 && x < self.bound(p) {
+            p -= 1;
+        }
+        while p + 1 < n && x >= self.bound(p + 1) {
             p += 1;
         }
         let (a, b) = (self.bound(p), self.bound(p + 1));
@@ -110,7 +129,9 @@ fn mu(lambda: f64) -> f64 {
 /// `t = 2/s'` on three patches of `[0, 2/S_MIN]` shrinking quadratically towards `S_MIN`
 /// (tried: two equal patches of 16 coefficients, 3.1e-12 off the series against 5.9e-12
 /// now, with a third more multiply-adds); `mu` on four equal patches of `[mu(1e-2),
-/// mu(1e2)]`.
+/// mu(1e2)]` (tried: eight patches of 8 terms, 0.6 times the time of a call for all 22
+/// functions, but 5.1e-9 off at `lambda = 100`; 7.7e-10 with patches shrinking towards
+/// both ends).
 static FAR: Table = Table {
     file: include_bytes!("generated/two_sphere_far.bin"),
     separation: Axis {
@@ -125,7 +146,7 @@ static FAR: Table = Table {
         hi: 1.0 / (1.0 + LAMBDA_MIN),
         patches: 4,
         grading: 1,
-        terms: RATIO_TERMS,
+        terms: 16,
     },
     read: &FAR_READ,
 };
@@ -148,7 +169,7 @@ static NEAR: Table = Table {
         hi: 4.605_170_185_988_091,
         patches: 8,
         grading: 1,
-        terms: RATIO_TERMS,
+        terms: 16,
     },
     read: &NEAR_READ,
 };
@@ -188,21 +209,33 @@ impl Table {
         let (px, x) = self.separation.locate(x);
         let (py, y) = self.ratio.locate(y);
         let cx = chebyshev_values(x, self.separation.terms);
-        let cy: [f64; RATIO_TERMS] = std::array::from_fn({
-            let all = chebyshev_values(y, RATIO_TERMS);
-            move |j| all[j]
-        });
+        let cy = chebyshev_values(y, self.ratio.terms);
         let size = self.patch();
         let start = (px * self.ratio.patches + py) * FUNCTIONS * size;
         let mut out = [0.0; FUNCTIONS];
         // an even number of functions (`PatchSums`; FUNCTIONS is even)
         let summed = count.min(FUNCTIONS).next_multiple_of(2);
-        kernels::lanes::dispatch(PatchSums {
-            block: &data[start..start + summed * size],
-            cx: &cx[..self.separation.terms],
-            cy: &cy,
-            out: &mut out[..summed],
-        });
+        let (block, cx) = (
+            &data[start..start + summed * size],
+            &cx[..self.separation.terms],
+        );
+        let sums = &mut out[..summed];
+        // the ratio terms known at compile time: the vectors of a row unrolled
+        match self.ratio.terms {
+            8 => kernels::lanes::dispatch(PatchSums::<8> {
+                block,
+                cx,
+                cy: cy[..8].try_into().expect("eight terms"),
+                out: sums,
+            }),
+            16 => kernels::lanes::dispatch(PatchSums::<16> {
+                block,
+                cx,
+                cy: cy[..16].try_into().expect("sixteen terms"),
+                out: sums,
+            }),
+            _ => unreachable!("ratio terms are 8 or 16 (asserted at compile time)"),
+        }
         out[count.min(FUNCTIONS)..].fill(0.0);
         Some(out)
     }
@@ -255,24 +288,25 @@ impl Table {
 /// `sum_j T_j(y) sum_i T_i(x) c_ij` of each function of one patch, on the widest vector
 /// lanes of the processor ([`kernels::lanes`]): the ratio terms `j` in lanes, the rows `i`
 /// as multiply-adds into them (independent chains side by side), then one dot product.
-struct PatchSums<'a> {
+struct PatchSums<'a, const N: usize> {
     /// The patch's coefficients, function after function, row `i` after row.
     block: &'a [f64],
     /// `T_i(x)` of the rows.
     cx: &'a [f64],
     /// `T_j(y)`.
-    cy: &'a [f64; RATIO_TERMS],
+    cy: [f64; N],
     out: &'a mut [f64],
 }
 
-impl WithLanes for PatchSums<'_> {
+impl<const N: usize> WithLanes for PatchSums<'_, N> {
     type Elem = f64;
     type Output = ();
 
     #[inline(always)]
     fn run<L: Lane<Elem = f64>>(self) {
-        let vectors = RATIO_TERMS / L::WIDTH;
-        let size = self.cx.len() * RATIO_TERMS;
+        let terms = N;
+        let vectors = N / L::WIDTH;
+        let size = self.cx.len() * terms;
         // two functions at a time: twice the independent chains of multiply-adds (the
         // block holds an even number of functions)
         for (o, c) in self
@@ -281,10 +315,10 @@ impl WithLanes for PatchSums<'_> {
             .zip(self.block.chunks_exact(2 * size))
         {
             let (c0, c1) = c.split_at(size);
-            let mut acc = [[L::splat(0.0); RATIO_TERMS]; 2];
+            let mut acc = [[L::splat(0.0); N]; 2];
             for (i, &x) in self.cx.iter().enumerate() {
                 let x = L::splat(x);
-                let (r0, r1) = (&c0[i * RATIO_TERMS..], &c1[i * RATIO_TERMS..]);
+                let (r0, r1) = (&c0[i * terms..], &c1[i * terms..]);
                 for v in 0..vectors {
                     let j = v * L::WIDTH;
                     acc[0][v] = L::load(&r0[j..]).mul_add(x, acc[0][v]);
