@@ -479,7 +479,7 @@ fn free_surface_block(
 
 /// The two-sphere functions at `s_dash` seen from a sphere whose partner is `lambda`
 /// times its size (all 22, or the ten force-torque ones when `ft_only`): from the
-/// generated tables ([`crate::pair_tables`], far and near, within 1.1e-9 (near) and 5.9e-12
+/// generated tables ([`crate::pair_tables`], far and near, within 1.1e-9 (near) and 3.6e-11
 /// (far) of the series);
 /// only if a committed table file does not have its table's shape, from the series,
 /// built once per size ratio in the process ([`PairSeries::cached_at`]).

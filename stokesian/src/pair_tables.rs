@@ -58,8 +58,9 @@ const _: () = assert!(
 );
 
 /// One variable of a table: `patches` parts of `[lo, hi]`, part `k` ending at `hi - (hi -
-/// lo) (1 - (k + 1)/patches)^grading` (equal parts for `grading = 1`, shrinking towards
-/// `hi` for larger), with `terms` Chebyshev coefficients on each.
+/// lo) g(1 - (k + 1)/patches)` with `g(v) = v^grading` (equal parts for `grading = 1`,
+/// shrinking towards `hi` for larger) or, for `grading = 0`, `g(v) = (1 - cos(pi v))/2`
+/// (shrinking towards both ends), with `terms` Chebyshev coefficients on each.
 #[derive(Clone, Copy, Debug)]
 struct Axis {
     lo: f64,
@@ -77,6 +78,7 @@ impl Axis {
         }
         let left = 1.0 - k as f64 / self.patches as f64;
         let scaled = match self.grading {
+            0 => 0.5 * (1.0 - (std::f64::consts::PI * left).cos()),
             1 => left,
             2 => left * left,
             g => left.powi(g),
@@ -89,6 +91,7 @@ impl Axis {
         // the bounds inverted (a root of the grading), then settled against them exactly
         let left = ((self.hi - x) / (self.hi - self.lo)).clamp(0.0, 1.0);
         let root = match self.grading {
+            0 => (1.0 - 2.0 * left).clamp(-1.0, 1.0).acos() / std::f64::consts::PI,
             1 => left,
             2 => left.sqrt(),
             g => left.powf(1.0 / f64::from(g)),
@@ -126,27 +129,27 @@ fn mu(lambda: f64) -> f64 {
     lambda / (1.0 + lambda)
 }
 
-/// `t = 2/s'` on three patches of `[0, 2/S_MIN]` shrinking quadratically towards `S_MIN`
-/// (tried: two equal patches of 16 coefficients, 3.1e-12 off the series against 5.9e-12
-/// now, with a third more multiply-adds); `mu` on four equal patches of `[mu(1e-2),
-/// mu(1e2)]` (tried: eight patches of 8 terms, 0.6 times the time of a call for all 22
-/// functions, but 5.1e-9 off at `lambda = 100`; 7.7e-10 with patches shrinking towards
-/// both ends).
+/// `t = 2/s'` on four patches of `[0, 2/S_MIN]` shrinking quadratically towards `S_MIN`,
+/// 10 terms; `mu` on twelve patches of `[mu(1e-2), mu(1e2)]` shrinking towards both ends,
+/// 8 terms: 80 coefficients per function, 3.6e-11 off the series. Tried: 2 x 4 equal
+/// patches of 16 x 16 terms (3.1e-12, but a call for all 22 functions took twice as
+/// long: it reads the coefficients from beyond the first-level cache); 3 x 4 patches of
+/// 12 x 16 (5.9e-12); 8 equal `mu` patches of 8 terms (5.1e-9 at `lambda = 100`).
 static FAR: Table = Table {
     file: include_bytes!("generated/two_sphere_far.bin"),
     separation: Axis {
         lo: 0.0,
         hi: 2.0 / S_MIN,
-        patches: 3,
+        patches: 4,
         grading: 2,
-        terms: 12,
+        terms: 10,
     },
     ratio: Axis {
         lo: LAMBDA_MIN / (1.0 + LAMBDA_MIN),
         hi: 1.0 / (1.0 + LAMBDA_MIN),
-        patches: 4,
-        grading: 1,
-        terms: 16,
+        patches: 12,
+        grading: 0,
+        terms: 8,
     },
     read: &FAR_READ,
 };
@@ -432,7 +435,7 @@ mod tests {
     /// each is a sum of 192 or 320 products, so fused and unfused multiply-adds and the
     /// lanes' order of summing differ by a few ulps of `max(|F|, 1)` (measured 8.9e-16
     /// between the scalar and AVX2 lanes); 1e-14 allows for that with a margin and is far
-    /// below the tables' errors against the series (5.9e-12 far, 1.1e-9 near).
+    /// below the tables' errors against the series (3.6e-11 far, 1.1e-9 near).
     #[test]
     fn every_instruction_set_gives_the_same_functions() {
         let best = Isa::best();
