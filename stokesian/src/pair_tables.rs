@@ -6,9 +6,9 @@
 //!
 //! - **Far** (`s' >= S_MIN = 3`): each function is a power series in `t = 2/s'` with
 //!   coefficients that are polynomials in `mu = lambda/(1 + lambda)` ([`crate::two_sphere`],
-//!   module docs): analytic on `t < 1`, so on `t <= 2/3` it is fitted to round-off in `t`
-//!   and `mu` with no singular part to take out (the lubrication singularities sit at
-//!   contact, `t = 1`).
+//!   module docs): analytic on `t < 1`, so on `t <= 2/3` a few terms in `t` and `mu`
+//!   fit it to 4e-11 with no singular part to take out (the lubrication singularities
+//!   sit at contact, `t = 1`).
 //! - **Near** (`2 < s' < 3`, gap `xi = s' - 2` in `(0, 1)`): the series' closed forms
 //!   carry the singular terms `1/xi`, `ln(1/xi)` and `xi ln(1/xi)` exactly
 //!   ([`crate::two_sphere::singular_parts`], evaluated at run time); the tables fit only
