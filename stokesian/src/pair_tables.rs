@@ -58,16 +58,26 @@ const _: () = assert!(
 );
 
 /// One variable of a table: `patches` parts of `[lo, hi]`, part `k` ending at `hi - (hi -
-/// lo) g(1 - (k + 1)/patches)` with `g(v) = v^grading` (equal parts for `grading = 1`,
-/// shrinking towards `hi` for larger) or, for `grading = 0`, `g(v) = (1 - cos(pi v))/2`
-/// (shrinking towards both ends), with `terms` Chebyshev coefficients on each.
+/// lo) g(1 - (k + 1)/patches)` with `g` of the [`Grading`], and `terms` Chebyshev
+/// coefficients on each.
 #[derive(Clone, Copy, Debug)]
 struct Axis {
     lo: f64,
     hi: f64,
     patches: usize,
-    grading: i32,
+    grading: Grading,
     terms: usize,
+}
+
+/// How the parts of an [`Axis`] are spaced.
+#[derive(Clone, Copy, Debug)]
+enum Grading {
+    /// Equal parts: `g(v) = v`.
+    Equal,
+    /// Parts shrinking quadratically towards `hi`: `g(v) = v^2`.
+    TowardsHi,
+    /// Parts shrinking towards both ends: `g(v) = (1 - cos(pi v))/2`.
+    TowardsEnds,
 }
 
 impl Axis {
@@ -78,23 +88,21 @@ impl Axis {
         }
         let left = 1.0 - k as f64 / self.patches as f64;
         let scaled = match self.grading {
-            0 => 0.5 * (1.0 - (std::f64::consts::PI * left).cos()),
-            1 => left,
-            2 => left * left,
-            g => left.powi(g),
+            Grading::Equal => left,
+            Grading::TowardsHi => left * left,
+            Grading::TowardsEnds => 0.5 * (1.0 - (std::f64::consts::PI * left).cos()),
         };
         self.hi - (self.hi - self.lo) * scaled
     }
 
     /// The part holding `x` (clamped to the ends) and `x` mapped to `[-1, 1]` on it.
     fn locate(&self, x: f64) -> (usize, f64) {
-        // the bounds inverted (a root of the grading), then settled against them exactly
+        // the grading inverted, then the part settled against the bounds exactly
         let left = ((self.hi - x) / (self.hi - self.lo)).clamp(0.0, 1.0);
         let root = match self.grading {
-            0 => (1.0 - 2.0 * left).clamp(-1.0, 1.0).acos() / std::f64::consts::PI,
-            1 => left,
-            2 => left.sqrt(),
-            g => left.powf(1.0 / f64::from(g)),
+            Grading::Equal => left,
+            Grading::TowardsHi => left.sqrt(),
+            Grading::TowardsEnds => (1.0 - 2.0 * left).acos() / std::f64::consts::PI,
         };
         let n = self.patches;
         let mut p = ((n as f64 * (1.0 - root)) as usize).min(n - 1);
@@ -125,7 +133,7 @@ struct Table {
 }
 
 /// `mu = lambda/(1 + lambda)`, the far table's ratio variable.
-fn mu(lambda: f64) -> f64 {
+const fn mu(lambda: f64) -> f64 {
     lambda / (1.0 + lambda)
 }
 
@@ -141,14 +149,14 @@ static FAR: Table = Table {
         lo: 0.0,
         hi: 2.0 / S_MIN,
         patches: 4,
-        grading: 2,
+        grading: Grading::TowardsHi,
         terms: 10,
     },
     ratio: Axis {
-        lo: LAMBDA_MIN / (1.0 + LAMBDA_MIN),
-        hi: 1.0 / (1.0 + LAMBDA_MIN),
+        lo: mu(LAMBDA_MIN),
+        hi: mu(1.0 / LAMBDA_MIN),
         patches: 12,
-        grading: 0,
+        grading: Grading::TowardsEnds,
         terms: 8,
     },
     read: &FAR_READ,
@@ -164,14 +172,16 @@ static NEAR: Table = Table {
         lo: U_MIN,
         hi: 0.0,
         patches: 6,
-        grading: 2,
+        grading: Grading::TowardsHi,
         terms: 20,
     },
     ratio: Axis {
+        // ln 1e-2 (`ln` is not `const`; `ln 1e2` rounds one ulp above `hi`, which
+        // `Axis::locate` clamps)
         lo: -4.605_170_185_988_091,
         hi: 4.605_170_185_988_091,
         patches: 8,
-        grading: 1,
+        grading: Grading::Equal,
         terms: 16,
     },
     read: &NEAR_READ,
@@ -227,26 +237,8 @@ impl Table {
         let sums = &mut out[..summed];
         // the ratio terms known at compile time: the vectors of a row unrolled
         let done = match self.ratio.terms {
-            8 => dispatch_with(
-                isa,
-                PatchSums::<8> {
-                    block,
-                    cx,
-                    cy: cy[..8].try_into().expect("eight terms"),
-                    out: sums,
-                },
-            )
-            .is_ok(),
-            16 => dispatch_with(
-                isa,
-                PatchSums::<16> {
-                    block,
-                    cx,
-                    cy: cy[..16].try_into().expect("sixteen terms"),
-                    out: sums,
-                },
-            )
-            .is_ok(),
+            8 => PatchSums::<8>::run_on(isa, block, cx, &cy, sums),
+            16 => PatchSums::<16>::run_on(isa, block, cx, &cy, sums),
             _ => unreachable!("ratio terms are 8 or 16 (asserted at compile time)"),
         };
         if !done {
@@ -312,6 +304,14 @@ struct PatchSums<'a, const N: usize> {
     /// `T_j(y)`.
     cy: [f64; N],
     out: &'a mut [f64],
+}
+
+impl<'a, const N: usize> PatchSums<'a, N> {
+    /// The sums on the lanes of `isa` into `out`; false if this processor lacks `isa`.
+    fn run_on(isa: Isa, block: &'a [f64], cx: &'a [f64], cy: &[f64], out: &'a mut [f64]) -> bool {
+        let cy = std::array::from_fn(|j| cy[j]);
+        dispatch_with(isa, PatchSums::<N> { block, cx, cy, out }).is_ok()
+    }
 }
 
 impl<const N: usize> WithLanes for PatchSums<'_, N> {
