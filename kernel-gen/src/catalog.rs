@@ -76,6 +76,7 @@ fn dispatch(families: &[Family]) -> TokenStream {
     let mut div_pair_arms = Vec::new();
     let mut div_lane_arms = Vec::new();
     let mut div_ordered_arms = Vec::new();
+    let mut pair_lane_arms = Vec::new();
     let mut exchange_arms = Vec::new();
     let mut div_self_arms = Vec::new();
     let mut truncated: Vec<Vec<TokenStream>> = Vec::new();
@@ -158,6 +159,10 @@ fn dispatch(families: &[Family]) -> TokenStream {
         let fdpo = ident(&format!("{}_pair_divergence_lanes_ordered", f.name));
         div_ordered_arms.push(
             quote!(#pattern => #m::#fdpo(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)),
+        );
+        let fpo = ident(&format!("{}_pair_lanes_ordered", f.name));
+        pair_lane_arms.push(
+            quote!(#pattern => #m::#fpo(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)),
         );
         let exchanges = f.exchanges;
         let any = if fields.is_empty() {
@@ -251,6 +256,15 @@ fn dispatch(families: &[Family]) -> TokenStream {
         #[inline(always)]
         pub fn pair_divergence_lanes_ordered<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; 12] {
             match *conf { #(#div_ordered_arms),* }
+        }
+
+        /// The lane twin of [`pair`] without the exchange of roles: `L::WIDTH` pairs at
+        /// once, for pairs in which `b` is no higher than `a` where
+        /// [`Confinement::exchanges_by_height`] (elsewhere any order); the 121 entries of
+        /// [`Grand`]'s fields in their order (see [`crate::blocks::grand_lanes_product`]).
+        #[inline(always)]
+        pub fn pair_lanes_ordered<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; 121] {
+            match *conf { #(#pair_lane_arms),* }
         }
 
         /// The Brownian drift of one particle's self mobility: `sum_j d/dx_j M^{aa}_{ij}`,
@@ -499,8 +513,9 @@ fn family_and_single<G: Green>(g: &G) -> (GeneratedFile, TokenStream) {
             float: Float::F64,
         };
         items.extend(emit::function(&kf));
-        // the lane twin of the pair divergence (the tiled Brownian drift)
-        if v.suffix == "pair_divergence" {
+        // the lane twins of the FTS pair blocks (the tiled FTS product and dense
+        // assembly) and of the pair divergence (the tiled Brownian drift)
+        if matches!(v.suffix, "pair" | "pair_divergence") {
             let (f, n) = emit::lane_function(&kf);
             op_counts.push((format!("{name}_lanes (fma)"), n));
             items.extend(f);

@@ -288,6 +288,57 @@ impl Grand {
     }
 }
 
+/// Where entry `(i, j)` of [`Grand::matrix`] sits among [`Grand`]'s fields flattened in
+/// their order (`uf`, `ul`, `us`, `of`, `ol`, `os`, `ef`, `el`, `es`, each row-major): the
+/// layout of the lane kernels' outputs ([`crate::pair_lanes_ordered`]).
+pub const GRAND_FLAT: [[usize; 11]; 11] = grand_flat();
+
+const fn grand_flat() -> [[usize; 11]; 11] {
+    // rows U, Omega, E and columns F, L, S: sizes 3, 3, 5
+    const SIZE: [usize; 3] = [3, 3, 5];
+    const START: [usize; 3] = [0, 3, 6];
+    let mut at = [[0; 11]; 11];
+    let mut offset = 0;
+    let mut rb = 0;
+    while rb < 3 {
+        let mut cb = 0;
+        while cb < 3 {
+            let mut i = 0;
+            while i < SIZE[rb] {
+                let mut j = 0;
+                while j < SIZE[cb] {
+                    at[START[rb] + i][START[cb] + j] = offset + i * SIZE[cb] + j;
+                    j += 1;
+                }
+                i += 1;
+            }
+            offset += SIZE[rb] * SIZE[cb];
+            cb += 1;
+        }
+        rb += 1;
+    }
+    at
+}
+
+/// The pair product of [`Grand::product`] on lanes, from the flattened blocks of
+/// [`crate::pair_lanes_ordered`]: `a = M^{ab} vb`, `b = (M^{ab})^T va`.
+#[inline(always)]
+pub fn grand_lanes_product<L: lanes::Lane>(
+    m: &[L; 121],
+    va: [L; 11],
+    vb: [L; 11],
+) -> ([L; 11], [L; 11]) {
+    let mut a = [L::splat(0.0); 11];
+    let mut b = [L::splat(0.0); 11];
+    for (i, row) in GRAND_FLAT.iter().enumerate() {
+        for (j, &k) in row.iter().enumerate() {
+            a[i] = m[k].mul_add(vb[j], a[i]);
+            b[j] = m[k].mul_add(va[i], b[j]);
+        }
+    }
+    (a, b)
+}
+
 impl BlocksF {
     /// The pair product from the blocks (`va`, `vb`: forces on a and b).
     pub fn product(&self, va: [f64; 3], vb: [f64; 3]) -> Product<3> {
@@ -363,4 +414,43 @@ pub fn lane_by_lane<L: lanes::Lane, const K: usize>(
         }
     }
     (a.map(|v| L::load(&v)), b.map(|v| L::load(&v)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`GRAND_FLAT`] reads [`Grand::matrix`] back from the fields flattened in their
+    /// order, and [`grand_lanes_product`] (on `f64` lanes) is [`Grand::product`]: the
+    /// same products summed in the same order, fused (exact small integers here, so
+    /// equal bit for bit).
+    #[test]
+    fn flattened_fields_are_the_grand_matrix() {
+        let m = SMatrix::<f64, 11, 11>::from_fn(|i, j| (i * 11 + j) as f64);
+        let g = Grand::from_matrix(&m);
+        let flat: Vec<f64> = [
+            g.uf.concat(),
+            g.ul.concat(),
+            g.us.concat(),
+            g.of.concat(),
+            g.ol.concat(),
+            g.os.concat(),
+            g.ef.concat(),
+            g.el.concat(),
+            g.es.concat(),
+        ]
+        .concat();
+        assert_eq!(flat.len(), 121);
+        for i in 0..11 {
+            for j in 0..11 {
+                assert_eq!(flat[GRAND_FLAT[i][j]], m[(i, j)], "entry ({i}, {j})");
+            }
+        }
+        let lanes: [f64; 121] = std::array::from_fn(|k| flat[k]);
+        let va: [f64; 11] = std::array::from_fn(|k| k as f64 - 5.0);
+        let vb: [f64; 11] = std::array::from_fn(|k| 2.0 * k as f64 + 1.0);
+        let (a, b) = grand_lanes_product(&lanes, va, vb);
+        let want = g.product(va, vb);
+        assert_eq!((a, b), (want.a, want.b));
+    }
 }

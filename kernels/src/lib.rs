@@ -30,13 +30,13 @@ pub mod generated;
 pub mod single;
 
 pub use blocks::{
-    basis_both, basis_cols, basis_rows, lane_by_lane, BlocksF, BlocksFT, Drift, Grand,
-    GrandCartesian, Product, STRAIN_BASIS,
+    basis_both, basis_cols, basis_rows, grand_lanes_product, lane_by_lane, BlocksF, BlocksFT,
+    Drift, Grand, GrandCartesian, Product, STRAIN_BASIS,
 };
 pub use generated::{
     pair, pair_divergence, pair_divergence_lanes, pair_divergence_lanes_ordered, pair_equal,
-    pair_f, pair_ft, product_f, product_f_lanes, product_f_lanes_ordered, product_ft,
-    product_ft_lanes, product_ft_lanes_ordered, self_divergence, self_f, self_ft, self_mobility,
-    Confinement,
+    pair_f, pair_ft, pair_lanes_ordered, product_f, product_f_lanes, product_f_lanes_ordered,
+    product_ft, product_ft_lanes, product_ft_lanes_ordered, self_divergence, self_f, self_ft,
+    self_mobility, Confinement,
 };
 pub use lanes;

@@ -1,6 +1,6 @@
 //! Criterion benchmarks: time per pair of each scene's kernels, scalar and in lanes on
 //! every instruction set this processor has; matrix-free products near a wall (F and
-//! FT, N = 1e2, 1e3, 1e4, and per instruction set); dense FTS assembly (N = 1e2, 1e3);
+//! FT, N = 1e2, 1e3, 1e4, and per instruction set, FTS at N = 1e3); dense FTS assembly (N = 1e2, 1e3);
 //! Brownian steps near a wall (F, N = 10, 100, 1000, Cholesky and Lanczos noise).
 //! Run with `cargo bench -p stokesian`.
 #![allow(missing_docs)] // criterion_group! generates undocumented items
@@ -8,8 +8,8 @@
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use kernels::lanes::{dispatch_with, Element, Isa, Lane, WithLanes};
 use kernels::{
-    pair, pair_equal, pair_f, pair_ft, product_f, product_f_lanes, product_ft, product_ft_lanes,
-    Confinement,
+    grand_lanes_product, pair, pair_equal, pair_f, pair_ft, pair_lanes_ordered, product_f,
+    product_f_lanes, product_ft, product_ft_lanes, Confinement,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -146,7 +146,8 @@ struct Pairs<E = f64> {
     xb: [Vec<E>; 3],
     aa: Vec<E>,
     ab: Vec<E>,
-    v: [Vec<E>; 12],
+    /// `a`'s moments in `v[..11]`, `b`'s in `v[11..]`.
+    v: [Vec<E>; 22],
 }
 
 impl Pairs {
@@ -181,7 +182,7 @@ fn pairs(n: usize) -> Pairs {
 struct LanePass<'a, E> {
     conf: &'a Confinement,
     pairs: &'a Pairs<E>,
-    ft: bool,
+    level: Moments,
 }
 
 impl<E: Element> WithLanes for LanePass<'_, E> {
@@ -195,17 +196,31 @@ impl<E: Element> WithLanes for LanePass<'_, E> {
             let xa: [L; 3] = std::array::from_fn(|k| L::load(&p.xa[k][j..]));
             let xb: [L; 3] = std::array::from_fn(|k| L::load(&p.xb[k][j..]));
             let (aa, ab) = (L::load(&p.aa[j..]), L::load(&p.ab[j..]));
-            if self.ft {
-                let va: [L; 6] = std::array::from_fn(|k| L::load(&p.v[k][j..]));
-                let vb: [L; 6] = std::array::from_fn(|k| L::load(&p.v[6 + k][j..]));
-                for o in product_ft_lanes(self.conf, 1.0, xa, aa, xb, ab, va, vb) {
-                    sum = sum + o;
+            match self.level {
+                Moments::F => {
+                    let va: [L; 3] = std::array::from_fn(|k| L::load(&p.v[k][j..]));
+                    let vb: [L; 3] = std::array::from_fn(|k| L::load(&p.v[11 + k][j..]));
+                    for o in product_f_lanes(self.conf, 1.0, xa, aa, xb, ab, va, vb) {
+                        sum = sum + o;
+                    }
                 }
-            } else {
-                let va: [L; 3] = std::array::from_fn(|k| L::load(&p.v[k][j..]));
-                let vb: [L; 3] = std::array::from_fn(|k| L::load(&p.v[6 + k][j..]));
-                for o in product_f_lanes(self.conf, 1.0, xa, aa, xb, ab, va, vb) {
-                    sum = sum + o;
+                Moments::FT => {
+                    let va: [L; 6] = std::array::from_fn(|k| L::load(&p.v[k][j..]));
+                    let vb: [L; 6] = std::array::from_fn(|k| L::load(&p.v[11 + k][j..]));
+                    for o in product_ft_lanes(self.conf, 1.0, xa, aa, xb, ab, va, vb) {
+                        sum = sum + o;
+                    }
+                }
+                Moments::FTS => {
+                    // the blocks without the exchange of roles (the tiled product's
+                    // order; the same operations whatever the order), times the moments
+                    let va: [L; 11] = std::array::from_fn(|k| L::load(&p.v[k][j..]));
+                    let vb: [L; 11] = std::array::from_fn(|k| L::load(&p.v[11 + k][j..]));
+                    let m = pair_lanes_ordered(self.conf, 1.0, xa, aa, xb, ab);
+                    let (a, b) = grand_lanes_product(&m, va, vb);
+                    for o in a.into_iter().chain(b) {
+                        sum = sum + o;
+                    }
                 }
             }
         }
@@ -219,7 +234,7 @@ fn lane_pass<E: Element>(
     id: BenchmarkId,
     conf: &Confinement,
     pairs: &Pairs<E>,
-    ft: bool,
+    level: Moments,
     isa: Isa,
 ) {
     g.bench_function(id, |b| {
@@ -227,14 +242,14 @@ fn lane_pass<E: Element>(
             let pass = LanePass {
                 conf: black_box(conf),
                 pairs,
-                ft,
+                level,
             };
             dispatch_with(isa, pass).ok()
         })
     });
 }
 
-/// Time per pair of the fused pair products (F, FT), scalar kernel and lane kernels
+/// Time per pair of the fused pair products (F, FT, FTS), scalar kernel and lane kernels
 /// on each instruction set, `f64` and `f32` lanes, over 1024 pairs near the wall.
 fn per_pair_lanes(c: &mut Criterion) {
     let mut g = c.benchmark_group("pair product lanes");
@@ -246,24 +261,38 @@ fn per_pair_lanes(c: &mut Criterion) {
         ("free", Confinement::Free),
         ("wall", Confinement::Wall { height: 0.0 }),
     ] {
-        for ft in [false, true] {
-            let m = if ft { "FT" } else { "F" };
+        for level in [Moments::F, Moments::FT, Moments::FTS] {
+            let m = match level {
+                Moments::F => "F",
+                Moments::FT => "FT",
+                Moments::FTS => "FTS",
+            };
             g.bench_function(BenchmarkId::new(format!("{m} scalar kernel"), name), |b| {
                 b.iter(|| {
                     let mut sum = 0.0;
                     for j in 0..n {
                         let xa = [p.xa[0][j], p.xa[1][j], p.xa[2][j]];
                         let xb = [p.xb[0][j], p.xb[1][j], p.xb[2][j]];
-                        if ft {
-                            let va = std::array::from_fn(|k| p.v[k][j]);
-                            let vb = std::array::from_fn(|k| p.v[6 + k][j]);
-                            let r = product_ft(&conf, 1.0, xa, p.aa[j], xb, p.ab[j], va, vb);
-                            sum += r.a.iter().chain(&r.b).sum::<f64>();
-                        } else {
-                            let va = std::array::from_fn(|k| p.v[k][j]);
-                            let vb = std::array::from_fn(|k| p.v[6 + k][j]);
-                            let r = product_f(&conf, 1.0, xa, p.aa[j], xb, p.ab[j], va, vb);
-                            sum += r.a.iter().chain(&r.b).sum::<f64>();
+                        let (aa, ab) = (p.aa[j], p.ab[j]);
+                        match level {
+                            Moments::F => {
+                                let va = std::array::from_fn(|k| p.v[k][j]);
+                                let vb = std::array::from_fn(|k| p.v[11 + k][j]);
+                                let r = product_f(&conf, 1.0, xa, aa, xb, ab, va, vb);
+                                sum += r.a.iter().chain(&r.b).sum::<f64>();
+                            }
+                            Moments::FT => {
+                                let va = std::array::from_fn(|k| p.v[k][j]);
+                                let vb = std::array::from_fn(|k| p.v[11 + k][j]);
+                                let r = product_ft(&conf, 1.0, xa, aa, xb, ab, va, vb);
+                                sum += r.a.iter().chain(&r.b).sum::<f64>();
+                            }
+                            Moments::FTS => {
+                                let va = std::array::from_fn(|k| p.v[k][j]);
+                                let vb = std::array::from_fn(|k| p.v[11 + k][j]);
+                                let r = pair(&conf, 1.0, xa, aa, xb, ab).product(va, vb);
+                                sum += r.a.iter().chain(&r.b).sum::<f64>();
+                            }
                         }
                     }
                     black_box(sum)
@@ -271,16 +300,17 @@ fn per_pair_lanes(c: &mut Criterion) {
             });
             for isa in Isa::all_available() {
                 let id = format!("{m} lanes {}", isa.name());
-                lane_pass(&mut g, BenchmarkId::new(&id, name), &conf, &p, ft, isa);
+                lane_pass(&mut g, BenchmarkId::new(&id, name), &conf, &p, level, isa);
                 let id = BenchmarkId::new(format!("{id} f32"), name);
-                lane_pass(&mut g, id, &conf, &p32, ft, isa);
+                lane_pass(&mut g, id, &conf, &p32, level, isa);
             }
         }
     }
     g.finish();
 }
 
-/// `M x` near the wall per instruction set and precision (F and FT, N = 1e3 and 1e4).
+/// `M x` near the wall per instruction set and precision (F and FT, N = 1e3 and 1e4;
+/// FTS, N = 1e3).
 fn products_isa(c: &mut Criterion) {
     let mut g = c.benchmark_group("wall product M x per instruction set");
     g.sample_size(10).measurement_time(Duration::from_secs(10));
@@ -292,7 +322,10 @@ fn products_isa(c: &mut Criterion) {
             false,
         )
         .unwrap();
-        for moments in [Moments::F, Moments::FT] {
+        for moments in [Moments::F, Moments::FT, Moments::FTS] {
+            if moments == Moments::FTS && n > 1000 {
+                continue; // seconds per product on the scalar lanes
+            }
             let x: Vec<f64> = (0..moments.per_particle() * n)
                 .map(|k| (k % 7) as f64 - 3.0)
                 .collect();
@@ -320,7 +353,10 @@ fn products(c: &mut Criterion) {
             false,
         )
         .unwrap();
-        for moments in [Moments::F, Moments::FT] {
+        for moments in [Moments::F, Moments::FT, Moments::FTS] {
+            if moments == Moments::FTS && n > 1000 {
+                continue; // seconds per product on the scalar lanes
+            }
             let x: Vec<f64> = (0..moments.per_particle() * n)
                 .map(|k| (k % 7) as f64 - 3.0)
                 .collect();

@@ -31,7 +31,7 @@
 
 use crate::assembly::{Moments, Precision};
 use kernels::lanes::{self, Element, Isa, Lane, WithLanes};
-use kernels::{lane_by_lane, Confinement};
+use kernels::Confinement;
 use rayon::prelude::*;
 use std::sync::Mutex;
 
@@ -118,8 +118,8 @@ generated_lanes!(
     self_ft
 );
 
-/// The FTS products of a confinement: the scalar FTS kernels lane by lane (there are no
-/// FTS lane kernels yet).
+/// The FTS products of a confinement: the lane twins of the generated FTS pair blocks
+/// ([`kernels::pair_lanes_ordered`]) times the moments on the same lanes.
 pub(crate) struct ProductFTS<'a> {
     pub conf: &'a Confinement,
     pub eta: f64,
@@ -127,8 +127,7 @@ pub(crate) struct ProductFTS<'a> {
 
 impl LaneProduct<11> for ProductFTS<'_> {
     fn by_height(&self) -> bool {
-        // the scalar kernels exchange the roles themselves
-        false
+        self.conf.exchanges_by_height()
     }
     #[inline(always)]
     fn eval<L: Lane>(
@@ -140,23 +139,8 @@ impl LaneProduct<11> for ProductFTS<'_> {
         va: [L; 11],
         vb: [L; 11],
     ) -> ([L; 11], [L; 11]) {
-        let (c, eta) = (self.conf, self.eta);
-        lane_by_lane(
-            |xa, aa, xb, ab, va, vb| {
-                let m = if aa == ab {
-                    kernels::pair_equal(c, eta, xa, xb, aa)
-                } else {
-                    kernels::pair(c, eta, xa, aa, xb, ab)
-                };
-                m.product(va, vb)
-            },
-            xa,
-            aa,
-            xb,
-            ab,
-            va,
-            vb,
-        )
+        let m = kernels::pair_lanes_ordered(self.conf, self.eta, xa, aa, xb, ab);
+        kernels::grand_lanes_product(&m, va, vb)
     }
     fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; 11]) -> [f64; 11] {
         kernels::self_mobility(self.conf, self.eta, x, a)

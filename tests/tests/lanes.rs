@@ -1,6 +1,6 @@
-//! The lane kernels (`kernels::product_f_lanes`, `product_ft_lanes`: the same traces
-//! emitted over `lanes::Lane`, branch-free per lane, with fused multiply-adds) equal the
-//! scalar kernels, on every instruction set this processor has, for every confinement:
+//! The lane kernels (`kernels::product_f_lanes`, `product_ft_lanes`, and the FTS pair
+//! blocks `pair_lanes_ordered` times the moments: the same traces emitted over
+//! `lanes::Lane`, branch-free per lane, with fused multiply-adds) equal the scalar kernels, on every instruction set this processor has, for every confinement:
 //! on random pairs, and on pairs straddling every branch of the scalar kernels (the
 //! exchange of roles at equal heights, the lateral far-field switch, `rho = 0` where
 //! the canonical frame is the identity), with near and far lanes mixed in one vector.
@@ -10,28 +10,57 @@
 use integration_tests::{all_confinements, bounds, norm, random_spheres};
 use kernels::lanes::{dispatch_with, Element, Isa, Lane, WithLanes};
 use kernels::{
-    product_f, product_f_lanes, product_f_lanes_ordered, product_ft, product_ft_lanes,
-    product_ft_lanes_ordered, Confinement,
+    grand_lanes_product, pair, pair_lanes_ordered, product_f, product_f_lanes,
+    product_f_lanes_ordered, product_ft, product_ft_lanes, product_ft_lanes_ordered, Confinement,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use stokesian::Moments;
 
-/// One pair: centres, radii, moment vectors (`K` = 3 or 6; F uses the first 3).
+/// One pair: centres, radii, moment vectors (`a`'s in `v[..11]`, `b`'s in `v[11..]`; F
+/// uses the first 3 of each, FT the first 6).
 #[derive(Clone, Copy)]
 struct Pair {
     xa: [f64; 3],
     aa: f64,
     xb: [f64; 3],
     ab: f64,
-    v: [f64; 12],
+    v: [f64; 22],
+}
+
+/// The first `K` moments of `a` and of `b`.
+fn moments<const K: usize>(p: &Pair) -> ([f64; K], [f64; K]) {
+    (
+        std::array::from_fn(|k| p.v[k]),
+        std::array::from_fn(|k| p.v[11 + k]),
+    )
+}
+
+/// `p` with `a` and `b` exchanged where `b` is higher (the order of the tiled product).
+fn ordered(p: Pair) -> Pair {
+    if p.xb[2] > p.xa[2] {
+        let mut v = [0.0; 22];
+        v[..11].copy_from_slice(&p.v[11..]);
+        v[11..].copy_from_slice(&p.v[..11]);
+        Pair {
+            xa: p.xb,
+            aa: p.ab,
+            xb: p.xa,
+            ab: p.aa,
+            v,
+        }
+    } else {
+        p
+    }
 }
 
 /// The lane kernels over a list of pairs (a multiple of 16), outputs `a` then `b` per
-/// pair, on lanes of `E` (inputs rounded to `E`).
+/// pair, on lanes of `E` (inputs rounded to `E`). FTS has only the kernel without the
+/// exchange of roles: the pairs must be [`ordered`].
 struct Run<'a, E> {
     conf: &'a Confinement,
     pairs: &'a [Pair],
-    ft: bool,
+    level: Moments,
     /// The kernels without the exchange of roles.
     ordered: bool,
     elem: std::marker::PhantomData<E>,
@@ -51,21 +80,27 @@ impl<E: Element> WithLanes for Run<'_, E> {
             let xa: [L; 3] = std::array::from_fn(|k| col(&|p| p.xa[k]));
             let xb: [L; 3] = std::array::from_fn(|k| col(&|p| p.xb[k]));
             let (aa, ab) = (col(&|p| p.aa), col(&|p| p.ab));
-            let lanes: Vec<L> = if self.ft {
-                let va: [L; 6] = std::array::from_fn(|k| col(&|p| p.v[k]));
-                let vb: [L; 6] = std::array::from_fn(|k| col(&|p| p.v[6 + k]));
-                if self.ordered {
-                    product_ft_lanes_ordered(self.conf, 1.3, xa, aa, xb, ab, va, vb).to_vec()
-                } else {
-                    product_ft_lanes(self.conf, 1.3, xa, aa, xb, ab, va, vb).to_vec()
+            let va: [L; 11] = std::array::from_fn(|k| col(&|p| p.v[k]));
+            let vb: [L; 11] = std::array::from_fn(|k| col(&|p| p.v[11 + k]));
+            let first = |v: [L; 11]| -> [L; 3] { std::array::from_fn(|k| v[k]) };
+            let six = |v: [L; 11]| -> [L; 6] { std::array::from_fn(|k| v[k]) };
+            let (c, o) = (self.conf, self.ordered);
+            let lanes: Vec<L> = match self.level {
+                Moments::F if o => {
+                    product_f_lanes_ordered(c, 1.3, xa, aa, xb, ab, first(va), first(vb)).to_vec()
                 }
-            } else {
-                let va: [L; 3] = std::array::from_fn(|k| col(&|p| p.v[k]));
-                let vb: [L; 3] = std::array::from_fn(|k| col(&|p| p.v[6 + k]));
-                if self.ordered {
-                    product_f_lanes_ordered(self.conf, 1.3, xa, aa, xb, ab, va, vb).to_vec()
-                } else {
-                    product_f_lanes(self.conf, 1.3, xa, aa, xb, ab, va, vb).to_vec()
+                Moments::F => {
+                    product_f_lanes(c, 1.3, xa, aa, xb, ab, first(va), first(vb)).to_vec()
+                }
+                Moments::FT if o => {
+                    product_ft_lanes_ordered(c, 1.3, xa, aa, xb, ab, six(va), six(vb)).to_vec()
+                }
+                Moments::FT => product_ft_lanes(c, 1.3, xa, aa, xb, ab, six(va), six(vb)).to_vec(),
+                Moments::FTS => {
+                    assert!(o, "FTS lanes exist without the exchange only");
+                    let m = pair_lanes_ordered(c, 1.3, xa, aa, xb, ab);
+                    let (a, b) = grand_lanes_product(&m, va, vb);
+                    [a, b].concat()
                 }
             };
             let mut per_pair = vec![vec![0.0; lanes.len()]; w];
@@ -82,32 +117,28 @@ impl<E: Element> WithLanes for Run<'_, E> {
     }
 }
 
-fn scalar(conf: &Confinement, p: &Pair, ft: bool) -> Vec<f64> {
-    if ft {
-        let r = product_ft(
-            conf,
-            1.3,
-            p.xa,
-            p.aa,
-            p.xb,
-            p.ab,
-            std::array::from_fn(|k| p.v[k]),
-            std::array::from_fn(|k| p.v[6 + k]),
-        );
-        [r.a.to_vec(), r.b.to_vec()].concat()
-    } else {
-        let r = product_f(
-            conf,
-            1.3,
-            p.xa,
-            p.aa,
-            p.xb,
-            p.ab,
-            std::array::from_fn(|k| p.v[k]),
-            std::array::from_fn(|k| p.v[6 + k]),
-        );
-        [r.a.to_vec(), r.b.to_vec()].concat()
-    }
+/// The scalar kernels' product (FTS: the pair blocks of [`kernels::pair`] times the
+/// moments).
+fn scalar(conf: &Confinement, p: &Pair, level: Moments) -> Vec<f64> {
+    let (xa, aa, xb, ab) = (p.xa, p.aa, p.xb, p.ab);
+    let (a, b) = match level {
+        Moments::F => {
+            let (va, vb) = moments::<3>(p);
+            let r = product_f(conf, 1.3, xa, aa, xb, ab, va, vb);
+            (r.a.to_vec(), r.b.to_vec())
+        }
+        Moments::FT => {
+            let (va, vb) = moments::<6>(p);
+            let r = product_ft(conf, 1.3, xa, aa, xb, ab, va, vb);
+            (r.a.to_vec(), r.b.to_vec())
+        }
+        Moments::FTS => {
+            let (va, vb) = moments::<11>(p);
+            let r = pair(conf, 1.3, xa, aa, xb, ab).product(va, vb);
+            (r.a.to_vec(), r.b.to_vec())
+        }
+    };
+    [a, b].concat()
 }
 
 /// Random pairs, and pairs at every switch of the scalar kernels.
@@ -190,14 +221,21 @@ fn lanes_against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64) {
     println!("instruction sets on this processor: {isas:?}");
     for (name, conf) in all_confinements() {
         let list = pairs(&conf, &mut rng);
-        for ft in [false, true] {
-            let expect: Vec<Vec<f64>> = list.iter().map(|p| scalar(&conf, p, ft)).collect();
+        for level in [Moments::F, Moments::FT, Moments::FTS] {
+            // FTS: the kernel without the exchange, on pairs in the tiled product's order
+            let fts = level == Moments::FTS;
+            let list: Vec<Pair> = if fts {
+                list.iter().copied().map(ordered).collect()
+            } else {
+                list.clone()
+            };
+            let expect: Vec<Vec<f64>> = list.iter().map(|p| scalar(&conf, p, level)).collect();
             for &isa in &isas {
                 let run = Run::<E> {
                     conf: &conf,
                     pairs: &list,
-                    ft,
-                    ordered: false,
+                    level,
+                    ordered: fts,
                     elem: std::marker::PhantomData,
                 };
                 let got = dispatch_with(isa, run).ok().expect("available");
@@ -213,14 +251,13 @@ fn lanes_against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64) {
                     }
                     assert!(
                         rel <= tol,
-                        "{name} {} {isa:?} pair {k}: relative difference {rel:e}\n lanes {g:?}\n scalar {e:?}",
-                        if ft { "FT" } else { "F" }
+                        "{name} {level:?} {isa:?} pair {k}: relative difference {rel:e}\n lanes {g:?}\n scalar {e:?}"
                     );
                 }
                 let p = &list[worst.1];
                 println!(
-                    "{name:<13} {:<2} {:<7} {} pairs: largest relative difference {:.1e} (xa {:?}, xb {:?})",
-                    if ft { "FT" } else { "F" },
+                    "{name:<13} {:<3} {:<7} {} pairs: largest relative difference {:.1e} (xa {:?}, xb {:?})",
+                    format!("{level:?}"),
                     isa.name(),
                     list.len(),
                     worst.0,
@@ -267,36 +304,18 @@ fn ordered_lane_kernels_equal_the_exchanging_ones_on_ordered_pairs() {
     fn check<E: Element>(seed: u64) {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         for (name, conf) in all_confinements() {
-            let list: Vec<Pair> = pairs(&conf, &mut rng)
-                .into_iter()
-                .map(|p| {
-                    if p.xb[2] > p.xa[2] {
-                        let mut v = [0.0; 12];
-                        v[..6].copy_from_slice(&p.v[6..]);
-                        v[6..].copy_from_slice(&p.v[..6]);
-                        Pair {
-                            xa: p.xb,
-                            aa: p.ab,
-                            xb: p.xa,
-                            ab: p.aa,
-                            v,
-                        }
-                    } else {
-                        p
-                    }
-                })
-                .collect();
+            let list: Vec<Pair> = pairs(&conf, &mut rng).into_iter().map(ordered).collect();
             assert!(
                 list.iter().any(|p| p.xa[2] == p.xb[2]),
                 "equal heights are tested"
             );
-            for ft in [false, true] {
+            for level in [Moments::F, Moments::FT] {
                 for &isa in &Isa::all_available() {
                     let run = |ordered| {
                         let r = Run::<E> {
                             conf: &conf,
                             pairs: &list,
-                            ft,
+                            level,
                             ordered,
                             elem: std::marker::PhantomData,
                         };
@@ -305,7 +324,7 @@ fn ordered_lane_kernels_equal_the_exchanging_ones_on_ordered_pairs() {
                     let (exchanging, ordered) = (run(false), run(true));
                     for (k, (e, o)) in exchanging.iter().zip(&ordered).enumerate() {
                         let same = e.iter().zip(o).all(|(x, y)| x.to_bits() == y.to_bits());
-                        assert!(same, "{name} {isa:?} ft {ft} pair {k}:\n{e:?}\n{o:?}");
+                        assert!(same, "{name} {isa:?} {level:?} pair {k}:\n{e:?}\n{o:?}");
                     }
                 }
             }

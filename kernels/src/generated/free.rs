@@ -937,6 +937,764 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
         ],
     }
 }
+/// Grand mobility blocks, pair: unbounded fluid: the Stokeslet J of Eq. 4.
+///
+/// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).
+/// Strain and stresslet in the 5-component orthonormal basis (kernels::STRAIN_BASIS).
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_pair`'s fields. Operation count with fused multiply-adds: 615 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_pair_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+) -> [L; 121usize] {
+    let out: [L; 121usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.rsqrt();
+        let t6: L = t4.sqrt_with(t5);
+        let t7: L = L::select(t4.gt(L::splat(0.0)), t5, L::splat(1.0));
+        let t8: L = t1 * t7;
+        let t9: L = L::select(t4.gt(L::splat(0.0)), t8, L::splat(1.0));
+        let t10: L = t2 * t7;
+        let t11: L = L::select(t4.gt(L::splat(0.0)), t10, L::splat(0.0));
+        let t12: L = xa[2] - xb[2];
+        let t13: L = aa * aa;
+        let t14: L = ab * ab;
+        let t15: L = t13 * L::splat(0.16666666666666666);
+        let t16: L = t14 * L::splat(0.16666666666666666);
+        let t17: L = t12.mul_add(t12, t4);
+        let t18: L = t17.rsqrt();
+        let t19: L = t6 * t18;
+        let t20: L = t12 * t18;
+        let t21: L = t18 * t18;
+        let t22: L = t15 * t21;
+        let t23: L = t16 * t21;
+        let t24: L = t19.powi(2);
+        let t25: L = t23.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t26: L = t22.mul_add(L::splat(-6.0), t25);
+        let t27: L = t23.mul_add(L::splat(2.0), L::splat(1.0));
+        let t28: L = t22.mul_add(L::splat(2.0), t27);
+        let t29: L = t24.mul_add(t26, t28);
+        let t30: L = t18 * t29;
+        let t31: L = t20 * t26;
+        let t32: L = t19 * t31;
+        let t33: L = t18 * t32;
+        let t34: L = t18 * t28;
+        let t35: L = t23.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t36: L = t22.mul_add(L::splat(6.0), t35);
+        let t37: L = t23.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t38: L = t22.mul_add(L::splat(-4.0), t37);
+        let t39: L = t24.mul_add(t36, t38);
+        let t40: L = t18 * t39;
+        let t41: L = t20 * t21;
+        let t42: L = t19 * t21;
+        let t43: L = t14 * L::splat(0.1);
+        let t44: L = t21 * t43;
+        let t45: L = t44.mul_add(L::splat(-60.0), L::splat(6.0));
+        let t46: L = t22.mul_add(L::splat(-60.0), t45);
+        let t47: L = t20 * t46;
+        let t48: L = t44 * L::splat(12.0);
+        let t49: L = t22.mul_add(L::splat(12.0), t48);
+        let t50: L = t20 * t49;
+        let t51: L = t24.mul_add(t47, t50);
+        let t52: L = t21 * t51;
+        let t53: L = L::splat(0.7071067811865476) * t52;
+        let t54: L = t44.mul_add(L::splat(-30.0), L::splat(3.0));
+        let t55: L = t22.mul_add(L::splat(-30.0), t54);
+        let t56: L = t19 * t55;
+        let t57: L = t19.mul_add(t56, t49);
+        let t58: L = t19 * t57;
+        let t59: L = t21 * t58;
+        let t60: L = L::splat(0.7071067811865476) * t59;
+        let t61: L = t44.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t62: L = t22.mul_add(L::splat(90.0), t61);
+        let t63: L = t19 * t62;
+        let t64: L = t44.mul_add(L::splat(-72.0), L::splat(6.0));
+        let t65: L = t22.mul_add(L::splat(-72.0), t64);
+        let t66: L = t19.mul_add(t63, t65);
+        let t67: L = t19 * t66;
+        let t68: L = t21 * t67;
+        let t69: L = t68 * L::splat(0.408248290463863);
+        let t70: L = t19 * t49;
+        let t71: L = t21 * t70;
+        let t72: L = L::splat(0.7071067811865476) * t71;
+        let t73: L = t21 * t50;
+        let t74: L = L::splat(0.7071067811865476) * t73;
+        let t75: L = t44.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t76: L = t22.mul_add(L::splat(60.0), t75);
+        let t77: L = t19 * t76;
+        let t78: L = t44.mul_add(L::splat(-48.0), L::splat(6.0));
+        let t79: L = t22.mul_add(L::splat(-48.0), t78);
+        let t80: L = t19.mul_add(t77, t79);
+        let t81: L = t19 * t80;
+        let t82: L = t21 * t81;
+        let t83: L = L::splat(0.7071067811865476) * t82;
+        let t84: L = t20 * t55;
+        let t85: L = t24 * t84;
+        let t86: L = t21 * t85;
+        let t87: L = L::splat(0.7071067811865476) * t86;
+        let t88: L = t20 * t62;
+        let t89: L = t44.mul_add(L::splat(-36.0), L::splat(6.0));
+        let t90: L = t22.mul_add(L::splat(-36.0), t89);
+        let t91: L = t20 * t90;
+        let t92: L = t24.mul_add(t88, t91);
+        let t93: L = t21 * t92;
+        let t94: L = L::splat(0.408248290463863) * t93;
+        let t95: L = t24.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t96: L = t18 * t21;
+        let t97: L = t95 * t96;
+        let t98: L = t20 * L::splat(1.5);
+        let t99: L = t19 * t98;
+        let t100: L = t96 * t99;
+        let t101: L = L::splat(-0.5) * t96;
+        let t102: L = t24.mul_add(L::splat(-1.5), L::splat(1.0));
+        let t103: L = t96 * t102;
+        let t104: L = t20 * L::splat(3.0);
+        let t105: L = t19 * t104;
+        let t106: L = t96 * t105;
+        let t107: L = L::splat(0.7071067811865476) * t106;
+        let t108: L = t24 * L::splat(-3.0);
+        let t109: L = L::splat(3.0) + t108;
+        let t110: L = t96 * t109;
+        let t111: L = L::splat(0.7071067811865476) * t110;
+        let t112: L = t24.mul_add(L::splat(6.0), L::splat(-3.0));
+        let t113: L = t96 * t112;
+        let t114: L = L::splat(0.7071067811865476) * t113;
+        let t115: L = t20 * L::splat(-3.0);
+        let t116: L = t19 * t115;
+        let t117: L = t96 * t116;
+        let t118: L = L::splat(0.7071067811865476) * t117;
+        let t119: L = t20 * L::splat(9.0);
+        let t120: L = t19 * t119;
+        let t121: L = t96 * t120;
+        let t122: L = L::splat(0.408248290463863) * t121;
+        let t123: L = t96 * t108;
+        let t124: L = L::splat(0.7071067811865476) * t123;
+        let t125: L = t13 * L::splat(0.1);
+        let t126: L = t21 * t125;
+        let t127: L = t23 * L::splat(-12.0);
+        let t128: L = t126.mul_add(L::splat(-12.0), t127);
+        let t129: L = t19 * t128;
+        let t130: L = t21 * t129;
+        let t131: L = L::splat(0.7071067811865476) * t130;
+        let t132: L = t23.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t133: L = L::splat(60.0).mul_add(t126, t132);
+        let t134: L = t20 * t133;
+        let t135: L = t20 * t128;
+        let t136: L = t24.mul_add(t134, t135);
+        let t137: L = t21 * t136;
+        let t138: L = L::splat(0.7071067811865476) * t137;
+        let t139: L = t23.mul_add(L::splat(-60.0), L::splat(6.0));
+        let t140: L = L::splat(-60.0).mul_add(t126, t139);
+        let t141: L = t19 * t140;
+        let t142: L = t23.mul_add(L::splat(48.0), L::splat(-6.0));
+        let t143: L = t126.mul_add(L::splat(48.0), t142);
+        let t144: L = t19.mul_add(t141, t143);
+        let t145: L = t19 * t144;
+        let t146: L = t21 * t145;
+        let t147: L = L::splat(0.7071067811865476) * t146;
+        let t148: L = t21 * t135;
+        let t149: L = L::splat(0.7071067811865476) * t148;
+        let t150: L = t23.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t151: L = t126.mul_add(L::splat(30.0), t150);
+        let t152: L = t19 * t151;
+        let t153: L = t19.mul_add(t152, t128);
+        let t154: L = t19 * t153;
+        let t155: L = t21 * t154;
+        let t156: L = L::splat(0.7071067811865476) * t155;
+        let t157: L = t20 * t151;
+        let t158: L = t24 * t157;
+        let t159: L = t21 * t158;
+        let t160: L = L::splat(0.7071067811865476) * t159;
+        let t161: L = t23.mul_add(L::splat(-90.0), L::splat(9.0));
+        let t162: L = t126.mul_add(L::splat(-90.0), t161);
+        let t163: L = t19 * t162;
+        let t164: L = t23.mul_add(L::splat(72.0), L::splat(-6.0));
+        let t165: L = t126.mul_add(L::splat(72.0), t164);
+        let t166: L = t19.mul_add(t163, t165);
+        let t167: L = t19 * t166;
+        let t168: L = t21 * t167;
+        let t169: L = L::splat(0.408248290463863) * t168;
+        let t170: L = t20 * t162;
+        let t171: L = t23.mul_add(L::splat(36.0), L::splat(-6.0));
+        let t172: L = t126.mul_add(L::splat(36.0), t171);
+        let t173: L = t20 * t172;
+        let t174: L = t24.mul_add(t170, t173);
+        let t175: L = t21 * t174;
+        let t176: L = L::splat(0.408248290463863) * t175;
+        let t177: L = t44.mul_add(L::splat(-120.0), L::splat(6.0));
+        let t178: L = t126.mul_add(L::splat(-120.0), t177);
+        let t179: L = t44 * L::splat(24.0);
+        let t180: L = t126.mul_add(L::splat(24.0), t179);
+        let t181: L = t24.mul_add(t178, t180);
+        let t182: L = t96 * t181;
+        let t183: L = t182 * L::splat(0.5);
+        let t184: L = t20 * t178;
+        let t185: L = t19 * t184;
+        let t186: L = t96 * t185;
+        let t187: L = L::splat(0.5) * t186;
+        let t188: L = t44.mul_add(L::splat(-840.0), L::splat(60.0));
+        let t189: L = t126.mul_add(L::splat(-840.0), t188);
+        let t190: L = t44.mul_add(L::splat(840.0), L::splat(-60.0));
+        let t191: L = t126.mul_add(L::splat(840.0), t190);
+        let t192: L = t24.mul_add(t189, t191);
+        let t193: L = t44.mul_add(L::splat(-96.0), L::splat(6.0));
+        let t194: L = t126.mul_add(L::splat(-96.0), t193);
+        let t195: L = t24.mul_add(t192, t194);
+        let t196: L = t96 * t195;
+        let t197: L = L::splat(0.5) * t196;
+        let t198: L = t44.mul_add(L::splat(420.0), L::splat(-30.0));
+        let t199: L = t126.mul_add(L::splat(420.0), t198);
+        let t200: L = t20 * t199;
+        let t201: L = t19 * t200;
+        let t202: L = t19.mul_add(t201, t184);
+        let t203: L = t19 * t202;
+        let t204: L = t96 * t203;
+        let t205: L = L::splat(0.5) * t204;
+        let t206: L = t44.mul_add(L::splat(-1260.0), L::splat(90.0));
+        let t207: L = t126.mul_add(L::splat(-1260.0), t206);
+        let t208: L = t20 * t207;
+        let t209: L = t19 * t208;
+        let t210: L = t44.mul_add(L::splat(720.0), L::splat(-54.0));
+        let t211: L = t126.mul_add(L::splat(720.0), t210);
+        let t212: L = t20 * t211;
+        let t213: L = t19.mul_add(t209, t212);
+        let t214: L = t19 * t213;
+        let t215: L = t96 * t214;
+        let t216: L = L::splat(0.28867513459481287) * t215;
+        let t217: L = t44.mul_add(L::splat(120.0), L::splat(-6.0));
+        let t218: L = t126.mul_add(L::splat(120.0), t217);
+        let t219: L = t24.mul_add(t218, t194);
+        let t220: L = t96 * t219;
+        let t221: L = L::splat(0.5) * t220;
+        let t222: L = t44.mul_add(L::splat(210.0), L::splat(-15.0));
+        let t223: L = t126.mul_add(L::splat(210.0), t222);
+        let t224: L = t24.mul_add(t223, t178);
+        let t225: L = t24.mul_add(t224, t180);
+        let t226: L = t96 * t225;
+        let t227: L = L::splat(0.5) * t226;
+        let t228: L = t44.mul_add(L::splat(-630.0), L::splat(45.0));
+        let t229: L = t126.mul_add(L::splat(-630.0), t228);
+        let t230: L = t44.mul_add(L::splat(540.0), L::splat(-36.0));
+        let t231: L = t126.mul_add(L::splat(540.0), t230);
+        let t232: L = t24.mul_add(t229, t231);
+        let t233: L = t24 * t232;
+        let t234: L = t96 * t233;
+        let t235: L = L::splat(0.28867513459481287) * t234;
+        let t236: L = t44.mul_add(L::splat(1890.0), L::splat(-135.0));
+        let t237: L = t126.mul_add(L::splat(1890.0), t236);
+        let t238: L = t44.mul_add(L::splat(-2160.0), L::splat(162.0));
+        let t239: L = t126.mul_add(L::splat(-2160.0), t238);
+        let t240: L = t24.mul_add(t237, t239);
+        let t241: L = t44.mul_add(L::splat(432.0), L::splat(-36.0));
+        let t242: L = t126.mul_add(L::splat(432.0), t241);
+        let t243: L = t24.mul_add(t240, t242);
+        let t244: L = t96 * t243;
+        let t245: L = L::splat(0.16666666666666666) * t244;
+        let t246: L = t0 * t30;
+        let t247: L = t0 * t33;
+        let t248: L = t0 * t34;
+        let t249: L = t0 * t40;
+        let t250: L = t0 * t41;
+        let t251: L = t0 * t42;
+        let t252: L = t0 * t53;
+        let t253: L = t0 * t60;
+        let t254: L = t0 * t69;
+        let t255: L = t0 * t72;
+        let t256: L = t0 * t74;
+        let t257: L = t0 * t83;
+        let t258: L = t0 * t87;
+        let t259: L = t0 * t94;
+        let t260: L = t0 * t97;
+        let t261: L = t0 * t100;
+        let t262: L = t0 * t101;
+        let t263: L = t0 * t103;
+        let t264: L = t0 * t107;
+        let t265: L = t0 * t111;
+        let t266: L = t0 * t114;
+        let t267: L = t0 * t118;
+        let t268: L = t0 * t122;
+        let t269: L = t0 * t124;
+        let t270: L = t0 * t131;
+        let t271: L = t0 * t138;
+        let t272: L = t0 * t147;
+        let t273: L = t0 * t149;
+        let t274: L = t0 * t156;
+        let t275: L = t0 * t160;
+        let t276: L = t0 * t169;
+        let t277: L = t0 * t176;
+        let t278: L = t0 * t183;
+        let t279: L = t0 * t187;
+        let t280: L = t0 * t197;
+        let t281: L = t0 * t205;
+        let t282: L = t0 * t216;
+        let t283: L = t0 * t221;
+        let t284: L = t0 * t227;
+        let t285: L = t0 * t235;
+        let t286: L = t0 * t245;
+        let t287: L = t9 * t246;
+        let t288: L = t11 * t248;
+        let t289: L = t11 * t288;
+        let t290: L = t9.mul_add(t287, t289);
+        let t291: L = t11 * t246;
+        let t292: L = t9 * t248;
+        let t293: L = t11 * t292;
+        let t294: L = t9.mul_sub(t291, t293);
+        let t295: L = t9 * t247;
+        let t296: L = t9 * t288;
+        let t297: L = t11.mul_sub(t287, t296);
+        let t298: L = t9 * t292;
+        let t299: L = t11.mul_add(t291, t298);
+        let t300: L = t11 * t247;
+        let t301: L = t11 * t250;
+        let t302: L = t9 * t301;
+        let t303: L = t9 * t250;
+        let t304: L = t11.mul_sub(t303, t302);
+        let t305: L = t11 * t301;
+        let t306: L = t9.mul_add(t303, t305);
+        let t307: L = t11 * t251;
+        let t308: L = -t307;
+        let t309: L = -t306;
+        let t310: L = t9 * t251;
+        let t311: L = -t310;
+        let t312: L = t9 * t9;
+        let t313: L = L::splat(0.5000000000000001) * t312;
+        let t314: L = t11 * t11;
+        let t315: L = L::splat(0.5000000000000001) * t314;
+        let t316: L = t313 - t315;
+        let t317: L = t316 - t315;
+        let t318: L = t313 + t317;
+        let t319: L = t9 * t11;
+        let t320: L = L::splat(0.5000000000000001) * t319;
+        let t321: L = t319 * L::splat(-0.5000000000000001);
+        let t322: L = t320 - t321;
+        let t323: L = t320 + t322;
+        let t324: L = t323 - t321;
+        let t325: L = t319 * L::splat(-0.2886751345948129);
+        let t326: L = t9 * L::splat(0.5000000000000001);
+        let t327: L = t326 + t326;
+        let t328: L = t11 * L::splat(0.5000000000000001);
+        let t329: L = t328 + t328;
+        let t330: L = t320 + t320;
+        let t331: L = t321 - t330;
+        let t332: L = t321 + t331;
+        let t333: L = t314 * L::splat(-0.5000000000000001);
+        let t334: L = t313 + t333;
+        let t335: L = t333 + t334;
+        let t336: L = t313 + t335;
+        let t337: L = t312 * L::splat(-0.2886751345948129);
+        let t338: L = t314 * L::splat(-0.2886751345948129);
+        let t339: L = t337 + t338;
+        let t340: L = t314 * L::splat(0.2886751345948129);
+        let t341: L = t339 + t340;
+        let t342: L = t312 * L::splat(0.2886751345948129);
+        let t343: L = t341 + t342;
+        let t344: L = t325 + t325;
+        let t345: L = t325 - t344;
+        let t346: L = t325 + t345;
+        let t347: L = t337 + t340;
+        let t348: L = t338 + t347;
+        let t349: L = t342 + t348;
+        let t350: L = L::splat(0.16666666666666666) * t312;
+        let t351: L = L::splat(0.16666666666666666) * t314;
+        let t352: L = t350 + t351;
+        let t353: L = t351 + t352;
+        let t354: L = t350 + t353;
+        let t355: L = t354 + L::splat(0.6666666666666666);
+        let t356: L = t253 * t324;
+        let t357: L = t255 * t318;
+        let t358: L = t11 * t357;
+        let t359: L = t9.mul_sub(t356, t358);
+        let t360: L = t252 * t327;
+        let t361: L = t256 * t329;
+        let t362: L = t11 * t361;
+        let t363: L = t9.mul_add(t360, t362);
+        let t364: L = t252 * t329;
+        let t365: L = t256 * t327;
+        let t366: L = t11 * t365;
+        let t367: L = t9.mul_sub(t364, t366);
+        let t368: L = t254 * t343;
+        let t369: L = t253.mul_add(t336, t368);
+        let t370: L = t255 * t332;
+        let t371: L = t11 * t370;
+        let t372: L = t9.mul_sub(t369, t371);
+        let t373: L = t254 * t355;
+        let t374: L = t253.mul_add(t349, t373);
+        let t375: L = t255 * t346;
+        let t376: L = t11 * t375;
+        let t377: L = t9.mul_sub(t374, t376);
+        let t378: L = t9 * t357;
+        let t379: L = t11.mul_add(t356, t378);
+        let t380: L = t9 * t361;
+        let t381: L = t11.mul_sub(t360, t380);
+        let t382: L = t9 * t365;
+        let t383: L = t11.mul_add(t364, t382);
+        let t384: L = t9 * t370;
+        let t385: L = t11.mul_add(t369, t384);
+        let t386: L = t9 * t375;
+        let t387: L = t11.mul_add(t374, t386);
+        let t388: L = t258 * t324;
+        let t389: L = t257 * t327;
+        let t390: L = t257 * t329;
+        let t391: L = t259 * t343;
+        let t392: L = t258.mul_add(t336, t391);
+        let t393: L = t259 * t355;
+        let t394: L = t258.mul_add(t349, t393);
+        let t395: L = t9 * t260;
+        let t396: L = t11 * t262;
+        let t397: L = t11 * t396;
+        let t398: L = t9.mul_add(t395, t397);
+        let t399: L = t11 * t260;
+        let t400: L = t9 * t262;
+        let t401: L = t11 * t400;
+        let t402: L = t9.mul_sub(t399, t401);
+        let t403: L = t9 * t261;
+        let t404: L = t9 * t396;
+        let t405: L = t11.mul_sub(t395, t404);
+        let t406: L = t9 * t400;
+        let t407: L = t11.mul_add(t399, t406);
+        let t408: L = t11 * t261;
+        let t409: L = t264 * t318;
+        let t410: L = t267 * t324;
+        let t411: L = t11 * t410;
+        let t412: L = t9.mul_sub(t409, t411);
+        let t413: L = t265 * t329;
+        let t414: L = t266 * t327;
+        let t415: L = t11 * t414;
+        let t416: L = t9.mul_add(t413, t415);
+        let t417: L = -t416;
+        let t418: L = t265 * t327;
+        let t419: L = t266 * t329;
+        let t420: L = t11 * t419;
+        let t421: L = t9.mul_sub(t418, t420);
+        let t422: L = t264 * t332;
+        let t423: L = t268 * t343;
+        let t424: L = t267.mul_add(t336, t423);
+        let t425: L = t11 * t424;
+        let t426: L = t9.mul_sub(t422, t425);
+        let t427: L = t264 * t346;
+        let t428: L = t268 * t355;
+        let t429: L = t267.mul_add(t349, t428);
+        let t430: L = t11 * t429;
+        let t431: L = t9.mul_sub(t427, t430);
+        let t432: L = t9 * t410;
+        let t433: L = t11.mul_add(t409, t432);
+        let t434: L = t11 * t413;
+        let t435: L = t9.mul_sub(t414, t434);
+        let t436: L = t9 * t419;
+        let t437: L = t11.mul_add(t418, t436);
+        let t438: L = t9 * t424;
+        let t439: L = t11.mul_add(t422, t438);
+        let t440: L = t9 * t429;
+        let t441: L = t11.mul_add(t427, t440);
+        let t442: L = t269 * t318;
+        let t443: L = t267 * t329;
+        let t444: L = -t443;
+        let t445: L = t267 * t327;
+        let t446: L = t269 * t332;
+        let t447: L = t269 * t346;
+        let t448: L = t11 * t270;
+        let t449: L = t318 * t448;
+        let t450: L = t9 * t274;
+        let t451: L = t324.mul_sub(t450, t449);
+        let t452: L = t9 * t270;
+        let t453: L = t11 * t274;
+        let t454: L = t324 * t453;
+        let t455: L = t318.mul_add(t452, t454);
+        let t456: L = t275 * t324;
+        let t457: L = t9 * t271;
+        let t458: L = t11 * t273;
+        let t459: L = t329 * t458;
+        let t460: L = t327.mul_add(t457, t459);
+        let t461: L = t11 * t271;
+        let t462: L = t9 * t273;
+        let t463: L = t329 * t462;
+        let t464: L = t327.mul_sub(t461, t463);
+        let t465: L = t272 * t327;
+        let t466: L = t327 * t458;
+        let t467: L = t329.mul_sub(t457, t466);
+        let t468: L = t327 * t462;
+        let t469: L = t329.mul_add(t461, t468);
+        let t470: L = t272 * t329;
+        let t471: L = t332 * t448;
+        let t472: L = t336.mul_sub(t450, t471);
+        let t473: L = t9 * t276;
+        let t474: L = t343.mul_add(t473, t472);
+        let t475: L = t336 * t453;
+        let t476: L = t332.mul_add(t452, t475);
+        let t477: L = t11 * t276;
+        let t478: L = t343.mul_add(t477, t476);
+        let t479: L = t277 * t343;
+        let t480: L = t275.mul_add(t336, t479);
+        let t481: L = t346 * t448;
+        let t482: L = t349.mul_sub(t450, t481);
+        let t483: L = t355.mul_add(t473, t482);
+        let t484: L = t349 * t453;
+        let t485: L = t346.mul_add(t452, t484);
+        let t486: L = t355.mul_add(t477, t485);
+        let t487: L = t277 * t355;
+        let t488: L = t275.mul_add(t349, t487);
+        let t489: L = t9 * t264;
+        let t490: L = t11 * t267;
+        let t491: L = t324 * t490;
+        let t492: L = t318.mul_sub(t489, t491);
+        let t493: L = t11 * t264;
+        let t494: L = t9 * t267;
+        let t495: L = t324 * t494;
+        let t496: L = t318.mul_add(t493, t495);
+        let t497: L = t11 * t266;
+        let t498: L = t9 * t265;
+        let t499: L = t329 * t498;
+        let t500: L = t327.mul_add(t497, t499);
+        let t501: L = -t500;
+        let t502: L = t9 * t266;
+        let t503: L = t11 * t265;
+        let t504: L = t329 * t503;
+        let t505: L = t327.mul_sub(t502, t504);
+        let t506: L = t329 * t497;
+        let t507: L = t327.mul_sub(t498, t506);
+        let t508: L = t327 * t503;
+        let t509: L = t329.mul_add(t502, t508);
+        let t510: L = t336 * t490;
+        let t511: L = t332.mul_sub(t489, t510);
+        let t512: L = t11 * t268;
+        let t513: L = t343.neg_mul_add(t512, t511);
+        let t514: L = t336 * t494;
+        let t515: L = t332.mul_add(t493, t514);
+        let t516: L = t9 * t268;
+        let t517: L = t343.mul_add(t516, t515);
+        let t518: L = t349 * t490;
+        let t519: L = t346.mul_sub(t489, t518);
+        let t520: L = t355.neg_mul_add(t512, t519);
+        let t521: L = t349 * t494;
+        let t522: L = t346.mul_add(t493, t521);
+        let t523: L = t355.mul_add(t516, t522);
+        let t524: L = t278 * t318;
+        let t525: L = t284 * t324;
+        let t526: L = t324 * t525;
+        let t527: L = t318.mul_add(t524, t526);
+        let t528: L = t279 * t329;
+        let t529: L = t318 * t528;
+        let t530: L = t281 * t327;
+        let t531: L = t324.mul_sub(t530, t529);
+        let t532: L = t279 * t327;
+        let t533: L = t281 * t329;
+        let t534: L = t324 * t533;
+        let t535: L = t318.mul_add(t532, t534);
+        let t536: L = t278 * t332;
+        let t537: L = t285 * t343;
+        let t538: L = t284.mul_add(t336, t537);
+        let t539: L = t324 * t538;
+        let t540: L = t318.mul_add(t536, t539);
+        let t541: L = t278 * t346;
+        let t542: L = t285 * t355;
+        let t543: L = t284.mul_add(t349, t542);
+        let t544: L = t324 * t543;
+        let t545: L = t318.mul_add(t541, t544);
+        let t546: L = t281 * t324;
+        let t547: L = t279 * t318;
+        let t548: L = t329 * t547;
+        let t549: L = t327.mul_sub(t546, t548);
+        let t550: L = t280 * t327;
+        let t551: L = t283 * t329;
+        let t552: L = t329 * t551;
+        let t553: L = t327.mul_add(t550, t552);
+        let t554: L = t280 * t329;
+        let t555: L = t283 * t327;
+        let t556: L = t329 * t555;
+        let t557: L = t327.mul_sub(t554, t556);
+        let t558: L = t282 * t343;
+        let t559: L = t281.mul_add(t336, t558);
+        let t560: L = t279 * t332;
+        let t561: L = t329 * t560;
+        let t562: L = t327.mul_sub(t559, t561);
+        let t563: L = t282 * t355;
+        let t564: L = t281.mul_add(t349, t563);
+        let t565: L = t279 * t346;
+        let t566: L = t329 * t565;
+        let t567: L = t327.mul_sub(t564, t566);
+        let t568: L = t327 * t547;
+        let t569: L = t329.mul_add(t546, t568);
+        let t570: L = t327 * t551;
+        let t571: L = t329.mul_sub(t550, t570);
+        let t572: L = t327 * t555;
+        let t573: L = t329.mul_add(t554, t572);
+        let t574: L = t327 * t560;
+        let t575: L = t329.mul_add(t559, t574);
+        let t576: L = t327 * t565;
+        let t577: L = t329.mul_add(t564, t576);
+        let t578: L = t336 * t525;
+        let t579: L = t332.mul_add(t524, t578);
+        let t580: L = t285 * t324;
+        let t581: L = t343.mul_add(t580, t579);
+        let t582: L = t332 * t528;
+        let t583: L = t336.mul_sub(t530, t582);
+        let t584: L = t282 * t327;
+        let t585: L = t343.mul_add(t584, t583);
+        let t586: L = t336 * t533;
+        let t587: L = t332.mul_add(t532, t586);
+        let t588: L = t282 * t329;
+        let t589: L = t343.mul_add(t588, t587);
+        let t590: L = t336 * t538;
+        let t591: L = t332.mul_add(t536, t590);
+        let t592: L = t286 * t343;
+        let t593: L = t285.mul_add(t336, t592);
+        let t594: L = t343.mul_add(t593, t591);
+        let t595: L = t336 * t543;
+        let t596: L = t332.mul_add(t541, t595);
+        let t597: L = t286 * t355;
+        let t598: L = t285.mul_add(t349, t597);
+        let t599: L = t343.mul_add(t598, t596);
+        let t600: L = t349 * t525;
+        let t601: L = t346.mul_add(t524, t600);
+        let t602: L = t355.mul_add(t580, t601);
+        let t603: L = t346 * t528;
+        let t604: L = t349.mul_sub(t530, t603);
+        let t605: L = t355.mul_add(t584, t604);
+        let t606: L = t349 * t533;
+        let t607: L = t346.mul_add(t532, t606);
+        let t608: L = t355.mul_add(t588, t607);
+        let t609: L = t349 * t538;
+        let t610: L = t346.mul_add(t536, t609);
+        let t611: L = t355.mul_add(t593, t610);
+        let t612: L = t349 * t543;
+        let t613: L = t346.mul_add(t541, t612);
+        let t614: L = t355.mul_add(t598, t613);
+        [
+            t290,
+            t294,
+            t295,
+            t297,
+            t299,
+            t300,
+            t295,
+            t300,
+            t249,
+            t304,
+            t306,
+            t308,
+            t309,
+            t304,
+            t310,
+            t307,
+            t311,
+            L::splat(0.0),
+            t359,
+            t363,
+            t367,
+            t372,
+            t377,
+            t379,
+            t381,
+            t383,
+            t385,
+            t387,
+            t388,
+            t389,
+            t390,
+            t392,
+            t394,
+            t304,
+            t306,
+            t308,
+            t309,
+            t304,
+            t310,
+            t307,
+            t311,
+            L::splat(0.0),
+            t398,
+            t402,
+            t403,
+            t405,
+            t407,
+            t408,
+            t403,
+            t408,
+            t263,
+            t412,
+            t417,
+            t421,
+            t426,
+            t431,
+            t433,
+            t435,
+            t437,
+            t439,
+            t441,
+            t442,
+            t444,
+            t445,
+            t446,
+            t447,
+            t451,
+            t455,
+            t456,
+            t460,
+            t464,
+            t465,
+            t467,
+            t469,
+            t470,
+            t474,
+            t478,
+            t480,
+            t483,
+            t486,
+            t488,
+            t492,
+            t496,
+            t442,
+            t501,
+            t505,
+            t444,
+            t507,
+            t509,
+            t445,
+            t513,
+            t517,
+            t446,
+            t520,
+            t523,
+            t447,
+            t527,
+            t531,
+            t535,
+            t540,
+            t545,
+            t549,
+            t553,
+            t557,
+            t562,
+            t567,
+            t569,
+            t571,
+            t573,
+            t575,
+            t577,
+            t581,
+            t585,
+            t589,
+            t594,
+            t599,
+            t602,
+            t605,
+            t608,
+            t611,
+            t614,
+        ]
+    };
+    out
+}
+pub use free_pair_lanes as free_pair_lanes_ordered;
 /// Grand mobility blocks, pair, equal radii: unbounded fluid: the Stokeslet J of Eq. 4.
 ///
 /// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).

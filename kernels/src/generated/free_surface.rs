@@ -1567,6 +1567,1053 @@ pub fn free_surface_pair(
         ],
     }
 }
+/// Grand mobility blocks, pair: flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21).
+///
+/// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).
+/// Strain and stresslet in the 5-component orthonormal basis (kernels::STRAIN_BASIS).
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_pair`'s fields. Operation count with fused multiply-adds: 903 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_surface_pair_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+) -> [L; 121usize] {
+    let out: [L; 121usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.rsqrt();
+        let t6: L = t4.sqrt_with(t5);
+        let t7: L = L::select(t4.gt(L::splat(0.0)), t5, L::splat(1.0));
+        let t8: L = t1 * t7;
+        let t9: L = L::select(t4.gt(L::splat(0.0)), t8, L::splat(1.0));
+        let t10: L = t2 * t7;
+        let t11: L = L::select(t4.gt(L::splat(0.0)), t10, L::splat(0.0));
+        let t12: L = xa[2] - xb[2];
+        let t13: L = xb[2] - height;
+        let t14: L = t13.mul_add(L::splat(2.0), t12);
+        let t15: L = aa * aa;
+        let t16: L = ab * ab;
+        let t17: L = t15 * L::splat(0.16666666666666666);
+        let t18: L = t16 * L::splat(0.16666666666666666);
+        let t19: L = t12.mul_add(t12, t4);
+        let t20: L = t19.rsqrt();
+        let t21: L = t6 * t20;
+        let t22: L = t12 * t20;
+        let t23: L = t20 * t20;
+        let t24: L = t17 * t23;
+        let t25: L = t18 * t23;
+        let t26: L = t21.powi(2);
+        let t27: L = t25.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t28: L = t24.mul_add(L::splat(-6.0), t27);
+        let t29: L = L::splat(2.0).mul_add(t25, L::splat(1.0));
+        let t30: L = L::splat(2.0).mul_add(t24, t29);
+        let t31: L = t26.mul_add(t28, t30);
+        let t32: L = t14.mul_add(t14, t4);
+        let t33: L = t32.rsqrt();
+        let t34: L = t6 * t33;
+        let t35: L = t14 * t33;
+        let t36: L = t33 * t33;
+        let t37: L = t17 * t36;
+        let t38: L = t18 * t36;
+        let t39: L = t34.powi(2);
+        let t40: L = L::splat(-6.0).mul_add(t38, L::splat(1.0));
+        let t41: L = L::splat(-6.0).mul_add(t37, t40);
+        let t42: L = t39 * t41;
+        let t43: L = L::splat(2.0).mul_add(t38, L::splat(1.0));
+        let t44: L = L::splat(2.0).mul_add(t37, t43);
+        let t45: L = t42 + t44;
+        let t46: L = t33 * t45;
+        let t47: L = t20.mul_add(t31, t46);
+        let t48: L = t22 * t28;
+        let t49: L = t21 * t48;
+        let t50: L = t20 * t49;
+        let t51: L = t38.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t52: L = t37.mul_add(L::splat(6.0), t51);
+        let t53: L = t35 * t52;
+        let t54: L = t34 * t53;
+        let t55: L = t33.mul_add(t54, t50);
+        let t56: L = t33 * t44;
+        let t57: L = t20.mul_add(t30, t56);
+        let t58: L = t35 * t41;
+        let t59: L = t34 * t58;
+        let t60: L = t33.mul_add(t59, t50);
+        let t61: L = t25.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t62: L = t24.mul_add(L::splat(6.0), t61);
+        let t63: L = t25.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t64: L = t24.mul_add(L::splat(-4.0), t63);
+        let t65: L = t26.mul_add(t62, t64);
+        let t66: L = t38.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t67: L = t37.mul_add(L::splat(4.0), t66);
+        let t68: L = t42 + t67;
+        let t69: L = t33 * t68;
+        let t70: L = t20.mul_add(t65, t69);
+        let t71: L = t22 * t23;
+        let t72: L = t35 * t36;
+        let t73: L = t71 - t72;
+        let t74: L = t72 - t71;
+        let t75: L = t21 * t23;
+        let t76: L = t34 * t36;
+        let t77: L = t75 + t76;
+        let t78: L = t76 - t75;
+        let t79: L = t16 * L::splat(0.1);
+        let t80: L = t23 * t79;
+        let t81: L = t36 * t79;
+        let t82: L = t80.mul_add(L::splat(-60.0), L::splat(6.0));
+        let t83: L = t24.mul_add(L::splat(-60.0), t82);
+        let t84: L = t22 * t83;
+        let t85: L = t80 * L::splat(12.0);
+        let t86: L = t24.mul_add(L::splat(12.0), t85);
+        let t87: L = t22 * t86;
+        let t88: L = t26.mul_add(t84, t87);
+        let t89: L = t81.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t90: L = t37.mul_add(L::splat(60.0), t89);
+        let t91: L = t35 * t90;
+        let t92: L = t81 * L::splat(-12.0);
+        let t93: L = t37.mul_add(L::splat(-12.0), t92);
+        let t94: L = t35 * t93;
+        let t95: L = t39.mul_add(t91, t94);
+        let t96: L = t36 * t95;
+        let t97: L = t23.mul_add(t88, t96);
+        let t98: L = L::splat(0.7071067811865476) * t97;
+        let t99: L = t80.mul_add(L::splat(-30.0), L::splat(3.0));
+        let t100: L = t24.mul_add(L::splat(-30.0), t99);
+        let t101: L = t21 * t100;
+        let t102: L = t21.mul_add(t101, t86);
+        let t103: L = t21 * t102;
+        let t104: L = t81.mul_add(L::splat(-30.0), L::splat(3.0));
+        let t105: L = t37.mul_add(L::splat(-30.0), t104);
+        let t106: L = t34 * t105;
+        let t107: L = t81 * L::splat(12.0);
+        let t108: L = t37.mul_add(L::splat(12.0), t107);
+        let t109: L = t34.mul_add(t106, t108);
+        let t110: L = t34 * t109;
+        let t111: L = t36 * t110;
+        let t112: L = t23.mul_add(t103, t111);
+        let t113: L = L::splat(0.7071067811865476) * t112;
+        let t114: L = t80.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t115: L = t24.mul_add(L::splat(90.0), t114);
+        let t116: L = t21 * t115;
+        let t117: L = t80.mul_add(L::splat(-72.0), L::splat(6.0));
+        let t118: L = t24.mul_add(L::splat(-72.0), t117);
+        let t119: L = t21.mul_add(t116, t118);
+        let t120: L = t21 * t119;
+        let t121: L = t81.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t122: L = t37.mul_add(L::splat(90.0), t121);
+        let t123: L = t34 * t122;
+        let t124: L = t81.mul_add(L::splat(-72.0), L::splat(6.0));
+        let t125: L = t37.mul_add(L::splat(-72.0), t124);
+        let t126: L = t34.mul_add(t123, t125);
+        let t127: L = t34 * t126;
+        let t128: L = t36 * t127;
+        let t129: L = t23.mul_add(t120, t128);
+        let t130: L = t129 * L::splat(0.408248290463863);
+        let t131: L = t21 * t86;
+        let t132: L = t34 * t108;
+        let t133: L = t36 * t132;
+        let t134: L = t23.mul_add(t131, t133);
+        let t135: L = L::splat(0.7071067811865476) * t134;
+        let t136: L = t36 * t94;
+        let t137: L = t23.mul_add(t87, t136);
+        let t138: L = L::splat(0.7071067811865476) * t137;
+        let t139: L = t80.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t140: L = t24.mul_add(L::splat(60.0), t139);
+        let t141: L = t21 * t140;
+        let t142: L = t80.mul_add(L::splat(-48.0), L::splat(6.0));
+        let t143: L = t24.mul_add(L::splat(-48.0), t142);
+        let t144: L = t21.mul_add(t141, t143);
+        let t145: L = t21 * t144;
+        let t146: L = t81.mul_add(L::splat(-60.0), L::splat(6.0));
+        let t147: L = t37.mul_add(L::splat(-60.0), t146);
+        let t148: L = t34 * t147;
+        let t149: L = t81.mul_add(L::splat(48.0), L::splat(-6.0));
+        let t150: L = t37.mul_add(L::splat(48.0), t149);
+        let t151: L = t34.mul_add(t148, t150);
+        let t152: L = t34 * t151;
+        let t153: L = t36 * t152;
+        let t154: L = t23.mul_add(t145, t153);
+        let t155: L = L::splat(0.7071067811865476) * t154;
+        let t156: L = t22 * t100;
+        let t157: L = t26 * t156;
+        let t158: L = t35 * t105;
+        let t159: L = t39 * t158;
+        let t160: L = t36 * t159;
+        let t161: L = t23.mul_add(t157, t160);
+        let t162: L = L::splat(0.7071067811865476) * t161;
+        let t163: L = t22 * t115;
+        let t164: L = t80.mul_add(L::splat(-36.0), L::splat(6.0));
+        let t165: L = t24.mul_add(L::splat(-36.0), t164);
+        let t166: L = t22 * t165;
+        let t167: L = t26.mul_add(t163, t166);
+        let t168: L = t35 * t122;
+        let t169: L = t81.mul_add(L::splat(-36.0), L::splat(6.0));
+        let t170: L = t37.mul_add(L::splat(-36.0), t169);
+        let t171: L = t35 * t170;
+        let t172: L = t39.mul_add(t168, t171);
+        let t173: L = t36 * t172;
+        let t174: L = t23.mul_add(t167, t173);
+        let t175: L = L::splat(0.408248290463863) * t174;
+        let t176: L = t71 + t72;
+        let t177: L = t75 - t76;
+        let t178: L = t26.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t179: L = t20 * t23;
+        let t180: L = t39 * L::splat(-1.5);
+        let t181: L = t180 + L::splat(0.5);
+        let t182: L = t33 * t36;
+        let t183: L = t181 * t182;
+        let t184: L = t178.mul_add(t179, t183);
+        let t185: L = t22 * L::splat(1.5);
+        let t186: L = t21 * t185;
+        let t187: L = t179 * t186;
+        let t188: L = t35 * L::splat(1.5);
+        let t189: L = t34 * t188;
+        let t190: L = t182.mul_add(t189, t187);
+        let t191: L = L::splat(0.5) * t182;
+        let t192: L = L::splat(-0.5).mul_add(t179, t191);
+        let t193: L = t35 * L::splat(-1.5);
+        let t194: L = t34 * t193;
+        let t195: L = t182.mul_add(t194, t187);
+        let t196: L = t26.mul_add(L::splat(-1.5), L::splat(1.0));
+        let t197: L = L::splat(1.0) + t180;
+        let t198: L = t182 * t197;
+        let t199: L = t179.mul_add(t196, t198);
+        let t200: L = t22 * L::splat(3.0);
+        let t201: L = t21 * t200;
+        let t202: L = t179 * t201;
+        let t203: L = t35 * L::splat(3.0);
+        let t204: L = t34 * t203;
+        let t205: L = t182 * t204;
+        let t206: L = t202 + t205;
+        let t207: L = L::splat(0.7071067811865476) * t206;
+        let t208: L = t26 * L::splat(-3.0);
+        let t209: L = L::splat(3.0) + t208;
+        let t210: L = t39.mul_add(L::splat(3.0), L::splat(-3.0));
+        let t211: L = t182 * t210;
+        let t212: L = t179.mul_add(t209, t211);
+        let t213: L = L::splat(0.7071067811865476) * t212;
+        let t214: L = t26.mul_add(L::splat(6.0), L::splat(-3.0));
+        let t215: L = L::splat(-6.0).mul_add(t39, L::splat(3.0));
+        let t216: L = t182 * t215;
+        let t217: L = t179.mul_add(t214, t216);
+        let t218: L = L::splat(0.7071067811865476) * t217;
+        let t219: L = t22 * L::splat(-3.0);
+        let t220: L = t21 * t219;
+        let t221: L = t179 * t220;
+        let t222: L = t35 * L::splat(-3.0);
+        let t223: L = t34 * t222;
+        let t224: L = t182 * t223;
+        let t225: L = t221 + t224;
+        let t226: L = L::splat(0.7071067811865476) * t225;
+        let t227: L = t22 * L::splat(9.0);
+        let t228: L = t21 * t227;
+        let t229: L = t179 * t228;
+        let t230: L = t35 * L::splat(9.0);
+        let t231: L = t34 * t230;
+        let t232: L = t182.mul_add(t231, t229);
+        let t233: L = L::splat(0.408248290463863) * t232;
+        let t234: L = t39 * L::splat(-3.0);
+        let t235: L = t182 * t234;
+        let t236: L = t179.mul_add(t208, t235);
+        let t237: L = L::splat(0.7071067811865476) * t236;
+        let t238: L = t205 + t221;
+        let t239: L = L::splat(0.7071067811865476) * t238;
+        let t240: L = t15 * L::splat(0.1);
+        let t241: L = t23 * t240;
+        let t242: L = t36 * t240;
+        let t243: L = t25 * L::splat(-12.0);
+        let t244: L = L::splat(-12.0).mul_add(t241, t243);
+        let t245: L = t21 * t244;
+        let t246: L = t38 * L::splat(-12.0);
+        let t247: L = L::splat(-12.0).mul_add(t242, t246);
+        let t248: L = t34 * t247;
+        let t249: L = t36 * t248;
+        let t250: L = t23.mul_add(t245, t249);
+        let t251: L = L::splat(0.7071067811865476) * t250;
+        let t252: L = t25.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t253: L = L::splat(60.0).mul_add(t241, t252);
+        let t254: L = t22 * t253;
+        let t255: L = t22 * t244;
+        let t256: L = t26.mul_add(t254, t255);
+        let t257: L = t38.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t258: L = L::splat(60.0).mul_add(t242, t257);
+        let t259: L = t35 * t258;
+        let t260: L = t35 * t247;
+        let t261: L = t39.mul_add(t259, t260);
+        let t262: L = t36 * t261;
+        let t263: L = t23.mul_add(t256, t262);
+        let t264: L = L::splat(0.7071067811865476) * t263;
+        let t265: L = t25.mul_add(L::splat(-60.0), L::splat(6.0));
+        let t266: L = L::splat(-60.0).mul_add(t241, t265);
+        let t267: L = t21 * t266;
+        let t268: L = t25.mul_add(L::splat(48.0), L::splat(-6.0));
+        let t269: L = L::splat(48.0).mul_add(t241, t268);
+        let t270: L = t21.mul_add(t267, t269);
+        let t271: L = t21 * t270;
+        let t272: L = t34 * t258;
+        let t273: L = t38.mul_add(L::splat(-48.0), L::splat(6.0));
+        let t274: L = L::splat(-48.0).mul_add(t242, t273);
+        let t275: L = t34.mul_add(t272, t274);
+        let t276: L = t34 * t275;
+        let t277: L = t36 * t276;
+        let t278: L = t23.mul_add(t271, t277);
+        let t279: L = L::splat(0.7071067811865476) * t278;
+        let t280: L = t36 * t260;
+        let t281: L = t23.mul_add(t255, t280);
+        let t282: L = L::splat(0.7071067811865476) * t281;
+        let t283: L = t25.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t284: L = t241.mul_add(L::splat(30.0), t283);
+        let t285: L = t21 * t284;
+        let t286: L = t21.mul_add(t285, t244);
+        let t287: L = t21 * t286;
+        let t288: L = t38.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t289: L = t242.mul_add(L::splat(30.0), t288);
+        let t290: L = t34 * t289;
+        let t291: L = t34.mul_add(t290, t247);
+        let t292: L = t34 * t291;
+        let t293: L = t36 * t292;
+        let t294: L = t23.mul_add(t287, t293);
+        let t295: L = L::splat(0.7071067811865476) * t294;
+        let t296: L = t22 * t284;
+        let t297: L = t26 * t296;
+        let t298: L = t38.mul_add(L::splat(-30.0), L::splat(3.0));
+        let t299: L = L::splat(-30.0).mul_add(t242, t298);
+        let t300: L = t35 * t299;
+        let t301: L = t39 * t300;
+        let t302: L = t36 * t301;
+        let t303: L = t23.mul_add(t297, t302);
+        let t304: L = L::splat(0.7071067811865476) * t303;
+        let t305: L = t25.mul_add(L::splat(-90.0), L::splat(9.0));
+        let t306: L = t241.mul_add(L::splat(-90.0), t305);
+        let t307: L = t21 * t306;
+        let t308: L = t25.mul_add(L::splat(72.0), L::splat(-6.0));
+        let t309: L = t241.mul_add(L::splat(72.0), t308);
+        let t310: L = t21.mul_add(t307, t309);
+        let t311: L = t21 * t310;
+        let t312: L = t38.mul_add(L::splat(-90.0), L::splat(9.0));
+        let t313: L = t242.mul_add(L::splat(-90.0), t312);
+        let t314: L = t34 * t313;
+        let t315: L = t38.mul_add(L::splat(72.0), L::splat(-6.0));
+        let t316: L = t242.mul_add(L::splat(72.0), t315);
+        let t317: L = t34.mul_add(t314, t316);
+        let t318: L = t34 * t317;
+        let t319: L = t36 * t318;
+        let t320: L = t23.mul_add(t311, t319);
+        let t321: L = L::splat(0.408248290463863) * t320;
+        let t322: L = t22 * t306;
+        let t323: L = t25.mul_add(L::splat(36.0), L::splat(-6.0));
+        let t324: L = t241.mul_add(L::splat(36.0), t323);
+        let t325: L = t22 * t324;
+        let t326: L = t26.mul_add(t322, t325);
+        let t327: L = t38.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t328: L = L::splat(90.0).mul_add(t242, t327);
+        let t329: L = t35 * t328;
+        let t330: L = t38.mul_add(L::splat(-36.0), L::splat(6.0));
+        let t331: L = L::splat(-36.0).mul_add(t242, t330);
+        let t332: L = t35 * t331;
+        let t333: L = t39.mul_add(t329, t332);
+        let t334: L = t36 * t333;
+        let t335: L = t23.mul_add(t326, t334);
+        let t336: L = L::splat(0.408248290463863) * t335;
+        let t337: L = t202 + t224;
+        let t338: L = L::splat(0.7071067811865476) * t337;
+        let t339: L = t35 * L::splat(-9.0);
+        let t340: L = t34 * t339;
+        let t341: L = t182.mul_add(t340, t229);
+        let t342: L = L::splat(0.408248290463863) * t341;
+        let t343: L = t80.mul_add(L::splat(-120.0), L::splat(6.0));
+        let t344: L = t241.mul_add(L::splat(-120.0), t343);
+        let t345: L = t80 * L::splat(24.0);
+        let t346: L = t241.mul_add(L::splat(24.0), t345);
+        let t347: L = t26.mul_add(t344, t346);
+        let t348: L = t81.mul_add(L::splat(-120.0), L::splat(6.0));
+        let t349: L = t242.mul_add(L::splat(-120.0), t348);
+        let t350: L = t39 * t349;
+        let t351: L = t81 * L::splat(24.0);
+        let t352: L = t242.mul_add(L::splat(24.0), t351);
+        let t353: L = t350 + t352;
+        let t354: L = t182 * t353;
+        let t355: L = t179.mul_add(t347, t354);
+        let t356: L = L::splat(0.5) * t355;
+        let t357: L = t22 * t344;
+        let t358: L = t21 * t357;
+        let t359: L = t179 * t358;
+        let t360: L = t81.mul_add(L::splat(120.0), L::splat(-6.0));
+        let t361: L = t242.mul_add(L::splat(120.0), t360);
+        let t362: L = t35 * t361;
+        let t363: L = t34 * t362;
+        let t364: L = t182.mul_add(t363, t359);
+        let t365: L = L::splat(0.5) * t364;
+        let t366: L = t80.mul_add(L::splat(-840.0), L::splat(60.0));
+        let t367: L = t241.mul_add(L::splat(-840.0), t366);
+        let t368: L = t80.mul_add(L::splat(840.0), L::splat(-60.0));
+        let t369: L = t241.mul_add(L::splat(840.0), t368);
+        let t370: L = t26.mul_add(t367, t369);
+        let t371: L = t80.mul_add(L::splat(-96.0), L::splat(6.0));
+        let t372: L = t241.mul_add(L::splat(-96.0), t371);
+        let t373: L = t26.mul_add(t370, t372);
+        let t374: L = t81.mul_add(L::splat(840.0), L::splat(-60.0));
+        let t375: L = t242.mul_add(L::splat(840.0), t374);
+        let t376: L = t81.mul_add(L::splat(-840.0), L::splat(60.0));
+        let t377: L = t242.mul_add(L::splat(-840.0), t376);
+        let t378: L = t39.mul_add(t375, t377);
+        let t379: L = t81.mul_add(L::splat(96.0), L::splat(-6.0));
+        let t380: L = t242.mul_add(L::splat(96.0), t379);
+        let t381: L = t39.mul_add(t378, t380);
+        let t382: L = t182 * t381;
+        let t383: L = t179.mul_add(t373, t382);
+        let t384: L = L::splat(0.5) * t383;
+        let t385: L = t80.mul_add(L::splat(420.0), L::splat(-30.0));
+        let t386: L = t241.mul_add(L::splat(420.0), t385);
+        let t387: L = t22 * t386;
+        let t388: L = t21 * t387;
+        let t389: L = t21.mul_add(t388, t357);
+        let t390: L = t21 * t389;
+        let t391: L = t179 * t390;
+        let t392: L = t81.mul_add(L::splat(420.0), L::splat(-30.0));
+        let t393: L = t242.mul_add(L::splat(420.0), t392);
+        let t394: L = t35 * t393;
+        let t395: L = t34 * t394;
+        let t396: L = t35 * t349;
+        let t397: L = t34.mul_add(t395, t396);
+        let t398: L = t34 * t397;
+        let t399: L = t182.mul_add(t398, t391);
+        let t400: L = L::splat(0.5) * t399;
+        let t401: L = t80.mul_add(L::splat(-1260.0), L::splat(90.0));
+        let t402: L = t241.mul_add(L::splat(-1260.0), t401);
+        let t403: L = t22 * t402;
+        let t404: L = t21 * t403;
+        let t405: L = t80.mul_add(L::splat(720.0), L::splat(-54.0));
+        let t406: L = t241.mul_add(L::splat(720.0), t405);
+        let t407: L = t22 * t406;
+        let t408: L = t21.mul_add(t404, t407);
+        let t409: L = t21 * t408;
+        let t410: L = t179 * t409;
+        let t411: L = t81.mul_add(L::splat(-1260.0), L::splat(90.0));
+        let t412: L = t242.mul_add(L::splat(-1260.0), t411);
+        let t413: L = t35 * t412;
+        let t414: L = t34 * t413;
+        let t415: L = t81.mul_add(L::splat(720.0), L::splat(-54.0));
+        let t416: L = t242.mul_add(L::splat(720.0), t415);
+        let t417: L = t35 * t416;
+        let t418: L = t34.mul_add(t414, t417);
+        let t419: L = t34 * t418;
+        let t420: L = t182.mul_add(t419, t410);
+        let t421: L = L::splat(0.28867513459481287) * t420;
+        let t422: L = t34 * t396;
+        let t423: L = t182.mul_add(t422, t359);
+        let t424: L = L::splat(0.5) * t423;
+        let t425: L = t80.mul_add(L::splat(120.0), L::splat(-6.0));
+        let t426: L = t241.mul_add(L::splat(120.0), t425);
+        let t427: L = t26.mul_add(t426, t372);
+        let t428: L = t350 + t380;
+        let t429: L = t182 * t428;
+        let t430: L = t179.mul_add(t427, t429);
+        let t431: L = L::splat(0.5) * t430;
+        let t432: L = t81.mul_add(L::splat(-420.0), L::splat(30.0));
+        let t433: L = t242.mul_add(L::splat(-420.0), t432);
+        let t434: L = t35 * t433;
+        let t435: L = t34 * t434;
+        let t436: L = t34.mul_add(t435, t362);
+        let t437: L = t34 * t436;
+        let t438: L = t182.mul_add(t437, t391);
+        let t439: L = L::splat(0.5) * t438;
+        let t440: L = t80.mul_add(L::splat(210.0), L::splat(-15.0));
+        let t441: L = t241.mul_add(L::splat(210.0), t440);
+        let t442: L = t26.mul_add(t441, t344);
+        let t443: L = t26.mul_add(t442, t346);
+        let t444: L = t81.mul_add(L::splat(210.0), L::splat(-15.0));
+        let t445: L = t242.mul_add(L::splat(210.0), t444);
+        let t446: L = t39.mul_add(t445, t349);
+        let t447: L = t39.mul_add(t446, t352);
+        let t448: L = t182 * t447;
+        let t449: L = t179.mul_add(t443, t448);
+        let t450: L = L::splat(0.5) * t449;
+        let t451: L = t80.mul_add(L::splat(-630.0), L::splat(45.0));
+        let t452: L = t241.mul_add(L::splat(-630.0), t451);
+        let t453: L = t80.mul_add(L::splat(540.0), L::splat(-36.0));
+        let t454: L = t241.mul_add(L::splat(540.0), t453);
+        let t455: L = t26.mul_add(t452, t454);
+        let t456: L = t26 * t455;
+        let t457: L = t81.mul_add(L::splat(-630.0), L::splat(45.0));
+        let t458: L = t242.mul_add(L::splat(-630.0), t457);
+        let t459: L = t81.mul_add(L::splat(540.0), L::splat(-36.0));
+        let t460: L = t242.mul_add(L::splat(540.0), t459);
+        let t461: L = t39.mul_add(t458, t460);
+        let t462: L = t39 * t461;
+        let t463: L = t182 * t462;
+        let t464: L = t179.mul_add(t456, t463);
+        let t465: L = L::splat(0.28867513459481287) * t464;
+        let t466: L = t81.mul_add(L::splat(1260.0), L::splat(-90.0));
+        let t467: L = t242.mul_add(L::splat(1260.0), t466);
+        let t468: L = t35 * t467;
+        let t469: L = t34 * t468;
+        let t470: L = t81.mul_add(L::splat(-720.0), L::splat(54.0));
+        let t471: L = t242.mul_add(L::splat(-720.0), t470);
+        let t472: L = t35 * t471;
+        let t473: L = t34.mul_add(t469, t472);
+        let t474: L = t34 * t473;
+        let t475: L = t182.mul_add(t474, t410);
+        let t476: L = L::splat(0.28867513459481287) * t475;
+        let t477: L = t80.mul_add(L::splat(1890.0), L::splat(-135.0));
+        let t478: L = t241.mul_add(L::splat(1890.0), t477);
+        let t479: L = t80.mul_add(L::splat(-2160.0), L::splat(162.0));
+        let t480: L = t241.mul_add(L::splat(-2160.0), t479);
+        let t481: L = t26.mul_add(t478, t480);
+        let t482: L = t80.mul_add(L::splat(432.0), L::splat(-36.0));
+        let t483: L = t241.mul_add(L::splat(432.0), t482);
+        let t484: L = t26.mul_add(t481, t483);
+        let t485: L = t81.mul_add(L::splat(1890.0), L::splat(-135.0));
+        let t486: L = t242.mul_add(L::splat(1890.0), t485);
+        let t487: L = t81.mul_add(L::splat(-2160.0), L::splat(162.0));
+        let t488: L = t242.mul_add(L::splat(-2160.0), t487);
+        let t489: L = t39.mul_add(t486, t488);
+        let t490: L = t81.mul_add(L::splat(432.0), L::splat(-36.0));
+        let t491: L = t242.mul_add(L::splat(432.0), t490);
+        let t492: L = t39.mul_add(t489, t491);
+        let t493: L = t182 * t492;
+        let t494: L = t179.mul_add(t484, t493);
+        let t495: L = L::splat(0.16666666666666666) * t494;
+        let t496: L = t0 * t47;
+        let t497: L = t0 * t55;
+        let t498: L = t0 * t57;
+        let t499: L = t0 * t60;
+        let t500: L = t0 * t70;
+        let t501: L = t0 * t73;
+        let t502: L = t0 * t74;
+        let t503: L = t0 * t77;
+        let t504: L = t0 * t78;
+        let t505: L = t0 * t98;
+        let t506: L = t0 * t113;
+        let t507: L = t0 * t130;
+        let t508: L = t0 * t135;
+        let t509: L = t0 * t138;
+        let t510: L = t0 * t155;
+        let t511: L = t0 * t162;
+        let t512: L = t0 * t175;
+        let t513: L = t0 * t176;
+        let t514: L = t0 * t177;
+        let t515: L = t0 * t184;
+        let t516: L = t0 * t190;
+        let t517: L = t0 * t192;
+        let t518: L = t0 * t195;
+        let t519: L = t0 * t199;
+        let t520: L = t0 * t207;
+        let t521: L = t0 * t213;
+        let t522: L = t0 * t218;
+        let t523: L = t0 * t226;
+        let t524: L = t0 * t233;
+        let t525: L = t0 * t237;
+        let t526: L = t0 * t239;
+        let t527: L = t0 * t251;
+        let t528: L = t0 * t264;
+        let t529: L = t0 * t279;
+        let t530: L = t0 * t282;
+        let t531: L = t0 * t295;
+        let t532: L = t0 * t304;
+        let t533: L = t0 * t321;
+        let t534: L = t0 * t336;
+        let t535: L = t0 * t338;
+        let t536: L = t0 * t342;
+        let t537: L = t0 * t356;
+        let t538: L = t0 * t365;
+        let t539: L = t0 * t384;
+        let t540: L = t0 * t400;
+        let t541: L = t0 * t421;
+        let t542: L = t0 * t424;
+        let t543: L = t0 * t431;
+        let t544: L = t0 * t439;
+        let t545: L = t0 * t450;
+        let t546: L = t0 * t465;
+        let t547: L = t0 * t476;
+        let t548: L = t0 * t495;
+        let t549: L = t9 * t496;
+        let t550: L = t11 * t498;
+        let t551: L = t11 * t550;
+        let t552: L = t9.mul_add(t549, t551);
+        let t553: L = t11 * t496;
+        let t554: L = t9 * t498;
+        let t555: L = t11 * t554;
+        let t556: L = t9.mul_sub(t553, t555);
+        let t557: L = t9 * t497;
+        let t558: L = t9 * t550;
+        let t559: L = t11.mul_sub(t549, t558);
+        let t560: L = t9 * t554;
+        let t561: L = t11.mul_add(t553, t560);
+        let t562: L = t11 * t497;
+        let t563: L = t9 * t499;
+        let t564: L = t11 * t499;
+        let t565: L = t11 * t501;
+        let t566: L = t9 * t502;
+        let t567: L = t11 * t566;
+        let t568: L = t9.mul_add(t565, t567);
+        let t569: L = -t568;
+        let t570: L = t9 * t501;
+        let t571: L = t11 * t502;
+        let t572: L = t11 * t571;
+        let t573: L = t9.mul_sub(t570, t572);
+        let t574: L = t11 * t503;
+        let t575: L = -t574;
+        let t576: L = t11 * t565;
+        let t577: L = t9.mul_sub(t566, t576);
+        let t578: L = t9 * t571;
+        let t579: L = t11.mul_add(t570, t578);
+        let t580: L = t9 * t503;
+        let t581: L = t11 * t504;
+        let t582: L = -t581;
+        let t583: L = t9 * t504;
+        let t584: L = t9 * t9;
+        let t585: L = L::splat(0.5000000000000001) * t584;
+        let t586: L = t11 * t11;
+        let t587: L = L::splat(0.5000000000000001) * t586;
+        let t588: L = t585 - t587;
+        let t589: L = t588 - t587;
+        let t590: L = t585 + t589;
+        let t591: L = t9 * t11;
+        let t592: L = L::splat(0.5000000000000001) * t591;
+        let t593: L = t591 * L::splat(-0.5000000000000001);
+        let t594: L = t592 - t593;
+        let t595: L = t592 + t594;
+        let t596: L = t595 - t593;
+        let t597: L = t591 * L::splat(-0.2886751345948129);
+        let t598: L = t9 * L::splat(0.5000000000000001);
+        let t599: L = t598 + t598;
+        let t600: L = t11 * L::splat(0.5000000000000001);
+        let t601: L = t600 + t600;
+        let t602: L = t592 + t592;
+        let t603: L = t593 - t602;
+        let t604: L = t593 + t603;
+        let t605: L = t586 * L::splat(-0.5000000000000001);
+        let t606: L = t585 + t605;
+        let t607: L = t605 + t606;
+        let t608: L = t585 + t607;
+        let t609: L = t584 * L::splat(-0.2886751345948129);
+        let t610: L = t586 * L::splat(-0.2886751345948129);
+        let t611: L = t609 + t610;
+        let t612: L = t586 * L::splat(0.2886751345948129);
+        let t613: L = t611 + t612;
+        let t614: L = t584 * L::splat(0.2886751345948129);
+        let t615: L = t613 + t614;
+        let t616: L = t597 + t597;
+        let t617: L = t597 - t616;
+        let t618: L = t597 + t617;
+        let t619: L = t609 + t612;
+        let t620: L = t610 + t619;
+        let t621: L = t614 + t620;
+        let t622: L = L::splat(0.16666666666666666) * t584;
+        let t623: L = L::splat(0.16666666666666666) * t586;
+        let t624: L = t622 + t623;
+        let t625: L = t623 + t624;
+        let t626: L = t622 + t625;
+        let t627: L = t626 + L::splat(0.6666666666666666);
+        let t628: L = t506 * t596;
+        let t629: L = t508 * t590;
+        let t630: L = t11 * t629;
+        let t631: L = t9.mul_sub(t628, t630);
+        let t632: L = t505 * t599;
+        let t633: L = t509 * t601;
+        let t634: L = t11 * t633;
+        let t635: L = t9.mul_add(t632, t634);
+        let t636: L = t505 * t601;
+        let t637: L = t509 * t599;
+        let t638: L = t11 * t637;
+        let t639: L = t9.mul_sub(t636, t638);
+        let t640: L = t507 * t615;
+        let t641: L = t506.mul_add(t608, t640);
+        let t642: L = t508 * t604;
+        let t643: L = t11 * t642;
+        let t644: L = t9.mul_sub(t641, t643);
+        let t645: L = t507 * t627;
+        let t646: L = t506.mul_add(t621, t645);
+        let t647: L = t508 * t618;
+        let t648: L = t11 * t647;
+        let t649: L = t9.mul_sub(t646, t648);
+        let t650: L = t9 * t629;
+        let t651: L = t11.mul_add(t628, t650);
+        let t652: L = t9 * t633;
+        let t653: L = t11.mul_sub(t632, t652);
+        let t654: L = t9 * t637;
+        let t655: L = t11.mul_add(t636, t654);
+        let t656: L = t9 * t642;
+        let t657: L = t11.mul_add(t641, t656);
+        let t658: L = t9 * t647;
+        let t659: L = t11.mul_add(t646, t658);
+        let t660: L = t511 * t596;
+        let t661: L = t510 * t599;
+        let t662: L = t510 * t601;
+        let t663: L = t512 * t615;
+        let t664: L = t511.mul_add(t608, t663);
+        let t665: L = t512 * t627;
+        let t666: L = t511.mul_add(t621, t665);
+        let t667: L = t11 * t513;
+        let t668: L = t9 * t667;
+        let t669: L = t9 * t513;
+        let t670: L = t11.mul_sub(t669, t668);
+        let t671: L = t11 * t667;
+        let t672: L = t9.mul_add(t669, t671);
+        let t673: L = t11 * t514;
+        let t674: L = -t673;
+        let t675: L = -t672;
+        let t676: L = t9 * t514;
+        let t677: L = -t580;
+        let t678: L = t9 * t515;
+        let t679: L = t11 * t517;
+        let t680: L = t11 * t679;
+        let t681: L = t9.mul_add(t678, t680);
+        let t682: L = t11 * t515;
+        let t683: L = t9 * t517;
+        let t684: L = t11 * t683;
+        let t685: L = t9.mul_sub(t682, t684);
+        let t686: L = t9 * t516;
+        let t687: L = t9 * t679;
+        let t688: L = t11.mul_sub(t678, t687);
+        let t689: L = t9 * t683;
+        let t690: L = t11.mul_add(t682, t689);
+        let t691: L = t11 * t516;
+        let t692: L = t9 * t518;
+        let t693: L = t11 * t518;
+        let t694: L = t520 * t590;
+        let t695: L = t523 * t596;
+        let t696: L = t11 * t695;
+        let t697: L = t9.mul_sub(t694, t696);
+        let t698: L = t521 * t601;
+        let t699: L = t522 * t599;
+        let t700: L = t11 * t699;
+        let t701: L = t9.mul_add(t698, t700);
+        let t702: L = -t701;
+        let t703: L = t521 * t599;
+        let t704: L = t522 * t601;
+        let t705: L = t11 * t704;
+        let t706: L = t9.mul_sub(t703, t705);
+        let t707: L = t520 * t604;
+        let t708: L = t524 * t615;
+        let t709: L = t523.mul_add(t608, t708);
+        let t710: L = t11 * t709;
+        let t711: L = t9.mul_sub(t707, t710);
+        let t712: L = t520 * t618;
+        let t713: L = t524 * t627;
+        let t714: L = t523.mul_add(t621, t713);
+        let t715: L = t11 * t714;
+        let t716: L = t9.mul_sub(t712, t715);
+        let t717: L = t9 * t695;
+        let t718: L = t11.mul_add(t694, t717);
+        let t719: L = t11 * t698;
+        let t720: L = t9.mul_sub(t699, t719);
+        let t721: L = t9 * t704;
+        let t722: L = t11.mul_add(t703, t721);
+        let t723: L = t9 * t709;
+        let t724: L = t11.mul_add(t707, t723);
+        let t725: L = t9 * t714;
+        let t726: L = t11.mul_add(t712, t725);
+        let t727: L = t525 * t590;
+        let t728: L = t526 * t601;
+        let t729: L = -t728;
+        let t730: L = t526 * t599;
+        let t731: L = t525 * t604;
+        let t732: L = t525 * t618;
+        let t733: L = t11 * t527;
+        let t734: L = t590 * t733;
+        let t735: L = t9 * t531;
+        let t736: L = t596.mul_sub(t735, t734);
+        let t737: L = t9 * t527;
+        let t738: L = t11 * t531;
+        let t739: L = t596 * t738;
+        let t740: L = t590.mul_add(t737, t739);
+        let t741: L = t532 * t596;
+        let t742: L = t9 * t528;
+        let t743: L = t11 * t530;
+        let t744: L = t601 * t743;
+        let t745: L = t599.mul_add(t742, t744);
+        let t746: L = t11 * t528;
+        let t747: L = t9 * t530;
+        let t748: L = t601 * t747;
+        let t749: L = t599.mul_sub(t746, t748);
+        let t750: L = t529 * t599;
+        let t751: L = t599 * t743;
+        let t752: L = t601.mul_sub(t742, t751);
+        let t753: L = t599 * t747;
+        let t754: L = t601.mul_add(t746, t753);
+        let t755: L = t529 * t601;
+        let t756: L = t604 * t733;
+        let t757: L = t608.mul_sub(t735, t756);
+        let t758: L = t9 * t533;
+        let t759: L = t615.mul_add(t758, t757);
+        let t760: L = t608 * t738;
+        let t761: L = t604.mul_add(t737, t760);
+        let t762: L = t11 * t533;
+        let t763: L = t615.mul_add(t762, t761);
+        let t764: L = t534 * t615;
+        let t765: L = t532.mul_add(t608, t764);
+        let t766: L = t618 * t733;
+        let t767: L = t621.mul_sub(t735, t766);
+        let t768: L = t627.mul_add(t758, t767);
+        let t769: L = t621 * t738;
+        let t770: L = t618.mul_add(t737, t769);
+        let t771: L = t627.mul_add(t762, t770);
+        let t772: L = t534 * t627;
+        let t773: L = t532.mul_add(t621, t772);
+        let t774: L = t9 * t535;
+        let t775: L = t11 * t526;
+        let t776: L = t596 * t775;
+        let t777: L = t590.mul_sub(t774, t776);
+        let t778: L = t11 * t535;
+        let t779: L = t9 * t526;
+        let t780: L = t596 * t779;
+        let t781: L = t590.mul_add(t778, t780);
+        let t782: L = t11 * t522;
+        let t783: L = t9 * t521;
+        let t784: L = t601 * t783;
+        let t785: L = t599.mul_add(t782, t784);
+        let t786: L = -t785;
+        let t787: L = t9 * t522;
+        let t788: L = t11 * t521;
+        let t789: L = t601 * t788;
+        let t790: L = t599.mul_sub(t787, t789);
+        let t791: L = t523 * t601;
+        let t792: L = -t791;
+        let t793: L = t601 * t782;
+        let t794: L = t599.mul_sub(t783, t793);
+        let t795: L = t599 * t788;
+        let t796: L = t601.mul_add(t787, t795);
+        let t797: L = t523 * t599;
+        let t798: L = t608 * t775;
+        let t799: L = t604.mul_sub(t774, t798);
+        let t800: L = t11 * t536;
+        let t801: L = t615.neg_mul_add(t800, t799);
+        let t802: L = t608 * t779;
+        let t803: L = t604.mul_add(t778, t802);
+        let t804: L = t9 * t536;
+        let t805: L = t615.mul_add(t804, t803);
+        let t806: L = t621 * t775;
+        let t807: L = t618.mul_sub(t774, t806);
+        let t808: L = t627.neg_mul_add(t800, t807);
+        let t809: L = t621 * t779;
+        let t810: L = t618.mul_add(t778, t809);
+        let t811: L = t627.mul_add(t804, t810);
+        let t812: L = t537 * t590;
+        let t813: L = t545 * t596;
+        let t814: L = t596 * t813;
+        let t815: L = t590.mul_add(t812, t814);
+        let t816: L = t538 * t601;
+        let t817: L = t590 * t816;
+        let t818: L = t544 * t599;
+        let t819: L = t596.mul_sub(t818, t817);
+        let t820: L = t538 * t599;
+        let t821: L = t544 * t601;
+        let t822: L = t596 * t821;
+        let t823: L = t590.mul_add(t820, t822);
+        let t824: L = t537 * t604;
+        let t825: L = t546 * t615;
+        let t826: L = t545.mul_add(t608, t825);
+        let t827: L = t596 * t826;
+        let t828: L = t590.mul_add(t824, t827);
+        let t829: L = t537 * t618;
+        let t830: L = t546 * t627;
+        let t831: L = t545.mul_add(t621, t830);
+        let t832: L = t596 * t831;
+        let t833: L = t590.mul_add(t829, t832);
+        let t834: L = t540 * t596;
+        let t835: L = t542 * t590;
+        let t836: L = t601 * t835;
+        let t837: L = t599.mul_sub(t834, t836);
+        let t838: L = t539 * t599;
+        let t839: L = t543 * t601;
+        let t840: L = t601 * t839;
+        let t841: L = t599.mul_add(t838, t840);
+        let t842: L = t539 * t601;
+        let t843: L = t543 * t599;
+        let t844: L = t601 * t843;
+        let t845: L = t599.mul_sub(t842, t844);
+        let t846: L = t541 * t615;
+        let t847: L = t540.mul_add(t608, t846);
+        let t848: L = t542 * t604;
+        let t849: L = t601 * t848;
+        let t850: L = t599.mul_sub(t847, t849);
+        let t851: L = t541 * t627;
+        let t852: L = t540.mul_add(t621, t851);
+        let t853: L = t542 * t618;
+        let t854: L = t601 * t853;
+        let t855: L = t599.mul_sub(t852, t854);
+        let t856: L = t599 * t835;
+        let t857: L = t601.mul_add(t834, t856);
+        let t858: L = t599 * t839;
+        let t859: L = t601.mul_sub(t838, t858);
+        let t860: L = t599 * t843;
+        let t861: L = t601.mul_add(t842, t860);
+        let t862: L = t599 * t848;
+        let t863: L = t601.mul_add(t847, t862);
+        let t864: L = t599 * t853;
+        let t865: L = t601.mul_add(t852, t864);
+        let t866: L = t608 * t813;
+        let t867: L = t604.mul_add(t812, t866);
+        let t868: L = t546 * t596;
+        let t869: L = t615.mul_add(t868, t867);
+        let t870: L = t604 * t816;
+        let t871: L = t608.mul_sub(t818, t870);
+        let t872: L = t547 * t599;
+        let t873: L = t615.mul_add(t872, t871);
+        let t874: L = t608 * t821;
+        let t875: L = t604.mul_add(t820, t874);
+        let t876: L = t547 * t601;
+        let t877: L = t615.mul_add(t876, t875);
+        let t878: L = t608 * t826;
+        let t879: L = t604.mul_add(t824, t878);
+        let t880: L = t548 * t615;
+        let t881: L = t546.mul_add(t608, t880);
+        let t882: L = t615.mul_add(t881, t879);
+        let t883: L = t608 * t831;
+        let t884: L = t604.mul_add(t829, t883);
+        let t885: L = t548 * t627;
+        let t886: L = t546.mul_add(t621, t885);
+        let t887: L = t615.mul_add(t886, t884);
+        let t888: L = t621 * t813;
+        let t889: L = t618.mul_add(t812, t888);
+        let t890: L = t627.mul_add(t868, t889);
+        let t891: L = t618 * t816;
+        let t892: L = t621.mul_sub(t818, t891);
+        let t893: L = t627.mul_add(t872, t892);
+        let t894: L = t621 * t821;
+        let t895: L = t618.mul_add(t820, t894);
+        let t896: L = t627.mul_add(t876, t895);
+        let t897: L = t621 * t826;
+        let t898: L = t618.mul_add(t824, t897);
+        let t899: L = t627.mul_add(t881, t898);
+        let t900: L = t621 * t831;
+        let t901: L = t618.mul_add(t829, t900);
+        let t902: L = t627.mul_add(t886, t901);
+        [
+            t552,
+            t556,
+            t557,
+            t559,
+            t561,
+            t562,
+            t563,
+            t564,
+            t500,
+            t569,
+            t573,
+            t575,
+            t577,
+            t579,
+            t580,
+            t582,
+            t583,
+            L::splat(0.0),
+            t631,
+            t635,
+            t639,
+            t644,
+            t649,
+            t651,
+            t653,
+            t655,
+            t657,
+            t659,
+            t660,
+            t661,
+            t662,
+            t664,
+            t666,
+            t670,
+            t672,
+            t674,
+            t675,
+            t670,
+            t676,
+            t574,
+            t677,
+            L::splat(0.0),
+            t681,
+            t685,
+            t686,
+            t688,
+            t690,
+            t691,
+            t692,
+            t693,
+            t519,
+            t697,
+            t702,
+            t706,
+            t711,
+            t716,
+            t718,
+            t720,
+            t722,
+            t724,
+            t726,
+            t727,
+            t729,
+            t730,
+            t731,
+            t732,
+            t736,
+            t740,
+            t741,
+            t745,
+            t749,
+            t750,
+            t752,
+            t754,
+            t755,
+            t759,
+            t763,
+            t765,
+            t768,
+            t771,
+            t773,
+            t777,
+            t781,
+            t727,
+            t786,
+            t790,
+            t792,
+            t794,
+            t796,
+            t797,
+            t801,
+            t805,
+            t731,
+            t808,
+            t811,
+            t732,
+            t815,
+            t819,
+            t823,
+            t828,
+            t833,
+            t837,
+            t841,
+            t845,
+            t850,
+            t855,
+            t857,
+            t859,
+            t861,
+            t863,
+            t865,
+            t869,
+            t873,
+            t877,
+            t882,
+            t887,
+            t890,
+            t893,
+            t896,
+            t899,
+            t902,
+        ]
+    };
+    out
+}
+pub use free_surface_pair_lanes as free_surface_pair_lanes_ordered;
 /// Grand mobility blocks, pair, equal radii: flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21).
 ///
 /// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).

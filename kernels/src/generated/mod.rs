@@ -855,6 +855,65 @@ pub fn pair_divergence_lanes_ordered<L: lanes::Lane>(
         }
     }
 }
+/// The lane twin of [`pair`] without the exchange of roles: `L::WIDTH` pairs at
+/// once, for pairs in which `b` is no higher than `a` where
+/// [`Confinement::exchanges_by_height`] (elsewhere any order); the 121 entries of
+/// [`Grand`]'s fields in their order (see [`crate::blocks::grand_lanes_product`]).
+#[inline(always)]
+pub fn pair_lanes_ordered<L: lanes::Lane>(
+    conf: &Confinement,
+    eta: f64,
+    xa: [L; 3],
+    aa: L,
+    xb: [L; 3],
+    ab: L,
+) -> [L; 121] {
+    match *conf {
+        Confinement::Free => free::free_pair_lanes_ordered(xa, xb, aa, ab, L::splat(eta)),
+        Confinement::Wall { height } => {
+            wall::wall_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+            )
+        }
+        Confinement::FreeSurface { height } => {
+            free_surface::free_surface_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+            )
+        }
+        Confinement::Interface { height, lambda } => {
+            interface::interface_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(lambda),
+            )
+        }
+        Confinement::Slit { height, gap } => {
+            slit::slit_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(gap),
+            )
+        }
+    }
+}
 /// The Brownian drift of one particle's self mobility: `sum_j d/dx_j M^{aa}_{ij}`,
 /// rows U then Omega, force columns.
 pub fn self_divergence(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Drift<6> {
