@@ -3,9 +3,7 @@
 
 use crate::input::{validate, InputError, Particle};
 use kernels::lanes::Isa;
-use kernels::{
-    pair, pair_equal, pair_f, pair_ft, self_f, self_ft, self_mobility, Confinement, Grand,
-};
+use kernels::{pair_f, pair_ft, self_f, self_ft, self_mobility, Confinement, Grand};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -140,16 +138,33 @@ impl System {
         self.particles.is_empty()
     }
 
-    /// `M^{ab}`, using the equal-radius kernel when the radii match.
+    /// `M^{ab}` as the dense matrix holds it ([`System::mobility`]): the self blocks for
+    /// `a == b` (Eq. 17), else the lane twin of the FTS pair kernel on the widest
+    /// instruction set of this processor (the same blocks as [`kernels::pair`] to a few
+    /// ulps; `tests/lanes.rs`).
     pub fn pair_blocks(&self, a: usize, b: usize) -> Grand {
-        let (p, q) = (&self.particles[a], &self.particles[b]);
-        let (c, eta) = (&self.confinement, self.viscosity);
         if a == b {
-            self_mobility(c, eta, p.x, p.a)
-        } else if p.a == q.a {
-            pair_equal(c, eta, p.x, q.x, p.a)
-        } else {
-            pair(c, eta, p.x, p.a, q.x, q.a)
+            let p = &self.particles[a];
+            return self_mobility(&self.confinement, self.viscosity, p.x, p.a);
+        }
+        let mut out = [0.0; 121];
+        self.fts_blocks(a, b..b + 1, &mut out);
+        Grand::from_matrix(&nalgebra::SMatrix::from_row_slice(&out))
+    }
+
+    /// The FTS blocks `M^{ab}` of `a` with every `b` of `bs` (none of them `a`), row-major
+    /// 11 x 11 one after another into `out`, in lanes ([`crate::tiled::FtsBlocks`]).
+    fn fts_blocks(&self, a: usize, bs: std::ops::Range<usize>, out: &mut [f64]) {
+        let blocks = crate::tiled::FtsBlocks {
+            conf: &self.confinement,
+            eta: self.viscosity,
+            a: &self.particles[a],
+            bs: &self.particles[bs],
+            out,
+        };
+        if let Err(scalar) = kernels::lanes::dispatch_with(Isa::best(), blocks) {
+            // (`Isa::best` is available by construction; the scalar lanes always are)
+            let _ = kernels::lanes::dispatch_with(Isa::Scalar, scalar);
         }
     }
 
@@ -228,10 +243,28 @@ impl System {
         let tile = |(rows, cols): &mut (Vec<f64>, Vec<f64>), &(ga, gb): &(usize, usize)| {
             let (ra, rb) = (members(ga), members(gb));
             for (ia, a) in ra.clone().enumerate() {
-                for (ib, b) in rb.clone().enumerate().filter(|&(_, b)| ga != gb || b >= a) {
+                // the pairs (a, b) of the tile: b from `first` of group b on
+                let first = if ga == gb { ia } else { 0 };
+                if moments == Moments::FTS {
+                    // the self block, then every pair in lanes
+                    let mut from = first;
+                    if ga == gb {
+                        let at = (ia * DENSE_GROUP + ia) * kk;
+                        self.block_into(moments, a, a, &mut rows[at..at + kk]);
+                        from += 1;
+                    }
+                    let row = ia * DENSE_GROUP;
+                    let out = &mut rows[(row + from) * kk..(row + rb.len()) * kk];
+                    self.fts_blocks(a, rb.start + from..rb.end, out);
+                } else {
+                    for (ib, b) in rb.clone().enumerate().skip(first) {
+                        let at = (ia * DENSE_GROUP + ib) * kk;
+                        self.block_into(moments, a, b, &mut rows[at..at + kk]);
+                    }
+                }
+                for ib in first..rb.len() {
                     let at = (ia * DENSE_GROUP + ib) * kk;
-                    let blk = &mut rows[at..at + kk];
-                    self.block_into(moments, a, b, blk);
+                    let blk = &rows[at..at + kk];
                     for (j, col) in cols[at..at + kk].chunks_exact_mut(k).enumerate() {
                         for (i, v) in col.iter_mut().enumerate() {
                             *v = blk[i * k + j];

@@ -30,6 +30,7 @@
 //! carried in `f32` and every total in `f64`.
 
 use crate::assembly::{Moments, Precision};
+use crate::input::Particle;
 use kernels::lanes::{self, Element, Isa, Lane, WithLanes};
 use kernels::Confinement;
 use rayon::prelude::*;
@@ -146,6 +147,72 @@ impl LaneProduct<11> for ProductFTS<'_> {
         kernels::self_mobility(self.conf, self.eta, x, a)
             .product(v, v)
             .a
+    }
+}
+
+/// The FTS blocks `M^{ab}` of particle `a` with each particle of `bs`, from the lane
+/// twin of the FTS pair blocks ([`kernels::pair_lanes_ordered`]), `L::WIDTH` pairs at a
+/// time: written row-major (11 x 11, grand order) one after another into `out`
+/// (`121 bs.len()` values). Where the kernels want the higher particle first
+/// ([`Confinement::exchanges_by_height`]) and `b` is higher, the lane computes `M^{ba}`
+/// and its transpose is written (reciprocity), as the scalar kernels do.
+pub(crate) struct FtsBlocks<'a> {
+    pub conf: &'a Confinement,
+    pub eta: f64,
+    pub a: &'a Particle,
+    pub bs: &'a [Particle],
+    pub out: &'a mut [f64],
+}
+
+impl WithLanes for FtsBlocks<'_> {
+    type Elem = f64;
+    type Output = ();
+    #[inline(always)]
+    fn run<L: Lane<Elem = f64>>(self) {
+        use kernels::blocks::GRAND_FLAT;
+        let w = L::WIDTH;
+        let exchanges = self.conf.exchanges_by_height();
+        for (chunk, out) in self.bs.chunks(w).zip(self.out.chunks_mut(121 * w)) {
+            // x_a (3), a_a, x_b (3), a_b per lane; the last pair repeated as padding
+            let mut args = [[0.0; lanes::MAX_WIDTH]; 8];
+            let mut swapped = [false; lanes::MAX_WIDTH];
+            for (l, s) in swapped.iter_mut().enumerate().take(w) {
+                let b = &chunk[l.min(chunk.len() - 1)];
+                *s = exchanges && b.x[2] > self.a.x[2];
+                let (p, q) = if *s { (b, self.a) } else { (self.a, b) };
+                for k in 0..3 {
+                    args[k][l] = p.x[k];
+                    args[4 + k][l] = q.x[k];
+                }
+                args[3][l] = p.a;
+                args[7][l] = q.a;
+            }
+            let v = |k: usize| L::load(&args[k]);
+            let m = kernels::pair_lanes_ordered(
+                self.conf,
+                self.eta,
+                [v(0), v(1), v(2)],
+                v(3),
+                [v(4), v(5), v(6)],
+                v(7),
+            );
+            let mut vals = [[0.0; lanes::MAX_WIDTH]; 121];
+            for (lane, dst) in m.into_iter().zip(vals.iter_mut()) {
+                lane.store(dst);
+            }
+            for (l, blk) in out.chunks_exact_mut(121).enumerate() {
+                for (i, row) in blk.chunks_exact_mut(11).enumerate() {
+                    for (j, e) in row.iter_mut().enumerate() {
+                        let k = if swapped[l] {
+                            GRAND_FLAT[j][i]
+                        } else {
+                            GRAND_FLAT[i][j]
+                        };
+                        *e = vals[k][l];
+                    }
+                }
+            }
+        }
     }
 }
 
