@@ -129,7 +129,36 @@ struct Table {
     file: &'static [u8],
     separation: Axis,
     ratio: Axis,
-    read: &'static OnceLock<Option<Vec<f64>>>,
+    read: &'static OnceLock<Option<Read>>,
+}
+
+/// A table's file as read: the coefficients, and for each function on each patch the
+/// rows (separation terms) up to its last non-zero one: the generator zeroes the
+/// trailing rows that add less than [`TRIM`] ([`trim_rows`]), and the sums stop there.
+struct Read {
+    coefficients: Vec<f64>,
+    rows: Vec<u8>,
+}
+
+/// The most the trailing rows a table drops may add to a function on a patch (each
+/// `|T_i T_j| <= 1`), in Kim & Karrila's normalisation: absolute, so that it stays below
+/// the tables' errors against the series relative to `max(|F|, 1)` (1.1e-9 near,
+/// 3.6e-11 far) and below the step where they meet (2.9e-11 at `s' = 3`).
+const TRIM: f64 = 1e-11;
+
+/// Zero the trailing rows (separation terms) of one function's `rows x terms`
+/// coefficients on one patch while the absolute sum of what is zeroed stays within
+/// `budget`; the first row is kept.
+fn trim_rows(patch: &mut [f64], terms: usize, budget: f64) {
+    let mut dropped = 0.0;
+    for row in patch.chunks_exact_mut(terms).skip(1).rev() {
+        let sum: f64 = row.iter().map(|c| c.abs()).sum();
+        if dropped + sum > budget {
+            break;
+        }
+        dropped += sum;
+        row.fill(0.0);
+    }
 }
 
 /// `mu = lambda/(1 + lambda)`, the far table's ratio variable.
@@ -161,7 +190,7 @@ static FAR: Table = Table {
     },
     read: &FAR_READ,
 };
-static FAR_READ: OnceLock<Option<Vec<f64>>> = OnceLock::new();
+static FAR_READ: OnceLock<Option<Read>> = OnceLock::new();
 
 /// `u = ln xi` on six patches of `[U_MIN, 0]` shrinking quadratically towards `xi = 1`
 /// (ends -36, -25, -16, -9, -4, -1, 0); `ln lambda` on eight equal patches of
@@ -186,7 +215,7 @@ static NEAR: Table = Table {
     },
     read: &NEAR_READ,
 };
-static NEAR_READ: OnceLock<Option<Vec<f64>>> = OnceLock::new();
+static NEAR_READ: OnceLock<Option<Read>> = OnceLock::new();
 
 impl Table {
     /// Numbers in the table.
@@ -199,46 +228,61 @@ impl Table {
         self.separation.terms * self.ratio.terms
     }
 
-    /// The coefficients (little-endian `f64` in the file); `None` if the file does not
-    /// have the table's shape (then the callers take the series, and `cargo xtask gen
-    /// --check` reports the file). Not typed by length, so that a file of another shape
-    /// (the axes changed, the file not yet regenerated) still compiles.
-    fn coefficients(&self) -> Option<&'static [f64]> {
+    /// The coefficients (little-endian `f64` in the file) and the rows to sum; `None` if
+    /// the file does not have the table's shape (then the callers take the series, and
+    /// `cargo xtask gen --check` reports the file). Not typed by length, so that a file
+    /// of another shape (the axes changed, the file not yet regenerated) still compiles.
+    fn read(&self) -> Option<&'static Read> {
         self.read
             .get_or_init(|| {
                 (self.file.len() == self.len() * 8).then(|| {
-                    self.file
+                    let coefficients: Vec<f64> = self
+                        .file
                         .chunks_exact(8)
                         .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of eight")))
-                        .collect()
+                        .collect();
+                    let terms = self.ratio.terms;
+                    let rows = coefficients
+                        .chunks_exact(self.patch())
+                        .map(|f| {
+                            let last = f
+                                .chunks_exact(terms)
+                                .rposition(|r| r.iter().any(|&c| c != 0.0));
+                            // (at most MAX_TERMS rows, asserted at compile time)
+                            last.map_or(1, |i| i + 1) as u8
+                        })
+                        .collect();
+                    Read { coefficients, rows }
                 })
             })
-            .as_deref()
+            .as_ref()
     }
 
     /// The first `count` functions at separation variable `x` and ratio variable `y`, on
     /// the lanes of `isa` (`None` if this processor lacks it, or if the file does not
     /// have the table's shape).
     fn evaluate(&self, isa: Isa, x: f64, y: f64, count: usize) -> Option<[f64; FUNCTIONS]> {
-        let data = self.coefficients()?;
+        let read = self.read()?;
         let (px, x) = self.separation.locate(x);
         let (py, y) = self.ratio.locate(y);
         let cx = chebyshev_values(x, self.separation.terms);
         let cy = chebyshev_values(y, self.ratio.terms);
         let size = self.patch();
-        let start = (px * self.ratio.patches + py) * FUNCTIONS * size;
+        let first = (px * self.ratio.patches + py) * FUNCTIONS;
+        let start = first * size;
         let mut out = [0.0; FUNCTIONS];
         // an even number of functions (`PatchSums`; FUNCTIONS is even)
         let summed = count.min(FUNCTIONS).next_multiple_of(2);
-        let (block, cx) = (
-            &data[start..start + summed * size],
+        let (block, rows, cx) = (
+            &read.coefficients[start..start + summed * size],
+            &read.rows[first..first + summed],
             &cx[..self.separation.terms],
         );
         let sums = &mut out[..summed];
         // the ratio terms known at compile time: the vectors of a row unrolled
         let done = match self.ratio.terms {
-            8 => PatchSums::<8>::run_on(isa, block, cx, &cy, sums),
-            16 => PatchSums::<16>::run_on(isa, block, cx, &cy, sums),
+            8 => PatchSums::<8>::run_on(isa, block, rows, cx, &cy, sums),
+            16 => PatchSums::<16>::run_on(isa, block, rows, cx, &cy, sums),
             _ => unreachable!("ratio terms are 8 or 16 (asserted at compile time)"),
         };
         if !done {
@@ -285,6 +329,7 @@ impl Table {
                             patch[i * ny + j] = ci;
                         }
                     }
+                    trim_rows(&mut patch, ny, TRIM);
                     out.extend(patch.iter().flat_map(|v| v.to_le_bytes()));
                 }
             }
@@ -299,6 +344,8 @@ impl Table {
 struct PatchSums<'a, const N: usize> {
     /// The patch's coefficients, function after function, row `i` after row.
     block: &'a [f64],
+    /// The rows to sum of each function (the rest are zero).
+    rows: &'a [u8],
     /// `T_i(x)` of the rows.
     cx: &'a [f64],
     /// `T_j(y)`.
@@ -308,9 +355,23 @@ struct PatchSums<'a, const N: usize> {
 
 impl<'a, const N: usize> PatchSums<'a, N> {
     /// The sums on the lanes of `isa` into `out`; false if this processor lacks `isa`.
-    fn run_on(isa: Isa, block: &'a [f64], cx: &'a [f64], cy: &[f64], out: &'a mut [f64]) -> bool {
+    fn run_on(
+        isa: Isa,
+        block: &'a [f64],
+        rows: &'a [u8],
+        cx: &'a [f64],
+        cy: &[f64],
+        out: &'a mut [f64],
+    ) -> bool {
         let cy = std::array::from_fn(|j| cy[j]);
-        dispatch_with(isa, PatchSums::<N> { block, cx, cy, out }).is_ok()
+        let sums = PatchSums::<N> {
+            block,
+            rows,
+            cx,
+            cy,
+            out,
+        };
+        dispatch_with(isa, sums).is_ok()
     }
 }
 
@@ -325,14 +386,16 @@ impl<const N: usize> WithLanes for PatchSums<'_, N> {
         let size = self.cx.len() * terms;
         // two functions at a time: twice the independent chains of multiply-adds (the
         // block holds an even number of functions)
-        for (o, c) in self
+        for ((o, c), r) in self
             .out
             .chunks_exact_mut(2)
             .zip(self.block.chunks_exact(2 * size))
+            .zip(self.rows.chunks_exact(2))
         {
             let (c0, c1) = c.split_at(size);
             let mut acc = [[L::splat(0.0); N]; 2];
-            for (i, &x) in self.cx.iter().enumerate() {
+            let rows = usize::from(r[0].max(r[1]));
+            for (i, &x) in self.cx.iter().enumerate().take(rows) {
                 let x = L::splat(x);
                 let (r0, r1) = (&c0[i * terms..], &c1[i * terms..]);
                 for v in 0..vectors {
