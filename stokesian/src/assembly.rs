@@ -207,8 +207,8 @@ impl System {
     /// all `Omega`, then all `E`; particle-major within a moment). Each unordered pair
     /// `a <= b` is evaluated once and written twice, `M^{ab}` into the columns of `b`
     /// and `M^{ba} = (M^{ab})^T` (reciprocity) into the columns of `a`. The particles are
-    /// cut into groups of [`DENSE_GROUP`]; a tile is a pair of groups, and the tiles
-    /// run in the rounds of [`crate::tiled`] (every group at most once per round), so
+    /// cut into groups of `DENSE_GROUP`; a tile is a pair of groups, and the tiles
+    /// run in the rounds of `crate::tiled` (every group at most once per round), so
     /// the threads of a round own disjoint columns. Nothing is allocated but the
     /// matrix.
     pub fn mobility(&self, moments: Moments) -> DMatrix<f64> {
@@ -344,7 +344,7 @@ impl System {
     /// [`System::mobility`]. Each unordered pair is evaluated once, `M^{ab} x_b` and
     /// `M^{ba} x_a` together, by the lane kernels on the widest instruction set this
     /// processor has, in tiles whose schedule alone fixes the order of every sum: the
-    /// result does not depend on the number of threads ([`crate::tiled`]).
+    /// result does not depend on the number of threads (`crate::tiled`).
     /// In the system's precision ([`System::with_precision`]; double by default).
     pub fn apply(&self, moments: Moments, x: &[f64]) -> Vec<f64> {
         self.apply_with(moments, x, Isa::best(), self.precision)

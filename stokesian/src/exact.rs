@@ -74,7 +74,7 @@
 //!   counterpart ([`jeffery_xc_free_surface`]) was derived here by images and is checked
 //!   by an explicit image sum in `exact_check.py`.
 //! * Chaoui & Feuillebois, Q. J. Mech. Appl. Math. 56, 381 (2003), Tables 9-13 (module
-//!   [`chaoui_feuillebois`]): published high-accuracy fits of `Y^A_w`, `T^t*`, `Y^C_w`. The
+//!   `chaoui_feuillebois`): published high-accuracy fits of `Y^A_w`, `T^t*`, `Y^C_w`. The
 //!   GCB (1967) and O'Neill (1964) tables themselves were not found in the searchable
 //!   corpus, so they are not used.
 //!
@@ -612,7 +612,7 @@ fn translation(g: Geom, nmax: usize) -> (f64, f64) {
 /// evaluation: `Y^A_w` 8e-15 relative; `T^t*` 4e-14 relative up to `h/a = 2`, then
 /// `~1e-16 (2h/a)^5` relative (cancellation; 1.8e-10 at `h/a = 10`), absolute error below
 /// 4e-14 everywhere (module docs). Validated against Chaoui & Feuillebois (2003) Tables
-/// 9-11 (module [`chaoui_feuillebois`]). Cost: about 0.4 ms at `h/a = 1.0001` (N = 2132),
+/// 9-11 (module `chaoui_feuillebois`). Cost: about 0.4 ms at `h/a = 1.0001` (N = 2132),
 /// 4 us at `h/a = 10` (release build, measured by the `timing` test).
 pub fn oneill_parallel(h_over_a: f64) -> (f64, f64) {
     oneill_parallel_truncated(h_over_a, oneill_terms(h_over_a))

@@ -28,7 +28,7 @@
 //! Each table holds, patch by patch (separation variable, then ratio variable), every
 //! function's `terms` x `terms` coefficients (separation x ratio), so a pair reads one
 //! contiguous block and costs their product in multiply-adds per function, less the
-//! trailing separation rows the generator zeroed ([`TRIM`]), which are skipped.
+//! trailing separation rows the generator zeroed (`TRIM`), which are skipped.
 //!
 //! Accuracy against the series between the nodes (`tests/tests/two_sphere_tables.rs`):
 //! see README ("Resistance with lubrication").

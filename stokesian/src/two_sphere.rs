@@ -85,8 +85,8 @@
 //! the `O(TRUNCATION^2)` numbers `R_{k, m-q, q}` (11 triangles of 20301 numbers, 1.8 MB),
 //! which a process reads on first use (about 2 ms). A [`PairSeries`] for one `lambda`
 //! costs 60-95 us (the 11 triangles' rows interleaved and summed side by side as sums
-//! of products, [`row_sums`]); each evaluation at a separation sums the terms that may
-//! add more than 1e-17 with every remainder at its bound [`REMAINDER_BOUND`] (all of
+//! of products, `row_sums`); each evaluation at a separation sums the terms that may
+//! add more than 1e-17 with every remainder at its bound `REMAINDER_BOUND` (all of
 //! them near contact, 37 of 101 rows at `s' = 4`, 16 at `s' = 10`), the 22 Horner sums
 //! side by side: 0.27 us on average over `s'` in `[2, 4]`, 0.37 us near contact, no
 //! allocation. A series for pairs at `s'` and beyond needs only those terms:
@@ -357,7 +357,7 @@ impl PairSeries {
     }
 
     /// As [`PairSeries::cached`], but summed only as far as separations `s' >= s_dash`
-    /// need ([`REMAINDER_BOUND`]): a far pair's costs a fraction of a whole one (module
+    /// need (`REMAINDER_BOUND`): a far pair's costs a fraction of a whole one (module
     /// docs: about 2/5 at `s' = 4`, 1/5 at `s' = 10`; every term near contact). At those separations its
     /// values equal the full series' bit for bit (the same terms, summed alike). A closer
     /// pair of the same ratio replaces the cached series by one with at least twice the
@@ -1103,7 +1103,7 @@ impl Coefficients {
     }
 }
 
-/// The contents of `src/generated/two_sphere_coefficients.bin` ([`COEFFICIENTS`]): the
+/// The contents of `src/generated/two_sphere_coefficients.bin` (`COEFFICIENTS`): the
 /// recurrences of every family evaluated to [`TRUNCATION`] ([`Coefficients::build`]).
 pub fn generate_coefficients() -> Vec<u8> {
     Coefficients::build(TRUNCATION)
