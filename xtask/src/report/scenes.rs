@@ -2,7 +2,8 @@
 //! each generated kernel (as `cargo xtask gen` reports it, from
 //! `kernel_gen::catalog::scene_file`) and its measured time per call, through the
 //! `kernels` crate's dispatch (`pair_f`, `product_f`, `pair_ft`, `product_ft`, ...)
-//! where the scene serves it, or through the scene's generated module directly.
+//! where the scene serves it, or through the scene's generated module directly; and the
+//! FTS pair lane kernels of every family (`kernels::pair_lanes_ordered`), per pair.
 
 use super::sample::{self, Case, Kind};
 use super::table::{self, Table};
@@ -17,6 +18,10 @@ use std::fmt::Write as _;
 use std::hint::black_box;
 
 const ETA: f64 = 1.0;
+
+/// The moments of `a` and `b` in the timed products (the first 3 or 6 at F and FT).
+const VA: [f64; 11] = [0.3, -0.7, 0.2, 0.5, 0.1, -0.4, 0.9, -0.2, 0.6, 0.05, -0.3];
+const VB: [f64; 11] = [-0.5, 0.4, 0.8, -0.1, 0.7, 0.2, -0.6, 0.3, 0.15, -0.8, 0.45];
 
 /// Operation counts of a scene's kernels: `(kernel, flops, far-field flops)`.
 fn op_counts(scene: &Scene) -> Vec<(String, usize, Option<usize>)> {
@@ -75,8 +80,7 @@ fn time_kernel(
 ) -> Option<f64> {
     let t = ctx.cfg.min_time;
     let n = cases.len();
-    let va = [0.3, -0.7, 0.2, 0.5, 0.1, -0.4, 0.9, -0.2, 0.6, 0.05, -0.3];
-    let vb = [-0.5, 0.4, 0.8, -0.1, 0.7, 0.2, -0.6, 0.3, 0.15, -0.8, 0.45];
+    let (va, vb) = (VA, VB);
     let (v3a, v3b): ([f64; 3], [f64; 3]) = (
         std::array::from_fn(|k| va[k]),
         std::array::from_fn(|k| vb[k]),
@@ -195,7 +199,7 @@ fn lane_ns(
         cases: &'a [&'a Case],
         va: &'a [f64; 11],
         vb: &'a [f64; 11],
-        ft: bool,
+        moments: Moments,
     }
     impl WithLanes for Pass<'_> {
         type Elem = f64;
@@ -216,17 +220,33 @@ fn lane_ns(
                 let xa: [L; 3] = std::array::from_fn(|k| L::load(&buf[k]));
                 let xb: [L; 3] = std::array::from_fn(|k| L::load(&buf[3 + k]));
                 let (aa, ab) = (L::load(&buf[6]), L::load(&buf[7]));
-                if self.ft {
-                    let va: [L; 6] = std::array::from_fn(|k| L::splat(self.va[k]));
-                    let vb: [L; 6] = std::array::from_fn(|k| L::splat(self.vb[k]));
-                    for o in kernels::product_ft_lanes(&self.conf, ETA, xa, aa, xb, ab, va, vb) {
-                        sum = sum + o;
+                match self.moments {
+                    Moments::F => {
+                        let va: [L; 3] = std::array::from_fn(|k| L::splat(self.va[k]));
+                        let vb: [L; 3] = std::array::from_fn(|k| L::splat(self.vb[k]));
+                        let o = kernels::product_f_lanes(&self.conf, ETA, xa, aa, xb, ab, va, vb);
+                        for o in o {
+                            sum = sum + o;
+                        }
                     }
-                } else {
-                    let va: [L; 3] = std::array::from_fn(|k| L::splat(self.va[k]));
-                    let vb: [L; 3] = std::array::from_fn(|k| L::splat(self.vb[k]));
-                    for o in kernels::product_f_lanes(&self.conf, ETA, xa, aa, xb, ab, va, vb) {
-                        sum = sum + o;
+                    Moments::FT => {
+                        let va: [L; 6] = std::array::from_fn(|k| L::splat(self.va[k]));
+                        let vb: [L; 6] = std::array::from_fn(|k| L::splat(self.vb[k]));
+                        let o = kernels::product_ft_lanes(&self.conf, ETA, xa, aa, xb, ab, va, vb);
+                        for o in o {
+                            sum = sum + o;
+                        }
+                    }
+                    Moments::FTS => {
+                        // the blocks without the exchange of roles (the cost is the same
+                        // in either order), times the moments: what the tiles call
+                        let va: [L; 11] = std::array::from_fn(|k| L::splat(self.va[k]));
+                        let vb: [L; 11] = std::array::from_fn(|k| L::splat(self.vb[k]));
+                        let m = kernels::pair_lanes_ordered(&self.conf, ETA, xa, aa, xb, ab);
+                        let (a, b) = kernels::grand_lanes_product(&m, va, vb);
+                        for o in a.into_iter().chain(b) {
+                            sum = sum + o;
+                        }
                     }
                 }
             }
@@ -239,7 +259,7 @@ fn lane_ns(
             cases: &padded,
             va,
             vb,
-            ft: moments == Moments::FT,
+            moments,
         }));
     })
 }
@@ -344,10 +364,60 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
             untimed.join(", ")
         )?;
     }
+    body.push_str(&family_lanes(ctx)?);
     Ok(Section {
         title: "d. Scene pruning".into(),
         body,
     })
+}
+
+/// The FTS pair lane kernels of every family (`kernels::pair_lanes_ordered` times the
+/// moments, as the tiled FTS product and the dense assembly call them): operation count
+/// as `cargo xtask gen` prints it, and time per pair on the widest instruction set.
+fn family_lanes(ctx: &Ctx) -> Result<String> {
+    struct Counts(Vec<(String, usize)>);
+    impl Visitor for Counts {
+        fn visit<G: Green>(&mut self, g: &G) {
+            let name = format!("{}_pair_lanes (fma)", g.name());
+            let file = kernel_gen::catalog::family(g);
+            if let Some(&(_, n)) = file.op_counts.iter().find(|(k, _)| *k == name) {
+                self.0.push((g.name().to_string(), n));
+            }
+        }
+    }
+    let mut counts = Counts(Vec::new());
+    kernel_gen::green::for_each(&mut counts);
+    let mut t = Table::new(&["family", "kernel", "flops", "time per pair"]);
+    for (k, (family, flops)) in counts.0.iter().enumerate() {
+        let params = kernel_params(family);
+        let cases: Vec<(Confinement, Case)> =
+            sample::cases(family, &params, Kind::Pair, ctx.cfg.cases, 7500 + k as u64)
+                .into_iter()
+                .map(|c| {
+                    let conf =
+                        Confinement::from_name(family, &c.params).expect("family is registered");
+                    (conf, c)
+                })
+                .collect();
+        let ns = lane_ns(ctx, Moments::FTS, &cases, &VA, &VB);
+        t.row(vec![
+            family.clone(),
+            format!("{family}_pair_lanes (fma)"),
+            flops.to_string(),
+            table::time_ns(ns),
+        ]);
+    }
+    let mut out = String::new();
+    writeln!(
+        out,
+        "\nThe FTS pair lane kernels of every family (`kernels::pair_lanes_ordered`, the lane twin \
+         of the FTS pair blocks, times the moments by `kernels::grand_lanes_product`: what the \
+         tiled FTS product and the dense FTS assembly call), on {} lanes, over the configurations \
+         of section a that fit the first one's confinement:\n",
+        kernels::lanes::Isa::best().name()
+    )?;
+    out.push_str(&t.markdown());
+    Ok(out)
 }
 
 fn moments_fn(suffix: &str) -> &'static str {
