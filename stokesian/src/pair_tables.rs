@@ -144,7 +144,8 @@ struct Read {
 /// The most the trailing rows a table drops may add to a function on a patch (each
 /// `|T_i T_j| <= 1`), in Kim & Karrila's normalisation: absolute, so that it stays below
 /// the tables' errors against the series relative to `max(|F|, 1)` (1.1e-9 near,
-/// 3.6e-11 far) and below the step where they meet (2.9e-11 at `s' = 3`).
+/// 3.6e-11 far, both unchanged by the trimming) and below the step where they meet
+/// (2.7e-11 at `s' = 3` with the rows trimmed).
 const TRIM: f64 = 1e-11;
 
 /// Zero the trailing rows (separation terms) of one function's `rows x terms`
@@ -496,7 +497,7 @@ mod tests {
     use super::*;
 
     /// Every instruction set this processor has gives the same functions to rounding:
-    /// each is a sum of 192 or 320 products, so fused and unfused multiply-adds and the
+    /// each is a sum of at most 192 or 320 products, so fused and unfused multiply-adds and the
     /// lanes' order of summing differ by a few ulps of `max(|F|, 1)` (measured 8.9e-16
     /// between the scalar and AVX2 lanes); 1e-14 allows for that with a margin and is far
     /// below the tables' errors against the series (3.6e-11 far, 1.1e-9 near).
