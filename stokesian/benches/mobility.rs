@@ -262,11 +262,8 @@ fn per_pair_lanes(c: &mut Criterion) {
         ("wall", Confinement::Wall { height: 0.0 }),
     ] {
         for level in [Moments::F, Moments::FT, Moments::FTS] {
-            let m = match level {
-                Moments::F => "F",
-                Moments::FT => "FT",
-                Moments::FTS => "FTS",
-            };
+            // the same labels as before FTS: "F", "FT", "FTS"
+            let m = format!("{level:?}");
             g.bench_function(BenchmarkId::new(format!("{m} scalar kernel"), name), |b| {
                 b.iter(|| {
                     let mut sum = 0.0;
