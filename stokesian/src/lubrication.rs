@@ -28,10 +28,12 @@
 
 use crate::assembly::{Moments, System};
 use crate::dense::Cholesky;
+use crate::pair_tables::AtRatio;
 use crate::two_sphere::{PairScalars, PairSeries};
 use kernels::{basis_both, basis_rows, pair, pair_ft, self_ft, self_mobility, Confinement};
 use nalgebra::{DMatrix, SMatrix};
 use rayon::prelude::*;
+use std::collections::HashMap;
 use std::f64::consts::PI;
 use thiserror::Error;
 
@@ -382,7 +384,7 @@ fn ordered_pair(
 /// other sphere; JO84 eq. 1.9, lubrication.md 1.3); the force rows' rotation and strain
 /// columns are the transposes of the other ordered pair's torque and stresslet rows
 /// (`B~^{ab} = (B^{ba})^T`, `G~^{ab} = (G^{ba})^T`, `H~^{ab} = (H^{ba})^T`, JO84 eq. 1.4).
-/// `spheres` holds each sphere's radius and the functions seen from it ([`pair_scalars`]).
+/// `spheres` holds each sphere's radius and the functions seen from it ([`PairFunctions`]).
 fn pair_block(eta: f64, spheres: [(f64, PairScalars); 2], d: [f64; 3], k: usize) -> DMatrix<f64> {
     let mut blocks = Vec::with_capacity(4);
     for al in 0..2 {
@@ -465,32 +467,72 @@ fn mirror(k: usize) -> DMatrix<f64> {
 /// normal translation, `X11A - X12A`; Jeffery 1915 for the rotation about the normal,
 /// `X11C + X12C`; the others by the same reflection).
 fn free_surface_block(
+    functions: &PairFunctions,
     eta: f64,
     a: f64,
     s_dash: f64,
     k: usize,
 ) -> Result<DMatrix<f64>, ResistanceError> {
-    let f = pair_scalars(s_dash, 1.0, k != 11)?;
+    let f = functions.scalars(s_dash, 1.0, k != 11)?;
     let pair = pair_block(eta, [(a, f), (a, f)], [0.0, 0.0, -1.0], k);
     let r11 = pair.view((0, 0), (k, k));
     let r12 = pair.view((0, k), (k, k));
     Ok(r11 + r12 * mirror(k))
 }
 
-/// The two-sphere functions at `s_dash` seen from a sphere whose partner is `lambda`
-/// times its size (all 22, or the ten force-torque ones when `ft_only`): from the
-/// generated tables ([`crate::pair_tables`], far and near, within 1.1e-9 (near) and 3.6e-11
-/// (far) of the series);
-/// only if a committed table file does not have its table's shape, from the series,
-/// built once per size ratio in the process ([`PairSeries::cached_at`]).
-fn pair_scalars(s_dash: f64, lambda: f64, ft_only: bool) -> Result<PairScalars, ResistanceError> {
-    let count = if ft_only { 10 } else { 22 };
-    if let Some(f) = crate::pair_tables::scalars(s_dash, lambda, count) {
-        return Ok(f);
+/// Occurrences of a size ratio among the close pairs from which the tables contracted at
+/// it ([`AtRatio`]) pay: building one costs 20-40 us, as much as 30 to 100 calls of
+/// [`crate::pair_tables::scalars`] (0.3-0.75 us), and each of its calls then costs 0.07
+/// to 0.17 us (README).
+const SHARED_RATIO: usize = 64;
+
+/// The two-sphere functions of the pairs of one resistance, from the generated tables
+/// ([`crate::pair_tables`], far and near, within 1.1e-9 (near) and 3.6e-11 (far) of the
+/// series): contracted once at each size ratio that at least [`SHARED_RATIO`] of the
+/// calls need ([`AtRatio`]), evaluated in two dimensions at the others (the same
+/// functions to rounding); only if a committed table file does not have its table's
+/// shape, from the series, built once per size ratio in the process
+/// ([`PairSeries::cached_at`]).
+struct PairFunctions {
+    /// The tables at each shared ratio, by the ratio's bits.
+    at: HashMap<u64, AtRatio>,
+}
+
+impl PairFunctions {
+    /// For calls at the size ratios `ratios` (one item per call).
+    fn new(ratios: impl Iterator<Item = f64>) -> Self {
+        let mut count: HashMap<u64, usize> = HashMap::new();
+        for lambda in ratios {
+            *count.entry(lambda.to_bits()).or_default() += 1;
+        }
+        let at = count
+            .into_par_iter()
+            .filter(|&(_, n)| n >= SHARED_RATIO)
+            .filter_map(|(bits, _)| AtRatio::new(f64::from_bits(bits)).map(|t| (bits, t)))
+            .collect();
+        PairFunctions { at }
     }
-    PairSeries::cached_at(lambda, ft_only, s_dash)
-        .and_then(|s| s.scalars(s_dash))
-        .map_err(ResistanceError::TwoSphere)
+
+    /// The functions at `s_dash` seen from a sphere whose partner is `lambda` times its
+    /// size (all 22, or the ten force-torque ones when `ft_only`).
+    fn scalars(
+        &self,
+        s_dash: f64,
+        lambda: f64,
+        ft_only: bool,
+    ) -> Result<PairScalars, ResistanceError> {
+        let count = if ft_only { 10 } else { 22 };
+        let tables = match self.at.get(&lambda.to_bits()) {
+            Some(at) => at.scalars(s_dash, count),
+            None => crate::pair_tables::scalars(s_dash, lambda, count),
+        };
+        if let Some(f) = tables {
+            return Ok(f);
+        }
+        PairSeries::cached_at(lambda, ft_only, s_dash)
+            .and_then(|s| s.scalars(s_dash))
+            .map_err(ResistanceError::TwoSphere)
+    }
 }
 
 /// The mobility of an isolated pair of spheres in unbounded fluid, per-particle layout
@@ -646,22 +688,22 @@ impl System {
             }
         }
         // R^P - R^{P,inf}, per close pair (all 22 two-sphere functions at FTS, the ten
-        // force-torque ones at FT: pair_scalars)
+        // force-torque ones at FT: PairFunctions)
         let window = lub.pair_window(moments);
-        // R^W - R^{W,inf} at a free surface: a pair correction, sphere and image
-        if let Confinement::FreeSurface { height } = *self.confinement() {
-            for (a, p) in ps.iter().enumerate() {
-                let s_dash = 2.0 * (p.x[2] - height) / p.a;
-                let weight = pair_weight(s_dash, window);
-                if weight == 0.0 {
-                    continue;
-                }
-                let exact = free_surface_block(eta, p.a, s_dash, k)?;
-                let idx: Vec<usize> = (0..k).map(|c| global_index(n, a, c)).collect();
-                let far = single_boundary_self(self.confinement(), eta, p.x, p.a, k);
-                add_correction(&mut r, &idx, &exact, far, k, k, weight)?;
-            }
-        }
+        // R^W - R^{W,inf} at a free surface: a pair correction, sphere and image (equal
+        // spheres), for the spheres within the window
+        let surface: Vec<(usize, f64, f64)> = match *self.confinement() {
+            Confinement::FreeSurface { height } => ps
+                .iter()
+                .enumerate()
+                .filter_map(|(a, p)| {
+                    let s_dash = 2.0 * (p.x[2] - height) / p.a;
+                    let weight = pair_weight(s_dash, window);
+                    (weight != 0.0).then_some((a, s_dash, weight))
+                })
+                .collect(),
+            _ => vec![],
+        };
         // the pairs within the window, in order; their corrections evaluated in parallel
         // and added in that order, so the sum does not depend on the threads
         let close: Vec<(usize, usize, f64, f64)> = (0..n)
@@ -672,6 +714,20 @@ impl System {
                 (weight != 0.0).then_some((a, b, dist, weight))
             })
             .collect();
+        let functions = PairFunctions::new(
+            surface.iter().map(|_| 1.0).chain(
+                close
+                    .iter()
+                    .flat_map(|&(a, b, _, _)| [ps[b].a / ps[a].a, ps[a].a / ps[b].a]),
+            ),
+        );
+        for &(a, s_dash, weight) in &surface {
+            let p = &ps[a];
+            let exact = free_surface_block(&functions, eta, p.a, s_dash, k)?;
+            let idx: Vec<usize> = (0..k).map(|c| global_index(n, a, c)).collect();
+            let far = single_boundary_self(self.confinement(), eta, p.x, p.a, k);
+            add_correction(&mut r, &idx, &exact, far, k, k, weight)?;
+        }
         // (in chunks, so that the corrections waiting to be added stay a few MB)
         for chunk in close.chunks(2048) {
             let corrections: Vec<DMatrix<f64>> = chunk
@@ -679,8 +735,8 @@ impl System {
                 .map(|&(a, b, dist, weight)| {
                     let (p, q) = (&ps[a], &ps[b]);
                     let s_dash = 2.0 * dist / (p.a + q.a);
-                    let fi = pair_scalars(s_dash, q.a / p.a, k != 11)?;
-                    let fj = pair_scalars(s_dash, p.a / q.a, k != 11)?;
+                    let fi = functions.scalars(s_dash, q.a / p.a, k != 11)?;
+                    let fj = functions.scalars(s_dash, p.a / q.a, k != 11)?;
                     let d: [f64; 3] = std::array::from_fn(|c| (q.x[c] - p.x[c]) / dist);
                     let exact = pair_block(eta, [(p.a, fi), (q.a, fj)], d, k);
                     let far = free_pair_mobility(eta, (p.x, p.a), (q.x, q.a), k);

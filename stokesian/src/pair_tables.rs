@@ -30,6 +30,9 @@
 //! contiguous block and costs their product in multiply-adds per function, less the
 //! trailing separation rows the generator zeroed (`TRIM`), which are skipped.
 //!
+//! [`AtRatio`] contracts both tables at one size ratio (the ratio sums done once), for
+//! the many pairs of a suspension that share it: their functions then cost a fifth.
+//!
 //! Accuracy against the series between the nodes (`tests/tests/two_sphere_tables.rs`):
 //! see README ("Resistance with lubrication").
 
@@ -98,6 +101,13 @@ impl Axis {
 
     /// The part holding `x` (clamped to the ends) and `x` mapped to `[-1, 1]` on it.
     fn locate(&self, x: f64) -> (usize, f64) {
+        self.locate_by(x, |k| self.bound(k))
+    }
+
+    /// [`Axis::locate`] with the bounds from `bound(k)` (equal to [`Axis::bound`]; a
+    /// [`Column`] keeps them rather than compute them at each call).
+    #[inline(always)]
+    fn locate_by(&self, x: f64, bound: impl Fn(usize) -> f64) -> (usize, f64) {
         // the grading inverted, then the part settled against the bounds exactly
         let left = ((self.hi - x) / (self.hi - self.lo)).clamp(0.0, 1.0);
         let root = match self.grading {
@@ -107,13 +117,13 @@ impl Axis {
         };
         let n = self.patches;
         let mut p = ((n as f64 * (1.0 - root)) as usize).min(n - 1);
-        while p > 0 && x < self.bound(p) {
+        while p > 0 && x < bound(p) {
             p -= 1;
         }
-        while p + 1 < n && x >= self.bound(p + 1) {
+        while p + 1 < n && x >= bound(p + 1) {
             p += 1;
         }
-        let (a, b) = (self.bound(p), self.bound(p + 1));
+        let (a, b) = (bound(p), bound(p + 1));
         (p, ((2.0 * x - a - b) / (b - a)).clamp(-1.0, 1.0))
     }
 
@@ -294,6 +304,43 @@ impl Table {
         Some(out)
     }
 
+    /// The table contracted at ratio variable `y` ([`Column`]; `None` if the file does
+    /// not have the table's shape): on each separation patch, row `i` of function `k` is
+    /// `sum_j T_j(y) c_ij` over the function's rows (the trimmed ones stay zero).
+    fn column(&self, y: f64) -> Option<Column> {
+        let read = self.read()?;
+        let (py, y) = self.ratio.locate(y);
+        let cy = chebyshev_values(y, self.ratio.terms);
+        let (terms, size) = (self.ratio.terms, self.patch());
+        let rows_per_patch = self.separation.terms;
+        let mut coefficients = vec![0.0; self.separation.patches * rows_per_patch * PADDED];
+        let mut rows = vec![1u8; self.separation.patches];
+        for (px, (column, used)) in coefficients
+            .chunks_exact_mut(rows_per_patch * PADDED)
+            .zip(&mut rows)
+            .enumerate()
+        {
+            let first = (px * self.ratio.patches + py) * FUNCTIONS;
+            for k in 0..FUNCTIONS {
+                let block = &read.coefficients[(first + k) * size..(first + k + 1) * size];
+                let r = read.rows[first + k];
+                *used = (*used).max(r);
+                for (i, row) in block.chunks_exact(terms).take(usize::from(r)).enumerate() {
+                    column[i * PADDED + k] =
+                        row.iter().zip(&cy).fold(0.0, |sum, (c, t)| sum + c * t);
+                }
+            }
+        }
+        Some(Column {
+            separation: self.separation,
+            bounds: (0..=self.separation.patches)
+                .map(|k| self.separation.bound(k))
+                .collect(),
+            coefficients,
+            rows,
+        })
+    }
+
     /// The table's contents: every function's coefficients on every patch, from
     /// `values(ratio node) -> (separation node -> the 22 values)` at the Chebyshev points
     /// of the first kind (each ratio node's series built once, in parallel).
@@ -417,13 +464,130 @@ impl<const N: usize> WithLanes for PatchSums<'_, N> {
     }
 }
 
-/// `T_0(x) ... T_(terms-1)(x)` (the rest zero).
+/// The functions of a [`Column`] row padded to a multiple of every lane width.
+const PADDED: usize = 24;
+const _: () = assert!(PADDED >= FUNCTIONS && PADDED.is_multiple_of(F64_LANES));
+
+/// One table contracted at one size ratio ([`Table::column`]): on each separation patch,
+/// row after row (separation terms), the 22 functions' coefficients side by side
+/// ([`PADDED`] numbers), and the rows to sum on each patch (the most any function keeps).
+struct Column {
+    separation: Axis,
+    /// [`Axis::bound`] of the separation's parts.
+    bounds: Vec<f64>,
+    coefficients: Vec<f64>,
+    rows: Vec<u8>,
+}
+
+impl Column {
+    /// Every function at separation variable `x`, on the lanes of `isa` (`None` if this
+    /// processor lacks it).
+    fn evaluate(&self, isa: Isa, x: f64) -> Option<[f64; FUNCTIONS]> {
+        let (px, x) = self.separation.locate_by(x, |k| self.bounds[k]);
+        let terms = self.separation.terms;
+        let rows = usize::from(self.rows[px]);
+        let cx = chebyshev_values(x, terms);
+        let start = px * terms * PADDED;
+        let mut out = [0.0; PADDED];
+        let sums = RowSums {
+            block: &self.coefficients[start..start + rows * PADDED],
+            cx: &cx[..rows],
+            out: &mut out,
+        };
+        dispatch_with(isa, sums).ok()?;
+        Some(std::array::from_fn(|k| out[k]))
+    }
+}
+
+/// `sum_i T_i(x) c_ik` of every function `k` of a [`Column`] patch: the functions in
+/// lanes, one multiply-add per row and vector (independent chains side by side).
+struct RowSums<'a> {
+    /// The patch's rows, [`PADDED`] numbers each.
+    block: &'a [f64],
+    /// `T_i(x)` of the rows.
+    cx: &'a [f64],
+    out: &'a mut [f64; PADDED],
+}
+
+impl WithLanes for RowSums<'_> {
+    type Elem = f64;
+    type Output = ();
+
+    #[inline(always)]
+    fn run<L: Lane<Elem = f64>>(self) {
+        let vectors = PADDED / L::WIDTH;
+        let mut acc = [L::splat(0.0); PADDED];
+        for (row, &x) in self.block.chunks_exact(PADDED).zip(self.cx) {
+            let x = L::splat(x);
+            for (v, a) in acc.iter_mut().take(vectors).enumerate() {
+                *a = L::load(&row[v * L::WIDTH..]).mul_add(x, *a);
+            }
+        }
+        for (v, a) in acc.iter().take(vectors).enumerate() {
+            a.store(&mut self.out[v * L::WIDTH..]);
+        }
+    }
+}
+
+/// The far and near tables contracted at one size ratio `lambda` (the sums over the
+/// ratio terms done once), with the near-contact coefficients of the singular closed
+/// forms at that ratio: the functions of a pair at this ratio then cost one row of
+/// multiply-adds per separation term for all 22 together (a few hundredths of a
+/// microsecond, against a few tenths for [`scalars`]; README). Building one reads both
+/// tables' column at `lambda` once (tens of microseconds): worth it for a ratio that
+/// many pairs share, as in [`crate::assembly::System::resistance`]. The same functions
+/// as [`scalars`] to rounding (the two sums in the other order).
+pub struct AtRatio {
+    far: Column,
+    near: Column,
+    singular: [[f64; 3]; FUNCTIONS],
+}
+
+impl AtRatio {
+    /// The tables at `lambda` in `[1e-2, 1e2]`; `None` outside (or if a committed file
+    /// does not have its table's shape).
+    pub fn new(lambda: f64) -> Option<Self> {
+        if !in_range(lambda) {
+            return None;
+        }
+        Some(AtRatio {
+            far: FAR.column(mu(lambda))?,
+            near: NEAR.column(lambda.ln())?,
+            singular: crate::two_sphere::singular_coefficients(lambda).ok()?,
+        })
+    }
+
+    /// The first `count` functions at `s_dash > 2` (as [`scalars`]; the others zero);
+    /// `None` at or inside contact.
+    pub fn scalars(&self, s_dash: f64, count: usize) -> Option<PairScalars> {
+        let count = count.min(FUNCTIONS);
+        let mut out = if s_dash >= S_MIN {
+            self.far.evaluate(Isa::best(), 2.0 / s_dash)?
+        } else if s_dash > 2.0 {
+            let regular = self.near.evaluate(Isa::best(), near_variable(s_dash))?;
+            let singular =
+                crate::two_sphere::singular_parts_from(&self.singular, s_dash, count).ok()?;
+            std::array::from_fn(|k| singular[k] + regular[k])
+        } else {
+            return None;
+        };
+        out[count..].fill(0.0);
+        Some(PairScalars::from_array(out))
+    }
+}
+
+/// `T_0(x) ... T_(terms-1)(x)` (the rest zero; at least four are computed): beyond
+/// `T_3` by `T_j = 2 T_2 T_(j-2) - T_(j-4)` (from `2 T_m T_n = T_(m+n) + T_(m-n)`), the
+/// even and odd terms two independent chains, half the latency of the usual recurrence.
 fn chebyshev_values(x: f64, terms: usize) -> [f64; MAX_TERMS] {
     let mut t = [0.0; MAX_TERMS];
     t[0] = 1.0;
     t[1] = x;
-    for j in 2..terms.min(MAX_TERMS) {
-        t[j] = 2.0 * x * t[j - 1] - t[j - 2];
+    t[2] = 2.0 * x * x - 1.0;
+    t[3] = 2.0 * x * t[2] - x;
+    let two_t2 = 2.0 * t[2];
+    for j in 4..terms.min(MAX_TERMS) {
+        t[j] = two_t2 * t[j - 2] - t[j - 4];
     }
     t
 }
@@ -456,13 +620,18 @@ pub fn near_scalars(s_dash: f64, lambda: f64, count: usize) -> Option<PairScalar
     if !(s_dash > 2.0 && s_dash < S_MIN && in_range(lambda)) {
         return None;
     }
-    // exact for s' in (2, 4] (Sterbenz), as in the series
-    let u = (s_dash - 2.0).ln().max(U_MIN);
-    let regular = NEAR.evaluate(Isa::best(), u, lambda.ln(), count)?;
+    let regular = NEAR.evaluate(Isa::best(), near_variable(s_dash), lambda.ln(), count)?;
     let singular = singular_parts(s_dash, lambda, count).ok()?;
     Some(PairScalars::from_array(std::array::from_fn(|k| {
         singular[k] + regular[k]
     })))
+}
+
+/// The near table's separation variable `u = ln xi` at `s_dash` in `(2, S_MIN)`, no
+/// smaller than [`U_MIN`].
+fn near_variable(s_dash: f64) -> f64 {
+    // exact for s' in (2, 4] (Sterbenz), as in the series
+    (s_dash - 2.0).ln().max(U_MIN)
 }
 
 /// The contents of `src/generated/two_sphere_far.bin`: the functions from the series at
@@ -495,6 +664,46 @@ pub fn generate_near() -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The tables contracted at a ratio give the functions of [`scalars`] to rounding:
+    /// the same coefficients summed in the other order (and the singular coefficients
+    /// computed once), so they differ by a few ulps of the sums. Near contact at large
+    /// ratios the regular remainders cancel the singular parts: a function of order 1
+    /// is the sum of coefficients whose absolute values add up to 2.5e3 (`lambda` near
+    /// 100, one ulp of which is 4.5e-13), so the sums' rounding reaches a few ulps of
+    /// that (measured 1.4e-12 of `max(|F|, 1)`, near contact at the largest ratios); 1e-11
+    /// (about 20 such ulps) allows for that with a margin and is far below the tables'
+    /// errors against the series (1.1e-9 near). Ratios across both ends and
+    /// interior ones, not at the nodes; separations through both tables, the step
+    /// between them and contact.
+    #[test]
+    fn tables_at_a_ratio_give_the_functions_of_the_tables() {
+        let mut worst = 0.0f64;
+        for i in 0..=24 {
+            let lambda = 10f64.powf(-2.0 + 4.0 * f64::from(i) / 24.0);
+            let at = AtRatio::new(lambda).expect("in range");
+            let mut separations: Vec<f64> = (1..=200)
+                .map(|j| 2.0 + 40.0 * (f64::from(j) / 200.0).powi(3))
+                .collect();
+            separations.extend([2.0 + 4.0 * f64::EPSILON, 2.0 + 1e-9, S_MIN, f64::INFINITY]);
+            for s in separations {
+                for count in [10, 22] {
+                    let want = scalars(s, lambda, count).expect("in range").to_array();
+                    let got = at.scalars(s, count).expect("in range").to_array();
+                    for (g, w) in got.iter().zip(&want) {
+                        let e = (g - w).abs() / w.abs().max(1.0);
+                        worst = worst.max(e);
+                        assert!(e <= 1e-11, "lambda {lambda}, s' {s}: {g} against {w}");
+                    }
+                    assert!(got[count..].iter().all(|&v| v == 0.0));
+                }
+            }
+        }
+        println!("tables at a ratio against the tables: {worst:.1e}");
+        assert!(AtRatio::new(0.009).is_none() && AtRatio::new(f64::NAN).is_none());
+        let at = AtRatio::new(1.0).expect("in range");
+        assert!(at.scalars(2.0, 22).is_none() && at.scalars(f64::NAN, 22).is_none());
+    }
 
     /// Every instruction set this processor has gives the same functions to rounding:
     /// each is a sum of at most 192 or 320 products, so fused and unfused multiply-adds and the

@@ -604,10 +604,29 @@ pub fn resistance_scalars_ft(s_dash: f64, lambda: f64) -> Result<FtScalars, TwoS
 /// [`PairSeries::scalars`], bit for bit.
 pub fn singular_parts(s_dash: f64, lambda: f64, count: usize) -> Result<[f64; 22], TwoSphereError> {
     check_lambda(lambda)?;
+    singular_sums(s_dash, count, |k| (FUNCTIONS[k].singular)(lambda))
+}
+
+/// [`singular_parts`] from the coefficients of [`singular_coefficients`], computed once
+/// for a size ratio: the same numbers, bit for bit.
+pub fn singular_parts_from(
+    coefficients: &[[f64; 3]; 22],
+    s_dash: f64,
+    count: usize,
+) -> Result<[f64; 22], TwoSphereError> {
+    singular_sums(s_dash, count, |k| coefficients[k])
+}
+
+/// `h . S(t)` of the first `count` functions, `h` of function `k` from `coefficient(k)`.
+fn singular_sums(
+    s_dash: f64,
+    count: usize,
+    coefficient: impl Fn(usize) -> [f64; 3],
+) -> Result<[f64; 22], TwoSphereError> {
     let geo = Geometry::new(s_dash)?;
     Ok(std::array::from_fn(|k| {
         if k < count {
-            singular_part(k, &(FUNCTIONS[k].singular)(lambda), &geo)
+            singular_part(k, &coefficient(k), &geo)
         } else {
             0.0
         }

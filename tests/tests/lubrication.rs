@@ -311,3 +311,55 @@ fn resistance_does_not_depend_on_the_number_of_threads() {
         }
     }
 }
+
+/// Where many pairs share a size ratio, the resistance takes their functions from the
+/// tables contracted once at that ratio (`pair_tables::AtRatio`), elsewhere from the
+/// tables in two dimensions: a cluster of 16 equal spheres near a wall (240 calls at the
+/// ratio 1) and the same cluster with every radius changed by at most 3.2e-12 (no ratio
+/// shared by more than a few calls) give the same resistance, FT and FTS, every pair
+/// corrected. The two paths give the functions to 1.4e-12 of `max(|F|, 1)`
+/// (`tables_at_a_ratio_give_the_functions_of_the_tables`), and the radii change the
+/// entries by about `delta a / xi`, 6e-11 relative at the smallest gap (`xi = 0.05`):
+/// 1e-9 of the largest entry allows for both with a margin, and is far below what a
+/// wrong function (the tables' errors are 1e-9 of the functions, any mistake in the
+/// path or the ratio's orientation is of order one) would leave.
+#[test]
+fn shared_ratios_give_the_resistance_of_the_two_dimensional_tables() {
+    let cluster = |perturb: bool| -> Vec<Particle> {
+        (0..16)
+            .map(|i| {
+                let (u, v) = ((i % 4) as f64, (i / 4) as f64);
+                let a = if perturb {
+                    1.0 + 1e-13 * (((i * i * 7) % 31) + 1) as f64
+                } else {
+                    1.0
+                };
+                // gaps from 0.05 (the first row) to a few radii, heights 1.3 to 2.6
+                let x = [
+                    (2.05 + 0.3 * v) * u,
+                    2.4 * v,
+                    1.3 + 0.4 * v + 0.1 * (i % 2) as f64,
+                ];
+                Particle { x, a }
+            })
+            .collect()
+    };
+    for moments in [Moments::FT, Moments::FTS] {
+        let r = |perturb: bool| {
+            System::new(
+                Confinement::Wall { height: 0.0 },
+                1.0,
+                cluster(perturb),
+                false,
+            )
+            .unwrap()
+            .resistance(moments, &Lubrication::everywhere())
+            .unwrap()
+        };
+        let (equal, perturbed) = (r(false), r(true));
+        let largest = equal.amax();
+        let worst = (&equal - &perturbed).amax() / largest;
+        println!("{moments:?}: shared against two-dimensional tables {worst:.1e}");
+        assert!(worst < 1e-9, "{moments:?}: {worst:e}");
+    }
+}

@@ -418,6 +418,34 @@ fn cost_of_tables_and_calls() {
         })
         .collect();
     println!("\ntables (functions, table, time per call): {tables:?}");
+    // the tables contracted at a ratio (AtRatio): built for three ratios, then the same
+    // loops cycling through them (a suspension of two sizes has three ratios)
+    let t0 = std::time::Instant::now();
+    let at: Vec<_> = [0.6, 1.0, 1.0 / 0.6]
+        .iter()
+        .map(|&l| stokesian::pair_tables::AtRatio::new(l).unwrap())
+        .collect();
+    let build = t0.elapsed() / 3;
+    let at_ratio: Vec<_> = [10, 22]
+        .iter()
+        .flat_map(|&count| [(count, true), (count, false)])
+        .map(|(count, far)| {
+            let t0 = std::time::Instant::now();
+            for i in 0..2000 {
+                let s_dash = if far {
+                    3.0 + 0.01 * f64::from(i)
+                } else {
+                    2.0 + (-13.8 * (1.0 - f64::from(i) / 2000.0)).exp()
+                };
+                acc += at[i as usize % 3].scalars(s_dash, count).unwrap().x11a;
+            }
+            (count, if far { "far" } else { "near" }, t0.elapsed() / 2000)
+        })
+        .collect();
+    println!(
+        "tables at a ratio: built in {build:?} per ratio; (functions, table, time per call): \
+         {at_ratio:?}"
+    );
     println!(
         "\ncost (TRUNCATION = {TRUNCATION}): first call (reads the coefficients, unless another test did \
          them) {first:?}; resistance_scalars {per_call:?} per call; PairSeries::scalars \
