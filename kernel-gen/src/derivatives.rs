@@ -119,6 +119,10 @@ pub enum Collection {
     /// Horner's rule; the differences `phi(R) - phi(r)` of a cancelling image as in
     /// `Centres`.
     Entries,
+    /// As `Entries`, each polynomial taken in the cheapest of its forms on the unit
+    /// sphere `|e| = 1` ([`Poly::on_unit_sphere`]): fewer monomials per entry, though
+    /// entries in different forms may share fewer subexpressions.
+    EntriesOnSphere,
 }
 
 /// The non-atom factor of a group of atoms: `weight * h_plane^q`, or 1 for free space.
@@ -155,6 +159,8 @@ pub struct Structured<S> {
     /// How atoms become arithmetic.
     collect: Collection,
     units: HashMap<usize, (S, S, [S; 3])>,
+    /// A factor of every derivative ([`Structured::scaled`]).
+    multiplier: Option<S>,
 }
 
 impl<S: Scalar> Structured<S> {
@@ -193,6 +199,15 @@ impl<S: Scalar> Structured<S> {
     /// an exactly evaluated difference: the reference of the stiff cases.
     pub fn direct_sum(mut self) -> Self {
         self.cancel = None;
+        self
+    }
+
+    /// Every derivative times `m` (the kernels' `1/(8 pi eta)`): `m` multiplies the
+    /// powers of `1/|R|` ([`Structured::inv_norm_pow`]), one of which ends every term,
+    /// so that it enters once per centre and power (shared nodes) rather than once per
+    /// block entry.
+    pub fn scaled(mut self, m: S) -> Self {
+        self.multiplier = Some(m);
         self
     }
 
@@ -244,6 +259,7 @@ impl<S: Scalar> Structured<S> {
             poly_jets: HashMap::new(),
             collect: Collection::Centres,
             units: HashMap::new(),
+            multiplier: None,
         }
     }
 
@@ -393,11 +409,12 @@ impl<S: Scalar> Structured<S> {
         self.jet(a.centre, a.pot).derivative(&a.nu)
     }
 
-    /// `|R|^(-k)` by repeated products of `1/|R|` (or of `|R|` for `k < 0`), shared.
+    /// `|R|^(-k)` by repeated products of `1/|R|` (or of `|R|` for `k < 0`), shared;
+    /// times the multiplier ([`Structured::scaled`]), if any.
     fn inv_norm_pow(&mut self, centre: usize, k: i32) -> S {
         let (norm, inv, _) = self.unit(centre);
         let base = if k >= 0 { inv } else { norm };
-        let mut v = S::cst(1.0);
+        let mut v = self.multiplier.clone().unwrap_or_else(|| S::cst(1.0));
         for _ in 0..k.unsigned_abs() {
             v = v * base.clone();
         }
@@ -613,6 +630,11 @@ impl<S: Scalar> Structured<S> {
                 aa2.clone() * inv2.clone(),
                 ab2.clone() * inv2,
             ];
+            let p = if self.collect == Collection::EntriesOnSphere {
+                p.on_unit_sphere(std::array::from_fn(|k| vars[k].is_known_zero()))
+            } else {
+                p
+            };
             let mut v = p.eval_all(&vars);
             if v.is_known_zero() {
                 continue;
@@ -664,7 +686,10 @@ impl<S: Scalar> Derivatives<S> for Structured<S> {
             }
         }
         self.absorb_free(&mut groups);
-        if self.collect == Collection::Entries {
+        if matches!(
+            self.collect,
+            Collection::Entries | Collection::EntriesOnSphere
+        ) {
             self.evaluate_entries(groups, aa2, ab2)
         } else {
             self.evaluate(groups, aa2, ab2)

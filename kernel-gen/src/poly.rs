@@ -99,6 +99,39 @@ impl Poly {
         self.eval_all(&[e[0].clone(), e[1].clone(), e[2].clone(), z(), z(), z()])
     }
 
+    /// The cheapest of the forms this polynomial takes on the unit sphere
+    /// `e1^2 + e2^2 + e3^2 = 1`: as it is, or with every even power of one component
+    /// `e_k` rewritten by `e_k^2 = 1 - (the other components' squares)` (components in
+    /// `zero`, known to be zero, left out), whichever has the fewest monomials that
+    /// survive the known zeros (about one multiply-add each in Horner's rule). A
+    /// rewritten form is taken only if the sum of its coefficients' absolute values,
+    /// which bounds its rounding error on the sphere, is at most twice the original's.
+    /// Valid only where `e` is a unit vector.
+    pub fn on_unit_sphere(&self, zero: [bool; 3]) -> Poly {
+        let kept = |m: &Monomial| (0..3).all(|k| m[k] == 0 || !zero[k]);
+        let size = |p: &Poly| p.0.keys().filter(|m| kept(m)).count();
+        let norm = |p: &Poly| p.0.values().fold(0.0, |s, c| s + c.to_f64().abs());
+        let bound = 2.0 * norm(self);
+        let mut best = (size(self), self.clone());
+        for k in (0..3).filter(|&k| !zero[k]) {
+            let mut rest = Poly::cst(1.0);
+            for j in (0..3).filter(|&j| j != k && !zero[j]) {
+                rest = rest - Poly::var(j) * Poly::var(j);
+            }
+            let mut reduced = Poly::default();
+            for (m, c) in self.0.iter().filter(|(m, _)| kept(m)) {
+                let mut low = *m;
+                low[k] = m[k] % 2;
+                reduced.add_shifted(&rest.powi(i32::from(m[k] / 2)), *c, low);
+            }
+            let n = size(&reduced);
+            if n < best.0 && norm(&reduced) <= bound {
+                best = (n, reduced);
+            }
+        }
+        best.1
+    }
+
     /// The value at all [`VARS`] variables `v`, as [`Poly::eval`].
     pub fn eval_all<S: Scalar>(&self, v: &[S; VARS]) -> S {
         let terms: Vec<(Monomial, Dd)> = self
@@ -292,6 +325,39 @@ mod tests {
         // d_1 d_1 (1/r) = 3 e1^2 - 1 (with |e| = 1): at e the value is 3 * 0.2304 - 1
         let v: f64 = p.derivative(&[2, 0, 0]).eval(&e);
         assert!((v - (3.0 * 0.48 * 0.48 - 1.0)).abs() < 1e-15);
+    }
+
+    /// On the unit sphere `|e|^2` is 1 and the jets' `3 e1^2 - |e|^2` is `3 e1^2 - 1`,
+    /// and every form keeps the values at unit vectors (to rounding of coefficients of
+    /// size up to 15: 1e-13); with `e2` known to be zero the rewriting uses `e1^2 + e3^2
+    /// = 1` alone.
+    #[test]
+    fn forms_on_the_unit_sphere_keep_the_values_and_drop_monomials() {
+        let sq = |k| Poly::var(k) * Poly::var(k);
+        let r2 = sq(0) + sq(1) + sq(2);
+        assert_eq!(r2.on_unit_sphere([false; 3]), Poly::cst(1.0));
+        let p = Poly::cst(3.0) * sq(0) - r2.clone();
+        assert_eq!(p.on_unit_sphere([false; 3]).0.len(), 2);
+        // a jet's polynomial: d_1 d_1 d_3 d_3 (1/r), with monomials in all three
+        let l = Layout::get(3, 4);
+        let d: [Jet<Poly>; 3] = std::array::from_fn(|k| Jet::variable(&l, k, Poly::cst(0.0)));
+        let mut s = Jet::cst(1.0);
+        for (k, dk) in d.iter().enumerate() {
+            s = s
+                + Jet::constant(Poly::cst(2.0) * Poly::var(k)) * dk.clone()
+                + dk.clone() * dk.clone();
+        }
+        let q = s.powf(-0.5, Poly::cst(1.0)).derivative(&[2, 0, 2]);
+        for (zero, e) in [
+            ([false; 3], [0.48, -0.6, 0.64]),
+            ([false, true, false], [0.6, 0.0, -0.8]),
+        ] {
+            let want: f64 = q.eval(&e);
+            let form = q.on_unit_sphere(zero);
+            assert!(form.0.len() <= q.0.len());
+            let got: f64 = form.eval(&e);
+            assert!((got - want).abs() <= 1e-13, "{zero:?}: {got} {want}");
+        }
     }
 
     #[test]

@@ -272,13 +272,17 @@ fn shape(r: Response, m: Moment, b: Basis) -> Vec<usize> {
     s
 }
 
-/// Trace kernel `spec` for Green's function `g`. With the structured path, twice: each
-/// entry collected whole ([`Collection::Entries`], polynomials of [`crate::poly`]) and
-/// the atoms combined one by one ([`Collection::Atoms`]); the cheaper trace
-/// (operations of the direct sum; the first of equals) is kept. The per-centre
-/// collection ([`Collection::Centres`]) is not traced: it collects a subset of what
-/// `Entries` collects and cost more in every shipped kernel (measured when `Entries`
-/// came, 2026-12-02), and a third trace would take generation past 10 s.
+/// Trace kernel `spec` for Green's function `g`. With the structured path, three
+/// times: each entry collected whole ([`Collection::Entries`], polynomials of
+/// [`crate::poly`]), the same with each polynomial in its cheapest form on the unit
+/// sphere ([`Collection::EntriesOnSphere`]), and the atoms combined one by one
+/// ([`Collection::Atoms`]); the cheapest trace (operations of the direct sum; the
+/// first of equals) is kept. The sphere forms cut the free-space FTS lane kernel from
+/// 576 to 565 operations and the divergence lane kernels by 2-6%, for 0.5 s more
+/// generation (6.5 s in all, 2026-12-03). The per-centre collection
+/// ([`Collection::Centres`]) is not traced: it collects a subset of what `Entries`
+/// collects and cost more in every shipped kernel (measured when `Entries` came,
+/// 2026-12-02).
 pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
     let first = trace_with(g, spec, Collection::Entries);
     if g.image_terms().is_none() || spec.path == Path::Generic {
@@ -291,12 +295,14 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
         }
         t.graph.op_count(&ids).total()
     };
-    let by_atom = trace_with(g, spec, Collection::Atoms);
-    if cost(&by_atom) < cost(&first) {
-        by_atom
-    } else {
-        first
+    let mut best = first;
+    for collect in [Collection::EntriesOnSphere, Collection::Atoms] {
+        let other = trace_with(g, spec, collect);
+        if cost(&other) < cost(&best) {
+            best = other;
+        }
     }
+    best
 }
 
 fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: Collection) -> Traced {
@@ -391,13 +397,24 @@ fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: Collection) -> Traced
     if spec.divergence {
         outputs = divergence_outputs(g, spec, &xa, &xb, &aa, &ab, &params, order, &scale, collect);
     } else {
-        let values = block_values(g, spec, &fxa, &fxb, &aa, &ab, &params, order, collect);
+        let values = block_values(
+            g,
+            spec,
+            &fxa,
+            &fxb,
+            &aa,
+            &ab,
+            &params,
+            order,
+            collect,
+            Some(&scale),
+        );
         for (&(r, m), vals) in spec.blocks.iter().zip(values) {
             outputs.push(BlockOut {
                 name: block_name(r, m),
                 block: Some((r, m)),
                 shape: shape(r, m, spec.basis),
-                ids: vals.into_iter().map(|v| (scale * v).0).collect(),
+                ids: vals.into_iter().map(|v| v.0).collect(),
             });
         }
         let lateral = match (&frame, spec.interaction) {
@@ -624,11 +641,9 @@ pub fn evaluate_direct<G: Green, S: Scalar>(g: &G, spec: &KernelSpec, inputs: &[
         &params,
         order,
         Collection::Atoms,
+        Some(&scale),
     );
-    let blocks: Vec<Vec<S>> = values
-        .into_iter()
-        .map(|v| v.into_iter().map(|x| scale.clone() * x).collect())
-        .collect();
+    let blocks = values;
     if !spec.product {
         return blocks.concat();
     }
@@ -723,6 +738,7 @@ enum Source<S> {
 }
 
 impl<S: Scalar> Source<S> {
+    #[allow(clippy::too_many_arguments)]
     fn new<G: Green>(
         g: &G,
         spec: &KernelSpec,
@@ -731,12 +747,17 @@ impl<S: Scalar> Source<S> {
         p: &[S],
         order: usize,
         collect: Collection,
+        scale: Option<&S>,
     ) -> Self {
         let pair = spec.interaction == Interaction::Pair;
         if g.image_terms().is_some() && spec.path != Path::Generic {
             let explicit = spec.path != Path::StructuredNoExplicitHeight;
             let s = Structured::new(g, xa, xb, p, order, pair, explicit);
             let s = s.collecting(collect);
+            let s = match scale {
+                Some(m) => s.scaled(m.clone()),
+                None => s,
+            };
             Source::Structured(if spec.path == Path::StructuredDirectSum {
                 s.direct_sum()
             } else {
@@ -770,8 +791,14 @@ fn block_values<G: Green, S: Scalar>(
     params: &[S],
     order: usize,
     collect: Collection,
+    scale: Option<&S>,
 ) -> Vec<Vec<S>> {
-    let mut src = Source::new(g, spec, xa, xb, params, order, collect);
+    let mut src = Source::new(g, spec, xa, xb, params, order, collect, scale);
+    // the structured derivatives carry the scale themselves (`Structured::scaled`)
+    let outside = match (&src, scale) {
+        (Source::Generic(_), Some(s)) => Some(s),
+        _ => None,
+    };
     let (aa2, ab2) = (aa.clone() * aa.clone(), ab.clone() * ab.clone());
     spec.blocks
         .iter()
@@ -794,9 +821,13 @@ fn block_values<G: Green, S: Scalar>(
                     if n != 1.0 {
                         v = S::cst(n) * v;
                     }
-                    vals.push(match &iso {
-                        Some(iso) => iso[row][col].clone() + v,
-                        None => v,
+                    if let Some(s) = outside {
+                        v = s.clone() * v;
+                    }
+                    vals.push(match (&iso, scale) {
+                        (Some(iso), Some(s)) => s.clone() * iso[row][col].clone() + v,
+                        (Some(iso), None) => iso[row][col].clone() + v,
+                        (None, _) => v,
                     });
                 }
             }
@@ -833,7 +864,7 @@ fn divergence_outputs<G: Green>(
     };
     let c = |e: &Ex| Jet::constant(*e);
     let jp: Vec<Jet<Ex>> = params.iter().map(c).collect();
-    let values = block_values(g, spec, &ja, &jb, &c(aa), &c(ab), &jp, order, collect);
+    let values = block_values(g, spec, &ja, &jb, &c(aa), &c(ab), &jp, order, collect, None);
     let block = |r: Response, m: Moment| -> Option<&Vec<Jet<Ex>>> {
         spec.blocks
             .iter()

@@ -39,7 +39,7 @@ pub fn free_f_self(x: [f64; 3], a: f64, eta: f64) -> BlocksF {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 76 flops (19 add/sub, 48 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 73 flops (19 add/sub, 45 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> BlocksF {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -80,46 +80,43 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
     let t35: f64 = 1.0 + t34;
     let t36: f64 = t33 + t35;
     let t37: f64 = t32 + t36;
-    let t38: f64 = t21 * t37;
-    let t39: f64 = t23 * t31;
-    let t40: f64 = t22 * t39;
-    let t41: f64 = t21 * t40;
-    let t42: f64 = t21 * t36;
-    let t43: f64 = t25 * 6.0;
-    let t44: f64 = t26 * 6.0;
-    let t45: f64 = t44 + (-1.0);
-    let t46: f64 = t43 + t45;
-    let t47: f64 = t27 * t46;
-    let t48: f64 = t25 * (-4.0);
-    let t49: f64 = t26 * (-4.0);
-    let t50: f64 = 2.0 + t49;
-    let t51: f64 = t48 + t50;
-    let t52: f64 = t47 + t51;
-    let t53: f64 = t21 * t52;
-    let t54: f64 = t0 * t38;
-    let t55: f64 = t0 * t41;
-    let t56: f64 = t0 * t42;
-    let t57: f64 = t0 * t53;
-    let t58: f64 = t10 * t54;
-    let t59: f64 = t10 * t58;
-    let t60: f64 = t12 * t56;
-    let t61: f64 = t12 * t60;
-    let t62: f64 = t59 + t61;
-    let t63: f64 = t12 * t54;
-    let t64: f64 = t10 * t63;
-    let t65: f64 = t10 * t56;
-    let t66: f64 = t12 * t65;
-    let t67: f64 = t64 - t66;
-    let t68: f64 = t10 * t55;
-    let t69: f64 = t12 * t58;
-    let t70: f64 = t10 * t60;
-    let t71: f64 = t69 - t70;
-    let t72: f64 = t12 * t63;
-    let t73: f64 = t10 * t65;
-    let t74: f64 = t72 + t73;
-    let t75: f64 = t12 * t55;
+    let t38: f64 = t0 * t21;
+    let t39: f64 = t37 * t38;
+    let t40: f64 = t23 * t31;
+    let t41: f64 = t22 * t40;
+    let t42: f64 = t38 * t41;
+    let t43: f64 = t36 * t38;
+    let t44: f64 = t25 * 6.0;
+    let t45: f64 = t26 * 6.0;
+    let t46: f64 = t45 + (-1.0);
+    let t47: f64 = t44 + t46;
+    let t48: f64 = t27 * t47;
+    let t49: f64 = t25 * (-4.0);
+    let t50: f64 = t26 * (-4.0);
+    let t51: f64 = 2.0 + t50;
+    let t52: f64 = t49 + t51;
+    let t53: f64 = t48 + t52;
+    let t54: f64 = t38 * t53;
+    let t55: f64 = t10 * t39;
+    let t56: f64 = t10 * t55;
+    let t57: f64 = t12 * t43;
+    let t58: f64 = t12 * t57;
+    let t59: f64 = t56 + t58;
+    let t60: f64 = t12 * t39;
+    let t61: f64 = t10 * t60;
+    let t62: f64 = t10 * t43;
+    let t63: f64 = t12 * t62;
+    let t64: f64 = t61 - t63;
+    let t65: f64 = t10 * t42;
+    let t66: f64 = t12 * t55;
+    let t67: f64 = t10 * t57;
+    let t68: f64 = t66 - t67;
+    let t69: f64 = t12 * t60;
+    let t70: f64 = t10 * t62;
+    let t71: f64 = t69 + t70;
+    let t72: f64 = t12 * t42;
     BlocksF {
-        uf: [[t62, t67, t68], [t71, t74, t75], [t68, t75, t57]],
+        uf: [[t59, t64, t65], [t68, t71, t72], [t65, t72, t54]],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the F blocks, pair equal.
@@ -133,7 +130,7 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
 /// - `a`: radius of the particle(s)
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 69 flops (19 add/sub, 41 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 66 flops (19 add/sub, 38 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksF {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -169,44 +166,41 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
     let t30: f64 = 1.0 + t29;
     let t31: f64 = t29 + t30;
     let t32: f64 = t28 + t31;
-    let t33: f64 = t19 * t32;
-    let t34: f64 = t21 * t27;
-    let t35: f64 = t20 * t34;
-    let t36: f64 = t19 * t35;
-    let t37: f64 = t19 * t31;
-    let t38: f64 = t23 * 6.0;
-    let t39: f64 = t38 + (-1.0);
-    let t40: f64 = t38 + t39;
-    let t41: f64 = t24 * t40;
-    let t42: f64 = t23 * (-4.0);
-    let t43: f64 = 2.0 + t42;
-    let t44: f64 = t42 + t43;
-    let t45: f64 = t41 + t44;
-    let t46: f64 = t19 * t45;
-    let t47: f64 = t0 * t33;
-    let t48: f64 = t0 * t36;
-    let t49: f64 = t0 * t37;
-    let t50: f64 = t0 * t46;
-    let t51: f64 = t10 * t47;
-    let t52: f64 = t10 * t51;
-    let t53: f64 = t12 * t49;
-    let t54: f64 = t12 * t53;
-    let t55: f64 = t52 + t54;
-    let t56: f64 = t12 * t47;
-    let t57: f64 = t10 * t56;
-    let t58: f64 = t10 * t49;
-    let t59: f64 = t12 * t58;
-    let t60: f64 = t57 - t59;
-    let t61: f64 = t10 * t48;
-    let t62: f64 = t12 * t51;
-    let t63: f64 = t10 * t53;
-    let t64: f64 = t62 - t63;
-    let t65: f64 = t12 * t56;
-    let t66: f64 = t10 * t58;
-    let t67: f64 = t65 + t66;
-    let t68: f64 = t12 * t48;
+    let t33: f64 = t0 * t19;
+    let t34: f64 = t32 * t33;
+    let t35: f64 = t21 * t27;
+    let t36: f64 = t20 * t35;
+    let t37: f64 = t33 * t36;
+    let t38: f64 = t31 * t33;
+    let t39: f64 = t23 * 6.0;
+    let t40: f64 = t39 + (-1.0);
+    let t41: f64 = t39 + t40;
+    let t42: f64 = t24 * t41;
+    let t43: f64 = t23 * (-4.0);
+    let t44: f64 = 2.0 + t43;
+    let t45: f64 = t43 + t44;
+    let t46: f64 = t42 + t45;
+    let t47: f64 = t33 * t46;
+    let t48: f64 = t10 * t34;
+    let t49: f64 = t10 * t48;
+    let t50: f64 = t12 * t38;
+    let t51: f64 = t12 * t50;
+    let t52: f64 = t49 + t51;
+    let t53: f64 = t12 * t34;
+    let t54: f64 = t10 * t53;
+    let t55: f64 = t10 * t38;
+    let t56: f64 = t12 * t55;
+    let t57: f64 = t54 - t56;
+    let t58: f64 = t10 * t37;
+    let t59: f64 = t12 * t48;
+    let t60: f64 = t10 * t50;
+    let t61: f64 = t59 - t60;
+    let t62: f64 = t12 * t53;
+    let t63: f64 = t10 * t55;
+    let t64: f64 = t62 + t63;
+    let t65: f64 = t12 * t37;
     BlocksF {
-        uf: [[t55, t60, t61], [t64, t67, t68], [t61, t68, t50]],
+        uf: [[t52, t57, t58], [t61, t64, t65], [t58, t65, t47]],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair product.
@@ -223,7 +217,7 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 96 flops (27 add/sub, 60 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 93 flops (27 add/sub, 57 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair_product(
     xa: [f64; 3],
@@ -272,67 +266,64 @@ pub fn free_f_pair_product(
     let t35: f64 = 1.0 + t34;
     let t36: f64 = t33 + t35;
     let t37: f64 = t32 + t36;
-    let t38: f64 = t21 * t37;
-    let t39: f64 = t23 * t31;
-    let t40: f64 = t22 * t39;
-    let t41: f64 = t21 * t40;
-    let t42: f64 = t21 * t36;
-    let t43: f64 = t25 * 6.0;
-    let t44: f64 = t26 * 6.0;
-    let t45: f64 = t44 + (-1.0);
-    let t46: f64 = t43 + t45;
-    let t47: f64 = t27 * t46;
-    let t48: f64 = t25 * (-4.0);
-    let t49: f64 = t26 * (-4.0);
-    let t50: f64 = 2.0 + t49;
-    let t51: f64 = t48 + t50;
-    let t52: f64 = t47 + t51;
-    let t53: f64 = t21 * t52;
-    let t54: f64 = t0 * t38;
-    let t55: f64 = t0 * t41;
-    let t56: f64 = t0 * t42;
-    let t57: f64 = t0 * t53;
-    let t58: f64 = va[0] * t10;
-    let t59: f64 = va[1] * t12;
-    let t60: f64 = t58 + t59;
-    let t61: f64 = va[0] * t12;
-    let t62: f64 = va[1] * t10;
-    let t63: f64 = t62 - t61;
-    let t64: f64 = vb[0] * t10;
-    let t65: f64 = vb[1] * t12;
-    let t66: f64 = t64 + t65;
-    let t67: f64 = vb[0] * t12;
-    let t68: f64 = vb[1] * t10;
-    let t69: f64 = t68 - t67;
-    let t70: f64 = t54 * t66;
-    let t71: f64 = t54 * t60;
-    let t72: f64 = vb[2] * t55;
-    let t73: f64 = t70 + t72;
-    let t74: f64 = t55 * t60;
-    let t75: f64 = t56 * t69;
-    let t76: f64 = t56 * t63;
-    let t77: f64 = t55 * t66;
-    let t78: f64 = va[2] * t55;
-    let t79: f64 = t71 + t78;
-    let t80: f64 = vb[2] * t57;
-    let t81: f64 = t77 + t80;
-    let t82: f64 = va[2] * t57;
-    let t83: f64 = t74 + t82;
-    let t84: f64 = t10 * t73;
-    let t85: f64 = t12 * t75;
-    let t86: f64 = t84 - t85;
-    let t87: f64 = t12 * t73;
-    let t88: f64 = t10 * t75;
-    let t89: f64 = t87 + t88;
-    let t90: f64 = t10 * t79;
-    let t91: f64 = t12 * t76;
-    let t92: f64 = t90 - t91;
-    let t93: f64 = t12 * t79;
-    let t94: f64 = t10 * t76;
-    let t95: f64 = t93 + t94;
+    let t38: f64 = t0 * t21;
+    let t39: f64 = t37 * t38;
+    let t40: f64 = t23 * t31;
+    let t41: f64 = t22 * t40;
+    let t42: f64 = t38 * t41;
+    let t43: f64 = t36 * t38;
+    let t44: f64 = t25 * 6.0;
+    let t45: f64 = t26 * 6.0;
+    let t46: f64 = t45 + (-1.0);
+    let t47: f64 = t44 + t46;
+    let t48: f64 = t27 * t47;
+    let t49: f64 = t25 * (-4.0);
+    let t50: f64 = t26 * (-4.0);
+    let t51: f64 = 2.0 + t50;
+    let t52: f64 = t49 + t51;
+    let t53: f64 = t48 + t52;
+    let t54: f64 = t38 * t53;
+    let t55: f64 = va[0] * t10;
+    let t56: f64 = va[1] * t12;
+    let t57: f64 = t55 + t56;
+    let t58: f64 = va[0] * t12;
+    let t59: f64 = va[1] * t10;
+    let t60: f64 = t59 - t58;
+    let t61: f64 = vb[0] * t10;
+    let t62: f64 = vb[1] * t12;
+    let t63: f64 = t61 + t62;
+    let t64: f64 = vb[0] * t12;
+    let t65: f64 = vb[1] * t10;
+    let t66: f64 = t65 - t64;
+    let t67: f64 = t39 * t63;
+    let t68: f64 = t39 * t57;
+    let t69: f64 = vb[2] * t42;
+    let t70: f64 = t67 + t69;
+    let t71: f64 = t42 * t57;
+    let t72: f64 = t43 * t66;
+    let t73: f64 = t43 * t60;
+    let t74: f64 = t42 * t63;
+    let t75: f64 = va[2] * t42;
+    let t76: f64 = t68 + t75;
+    let t77: f64 = vb[2] * t54;
+    let t78: f64 = t74 + t77;
+    let t79: f64 = va[2] * t54;
+    let t80: f64 = t71 + t79;
+    let t81: f64 = t10 * t70;
+    let t82: f64 = t12 * t72;
+    let t83: f64 = t81 - t82;
+    let t84: f64 = t12 * t70;
+    let t85: f64 = t10 * t72;
+    let t86: f64 = t84 + t85;
+    let t87: f64 = t10 * t76;
+    let t88: f64 = t12 * t73;
+    let t89: f64 = t87 - t88;
+    let t90: f64 = t12 * t76;
+    let t91: f64 = t10 * t73;
+    let t92: f64 = t90 + t91;
     Product::<3> {
-        a: [t86, t89, t81],
-        b: [t92, t95, t83],
+        a: [t83, t86, t78],
+        b: [t89, t92, t80],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair product.
@@ -340,7 +331,7 @@ pub fn free_f_pair_product(
 /// Pruned to what the scene needs.
 /// Jets truncated at derivative order 4 of G.
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_pair_product`'s fields. Operation count with fused multiply-adds: 71 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_pair_product`'s fields. Operation count with fused multiply-adds: 68 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_f_pair_product_lanes<L: lanes::Lane>(
@@ -383,48 +374,45 @@ pub fn free_f_pair_product_lanes<L: lanes::Lane>(
         let t27: L = t23.mul_add(L::splat(2.0), L::splat(1.0));
         let t28: L = t22.mul_add(L::splat(2.0), t27);
         let t29: L = t24.mul_add(t26, t28);
-        let t30: L = t18 * t29;
-        let t31: L = t20 * t26;
-        let t32: L = t19 * t31;
-        let t33: L = t18 * t32;
-        let t34: L = t18 * t28;
-        let t35: L = t23.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t36: L = t22.mul_add(L::splat(6.0), t35);
-        let t37: L = t23.mul_add(L::splat(-4.0), L::splat(2.0));
-        let t38: L = t22.mul_add(L::splat(-4.0), t37);
-        let t39: L = t24.mul_add(t36, t38);
-        let t40: L = t18 * t39;
-        let t41: L = t0 * t30;
-        let t42: L = t0 * t33;
-        let t43: L = t0 * t34;
-        let t44: L = t0 * t40;
-        let t45: L = va[1] * t11;
-        let t46: L = va[0].mul_add(t9, t45);
-        let t47: L = va[0] * t11;
-        let t48: L = va[1].mul_sub(t9, t47);
-        let t49: L = vb[1] * t11;
-        let t50: L = vb[0].mul_add(t9, t49);
-        let t51: L = vb[0] * t11;
-        let t52: L = vb[1].mul_sub(t9, t51);
-        let t53: L = vb[2] * t42;
-        let t54: L = t41.mul_add(t50, t53);
-        let t55: L = t43 * t52;
-        let t56: L = t43 * t48;
-        let t57: L = va[2] * t42;
-        let t58: L = t41.mul_add(t46, t57);
-        let t59: L = vb[2] * t44;
-        let t60: L = t42.mul_add(t50, t59);
-        let t61: L = va[2] * t44;
-        let t62: L = t42.mul_add(t46, t61);
-        let t63: L = t11 * t55;
-        let t64: L = t9.mul_sub(t54, t63);
-        let t65: L = t9 * t55;
-        let t66: L = t11.mul_add(t54, t65);
-        let t67: L = t11 * t56;
-        let t68: L = t9.mul_sub(t58, t67);
-        let t69: L = t9 * t56;
-        let t70: L = t11.mul_add(t58, t69);
-        [t64, t66, t60, t68, t70, t62]
+        let t30: L = t0 * t18;
+        let t31: L = t29 * t30;
+        let t32: L = t20 * t26;
+        let t33: L = t19 * t32;
+        let t34: L = t30 * t33;
+        let t35: L = t28 * t30;
+        let t36: L = t23.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t37: L = t22.mul_add(L::splat(6.0), t36);
+        let t38: L = t23.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t39: L = t22.mul_add(L::splat(-4.0), t38);
+        let t40: L = t24.mul_add(t37, t39);
+        let t41: L = t30 * t40;
+        let t42: L = va[1] * t11;
+        let t43: L = va[0].mul_add(t9, t42);
+        let t44: L = va[0] * t11;
+        let t45: L = va[1].mul_sub(t9, t44);
+        let t46: L = vb[1] * t11;
+        let t47: L = vb[0].mul_add(t9, t46);
+        let t48: L = vb[0] * t11;
+        let t49: L = vb[1].mul_sub(t9, t48);
+        let t50: L = vb[2] * t34;
+        let t51: L = t31.mul_add(t47, t50);
+        let t52: L = t35 * t49;
+        let t53: L = t35 * t45;
+        let t54: L = va[2] * t34;
+        let t55: L = t31.mul_add(t43, t54);
+        let t56: L = vb[2] * t41;
+        let t57: L = t34.mul_add(t47, t56);
+        let t58: L = va[2] * t41;
+        let t59: L = t34.mul_add(t43, t58);
+        let t60: L = t11 * t52;
+        let t61: L = t9.mul_sub(t51, t60);
+        let t62: L = t9 * t52;
+        let t63: L = t11.mul_add(t51, t62);
+        let t64: L = t11 * t53;
+        let t65: L = t9.mul_sub(t55, t64);
+        let t66: L = t9 * t53;
+        let t67: L = t11.mul_add(t55, t66);
+        [t61, t63, t57, t65, t67, t59]
     };
     out
 }
@@ -442,7 +430,7 @@ pub use free_f_pair_product_lanes as free_f_pair_product_lanes_ordered;
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 89 flops (27 add/sub, 53 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 86 flops (27 add/sub, 50 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_f_pair_equal_product(
     xa: [f64; 3],
@@ -485,64 +473,61 @@ pub fn free_f_pair_equal_product(
     let t30: f64 = 1.0 + t29;
     let t31: f64 = t29 + t30;
     let t32: f64 = t28 + t31;
-    let t33: f64 = t19 * t32;
-    let t34: f64 = t21 * t27;
-    let t35: f64 = t20 * t34;
-    let t36: f64 = t19 * t35;
-    let t37: f64 = t19 * t31;
-    let t38: f64 = t23 * 6.0;
-    let t39: f64 = t38 + (-1.0);
-    let t40: f64 = t38 + t39;
-    let t41: f64 = t24 * t40;
-    let t42: f64 = t23 * (-4.0);
-    let t43: f64 = 2.0 + t42;
-    let t44: f64 = t42 + t43;
-    let t45: f64 = t41 + t44;
-    let t46: f64 = t19 * t45;
-    let t47: f64 = t0 * t33;
-    let t48: f64 = t0 * t36;
-    let t49: f64 = t0 * t37;
-    let t50: f64 = t0 * t46;
-    let t51: f64 = va[0] * t10;
-    let t52: f64 = va[1] * t12;
-    let t53: f64 = t51 + t52;
-    let t54: f64 = va[0] * t12;
-    let t55: f64 = va[1] * t10;
-    let t56: f64 = t55 - t54;
-    let t57: f64 = vb[0] * t10;
-    let t58: f64 = vb[1] * t12;
-    let t59: f64 = t57 + t58;
-    let t60: f64 = vb[0] * t12;
-    let t61: f64 = vb[1] * t10;
-    let t62: f64 = t61 - t60;
-    let t63: f64 = t47 * t59;
-    let t64: f64 = t47 * t53;
-    let t65: f64 = vb[2] * t48;
-    let t66: f64 = t63 + t65;
-    let t67: f64 = t48 * t53;
-    let t68: f64 = t49 * t62;
-    let t69: f64 = t49 * t56;
-    let t70: f64 = t48 * t59;
-    let t71: f64 = va[2] * t48;
-    let t72: f64 = t64 + t71;
-    let t73: f64 = vb[2] * t50;
-    let t74: f64 = t70 + t73;
-    let t75: f64 = va[2] * t50;
-    let t76: f64 = t67 + t75;
-    let t77: f64 = t10 * t66;
-    let t78: f64 = t12 * t68;
-    let t79: f64 = t77 - t78;
-    let t80: f64 = t12 * t66;
-    let t81: f64 = t10 * t68;
-    let t82: f64 = t80 + t81;
-    let t83: f64 = t10 * t72;
-    let t84: f64 = t12 * t69;
-    let t85: f64 = t83 - t84;
-    let t86: f64 = t12 * t72;
-    let t87: f64 = t10 * t69;
-    let t88: f64 = t86 + t87;
+    let t33: f64 = t0 * t19;
+    let t34: f64 = t32 * t33;
+    let t35: f64 = t21 * t27;
+    let t36: f64 = t20 * t35;
+    let t37: f64 = t33 * t36;
+    let t38: f64 = t31 * t33;
+    let t39: f64 = t23 * 6.0;
+    let t40: f64 = t39 + (-1.0);
+    let t41: f64 = t39 + t40;
+    let t42: f64 = t24 * t41;
+    let t43: f64 = t23 * (-4.0);
+    let t44: f64 = 2.0 + t43;
+    let t45: f64 = t43 + t44;
+    let t46: f64 = t42 + t45;
+    let t47: f64 = t33 * t46;
+    let t48: f64 = va[0] * t10;
+    let t49: f64 = va[1] * t12;
+    let t50: f64 = t48 + t49;
+    let t51: f64 = va[0] * t12;
+    let t52: f64 = va[1] * t10;
+    let t53: f64 = t52 - t51;
+    let t54: f64 = vb[0] * t10;
+    let t55: f64 = vb[1] * t12;
+    let t56: f64 = t54 + t55;
+    let t57: f64 = vb[0] * t12;
+    let t58: f64 = vb[1] * t10;
+    let t59: f64 = t58 - t57;
+    let t60: f64 = t34 * t56;
+    let t61: f64 = t34 * t50;
+    let t62: f64 = vb[2] * t37;
+    let t63: f64 = t60 + t62;
+    let t64: f64 = t37 * t50;
+    let t65: f64 = t38 * t59;
+    let t66: f64 = t38 * t53;
+    let t67: f64 = t37 * t56;
+    let t68: f64 = va[2] * t37;
+    let t69: f64 = t61 + t68;
+    let t70: f64 = vb[2] * t47;
+    let t71: f64 = t67 + t70;
+    let t72: f64 = va[2] * t47;
+    let t73: f64 = t64 + t72;
+    let t74: f64 = t10 * t63;
+    let t75: f64 = t12 * t65;
+    let t76: f64 = t74 - t75;
+    let t77: f64 = t12 * t63;
+    let t78: f64 = t10 * t65;
+    let t79: f64 = t77 + t78;
+    let t80: f64 = t10 * t69;
+    let t81: f64 = t12 * t66;
+    let t82: f64 = t80 - t81;
+    let t83: f64 = t12 * t69;
+    let t84: f64 = t10 * t66;
+    let t85: f64 = t83 + t84;
     Product::<3> {
-        a: [t79, t82, t74],
-        b: [t85, t88, t76],
+        a: [t76, t79, t71],
+        b: [t82, t85, t73],
     }
 }
