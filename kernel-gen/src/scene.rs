@@ -279,12 +279,15 @@ fn shape(r: Response, m: Moment, b: Basis) -> Vec<usize> {
 /// ([`Collection::Atoms`]); the cheapest trace (operations of the direct sum; the
 /// first of equals) is kept. The sphere forms cut the free-space FTS lane kernel from
 /// 576 to 565 operations and the divergence lane kernels by 2-6%, for 0.5 s more
-/// generation (6.5 s in all, 2026-12-03). The per-centre collection
+/// generation (6.5 s in all, 2026-12-03). A Green's function without images (free
+/// space) is traced in the world frame as well (its pair kernels otherwise in the
+/// canonical frame of [`crate::frame`]): free F product lanes 68 -> 58 operations, FTS
+/// pair lanes 565 -> 390. The per-centre collection
 /// ([`Collection::Centres`]) is not traced: it collects a subset of what `Entries`
 /// collects and cost more in every shipped kernel (measured when `Entries` came,
 /// 2026-12-02).
 pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
-    let first = trace_with(g, spec, Collection::Entries);
+    let first = trace_with(g, spec, Collection::Entries, true);
     if g.image_terms().is_none() || spec.path == Path::Generic {
         return first;
     }
@@ -295,17 +298,31 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
         }
         t.graph.op_count(&ids).total()
     };
+    // without images nothing singles out e3: the world frame is a candidate too
+    let isotropic = g.image_terms().is_some_and(|t| t.is_empty());
     let mut best = first;
-    for collect in [Collection::EntriesOnSphere, Collection::Atoms] {
-        let other = trace_with(g, spec, collect);
-        if cost(&other) < cost(&best) {
-            best = other;
+    for canonical in [true, false] {
+        if !canonical && !isotropic {
+            continue;
+        }
+        for collect in [
+            Collection::Entries,
+            Collection::EntriesOnSphere,
+            Collection::Atoms,
+        ] {
+            if canonical && collect == Collection::Entries {
+                continue; // `first`
+            }
+            let other = trace_with(g, spec, collect, canonical);
+            if cost(&other) < cost(&best) {
+                best = other;
+            }
         }
     }
     best
 }
 
-fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: Collection) -> Traced {
+fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: Collection, canonical: bool) -> Traced {
     let t = Trace::begin();
     let mut args = Vec::new();
     let mut point = |t: &Trace, name: &str, doc: &str| -> [Ex; 3] {
@@ -381,7 +398,8 @@ fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: Collection) -> Traced
     let scale = Ex::cst(1.0 / (8.0 * std::f64::consts::PI)) / eta;
     // Pair kernels of an axisymmetric Green's function are traced in the canonical
     // frame (crate::frame) and rotated back at the end.
-    let frame = (spec.path == Path::Structured
+    let frame = (canonical
+        && spec.path == Path::Structured
         && spec.interaction == Interaction::Pair
         && spec.basis == Basis::Orthonormal
         && !spec.divergence

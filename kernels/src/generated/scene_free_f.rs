@@ -39,84 +39,61 @@ pub fn free_f_self(x: [f64; 3], a: f64, eta: f64) -> BlocksF {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 73 flops (19 add/sub, 45 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 50 flops (12 add/sub, 32 mul, 2 div, 1 sqrt, 3 powi, 0 neg).
 #[inline]
 pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> BlocksF {
     let t0: f64 = 0.039788735772973836 / eta;
     let t1: f64 = xa[0] - xb[0];
     let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = t1 * t1;
-    let t4: f64 = t2 * t2;
-    let t5: f64 = t3 + t4;
-    let t6: f64 = t5.sqrt();
-    let t7: f64 = if t5 > 0.0 { t6 } else { 1.0 };
-    let t8: f64 = 1.0 / t7;
-    let t9: f64 = t1 * t8;
-    let t10: f64 = if t5 > 0.0 { t9 } else { 1.0 };
-    let t11: f64 = t2 * t8;
-    let t12: f64 = if t5 > 0.0 { t11 } else { 0.0 };
-    let t13: f64 = xa[2] - xb[2];
-    let t14: f64 = aa * aa;
-    let t15: f64 = ab * ab;
-    let t16: f64 = t14 * 0.16666666666666666;
-    let t17: f64 = t15 * 0.16666666666666666;
-    let t18: f64 = t13 * t13;
-    let t19: f64 = t5 + t18;
-    let t20: f64 = t19.sqrt();
-    let t21: f64 = 1.0 / t20;
-    let t22: f64 = t6 * t21;
-    let t23: f64 = t13 * t21;
-    let t24: f64 = t21 * t21;
-    let t25: f64 = t16 * t24;
-    let t26: f64 = t17 * t24;
-    let t27: f64 = t22.powi(2);
-    let t28: f64 = t25 * (-6.0);
-    let t29: f64 = t26 * (-6.0);
-    let t30: f64 = 1.0 + t29;
-    let t31: f64 = t28 + t30;
-    let t32: f64 = t27 * t31;
-    let t33: f64 = t25 * 2.0;
-    let t34: f64 = t26 * 2.0;
-    let t35: f64 = 1.0 + t34;
-    let t36: f64 = t33 + t35;
-    let t37: f64 = t32 + t36;
-    let t38: f64 = t0 * t21;
-    let t39: f64 = t37 * t38;
-    let t40: f64 = t23 * t31;
-    let t41: f64 = t22 * t40;
-    let t42: f64 = t38 * t41;
-    let t43: f64 = t36 * t38;
-    let t44: f64 = t25 * 6.0;
-    let t45: f64 = t26 * 6.0;
-    let t46: f64 = t45 + (-1.0);
-    let t47: f64 = t44 + t46;
-    let t48: f64 = t27 * t47;
-    let t49: f64 = t25 * (-4.0);
-    let t50: f64 = t26 * (-4.0);
-    let t51: f64 = 2.0 + t50;
-    let t52: f64 = t49 + t51;
-    let t53: f64 = t48 + t52;
-    let t54: f64 = t38 * t53;
-    let t55: f64 = t10 * t39;
-    let t56: f64 = t10 * t55;
-    let t57: f64 = t12 * t43;
-    let t58: f64 = t12 * t57;
-    let t59: f64 = t56 + t58;
-    let t60: f64 = t12 * t39;
-    let t61: f64 = t10 * t60;
-    let t62: f64 = t10 * t43;
-    let t63: f64 = t12 * t62;
-    let t64: f64 = t61 - t63;
-    let t65: f64 = t10 * t42;
-    let t66: f64 = t12 * t55;
-    let t67: f64 = t10 * t57;
-    let t68: f64 = t66 - t67;
-    let t69: f64 = t12 * t60;
-    let t70: f64 = t10 * t62;
-    let t71: f64 = t69 + t70;
-    let t72: f64 = t12 * t42;
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = aa * aa;
+    let t5: f64 = ab * ab;
+    let t6: f64 = t4 * 0.16666666666666666;
+    let t7: f64 = t5 * 0.16666666666666666;
+    let t8: f64 = t1 * t1;
+    let t9: f64 = t2 * t2;
+    let t10: f64 = t8 + t9;
+    let t11: f64 = t3 * t3;
+    let t12: f64 = t10 + t11;
+    let t13: f64 = t12.sqrt();
+    let t14: f64 = 1.0 / t13;
+    let t15: f64 = t1 * t14;
+    let t16: f64 = t2 * t14;
+    let t17: f64 = t3 * t14;
+    let t18: f64 = t14 * t14;
+    let t19: f64 = t6 * t18;
+    let t20: f64 = t7 * t18;
+    let t21: f64 = t15.powi(2);
+    let t22: f64 = t19 * (-6.0);
+    let t23: f64 = t20 * (-6.0);
+    let t24: f64 = 1.0 + t23;
+    let t25: f64 = t22 + t24;
+    let t26: f64 = t21 * t25;
+    let t27: f64 = t19 * 2.0;
+    let t28: f64 = t20 * 2.0;
+    let t29: f64 = 1.0 + t28;
+    let t30: f64 = t27 + t29;
+    let t31: f64 = t26 + t30;
+    let t32: f64 = t0 * t14;
+    let t33: f64 = t31 * t32;
+    let t34: f64 = t16 * t25;
+    let t35: f64 = t15 * t34;
+    let t36: f64 = t32 * t35;
+    let t37: f64 = t17 * t25;
+    let t38: f64 = t15 * t37;
+    let t39: f64 = t32 * t38;
+    let t40: f64 = t16.powi(2);
+    let t41: f64 = t25 * t40;
+    let t42: f64 = t30 + t41;
+    let t43: f64 = t32 * t42;
+    let t44: f64 = t16 * t37;
+    let t45: f64 = t32 * t44;
+    let t46: f64 = t17.powi(2);
+    let t47: f64 = t25 * t46;
+    let t48: f64 = t30 + t47;
+    let t49: f64 = t32 * t48;
     BlocksF {
-        uf: [[t59, t64, t65], [t68, t71, t72], [t65, t72, t54]],
+        uf: [[t33, t36, t39], [t36, t43, t45], [t39, t45, t49]],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the F blocks, pair equal.
@@ -130,77 +107,56 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
 /// - `a`: radius of the particle(s)
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 66 flops (19 add/sub, 38 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 45 flops (12 add/sub, 27 mul, 2 div, 1 sqrt, 3 powi, 0 neg).
 #[inline]
 pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksF {
     let t0: f64 = 0.039788735772973836 / eta;
     let t1: f64 = xa[0] - xb[0];
     let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = t1 * t1;
-    let t4: f64 = t2 * t2;
-    let t5: f64 = t3 + t4;
-    let t6: f64 = t5.sqrt();
-    let t7: f64 = if t5 > 0.0 { t6 } else { 1.0 };
-    let t8: f64 = 1.0 / t7;
-    let t9: f64 = t1 * t8;
-    let t10: f64 = if t5 > 0.0 { t9 } else { 1.0 };
-    let t11: f64 = t2 * t8;
-    let t12: f64 = if t5 > 0.0 { t11 } else { 0.0 };
-    let t13: f64 = xa[2] - xb[2];
-    let t14: f64 = a * a;
-    let t15: f64 = t14 * 0.16666666666666666;
-    let t16: f64 = t13 * t13;
-    let t17: f64 = t5 + t16;
-    let t18: f64 = t17.sqrt();
-    let t19: f64 = 1.0 / t18;
-    let t20: f64 = t6 * t19;
-    let t21: f64 = t13 * t19;
-    let t22: f64 = t19 * t19;
-    let t23: f64 = t15 * t22;
-    let t24: f64 = t20.powi(2);
-    let t25: f64 = t23 * (-6.0);
-    let t26: f64 = 1.0 + t25;
-    let t27: f64 = t25 + t26;
-    let t28: f64 = t24 * t27;
-    let t29: f64 = t23 * 2.0;
-    let t30: f64 = 1.0 + t29;
-    let t31: f64 = t29 + t30;
-    let t32: f64 = t28 + t31;
-    let t33: f64 = t0 * t19;
-    let t34: f64 = t32 * t33;
-    let t35: f64 = t21 * t27;
-    let t36: f64 = t20 * t35;
-    let t37: f64 = t33 * t36;
-    let t38: f64 = t31 * t33;
-    let t39: f64 = t23 * 6.0;
-    let t40: f64 = t39 + (-1.0);
-    let t41: f64 = t39 + t40;
-    let t42: f64 = t24 * t41;
-    let t43: f64 = t23 * (-4.0);
-    let t44: f64 = 2.0 + t43;
-    let t45: f64 = t43 + t44;
-    let t46: f64 = t42 + t45;
-    let t47: f64 = t33 * t46;
-    let t48: f64 = t10 * t34;
-    let t49: f64 = t10 * t48;
-    let t50: f64 = t12 * t38;
-    let t51: f64 = t12 * t50;
-    let t52: f64 = t49 + t51;
-    let t53: f64 = t12 * t34;
-    let t54: f64 = t10 * t53;
-    let t55: f64 = t10 * t38;
-    let t56: f64 = t12 * t55;
-    let t57: f64 = t54 - t56;
-    let t58: f64 = t10 * t37;
-    let t59: f64 = t12 * t48;
-    let t60: f64 = t10 * t50;
-    let t61: f64 = t59 - t60;
-    let t62: f64 = t12 * t53;
-    let t63: f64 = t10 * t55;
-    let t64: f64 = t62 + t63;
-    let t65: f64 = t12 * t37;
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = a * a;
+    let t5: f64 = t4 * 0.16666666666666666;
+    let t6: f64 = t1 * t1;
+    let t7: f64 = t2 * t2;
+    let t8: f64 = t6 + t7;
+    let t9: f64 = t3 * t3;
+    let t10: f64 = t8 + t9;
+    let t11: f64 = t10.sqrt();
+    let t12: f64 = 1.0 / t11;
+    let t13: f64 = t1 * t12;
+    let t14: f64 = t2 * t12;
+    let t15: f64 = t3 * t12;
+    let t16: f64 = t12 * t12;
+    let t17: f64 = t5 * t16;
+    let t18: f64 = t13.powi(2);
+    let t19: f64 = t17 * (-6.0);
+    let t20: f64 = 1.0 + t19;
+    let t21: f64 = t19 + t20;
+    let t22: f64 = t18 * t21;
+    let t23: f64 = t17 * 2.0;
+    let t24: f64 = 1.0 + t23;
+    let t25: f64 = t23 + t24;
+    let t26: f64 = t22 + t25;
+    let t27: f64 = t0 * t12;
+    let t28: f64 = t26 * t27;
+    let t29: f64 = t14 * t21;
+    let t30: f64 = t13 * t29;
+    let t31: f64 = t27 * t30;
+    let t32: f64 = t15 * t21;
+    let t33: f64 = t13 * t32;
+    let t34: f64 = t27 * t33;
+    let t35: f64 = t14.powi(2);
+    let t36: f64 = t21 * t35;
+    let t37: f64 = t25 + t36;
+    let t38: f64 = t27 * t37;
+    let t39: f64 = t14 * t32;
+    let t40: f64 = t27 * t39;
+    let t41: f64 = t15.powi(2);
+    let t42: f64 = t21 * t41;
+    let t43: f64 = t25 + t42;
+    let t44: f64 = t27 * t43;
     BlocksF {
-        uf: [[t52, t57, t58], [t61, t64, t65], [t58, t65, t47]],
+        uf: [[t28, t31, t34], [t31, t38, t40], [t34, t40, t44]],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair product.
@@ -217,7 +173,7 @@ pub fn free_f_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Blocks
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 93 flops (27 add/sub, 57 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 80 flops (24 add/sub, 50 mul, 2 div, 1 sqrt, 3 powi, 0 neg).
 #[inline]
 pub fn free_f_pair_product(
     xa: [f64; 3],
@@ -231,99 +187,86 @@ pub fn free_f_pair_product(
     let t0: f64 = 0.039788735772973836 / eta;
     let t1: f64 = xa[0] - xb[0];
     let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = t1 * t1;
-    let t4: f64 = t2 * t2;
-    let t5: f64 = t3 + t4;
-    let t6: f64 = t5.sqrt();
-    let t7: f64 = if t5 > 0.0 { t6 } else { 1.0 };
-    let t8: f64 = 1.0 / t7;
-    let t9: f64 = t1 * t8;
-    let t10: f64 = if t5 > 0.0 { t9 } else { 1.0 };
-    let t11: f64 = t2 * t8;
-    let t12: f64 = if t5 > 0.0 { t11 } else { 0.0 };
-    let t13: f64 = xa[2] - xb[2];
-    let t14: f64 = aa * aa;
-    let t15: f64 = ab * ab;
-    let t16: f64 = t14 * 0.16666666666666666;
-    let t17: f64 = t15 * 0.16666666666666666;
-    let t18: f64 = t13 * t13;
-    let t19: f64 = t5 + t18;
-    let t20: f64 = t19.sqrt();
-    let t21: f64 = 1.0 / t20;
-    let t22: f64 = t6 * t21;
-    let t23: f64 = t13 * t21;
-    let t24: f64 = t21 * t21;
-    let t25: f64 = t16 * t24;
-    let t26: f64 = t17 * t24;
-    let t27: f64 = t22.powi(2);
-    let t28: f64 = t25 * (-6.0);
-    let t29: f64 = t26 * (-6.0);
-    let t30: f64 = 1.0 + t29;
-    let t31: f64 = t28 + t30;
-    let t32: f64 = t27 * t31;
-    let t33: f64 = t25 * 2.0;
-    let t34: f64 = t26 * 2.0;
-    let t35: f64 = 1.0 + t34;
-    let t36: f64 = t33 + t35;
-    let t37: f64 = t32 + t36;
-    let t38: f64 = t0 * t21;
-    let t39: f64 = t37 * t38;
-    let t40: f64 = t23 * t31;
-    let t41: f64 = t22 * t40;
-    let t42: f64 = t38 * t41;
-    let t43: f64 = t36 * t38;
-    let t44: f64 = t25 * 6.0;
-    let t45: f64 = t26 * 6.0;
-    let t46: f64 = t45 + (-1.0);
-    let t47: f64 = t44 + t46;
-    let t48: f64 = t27 * t47;
-    let t49: f64 = t25 * (-4.0);
-    let t50: f64 = t26 * (-4.0);
-    let t51: f64 = 2.0 + t50;
-    let t52: f64 = t49 + t51;
-    let t53: f64 = t48 + t52;
-    let t54: f64 = t38 * t53;
-    let t55: f64 = va[0] * t10;
-    let t56: f64 = va[1] * t12;
-    let t57: f64 = t55 + t56;
-    let t58: f64 = va[0] * t12;
-    let t59: f64 = va[1] * t10;
-    let t60: f64 = t59 - t58;
-    let t61: f64 = vb[0] * t10;
-    let t62: f64 = vb[1] * t12;
-    let t63: f64 = t61 + t62;
-    let t64: f64 = vb[0] * t12;
-    let t65: f64 = vb[1] * t10;
-    let t66: f64 = t65 - t64;
-    let t67: f64 = t39 * t63;
-    let t68: f64 = t39 * t57;
-    let t69: f64 = vb[2] * t42;
-    let t70: f64 = t67 + t69;
-    let t71: f64 = t42 * t57;
-    let t72: f64 = t43 * t66;
-    let t73: f64 = t43 * t60;
-    let t74: f64 = t42 * t63;
-    let t75: f64 = va[2] * t42;
-    let t76: f64 = t68 + t75;
-    let t77: f64 = vb[2] * t54;
-    let t78: f64 = t74 + t77;
-    let t79: f64 = va[2] * t54;
-    let t80: f64 = t71 + t79;
-    let t81: f64 = t10 * t70;
-    let t82: f64 = t12 * t72;
-    let t83: f64 = t81 - t82;
-    let t84: f64 = t12 * t70;
-    let t85: f64 = t10 * t72;
-    let t86: f64 = t84 + t85;
-    let t87: f64 = t10 * t76;
-    let t88: f64 = t12 * t73;
-    let t89: f64 = t87 - t88;
-    let t90: f64 = t12 * t76;
-    let t91: f64 = t10 * t73;
-    let t92: f64 = t90 + t91;
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = aa * aa;
+    let t5: f64 = ab * ab;
+    let t6: f64 = t4 * 0.16666666666666666;
+    let t7: f64 = t5 * 0.16666666666666666;
+    let t8: f64 = t1 * t1;
+    let t9: f64 = t2 * t2;
+    let t10: f64 = t8 + t9;
+    let t11: f64 = t3 * t3;
+    let t12: f64 = t10 + t11;
+    let t13: f64 = t12.sqrt();
+    let t14: f64 = 1.0 / t13;
+    let t15: f64 = t1 * t14;
+    let t16: f64 = t2 * t14;
+    let t17: f64 = t3 * t14;
+    let t18: f64 = t14 * t14;
+    let t19: f64 = t6 * t18;
+    let t20: f64 = t7 * t18;
+    let t21: f64 = t15.powi(2);
+    let t22: f64 = t19 * (-6.0);
+    let t23: f64 = t20 * (-6.0);
+    let t24: f64 = 1.0 + t23;
+    let t25: f64 = t22 + t24;
+    let t26: f64 = t21 * t25;
+    let t27: f64 = t19 * 2.0;
+    let t28: f64 = t20 * 2.0;
+    let t29: f64 = 1.0 + t28;
+    let t30: f64 = t27 + t29;
+    let t31: f64 = t26 + t30;
+    let t32: f64 = t0 * t14;
+    let t33: f64 = t31 * t32;
+    let t34: f64 = t16 * t25;
+    let t35: f64 = t15 * t34;
+    let t36: f64 = t32 * t35;
+    let t37: f64 = t17 * t25;
+    let t38: f64 = t15 * t37;
+    let t39: f64 = t32 * t38;
+    let t40: f64 = t16.powi(2);
+    let t41: f64 = t25 * t40;
+    let t42: f64 = t30 + t41;
+    let t43: f64 = t32 * t42;
+    let t44: f64 = t16 * t37;
+    let t45: f64 = t32 * t44;
+    let t46: f64 = t17.powi(2);
+    let t47: f64 = t25 * t46;
+    let t48: f64 = t30 + t47;
+    let t49: f64 = t32 * t48;
+    let t50: f64 = vb[0] * t33;
+    let t51: f64 = va[0] * t33;
+    let t52: f64 = vb[1] * t36;
+    let t53: f64 = t50 + t52;
+    let t54: f64 = va[0] * t36;
+    let t55: f64 = vb[2] * t39;
+    let t56: f64 = t53 + t55;
+    let t57: f64 = va[0] * t39;
+    let t58: f64 = vb[0] * t36;
+    let t59: f64 = va[1] * t36;
+    let t60: f64 = t51 + t59;
+    let t61: f64 = vb[1] * t43;
+    let t62: f64 = t58 + t61;
+    let t63: f64 = va[1] * t43;
+    let t64: f64 = t54 + t63;
+    let t65: f64 = vb[2] * t45;
+    let t66: f64 = t62 + t65;
+    let t67: f64 = va[1] * t45;
+    let t68: f64 = t57 + t67;
+    let t69: f64 = vb[0] * t39;
+    let t70: f64 = va[2] * t39;
+    let t71: f64 = t60 + t70;
+    let t72: f64 = vb[1] * t45;
+    let t73: f64 = t69 + t72;
+    let t74: f64 = va[2] * t45;
+    let t75: f64 = t64 + t74;
+    let t76: f64 = vb[2] * t49;
+    let t77: f64 = t73 + t76;
+    let t78: f64 = va[2] * t49;
+    let t79: f64 = t68 + t78;
     Product::<3> {
-        a: [t83, t86, t78],
-        b: [t89, t92, t80],
+        a: [t56, t66, t77],
+        b: [t71, t75, t79],
     }
 }
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, F moments, pair product.
@@ -331,7 +274,7 @@ pub fn free_f_pair_product(
 /// Pruned to what the scene needs.
 /// Jets truncated at derivative order 4 of G.
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_pair_product`'s fields. Operation count with fused multiply-adds: 68 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_pair_product`'s fields. Operation count with fused multiply-adds: 58 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_f_pair_product_lanes<L: lanes::Lane>(
@@ -347,72 +290,62 @@ pub fn free_f_pair_product_lanes<L: lanes::Lane>(
         let t0: L = L::splat(0.039788735772973836) / eta;
         let t1: L = xa[0] - xb[0];
         let t2: L = xa[1] - xb[1];
-        let t3: L = t2 * t2;
-        let t4: L = t1.mul_add(t1, t3);
-        let t5: L = t4.rsqrt();
-        let t6: L = t4.sqrt_with(t5);
-        let t7: L = L::select(t4.gt(L::splat(0.0)), t5, L::splat(1.0));
-        let t8: L = t1 * t7;
-        let t9: L = L::select(t4.gt(L::splat(0.0)), t8, L::splat(1.0));
-        let t10: L = t2 * t7;
-        let t11: L = L::select(t4.gt(L::splat(0.0)), t10, L::splat(0.0));
-        let t12: L = xa[2] - xb[2];
-        let t13: L = aa * aa;
-        let t14: L = ab * ab;
-        let t15: L = t13 * L::splat(0.16666666666666666);
-        let t16: L = t14 * L::splat(0.16666666666666666);
-        let t17: L = t12.mul_add(t12, t4);
-        let t18: L = t17.rsqrt();
-        let t19: L = t6 * t18;
-        let t20: L = t12 * t18;
-        let t21: L = t18 * t18;
-        let t22: L = t15 * t21;
-        let t23: L = t16 * t21;
-        let t24: L = t19.powi(2);
-        let t25: L = t23.mul_add(L::splat(-6.0), L::splat(1.0));
-        let t26: L = t22.mul_add(L::splat(-6.0), t25);
-        let t27: L = t23.mul_add(L::splat(2.0), L::splat(1.0));
-        let t28: L = t22.mul_add(L::splat(2.0), t27);
-        let t29: L = t24.mul_add(t26, t28);
-        let t30: L = t0 * t18;
-        let t31: L = t29 * t30;
-        let t32: L = t20 * t26;
-        let t33: L = t19 * t32;
-        let t34: L = t30 * t33;
-        let t35: L = t28 * t30;
-        let t36: L = t23.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t37: L = t22.mul_add(L::splat(6.0), t36);
-        let t38: L = t23.mul_add(L::splat(-4.0), L::splat(2.0));
-        let t39: L = t22.mul_add(L::splat(-4.0), t38);
-        let t40: L = t24.mul_add(t37, t39);
-        let t41: L = t30 * t40;
-        let t42: L = va[1] * t11;
-        let t43: L = va[0].mul_add(t9, t42);
-        let t44: L = va[0] * t11;
-        let t45: L = va[1].mul_sub(t9, t44);
-        let t46: L = vb[1] * t11;
-        let t47: L = vb[0].mul_add(t9, t46);
-        let t48: L = vb[0] * t11;
-        let t49: L = vb[1].mul_sub(t9, t48);
-        let t50: L = vb[2] * t34;
-        let t51: L = t31.mul_add(t47, t50);
-        let t52: L = t35 * t49;
-        let t53: L = t35 * t45;
-        let t54: L = va[2] * t34;
-        let t55: L = t31.mul_add(t43, t54);
-        let t56: L = vb[2] * t41;
-        let t57: L = t34.mul_add(t47, t56);
-        let t58: L = va[2] * t41;
-        let t59: L = t34.mul_add(t43, t58);
-        let t60: L = t11 * t52;
-        let t61: L = t9.mul_sub(t51, t60);
-        let t62: L = t9 * t52;
-        let t63: L = t11.mul_add(t51, t62);
-        let t64: L = t11 * t53;
-        let t65: L = t9.mul_sub(t55, t64);
-        let t66: L = t9 * t53;
-        let t67: L = t11.mul_add(t55, t66);
-        [t61, t63, t57, t65, t67, t59]
+        let t3: L = xa[2] - xb[2];
+        let t4: L = aa * aa;
+        let t5: L = ab * ab;
+        let t6: L = t4 * L::splat(0.16666666666666666);
+        let t7: L = t5 * L::splat(0.16666666666666666);
+        let t8: L = t2 * t2;
+        let t9: L = t1.mul_add(t1, t8);
+        let t10: L = t3.mul_add(t3, t9);
+        let t11: L = t10.rsqrt();
+        let t12: L = t1 * t11;
+        let t13: L = t2 * t11;
+        let t14: L = t3 * t11;
+        let t15: L = t11 * t11;
+        let t16: L = t6 * t15;
+        let t17: L = t7 * t15;
+        let t18: L = t12.powi(2);
+        let t19: L = t17.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t20: L = t16.mul_add(L::splat(-6.0), t19);
+        let t21: L = t17.mul_add(L::splat(2.0), L::splat(1.0));
+        let t22: L = t16.mul_add(L::splat(2.0), t21);
+        let t23: L = t18.mul_add(t20, t22);
+        let t24: L = t0 * t11;
+        let t25: L = t23 * t24;
+        let t26: L = t13 * t20;
+        let t27: L = t12 * t26;
+        let t28: L = t24 * t27;
+        let t29: L = t14 * t20;
+        let t30: L = t12 * t29;
+        let t31: L = t24 * t30;
+        let t32: L = t13.powi(2);
+        let t33: L = t20.mul_add(t32, t22);
+        let t34: L = t24 * t33;
+        let t35: L = t13 * t29;
+        let t36: L = t24 * t35;
+        let t37: L = t14.powi(2);
+        let t38: L = t20.mul_add(t37, t22);
+        let t39: L = t24 * t38;
+        let t40: L = vb[1] * t28;
+        let t41: L = vb[0].mul_add(t25, t40);
+        let t42: L = vb[2].mul_add(t31, t41);
+        let t43: L = va[1] * t28;
+        let t44: L = va[0].mul_add(t25, t43);
+        let t45: L = vb[1] * t34;
+        let t46: L = vb[0].mul_add(t28, t45);
+        let t47: L = va[1] * t34;
+        let t48: L = va[0].mul_add(t28, t47);
+        let t49: L = vb[2].mul_add(t36, t46);
+        let t50: L = va[1] * t36;
+        let t51: L = va[0].mul_add(t31, t50);
+        let t52: L = va[2].mul_add(t31, t44);
+        let t53: L = vb[1] * t36;
+        let t54: L = vb[0].mul_add(t31, t53);
+        let t55: L = va[2].mul_add(t36, t48);
+        let t56: L = vb[2].mul_add(t39, t54);
+        let t57: L = va[2].mul_add(t39, t51);
+        [t42, t49, t56, t52, t55, t57]
     };
     out
 }
@@ -430,7 +363,7 @@ pub use free_f_pair_product_lanes as free_f_pair_product_lanes_ordered;
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 86 flops (27 add/sub, 50 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 75 flops (24 add/sub, 45 mul, 2 div, 1 sqrt, 3 powi, 0 neg).
 #[inline]
 pub fn free_f_pair_equal_product(
     xa: [f64; 3],
@@ -443,91 +376,80 @@ pub fn free_f_pair_equal_product(
     let t0: f64 = 0.039788735772973836 / eta;
     let t1: f64 = xa[0] - xb[0];
     let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = t1 * t1;
-    let t4: f64 = t2 * t2;
-    let t5: f64 = t3 + t4;
-    let t6: f64 = t5.sqrt();
-    let t7: f64 = if t5 > 0.0 { t6 } else { 1.0 };
-    let t8: f64 = 1.0 / t7;
-    let t9: f64 = t1 * t8;
-    let t10: f64 = if t5 > 0.0 { t9 } else { 1.0 };
-    let t11: f64 = t2 * t8;
-    let t12: f64 = if t5 > 0.0 { t11 } else { 0.0 };
-    let t13: f64 = xa[2] - xb[2];
-    let t14: f64 = a * a;
-    let t15: f64 = t14 * 0.16666666666666666;
-    let t16: f64 = t13 * t13;
-    let t17: f64 = t5 + t16;
-    let t18: f64 = t17.sqrt();
-    let t19: f64 = 1.0 / t18;
-    let t20: f64 = t6 * t19;
-    let t21: f64 = t13 * t19;
-    let t22: f64 = t19 * t19;
-    let t23: f64 = t15 * t22;
-    let t24: f64 = t20.powi(2);
-    let t25: f64 = t23 * (-6.0);
-    let t26: f64 = 1.0 + t25;
-    let t27: f64 = t25 + t26;
-    let t28: f64 = t24 * t27;
-    let t29: f64 = t23 * 2.0;
-    let t30: f64 = 1.0 + t29;
-    let t31: f64 = t29 + t30;
-    let t32: f64 = t28 + t31;
-    let t33: f64 = t0 * t19;
-    let t34: f64 = t32 * t33;
-    let t35: f64 = t21 * t27;
-    let t36: f64 = t20 * t35;
-    let t37: f64 = t33 * t36;
-    let t38: f64 = t31 * t33;
-    let t39: f64 = t23 * 6.0;
-    let t40: f64 = t39 + (-1.0);
-    let t41: f64 = t39 + t40;
-    let t42: f64 = t24 * t41;
-    let t43: f64 = t23 * (-4.0);
-    let t44: f64 = 2.0 + t43;
-    let t45: f64 = t43 + t44;
-    let t46: f64 = t42 + t45;
-    let t47: f64 = t33 * t46;
-    let t48: f64 = va[0] * t10;
-    let t49: f64 = va[1] * t12;
-    let t50: f64 = t48 + t49;
-    let t51: f64 = va[0] * t12;
-    let t52: f64 = va[1] * t10;
-    let t53: f64 = t52 - t51;
-    let t54: f64 = vb[0] * t10;
-    let t55: f64 = vb[1] * t12;
-    let t56: f64 = t54 + t55;
-    let t57: f64 = vb[0] * t12;
-    let t58: f64 = vb[1] * t10;
-    let t59: f64 = t58 - t57;
-    let t60: f64 = t34 * t56;
-    let t61: f64 = t34 * t50;
-    let t62: f64 = vb[2] * t37;
-    let t63: f64 = t60 + t62;
-    let t64: f64 = t37 * t50;
-    let t65: f64 = t38 * t59;
-    let t66: f64 = t38 * t53;
-    let t67: f64 = t37 * t56;
-    let t68: f64 = va[2] * t37;
-    let t69: f64 = t61 + t68;
-    let t70: f64 = vb[2] * t47;
-    let t71: f64 = t67 + t70;
-    let t72: f64 = va[2] * t47;
-    let t73: f64 = t64 + t72;
-    let t74: f64 = t10 * t63;
-    let t75: f64 = t12 * t65;
-    let t76: f64 = t74 - t75;
-    let t77: f64 = t12 * t63;
-    let t78: f64 = t10 * t65;
-    let t79: f64 = t77 + t78;
-    let t80: f64 = t10 * t69;
-    let t81: f64 = t12 * t66;
-    let t82: f64 = t80 - t81;
-    let t83: f64 = t12 * t69;
-    let t84: f64 = t10 * t66;
-    let t85: f64 = t83 + t84;
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = a * a;
+    let t5: f64 = t4 * 0.16666666666666666;
+    let t6: f64 = t1 * t1;
+    let t7: f64 = t2 * t2;
+    let t8: f64 = t6 + t7;
+    let t9: f64 = t3 * t3;
+    let t10: f64 = t8 + t9;
+    let t11: f64 = t10.sqrt();
+    let t12: f64 = 1.0 / t11;
+    let t13: f64 = t1 * t12;
+    let t14: f64 = t2 * t12;
+    let t15: f64 = t3 * t12;
+    let t16: f64 = t12 * t12;
+    let t17: f64 = t5 * t16;
+    let t18: f64 = t13.powi(2);
+    let t19: f64 = t17 * (-6.0);
+    let t20: f64 = 1.0 + t19;
+    let t21: f64 = t19 + t20;
+    let t22: f64 = t18 * t21;
+    let t23: f64 = t17 * 2.0;
+    let t24: f64 = 1.0 + t23;
+    let t25: f64 = t23 + t24;
+    let t26: f64 = t22 + t25;
+    let t27: f64 = t0 * t12;
+    let t28: f64 = t26 * t27;
+    let t29: f64 = t14 * t21;
+    let t30: f64 = t13 * t29;
+    let t31: f64 = t27 * t30;
+    let t32: f64 = t15 * t21;
+    let t33: f64 = t13 * t32;
+    let t34: f64 = t27 * t33;
+    let t35: f64 = t14.powi(2);
+    let t36: f64 = t21 * t35;
+    let t37: f64 = t25 + t36;
+    let t38: f64 = t27 * t37;
+    let t39: f64 = t14 * t32;
+    let t40: f64 = t27 * t39;
+    let t41: f64 = t15.powi(2);
+    let t42: f64 = t21 * t41;
+    let t43: f64 = t25 + t42;
+    let t44: f64 = t27 * t43;
+    let t45: f64 = vb[0] * t28;
+    let t46: f64 = va[0] * t28;
+    let t47: f64 = vb[1] * t31;
+    let t48: f64 = t45 + t47;
+    let t49: f64 = va[0] * t31;
+    let t50: f64 = vb[2] * t34;
+    let t51: f64 = t48 + t50;
+    let t52: f64 = va[0] * t34;
+    let t53: f64 = vb[0] * t31;
+    let t54: f64 = va[1] * t31;
+    let t55: f64 = t46 + t54;
+    let t56: f64 = vb[1] * t38;
+    let t57: f64 = t53 + t56;
+    let t58: f64 = va[1] * t38;
+    let t59: f64 = t49 + t58;
+    let t60: f64 = vb[2] * t40;
+    let t61: f64 = t57 + t60;
+    let t62: f64 = va[1] * t40;
+    let t63: f64 = t52 + t62;
+    let t64: f64 = vb[0] * t34;
+    let t65: f64 = va[2] * t34;
+    let t66: f64 = t55 + t65;
+    let t67: f64 = vb[1] * t40;
+    let t68: f64 = t64 + t67;
+    let t69: f64 = va[2] * t40;
+    let t70: f64 = t59 + t69;
+    let t71: f64 = vb[2] * t44;
+    let t72: f64 = t68 + t71;
+    let t73: f64 = va[2] * t44;
+    let t74: f64 = t63 + t73;
     Product::<3> {
-        a: [t76, t79, t71],
-        b: [t82, t85, t73],
+        a: [t51, t61, t72],
+        b: [t66, t70, t74],
     }
 }

@@ -45,132 +45,89 @@ pub fn free_ft_self(x: [f64; 3], a: f64, eta: f64) -> BlocksFT {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 118 flops (27 add/sub, 79 mul, 3 div, 2 sqrt, 1 powi, 3 neg, 3 select).
+/// Operation count (after dead-code elimination): 75 flops (15 add/sub, 51 mul, 2 div, 1 sqrt, 3 powi, 3 neg).
 #[inline]
 pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> BlocksFT {
     let t0: f64 = 0.039788735772973836 / eta;
     let t1: f64 = xa[0] - xb[0];
     let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = t1 * t1;
-    let t4: f64 = t2 * t2;
-    let t5: f64 = t3 + t4;
-    let t6: f64 = t5.sqrt();
-    let t7: f64 = if t5 > 0.0 { t6 } else { 1.0 };
-    let t8: f64 = 1.0 / t7;
-    let t9: f64 = t1 * t8;
-    let t10: f64 = if t5 > 0.0 { t9 } else { 1.0 };
-    let t11: f64 = t2 * t8;
-    let t12: f64 = if t5 > 0.0 { t11 } else { 0.0 };
-    let t13: f64 = xa[2] - xb[2];
-    let t14: f64 = aa * aa;
-    let t15: f64 = ab * ab;
-    let t16: f64 = t14 * 0.16666666666666666;
-    let t17: f64 = t15 * 0.16666666666666666;
-    let t18: f64 = t13 * t13;
-    let t19: f64 = t5 + t18;
-    let t20: f64 = t19.sqrt();
-    let t21: f64 = 1.0 / t20;
-    let t22: f64 = t6 * t21;
-    let t23: f64 = t13 * t21;
-    let t24: f64 = t21 * t21;
-    let t25: f64 = t16 * t24;
-    let t26: f64 = t17 * t24;
-    let t27: f64 = t22.powi(2);
-    let t28: f64 = t25 * (-6.0);
-    let t29: f64 = t26 * (-6.0);
-    let t30: f64 = 1.0 + t29;
-    let t31: f64 = t28 + t30;
-    let t32: f64 = t27 * t31;
-    let t33: f64 = t25 * 2.0;
-    let t34: f64 = t26 * 2.0;
-    let t35: f64 = 1.0 + t34;
-    let t36: f64 = t33 + t35;
-    let t37: f64 = t32 + t36;
-    let t38: f64 = t0 * t21;
-    let t39: f64 = t37 * t38;
-    let t40: f64 = t23 * t31;
-    let t41: f64 = t22 * t40;
-    let t42: f64 = t38 * t41;
-    let t43: f64 = t36 * t38;
-    let t44: f64 = t25 * 6.0;
-    let t45: f64 = t26 * 6.0;
-    let t46: f64 = t45 + (-1.0);
-    let t47: f64 = t44 + t46;
-    let t48: f64 = t27 * t47;
-    let t49: f64 = t25 * (-4.0);
-    let t50: f64 = t26 * (-4.0);
-    let t51: f64 = 2.0 + t50;
-    let t52: f64 = t49 + t51;
-    let t53: f64 = t48 + t52;
-    let t54: f64 = t38 * t53;
-    let t55: f64 = t21 * t38;
-    let t56: f64 = t23 * t55;
-    let t57: f64 = t22 * t55;
-    let t58: f64 = t27 * 1.5;
-    let t59: f64 = t58 + (-0.5);
-    let t60: f64 = t21 * t55;
-    let t61: f64 = t59 * t60;
-    let t62: f64 = t23 * 1.5;
-    let t63: f64 = t22 * t62;
-    let t64: f64 = t60 * t63;
-    let t65: f64 = (-0.5) * t60;
-    let t66: f64 = t27 * (-1.5);
-    let t67: f64 = 1.0 + t66;
-    let t68: f64 = t60 * t67;
-    let t69: f64 = t10 * t39;
-    let t70: f64 = t10 * t69;
-    let t71: f64 = t12 * t43;
-    let t72: f64 = t12 * t71;
-    let t73: f64 = t70 + t72;
-    let t74: f64 = t12 * t39;
-    let t75: f64 = t10 * t74;
-    let t76: f64 = t10 * t43;
-    let t77: f64 = t12 * t76;
-    let t78: f64 = t75 - t77;
-    let t79: f64 = t10 * t42;
-    let t80: f64 = t12 * t69;
-    let t81: f64 = t10 * t71;
-    let t82: f64 = t80 - t81;
-    let t83: f64 = t12 * t74;
-    let t84: f64 = t10 * t76;
-    let t85: f64 = t83 + t84;
-    let t86: f64 = t12 * t42;
-    let t87: f64 = t12 * t56;
-    let t88: f64 = t10 * t87;
-    let t89: f64 = t10 * t56;
-    let t90: f64 = t12 * t89;
-    let t91: f64 = t90 - t88;
-    let t92: f64 = t10 * t89;
-    let t93: f64 = t12 * t87;
-    let t94: f64 = t92 + t93;
-    let t95: f64 = t12 * t57;
-    let t96: f64 = -t95;
-    let t97: f64 = -t94;
-    let t98: f64 = t10 * t57;
-    let t99: f64 = -t98;
-    let t100: f64 = t10 * t61;
-    let t101: f64 = t10 * t100;
-    let t102: f64 = t12 * t65;
-    let t103: f64 = t12 * t102;
-    let t104: f64 = t101 + t103;
-    let t105: f64 = t12 * t61;
-    let t106: f64 = t10 * t105;
-    let t107: f64 = t10 * t65;
-    let t108: f64 = t12 * t107;
-    let t109: f64 = t106 - t108;
-    let t110: f64 = t10 * t64;
-    let t111: f64 = t12 * t100;
-    let t112: f64 = t10 * t102;
-    let t113: f64 = t111 - t112;
-    let t114: f64 = t12 * t105;
-    let t115: f64 = t10 * t107;
-    let t116: f64 = t114 + t115;
-    let t117: f64 = t12 * t64;
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = aa * aa;
+    let t5: f64 = ab * ab;
+    let t6: f64 = t4 * 0.16666666666666666;
+    let t7: f64 = t5 * 0.16666666666666666;
+    let t8: f64 = t1 * t1;
+    let t9: f64 = t2 * t2;
+    let t10: f64 = t8 + t9;
+    let t11: f64 = t3 * t3;
+    let t12: f64 = t10 + t11;
+    let t13: f64 = t12.sqrt();
+    let t14: f64 = 1.0 / t13;
+    let t15: f64 = t1 * t14;
+    let t16: f64 = t2 * t14;
+    let t17: f64 = t3 * t14;
+    let t18: f64 = t14 * t14;
+    let t19: f64 = t6 * t18;
+    let t20: f64 = t7 * t18;
+    let t21: f64 = t15.powi(2);
+    let t22: f64 = t19 * (-6.0);
+    let t23: f64 = t20 * (-6.0);
+    let t24: f64 = 1.0 + t23;
+    let t25: f64 = t22 + t24;
+    let t26: f64 = t21 * t25;
+    let t27: f64 = t19 * 2.0;
+    let t28: f64 = t20 * 2.0;
+    let t29: f64 = 1.0 + t28;
+    let t30: f64 = t27 + t29;
+    let t31: f64 = t26 + t30;
+    let t32: f64 = t0 * t14;
+    let t33: f64 = t31 * t32;
+    let t34: f64 = t16 * t25;
+    let t35: f64 = t15 * t34;
+    let t36: f64 = t32 * t35;
+    let t37: f64 = t17 * t25;
+    let t38: f64 = t15 * t37;
+    let t39: f64 = t32 * t38;
+    let t40: f64 = t16.powi(2);
+    let t41: f64 = t25 * t40;
+    let t42: f64 = t30 + t41;
+    let t43: f64 = t32 * t42;
+    let t44: f64 = t16 * t37;
+    let t45: f64 = t32 * t44;
+    let t46: f64 = t17.powi(2);
+    let t47: f64 = t25 * t46;
+    let t48: f64 = t30 + t47;
+    let t49: f64 = t32 * t48;
+    let t50: f64 = t14 * t32;
+    let t51: f64 = t17 * t50;
+    let t52: f64 = t16 * t50;
+    let t53: f64 = -t52;
+    let t54: f64 = -t51;
+    let t55: f64 = t15 * t50;
+    let t56: f64 = -t55;
+    let t57: f64 = t21 * 1.5;
+    let t58: f64 = t57 + (-0.5);
+    let t59: f64 = t14 * t50;
+    let t60: f64 = t58 * t59;
+    let t61: f64 = t16 * 1.5;
+    let t62: f64 = t15 * t61;
+    let t63: f64 = t59 * t62;
+    let t64: f64 = t17 * 1.5;
+    let t65: f64 = t15 * t64;
+    let t66: f64 = t59 * t65;
+    let t67: f64 = t40 * 1.5;
+    let t68: f64 = (-0.5) + t67;
+    let t69: f64 = t59 * t68;
+    let t70: f64 = t16 * t64;
+    let t71: f64 = t59 * t70;
+    let t72: f64 = t46 * 1.5;
+    let t73: f64 = (-0.5) + t72;
+    let t74: f64 = t59 * t73;
     BlocksFT {
-        uf: [[t73, t78, t79], [t82, t85, t86], [t79, t86, t54]],
-        ul: [[t91, t94, t96], [t97, t91, t98], [t95, t99, 0.0]],
-        of: [[t91, t94, t96], [t97, t91, t98], [t95, t99, 0.0]],
-        ol: [[t104, t109, t110], [t113, t116, t117], [t110, t117, t68]],
+        uf: [[t33, t36, t39], [t36, t43, t45], [t39, t45, t49]],
+        ul: [[0.0, t51, t53], [t54, 0.0, t55], [t52, t56, 0.0]],
+        of: [[0.0, t51, t53], [t54, 0.0, t55], [t52, t56, 0.0]],
+        ol: [[t60, t63, t66], [t63, t69, t71], [t66, t71, t74]],
     }
 }
 /// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the FT blocks, pair equal.
@@ -184,125 +141,84 @@ pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> B
 /// - `a`: radius of the particle(s)
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 111 flops (27 add/sub, 72 mul, 3 div, 2 sqrt, 1 powi, 3 neg, 3 select).
+/// Operation count (after dead-code elimination): 70 flops (15 add/sub, 46 mul, 2 div, 1 sqrt, 3 powi, 3 neg).
 #[inline]
 pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksFT {
     let t0: f64 = 0.039788735772973836 / eta;
     let t1: f64 = xa[0] - xb[0];
     let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = t1 * t1;
-    let t4: f64 = t2 * t2;
-    let t5: f64 = t3 + t4;
-    let t6: f64 = t5.sqrt();
-    let t7: f64 = if t5 > 0.0 { t6 } else { 1.0 };
-    let t8: f64 = 1.0 / t7;
-    let t9: f64 = t1 * t8;
-    let t10: f64 = if t5 > 0.0 { t9 } else { 1.0 };
-    let t11: f64 = t2 * t8;
-    let t12: f64 = if t5 > 0.0 { t11 } else { 0.0 };
-    let t13: f64 = xa[2] - xb[2];
-    let t14: f64 = a * a;
-    let t15: f64 = t14 * 0.16666666666666666;
-    let t16: f64 = t13 * t13;
-    let t17: f64 = t5 + t16;
-    let t18: f64 = t17.sqrt();
-    let t19: f64 = 1.0 / t18;
-    let t20: f64 = t6 * t19;
-    let t21: f64 = t13 * t19;
-    let t22: f64 = t19 * t19;
-    let t23: f64 = t15 * t22;
-    let t24: f64 = t20.powi(2);
-    let t25: f64 = t23 * (-6.0);
-    let t26: f64 = 1.0 + t25;
-    let t27: f64 = t25 + t26;
-    let t28: f64 = t24 * t27;
-    let t29: f64 = t23 * 2.0;
-    let t30: f64 = 1.0 + t29;
-    let t31: f64 = t29 + t30;
-    let t32: f64 = t28 + t31;
-    let t33: f64 = t0 * t19;
-    let t34: f64 = t32 * t33;
-    let t35: f64 = t21 * t27;
-    let t36: f64 = t20 * t35;
-    let t37: f64 = t33 * t36;
-    let t38: f64 = t31 * t33;
-    let t39: f64 = t23 * 6.0;
-    let t40: f64 = t39 + (-1.0);
-    let t41: f64 = t39 + t40;
-    let t42: f64 = t24 * t41;
-    let t43: f64 = t23 * (-4.0);
-    let t44: f64 = 2.0 + t43;
-    let t45: f64 = t43 + t44;
-    let t46: f64 = t42 + t45;
-    let t47: f64 = t33 * t46;
-    let t48: f64 = t19 * t33;
-    let t49: f64 = t21 * t48;
-    let t50: f64 = t20 * t48;
-    let t51: f64 = t24 * 1.5;
-    let t52: f64 = t51 + (-0.5);
-    let t53: f64 = t19 * t48;
-    let t54: f64 = t52 * t53;
-    let t55: f64 = t21 * 1.5;
-    let t56: f64 = t20 * t55;
-    let t57: f64 = t53 * t56;
-    let t58: f64 = (-0.5) * t53;
-    let t59: f64 = t24 * (-1.5);
-    let t60: f64 = 1.0 + t59;
-    let t61: f64 = t53 * t60;
-    let t62: f64 = t10 * t34;
-    let t63: f64 = t10 * t62;
-    let t64: f64 = t12 * t38;
-    let t65: f64 = t12 * t64;
-    let t66: f64 = t63 + t65;
-    let t67: f64 = t12 * t34;
-    let t68: f64 = t10 * t67;
-    let t69: f64 = t10 * t38;
-    let t70: f64 = t12 * t69;
-    let t71: f64 = t68 - t70;
-    let t72: f64 = t10 * t37;
-    let t73: f64 = t12 * t62;
-    let t74: f64 = t10 * t64;
-    let t75: f64 = t73 - t74;
-    let t76: f64 = t12 * t67;
-    let t77: f64 = t10 * t69;
-    let t78: f64 = t76 + t77;
-    let t79: f64 = t12 * t37;
-    let t80: f64 = t12 * t49;
-    let t81: f64 = t10 * t80;
-    let t82: f64 = t10 * t49;
-    let t83: f64 = t12 * t82;
-    let t84: f64 = t83 - t81;
-    let t85: f64 = t10 * t82;
-    let t86: f64 = t12 * t80;
-    let t87: f64 = t85 + t86;
-    let t88: f64 = t12 * t50;
-    let t89: f64 = -t88;
-    let t90: f64 = -t87;
-    let t91: f64 = t10 * t50;
-    let t92: f64 = -t91;
-    let t93: f64 = t10 * t54;
-    let t94: f64 = t10 * t93;
-    let t95: f64 = t12 * t58;
-    let t96: f64 = t12 * t95;
-    let t97: f64 = t94 + t96;
-    let t98: f64 = t12 * t54;
-    let t99: f64 = t10 * t98;
-    let t100: f64 = t10 * t58;
-    let t101: f64 = t12 * t100;
-    let t102: f64 = t99 - t101;
-    let t103: f64 = t10 * t57;
-    let t104: f64 = t12 * t93;
-    let t105: f64 = t10 * t95;
-    let t106: f64 = t104 - t105;
-    let t107: f64 = t12 * t98;
-    let t108: f64 = t10 * t100;
-    let t109: f64 = t107 + t108;
-    let t110: f64 = t12 * t57;
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = a * a;
+    let t5: f64 = t4 * 0.16666666666666666;
+    let t6: f64 = t1 * t1;
+    let t7: f64 = t2 * t2;
+    let t8: f64 = t6 + t7;
+    let t9: f64 = t3 * t3;
+    let t10: f64 = t8 + t9;
+    let t11: f64 = t10.sqrt();
+    let t12: f64 = 1.0 / t11;
+    let t13: f64 = t1 * t12;
+    let t14: f64 = t2 * t12;
+    let t15: f64 = t3 * t12;
+    let t16: f64 = t12 * t12;
+    let t17: f64 = t5 * t16;
+    let t18: f64 = t13.powi(2);
+    let t19: f64 = t17 * (-6.0);
+    let t20: f64 = 1.0 + t19;
+    let t21: f64 = t19 + t20;
+    let t22: f64 = t18 * t21;
+    let t23: f64 = t17 * 2.0;
+    let t24: f64 = 1.0 + t23;
+    let t25: f64 = t23 + t24;
+    let t26: f64 = t22 + t25;
+    let t27: f64 = t0 * t12;
+    let t28: f64 = t26 * t27;
+    let t29: f64 = t14 * t21;
+    let t30: f64 = t13 * t29;
+    let t31: f64 = t27 * t30;
+    let t32: f64 = t15 * t21;
+    let t33: f64 = t13 * t32;
+    let t34: f64 = t27 * t33;
+    let t35: f64 = t14.powi(2);
+    let t36: f64 = t21 * t35;
+    let t37: f64 = t25 + t36;
+    let t38: f64 = t27 * t37;
+    let t39: f64 = t14 * t32;
+    let t40: f64 = t27 * t39;
+    let t41: f64 = t15.powi(2);
+    let t42: f64 = t21 * t41;
+    let t43: f64 = t25 + t42;
+    let t44: f64 = t27 * t43;
+    let t45: f64 = t12 * t27;
+    let t46: f64 = t15 * t45;
+    let t47: f64 = t14 * t45;
+    let t48: f64 = -t47;
+    let t49: f64 = -t46;
+    let t50: f64 = t13 * t45;
+    let t51: f64 = -t50;
+    let t52: f64 = t18 * 1.5;
+    let t53: f64 = t52 + (-0.5);
+    let t54: f64 = t12 * t45;
+    let t55: f64 = t53 * t54;
+    let t56: f64 = t14 * 1.5;
+    let t57: f64 = t13 * t56;
+    let t58: f64 = t54 * t57;
+    let t59: f64 = t15 * 1.5;
+    let t60: f64 = t13 * t59;
+    let t61: f64 = t54 * t60;
+    let t62: f64 = t35 * 1.5;
+    let t63: f64 = (-0.5) + t62;
+    let t64: f64 = t54 * t63;
+    let t65: f64 = t14 * t59;
+    let t66: f64 = t54 * t65;
+    let t67: f64 = t41 * 1.5;
+    let t68: f64 = (-0.5) + t67;
+    let t69: f64 = t54 * t68;
     BlocksFT {
-        uf: [[t66, t71, t72], [t75, t78, t79], [t72, t79, t47]],
-        ul: [[t84, t87, t89], [t90, t84, t91], [t88, t92, 0.0]],
-        of: [[t84, t87, t89], [t90, t84, t91], [t88, t92, 0.0]],
-        ol: [[t97, t102, t103], [t106, t109, t110], [t103, t110, t61]],
+        uf: [[t28, t31, t34], [t31, t38, t40], [t34, t40, t44]],
+        ul: [[0.0, t46, t48], [t49, 0.0, t50], [t47, t51, 0.0]],
+        of: [[0.0, t46, t48], [t49, 0.0, t50], [t47, t51, 0.0]],
+        ol: [[t55, t58, t61], [t58, t64, t66], [t61, t66, t69]],
     }
 }
 /// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair product.
