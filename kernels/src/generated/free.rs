@@ -78,7 +78,7 @@ pub fn free_self(x: [f64; 3], a: f64, eta: f64) -> Grand {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 521 flops (133 add/sub, 378 mul, 2 div, 1 sqrt, 4 powi, 3 neg).
+/// Operation count (after dead-code elimination): 515 flops (133 add/sub, 372 mul, 2 div, 1 sqrt, 4 powi, 3 neg).
 #[inline]
 pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Grand {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -103,15 +103,15 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
     let t19: f64 = t6 * t18;
     let t20: f64 = t7 * t18;
     let t21: f64 = t15.powi(2);
-    let t22: f64 = t19 * (-6.0);
-    let t23: f64 = t20 * (-6.0);
-    let t24: f64 = 1.0 + t23;
-    let t25: f64 = t22 + t24;
+    let t22: f64 = t20 * (-6.0);
+    let t23: f64 = 1.0 + t22;
+    let t24: f64 = t19 * (-6.0);
+    let t25: f64 = t23 + t24;
     let t26: f64 = t21 * t25;
-    let t27: f64 = t19 * 2.0;
-    let t28: f64 = t20 * 2.0;
-    let t29: f64 = 1.0 + t28;
-    let t30: f64 = t27 + t29;
+    let t27: f64 = t20 * 2.0;
+    let t28: f64 = 1.0 + t27;
+    let t29: f64 = t19 * 2.0;
+    let t30: f64 = t28 + t29;
     let t31: f64 = t26 + t30;
     let t32: f64 = t0 * t14;
     let t33: f64 = t31 * t32;
@@ -140,10 +140,10 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
     let t56: f64 = -t55;
     let t57: f64 = t5 * 0.1;
     let t58: f64 = t18 * t57;
-    let t59: f64 = t19 * (-60.0);
-    let t60: f64 = t58 * (-60.0);
-    let t61: f64 = t60 + 6.0;
-    let t62: f64 = t59 + t61;
+    let t59: f64 = t58 * (-60.0);
+    let t60: f64 = t59 + 6.0;
+    let t61: f64 = t19 * (-60.0);
+    let t62: f64 = t60 + t61;
     let t63: f64 = t16 * t62;
     let t64: f64 = t21 * t63;
     let t65: f64 = t19 * 12.0;
@@ -163,32 +163,32 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
     let t79: f64 = t15 * t78;
     let t80: f64 = t50 * t79;
     let t81: f64 = 0.7071067811865476 * t80;
-    let t82: f64 = t19 * (-30.0);
-    let t83: f64 = t58 * (-30.0);
-    let t84: f64 = t83 + 3.0;
-    let t85: f64 = t82 + t84;
+    let t82: f64 = t58 * (-30.0);
+    let t83: f64 = t82 + 3.0;
+    let t84: f64 = t19 * (-30.0);
+    let t85: f64 = t83 + t84;
     let t86: f64 = t15 * t85;
     let t87: f64 = t15 * t86;
-    let t88: f64 = t19 * 30.0;
-    let t89: f64 = t58 * 30.0;
-    let t90: f64 = t89 + (-3.0);
-    let t91: f64 = t88 + t90;
+    let t88: f64 = t58 * 30.0;
+    let t89: f64 = t88 + (-3.0);
+    let t90: f64 = t19 * 30.0;
+    let t91: f64 = t89 + t90;
     let t92: f64 = t40 * t91;
     let t93: f64 = t67 + t92;
     let t94: f64 = t87 + t93;
     let t95: f64 = t15 * t94;
     let t96: f64 = t50 * t95;
     let t97: f64 = 0.7071067811865476 * t96;
-    let t98: f64 = t19 * (-90.0);
-    let t99: f64 = t58 * (-90.0);
-    let t100: f64 = t99 + 9.0;
-    let t101: f64 = t98 + t100;
+    let t98: f64 = t58 * (-90.0);
+    let t99: f64 = t98 + 9.0;
+    let t100: f64 = t19 * (-90.0);
+    let t101: f64 = t99 + t100;
     let t102: f64 = t15 * t101;
     let t103: f64 = t46 * t102;
-    let t104: f64 = t19 * 18.0;
-    let t105: f64 = t58 * 18.0;
-    let t106: f64 = (-3.0) + t105;
-    let t107: f64 = t104 + t106;
+    let t104: f64 = t58 * 18.0;
+    let t105: f64 = (-3.0) + t104;
+    let t106: f64 = t19 * 18.0;
+    let t107: f64 = t105 + t106;
     let t108: f64 = t15 * t107;
     let t109: f64 = t103 + t108;
     let t110: f64 = t50 * t109;
@@ -237,10 +237,10 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
     let t153: f64 = 0.7071067811865476 * t152;
     let t154: f64 = t17 * t101;
     let t155: f64 = t17 * t154;
-    let t156: f64 = t19 * 54.0;
-    let t157: f64 = t58 * 54.0;
-    let t158: f64 = (-3.0) + t157;
-    let t159: f64 = t156 + t158;
+    let t156: f64 = t58 * 54.0;
+    let t157: f64 = (-3.0) + t156;
+    let t158: f64 = t19 * 54.0;
+    let t159: f64 = t157 + t158;
     let t160: f64 = t155 + t159;
     let t161: f64 = t17 * t160;
     let t162: f64 = t50 * t161;
@@ -249,359 +249,353 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
     let t165: f64 = t164 + (-0.5);
     let t166: f64 = t14 * t50;
     let t167: f64 = t165 * t166;
-    let t168: f64 = t16 * 1.5;
-    let t169: f64 = t15 * t168;
+    let t168: f64 = t15 * t16;
+    let t169: f64 = 1.5 * t168;
     let t170: f64 = t166 * t169;
-    let t171: f64 = t17 * 1.5;
-    let t172: f64 = t15 * t171;
+    let t171: f64 = t15 * t17;
+    let t172: f64 = 1.5 * t171;
     let t173: f64 = t166 * t172;
     let t174: f64 = t40 * 1.5;
     let t175: f64 = (-0.5) + t174;
     let t176: f64 = t166 * t175;
-    let t177: f64 = t16 * t171;
-    let t178: f64 = t166 * t177;
-    let t179: f64 = t46 * 1.5;
-    let t180: f64 = (-0.5) + t179;
-    let t181: f64 = t166 * t180;
-    let t182: f64 = t17 * 3.0;
-    let t183: f64 = t15 * t182;
+    let t177: f64 = t16 * t17;
+    let t178: f64 = 1.5 * t177;
+    let t179: f64 = t166 * t178;
+    let t180: f64 = t46 * 1.5;
+    let t181: f64 = (-0.5) + t180;
+    let t182: f64 = t166 * t181;
+    let t183: f64 = 3.0 * t171;
     let t184: f64 = t166 * t183;
     let t185: f64 = 0.7071067811865476 * t184;
-    let t186: f64 = t16 * (-3.0);
-    let t187: f64 = t15 * t186;
-    let t188: f64 = t166 * t187;
-    let t189: f64 = 0.7071067811865476 * t188;
-    let t190: f64 = t40 * (-3.0);
-    let t191: f64 = t46 * 3.0;
-    let t192: f64 = t190 + t191;
-    let t193: f64 = t166 * t192;
-    let t194: f64 = 0.7071067811865476 * t193;
-    let t195: f64 = t17 * (-3.0);
-    let t196: f64 = t16 * t195;
-    let t197: f64 = t166 * t196;
-    let t198: f64 = 0.7071067811865476 * t197;
-    let t199: f64 = t17 * (-9.0);
-    let t200: f64 = t16 * t199;
-    let t201: f64 = t166 * t200;
-    let t202: f64 = 0.408248290463863 * t201;
-    let t203: f64 = t21 * 3.0;
-    let t204: f64 = t46 * (-3.0);
-    let t205: f64 = t203 + t204;
+    let t186: f64 = (-3.0) * t168;
+    let t187: f64 = t166 * t186;
+    let t188: f64 = 0.7071067811865476 * t187;
+    let t189: f64 = t40 * (-3.0);
+    let t190: f64 = t46 * 3.0;
+    let t191: f64 = t189 + t190;
+    let t192: f64 = t166 * t191;
+    let t193: f64 = 0.7071067811865476 * t192;
+    let t194: f64 = (-3.0) * t177;
+    let t195: f64 = t166 * t194;
+    let t196: f64 = 0.7071067811865476 * t195;
+    let t197: f64 = t177 * (-9.0);
+    let t198: f64 = t166 * t197;
+    let t199: f64 = 0.408248290463863 * t198;
+    let t200: f64 = t21 * 3.0;
+    let t201: f64 = t46 * (-3.0);
+    let t202: f64 = t200 + t201;
+    let t203: f64 = t166 * t202;
+    let t204: f64 = 0.7071067811865476 * t203;
+    let t205: f64 = 3.0 * t168;
     let t206: f64 = t166 * t205;
     let t207: f64 = 0.7071067811865476 * t206;
-    let t208: f64 = t16 * 3.0;
-    let t209: f64 = t15 * t208;
-    let t210: f64 = t166 * t209;
-    let t211: f64 = 0.7071067811865476 * t210;
-    let t212: f64 = t15 * t195;
-    let t213: f64 = t166 * t212;
-    let t214: f64 = 0.7071067811865476 * t213;
-    let t215: f64 = t17 * 9.0;
-    let t216: f64 = t15 * t215;
+    let t208: f64 = (-3.0) * t171;
+    let t209: f64 = t166 * t208;
+    let t210: f64 = 0.7071067811865476 * t209;
+    let t211: f64 = 9.0 * t171;
+    let t212: f64 = t166 * t211;
+    let t213: f64 = 0.408248290463863 * t212;
+    let t214: f64 = t21 * (-3.0);
+    let t215: f64 = t40 * 3.0;
+    let t216: f64 = t214 + t215;
     let t217: f64 = t166 * t216;
-    let t218: f64 = 0.408248290463863 * t217;
-    let t219: f64 = t21 * (-3.0);
-    let t220: f64 = t40 * 3.0;
-    let t221: f64 = t219 + t220;
-    let t222: f64 = t166 * t221;
-    let t223: f64 = 0.7071067811865476 * t222;
-    let t224: f64 = t16 * t182;
-    let t225: f64 = t166 * t224;
-    let t226: f64 = 0.7071067811865476 * t225;
-    let t227: f64 = t16 * 6.0;
-    let t228: f64 = t15 * t227;
-    let t229: f64 = t166 * t228;
-    let t230: f64 = 0.7071067811865476 * t229;
-    let t231: f64 = t4 * 0.1;
-    let t232: f64 = t18 * t231;
-    let t233: f64 = t232 * 60.0;
-    let t234: f64 = t20 * 60.0;
-    let t235: f64 = (-6.0) + t234;
-    let t236: f64 = t233 + t235;
-    let t237: f64 = t16 * t236;
-    let t238: f64 = t21 * t237;
-    let t239: f64 = (-12.0) * t232;
-    let t240: f64 = t20 * (-12.0);
-    let t241: f64 = t239 + t240;
-    let t242: f64 = t16 * t241;
-    let t243: f64 = t238 + t242;
+    let t218: f64 = 0.7071067811865476 * t217;
+    let t219: f64 = 3.0 * t177;
+    let t220: f64 = t166 * t219;
+    let t221: f64 = 0.7071067811865476 * t220;
+    let t222: f64 = 6.0 * t168;
+    let t223: f64 = t166 * t222;
+    let t224: f64 = 0.7071067811865476 * t223;
+    let t225: f64 = t4 * 0.1;
+    let t226: f64 = t18 * t225;
+    let t227: f64 = t20 * 60.0;
+    let t228: f64 = (-6.0) + t227;
+    let t229: f64 = t226 * 60.0;
+    let t230: f64 = t228 + t229;
+    let t231: f64 = t16 * t230;
+    let t232: f64 = t21 * t231;
+    let t233: f64 = (-12.0) * t226;
+    let t234: f64 = t20 * (-12.0);
+    let t235: f64 = t233 + t234;
+    let t236: f64 = t16 * t235;
+    let t237: f64 = t232 + t236;
+    let t238: f64 = t50 * t237;
+    let t239: f64 = 0.7071067811865476 * t238;
+    let t240: f64 = t15 * t230;
+    let t241: f64 = t40 * t240;
+    let t242: f64 = t15 * t235;
+    let t243: f64 = t241 + t242;
     let t244: f64 = t50 * t243;
     let t245: f64 = 0.7071067811865476 * t244;
-    let t246: f64 = t15 * t236;
-    let t247: f64 = t40 * t246;
-    let t248: f64 = t15 * t241;
-    let t249: f64 = t247 + t248;
-    let t250: f64 = t50 * t249;
-    let t251: f64 = 0.7071067811865476 * t250;
-    let t252: f64 = t17 * t236;
-    let t253: f64 = t16 * t252;
-    let t254: f64 = t15 * t253;
-    let t255: f64 = t50 * t254;
-    let t256: f64 = 0.7071067811865476 * t255;
-    let t257: f64 = t21 * t252;
-    let t258: f64 = t17 * t241;
-    let t259: f64 = t257 + t258;
-    let t260: f64 = t50 * t259;
-    let t261: f64 = 0.7071067811865476 * t260;
-    let t262: f64 = t46 * t246;
-    let t263: f64 = t248 + t262;
-    let t264: f64 = t50 * t263;
-    let t265: f64 = 0.7071067811865476 * t264;
-    let t266: f64 = t40 * t252;
-    let t267: f64 = t258 + t266;
-    let t268: f64 = t50 * t267;
-    let t269: f64 = 0.7071067811865476 * t268;
-    let t270: f64 = t46 * t237;
-    let t271: f64 = t242 + t270;
-    let t272: f64 = t50 * t271;
-    let t273: f64 = 0.7071067811865476 * t272;
-    let t274: f64 = 30.0 * t232;
-    let t275: f64 = t20 * 30.0;
-    let t276: f64 = (-3.0) + t275;
-    let t277: f64 = t274 + t276;
-    let t278: f64 = t15 * t277;
-    let t279: f64 = t15 * t278;
-    let t280: f64 = (-30.0) * t232;
-    let t281: f64 = t20 * (-30.0);
-    let t282: f64 = 3.0 + t281;
-    let t283: f64 = t280 + t282;
-    let t284: f64 = t40 * t283;
-    let t285: f64 = t241 + t284;
-    let t286: f64 = t279 + t285;
-    let t287: f64 = t15 * t286;
-    let t288: f64 = t50 * t287;
-    let t289: f64 = 0.7071067811865476 * t288;
-    let t290: f64 = t16 * t283;
-    let t291: f64 = t16 * t290;
-    let t292: f64 = t21 * t277;
-    let t293: f64 = 12.0 * t232;
-    let t294: f64 = t20 * 12.0;
-    let t295: f64 = t293 + t294;
-    let t296: f64 = t292 + t295;
-    let t297: f64 = t291 + t296;
-    let t298: f64 = t16 * t297;
-    let t299: f64 = t50 * t298;
-    let t300: f64 = 0.7071067811865476 * t299;
-    let t301: f64 = t17 * t277;
-    let t302: f64 = t21 * t301;
-    let t303: f64 = t17 * t283;
-    let t304: f64 = t40 * t303;
-    let t305: f64 = t302 + t304;
-    let t306: f64 = t50 * t305;
-    let t307: f64 = 0.7071067811865476 * t306;
-    let t308: f64 = t232 * 90.0;
-    let t309: f64 = t20 * 90.0;
-    let t310: f64 = (-9.0) + t309;
-    let t311: f64 = t308 + t310;
+    let t246: f64 = t17 * t230;
+    let t247: f64 = t16 * t246;
+    let t248: f64 = t15 * t247;
+    let t249: f64 = t50 * t248;
+    let t250: f64 = 0.7071067811865476 * t249;
+    let t251: f64 = t21 * t246;
+    let t252: f64 = t17 * t235;
+    let t253: f64 = t251 + t252;
+    let t254: f64 = t50 * t253;
+    let t255: f64 = 0.7071067811865476 * t254;
+    let t256: f64 = t46 * t240;
+    let t257: f64 = t242 + t256;
+    let t258: f64 = t50 * t257;
+    let t259: f64 = 0.7071067811865476 * t258;
+    let t260: f64 = t40 * t246;
+    let t261: f64 = t252 + t260;
+    let t262: f64 = t50 * t261;
+    let t263: f64 = 0.7071067811865476 * t262;
+    let t264: f64 = t46 * t231;
+    let t265: f64 = t236 + t264;
+    let t266: f64 = t50 * t265;
+    let t267: f64 = 0.7071067811865476 * t266;
+    let t268: f64 = t20 * 30.0;
+    let t269: f64 = (-3.0) + t268;
+    let t270: f64 = 30.0 * t226;
+    let t271: f64 = t269 + t270;
+    let t272: f64 = t15 * t271;
+    let t273: f64 = t15 * t272;
+    let t274: f64 = t20 * (-30.0);
+    let t275: f64 = 3.0 + t274;
+    let t276: f64 = (-30.0) * t226;
+    let t277: f64 = t275 + t276;
+    let t278: f64 = t40 * t277;
+    let t279: f64 = t235 + t278;
+    let t280: f64 = t273 + t279;
+    let t281: f64 = t15 * t280;
+    let t282: f64 = t50 * t281;
+    let t283: f64 = 0.7071067811865476 * t282;
+    let t284: f64 = t16 * t277;
+    let t285: f64 = t16 * t284;
+    let t286: f64 = t21 * t271;
+    let t287: f64 = 12.0 * t226;
+    let t288: f64 = t20 * 12.0;
+    let t289: f64 = t287 + t288;
+    let t290: f64 = t286 + t289;
+    let t291: f64 = t285 + t290;
+    let t292: f64 = t16 * t291;
+    let t293: f64 = t50 * t292;
+    let t294: f64 = 0.7071067811865476 * t293;
+    let t295: f64 = t17 * t271;
+    let t296: f64 = t21 * t295;
+    let t297: f64 = t17 * t277;
+    let t298: f64 = t40 * t297;
+    let t299: f64 = t296 + t298;
+    let t300: f64 = t50 * t299;
+    let t301: f64 = 0.7071067811865476 * t300;
+    let t302: f64 = t20 * 90.0;
+    let t303: f64 = (-9.0) + t302;
+    let t304: f64 = t226 * 90.0;
+    let t305: f64 = t303 + t304;
+    let t306: f64 = t15 * t305;
+    let t307: f64 = t46 * t306;
+    let t308: f64 = t20 * (-18.0);
+    let t309: f64 = 3.0 + t308;
+    let t310: f64 = t226 * (-18.0);
+    let t311: f64 = t309 + t310;
     let t312: f64 = t15 * t311;
-    let t313: f64 = t46 * t312;
-    let t314: f64 = t232 * (-18.0);
-    let t315: f64 = t20 * (-18.0);
-    let t316: f64 = 3.0 + t315;
-    let t317: f64 = t314 + t316;
-    let t318: f64 = t15 * t317;
-    let t319: f64 = t313 + t318;
+    let t313: f64 = t307 + t312;
+    let t314: f64 = t50 * t313;
+    let t315: f64 = 0.408248290463863 * t314;
+    let t316: f64 = t16 * t305;
+    let t317: f64 = t46 * t316;
+    let t318: f64 = t16 * t311;
+    let t319: f64 = t317 + t318;
     let t320: f64 = t50 * t319;
     let t321: f64 = 0.408248290463863 * t320;
-    let t322: f64 = t16 * t311;
-    let t323: f64 = t46 * t322;
-    let t324: f64 = t16 * t317;
-    let t325: f64 = t323 + t324;
-    let t326: f64 = t50 * t325;
-    let t327: f64 = 0.408248290463863 * t326;
-    let t328: f64 = t17 * t311;
+    let t322: f64 = t17 * t305;
+    let t323: f64 = t17 * t322;
+    let t324: f64 = t20 * (-54.0);
+    let t325: f64 = 3.0 + t324;
+    let t326: f64 = t226 * (-54.0);
+    let t327: f64 = t325 + t326;
+    let t328: f64 = t323 + t327;
     let t329: f64 = t17 * t328;
-    let t330: f64 = t232 * (-54.0);
-    let t331: f64 = t20 * (-54.0);
-    let t332: f64 = 3.0 + t331;
-    let t333: f64 = t330 + t332;
-    let t334: f64 = t329 + t333;
-    let t335: f64 = t17 * t334;
-    let t336: f64 = t50 * t335;
-    let t337: f64 = 0.408248290463863 * t336;
-    let t338: f64 = t232 * 840.0;
-    let t339: f64 = t58 * 840.0;
-    let t340: f64 = (-60.0) + t339;
-    let t341: f64 = t338 + t340;
-    let t342: f64 = t40 * t341;
-    let t343: f64 = t232 * (-120.0);
-    let t344: f64 = t58 * (-120.0);
-    let t345: f64 = 6.0 + t344;
-    let t346: f64 = t343 + t345;
-    let t347: f64 = t342 + t346;
-    let t348: f64 = t21 * t347;
-    let t349: f64 = t40 * t346;
-    let t350: f64 = t232 * 24.0;
-    let t351: f64 = t58 * 24.0;
-    let t352: f64 = t350 + t351;
-    let t353: f64 = t349 + t352;
-    let t354: f64 = t348 + t353;
-    let t355: f64 = t166 * t354;
-    let t356: f64 = t355 * 0.5;
-    let t357: f64 = t17 * t341;
-    let t358: f64 = t16 * t357;
-    let t359: f64 = t21 * t358;
-    let t360: f64 = t17 * t346;
-    let t361: f64 = t16 * t360;
-    let t362: f64 = t359 + t361;
+    let t330: f64 = t50 * t329;
+    let t331: f64 = 0.408248290463863 * t330;
+    let t332: f64 = t58 * 840.0;
+    let t333: f64 = (-60.0) + t332;
+    let t334: f64 = t226 * 840.0;
+    let t335: f64 = t333 + t334;
+    let t336: f64 = t40 * t335;
+    let t337: f64 = t58 * (-120.0);
+    let t338: f64 = 6.0 + t337;
+    let t339: f64 = t226 * (-120.0);
+    let t340: f64 = t338 + t339;
+    let t341: f64 = t336 + t340;
+    let t342: f64 = t21 * t341;
+    let t343: f64 = t40 * t340;
+    let t344: f64 = t226 * 24.0;
+    let t345: f64 = t58 * 24.0;
+    let t346: f64 = t344 + t345;
+    let t347: f64 = t343 + t346;
+    let t348: f64 = t342 + t347;
+    let t349: f64 = t166 * t348;
+    let t350: f64 = t349 * 0.5;
+    let t351: f64 = t17 * t335;
+    let t352: f64 = t16 * t351;
+    let t353: f64 = t21 * t352;
+    let t354: f64 = t17 * t340;
+    let t355: f64 = t16 * t354;
+    let t356: f64 = t353 + t355;
+    let t357: f64 = t166 * t356;
+    let t358: f64 = 0.5 * t357;
+    let t359: f64 = t15 * t351;
+    let t360: f64 = t40 * t359;
+    let t361: f64 = t15 * t354;
+    let t362: f64 = t360 + t361;
     let t363: f64 = t166 * t362;
     let t364: f64 = 0.5 * t363;
-    let t365: f64 = t15 * t357;
-    let t366: f64 = t40 * t365;
-    let t367: f64 = t15 * t360;
+    let t365: f64 = t58 * 420.0;
+    let t366: f64 = (-30.0) + t365;
+    let t367: f64 = t226 * 420.0;
     let t368: f64 = t366 + t367;
-    let t369: f64 = t166 * t368;
-    let t370: f64 = 0.5 * t369;
-    let t371: f64 = t232 * 420.0;
-    let t372: f64 = t58 * 420.0;
-    let t373: f64 = (-30.0) + t372;
-    let t374: f64 = t371 + t373;
-    let t375: f64 = t16 * t374;
-    let t376: f64 = t15 * t375;
-    let t377: f64 = t15 * t376;
-    let t378: f64 = t16.powi(3);
-    let t379: f64 = t232 * (-420.0);
-    let t380: f64 = t58 * (-420.0);
-    let t381: f64 = 30.0 + t380;
-    let t382: f64 = t379 + t381;
-    let t383: f64 = t378 * t382;
-    let t384: f64 = t377 + t383;
-    let t385: f64 = t15 * t384;
-    let t386: f64 = t166 * t385;
-    let t387: f64 = 0.5 * t386;
-    let t388: f64 = t232 * 1260.0;
-    let t389: f64 = t58 * 1260.0;
-    let t390: f64 = (-90.0) + t389;
-    let t391: f64 = t388 + t390;
-    let t392: f64 = t16 * t391;
-    let t393: f64 = t15 * t392;
-    let t394: f64 = t46 * t393;
-    let t395: f64 = t232 * (-180.0);
-    let t396: f64 = t58 * (-180.0);
-    let t397: f64 = 18.0 + t396;
-    let t398: f64 = t395 + t397;
-    let t399: f64 = t16 * t398;
-    let t400: f64 = t15 * t399;
-    let t401: f64 = t394 + t400;
-    let t402: f64 = t166 * t401;
-    let t403: f64 = t402 * 0.28867513459481287;
-    let t404: f64 = t46 * t341;
-    let t405: f64 = t346 + t404;
-    let t406: f64 = t21 * t405;
-    let t407: f64 = t46 * t346;
-    let t408: f64 = t352 + t407;
-    let t409: f64 = t406 + t408;
-    let t410: f64 = t166 * t409;
-    let t411: f64 = 0.5 * t410;
-    let t412: f64 = t16 * t341;
-    let t413: f64 = t15 * t412;
-    let t414: f64 = t46 * t413;
-    let t415: f64 = t16 * t346;
+    let t369: f64 = t16 * t368;
+    let t370: f64 = t15 * t369;
+    let t371: f64 = t15 * t370;
+    let t372: f64 = t16.powi(3);
+    let t373: f64 = t58 * (-420.0);
+    let t374: f64 = 30.0 + t373;
+    let t375: f64 = t226 * (-420.0);
+    let t376: f64 = t374 + t375;
+    let t377: f64 = t372 * t376;
+    let t378: f64 = t371 + t377;
+    let t379: f64 = t15 * t378;
+    let t380: f64 = t166 * t379;
+    let t381: f64 = 0.5 * t380;
+    let t382: f64 = t58 * 1260.0;
+    let t383: f64 = (-90.0) + t382;
+    let t384: f64 = t226 * 1260.0;
+    let t385: f64 = t383 + t384;
+    let t386: f64 = t16 * t385;
+    let t387: f64 = t15 * t386;
+    let t388: f64 = t46 * t387;
+    let t389: f64 = t58 * (-180.0);
+    let t390: f64 = 18.0 + t389;
+    let t391: f64 = t226 * (-180.0);
+    let t392: f64 = t390 + t391;
+    let t393: f64 = t16 * t392;
+    let t394: f64 = t15 * t393;
+    let t395: f64 = t388 + t394;
+    let t396: f64 = t166 * t395;
+    let t397: f64 = t396 * 0.28867513459481287;
+    let t398: f64 = t46 * t335;
+    let t399: f64 = t340 + t398;
+    let t400: f64 = t21 * t399;
+    let t401: f64 = t46 * t340;
+    let t402: f64 = t346 + t401;
+    let t403: f64 = t400 + t402;
+    let t404: f64 = t166 * t403;
+    let t405: f64 = 0.5 * t404;
+    let t406: f64 = t16 * t335;
+    let t407: f64 = t15 * t406;
+    let t408: f64 = t46 * t407;
+    let t409: f64 = t16 * t340;
+    let t410: f64 = t15 * t409;
+    let t411: f64 = t408 + t410;
+    let t412: f64 = t166 * t411;
+    let t413: f64 = 0.5 * t412;
+    let t414: f64 = t17 * t368;
+    let t415: f64 = t15 * t414;
     let t416: f64 = t15 * t415;
-    let t417: f64 = t414 + t416;
-    let t418: f64 = t166 * t417;
-    let t419: f64 = 0.5 * t418;
-    let t420: f64 = t17 * t374;
+    let t417: f64 = t17 * t376;
+    let t418: f64 = t40 * t417;
+    let t419: f64 = t354 + t418;
+    let t420: f64 = t416 + t419;
     let t421: f64 = t15 * t420;
-    let t422: f64 = t15 * t421;
-    let t423: f64 = t17 * t382;
-    let t424: f64 = t40 * t423;
-    let t425: f64 = t360 + t424;
-    let t426: f64 = t422 + t425;
-    let t427: f64 = t15 * t426;
-    let t428: f64 = t166 * t427;
-    let t429: f64 = 0.5 * t428;
-    let t430: f64 = t15 * t391;
-    let t431: f64 = t17 * t430;
-    let t432: f64 = t17 * t431;
-    let t433: f64 = t232 * (-540.0);
-    let t434: f64 = t58 * (-540.0);
-    let t435: f64 = t434 + 36.0;
-    let t436: f64 = t433 + t435;
-    let t437: f64 = t15 * t436;
-    let t438: f64 = t432 + t437;
-    let t439: f64 = t17 * t438;
-    let t440: f64 = t166 * t439;
-    let t441: f64 = 0.28867513459481287 * t440;
-    let t442: f64 = t40 * t405;
-    let t443: f64 = t408 + t442;
-    let t444: f64 = t166 * t443;
-    let t445: f64 = 0.5 * t444;
-    let t446: f64 = t16 * t423;
-    let t447: f64 = t16 * t446;
-    let t448: f64 = t21 * t420;
-    let t449: f64 = t232 * 120.0;
-    let t450: f64 = t58 * 120.0;
-    let t451: f64 = (-6.0) + t450;
-    let t452: f64 = t449 + t451;
-    let t453: f64 = t17 * t452;
-    let t454: f64 = t448 + t453;
-    let t455: f64 = t447 + t454;
-    let t456: f64 = t16 * t455;
-    let t457: f64 = t166 * t456;
-    let t458: f64 = 0.5 * t457;
-    let t459: f64 = t17 * t392;
-    let t460: f64 = t17 * t459;
-    let t461: f64 = t16 * t436;
-    let t462: f64 = t460 + t461;
-    let t463: f64 = t17 * t462;
-    let t464: f64 = t166 * t463;
-    let t465: f64 = 0.28867513459481287 * t464;
-    let t466: f64 = t232 * 210.0;
-    let t467: f64 = t58 * 210.0;
-    let t468: f64 = t467 + (-15.0);
-    let t469: f64 = t466 + t468;
-    let t470: f64 = t21 * t469;
-    let t471: f64 = t40 * t382;
+    let t422: f64 = t166 * t421;
+    let t423: f64 = 0.5 * t422;
+    let t424: f64 = t15 * t385;
+    let t425: f64 = t17 * t424;
+    let t426: f64 = t17 * t425;
+    let t427: f64 = t58 * (-540.0);
+    let t428: f64 = t427 + 36.0;
+    let t429: f64 = t226 * (-540.0);
+    let t430: f64 = t428 + t429;
+    let t431: f64 = t15 * t430;
+    let t432: f64 = t426 + t431;
+    let t433: f64 = t17 * t432;
+    let t434: f64 = t166 * t433;
+    let t435: f64 = 0.28867513459481287 * t434;
+    let t436: f64 = t40 * t399;
+    let t437: f64 = t402 + t436;
+    let t438: f64 = t166 * t437;
+    let t439: f64 = 0.5 * t438;
+    let t440: f64 = t16 * t417;
+    let t441: f64 = t16 * t440;
+    let t442: f64 = t21 * t414;
+    let t443: f64 = t58 * 120.0;
+    let t444: f64 = (-6.0) + t443;
+    let t445: f64 = t226 * 120.0;
+    let t446: f64 = t444 + t445;
+    let t447: f64 = t17 * t446;
+    let t448: f64 = t442 + t447;
+    let t449: f64 = t441 + t448;
+    let t450: f64 = t16 * t449;
+    let t451: f64 = t166 * t450;
+    let t452: f64 = 0.5 * t451;
+    let t453: f64 = t17 * t386;
+    let t454: f64 = t17 * t453;
+    let t455: f64 = t16 * t430;
+    let t456: f64 = t454 + t455;
+    let t457: f64 = t17 * t456;
+    let t458: f64 = t166 * t457;
+    let t459: f64 = 0.28867513459481287 * t458;
+    let t460: f64 = t58 * 210.0;
+    let t461: f64 = t460 + (-15.0);
+    let t462: f64 = t226 * 210.0;
+    let t463: f64 = t461 + t462;
+    let t464: f64 = t21 * t463;
+    let t465: f64 = t40 * t376;
+    let t466: f64 = t340 + t465;
+    let t467: f64 = t464 + t466;
+    let t468: f64 = t21 * t467;
+    let t469: f64 = t40 * t463;
+    let t470: f64 = t340 + t469;
+    let t471: f64 = t40 * t470;
     let t472: f64 = t346 + t471;
-    let t473: f64 = t470 + t472;
-    let t474: f64 = t21 * t473;
-    let t475: f64 = t40 * t469;
-    let t476: f64 = t346 + t475;
-    let t477: f64 = t40 * t476;
-    let t478: f64 = t352 + t477;
-    let t479: f64 = t474 + t478;
-    let t480: f64 = t166 * t479;
-    let t481: f64 = 0.5 * t480;
-    let t482: f64 = t232 * (-630.0);
-    let t483: f64 = t58 * (-630.0);
-    let t484: f64 = t483 + 45.0;
-    let t485: f64 = t482 + t484;
+    let t473: f64 = t468 + t472;
+    let t474: f64 = t166 * t473;
+    let t475: f64 = 0.5 * t474;
+    let t476: f64 = t58 * (-630.0);
+    let t477: f64 = t476 + 45.0;
+    let t478: f64 = t226 * (-630.0);
+    let t479: f64 = t477 + t478;
+    let t480: f64 = t21 * t479;
+    let t481: f64 = t58 * 540.0;
+    let t482: f64 = t481 + (-36.0);
+    let t483: f64 = t226 * 540.0;
+    let t484: f64 = t482 + t483;
+    let t485: f64 = t480 + t484;
     let t486: f64 = t21 * t485;
-    let t487: f64 = t232 * 540.0;
-    let t488: f64 = t58 * 540.0;
-    let t489: f64 = t488 + (-36.0);
-    let t490: f64 = t487 + t489;
-    let t491: f64 = t486 + t490;
-    let t492: f64 = t21 * t491;
-    let t493: f64 = t232 * 630.0;
-    let t494: f64 = t58 * 630.0;
-    let t495: f64 = t494 + (-45.0);
-    let t496: f64 = t493 + t495;
-    let t497: f64 = t40 * t496;
-    let t498: f64 = t436 + t497;
-    let t499: f64 = t40 * t498;
-    let t500: f64 = t492 + t499;
-    let t501: f64 = t166 * t500;
-    let t502: f64 = 0.28867513459481287 * t501;
-    let t503: f64 = t232 * 1890.0;
-    let t504: f64 = t58 * 1890.0;
-    let t505: f64 = t504 + (-135.0);
-    let t506: f64 = t503 + t505;
+    let t487: f64 = t58 * 630.0;
+    let t488: f64 = t487 + (-45.0);
+    let t489: f64 = t226 * 630.0;
+    let t490: f64 = t488 + t489;
+    let t491: f64 = t40 * t490;
+    let t492: f64 = t430 + t491;
+    let t493: f64 = t40 * t492;
+    let t494: f64 = t486 + t493;
+    let t495: f64 = t166 * t494;
+    let t496: f64 = 0.28867513459481287 * t495;
+    let t497: f64 = t58 * 1890.0;
+    let t498: f64 = t497 + (-135.0);
+    let t499: f64 = t226 * 1890.0;
+    let t500: f64 = t498 + t499;
+    let t501: f64 = t46 * t500;
+    let t502: f64 = t58 * (-1620.0);
+    let t503: f64 = t502 + 108.0;
+    let t504: f64 = t226 * (-1620.0);
+    let t505: f64 = t503 + t504;
+    let t506: f64 = t501 + t505;
     let t507: f64 = t46 * t506;
-    let t508: f64 = t232 * (-1620.0);
-    let t509: f64 = t58 * (-1620.0);
-    let t510: f64 = t509 + 108.0;
-    let t511: f64 = t508 + t510;
+    let t508: f64 = t58 * 162.0;
+    let t509: f64 = (-9.0) + t508;
+    let t510: f64 = t226 * 162.0;
+    let t511: f64 = t509 + t510;
     let t512: f64 = t507 + t511;
-    let t513: f64 = t46 * t512;
-    let t514: f64 = t232 * 162.0;
-    let t515: f64 = t58 * 162.0;
-    let t516: f64 = (-9.0) + t515;
-    let t517: f64 = t514 + t516;
-    let t518: f64 = t513 + t517;
-    let t519: f64 = t166 * t518;
-    let t520: f64 = 0.16666666666666666 * t519;
+    let t513: f64 = t166 * t512;
+    let t514: f64 = 0.16666666666666666 * t513;
     Grand {
         uf: [[t33, t36, t39], [t36, t43, t45], [t39, t45, t49]],
         ul: [[0.0, t51, t53], [t54, 0.0, t55], [t52, t56, 0.0]],
@@ -611,32 +605,32 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
             [t81, t142, t146, t153, t163],
         ],
         of: [[0.0, t51, t53], [t54, 0.0, t55], [t52, t56, 0.0]],
-        ol: [[t167, t170, t173], [t170, t176, t178], [t173, t178, t181]],
+        ol: [[t167, t170, t173], [t170, t176, t179], [t173, t179, t182]],
         os: [
-            [t185, t189, t194, t198, t202],
-            [t198, t207, t211, t214, t218],
-            [t223, t226, t214, t230, 0.0],
+            [t185, t188, t193, t196, t199],
+            [t196, t204, t207, t210, t213],
+            [t218, t221, t210, t224, 0.0],
         ],
         ef: [
-            [t245, t251, t256],
-            [t261, t256, t265],
-            [t256, t269, t273],
-            [t289, t300, t307],
-            [t321, t327, t337],
+            [t239, t245, t250],
+            [t255, t250, t259],
+            [t250, t263, t267],
+            [t283, t294, t301],
+            [t315, t321, t331],
         ],
         el: [
-            [t185, t198, t223],
-            [t189, t207, t226],
-            [t194, t211, t214],
-            [t198, t214, t230],
-            [t202, t218, 0.0],
+            [t185, t196, t218],
+            [t188, t204, t221],
+            [t193, t207, t210],
+            [t196, t210, t224],
+            [t199, t213, 0.0],
         ],
         es: [
-            [t356, t364, t370, t387, t403],
-            [t364, t411, t419, t429, t441],
-            [t370, t419, t445, t458, t465],
-            [t387, t429, t458, t481, t502],
-            [t403, t441, t465, t502, t520],
+            [t350, t358, t364, t381, t397],
+            [t358, t405, t413, t423, t435],
+            [t364, t413, t439, t452, t459],
+            [t381, t423, t452, t475, t496],
+            [t397, t435, t459, t496, t514],
         ],
     }
 }
@@ -645,7 +639,7 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
 /// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).
 /// Strain and stresslet in the 5-component orthonormal basis (kernels::STRAIN_BASIS).
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_pair`'s fields. Operation count with fused multiply-adds: 390 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_pair`'s fields. Operation count with fused multiply-adds: 384 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_pair_lanes<L: lanes::Lane>(
@@ -785,267 +779,261 @@ pub fn free_pair_lanes<L: lanes::Lane>(
         let t126: L = t18.mul_add(L::splat(1.5), L::splat(-0.5));
         let t127: L = t11 * t40;
         let t128: L = t126 * t127;
-        let t129: L = t13 * L::splat(1.5);
-        let t130: L = t12 * t129;
+        let t129: L = t12 * t13;
+        let t130: L = L::splat(1.5) * t129;
         let t131: L = t127 * t130;
-        let t132: L = t14 * L::splat(1.5);
-        let t133: L = t12 * t132;
+        let t132: L = t12 * t14;
+        let t133: L = L::splat(1.5) * t132;
         let t134: L = t127 * t133;
         let t135: L = t32.mul_add(L::splat(1.5), L::splat(-0.5));
         let t136: L = t127 * t135;
-        let t137: L = t13 * t132;
-        let t138: L = t127 * t137;
-        let t139: L = t37.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t140: L = t127 * t139;
-        let t141: L = t14 * L::splat(3.0);
-        let t142: L = t12 * t141;
+        let t137: L = t13 * t14;
+        let t138: L = L::splat(1.5) * t137;
+        let t139: L = t127 * t138;
+        let t140: L = t37.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t141: L = t127 * t140;
+        let t142: L = L::splat(3.0) * t132;
         let t143: L = t127 * t142;
         let t144: L = L::splat(0.7071067811865476) * t143;
-        let t145: L = t13 * L::splat(-3.0);
-        let t146: L = t12 * t145;
-        let t147: L = t127 * t146;
-        let t148: L = L::splat(0.7071067811865476) * t147;
-        let t149: L = t37 * L::splat(3.0);
-        let t150: L = t32.mul_add(L::splat(-3.0), t149);
-        let t151: L = t127 * t150;
-        let t152: L = L::splat(0.7071067811865476) * t151;
-        let t153: L = t14 * L::splat(-3.0);
-        let t154: L = t13 * t153;
-        let t155: L = t127 * t154;
-        let t156: L = L::splat(0.7071067811865476) * t155;
-        let t157: L = t14 * L::splat(-9.0);
-        let t158: L = t13 * t157;
-        let t159: L = t127 * t158;
-        let t160: L = L::splat(0.408248290463863) * t159;
-        let t161: L = t37 * L::splat(-3.0);
-        let t162: L = t18.mul_add(L::splat(3.0), t161);
+        let t145: L = L::splat(-3.0) * t129;
+        let t146: L = t127 * t145;
+        let t147: L = L::splat(0.7071067811865476) * t146;
+        let t148: L = t37 * L::splat(3.0);
+        let t149: L = t32.mul_add(L::splat(-3.0), t148);
+        let t150: L = t127 * t149;
+        let t151: L = L::splat(0.7071067811865476) * t150;
+        let t152: L = L::splat(-3.0) * t137;
+        let t153: L = t127 * t152;
+        let t154: L = L::splat(0.7071067811865476) * t153;
+        let t155: L = t137 * L::splat(-9.0);
+        let t156: L = t127 * t155;
+        let t157: L = L::splat(0.408248290463863) * t156;
+        let t158: L = t37 * L::splat(-3.0);
+        let t159: L = t18.mul_add(L::splat(3.0), t158);
+        let t160: L = t127 * t159;
+        let t161: L = L::splat(0.7071067811865476) * t160;
+        let t162: L = L::splat(3.0) * t129;
         let t163: L = t127 * t162;
         let t164: L = L::splat(0.7071067811865476) * t163;
-        let t165: L = t13 * L::splat(3.0);
-        let t166: L = t12 * t165;
-        let t167: L = t127 * t166;
-        let t168: L = L::splat(0.7071067811865476) * t167;
-        let t169: L = t12 * t153;
-        let t170: L = t127 * t169;
-        let t171: L = L::splat(0.7071067811865476) * t170;
-        let t172: L = t14 * L::splat(9.0);
-        let t173: L = t12 * t172;
-        let t174: L = t127 * t173;
-        let t175: L = L::splat(0.408248290463863) * t174;
-        let t176: L = t32 * L::splat(3.0);
-        let t177: L = t18.mul_add(L::splat(-3.0), t176);
-        let t178: L = t127 * t177;
-        let t179: L = L::splat(0.7071067811865476) * t178;
-        let t180: L = t13 * t141;
-        let t181: L = t127 * t180;
-        let t182: L = L::splat(0.7071067811865476) * t181;
-        let t183: L = t13 * L::splat(6.0);
-        let t184: L = t12 * t183;
-        let t185: L = t127 * t184;
-        let t186: L = L::splat(0.7071067811865476) * t185;
-        let t187: L = t4 * L::splat(0.1);
-        let t188: L = t15 * t187;
-        let t189: L = t17.mul_add(L::splat(60.0), L::splat(-6.0));
-        let t190: L = t188.mul_add(L::splat(60.0), t189);
-        let t191: L = t13 * t190;
-        let t192: L = t17 * L::splat(-12.0);
-        let t193: L = L::splat(-12.0).mul_add(t188, t192);
-        let t194: L = t13 * t193;
-        let t195: L = t18.mul_add(t191, t194);
-        let t196: L = t40 * t195;
-        let t197: L = L::splat(0.7071067811865476) * t196;
-        let t198: L = t12 * t190;
-        let t199: L = t12 * t193;
-        let t200: L = t32.mul_add(t198, t199);
-        let t201: L = t40 * t200;
-        let t202: L = L::splat(0.7071067811865476) * t201;
-        let t203: L = t14 * t190;
-        let t204: L = t13 * t203;
-        let t205: L = t12 * t204;
-        let t206: L = t40 * t205;
-        let t207: L = L::splat(0.7071067811865476) * t206;
-        let t208: L = t14 * t193;
-        let t209: L = t18.mul_add(t203, t208);
+        let t165: L = L::splat(-3.0) * t132;
+        let t166: L = t127 * t165;
+        let t167: L = L::splat(0.7071067811865476) * t166;
+        let t168: L = L::splat(9.0) * t132;
+        let t169: L = t127 * t168;
+        let t170: L = L::splat(0.408248290463863) * t169;
+        let t171: L = t32 * L::splat(3.0);
+        let t172: L = t18.mul_add(L::splat(-3.0), t171);
+        let t173: L = t127 * t172;
+        let t174: L = L::splat(0.7071067811865476) * t173;
+        let t175: L = L::splat(3.0) * t137;
+        let t176: L = t127 * t175;
+        let t177: L = L::splat(0.7071067811865476) * t176;
+        let t178: L = L::splat(6.0) * t129;
+        let t179: L = t127 * t178;
+        let t180: L = L::splat(0.7071067811865476) * t179;
+        let t181: L = t4 * L::splat(0.1);
+        let t182: L = t15 * t181;
+        let t183: L = t17.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t184: L = t182.mul_add(L::splat(60.0), t183);
+        let t185: L = t13 * t184;
+        let t186: L = t17 * L::splat(-12.0);
+        let t187: L = L::splat(-12.0).mul_add(t182, t186);
+        let t188: L = t13 * t187;
+        let t189: L = t18.mul_add(t185, t188);
+        let t190: L = t40 * t189;
+        let t191: L = L::splat(0.7071067811865476) * t190;
+        let t192: L = t12 * t184;
+        let t193: L = t12 * t187;
+        let t194: L = t32.mul_add(t192, t193);
+        let t195: L = t40 * t194;
+        let t196: L = L::splat(0.7071067811865476) * t195;
+        let t197: L = t14 * t184;
+        let t198: L = t13 * t197;
+        let t199: L = t12 * t198;
+        let t200: L = t40 * t199;
+        let t201: L = L::splat(0.7071067811865476) * t200;
+        let t202: L = t14 * t187;
+        let t203: L = t18.mul_add(t197, t202);
+        let t204: L = t40 * t203;
+        let t205: L = L::splat(0.7071067811865476) * t204;
+        let t206: L = t37.mul_add(t192, t193);
+        let t207: L = t40 * t206;
+        let t208: L = L::splat(0.7071067811865476) * t207;
+        let t209: L = t32.mul_add(t197, t202);
         let t210: L = t40 * t209;
         let t211: L = L::splat(0.7071067811865476) * t210;
-        let t212: L = t37.mul_add(t198, t199);
+        let t212: L = t37.mul_add(t185, t188);
         let t213: L = t40 * t212;
         let t214: L = L::splat(0.7071067811865476) * t213;
-        let t215: L = t32.mul_add(t203, t208);
-        let t216: L = t40 * t215;
-        let t217: L = L::splat(0.7071067811865476) * t216;
-        let t218: L = t37.mul_add(t191, t194);
-        let t219: L = t40 * t218;
-        let t220: L = L::splat(0.7071067811865476) * t219;
-        let t221: L = t17.mul_add(L::splat(30.0), L::splat(-3.0));
-        let t222: L = L::splat(30.0).mul_add(t188, t221);
-        let t223: L = t12 * t222;
-        let t224: L = t17.mul_add(L::splat(-30.0), L::splat(3.0));
-        let t225: L = L::splat(-30.0).mul_add(t188, t224);
-        let t226: L = t32.mul_add(t225, t193);
-        let t227: L = t12.mul_add(t223, t226);
-        let t228: L = t12 * t227;
-        let t229: L = t40 * t228;
-        let t230: L = L::splat(0.7071067811865476) * t229;
-        let t231: L = t13 * t225;
-        let t232: L = t17 * L::splat(12.0);
-        let t233: L = L::splat(12.0).mul_add(t188, t232);
-        let t234: L = t18.mul_add(t222, t233);
-        let t235: L = t13.mul_add(t231, t234);
-        let t236: L = t13 * t235;
+        let t215: L = t17.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t216: L = L::splat(30.0).mul_add(t182, t215);
+        let t217: L = t12 * t216;
+        let t218: L = t17.mul_add(L::splat(-30.0), L::splat(3.0));
+        let t219: L = L::splat(-30.0).mul_add(t182, t218);
+        let t220: L = t32.mul_add(t219, t187);
+        let t221: L = t12.mul_add(t217, t220);
+        let t222: L = t12 * t221;
+        let t223: L = t40 * t222;
+        let t224: L = L::splat(0.7071067811865476) * t223;
+        let t225: L = t13 * t219;
+        let t226: L = t17 * L::splat(12.0);
+        let t227: L = L::splat(12.0).mul_add(t182, t226);
+        let t228: L = t18.mul_add(t216, t227);
+        let t229: L = t13.mul_add(t225, t228);
+        let t230: L = t13 * t229;
+        let t231: L = t40 * t230;
+        let t232: L = L::splat(0.7071067811865476) * t231;
+        let t233: L = t14 * t216;
+        let t234: L = t14 * t219;
+        let t235: L = t32 * t234;
+        let t236: L = t18.mul_add(t233, t235);
         let t237: L = t40 * t236;
         let t238: L = L::splat(0.7071067811865476) * t237;
-        let t239: L = t14 * t222;
-        let t240: L = t14 * t225;
-        let t241: L = t32 * t240;
-        let t242: L = t18.mul_add(t239, t241);
-        let t243: L = t40 * t242;
-        let t244: L = L::splat(0.7071067811865476) * t243;
-        let t245: L = t17.mul_add(L::splat(90.0), L::splat(-9.0));
-        let t246: L = t188.mul_add(L::splat(90.0), t245);
-        let t247: L = t12 * t246;
-        let t248: L = t17.mul_add(L::splat(-18.0), L::splat(3.0));
-        let t249: L = t188.mul_add(L::splat(-18.0), t248);
-        let t250: L = t12 * t249;
-        let t251: L = t37.mul_add(t247, t250);
-        let t252: L = t40 * t251;
-        let t253: L = L::splat(0.408248290463863) * t252;
-        let t254: L = t13 * t246;
-        let t255: L = t13 * t249;
-        let t256: L = t37.mul_add(t254, t255);
-        let t257: L = t40 * t256;
-        let t258: L = L::splat(0.408248290463863) * t257;
-        let t259: L = t14 * t246;
-        let t260: L = t17.mul_add(L::splat(-54.0), L::splat(3.0));
-        let t261: L = t188.mul_add(L::splat(-54.0), t260);
-        let t262: L = t14.mul_add(t259, t261);
-        let t263: L = t14 * t262;
-        let t264: L = t40 * t263;
-        let t265: L = L::splat(0.408248290463863) * t264;
-        let t266: L = t48.mul_add(L::splat(840.0), L::splat(-60.0));
-        let t267: L = t188.mul_add(L::splat(840.0), t266);
-        let t268: L = t48.mul_add(L::splat(-120.0), L::splat(6.0));
-        let t269: L = t188.mul_add(L::splat(-120.0), t268);
-        let t270: L = t32.mul_add(t267, t269);
-        let t271: L = t48 * L::splat(24.0);
-        let t272: L = t188.mul_add(L::splat(24.0), t271);
-        let t273: L = t32.mul_add(t269, t272);
-        let t274: L = t18.mul_add(t270, t273);
-        let t275: L = t127 * t274;
-        let t276: L = t275 * L::splat(0.5);
-        let t277: L = t14 * t267;
-        let t278: L = t13 * t277;
-        let t279: L = t14 * t269;
-        let t280: L = t13 * t279;
-        let t281: L = t18.mul_add(t278, t280);
-        let t282: L = t127 * t281;
-        let t283: L = L::splat(0.5) * t282;
-        let t284: L = t12 * t277;
-        let t285: L = t12 * t279;
-        let t286: L = t32.mul_add(t284, t285);
-        let t287: L = t127 * t286;
-        let t288: L = L::splat(0.5) * t287;
-        let t289: L = t48.mul_add(L::splat(420.0), L::splat(-30.0));
-        let t290: L = t188.mul_add(L::splat(420.0), t289);
-        let t291: L = t13 * t290;
+        let t239: L = t17.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t240: L = t182.mul_add(L::splat(90.0), t239);
+        let t241: L = t12 * t240;
+        let t242: L = t17.mul_add(L::splat(-18.0), L::splat(3.0));
+        let t243: L = t182.mul_add(L::splat(-18.0), t242);
+        let t244: L = t12 * t243;
+        let t245: L = t37.mul_add(t241, t244);
+        let t246: L = t40 * t245;
+        let t247: L = L::splat(0.408248290463863) * t246;
+        let t248: L = t13 * t240;
+        let t249: L = t13 * t243;
+        let t250: L = t37.mul_add(t248, t249);
+        let t251: L = t40 * t250;
+        let t252: L = L::splat(0.408248290463863) * t251;
+        let t253: L = t14 * t240;
+        let t254: L = t17.mul_add(L::splat(-54.0), L::splat(3.0));
+        let t255: L = t182.mul_add(L::splat(-54.0), t254);
+        let t256: L = t14.mul_add(t253, t255);
+        let t257: L = t14 * t256;
+        let t258: L = t40 * t257;
+        let t259: L = L::splat(0.408248290463863) * t258;
+        let t260: L = t48.mul_add(L::splat(840.0), L::splat(-60.0));
+        let t261: L = t182.mul_add(L::splat(840.0), t260);
+        let t262: L = t48.mul_add(L::splat(-120.0), L::splat(6.0));
+        let t263: L = t182.mul_add(L::splat(-120.0), t262);
+        let t264: L = t32.mul_add(t261, t263);
+        let t265: L = t48 * L::splat(24.0);
+        let t266: L = t182.mul_add(L::splat(24.0), t265);
+        let t267: L = t32.mul_add(t263, t266);
+        let t268: L = t18.mul_add(t264, t267);
+        let t269: L = t127 * t268;
+        let t270: L = t269 * L::splat(0.5);
+        let t271: L = t14 * t261;
+        let t272: L = t13 * t271;
+        let t273: L = t14 * t263;
+        let t274: L = t13 * t273;
+        let t275: L = t18.mul_add(t272, t274);
+        let t276: L = t127 * t275;
+        let t277: L = L::splat(0.5) * t276;
+        let t278: L = t12 * t271;
+        let t279: L = t12 * t273;
+        let t280: L = t32.mul_add(t278, t279);
+        let t281: L = t127 * t280;
+        let t282: L = L::splat(0.5) * t281;
+        let t283: L = t48.mul_add(L::splat(420.0), L::splat(-30.0));
+        let t284: L = t182.mul_add(L::splat(420.0), t283);
+        let t285: L = t13 * t284;
+        let t286: L = t12 * t285;
+        let t287: L = t13.powi(3);
+        let t288: L = t48.mul_add(L::splat(-420.0), L::splat(30.0));
+        let t289: L = t182.mul_add(L::splat(-420.0), t288);
+        let t290: L = t287 * t289;
+        let t291: L = t12.mul_add(t286, t290);
         let t292: L = t12 * t291;
-        let t293: L = t13.powi(3);
-        let t294: L = t48.mul_add(L::splat(-420.0), L::splat(30.0));
-        let t295: L = t188.mul_add(L::splat(-420.0), t294);
-        let t296: L = t293 * t295;
-        let t297: L = t12.mul_add(t292, t296);
+        let t293: L = t127 * t292;
+        let t294: L = L::splat(0.5) * t293;
+        let t295: L = t48.mul_add(L::splat(1260.0), L::splat(-90.0));
+        let t296: L = t182.mul_add(L::splat(1260.0), t295);
+        let t297: L = t13 * t296;
         let t298: L = t12 * t297;
-        let t299: L = t127 * t298;
-        let t300: L = L::splat(0.5) * t299;
-        let t301: L = t48.mul_add(L::splat(1260.0), L::splat(-90.0));
-        let t302: L = t188.mul_add(L::splat(1260.0), t301);
-        let t303: L = t13 * t302;
-        let t304: L = t12 * t303;
-        let t305: L = t48.mul_add(L::splat(-180.0), L::splat(18.0));
-        let t306: L = t188.mul_add(L::splat(-180.0), t305);
-        let t307: L = t13 * t306;
-        let t308: L = t12 * t307;
-        let t309: L = t37.mul_add(t304, t308);
-        let t310: L = t127 * t309;
-        let t311: L = t310 * L::splat(0.28867513459481287);
-        let t312: L = t37.mul_add(t267, t269);
-        let t313: L = t37.mul_add(t269, t272);
-        let t314: L = t18.mul_add(t312, t313);
-        let t315: L = t127 * t314;
-        let t316: L = L::splat(0.5) * t315;
-        let t317: L = t13 * t267;
-        let t318: L = t12 * t317;
-        let t319: L = t13 * t269;
-        let t320: L = t12 * t319;
-        let t321: L = t37.mul_add(t318, t320);
-        let t322: L = t127 * t321;
-        let t323: L = L::splat(0.5) * t322;
-        let t324: L = t14 * t290;
-        let t325: L = t12 * t324;
-        let t326: L = t14 * t295;
-        let t327: L = t32.mul_add(t326, t279);
-        let t328: L = t12.mul_add(t325, t327);
-        let t329: L = t12 * t328;
-        let t330: L = t127 * t329;
-        let t331: L = L::splat(0.5) * t330;
-        let t332: L = t12 * t302;
-        let t333: L = t14 * t332;
-        let t334: L = t48.mul_add(L::splat(-540.0), L::splat(36.0));
-        let t335: L = t188.mul_add(L::splat(-540.0), t334);
-        let t336: L = t12 * t335;
-        let t337: L = t14.mul_add(t333, t336);
-        let t338: L = t14 * t337;
-        let t339: L = t127 * t338;
-        let t340: L = L::splat(0.28867513459481287) * t339;
-        let t341: L = t32.mul_add(t312, t313);
-        let t342: L = t127 * t341;
-        let t343: L = L::splat(0.5) * t342;
-        let t344: L = t13 * t326;
-        let t345: L = t48.mul_add(L::splat(120.0), L::splat(-6.0));
-        let t346: L = t188.mul_add(L::splat(120.0), t345);
-        let t347: L = t14 * t346;
-        let t348: L = t18.mul_add(t324, t347);
-        let t349: L = t13.mul_add(t344, t348);
-        let t350: L = t13 * t349;
+        let t299: L = t48.mul_add(L::splat(-180.0), L::splat(18.0));
+        let t300: L = t182.mul_add(L::splat(-180.0), t299);
+        let t301: L = t13 * t300;
+        let t302: L = t12 * t301;
+        let t303: L = t37.mul_add(t298, t302);
+        let t304: L = t127 * t303;
+        let t305: L = t304 * L::splat(0.28867513459481287);
+        let t306: L = t37.mul_add(t261, t263);
+        let t307: L = t37.mul_add(t263, t266);
+        let t308: L = t18.mul_add(t306, t307);
+        let t309: L = t127 * t308;
+        let t310: L = L::splat(0.5) * t309;
+        let t311: L = t13 * t261;
+        let t312: L = t12 * t311;
+        let t313: L = t13 * t263;
+        let t314: L = t12 * t313;
+        let t315: L = t37.mul_add(t312, t314);
+        let t316: L = t127 * t315;
+        let t317: L = L::splat(0.5) * t316;
+        let t318: L = t14 * t284;
+        let t319: L = t12 * t318;
+        let t320: L = t14 * t289;
+        let t321: L = t32.mul_add(t320, t273);
+        let t322: L = t12.mul_add(t319, t321);
+        let t323: L = t12 * t322;
+        let t324: L = t127 * t323;
+        let t325: L = L::splat(0.5) * t324;
+        let t326: L = t12 * t296;
+        let t327: L = t14 * t326;
+        let t328: L = t48.mul_add(L::splat(-540.0), L::splat(36.0));
+        let t329: L = t182.mul_add(L::splat(-540.0), t328);
+        let t330: L = t12 * t329;
+        let t331: L = t14.mul_add(t327, t330);
+        let t332: L = t14 * t331;
+        let t333: L = t127 * t332;
+        let t334: L = L::splat(0.28867513459481287) * t333;
+        let t335: L = t32.mul_add(t306, t307);
+        let t336: L = t127 * t335;
+        let t337: L = L::splat(0.5) * t336;
+        let t338: L = t13 * t320;
+        let t339: L = t48.mul_add(L::splat(120.0), L::splat(-6.0));
+        let t340: L = t182.mul_add(L::splat(120.0), t339);
+        let t341: L = t14 * t340;
+        let t342: L = t18.mul_add(t318, t341);
+        let t343: L = t13.mul_add(t338, t342);
+        let t344: L = t13 * t343;
+        let t345: L = t127 * t344;
+        let t346: L = L::splat(0.5) * t345;
+        let t347: L = t14 * t297;
+        let t348: L = t13 * t329;
+        let t349: L = t14.mul_add(t347, t348);
+        let t350: L = t14 * t349;
         let t351: L = t127 * t350;
-        let t352: L = L::splat(0.5) * t351;
-        let t353: L = t14 * t303;
-        let t354: L = t13 * t335;
-        let t355: L = t14.mul_add(t353, t354);
-        let t356: L = t14 * t355;
-        let t357: L = t127 * t356;
-        let t358: L = L::splat(0.28867513459481287) * t357;
-        let t359: L = t48.mul_add(L::splat(210.0), L::splat(-15.0));
-        let t360: L = t188.mul_add(L::splat(210.0), t359);
-        let t361: L = t32.mul_add(t295, t269);
-        let t362: L = t18.mul_add(t360, t361);
-        let t363: L = t32.mul_add(t360, t269);
-        let t364: L = t32.mul_add(t363, t272);
-        let t365: L = t18.mul_add(t362, t364);
-        let t366: L = t127 * t365;
-        let t367: L = L::splat(0.5) * t366;
-        let t368: L = t48.mul_add(L::splat(-630.0), L::splat(45.0));
-        let t369: L = t188.mul_add(L::splat(-630.0), t368);
-        let t370: L = t48.mul_add(L::splat(540.0), L::splat(-36.0));
-        let t371: L = t188.mul_add(L::splat(540.0), t370);
-        let t372: L = t18.mul_add(t369, t371);
-        let t373: L = t48.mul_add(L::splat(630.0), L::splat(-45.0));
-        let t374: L = t188.mul_add(L::splat(630.0), t373);
-        let t375: L = t32.mul_add(t374, t335);
-        let t376: L = t32 * t375;
-        let t377: L = t18.mul_add(t372, t376);
-        let t378: L = t127 * t377;
-        let t379: L = L::splat(0.28867513459481287) * t378;
-        let t380: L = t48.mul_add(L::splat(1890.0), L::splat(-135.0));
-        let t381: L = t188.mul_add(L::splat(1890.0), t380);
-        let t382: L = t48.mul_add(L::splat(-1620.0), L::splat(108.0));
-        let t383: L = t188.mul_add(L::splat(-1620.0), t382);
-        let t384: L = t37.mul_add(t381, t383);
-        let t385: L = t48.mul_add(L::splat(162.0), L::splat(-9.0));
-        let t386: L = t188.mul_add(L::splat(162.0), t385);
-        let t387: L = t37.mul_add(t384, t386);
-        let t388: L = t127 * t387;
-        let t389: L = L::splat(0.16666666666666666) * t388;
+        let t352: L = L::splat(0.28867513459481287) * t351;
+        let t353: L = t48.mul_add(L::splat(210.0), L::splat(-15.0));
+        let t354: L = t182.mul_add(L::splat(210.0), t353);
+        let t355: L = t32.mul_add(t289, t263);
+        let t356: L = t18.mul_add(t354, t355);
+        let t357: L = t32.mul_add(t354, t263);
+        let t358: L = t32.mul_add(t357, t266);
+        let t359: L = t18.mul_add(t356, t358);
+        let t360: L = t127 * t359;
+        let t361: L = L::splat(0.5) * t360;
+        let t362: L = t48.mul_add(L::splat(-630.0), L::splat(45.0));
+        let t363: L = t182.mul_add(L::splat(-630.0), t362);
+        let t364: L = t48.mul_add(L::splat(540.0), L::splat(-36.0));
+        let t365: L = t182.mul_add(L::splat(540.0), t364);
+        let t366: L = t18.mul_add(t363, t365);
+        let t367: L = t48.mul_add(L::splat(630.0), L::splat(-45.0));
+        let t368: L = t182.mul_add(L::splat(630.0), t367);
+        let t369: L = t32.mul_add(t368, t329);
+        let t370: L = t32 * t369;
+        let t371: L = t18.mul_add(t366, t370);
+        let t372: L = t127 * t371;
+        let t373: L = L::splat(0.28867513459481287) * t372;
+        let t374: L = t48.mul_add(L::splat(1890.0), L::splat(-135.0));
+        let t375: L = t182.mul_add(L::splat(1890.0), t374);
+        let t376: L = t48.mul_add(L::splat(-1620.0), L::splat(108.0));
+        let t377: L = t182.mul_add(L::splat(-1620.0), t376);
+        let t378: L = t37.mul_add(t375, t377);
+        let t379: L = t48.mul_add(L::splat(162.0), L::splat(-9.0));
+        let t380: L = t182.mul_add(L::splat(162.0), t379);
+        let t381: L = t37.mul_add(t378, t380);
+        let t382: L = t127 * t381;
+        let t383: L = L::splat(0.16666666666666666) * t382;
         [
             t25,
             t28,
@@ -1094,80 +1082,80 @@ pub fn free_pair_lanes<L: lanes::Lane>(
             t134,
             t131,
             t136,
-            t138,
+            t139,
             t134,
-            t138,
-            t140,
+            t139,
+            t141,
             t144,
-            t148,
-            t152,
-            t156,
-            t160,
-            t156,
+            t147,
+            t151,
+            t154,
+            t157,
+            t154,
+            t161,
             t164,
-            t168,
-            t171,
-            t175,
-            t179,
-            t182,
-            t171,
-            t186,
+            t167,
+            t170,
+            t174,
+            t177,
+            t167,
+            t180,
             L::splat(0.0),
-            t197,
-            t202,
-            t207,
+            t191,
+            t196,
+            t201,
+            t205,
+            t201,
+            t208,
+            t201,
             t211,
-            t207,
             t214,
-            t207,
-            t217,
-            t220,
-            t230,
+            t224,
+            t232,
             t238,
-            t244,
-            t253,
-            t258,
-            t265,
+            t247,
+            t252,
+            t259,
             t144,
-            t156,
-            t179,
-            t148,
+            t154,
+            t174,
+            t147,
+            t161,
+            t177,
+            t151,
             t164,
-            t182,
-            t152,
-            t168,
-            t171,
-            t156,
-            t171,
-            t186,
-            t160,
-            t175,
+            t167,
+            t154,
+            t167,
+            t180,
+            t157,
+            t170,
             L::splat(0.0),
-            t276,
-            t283,
-            t288,
-            t300,
-            t311,
-            t283,
-            t316,
-            t323,
-            t331,
-            t340,
-            t288,
-            t323,
-            t343,
+            t270,
+            t277,
+            t282,
+            t294,
+            t305,
+            t277,
+            t310,
+            t317,
+            t325,
+            t334,
+            t282,
+            t317,
+            t337,
+            t346,
             t352,
-            t358,
-            t300,
-            t331,
+            t294,
+            t325,
+            t346,
+            t361,
+            t373,
+            t305,
+            t334,
             t352,
-            t367,
-            t379,
-            t311,
-            t340,
-            t358,
-            t379,
-            t389,
+            t373,
+            t383,
         ]
     };
     out
@@ -1184,7 +1172,7 @@ pub use free_pair_lanes as free_pair_lanes_ordered;
 /// - `a`: radius of the particle(s)
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 488 flops (131 add/sub, 347 mul, 2 div, 1 sqrt, 4 powi, 3 neg).
+/// Operation count (after dead-code elimination): 482 flops (131 add/sub, 341 mul, 2 div, 1 sqrt, 4 powi, 3 neg).
 #[inline]
 pub fn free_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Grand {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -1241,10 +1229,10 @@ pub fn free_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Grand {
     let t51: f64 = -t50;
     let t52: f64 = t4 * 0.1;
     let t53: f64 = t16 * t52;
-    let t54: f64 = t17 * (-60.0);
-    let t55: f64 = t53 * (-60.0);
-    let t56: f64 = t55 + 6.0;
-    let t57: f64 = t54 + t56;
+    let t54: f64 = t53 * (-60.0);
+    let t55: f64 = t54 + 6.0;
+    let t56: f64 = t17 * (-60.0);
+    let t57: f64 = t55 + t56;
     let t58: f64 = t14 * t57;
     let t59: f64 = t18 * t58;
     let t60: f64 = t17 * 12.0;
@@ -1264,32 +1252,32 @@ pub fn free_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Grand {
     let t74: f64 = t13 * t73;
     let t75: f64 = t45 * t74;
     let t76: f64 = 0.7071067811865476 * t75;
-    let t77: f64 = t17 * (-30.0);
-    let t78: f64 = t53 * (-30.0);
-    let t79: f64 = t78 + 3.0;
-    let t80: f64 = t77 + t79;
+    let t77: f64 = t53 * (-30.0);
+    let t78: f64 = t77 + 3.0;
+    let t79: f64 = t17 * (-30.0);
+    let t80: f64 = t78 + t79;
     let t81: f64 = t13 * t80;
     let t82: f64 = t13 * t81;
-    let t83: f64 = t17 * 30.0;
-    let t84: f64 = t53 * 30.0;
-    let t85: f64 = t84 + (-3.0);
-    let t86: f64 = t83 + t85;
+    let t83: f64 = t53 * 30.0;
+    let t84: f64 = t83 + (-3.0);
+    let t85: f64 = t17 * 30.0;
+    let t86: f64 = t84 + t85;
     let t87: f64 = t35 * t86;
     let t88: f64 = t62 + t87;
     let t89: f64 = t82 + t88;
     let t90: f64 = t13 * t89;
     let t91: f64 = t45 * t90;
     let t92: f64 = 0.7071067811865476 * t91;
-    let t93: f64 = t17 * (-90.0);
-    let t94: f64 = t53 * (-90.0);
-    let t95: f64 = t94 + 9.0;
-    let t96: f64 = t93 + t95;
+    let t93: f64 = t53 * (-90.0);
+    let t94: f64 = t93 + 9.0;
+    let t95: f64 = t17 * (-90.0);
+    let t96: f64 = t94 + t95;
     let t97: f64 = t13 * t96;
     let t98: f64 = t41 * t97;
-    let t99: f64 = t17 * 18.0;
-    let t100: f64 = t53 * 18.0;
-    let t101: f64 = (-3.0) + t100;
-    let t102: f64 = t99 + t101;
+    let t99: f64 = t53 * 18.0;
+    let t100: f64 = (-3.0) + t99;
+    let t101: f64 = t17 * 18.0;
+    let t102: f64 = t100 + t101;
     let t103: f64 = t13 * t102;
     let t104: f64 = t98 + t103;
     let t105: f64 = t45 * t104;
@@ -1338,10 +1326,10 @@ pub fn free_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Grand {
     let t148: f64 = 0.7071067811865476 * t147;
     let t149: f64 = t15 * t96;
     let t150: f64 = t15 * t149;
-    let t151: f64 = t17 * 54.0;
-    let t152: f64 = t53 * 54.0;
-    let t153: f64 = (-3.0) + t152;
-    let t154: f64 = t151 + t153;
+    let t151: f64 = t53 * 54.0;
+    let t152: f64 = (-3.0) + t151;
+    let t153: f64 = t17 * 54.0;
+    let t154: f64 = t152 + t153;
     let t155: f64 = t150 + t154;
     let t156: f64 = t15 * t155;
     let t157: f64 = t45 * t156;
@@ -1350,331 +1338,325 @@ pub fn free_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Grand {
     let t160: f64 = t159 + (-0.5);
     let t161: f64 = t12 * t45;
     let t162: f64 = t160 * t161;
-    let t163: f64 = t14 * 1.5;
-    let t164: f64 = t13 * t163;
+    let t163: f64 = t13 * t14;
+    let t164: f64 = 1.5 * t163;
     let t165: f64 = t161 * t164;
-    let t166: f64 = t15 * 1.5;
-    let t167: f64 = t13 * t166;
+    let t166: f64 = t13 * t15;
+    let t167: f64 = 1.5 * t166;
     let t168: f64 = t161 * t167;
     let t169: f64 = t35 * 1.5;
     let t170: f64 = (-0.5) + t169;
     let t171: f64 = t161 * t170;
-    let t172: f64 = t14 * t166;
-    let t173: f64 = t161 * t172;
-    let t174: f64 = t41 * 1.5;
-    let t175: f64 = (-0.5) + t174;
-    let t176: f64 = t161 * t175;
-    let t177: f64 = t15 * 3.0;
-    let t178: f64 = t13 * t177;
+    let t172: f64 = t14 * t15;
+    let t173: f64 = 1.5 * t172;
+    let t174: f64 = t161 * t173;
+    let t175: f64 = t41 * 1.5;
+    let t176: f64 = (-0.5) + t175;
+    let t177: f64 = t161 * t176;
+    let t178: f64 = 3.0 * t166;
     let t179: f64 = t161 * t178;
     let t180: f64 = 0.7071067811865476 * t179;
-    let t181: f64 = t14 * (-3.0);
-    let t182: f64 = t13 * t181;
-    let t183: f64 = t161 * t182;
-    let t184: f64 = 0.7071067811865476 * t183;
-    let t185: f64 = t35 * (-3.0);
-    let t186: f64 = t41 * 3.0;
-    let t187: f64 = t185 + t186;
-    let t188: f64 = t161 * t187;
-    let t189: f64 = 0.7071067811865476 * t188;
-    let t190: f64 = t15 * (-3.0);
-    let t191: f64 = t14 * t190;
-    let t192: f64 = t161 * t191;
-    let t193: f64 = 0.7071067811865476 * t192;
-    let t194: f64 = t15 * (-9.0);
-    let t195: f64 = t14 * t194;
-    let t196: f64 = t161 * t195;
-    let t197: f64 = 0.408248290463863 * t196;
-    let t198: f64 = t18 * 3.0;
-    let t199: f64 = t41 * (-3.0);
-    let t200: f64 = t198 + t199;
+    let t181: f64 = (-3.0) * t163;
+    let t182: f64 = t161 * t181;
+    let t183: f64 = 0.7071067811865476 * t182;
+    let t184: f64 = t35 * (-3.0);
+    let t185: f64 = t41 * 3.0;
+    let t186: f64 = t184 + t185;
+    let t187: f64 = t161 * t186;
+    let t188: f64 = 0.7071067811865476 * t187;
+    let t189: f64 = (-3.0) * t172;
+    let t190: f64 = t161 * t189;
+    let t191: f64 = 0.7071067811865476 * t190;
+    let t192: f64 = t172 * (-9.0);
+    let t193: f64 = t161 * t192;
+    let t194: f64 = 0.408248290463863 * t193;
+    let t195: f64 = t18 * 3.0;
+    let t196: f64 = t41 * (-3.0);
+    let t197: f64 = t195 + t196;
+    let t198: f64 = t161 * t197;
+    let t199: f64 = 0.7071067811865476 * t198;
+    let t200: f64 = 3.0 * t163;
     let t201: f64 = t161 * t200;
     let t202: f64 = 0.7071067811865476 * t201;
-    let t203: f64 = t14 * 3.0;
-    let t204: f64 = t13 * t203;
-    let t205: f64 = t161 * t204;
-    let t206: f64 = 0.7071067811865476 * t205;
-    let t207: f64 = t13 * t190;
-    let t208: f64 = t161 * t207;
-    let t209: f64 = 0.7071067811865476 * t208;
-    let t210: f64 = t15 * 9.0;
-    let t211: f64 = t13 * t210;
+    let t203: f64 = (-3.0) * t166;
+    let t204: f64 = t161 * t203;
+    let t205: f64 = 0.7071067811865476 * t204;
+    let t206: f64 = 9.0 * t166;
+    let t207: f64 = t161 * t206;
+    let t208: f64 = 0.408248290463863 * t207;
+    let t209: f64 = t18 * (-3.0);
+    let t210: f64 = t35 * 3.0;
+    let t211: f64 = t209 + t210;
     let t212: f64 = t161 * t211;
-    let t213: f64 = 0.408248290463863 * t212;
-    let t214: f64 = t18 * (-3.0);
-    let t215: f64 = t35 * 3.0;
-    let t216: f64 = t214 + t215;
-    let t217: f64 = t161 * t216;
-    let t218: f64 = 0.7071067811865476 * t217;
-    let t219: f64 = t14 * t177;
-    let t220: f64 = t161 * t219;
-    let t221: f64 = 0.7071067811865476 * t220;
-    let t222: f64 = t14 * 6.0;
-    let t223: f64 = t13 * t222;
-    let t224: f64 = t161 * t223;
-    let t225: f64 = 0.7071067811865476 * t224;
-    let t226: f64 = t53 * 60.0;
-    let t227: f64 = t17 * 60.0;
-    let t228: f64 = (-6.0) + t227;
-    let t229: f64 = t226 + t228;
-    let t230: f64 = t14 * t229;
-    let t231: f64 = t18 * t230;
-    let t232: f64 = t14 * t122;
+    let t213: f64 = 0.7071067811865476 * t212;
+    let t214: f64 = 3.0 * t172;
+    let t215: f64 = t161 * t214;
+    let t216: f64 = 0.7071067811865476 * t215;
+    let t217: f64 = 6.0 * t163;
+    let t218: f64 = t161 * t217;
+    let t219: f64 = 0.7071067811865476 * t218;
+    let t220: f64 = t17 * 60.0;
+    let t221: f64 = (-6.0) + t220;
+    let t222: f64 = t53 * 60.0;
+    let t223: f64 = t221 + t222;
+    let t224: f64 = t14 * t223;
+    let t225: f64 = t18 * t224;
+    let t226: f64 = t14 * t122;
+    let t227: f64 = t225 + t226;
+    let t228: f64 = t45 * t227;
+    let t229: f64 = 0.7071067811865476 * t228;
+    let t230: f64 = t13 * t223;
+    let t231: f64 = t35 * t230;
+    let t232: f64 = t13 * t122;
     let t233: f64 = t231 + t232;
     let t234: f64 = t45 * t233;
     let t235: f64 = 0.7071067811865476 * t234;
-    let t236: f64 = t13 * t229;
-    let t237: f64 = t35 * t236;
-    let t238: f64 = t13 * t122;
-    let t239: f64 = t237 + t238;
-    let t240: f64 = t45 * t239;
-    let t241: f64 = 0.7071067811865476 * t240;
-    let t242: f64 = t15 * t229;
-    let t243: f64 = t14 * t242;
-    let t244: f64 = t13 * t243;
-    let t245: f64 = t45 * t244;
-    let t246: f64 = 0.7071067811865476 * t245;
-    let t247: f64 = t18 * t242;
-    let t248: f64 = t15 * t122;
-    let t249: f64 = t247 + t248;
-    let t250: f64 = t45 * t249;
-    let t251: f64 = 0.7071067811865476 * t250;
-    let t252: f64 = t41 * t236;
-    let t253: f64 = t238 + t252;
-    let t254: f64 = t45 * t253;
-    let t255: f64 = 0.7071067811865476 * t254;
-    let t256: f64 = t35 * t242;
-    let t257: f64 = t248 + t256;
-    let t258: f64 = t45 * t257;
-    let t259: f64 = 0.7071067811865476 * t258;
-    let t260: f64 = t41 * t230;
-    let t261: f64 = t232 + t260;
-    let t262: f64 = t45 * t261;
-    let t263: f64 = 0.7071067811865476 * t262;
-    let t264: f64 = t83 + (-3.0);
-    let t265: f64 = t84 + t264;
-    let t266: f64 = t13 * t265;
+    let t236: f64 = t15 * t223;
+    let t237: f64 = t14 * t236;
+    let t238: f64 = t13 * t237;
+    let t239: f64 = t45 * t238;
+    let t240: f64 = 0.7071067811865476 * t239;
+    let t241: f64 = t18 * t236;
+    let t242: f64 = t15 * t122;
+    let t243: f64 = t241 + t242;
+    let t244: f64 = t45 * t243;
+    let t245: f64 = 0.7071067811865476 * t244;
+    let t246: f64 = t41 * t230;
+    let t247: f64 = t232 + t246;
+    let t248: f64 = t45 * t247;
+    let t249: f64 = 0.7071067811865476 * t248;
+    let t250: f64 = t35 * t236;
+    let t251: f64 = t242 + t250;
+    let t252: f64 = t45 * t251;
+    let t253: f64 = 0.7071067811865476 * t252;
+    let t254: f64 = t41 * t224;
+    let t255: f64 = t226 + t254;
+    let t256: f64 = t45 * t255;
+    let t257: f64 = 0.7071067811865476 * t256;
+    let t258: f64 = (-3.0) + t85;
+    let t259: f64 = t83 + t258;
+    let t260: f64 = t13 * t259;
+    let t261: f64 = t13 * t260;
+    let t262: f64 = 3.0 + t79;
+    let t263: f64 = t77 + t262;
+    let t264: f64 = t35 * t263;
+    let t265: f64 = t122 + t264;
+    let t266: f64 = t261 + t265;
     let t267: f64 = t13 * t266;
-    let t268: f64 = t77 + 3.0;
-    let t269: f64 = t78 + t268;
-    let t270: f64 = t35 * t269;
-    let t271: f64 = t122 + t270;
-    let t272: f64 = t267 + t271;
-    let t273: f64 = t13 * t272;
-    let t274: f64 = t45 * t273;
-    let t275: f64 = 0.7071067811865476 * t274;
-    let t276: f64 = t14 * t269;
-    let t277: f64 = t14 * t276;
-    let t278: f64 = t18 * t265;
-    let t279: f64 = t62 + t278;
-    let t280: f64 = t277 + t279;
-    let t281: f64 = t14 * t280;
-    let t282: f64 = t45 * t281;
-    let t283: f64 = 0.7071067811865476 * t282;
-    let t284: f64 = t15 * t265;
-    let t285: f64 = t18 * t284;
-    let t286: f64 = t15 * t269;
-    let t287: f64 = t35 * t286;
-    let t288: f64 = t285 + t287;
-    let t289: f64 = t45 * t288;
-    let t290: f64 = 0.7071067811865476 * t289;
-    let t291: f64 = t53 * 90.0;
-    let t292: f64 = t17 * 90.0;
-    let t293: f64 = (-9.0) + t292;
-    let t294: f64 = t291 + t293;
+    let t268: f64 = t45 * t267;
+    let t269: f64 = 0.7071067811865476 * t268;
+    let t270: f64 = t14 * t263;
+    let t271: f64 = t14 * t270;
+    let t272: f64 = t18 * t259;
+    let t273: f64 = t62 + t272;
+    let t274: f64 = t271 + t273;
+    let t275: f64 = t14 * t274;
+    let t276: f64 = t45 * t275;
+    let t277: f64 = 0.7071067811865476 * t276;
+    let t278: f64 = t15 * t259;
+    let t279: f64 = t18 * t278;
+    let t280: f64 = t15 * t263;
+    let t281: f64 = t35 * t280;
+    let t282: f64 = t279 + t281;
+    let t283: f64 = t45 * t282;
+    let t284: f64 = 0.7071067811865476 * t283;
+    let t285: f64 = t17 * 90.0;
+    let t286: f64 = (-9.0) + t285;
+    let t287: f64 = t53 * 90.0;
+    let t288: f64 = t286 + t287;
+    let t289: f64 = t13 * t288;
+    let t290: f64 = t41 * t289;
+    let t291: f64 = t17 * (-18.0);
+    let t292: f64 = 3.0 + t291;
+    let t293: f64 = t53 * (-18.0);
+    let t294: f64 = t292 + t293;
     let t295: f64 = t13 * t294;
-    let t296: f64 = t41 * t295;
-    let t297: f64 = t53 * (-18.0);
-    let t298: f64 = t17 * (-18.0);
-    let t299: f64 = 3.0 + t298;
-    let t300: f64 = t297 + t299;
-    let t301: f64 = t13 * t300;
-    let t302: f64 = t296 + t301;
+    let t296: f64 = t290 + t295;
+    let t297: f64 = t45 * t296;
+    let t298: f64 = 0.408248290463863 * t297;
+    let t299: f64 = t14 * t288;
+    let t300: f64 = t41 * t299;
+    let t301: f64 = t14 * t294;
+    let t302: f64 = t300 + t301;
     let t303: f64 = t45 * t302;
     let t304: f64 = 0.408248290463863 * t303;
-    let t305: f64 = t14 * t294;
-    let t306: f64 = t41 * t305;
-    let t307: f64 = t14 * t300;
-    let t308: f64 = t306 + t307;
-    let t309: f64 = t45 * t308;
-    let t310: f64 = 0.408248290463863 * t309;
-    let t311: f64 = t15 * t294;
+    let t305: f64 = t15 * t288;
+    let t306: f64 = t15 * t305;
+    let t307: f64 = t17 * (-54.0);
+    let t308: f64 = 3.0 + t307;
+    let t309: f64 = t53 * (-54.0);
+    let t310: f64 = t308 + t309;
+    let t311: f64 = t306 + t310;
     let t312: f64 = t15 * t311;
-    let t313: f64 = t53 * (-54.0);
-    let t314: f64 = t17 * (-54.0);
-    let t315: f64 = 3.0 + t314;
-    let t316: f64 = t313 + t315;
-    let t317: f64 = t312 + t316;
-    let t318: f64 = t15 * t317;
-    let t319: f64 = t45 * t318;
-    let t320: f64 = 0.408248290463863 * t319;
-    let t321: f64 = t53 * 840.0;
-    let t322: f64 = (-60.0) + t321;
-    let t323: f64 = t321 + t322;
-    let t324: f64 = t35 * t323;
-    let t325: f64 = t53 * (-120.0);
-    let t326: f64 = 6.0 + t325;
-    let t327: f64 = t325 + t326;
-    let t328: f64 = t324 + t327;
-    let t329: f64 = t18 * t328;
-    let t330: f64 = t35 * t327;
-    let t331: f64 = t53 * 24.0;
-    let t332: f64 = t331 + t331;
-    let t333: f64 = t330 + t332;
-    let t334: f64 = t329 + t333;
-    let t335: f64 = t161 * t334;
-    let t336: f64 = t335 * 0.5;
-    let t337: f64 = t15 * t323;
-    let t338: f64 = t14 * t337;
-    let t339: f64 = t18 * t338;
-    let t340: f64 = t15 * t327;
-    let t341: f64 = t14 * t340;
-    let t342: f64 = t339 + t341;
+    let t313: f64 = t45 * t312;
+    let t314: f64 = 0.408248290463863 * t313;
+    let t315: f64 = t53 * 840.0;
+    let t316: f64 = (-60.0) + t315;
+    let t317: f64 = t315 + t316;
+    let t318: f64 = t35 * t317;
+    let t319: f64 = t53 * (-120.0);
+    let t320: f64 = 6.0 + t319;
+    let t321: f64 = t319 + t320;
+    let t322: f64 = t318 + t321;
+    let t323: f64 = t18 * t322;
+    let t324: f64 = t35 * t321;
+    let t325: f64 = t53 * 24.0;
+    let t326: f64 = t325 + t325;
+    let t327: f64 = t324 + t326;
+    let t328: f64 = t323 + t327;
+    let t329: f64 = t161 * t328;
+    let t330: f64 = t329 * 0.5;
+    let t331: f64 = t15 * t317;
+    let t332: f64 = t14 * t331;
+    let t333: f64 = t18 * t332;
+    let t334: f64 = t15 * t321;
+    let t335: f64 = t14 * t334;
+    let t336: f64 = t333 + t335;
+    let t337: f64 = t161 * t336;
+    let t338: f64 = 0.5 * t337;
+    let t339: f64 = t13 * t331;
+    let t340: f64 = t35 * t339;
+    let t341: f64 = t13 * t334;
+    let t342: f64 = t340 + t341;
     let t343: f64 = t161 * t342;
     let t344: f64 = 0.5 * t343;
-    let t345: f64 = t13 * t337;
-    let t346: f64 = t35 * t345;
-    let t347: f64 = t13 * t340;
-    let t348: f64 = t346 + t347;
-    let t349: f64 = t161 * t348;
-    let t350: f64 = 0.5 * t349;
-    let t351: f64 = t53 * 420.0;
-    let t352: f64 = (-30.0) + t351;
-    let t353: f64 = t351 + t352;
-    let t354: f64 = t14 * t353;
-    let t355: f64 = t13 * t354;
-    let t356: f64 = t13 * t355;
-    let t357: f64 = t14.powi(3);
-    let t358: f64 = t53 * (-420.0);
-    let t359: f64 = 30.0 + t358;
-    let t360: f64 = t358 + t359;
-    let t361: f64 = t357 * t360;
-    let t362: f64 = t356 + t361;
-    let t363: f64 = t13 * t362;
-    let t364: f64 = t161 * t363;
-    let t365: f64 = 0.5 * t364;
-    let t366: f64 = t53 * 1260.0;
-    let t367: f64 = (-90.0) + t366;
+    let t345: f64 = t53 * 420.0;
+    let t346: f64 = (-30.0) + t345;
+    let t347: f64 = t345 + t346;
+    let t348: f64 = t14 * t347;
+    let t349: f64 = t13 * t348;
+    let t350: f64 = t13 * t349;
+    let t351: f64 = t14.powi(3);
+    let t352: f64 = t53 * (-420.0);
+    let t353: f64 = 30.0 + t352;
+    let t354: f64 = t352 + t353;
+    let t355: f64 = t351 * t354;
+    let t356: f64 = t350 + t355;
+    let t357: f64 = t13 * t356;
+    let t358: f64 = t161 * t357;
+    let t359: f64 = 0.5 * t358;
+    let t360: f64 = t53 * 1260.0;
+    let t361: f64 = (-90.0) + t360;
+    let t362: f64 = t360 + t361;
+    let t363: f64 = t14 * t362;
+    let t364: f64 = t13 * t363;
+    let t365: f64 = t41 * t364;
+    let t366: f64 = t53 * (-180.0);
+    let t367: f64 = 18.0 + t366;
     let t368: f64 = t366 + t367;
     let t369: f64 = t14 * t368;
     let t370: f64 = t13 * t369;
-    let t371: f64 = t41 * t370;
-    let t372: f64 = t53 * (-180.0);
-    let t373: f64 = 18.0 + t372;
-    let t374: f64 = t372 + t373;
-    let t375: f64 = t14 * t374;
-    let t376: f64 = t13 * t375;
-    let t377: f64 = t371 + t376;
-    let t378: f64 = t161 * t377;
-    let t379: f64 = t378 * 0.28867513459481287;
-    let t380: f64 = t41 * t323;
-    let t381: f64 = t327 + t380;
-    let t382: f64 = t18 * t381;
-    let t383: f64 = t41 * t327;
-    let t384: f64 = t332 + t383;
-    let t385: f64 = t382 + t384;
-    let t386: f64 = t161 * t385;
-    let t387: f64 = 0.5 * t386;
-    let t388: f64 = t14 * t323;
-    let t389: f64 = t13 * t388;
-    let t390: f64 = t41 * t389;
-    let t391: f64 = t14 * t327;
+    let t371: f64 = t365 + t370;
+    let t372: f64 = t161 * t371;
+    let t373: f64 = t372 * 0.28867513459481287;
+    let t374: f64 = t41 * t317;
+    let t375: f64 = t321 + t374;
+    let t376: f64 = t18 * t375;
+    let t377: f64 = t41 * t321;
+    let t378: f64 = t326 + t377;
+    let t379: f64 = t376 + t378;
+    let t380: f64 = t161 * t379;
+    let t381: f64 = 0.5 * t380;
+    let t382: f64 = t14 * t317;
+    let t383: f64 = t13 * t382;
+    let t384: f64 = t41 * t383;
+    let t385: f64 = t14 * t321;
+    let t386: f64 = t13 * t385;
+    let t387: f64 = t384 + t386;
+    let t388: f64 = t161 * t387;
+    let t389: f64 = 0.5 * t388;
+    let t390: f64 = t15 * t347;
+    let t391: f64 = t13 * t390;
     let t392: f64 = t13 * t391;
-    let t393: f64 = t390 + t392;
-    let t394: f64 = t161 * t393;
-    let t395: f64 = 0.5 * t394;
-    let t396: f64 = t15 * t353;
+    let t393: f64 = t15 * t354;
+    let t394: f64 = t35 * t393;
+    let t395: f64 = t334 + t394;
+    let t396: f64 = t392 + t395;
     let t397: f64 = t13 * t396;
-    let t398: f64 = t13 * t397;
-    let t399: f64 = t15 * t360;
-    let t400: f64 = t35 * t399;
-    let t401: f64 = t340 + t400;
-    let t402: f64 = t398 + t401;
-    let t403: f64 = t13 * t402;
-    let t404: f64 = t161 * t403;
-    let t405: f64 = 0.5 * t404;
-    let t406: f64 = t13 * t368;
-    let t407: f64 = t15 * t406;
+    let t398: f64 = t161 * t397;
+    let t399: f64 = 0.5 * t398;
+    let t400: f64 = t13 * t362;
+    let t401: f64 = t15 * t400;
+    let t402: f64 = t15 * t401;
+    let t403: f64 = t53 * (-540.0);
+    let t404: f64 = t403 + 36.0;
+    let t405: f64 = t403 + t404;
+    let t406: f64 = t13 * t405;
+    let t407: f64 = t402 + t406;
     let t408: f64 = t15 * t407;
-    let t409: f64 = t53 * (-540.0);
-    let t410: f64 = t409 + 36.0;
-    let t411: f64 = t409 + t410;
-    let t412: f64 = t13 * t411;
-    let t413: f64 = t408 + t412;
-    let t414: f64 = t15 * t413;
-    let t415: f64 = t161 * t414;
-    let t416: f64 = 0.28867513459481287 * t415;
-    let t417: f64 = t35 * t381;
-    let t418: f64 = t384 + t417;
-    let t419: f64 = t161 * t418;
-    let t420: f64 = 0.5 * t419;
-    let t421: f64 = t14 * t399;
-    let t422: f64 = t14 * t421;
-    let t423: f64 = t18 * t396;
-    let t424: f64 = t53 * 120.0;
-    let t425: f64 = (-6.0) + t424;
-    let t426: f64 = t424 + t425;
-    let t427: f64 = t15 * t426;
-    let t428: f64 = t423 + t427;
-    let t429: f64 = t422 + t428;
-    let t430: f64 = t14 * t429;
-    let t431: f64 = t161 * t430;
-    let t432: f64 = 0.5 * t431;
-    let t433: f64 = t15 * t369;
-    let t434: f64 = t15 * t433;
-    let t435: f64 = t14 * t411;
+    let t409: f64 = t161 * t408;
+    let t410: f64 = 0.28867513459481287 * t409;
+    let t411: f64 = t35 * t375;
+    let t412: f64 = t378 + t411;
+    let t413: f64 = t161 * t412;
+    let t414: f64 = 0.5 * t413;
+    let t415: f64 = t14 * t393;
+    let t416: f64 = t14 * t415;
+    let t417: f64 = t18 * t390;
+    let t418: f64 = t53 * 120.0;
+    let t419: f64 = (-6.0) + t418;
+    let t420: f64 = t418 + t419;
+    let t421: f64 = t15 * t420;
+    let t422: f64 = t417 + t421;
+    let t423: f64 = t416 + t422;
+    let t424: f64 = t14 * t423;
+    let t425: f64 = t161 * t424;
+    let t426: f64 = 0.5 * t425;
+    let t427: f64 = t15 * t363;
+    let t428: f64 = t15 * t427;
+    let t429: f64 = t14 * t405;
+    let t430: f64 = t428 + t429;
+    let t431: f64 = t15 * t430;
+    let t432: f64 = t161 * t431;
+    let t433: f64 = 0.28867513459481287 * t432;
+    let t434: f64 = t53 * 210.0;
+    let t435: f64 = t434 + (-15.0);
     let t436: f64 = t434 + t435;
-    let t437: f64 = t15 * t436;
-    let t438: f64 = t161 * t437;
-    let t439: f64 = 0.28867513459481287 * t438;
-    let t440: f64 = t53 * 210.0;
-    let t441: f64 = t440 + (-15.0);
-    let t442: f64 = t440 + t441;
-    let t443: f64 = t18 * t442;
-    let t444: f64 = t35 * t360;
-    let t445: f64 = t327 + t444;
-    let t446: f64 = t443 + t445;
-    let t447: f64 = t18 * t446;
-    let t448: f64 = t35 * t442;
-    let t449: f64 = t327 + t448;
-    let t450: f64 = t35 * t449;
-    let t451: f64 = t332 + t450;
-    let t452: f64 = t447 + t451;
-    let t453: f64 = t161 * t452;
-    let t454: f64 = 0.5 * t453;
-    let t455: f64 = t53 * (-630.0);
-    let t456: f64 = t455 + 45.0;
-    let t457: f64 = t455 + t456;
-    let t458: f64 = t18 * t457;
-    let t459: f64 = t53 * 540.0;
-    let t460: f64 = t459 + (-36.0);
-    let t461: f64 = t459 + t460;
-    let t462: f64 = t458 + t461;
-    let t463: f64 = t18 * t462;
-    let t464: f64 = t53 * 630.0;
-    let t465: f64 = t464 + (-45.0);
-    let t466: f64 = t464 + t465;
-    let t467: f64 = t35 * t466;
-    let t468: f64 = t411 + t467;
-    let t469: f64 = t35 * t468;
-    let t470: f64 = t463 + t469;
-    let t471: f64 = t161 * t470;
-    let t472: f64 = 0.28867513459481287 * t471;
-    let t473: f64 = t53 * 1890.0;
-    let t474: f64 = t473 + (-135.0);
-    let t475: f64 = t473 + t474;
-    let t476: f64 = t41 * t475;
-    let t477: f64 = t53 * (-1620.0);
-    let t478: f64 = t477 + 108.0;
-    let t479: f64 = t477 + t478;
-    let t480: f64 = t476 + t479;
-    let t481: f64 = t41 * t480;
-    let t482: f64 = t53 * 162.0;
-    let t483: f64 = (-9.0) + t482;
-    let t484: f64 = t482 + t483;
-    let t485: f64 = t481 + t484;
-    let t486: f64 = t161 * t485;
-    let t487: f64 = 0.16666666666666666 * t486;
+    let t437: f64 = t18 * t436;
+    let t438: f64 = t35 * t354;
+    let t439: f64 = t321 + t438;
+    let t440: f64 = t437 + t439;
+    let t441: f64 = t18 * t440;
+    let t442: f64 = t35 * t436;
+    let t443: f64 = t321 + t442;
+    let t444: f64 = t35 * t443;
+    let t445: f64 = t326 + t444;
+    let t446: f64 = t441 + t445;
+    let t447: f64 = t161 * t446;
+    let t448: f64 = 0.5 * t447;
+    let t449: f64 = t53 * (-630.0);
+    let t450: f64 = t449 + 45.0;
+    let t451: f64 = t449 + t450;
+    let t452: f64 = t18 * t451;
+    let t453: f64 = t53 * 540.0;
+    let t454: f64 = t453 + (-36.0);
+    let t455: f64 = t453 + t454;
+    let t456: f64 = t452 + t455;
+    let t457: f64 = t18 * t456;
+    let t458: f64 = t53 * 630.0;
+    let t459: f64 = t458 + (-45.0);
+    let t460: f64 = t458 + t459;
+    let t461: f64 = t35 * t460;
+    let t462: f64 = t405 + t461;
+    let t463: f64 = t35 * t462;
+    let t464: f64 = t457 + t463;
+    let t465: f64 = t161 * t464;
+    let t466: f64 = 0.28867513459481287 * t465;
+    let t467: f64 = t53 * 1890.0;
+    let t468: f64 = t467 + (-135.0);
+    let t469: f64 = t467 + t468;
+    let t470: f64 = t41 * t469;
+    let t471: f64 = t53 * (-1620.0);
+    let t472: f64 = t471 + 108.0;
+    let t473: f64 = t471 + t472;
+    let t474: f64 = t470 + t473;
+    let t475: f64 = t41 * t474;
+    let t476: f64 = t53 * 162.0;
+    let t477: f64 = (-9.0) + t476;
+    let t478: f64 = t476 + t477;
+    let t479: f64 = t475 + t478;
+    let t480: f64 = t161 * t479;
+    let t481: f64 = 0.16666666666666666 * t480;
     Grand {
         uf: [[t28, t31, t34], [t31, t38, t40], [t34, t40, t44]],
         ul: [[0.0, t46, t48], [t49, 0.0, t50], [t47, t51, 0.0]],
@@ -1684,32 +1666,32 @@ pub fn free_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Grand {
             [t76, t137, t141, t148, t158],
         ],
         of: [[0.0, t46, t48], [t49, 0.0, t50], [t47, t51, 0.0]],
-        ol: [[t162, t165, t168], [t165, t171, t173], [t168, t173, t176]],
+        ol: [[t162, t165, t168], [t165, t171, t174], [t168, t174, t177]],
         os: [
-            [t180, t184, t189, t193, t197],
-            [t193, t202, t206, t209, t213],
-            [t218, t221, t209, t225, 0.0],
+            [t180, t183, t188, t191, t194],
+            [t191, t199, t202, t205, t208],
+            [t213, t216, t205, t219, 0.0],
         ],
         ef: [
-            [t235, t241, t246],
-            [t251, t246, t255],
-            [t246, t259, t263],
-            [t275, t283, t290],
-            [t304, t310, t320],
+            [t229, t235, t240],
+            [t245, t240, t249],
+            [t240, t253, t257],
+            [t269, t277, t284],
+            [t298, t304, t314],
         ],
         el: [
-            [t180, t193, t218],
-            [t184, t202, t221],
-            [t189, t206, t209],
-            [t193, t209, t225],
-            [t197, t213, 0.0],
+            [t180, t191, t213],
+            [t183, t199, t216],
+            [t188, t202, t205],
+            [t191, t205, t219],
+            [t194, t208, 0.0],
         ],
         es: [
-            [t336, t344, t350, t365, t379],
-            [t344, t387, t395, t405, t416],
-            [t350, t395, t420, t432, t439],
-            [t365, t405, t432, t454, t472],
-            [t379, t416, t439, t472, t487],
+            [t330, t338, t344, t359, t373],
+            [t338, t381, t389, t399, t410],
+            [t344, t389, t414, t426, t433],
+            [t359, t399, t426, t448, t466],
+            [t373, t410, t433, t466, t481],
         ],
     }
 }
@@ -1857,28 +1839,28 @@ pub fn free_pair_divergence(
     let t100: f64 = t99 + t99;
     let t101: f64 = t44 * t50;
     let t102: f64 = t101 + t101;
-    let t103: f64 = t84 * (-6.0);
-    let t104: f64 = t85 * (-6.0);
-    let t105: f64 = t86 * (-6.0);
-    let t106: f64 = t87 * (-6.0);
-    let t107: f64 = t88 * (-6.0);
-    let t108: f64 = t89 * (-6.0);
-    let t109: f64 = t90 * (-6.0);
-    let t110: f64 = t91 * (-6.0);
-    let t111: f64 = t92 * (-6.0);
-    let t112: f64 = t93 * (-6.0);
-    let t113: f64 = t94 * (-6.0);
-    let t114: f64 = t95 * (-6.0);
-    let t115: f64 = t96 * (-6.0);
-    let t116: f64 = t97 * (-6.0);
-    let t117: f64 = 1.0 + t110;
-    let t118: f64 = t103 + t117;
-    let t119: f64 = t104 + t111;
-    let t120: f64 = t105 + t112;
-    let t121: f64 = t106 + t113;
-    let t122: f64 = t107 + t114;
-    let t123: f64 = t108 + t115;
-    let t124: f64 = t109 + t116;
+    let t103: f64 = t91 * (-6.0);
+    let t104: f64 = t92 * (-6.0);
+    let t105: f64 = t93 * (-6.0);
+    let t106: f64 = t94 * (-6.0);
+    let t107: f64 = t95 * (-6.0);
+    let t108: f64 = t96 * (-6.0);
+    let t109: f64 = t97 * (-6.0);
+    let t110: f64 = 1.0 + t103;
+    let t111: f64 = t84 * (-6.0);
+    let t112: f64 = t85 * (-6.0);
+    let t113: f64 = t86 * (-6.0);
+    let t114: f64 = t87 * (-6.0);
+    let t115: f64 = t88 * (-6.0);
+    let t116: f64 = t89 * (-6.0);
+    let t117: f64 = t90 * (-6.0);
+    let t118: f64 = t110 + t111;
+    let t119: f64 = t104 + t112;
+    let t120: f64 = t105 + t113;
+    let t121: f64 = t106 + t114;
+    let t122: f64 = t107 + t115;
+    let t123: f64 = t108 + t116;
+    let t124: f64 = t109 + t117;
     let t125: f64 = t98 * t118;
     let t126: f64 = t100 * t118;
     let t127: f64 = t98 * t119;
@@ -1886,28 +1868,28 @@ pub fn free_pair_divergence(
     let t129: f64 = t102 * t118;
     let t130: f64 = t98 * t122;
     let t131: f64 = t129 + t130;
-    let t132: f64 = 2.0 * t84;
-    let t133: f64 = 2.0 * t85;
-    let t134: f64 = 2.0 * t86;
-    let t135: f64 = 2.0 * t87;
-    let t136: f64 = 2.0 * t88;
-    let t137: f64 = 2.0 * t89;
-    let t138: f64 = 2.0 * t90;
-    let t139: f64 = 2.0 * t91;
-    let t140: f64 = 2.0 * t92;
-    let t141: f64 = 2.0 * t93;
-    let t142: f64 = 2.0 * t94;
-    let t143: f64 = 2.0 * t95;
-    let t144: f64 = 2.0 * t96;
-    let t145: f64 = 2.0 * t97;
-    let t146: f64 = 1.0 + t139;
-    let t147: f64 = t132 + t146;
-    let t148: f64 = t133 + t140;
-    let t149: f64 = t134 + t141;
-    let t150: f64 = t135 + t142;
-    let t151: f64 = t136 + t143;
-    let t152: f64 = t137 + t144;
-    let t153: f64 = t138 + t145;
+    let t132: f64 = 2.0 * t91;
+    let t133: f64 = 2.0 * t92;
+    let t134: f64 = 2.0 * t93;
+    let t135: f64 = 2.0 * t94;
+    let t136: f64 = 2.0 * t95;
+    let t137: f64 = 2.0 * t96;
+    let t138: f64 = 2.0 * t97;
+    let t139: f64 = 1.0 + t132;
+    let t140: f64 = 2.0 * t84;
+    let t141: f64 = 2.0 * t85;
+    let t142: f64 = 2.0 * t86;
+    let t143: f64 = 2.0 * t87;
+    let t144: f64 = 2.0 * t88;
+    let t145: f64 = 2.0 * t89;
+    let t146: f64 = 2.0 * t90;
+    let t147: f64 = t139 + t140;
+    let t148: f64 = t133 + t141;
+    let t149: f64 = t134 + t142;
+    let t150: f64 = t135 + t143;
+    let t151: f64 = t136 + t144;
+    let t152: f64 = t137 + t145;
+    let t153: f64 = t138 + t146;
     let t154: f64 = t125 + t147;
     let t155: f64 = t128 - t148;
     let t156: f64 = t131 + t151;
@@ -2249,38 +2231,38 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
         let t90: L = t89 + t89;
         let t91: L = t40 * t44;
         let t92: L = t91 + t91;
-        let t93: L = t82 * L::splat(-6.0);
-        let t94: L = t83 * L::splat(-6.0);
-        let t95: L = t84 * L::splat(-6.0);
-        let t96: L = t85 * L::splat(-6.0);
-        let t97: L = t86 * L::splat(-6.0);
-        let t98: L = t87 * L::splat(-6.0);
-        let t99: L = t81.mul_add(L::splat(-6.0), L::splat(1.0));
-        let t100: L = t74.mul_add(L::splat(-6.0), t99);
-        let t101: L = t75.mul_add(L::splat(-6.0), t93);
-        let t102: L = t76.mul_add(L::splat(-6.0), t94);
-        let t103: L = t77.mul_add(L::splat(-6.0), t95);
-        let t104: L = t78.mul_add(L::splat(-6.0), t96);
-        let t105: L = t79.mul_add(L::splat(-6.0), t97);
-        let t106: L = t80.mul_add(L::splat(-6.0), t98);
+        let t93: L = t81.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t94: L = t75 * L::splat(-6.0);
+        let t95: L = t76 * L::splat(-6.0);
+        let t96: L = t77 * L::splat(-6.0);
+        let t97: L = t78 * L::splat(-6.0);
+        let t98: L = t79 * L::splat(-6.0);
+        let t99: L = t80 * L::splat(-6.0);
+        let t100: L = t74.mul_add(L::splat(-6.0), t93);
+        let t101: L = t82.mul_add(L::splat(-6.0), t94);
+        let t102: L = t83.mul_add(L::splat(-6.0), t95);
+        let t103: L = t84.mul_add(L::splat(-6.0), t96);
+        let t104: L = t85.mul_add(L::splat(-6.0), t97);
+        let t105: L = t86.mul_add(L::splat(-6.0), t98);
+        let t106: L = t87.mul_add(L::splat(-6.0), t99);
         let t107: L = t88 * t101;
         let t108: L = t90.mul_sub(t100, t107);
         let t109: L = t88 * t104;
         let t110: L = t92.mul_add(t100, t109);
-        let t111: L = L::splat(2.0) * t82;
-        let t112: L = L::splat(2.0) * t83;
-        let t113: L = L::splat(2.0) * t84;
-        let t114: L = L::splat(2.0) * t85;
-        let t115: L = L::splat(2.0) * t86;
-        let t116: L = L::splat(2.0) * t87;
-        let t117: L = L::splat(2.0).mul_add(t81, L::splat(1.0));
-        let t118: L = L::splat(2.0).mul_add(t74, t117);
-        let t119: L = L::splat(2.0).mul_add(t75, t111);
-        let t120: L = L::splat(2.0).mul_add(t76, t112);
-        let t121: L = L::splat(2.0).mul_add(t77, t113);
-        let t122: L = L::splat(2.0).mul_add(t78, t114);
-        let t123: L = L::splat(2.0).mul_add(t79, t115);
-        let t124: L = L::splat(2.0).mul_add(t80, t116);
+        let t111: L = L::splat(2.0).mul_add(t81, L::splat(1.0));
+        let t112: L = L::splat(2.0) * t75;
+        let t113: L = L::splat(2.0) * t76;
+        let t114: L = L::splat(2.0) * t77;
+        let t115: L = L::splat(2.0) * t78;
+        let t116: L = L::splat(2.0) * t79;
+        let t117: L = L::splat(2.0) * t80;
+        let t118: L = L::splat(2.0).mul_add(t74, t111);
+        let t119: L = L::splat(2.0).mul_add(t82, t112);
+        let t120: L = L::splat(2.0).mul_add(t83, t113);
+        let t121: L = L::splat(2.0).mul_add(t84, t114);
+        let t122: L = L::splat(2.0).mul_add(t85, t115);
+        let t123: L = L::splat(2.0).mul_add(t86, t116);
+        let t124: L = L::splat(2.0).mul_add(t87, t117);
         let t125: L = t88.mul_add(t100, t118);
         let t126: L = t108 - t119;
         let t127: L = t110 + t122;

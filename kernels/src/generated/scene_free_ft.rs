@@ -45,7 +45,7 @@ pub fn free_ft_self(x: [f64; 3], a: f64, eta: f64) -> BlocksFT {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 75 flops (15 add/sub, 51 mul, 2 div, 1 sqrt, 3 powi, 3 neg).
+/// Operation count (after dead-code elimination): 76 flops (15 add/sub, 52 mul, 2 div, 1 sqrt, 3 powi, 3 neg).
 #[inline]
 pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> BlocksFT {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -70,15 +70,15 @@ pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> B
     let t19: f64 = t6 * t18;
     let t20: f64 = t7 * t18;
     let t21: f64 = t15.powi(2);
-    let t22: f64 = t19 * (-6.0);
-    let t23: f64 = t20 * (-6.0);
-    let t24: f64 = 1.0 + t23;
-    let t25: f64 = t22 + t24;
+    let t22: f64 = t20 * (-6.0);
+    let t23: f64 = 1.0 + t22;
+    let t24: f64 = t19 * (-6.0);
+    let t25: f64 = t23 + t24;
     let t26: f64 = t21 * t25;
-    let t27: f64 = t19 * 2.0;
-    let t28: f64 = t20 * 2.0;
-    let t29: f64 = 1.0 + t28;
-    let t30: f64 = t27 + t29;
+    let t27: f64 = t20 * 2.0;
+    let t28: f64 = 1.0 + t27;
+    let t29: f64 = t19 * 2.0;
+    let t30: f64 = t28 + t29;
     let t31: f64 = t26 + t30;
     let t32: f64 = t0 * t14;
     let t33: f64 = t31 * t32;
@@ -109,25 +109,26 @@ pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> B
     let t58: f64 = t57 + (-0.5);
     let t59: f64 = t14 * t50;
     let t60: f64 = t58 * t59;
-    let t61: f64 = t16 * 1.5;
-    let t62: f64 = t15 * t61;
+    let t61: f64 = t15 * t16;
+    let t62: f64 = 1.5 * t61;
     let t63: f64 = t59 * t62;
-    let t64: f64 = t17 * 1.5;
-    let t65: f64 = t15 * t64;
+    let t64: f64 = t15 * t17;
+    let t65: f64 = 1.5 * t64;
     let t66: f64 = t59 * t65;
     let t67: f64 = t40 * 1.5;
     let t68: f64 = (-0.5) + t67;
     let t69: f64 = t59 * t68;
-    let t70: f64 = t16 * t64;
-    let t71: f64 = t59 * t70;
-    let t72: f64 = t46 * 1.5;
-    let t73: f64 = (-0.5) + t72;
-    let t74: f64 = t59 * t73;
+    let t70: f64 = t16 * t17;
+    let t71: f64 = 1.5 * t70;
+    let t72: f64 = t59 * t71;
+    let t73: f64 = t46 * 1.5;
+    let t74: f64 = (-0.5) + t73;
+    let t75: f64 = t59 * t74;
     BlocksFT {
         uf: [[t33, t36, t39], [t36, t43, t45], [t39, t45, t49]],
         ul: [[0.0, t51, t53], [t54, 0.0, t55], [t52, t56, 0.0]],
         of: [[0.0, t51, t53], [t54, 0.0, t55], [t52, t56, 0.0]],
-        ol: [[t60, t63, t66], [t63, t69, t71], [t66, t71, t74]],
+        ol: [[t60, t63, t66], [t63, t69, t72], [t66, t72, t75]],
     }
 }
 /// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the FT blocks, pair equal.
@@ -141,7 +142,7 @@ pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> B
 /// - `a`: radius of the particle(s)
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 70 flops (15 add/sub, 46 mul, 2 div, 1 sqrt, 3 powi, 3 neg).
+/// Operation count (after dead-code elimination): 71 flops (15 add/sub, 47 mul, 2 div, 1 sqrt, 3 powi, 3 neg).
 #[inline]
 pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksFT {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -200,25 +201,26 @@ pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Block
     let t53: f64 = t52 + (-0.5);
     let t54: f64 = t12 * t45;
     let t55: f64 = t53 * t54;
-    let t56: f64 = t14 * 1.5;
-    let t57: f64 = t13 * t56;
+    let t56: f64 = t13 * t14;
+    let t57: f64 = 1.5 * t56;
     let t58: f64 = t54 * t57;
-    let t59: f64 = t15 * 1.5;
-    let t60: f64 = t13 * t59;
+    let t59: f64 = t13 * t15;
+    let t60: f64 = 1.5 * t59;
     let t61: f64 = t54 * t60;
     let t62: f64 = t35 * 1.5;
     let t63: f64 = (-0.5) + t62;
     let t64: f64 = t54 * t63;
-    let t65: f64 = t14 * t59;
-    let t66: f64 = t54 * t65;
-    let t67: f64 = t41 * 1.5;
-    let t68: f64 = (-0.5) + t67;
-    let t69: f64 = t54 * t68;
+    let t65: f64 = t14 * t15;
+    let t66: f64 = 1.5 * t65;
+    let t67: f64 = t54 * t66;
+    let t68: f64 = t41 * 1.5;
+    let t69: f64 = (-0.5) + t68;
+    let t70: f64 = t54 * t69;
     BlocksFT {
         uf: [[t28, t31, t34], [t31, t38, t40], [t34, t40, t44]],
         ul: [[0.0, t46, t48], [t49, 0.0, t50], [t47, t51, 0.0]],
         of: [[0.0, t46, t48], [t49, 0.0, t50], [t47, t51, 0.0]],
-        ol: [[t55, t58, t61], [t58, t64, t66], [t61, t66, t69]],
+        ol: [[t55, t58, t61], [t58, t64, t67], [t61, t67, t70]],
     }
 }
 /// Scene `free_ft` (unbounded fluid: the Stokeslet J of Eq. 4): the fused pair product a = M^{ab} vb, b = M^{ba} va, FT moments, pair product.
@@ -274,15 +276,15 @@ pub fn free_ft_pair_product(
     let t25: f64 = t16 * t24;
     let t26: f64 = t17 * t24;
     let t27: f64 = t22.powi(2);
-    let t28: f64 = t25 * (-6.0);
-    let t29: f64 = t26 * (-6.0);
-    let t30: f64 = 1.0 + t29;
-    let t31: f64 = t28 + t30;
+    let t28: f64 = t26 * (-6.0);
+    let t29: f64 = 1.0 + t28;
+    let t30: f64 = t25 * (-6.0);
+    let t31: f64 = t29 + t30;
     let t32: f64 = t27 * t31;
-    let t33: f64 = t25 * 2.0;
-    let t34: f64 = t26 * 2.0;
-    let t35: f64 = 1.0 + t34;
-    let t36: f64 = t33 + t35;
+    let t33: f64 = t26 * 2.0;
+    let t34: f64 = 1.0 + t33;
+    let t35: f64 = t25 * 2.0;
+    let t36: f64 = t34 + t35;
     let t37: f64 = t32 + t36;
     let t38: f64 = t0 * t21;
     let t39: f64 = t37 * t38;
@@ -290,15 +292,15 @@ pub fn free_ft_pair_product(
     let t41: f64 = t22 * t40;
     let t42: f64 = t38 * t41;
     let t43: f64 = t36 * t38;
-    let t44: f64 = t25 * 6.0;
-    let t45: f64 = t26 * 6.0;
-    let t46: f64 = t45 + (-1.0);
-    let t47: f64 = t44 + t46;
+    let t44: f64 = t26 * 6.0;
+    let t45: f64 = t44 + (-1.0);
+    let t46: f64 = t25 * 6.0;
+    let t47: f64 = t45 + t46;
     let t48: f64 = t27 * t47;
-    let t49: f64 = t25 * (-4.0);
-    let t50: f64 = t26 * (-4.0);
-    let t51: f64 = 2.0 + t50;
-    let t52: f64 = t49 + t51;
+    let t49: f64 = t26 * (-4.0);
+    let t50: f64 = 2.0 + t49;
+    let t51: f64 = t25 * (-4.0);
+    let t52: f64 = t50 + t51;
     let t53: f64 = t48 + t52;
     let t54: f64 = t38 * t53;
     let t55: f64 = t21 * t38;
@@ -308,8 +310,8 @@ pub fn free_ft_pair_product(
     let t59: f64 = t58 + (-0.5);
     let t60: f64 = t21 * t55;
     let t61: f64 = t59 * t60;
-    let t62: f64 = t23 * 1.5;
-    let t63: f64 = t22 * t62;
+    let t62: f64 = t22 * t23;
+    let t63: f64 = 1.5 * t62;
     let t64: f64 = t60 * t63;
     let t65: f64 = (-0.5) * t60;
     let t66: f64 = t27 * (-1.5);
@@ -494,8 +496,8 @@ pub fn free_ft_pair_product_lanes<L: lanes::Lane>(
         let t45: L = t24.mul_add(L::splat(1.5), L::splat(-0.5));
         let t46: L = t18 * t42;
         let t47: L = t45 * t46;
-        let t48: L = t20 * L::splat(1.5);
-        let t49: L = t19 * t48;
+        let t48: L = t19 * t20;
+        let t49: L = L::splat(1.5) * t48;
         let t50: L = t46 * t49;
         let t51: L = L::splat(-0.5) * t46;
         let t52: L = t24.mul_add(L::splat(-1.5), L::splat(1.0));
@@ -651,8 +653,8 @@ pub fn free_ft_pair_equal_product(
     let t52: f64 = t51 + (-0.5);
     let t53: f64 = t19 * t48;
     let t54: f64 = t52 * t53;
-    let t55: f64 = t21 * 1.5;
-    let t56: f64 = t20 * t55;
+    let t55: f64 = t20 * t21;
+    let t56: f64 = 1.5 * t55;
     let t57: f64 = t53 * t56;
     let t58: f64 = (-0.5) * t53;
     let t59: f64 = t24 * (-1.5);
