@@ -1485,7 +1485,7 @@ pub fn free_surface_pair(
 /// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).
 /// Strain and stresslet in the 5-component orthonormal basis (kernels::STRAIN_BASIS).
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_pair`'s fields. Operation count with fused multiply-adds: 835 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_pair`'s fields. Operation count with fused multiply-adds: 828 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_surface_pair_lanes<L: lanes::Lane>(
@@ -1540,920 +1540,913 @@ pub fn free_surface_pair_lanes<L: lanes::Lane>(
         let t40: L = t35.powi(2);
         let t41: L = L::splat(-6.0).mul_add(t39, L::splat(1.0));
         let t42: L = L::splat(-6.0).mul_add(t38, t41);
-        let t43: L = t40 * t42;
-        let t44: L = L::splat(2.0).mul_add(t39, L::splat(1.0));
-        let t45: L = L::splat(2.0).mul_add(t38, t44);
-        let t46: L = t43 + t45;
-        let t47: L = t0 * t34;
-        let t48: L = t46 * t47;
-        let t49: L = t31.mul_add(t32, t48);
-        let t50: L = t22 * t28;
-        let t51: L = t21 * t50;
-        let t52: L = t32 * t51;
-        let t53: L = t39.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t54: L = t38.mul_add(L::splat(6.0), t53);
-        let t55: L = t36 * t54;
-        let t56: L = t35 * t55;
-        let t57: L = t47.mul_add(t56, t52);
-        let t58: L = t45 * t47;
-        let t59: L = t30.mul_add(t32, t58);
-        let t60: L = t36 * t42;
-        let t61: L = t35 * t60;
-        let t62: L = t47.mul_add(t61, t52);
-        let t63: L = t25.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t64: L = t24.mul_add(L::splat(6.0), t63);
-        let t65: L = t25.mul_add(L::splat(-4.0), L::splat(2.0));
-        let t66: L = t24.mul_add(L::splat(-4.0), t65);
-        let t67: L = t26.mul_add(t64, t66);
-        let t68: L = t39.mul_add(L::splat(4.0), L::splat(-2.0));
-        let t69: L = t38.mul_add(L::splat(4.0), t68);
-        let t70: L = t43 + t69;
-        let t71: L = t47 * t70;
-        let t72: L = t32.mul_add(t67, t71);
-        let t73: L = t20 * t32;
-        let t74: L = t22 * t73;
-        let t75: L = t34 * t47;
-        let t76: L = t36 * t75;
-        let t77: L = t74 - t76;
-        let t78: L = t76 - t74;
-        let t79: L = t21 * t73;
-        let t80: L = t35 * t75;
-        let t81: L = t79 + t80;
-        let t82: L = t80 - t79;
-        let t83: L = t16 * L::splat(0.1);
-        let t84: L = t23 * t83;
-        let t85: L = t37 * t83;
-        let t86: L = t84.mul_add(L::splat(-60.0), L::splat(6.0));
-        let t87: L = t24.mul_add(L::splat(-60.0), t86);
-        let t88: L = t22 * t87;
-        let t89: L = t84 * L::splat(12.0);
-        let t90: L = t24.mul_add(L::splat(12.0), t89);
-        let t91: L = t22 * t90;
-        let t92: L = t26.mul_add(t88, t91);
-        let t93: L = t85.mul_add(L::splat(60.0), L::splat(-6.0));
-        let t94: L = t38.mul_add(L::splat(60.0), t93);
-        let t95: L = t36 * t94;
-        let t96: L = t85 * L::splat(-12.0);
-        let t97: L = t38.mul_add(L::splat(-12.0), t96);
-        let t98: L = t36 * t97;
-        let t99: L = t40.mul_add(t95, t98);
-        let t100: L = t75 * t99;
-        let t101: L = t73.mul_add(t92, t100);
-        let t102: L = L::splat(0.7071067811865476) * t101;
-        let t103: L = t84.mul_add(L::splat(-30.0), L::splat(3.0));
-        let t104: L = t24.mul_add(L::splat(-30.0), t103);
-        let t105: L = t21 * t104;
-        let t106: L = t21.mul_add(t105, t90);
-        let t107: L = t21 * t106;
-        let t108: L = t85.mul_add(L::splat(-30.0), L::splat(3.0));
-        let t109: L = t38.mul_add(L::splat(-30.0), t108);
-        let t110: L = t35 * t109;
-        let t111: L = t85 * L::splat(12.0);
-        let t112: L = t38.mul_add(L::splat(12.0), t111);
-        let t113: L = t35.mul_add(t110, t112);
-        let t114: L = t35 * t113;
-        let t115: L = t75 * t114;
-        let t116: L = t73.mul_add(t107, t115);
-        let t117: L = L::splat(0.7071067811865476) * t116;
-        let t118: L = t84.mul_add(L::splat(90.0), L::splat(-9.0));
-        let t119: L = t24.mul_add(L::splat(90.0), t118);
-        let t120: L = t21 * t119;
-        let t121: L = t84.mul_add(L::splat(-72.0), L::splat(6.0));
-        let t122: L = t24.mul_add(L::splat(-72.0), t121);
-        let t123: L = t21.mul_add(t120, t122);
-        let t124: L = t21 * t123;
-        let t125: L = t85.mul_add(L::splat(90.0), L::splat(-9.0));
-        let t126: L = t38.mul_add(L::splat(90.0), t125);
-        let t127: L = t35 * t126;
-        let t128: L = t85.mul_add(L::splat(-72.0), L::splat(6.0));
-        let t129: L = t38.mul_add(L::splat(-72.0), t128);
-        let t130: L = t35.mul_add(t127, t129);
-        let t131: L = t35 * t130;
-        let t132: L = t75 * t131;
-        let t133: L = t73.mul_add(t124, t132);
-        let t134: L = t133 * L::splat(0.408248290463863);
-        let t135: L = t21 * t90;
-        let t136: L = t35 * t112;
-        let t137: L = t75 * t136;
-        let t138: L = t73.mul_add(t135, t137);
-        let t139: L = L::splat(0.7071067811865476) * t138;
-        let t140: L = t75 * t98;
-        let t141: L = t73.mul_add(t91, t140);
-        let t142: L = L::splat(0.7071067811865476) * t141;
-        let t143: L = t22.powi(2);
-        let t144: L = t21 * t87;
-        let t145: L = t143.mul_add(t144, t135);
-        let t146: L = t36.powi(2);
-        let t147: L = t35 * t94;
-        let t148: L = t35 * t97;
-        let t149: L = t146.mul_add(t147, t148);
-        let t150: L = t75 * t149;
-        let t151: L = t73.mul_add(t145, t150);
-        let t152: L = L::splat(0.7071067811865476) * t151;
-        let t153: L = t22 * t104;
-        let t154: L = t26 * t153;
-        let t155: L = t36 * t109;
-        let t156: L = t40 * t155;
-        let t157: L = t75 * t156;
-        let t158: L = t73.mul_add(t154, t157);
-        let t159: L = L::splat(0.7071067811865476) * t158;
-        let t160: L = t22 * t119;
-        let t161: L = t84.mul_add(L::splat(-36.0), L::splat(6.0));
-        let t162: L = t24.mul_add(L::splat(-36.0), t161);
-        let t163: L = t22 * t162;
-        let t164: L = t26.mul_add(t160, t163);
-        let t165: L = t36 * t126;
-        let t166: L = t85.mul_add(L::splat(-36.0), L::splat(6.0));
-        let t167: L = t38.mul_add(L::splat(-36.0), t166);
-        let t168: L = t36 * t167;
-        let t169: L = t40.mul_add(t165, t168);
-        let t170: L = t75 * t169;
-        let t171: L = t73.mul_add(t164, t170);
-        let t172: L = L::splat(0.408248290463863) * t171;
-        let t173: L = t74 + t76;
-        let t174: L = t79 - t80;
-        let t175: L = t26.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t176: L = t20 * t73;
-        let t177: L = t40 * L::splat(-1.5);
-        let t178: L = t177 + L::splat(0.5);
-        let t179: L = t34 * t75;
-        let t180: L = t178 * t179;
-        let t181: L = t175.mul_add(t176, t180);
-        let t182: L = t21 * t22;
-        let t183: L = L::splat(1.5) * t182;
-        let t184: L = t176 * t183;
-        let t185: L = t35 * t36;
-        let t186: L = L::splat(1.5) * t185;
-        let t187: L = t179.mul_add(t186, t184);
-        let t188: L = L::splat(0.5) * t179;
-        let t189: L = L::splat(-0.5).mul_add(t176, t188);
-        let t190: L = L::splat(-1.5) * t185;
-        let t191: L = t179.mul_add(t190, t184);
-        let t192: L = t26.mul_add(L::splat(-1.5), L::splat(1.0));
-        let t193: L = L::splat(1.0) + t177;
-        let t194: L = t179 * t193;
-        let t195: L = t176.mul_add(t192, t194);
-        let t196: L = L::splat(3.0) * t182;
-        let t197: L = t176 * t196;
-        let t198: L = L::splat(3.0) * t185;
-        let t199: L = t179 * t198;
-        let t200: L = t197 + t199;
-        let t201: L = L::splat(0.7071067811865476) * t200;
-        let t202: L = L::splat(3.0) * t143;
-        let t203: L = t146 * L::splat(-3.0);
-        let t204: L = t179 * t203;
-        let t205: L = t176.mul_add(t202, t204);
-        let t206: L = L::splat(0.7071067811865476) * t205;
-        let t207: L = t26.mul_add(L::splat(6.0), L::splat(-3.0));
-        let t208: L = L::splat(-6.0).mul_add(t40, L::splat(3.0));
-        let t209: L = t179 * t208;
-        let t210: L = t176.mul_add(t207, t209);
-        let t211: L = L::splat(0.7071067811865476) * t210;
-        let t212: L = t182 * L::splat(-3.0);
-        let t213: L = t176 * t212;
-        let t214: L = t185 * L::splat(-3.0);
-        let t215: L = t179 * t214;
-        let t216: L = t213 + t215;
-        let t217: L = L::splat(0.7071067811865476) * t216;
-        let t218: L = t182 * L::splat(9.0);
-        let t219: L = t176 * t218;
-        let t220: L = t185 * L::splat(9.0);
-        let t221: L = t179.mul_add(t220, t219);
-        let t222: L = L::splat(0.408248290463863) * t221;
-        let t223: L = t26 * L::splat(-3.0);
-        let t224: L = t40 * L::splat(-3.0);
-        let t225: L = t179 * t224;
-        let t226: L = t176.mul_add(t223, t225);
-        let t227: L = L::splat(0.7071067811865476) * t226;
-        let t228: L = t199 + t213;
-        let t229: L = L::splat(0.7071067811865476) * t228;
-        let t230: L = t15 * L::splat(0.1);
-        let t231: L = t23 * t230;
-        let t232: L = t37 * t230;
-        let t233: L = t25 * L::splat(-12.0);
-        let t234: L = L::splat(-12.0).mul_add(t231, t233);
-        let t235: L = t21 * t234;
-        let t236: L = t39 * L::splat(-12.0);
-        let t237: L = L::splat(-12.0).mul_add(t232, t236);
-        let t238: L = t35 * t237;
-        let t239: L = t75 * t238;
-        let t240: L = t73.mul_add(t235, t239);
-        let t241: L = L::splat(0.7071067811865476) * t240;
-        let t242: L = t25.mul_add(L::splat(60.0), L::splat(-6.0));
-        let t243: L = L::splat(60.0).mul_add(t231, t242);
-        let t244: L = t22 * t243;
-        let t245: L = t22 * t234;
-        let t246: L = t26.mul_add(t244, t245);
-        let t247: L = t39.mul_add(L::splat(60.0), L::splat(-6.0));
-        let t248: L = L::splat(60.0).mul_add(t232, t247);
-        let t249: L = t36 * t248;
-        let t250: L = t36 * t237;
-        let t251: L = t40.mul_add(t249, t250);
-        let t252: L = t75 * t251;
-        let t253: L = t73.mul_add(t246, t252);
-        let t254: L = L::splat(0.7071067811865476) * t253;
-        let t255: L = t21 * t243;
-        let t256: L = t143.mul_add(t255, t235);
-        let t257: L = t39.mul_add(L::splat(-60.0), L::splat(6.0));
-        let t258: L = L::splat(-60.0).mul_add(t232, t257);
+        let t43: L = L::splat(2.0).mul_add(t39, L::splat(1.0));
+        let t44: L = L::splat(2.0).mul_add(t38, t43);
+        let t45: L = t40.mul_add(t42, t44);
+        let t46: L = t0 * t34;
+        let t47: L = t45 * t46;
+        let t48: L = t31.mul_add(t32, t47);
+        let t49: L = t22 * t28;
+        let t50: L = t21 * t49;
+        let t51: L = t32 * t50;
+        let t52: L = t39.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t53: L = t38.mul_add(L::splat(6.0), t52);
+        let t54: L = t36 * t53;
+        let t55: L = t35 * t54;
+        let t56: L = t46.mul_add(t55, t51);
+        let t57: L = t44 * t46;
+        let t58: L = t30.mul_add(t32, t57);
+        let t59: L = t36 * t42;
+        let t60: L = t35 * t59;
+        let t61: L = t46.mul_add(t60, t51);
+        let t62: L = t25.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t63: L = t24.mul_add(L::splat(6.0), t62);
+        let t64: L = t25.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t65: L = t24.mul_add(L::splat(-4.0), t64);
+        let t66: L = t26.mul_add(t63, t65);
+        let t67: L = t39.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t68: L = t38.mul_add(L::splat(4.0), t67);
+        let t69: L = t40.mul_add(t42, t68);
+        let t70: L = t46 * t69;
+        let t71: L = t32.mul_add(t66, t70);
+        let t72: L = t20 * t32;
+        let t73: L = t22 * t72;
+        let t74: L = t34 * t46;
+        let t75: L = t36 * t74;
+        let t76: L = t73 - t75;
+        let t77: L = t75 - t73;
+        let t78: L = t21 * t72;
+        let t79: L = t35 * t74;
+        let t80: L = t78 + t79;
+        let t81: L = t79 - t78;
+        let t82: L = t16 * L::splat(0.1);
+        let t83: L = t23 * t82;
+        let t84: L = t37 * t82;
+        let t85: L = t83.mul_add(L::splat(-60.0), L::splat(6.0));
+        let t86: L = t24.mul_add(L::splat(-60.0), t85);
+        let t87: L = t22 * t86;
+        let t88: L = t83 * L::splat(12.0);
+        let t89: L = t24.mul_add(L::splat(12.0), t88);
+        let t90: L = t22 * t89;
+        let t91: L = t26.mul_add(t87, t90);
+        let t92: L = t84.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t93: L = t38.mul_add(L::splat(60.0), t92);
+        let t94: L = t36 * t93;
+        let t95: L = t84 * L::splat(-12.0);
+        let t96: L = t38.mul_add(L::splat(-12.0), t95);
+        let t97: L = t36 * t96;
+        let t98: L = t40.mul_add(t94, t97);
+        let t99: L = t74 * t98;
+        let t100: L = t72.mul_add(t91, t99);
+        let t101: L = L::splat(0.7071067811865476) * t100;
+        let t102: L = t83.mul_add(L::splat(-30.0), L::splat(3.0));
+        let t103: L = t24.mul_add(L::splat(-30.0), t102);
+        let t104: L = t21 * t103;
+        let t105: L = t21.mul_add(t104, t89);
+        let t106: L = t21 * t105;
+        let t107: L = t84.mul_add(L::splat(-30.0), L::splat(3.0));
+        let t108: L = t38.mul_add(L::splat(-30.0), t107);
+        let t109: L = t35 * t108;
+        let t110: L = t84 * L::splat(12.0);
+        let t111: L = t38.mul_add(L::splat(12.0), t110);
+        let t112: L = t35.mul_add(t109, t111);
+        let t113: L = t35 * t112;
+        let t114: L = t74 * t113;
+        let t115: L = t72.mul_add(t106, t114);
+        let t116: L = L::splat(0.7071067811865476) * t115;
+        let t117: L = t83.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t118: L = t24.mul_add(L::splat(90.0), t117);
+        let t119: L = t21 * t118;
+        let t120: L = t83.mul_add(L::splat(-72.0), L::splat(6.0));
+        let t121: L = t24.mul_add(L::splat(-72.0), t120);
+        let t122: L = t21.mul_add(t119, t121);
+        let t123: L = t21 * t122;
+        let t124: L = t84.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t125: L = t38.mul_add(L::splat(90.0), t124);
+        let t126: L = t35 * t125;
+        let t127: L = t84.mul_add(L::splat(-72.0), L::splat(6.0));
+        let t128: L = t38.mul_add(L::splat(-72.0), t127);
+        let t129: L = t35.mul_add(t126, t128);
+        let t130: L = t35 * t129;
+        let t131: L = t74 * t130;
+        let t132: L = t72.mul_add(t123, t131);
+        let t133: L = t132 * L::splat(0.408248290463863);
+        let t134: L = t21 * t89;
+        let t135: L = t35 * t111;
+        let t136: L = t74 * t135;
+        let t137: L = t72.mul_add(t134, t136);
+        let t138: L = L::splat(0.7071067811865476) * t137;
+        let t139: L = t74 * t97;
+        let t140: L = t72.mul_add(t90, t139);
+        let t141: L = L::splat(0.7071067811865476) * t140;
+        let t142: L = t22.powi(2);
+        let t143: L = t21 * t86;
+        let t144: L = t142.mul_add(t143, t134);
+        let t145: L = t36.powi(2);
+        let t146: L = t35 * t93;
+        let t147: L = t35 * t96;
+        let t148: L = t145.mul_add(t146, t147);
+        let t149: L = t74 * t148;
+        let t150: L = t72.mul_add(t144, t149);
+        let t151: L = L::splat(0.7071067811865476) * t150;
+        let t152: L = t22 * t103;
+        let t153: L = t26 * t152;
+        let t154: L = t36 * t108;
+        let t155: L = t40 * t154;
+        let t156: L = t74 * t155;
+        let t157: L = t72.mul_add(t153, t156);
+        let t158: L = L::splat(0.7071067811865476) * t157;
+        let t159: L = t22 * t118;
+        let t160: L = t83.mul_add(L::splat(-36.0), L::splat(6.0));
+        let t161: L = t24.mul_add(L::splat(-36.0), t160);
+        let t162: L = t22 * t161;
+        let t163: L = t26.mul_add(t159, t162);
+        let t164: L = t36 * t125;
+        let t165: L = t84.mul_add(L::splat(-36.0), L::splat(6.0));
+        let t166: L = t38.mul_add(L::splat(-36.0), t165);
+        let t167: L = t36 * t166;
+        let t168: L = t40.mul_add(t164, t167);
+        let t169: L = t74 * t168;
+        let t170: L = t72.mul_add(t163, t169);
+        let t171: L = L::splat(0.408248290463863) * t170;
+        let t172: L = t73 + t75;
+        let t173: L = t78 - t79;
+        let t174: L = t26.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t175: L = t20 * t72;
+        let t176: L = t40.mul_add(L::splat(-1.5), L::splat(0.5));
+        let t177: L = t34 * t74;
+        let t178: L = t176 * t177;
+        let t179: L = t174.mul_add(t175, t178);
+        let t180: L = t21 * t22;
+        let t181: L = L::splat(1.5) * t180;
+        let t182: L = t175 * t181;
+        let t183: L = t35 * t36;
+        let t184: L = L::splat(1.5) * t183;
+        let t185: L = t177.mul_add(t184, t182);
+        let t186: L = L::splat(0.5) * t177;
+        let t187: L = L::splat(-0.5).mul_add(t175, t186);
+        let t188: L = L::splat(-1.5) * t183;
+        let t189: L = t177.mul_add(t188, t182);
+        let t190: L = t26.mul_add(L::splat(-1.5), L::splat(1.0));
+        let t191: L = t40.mul_add(L::splat(-1.5), L::splat(1.0));
+        let t192: L = t177 * t191;
+        let t193: L = t175.mul_add(t190, t192);
+        let t194: L = L::splat(3.0) * t180;
+        let t195: L = L::splat(3.0) * t183;
+        let t196: L = t177 * t195;
+        let t197: L = t175.mul_add(t194, t196);
+        let t198: L = L::splat(0.7071067811865476) * t197;
+        let t199: L = L::splat(3.0) * t142;
+        let t200: L = t145 * L::splat(-3.0);
+        let t201: L = t177 * t200;
+        let t202: L = t175.mul_add(t199, t201);
+        let t203: L = L::splat(0.7071067811865476) * t202;
+        let t204: L = t26.mul_add(L::splat(6.0), L::splat(-3.0));
+        let t205: L = L::splat(-6.0).mul_add(t40, L::splat(3.0));
+        let t206: L = t177 * t205;
+        let t207: L = t175.mul_add(t204, t206);
+        let t208: L = L::splat(0.7071067811865476) * t207;
+        let t209: L = t180 * L::splat(-3.0);
+        let t210: L = t175 * t209;
+        let t211: L = t183 * L::splat(-3.0);
+        let t212: L = t177 * t211;
+        let t213: L = t210 + t212;
+        let t214: L = L::splat(0.7071067811865476) * t213;
+        let t215: L = t180 * L::splat(9.0);
+        let t216: L = t175 * t215;
+        let t217: L = t183 * L::splat(9.0);
+        let t218: L = t177.mul_add(t217, t216);
+        let t219: L = L::splat(0.408248290463863) * t218;
+        let t220: L = t26 * L::splat(-3.0);
+        let t221: L = t40 * L::splat(-3.0);
+        let t222: L = t177 * t221;
+        let t223: L = t175.mul_add(t220, t222);
+        let t224: L = L::splat(0.7071067811865476) * t223;
+        let t225: L = t196 + t210;
+        let t226: L = L::splat(0.7071067811865476) * t225;
+        let t227: L = t15 * L::splat(0.1);
+        let t228: L = t23 * t227;
+        let t229: L = t37 * t227;
+        let t230: L = t25 * L::splat(-12.0);
+        let t231: L = L::splat(-12.0).mul_add(t228, t230);
+        let t232: L = t21 * t231;
+        let t233: L = t39 * L::splat(-12.0);
+        let t234: L = L::splat(-12.0).mul_add(t229, t233);
+        let t235: L = t35 * t234;
+        let t236: L = t74 * t235;
+        let t237: L = t72.mul_add(t232, t236);
+        let t238: L = L::splat(0.7071067811865476) * t237;
+        let t239: L = t25.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t240: L = L::splat(60.0).mul_add(t228, t239);
+        let t241: L = t22 * t240;
+        let t242: L = t22 * t231;
+        let t243: L = t26.mul_add(t241, t242);
+        let t244: L = t39.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t245: L = L::splat(60.0).mul_add(t229, t244);
+        let t246: L = t36 * t245;
+        let t247: L = t36 * t234;
+        let t248: L = t40.mul_add(t246, t247);
+        let t249: L = t74 * t248;
+        let t250: L = t72.mul_add(t243, t249);
+        let t251: L = L::splat(0.7071067811865476) * t250;
+        let t252: L = t21 * t240;
+        let t253: L = t142.mul_add(t252, t232);
+        let t254: L = t39.mul_add(L::splat(-60.0), L::splat(6.0));
+        let t255: L = L::splat(-60.0).mul_add(t229, t254);
+        let t256: L = t35 * t255;
+        let t257: L = t39 * L::splat(12.0);
+        let t258: L = L::splat(12.0).mul_add(t229, t257);
         let t259: L = t35 * t258;
-        let t260: L = t39 * L::splat(12.0);
-        let t261: L = L::splat(12.0).mul_add(t232, t260);
-        let t262: L = t35 * t261;
-        let t263: L = t146.mul_add(t259, t262);
-        let t264: L = t75 * t263;
-        let t265: L = t73.mul_add(t256, t264);
+        let t260: L = t145.mul_add(t256, t259);
+        let t261: L = t74 * t260;
+        let t262: L = t72.mul_add(t253, t261);
+        let t263: L = L::splat(0.7071067811865476) * t262;
+        let t264: L = t74 * t247;
+        let t265: L = t72.mul_add(t242, t264);
         let t266: L = L::splat(0.7071067811865476) * t265;
-        let t267: L = t75 * t250;
-        let t268: L = t73.mul_add(t245, t267);
-        let t269: L = L::splat(0.7071067811865476) * t268;
-        let t270: L = t25.mul_add(L::splat(30.0), L::splat(-3.0));
-        let t271: L = t231.mul_add(L::splat(30.0), t270);
-        let t272: L = t21 * t271;
-        let t273: L = t21.mul_add(t272, t234);
-        let t274: L = t21 * t273;
-        let t275: L = t39.mul_add(L::splat(30.0), L::splat(-3.0));
-        let t276: L = t232.mul_add(L::splat(30.0), t275);
-        let t277: L = t35 * t276;
-        let t278: L = t35.mul_add(t277, t237);
-        let t279: L = t35 * t278;
-        let t280: L = t75 * t279;
-        let t281: L = t73.mul_add(t274, t280);
-        let t282: L = L::splat(0.7071067811865476) * t281;
-        let t283: L = t22 * t271;
-        let t284: L = t26 * t283;
-        let t285: L = t39.mul_add(L::splat(-30.0), L::splat(3.0));
-        let t286: L = L::splat(-30.0).mul_add(t232, t285);
-        let t287: L = t36 * t286;
-        let t288: L = t40 * t287;
-        let t289: L = t75 * t288;
-        let t290: L = t73.mul_add(t284, t289);
-        let t291: L = L::splat(0.7071067811865476) * t290;
-        let t292: L = t25.mul_add(L::splat(-90.0), L::splat(9.0));
-        let t293: L = t231.mul_add(L::splat(-90.0), t292);
-        let t294: L = t21 * t293;
-        let t295: L = t25.mul_add(L::splat(72.0), L::splat(-6.0));
-        let t296: L = t231.mul_add(L::splat(72.0), t295);
-        let t297: L = t21.mul_add(t294, t296);
-        let t298: L = t21 * t297;
-        let t299: L = t39.mul_add(L::splat(-90.0), L::splat(9.0));
-        let t300: L = t232.mul_add(L::splat(-90.0), t299);
-        let t301: L = t35 * t300;
-        let t302: L = t39.mul_add(L::splat(72.0), L::splat(-6.0));
-        let t303: L = t232.mul_add(L::splat(72.0), t302);
-        let t304: L = t35.mul_add(t301, t303);
-        let t305: L = t35 * t304;
-        let t306: L = t75 * t305;
-        let t307: L = t73.mul_add(t298, t306);
-        let t308: L = L::splat(0.408248290463863) * t307;
-        let t309: L = t22 * t293;
-        let t310: L = t25.mul_add(L::splat(36.0), L::splat(-6.0));
-        let t311: L = t231.mul_add(L::splat(36.0), t310);
-        let t312: L = t22 * t311;
-        let t313: L = t26.mul_add(t309, t312);
-        let t314: L = t39.mul_add(L::splat(90.0), L::splat(-9.0));
-        let t315: L = L::splat(90.0).mul_add(t232, t314);
+        let t267: L = t25.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t268: L = t228.mul_add(L::splat(30.0), t267);
+        let t269: L = t21 * t268;
+        let t270: L = t21.mul_add(t269, t231);
+        let t271: L = t21 * t270;
+        let t272: L = t39.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t273: L = t229.mul_add(L::splat(30.0), t272);
+        let t274: L = t35 * t273;
+        let t275: L = t35.mul_add(t274, t234);
+        let t276: L = t35 * t275;
+        let t277: L = t74 * t276;
+        let t278: L = t72.mul_add(t271, t277);
+        let t279: L = L::splat(0.7071067811865476) * t278;
+        let t280: L = t22 * t268;
+        let t281: L = t26 * t280;
+        let t282: L = t39.mul_add(L::splat(-30.0), L::splat(3.0));
+        let t283: L = L::splat(-30.0).mul_add(t229, t282);
+        let t284: L = t36 * t283;
+        let t285: L = t40 * t284;
+        let t286: L = t74 * t285;
+        let t287: L = t72.mul_add(t281, t286);
+        let t288: L = L::splat(0.7071067811865476) * t287;
+        let t289: L = t25.mul_add(L::splat(-90.0), L::splat(9.0));
+        let t290: L = t228.mul_add(L::splat(-90.0), t289);
+        let t291: L = t21 * t290;
+        let t292: L = t25.mul_add(L::splat(72.0), L::splat(-6.0));
+        let t293: L = t228.mul_add(L::splat(72.0), t292);
+        let t294: L = t21.mul_add(t291, t293);
+        let t295: L = t21 * t294;
+        let t296: L = t39.mul_add(L::splat(-90.0), L::splat(9.0));
+        let t297: L = t229.mul_add(L::splat(-90.0), t296);
+        let t298: L = t35 * t297;
+        let t299: L = t39.mul_add(L::splat(72.0), L::splat(-6.0));
+        let t300: L = t229.mul_add(L::splat(72.0), t299);
+        let t301: L = t35.mul_add(t298, t300);
+        let t302: L = t35 * t301;
+        let t303: L = t74 * t302;
+        let t304: L = t72.mul_add(t295, t303);
+        let t305: L = L::splat(0.408248290463863) * t304;
+        let t306: L = t22 * t290;
+        let t307: L = t25.mul_add(L::splat(36.0), L::splat(-6.0));
+        let t308: L = t228.mul_add(L::splat(36.0), t307);
+        let t309: L = t22 * t308;
+        let t310: L = t26.mul_add(t306, t309);
+        let t311: L = t39.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t312: L = L::splat(90.0).mul_add(t229, t311);
+        let t313: L = t36 * t312;
+        let t314: L = t39.mul_add(L::splat(-36.0), L::splat(6.0));
+        let t315: L = L::splat(-36.0).mul_add(t229, t314);
         let t316: L = t36 * t315;
-        let t317: L = t39.mul_add(L::splat(-36.0), L::splat(6.0));
-        let t318: L = L::splat(-36.0).mul_add(t232, t317);
-        let t319: L = t36 * t318;
-        let t320: L = t40.mul_add(t316, t319);
-        let t321: L = t75 * t320;
-        let t322: L = t73.mul_add(t313, t321);
-        let t323: L = L::splat(0.408248290463863) * t322;
-        let t324: L = t197 + t215;
-        let t325: L = L::splat(0.7071067811865476) * t324;
-        let t326: L = L::splat(-9.0) * t185;
-        let t327: L = t179.mul_add(t326, t219);
-        let t328: L = L::splat(0.408248290463863) * t327;
-        let t329: L = t84.mul_add(L::splat(-120.0), L::splat(6.0));
-        let t330: L = t231.mul_add(L::splat(-120.0), t329);
-        let t331: L = t84 * L::splat(24.0);
-        let t332: L = t231.mul_add(L::splat(24.0), t331);
-        let t333: L = t26.mul_add(t330, t332);
-        let t334: L = t85.mul_add(L::splat(-120.0), L::splat(6.0));
-        let t335: L = t232.mul_add(L::splat(-120.0), t334);
-        let t336: L = t85 * L::splat(24.0);
-        let t337: L = t232.mul_add(L::splat(24.0), t336);
-        let t338: L = t40.mul_add(t335, t337);
-        let t339: L = t179 * t338;
-        let t340: L = t176.mul_add(t333, t339);
-        let t341: L = L::splat(0.5) * t340;
-        let t342: L = t22 * t330;
-        let t343: L = t21 * t342;
-        let t344: L = t176 * t343;
-        let t345: L = t85.mul_add(L::splat(120.0), L::splat(-6.0));
-        let t346: L = t232.mul_add(L::splat(120.0), t345);
-        let t347: L = t36 * t346;
-        let t348: L = t35 * t347;
-        let t349: L = t179.mul_add(t348, t344);
-        let t350: L = L::splat(0.5) * t349;
-        let t351: L = t84.mul_add(L::splat(-840.0), L::splat(60.0));
-        let t352: L = t231.mul_add(L::splat(-840.0), t351);
-        let t353: L = t84.mul_add(L::splat(840.0), L::splat(-60.0));
-        let t354: L = t231.mul_add(L::splat(840.0), t353);
+        let t317: L = t40.mul_add(t313, t316);
+        let t318: L = t74 * t317;
+        let t319: L = t72.mul_add(t310, t318);
+        let t320: L = L::splat(0.408248290463863) * t319;
+        let t321: L = t175.mul_add(t194, t212);
+        let t322: L = L::splat(0.7071067811865476) * t321;
+        let t323: L = L::splat(-9.0) * t183;
+        let t324: L = t177.mul_add(t323, t216);
+        let t325: L = L::splat(0.408248290463863) * t324;
+        let t326: L = t83.mul_add(L::splat(-120.0), L::splat(6.0));
+        let t327: L = t228.mul_add(L::splat(-120.0), t326);
+        let t328: L = t83 * L::splat(24.0);
+        let t329: L = t228.mul_add(L::splat(24.0), t328);
+        let t330: L = t26.mul_add(t327, t329);
+        let t331: L = t84.mul_add(L::splat(-120.0), L::splat(6.0));
+        let t332: L = t229.mul_add(L::splat(-120.0), t331);
+        let t333: L = t84 * L::splat(24.0);
+        let t334: L = t229.mul_add(L::splat(24.0), t333);
+        let t335: L = t40.mul_add(t332, t334);
+        let t336: L = t177 * t335;
+        let t337: L = t175.mul_add(t330, t336);
+        let t338: L = L::splat(0.5) * t337;
+        let t339: L = t22 * t327;
+        let t340: L = t21 * t339;
+        let t341: L = t175 * t340;
+        let t342: L = t84.mul_add(L::splat(120.0), L::splat(-6.0));
+        let t343: L = t229.mul_add(L::splat(120.0), t342);
+        let t344: L = t36 * t343;
+        let t345: L = t35 * t344;
+        let t346: L = t177.mul_add(t345, t341);
+        let t347: L = L::splat(0.5) * t346;
+        let t348: L = t83.mul_add(L::splat(-840.0), L::splat(60.0));
+        let t349: L = t228.mul_add(L::splat(-840.0), t348);
+        let t350: L = t83.mul_add(L::splat(840.0), L::splat(-60.0));
+        let t351: L = t228.mul_add(L::splat(840.0), t350);
+        let t352: L = t26.mul_add(t349, t351);
+        let t353: L = t83.mul_add(L::splat(-96.0), L::splat(6.0));
+        let t354: L = t228.mul_add(L::splat(-96.0), t353);
         let t355: L = t26.mul_add(t352, t354);
-        let t356: L = t84.mul_add(L::splat(-96.0), L::splat(6.0));
-        let t357: L = t231.mul_add(L::splat(-96.0), t356);
-        let t358: L = t26.mul_add(t355, t357);
-        let t359: L = t85.mul_add(L::splat(840.0), L::splat(-60.0));
-        let t360: L = t232.mul_add(L::splat(840.0), t359);
-        let t361: L = t85.mul_add(L::splat(-840.0), L::splat(60.0));
-        let t362: L = t232.mul_add(L::splat(-840.0), t361);
+        let t356: L = t84.mul_add(L::splat(840.0), L::splat(-60.0));
+        let t357: L = t229.mul_add(L::splat(840.0), t356);
+        let t358: L = t84.mul_add(L::splat(-840.0), L::splat(60.0));
+        let t359: L = t229.mul_add(L::splat(-840.0), t358);
+        let t360: L = t40.mul_add(t357, t359);
+        let t361: L = t84.mul_add(L::splat(96.0), L::splat(-6.0));
+        let t362: L = t229.mul_add(L::splat(96.0), t361);
         let t363: L = t40.mul_add(t360, t362);
-        let t364: L = t85.mul_add(L::splat(96.0), L::splat(-6.0));
-        let t365: L = t232.mul_add(L::splat(96.0), t364);
-        let t366: L = t40.mul_add(t363, t365);
-        let t367: L = t179 * t366;
-        let t368: L = t176.mul_add(t358, t367);
-        let t369: L = L::splat(0.5) * t368;
-        let t370: L = t84.mul_add(L::splat(420.0), L::splat(-30.0));
-        let t371: L = t231.mul_add(L::splat(420.0), t370);
-        let t372: L = t22 * t371;
-        let t373: L = t21 * t372;
-        let t374: L = t21.mul_add(t373, t342);
-        let t375: L = t21 * t374;
-        let t376: L = t176 * t375;
-        let t377: L = t85.mul_add(L::splat(420.0), L::splat(-30.0));
-        let t378: L = t232.mul_add(L::splat(420.0), t377);
-        let t379: L = t36 * t378;
+        let t364: L = t177 * t363;
+        let t365: L = t175.mul_add(t355, t364);
+        let t366: L = L::splat(0.5) * t365;
+        let t367: L = t83.mul_add(L::splat(420.0), L::splat(-30.0));
+        let t368: L = t228.mul_add(L::splat(420.0), t367);
+        let t369: L = t22 * t368;
+        let t370: L = t21 * t369;
+        let t371: L = t21.mul_add(t370, t339);
+        let t372: L = t21 * t371;
+        let t373: L = t175 * t372;
+        let t374: L = t84.mul_add(L::splat(420.0), L::splat(-30.0));
+        let t375: L = t229.mul_add(L::splat(420.0), t374);
+        let t376: L = t36 * t375;
+        let t377: L = t35 * t376;
+        let t378: L = t36 * t332;
+        let t379: L = t35.mul_add(t377, t378);
         let t380: L = t35 * t379;
-        let t381: L = t36 * t335;
-        let t382: L = t35.mul_add(t380, t381);
-        let t383: L = t35 * t382;
-        let t384: L = t179.mul_add(t383, t376);
-        let t385: L = L::splat(0.5) * t384;
-        let t386: L = t84.mul_add(L::splat(-1260.0), L::splat(90.0));
-        let t387: L = t231.mul_add(L::splat(-1260.0), t386);
-        let t388: L = t22 * t387;
-        let t389: L = t21 * t388;
-        let t390: L = t84.mul_add(L::splat(720.0), L::splat(-54.0));
-        let t391: L = t231.mul_add(L::splat(720.0), t390);
-        let t392: L = t22 * t391;
-        let t393: L = t21.mul_add(t389, t392);
-        let t394: L = t21 * t393;
-        let t395: L = t176 * t394;
-        let t396: L = t85.mul_add(L::splat(-1260.0), L::splat(90.0));
-        let t397: L = t232.mul_add(L::splat(-1260.0), t396);
-        let t398: L = t36 * t397;
-        let t399: L = t35 * t398;
-        let t400: L = t85.mul_add(L::splat(720.0), L::splat(-54.0));
-        let t401: L = t232.mul_add(L::splat(720.0), t400);
-        let t402: L = t36 * t401;
-        let t403: L = t35.mul_add(t399, t402);
-        let t404: L = t35 * t403;
-        let t405: L = t179.mul_add(t404, t395);
-        let t406: L = L::splat(0.28867513459481287) * t405;
-        let t407: L = t35 * t381;
-        let t408: L = t179.mul_add(t407, t344);
-        let t409: L = L::splat(0.5) * t408;
-        let t410: L = t143.mul_add(t330, t332);
-        let t411: L = t85 * L::splat(-24.0);
-        let t412: L = t232.mul_add(L::splat(-24.0), t411);
-        let t413: L = t146.mul_add(t346, t412);
-        let t414: L = t179 * t413;
-        let t415: L = t176.mul_add(t410, t414);
-        let t416: L = L::splat(0.5) * t415;
-        let t417: L = t85.mul_add(L::splat(-420.0), L::splat(30.0));
-        let t418: L = t232.mul_add(L::splat(-420.0), t417);
-        let t419: L = t36 * t418;
-        let t420: L = t35 * t419;
-        let t421: L = t35.mul_add(t420, t347);
-        let t422: L = t35 * t421;
-        let t423: L = t179.mul_add(t422, t376);
-        let t424: L = L::splat(0.5) * t423;
-        let t425: L = t84.mul_add(L::splat(210.0), L::splat(-15.0));
-        let t426: L = t231.mul_add(L::splat(210.0), t425);
-        let t427: L = t26.mul_add(t426, t330);
-        let t428: L = t26.mul_add(t427, t332);
-        let t429: L = t85.mul_add(L::splat(210.0), L::splat(-15.0));
-        let t430: L = t232.mul_add(L::splat(210.0), t429);
-        let t431: L = t40.mul_add(t430, t335);
-        let t432: L = t40.mul_add(t431, t337);
-        let t433: L = t179 * t432;
-        let t434: L = t176.mul_add(t428, t433);
-        let t435: L = L::splat(0.5) * t434;
-        let t436: L = t84.mul_add(L::splat(-630.0), L::splat(45.0));
-        let t437: L = t231.mul_add(L::splat(-630.0), t436);
-        let t438: L = t84.mul_add(L::splat(540.0), L::splat(-36.0));
-        let t439: L = t231.mul_add(L::splat(540.0), t438);
-        let t440: L = t26.mul_add(t437, t439);
-        let t441: L = t26 * t440;
-        let t442: L = t85.mul_add(L::splat(-630.0), L::splat(45.0));
-        let t443: L = t232.mul_add(L::splat(-630.0), t442);
-        let t444: L = t85.mul_add(L::splat(540.0), L::splat(-36.0));
-        let t445: L = t232.mul_add(L::splat(540.0), t444);
-        let t446: L = t40.mul_add(t443, t445);
-        let t447: L = t40 * t446;
-        let t448: L = t179 * t447;
-        let t449: L = t176.mul_add(t441, t448);
-        let t450: L = L::splat(0.28867513459481287) * t449;
-        let t451: L = t85.mul_add(L::splat(1260.0), L::splat(-90.0));
-        let t452: L = t232.mul_add(L::splat(1260.0), t451);
-        let t453: L = t36 * t452;
-        let t454: L = t35 * t453;
-        let t455: L = t85.mul_add(L::splat(-720.0), L::splat(54.0));
-        let t456: L = t232.mul_add(L::splat(-720.0), t455);
-        let t457: L = t36 * t456;
-        let t458: L = t35.mul_add(t454, t457);
-        let t459: L = t35 * t458;
-        let t460: L = t179.mul_add(t459, t395);
-        let t461: L = L::splat(0.28867513459481287) * t460;
-        let t462: L = t84.mul_add(L::splat(1890.0), L::splat(-135.0));
-        let t463: L = t231.mul_add(L::splat(1890.0), t462);
-        let t464: L = t84.mul_add(L::splat(-2160.0), L::splat(162.0));
-        let t465: L = t231.mul_add(L::splat(-2160.0), t464);
+        let t381: L = t177.mul_add(t380, t373);
+        let t382: L = L::splat(0.5) * t381;
+        let t383: L = t83.mul_add(L::splat(-1260.0), L::splat(90.0));
+        let t384: L = t228.mul_add(L::splat(-1260.0), t383);
+        let t385: L = t22 * t384;
+        let t386: L = t21 * t385;
+        let t387: L = t83.mul_add(L::splat(720.0), L::splat(-54.0));
+        let t388: L = t228.mul_add(L::splat(720.0), t387);
+        let t389: L = t22 * t388;
+        let t390: L = t21.mul_add(t386, t389);
+        let t391: L = t21 * t390;
+        let t392: L = t175 * t391;
+        let t393: L = t84.mul_add(L::splat(-1260.0), L::splat(90.0));
+        let t394: L = t229.mul_add(L::splat(-1260.0), t393);
+        let t395: L = t36 * t394;
+        let t396: L = t35 * t395;
+        let t397: L = t84.mul_add(L::splat(720.0), L::splat(-54.0));
+        let t398: L = t229.mul_add(L::splat(720.0), t397);
+        let t399: L = t36 * t398;
+        let t400: L = t35.mul_add(t396, t399);
+        let t401: L = t35 * t400;
+        let t402: L = t177.mul_add(t401, t392);
+        let t403: L = L::splat(0.28867513459481287) * t402;
+        let t404: L = t35 * t378;
+        let t405: L = t177.mul_add(t404, t341);
+        let t406: L = L::splat(0.5) * t405;
+        let t407: L = t142.mul_add(t327, t329);
+        let t408: L = t84 * L::splat(-24.0);
+        let t409: L = t229.mul_add(L::splat(-24.0), t408);
+        let t410: L = t145.mul_add(t343, t409);
+        let t411: L = t177 * t410;
+        let t412: L = t175.mul_add(t407, t411);
+        let t413: L = L::splat(0.5) * t412;
+        let t414: L = t84.mul_add(L::splat(-420.0), L::splat(30.0));
+        let t415: L = t229.mul_add(L::splat(-420.0), t414);
+        let t416: L = t36 * t415;
+        let t417: L = t35 * t416;
+        let t418: L = t35.mul_add(t417, t344);
+        let t419: L = t35 * t418;
+        let t420: L = t177.mul_add(t419, t373);
+        let t421: L = L::splat(0.5) * t420;
+        let t422: L = t83.mul_add(L::splat(210.0), L::splat(-15.0));
+        let t423: L = t228.mul_add(L::splat(210.0), t422);
+        let t424: L = t26.mul_add(t423, t327);
+        let t425: L = t26.mul_add(t424, t329);
+        let t426: L = t84.mul_add(L::splat(210.0), L::splat(-15.0));
+        let t427: L = t229.mul_add(L::splat(210.0), t426);
+        let t428: L = t40.mul_add(t427, t332);
+        let t429: L = t40.mul_add(t428, t334);
+        let t430: L = t177 * t429;
+        let t431: L = t175.mul_add(t425, t430);
+        let t432: L = L::splat(0.5) * t431;
+        let t433: L = t83.mul_add(L::splat(-630.0), L::splat(45.0));
+        let t434: L = t228.mul_add(L::splat(-630.0), t433);
+        let t435: L = t83.mul_add(L::splat(540.0), L::splat(-36.0));
+        let t436: L = t228.mul_add(L::splat(540.0), t435);
+        let t437: L = t26.mul_add(t434, t436);
+        let t438: L = t26 * t437;
+        let t439: L = t84.mul_add(L::splat(-630.0), L::splat(45.0));
+        let t440: L = t229.mul_add(L::splat(-630.0), t439);
+        let t441: L = t84.mul_add(L::splat(540.0), L::splat(-36.0));
+        let t442: L = t229.mul_add(L::splat(540.0), t441);
+        let t443: L = t40.mul_add(t440, t442);
+        let t444: L = t40 * t443;
+        let t445: L = t177 * t444;
+        let t446: L = t175.mul_add(t438, t445);
+        let t447: L = L::splat(0.28867513459481287) * t446;
+        let t448: L = t84.mul_add(L::splat(1260.0), L::splat(-90.0));
+        let t449: L = t229.mul_add(L::splat(1260.0), t448);
+        let t450: L = t36 * t449;
+        let t451: L = t35 * t450;
+        let t452: L = t84.mul_add(L::splat(-720.0), L::splat(54.0));
+        let t453: L = t229.mul_add(L::splat(-720.0), t452);
+        let t454: L = t36 * t453;
+        let t455: L = t35.mul_add(t451, t454);
+        let t456: L = t35 * t455;
+        let t457: L = t177.mul_add(t456, t392);
+        let t458: L = L::splat(0.28867513459481287) * t457;
+        let t459: L = t83.mul_add(L::splat(1890.0), L::splat(-135.0));
+        let t460: L = t228.mul_add(L::splat(1890.0), t459);
+        let t461: L = t83.mul_add(L::splat(-2160.0), L::splat(162.0));
+        let t462: L = t228.mul_add(L::splat(-2160.0), t461);
+        let t463: L = t26.mul_add(t460, t462);
+        let t464: L = t83.mul_add(L::splat(432.0), L::splat(-36.0));
+        let t465: L = t228.mul_add(L::splat(432.0), t464);
         let t466: L = t26.mul_add(t463, t465);
-        let t467: L = t84.mul_add(L::splat(432.0), L::splat(-36.0));
-        let t468: L = t231.mul_add(L::splat(432.0), t467);
-        let t469: L = t26.mul_add(t466, t468);
-        let t470: L = t85.mul_add(L::splat(1890.0), L::splat(-135.0));
-        let t471: L = t232.mul_add(L::splat(1890.0), t470);
-        let t472: L = t85.mul_add(L::splat(-2160.0), L::splat(162.0));
-        let t473: L = t232.mul_add(L::splat(-2160.0), t472);
+        let t467: L = t84.mul_add(L::splat(1890.0), L::splat(-135.0));
+        let t468: L = t229.mul_add(L::splat(1890.0), t467);
+        let t469: L = t84.mul_add(L::splat(-2160.0), L::splat(162.0));
+        let t470: L = t229.mul_add(L::splat(-2160.0), t469);
+        let t471: L = t40.mul_add(t468, t470);
+        let t472: L = t84.mul_add(L::splat(432.0), L::splat(-36.0));
+        let t473: L = t229.mul_add(L::splat(432.0), t472);
         let t474: L = t40.mul_add(t471, t473);
-        let t475: L = t85.mul_add(L::splat(432.0), L::splat(-36.0));
-        let t476: L = t232.mul_add(L::splat(432.0), t475);
-        let t477: L = t40.mul_add(t474, t476);
-        let t478: L = t179 * t477;
-        let t479: L = t176.mul_add(t469, t478);
-        let t480: L = L::splat(0.16666666666666666) * t479;
-        let t481: L = t9 * t49;
-        let t482: L = t11 * t59;
-        let t483: L = t11 * t482;
-        let t484: L = t9.mul_add(t481, t483);
-        let t485: L = t11 * t49;
-        let t486: L = t9 * t59;
-        let t487: L = t11 * t486;
-        let t488: L = t9.mul_sub(t485, t487);
-        let t489: L = t9 * t57;
-        let t490: L = t9 * t482;
-        let t491: L = t11.mul_sub(t481, t490);
-        let t492: L = t9 * t486;
-        let t493: L = t11.mul_add(t485, t492);
-        let t494: L = t11 * t57;
-        let t495: L = t9 * t62;
-        let t496: L = t11 * t62;
-        let t497: L = t11 * t77;
-        let t498: L = t9 * t78;
-        let t499: L = t11 * t498;
-        let t500: L = t9.mul_add(t497, t499);
-        let t501: L = -t500;
-        let t502: L = t9 * t77;
-        let t503: L = t11 * t78;
-        let t504: L = t11 * t503;
-        let t505: L = t9.mul_sub(t502, t504);
-        let t506: L = t11 * t81;
-        let t507: L = -t506;
-        let t508: L = t11 * t497;
-        let t509: L = t9.mul_sub(t498, t508);
-        let t510: L = t9 * t503;
-        let t511: L = t11.mul_add(t502, t510);
+        let t475: L = t177 * t474;
+        let t476: L = t175.mul_add(t466, t475);
+        let t477: L = L::splat(0.16666666666666666) * t476;
+        let t478: L = t9 * t48;
+        let t479: L = t11 * t58;
+        let t480: L = t11 * t479;
+        let t481: L = t9.mul_add(t478, t480);
+        let t482: L = t11 * t48;
+        let t483: L = t9 * t58;
+        let t484: L = t11 * t483;
+        let t485: L = t9.mul_sub(t482, t484);
+        let t486: L = t9 * t56;
+        let t487: L = t9 * t479;
+        let t488: L = t11.mul_sub(t478, t487);
+        let t489: L = t9 * t483;
+        let t490: L = t11.mul_add(t482, t489);
+        let t491: L = t11 * t56;
+        let t492: L = t9 * t61;
+        let t493: L = t11 * t61;
+        let t494: L = t11 * t76;
+        let t495: L = t9 * t77;
+        let t496: L = t11 * t495;
+        let t497: L = t9.mul_add(t494, t496);
+        let t498: L = -t497;
+        let t499: L = t9 * t76;
+        let t500: L = t11 * t77;
+        let t501: L = t11 * t500;
+        let t502: L = t9.mul_sub(t499, t501);
+        let t503: L = t11 * t80;
+        let t504: L = -t503;
+        let t505: L = t11 * t494;
+        let t506: L = t9.mul_sub(t495, t505);
+        let t507: L = t9 * t500;
+        let t508: L = t11.mul_add(t499, t507);
+        let t509: L = t9 * t80;
+        let t510: L = t11 * t81;
+        let t511: L = -t510;
         let t512: L = t9 * t81;
-        let t513: L = t11 * t82;
-        let t514: L = -t513;
-        let t515: L = t9 * t82;
-        let t516: L = t9 * t9;
-        let t517: L = L::splat(0.5000000000000001) * t516;
-        let t518: L = t11 * t11;
-        let t519: L = L::splat(0.5000000000000001) * t518;
-        let t520: L = t517 - t519;
-        let t521: L = t520 - t519;
-        let t522: L = t517 + t521;
-        let t523: L = t9 * t11;
-        let t524: L = L::splat(0.5000000000000001) * t523;
-        let t525: L = t523 * L::splat(-0.5000000000000001);
-        let t526: L = t524 - t525;
-        let t527: L = t524 + t526;
-        let t528: L = t527 - t525;
-        let t529: L = t523 * L::splat(-0.2886751345948129);
-        let t530: L = t9 * L::splat(0.5000000000000001);
-        let t531: L = t530 + t530;
-        let t532: L = t11 * L::splat(0.5000000000000001);
-        let t533: L = t532 + t532;
-        let t534: L = t524 + t524;
-        let t535: L = t525 - t534;
-        let t536: L = t525 + t535;
-        let t537: L = t518 * L::splat(-0.5000000000000001);
-        let t538: L = t517 + t537;
-        let t539: L = t537 + t538;
-        let t540: L = t517 + t539;
-        let t541: L = t516 * L::splat(-0.2886751345948129);
-        let t542: L = t518 * L::splat(-0.2886751345948129);
-        let t543: L = t541 + t542;
-        let t544: L = t518 * L::splat(0.2886751345948129);
-        let t545: L = t543 + t544;
-        let t546: L = t516 * L::splat(0.2886751345948129);
-        let t547: L = t545 + t546;
-        let t548: L = t529 + t529;
-        let t549: L = t529 - t548;
-        let t550: L = t529 + t549;
-        let t551: L = t541 + t544;
-        let t552: L = t542 + t551;
-        let t553: L = t546 + t552;
-        let t554: L = L::splat(0.16666666666666666) * t516;
-        let t555: L = L::splat(0.16666666666666666) * t518;
-        let t556: L = t554 + t555;
-        let t557: L = t555 + t556;
-        let t558: L = t554 + t557;
-        let t559: L = t558 + L::splat(0.6666666666666666);
-        let t560: L = t117 * t528;
-        let t561: L = t139 * t522;
-        let t562: L = t11 * t561;
-        let t563: L = t9.mul_sub(t560, t562);
-        let t564: L = t102 * t531;
-        let t565: L = t142 * t533;
-        let t566: L = t11 * t565;
-        let t567: L = t9.mul_add(t564, t566);
-        let t568: L = t102 * t533;
-        let t569: L = t142 * t531;
-        let t570: L = t11 * t569;
-        let t571: L = t9.mul_sub(t568, t570);
-        let t572: L = t134 * t547;
-        let t573: L = t117.mul_add(t540, t572);
-        let t574: L = t139 * t536;
-        let t575: L = t11 * t574;
-        let t576: L = t9.mul_sub(t573, t575);
-        let t577: L = t134 * t559;
-        let t578: L = t117.mul_add(t553, t577);
-        let t579: L = t139 * t550;
-        let t580: L = t11 * t579;
-        let t581: L = t9.mul_sub(t578, t580);
-        let t582: L = t9 * t561;
-        let t583: L = t11.mul_add(t560, t582);
-        let t584: L = t9 * t565;
-        let t585: L = t11.mul_sub(t564, t584);
-        let t586: L = t9 * t569;
-        let t587: L = t11.mul_add(t568, t586);
-        let t588: L = t9 * t574;
-        let t589: L = t11.mul_add(t573, t588);
-        let t590: L = t9 * t579;
-        let t591: L = t11.mul_add(t578, t590);
-        let t592: L = t159 * t528;
-        let t593: L = t152 * t531;
-        let t594: L = t152 * t533;
-        let t595: L = t172 * t547;
-        let t596: L = t159.mul_add(t540, t595);
-        let t597: L = t172 * t559;
-        let t598: L = t159.mul_add(t553, t597);
-        let t599: L = t11 * t173;
-        let t600: L = t9 * t599;
+        let t513: L = t9 * t9;
+        let t514: L = t11 * t11;
+        let t515: L = L::splat(0.5000000000000001) * t514;
+        let t516: L = L::splat(0.5000000000000001).mul_sub(t513, t515);
+        let t517: L = t516 - t515;
+        let t518: L = L::splat(0.5000000000000001).mul_add(t513, t517);
+        let t519: L = t9 * t11;
+        let t520: L = L::splat(0.5000000000000001) * t519;
+        let t521: L = t519 * L::splat(-0.5000000000000001);
+        let t522: L = t520 - t521;
+        let t523: L = t520 + t522;
+        let t524: L = t523 - t521;
+        let t525: L = t519 * L::splat(-0.2886751345948129);
+        let t526: L = t9 * L::splat(0.5000000000000001);
+        let t527: L = t526 + t526;
+        let t528: L = t11 * L::splat(0.5000000000000001);
+        let t529: L = t528 + t528;
+        let t530: L = t520 + t520;
+        let t531: L = t521 - t530;
+        let t532: L = t521 + t531;
+        let t533: L = t514 * L::splat(-0.5000000000000001);
+        let t534: L = L::splat(0.5000000000000001).mul_add(t513, t533);
+        let t535: L = t533 + t534;
+        let t536: L = L::splat(0.5000000000000001).mul_add(t513, t535);
+        let t537: L = t514 * L::splat(-0.2886751345948129);
+        let t538: L = t513.mul_add(L::splat(-0.2886751345948129), t537);
+        let t539: L = t514 * L::splat(0.2886751345948129);
+        let t540: L = t538 + t539;
+        let t541: L = t513.mul_add(L::splat(0.2886751345948129), t540);
+        let t542: L = t525 + t525;
+        let t543: L = t525 - t542;
+        let t544: L = t525 + t543;
+        let t545: L = t513.mul_add(L::splat(-0.2886751345948129), t539);
+        let t546: L = t537 + t545;
+        let t547: L = t513.mul_add(L::splat(0.2886751345948129), t546);
+        let t548: L = L::splat(0.16666666666666666) * t514;
+        let t549: L = L::splat(0.16666666666666666).mul_add(t513, t548);
+        let t550: L = t548 + t549;
+        let t551: L = L::splat(0.16666666666666666).mul_add(t513, t550);
+        let t552: L = t551 + L::splat(0.6666666666666666);
+        let t553: L = t116 * t524;
+        let t554: L = t138 * t518;
+        let t555: L = t11 * t554;
+        let t556: L = t9.mul_sub(t553, t555);
+        let t557: L = t101 * t527;
+        let t558: L = t141 * t529;
+        let t559: L = t11 * t558;
+        let t560: L = t9.mul_add(t557, t559);
+        let t561: L = t101 * t529;
+        let t562: L = t141 * t527;
+        let t563: L = t11 * t562;
+        let t564: L = t9.mul_sub(t561, t563);
+        let t565: L = t133 * t541;
+        let t566: L = t116.mul_add(t536, t565);
+        let t567: L = t138 * t532;
+        let t568: L = t11 * t567;
+        let t569: L = t9.mul_sub(t566, t568);
+        let t570: L = t133 * t552;
+        let t571: L = t116.mul_add(t547, t570);
+        let t572: L = t138 * t544;
+        let t573: L = t11 * t572;
+        let t574: L = t9.mul_sub(t571, t573);
+        let t575: L = t9 * t554;
+        let t576: L = t11.mul_add(t553, t575);
+        let t577: L = t9 * t558;
+        let t578: L = t11.mul_sub(t557, t577);
+        let t579: L = t9 * t562;
+        let t580: L = t11.mul_add(t561, t579);
+        let t581: L = t9 * t567;
+        let t582: L = t11.mul_add(t566, t581);
+        let t583: L = t9 * t572;
+        let t584: L = t11.mul_add(t571, t583);
+        let t585: L = t158 * t524;
+        let t586: L = t151 * t527;
+        let t587: L = t151 * t529;
+        let t588: L = t171 * t541;
+        let t589: L = t158.mul_add(t536, t588);
+        let t590: L = t171 * t552;
+        let t591: L = t158.mul_add(t547, t590);
+        let t592: L = t11 * t172;
+        let t593: L = t9 * t592;
+        let t594: L = t9 * t172;
+        let t595: L = t11.mul_sub(t594, t593);
+        let t596: L = t11 * t592;
+        let t597: L = t9.mul_add(t594, t596);
+        let t598: L = t11 * t173;
+        let t599: L = -t598;
+        let t600: L = -t597;
         let t601: L = t9 * t173;
-        let t602: L = t11.mul_sub(t601, t600);
-        let t603: L = t11 * t599;
-        let t604: L = t9.mul_add(t601, t603);
-        let t605: L = t11 * t174;
-        let t606: L = -t605;
-        let t607: L = -t604;
-        let t608: L = t9 * t174;
-        let t609: L = -t512;
-        let t610: L = t9 * t181;
-        let t611: L = t11 * t189;
-        let t612: L = t11 * t611;
-        let t613: L = t9.mul_add(t610, t612);
-        let t614: L = t11 * t181;
-        let t615: L = t9 * t189;
-        let t616: L = t11 * t615;
-        let t617: L = t9.mul_sub(t614, t616);
-        let t618: L = t9 * t187;
-        let t619: L = t9 * t611;
-        let t620: L = t11.mul_sub(t610, t619);
-        let t621: L = t9 * t615;
-        let t622: L = t11.mul_add(t614, t621);
-        let t623: L = t11 * t187;
-        let t624: L = t9 * t191;
-        let t625: L = t11 * t191;
-        let t626: L = t201 * t522;
-        let t627: L = t217 * t528;
-        let t628: L = t11 * t627;
-        let t629: L = t9.mul_sub(t626, t628);
-        let t630: L = t206 * t533;
-        let t631: L = t211 * t531;
-        let t632: L = t11 * t631;
-        let t633: L = t9.mul_add(t630, t632);
-        let t634: L = -t633;
-        let t635: L = t206 * t531;
-        let t636: L = t211 * t533;
-        let t637: L = t11 * t636;
-        let t638: L = t9.mul_sub(t635, t637);
-        let t639: L = t201 * t536;
-        let t640: L = t222 * t547;
-        let t641: L = t217.mul_add(t540, t640);
-        let t642: L = t11 * t641;
-        let t643: L = t9.mul_sub(t639, t642);
-        let t644: L = t201 * t550;
-        let t645: L = t222 * t559;
-        let t646: L = t217.mul_add(t553, t645);
-        let t647: L = t11 * t646;
-        let t648: L = t9.mul_sub(t644, t647);
-        let t649: L = t9 * t627;
-        let t650: L = t11.mul_add(t626, t649);
-        let t651: L = t11 * t630;
-        let t652: L = t9.mul_sub(t631, t651);
-        let t653: L = t9 * t636;
-        let t654: L = t11.mul_add(t635, t653);
-        let t655: L = t9 * t641;
-        let t656: L = t11.mul_add(t639, t655);
-        let t657: L = t9 * t646;
-        let t658: L = t11.mul_add(t644, t657);
-        let t659: L = t227 * t522;
-        let t660: L = t229 * t533;
-        let t661: L = -t660;
-        let t662: L = t229 * t531;
-        let t663: L = t227 * t536;
-        let t664: L = t227 * t550;
-        let t665: L = t11 * t241;
-        let t666: L = t522 * t665;
-        let t667: L = t9 * t282;
-        let t668: L = t528.mul_sub(t667, t666);
-        let t669: L = t9 * t241;
-        let t670: L = t11 * t282;
-        let t671: L = t528 * t670;
-        let t672: L = t522.mul_add(t669, t671);
-        let t673: L = t291 * t528;
-        let t674: L = t9 * t254;
-        let t675: L = t11 * t269;
-        let t676: L = t533 * t675;
-        let t677: L = t531.mul_add(t674, t676);
-        let t678: L = t11 * t254;
-        let t679: L = t9 * t269;
-        let t680: L = t533 * t679;
-        let t681: L = t531.mul_sub(t678, t680);
-        let t682: L = t266 * t531;
-        let t683: L = t531 * t675;
-        let t684: L = t533.mul_sub(t674, t683);
-        let t685: L = t531 * t679;
-        let t686: L = t533.mul_add(t678, t685);
-        let t687: L = t266 * t533;
-        let t688: L = t536 * t665;
-        let t689: L = t540.mul_sub(t667, t688);
-        let t690: L = t9 * t308;
-        let t691: L = t547.mul_add(t690, t689);
-        let t692: L = t540 * t670;
-        let t693: L = t536.mul_add(t669, t692);
-        let t694: L = t11 * t308;
-        let t695: L = t547.mul_add(t694, t693);
-        let t696: L = t323 * t547;
-        let t697: L = t291.mul_add(t540, t696);
-        let t698: L = t550 * t665;
-        let t699: L = t553.mul_sub(t667, t698);
-        let t700: L = t559.mul_add(t690, t699);
-        let t701: L = t553 * t670;
-        let t702: L = t550.mul_add(t669, t701);
-        let t703: L = t559.mul_add(t694, t702);
-        let t704: L = t323 * t559;
-        let t705: L = t291.mul_add(t553, t704);
-        let t706: L = t9 * t325;
-        let t707: L = t11 * t229;
-        let t708: L = t528 * t707;
-        let t709: L = t522.mul_sub(t706, t708);
-        let t710: L = t11 * t325;
-        let t711: L = t9 * t229;
-        let t712: L = t528 * t711;
-        let t713: L = t522.mul_add(t710, t712);
-        let t714: L = t11 * t211;
-        let t715: L = t9 * t206;
-        let t716: L = t533 * t715;
-        let t717: L = t531.mul_add(t714, t716);
-        let t718: L = -t717;
-        let t719: L = t9 * t211;
-        let t720: L = t11 * t206;
-        let t721: L = t533 * t720;
-        let t722: L = t531.mul_sub(t719, t721);
-        let t723: L = t217 * t533;
-        let t724: L = -t723;
-        let t725: L = t533 * t714;
-        let t726: L = t531.mul_sub(t715, t725);
-        let t727: L = t531 * t720;
-        let t728: L = t533.mul_add(t719, t727);
-        let t729: L = t217 * t531;
-        let t730: L = t540 * t707;
-        let t731: L = t536.mul_sub(t706, t730);
-        let t732: L = t11 * t328;
-        let t733: L = t547.neg_mul_add(t732, t731);
-        let t734: L = t540 * t711;
-        let t735: L = t536.mul_add(t710, t734);
-        let t736: L = t9 * t328;
-        let t737: L = t547.mul_add(t736, t735);
-        let t738: L = t553 * t707;
-        let t739: L = t550.mul_sub(t706, t738);
-        let t740: L = t559.neg_mul_add(t732, t739);
-        let t741: L = t553 * t711;
-        let t742: L = t550.mul_add(t710, t741);
-        let t743: L = t559.mul_add(t736, t742);
-        let t744: L = t341 * t522;
-        let t745: L = t435 * t528;
-        let t746: L = t528 * t745;
-        let t747: L = t522.mul_add(t744, t746);
-        let t748: L = t350 * t533;
-        let t749: L = t522 * t748;
-        let t750: L = t424 * t531;
-        let t751: L = t528.mul_sub(t750, t749);
-        let t752: L = t350 * t531;
-        let t753: L = t424 * t533;
-        let t754: L = t528 * t753;
-        let t755: L = t522.mul_add(t752, t754);
-        let t756: L = t341 * t536;
-        let t757: L = t450 * t547;
-        let t758: L = t435.mul_add(t540, t757);
-        let t759: L = t528 * t758;
-        let t760: L = t522.mul_add(t756, t759);
-        let t761: L = t341 * t550;
-        let t762: L = t450 * t559;
-        let t763: L = t435.mul_add(t553, t762);
-        let t764: L = t528 * t763;
-        let t765: L = t522.mul_add(t761, t764);
-        let t766: L = t385 * t528;
-        let t767: L = t409 * t522;
-        let t768: L = t533 * t767;
-        let t769: L = t531.mul_sub(t766, t768);
-        let t770: L = t369 * t531;
-        let t771: L = t416 * t533;
-        let t772: L = t533 * t771;
-        let t773: L = t531.mul_add(t770, t772);
-        let t774: L = t369 * t533;
-        let t775: L = t416 * t531;
-        let t776: L = t533 * t775;
-        let t777: L = t531.mul_sub(t774, t776);
-        let t778: L = t406 * t547;
-        let t779: L = t385.mul_add(t540, t778);
-        let t780: L = t409 * t536;
-        let t781: L = t533 * t780;
-        let t782: L = t531.mul_sub(t779, t781);
-        let t783: L = t406 * t559;
-        let t784: L = t385.mul_add(t553, t783);
-        let t785: L = t409 * t550;
-        let t786: L = t533 * t785;
-        let t787: L = t531.mul_sub(t784, t786);
-        let t788: L = t531 * t767;
-        let t789: L = t533.mul_add(t766, t788);
-        let t790: L = t531 * t771;
-        let t791: L = t533.mul_sub(t770, t790);
-        let t792: L = t531 * t775;
-        let t793: L = t533.mul_add(t774, t792);
-        let t794: L = t531 * t780;
-        let t795: L = t533.mul_add(t779, t794);
-        let t796: L = t531 * t785;
-        let t797: L = t533.mul_add(t784, t796);
-        let t798: L = t540 * t745;
-        let t799: L = t536.mul_add(t744, t798);
-        let t800: L = t450 * t528;
-        let t801: L = t547.mul_add(t800, t799);
-        let t802: L = t536 * t748;
-        let t803: L = t540.mul_sub(t750, t802);
-        let t804: L = t461 * t531;
-        let t805: L = t547.mul_add(t804, t803);
-        let t806: L = t540 * t753;
-        let t807: L = t536.mul_add(t752, t806);
-        let t808: L = t461 * t533;
-        let t809: L = t547.mul_add(t808, t807);
-        let t810: L = t540 * t758;
-        let t811: L = t536.mul_add(t756, t810);
-        let t812: L = t480 * t547;
-        let t813: L = t450.mul_add(t540, t812);
-        let t814: L = t547.mul_add(t813, t811);
-        let t815: L = t540 * t763;
-        let t816: L = t536.mul_add(t761, t815);
-        let t817: L = t480 * t559;
-        let t818: L = t450.mul_add(t553, t817);
-        let t819: L = t547.mul_add(t818, t816);
-        let t820: L = t553 * t745;
-        let t821: L = t550.mul_add(t744, t820);
-        let t822: L = t559.mul_add(t800, t821);
-        let t823: L = t550 * t748;
-        let t824: L = t553.mul_sub(t750, t823);
-        let t825: L = t559.mul_add(t804, t824);
-        let t826: L = t553 * t753;
-        let t827: L = t550.mul_add(t752, t826);
-        let t828: L = t559.mul_add(t808, t827);
-        let t829: L = t553 * t758;
-        let t830: L = t550.mul_add(t756, t829);
-        let t831: L = t559.mul_add(t813, t830);
-        let t832: L = t553 * t763;
-        let t833: L = t550.mul_add(t761, t832);
-        let t834: L = t559.mul_add(t818, t833);
+        let t602: L = -t509;
+        let t603: L = t9 * t179;
+        let t604: L = t11 * t187;
+        let t605: L = t11 * t604;
+        let t606: L = t9.mul_add(t603, t605);
+        let t607: L = t11 * t179;
+        let t608: L = t9 * t187;
+        let t609: L = t11 * t608;
+        let t610: L = t9.mul_sub(t607, t609);
+        let t611: L = t9 * t185;
+        let t612: L = t9 * t604;
+        let t613: L = t11.mul_sub(t603, t612);
+        let t614: L = t9 * t608;
+        let t615: L = t11.mul_add(t607, t614);
+        let t616: L = t11 * t185;
+        let t617: L = t9 * t189;
+        let t618: L = t11 * t189;
+        let t619: L = t198 * t518;
+        let t620: L = t214 * t524;
+        let t621: L = t11 * t620;
+        let t622: L = t9.mul_sub(t619, t621);
+        let t623: L = t203 * t529;
+        let t624: L = t208 * t527;
+        let t625: L = t11 * t624;
+        let t626: L = t9.mul_add(t623, t625);
+        let t627: L = -t626;
+        let t628: L = t203 * t527;
+        let t629: L = t208 * t529;
+        let t630: L = t11 * t629;
+        let t631: L = t9.mul_sub(t628, t630);
+        let t632: L = t198 * t532;
+        let t633: L = t219 * t541;
+        let t634: L = t214.mul_add(t536, t633);
+        let t635: L = t11 * t634;
+        let t636: L = t9.mul_sub(t632, t635);
+        let t637: L = t198 * t544;
+        let t638: L = t219 * t552;
+        let t639: L = t214.mul_add(t547, t638);
+        let t640: L = t11 * t639;
+        let t641: L = t9.mul_sub(t637, t640);
+        let t642: L = t9 * t620;
+        let t643: L = t11.mul_add(t619, t642);
+        let t644: L = t11 * t623;
+        let t645: L = t9.mul_sub(t624, t644);
+        let t646: L = t9 * t629;
+        let t647: L = t11.mul_add(t628, t646);
+        let t648: L = t9 * t634;
+        let t649: L = t11.mul_add(t632, t648);
+        let t650: L = t9 * t639;
+        let t651: L = t11.mul_add(t637, t650);
+        let t652: L = t224 * t518;
+        let t653: L = t226 * t529;
+        let t654: L = -t653;
+        let t655: L = t226 * t527;
+        let t656: L = t224 * t532;
+        let t657: L = t224 * t544;
+        let t658: L = t11 * t238;
+        let t659: L = t518 * t658;
+        let t660: L = t9 * t279;
+        let t661: L = t524.mul_sub(t660, t659);
+        let t662: L = t9 * t238;
+        let t663: L = t11 * t279;
+        let t664: L = t524 * t663;
+        let t665: L = t518.mul_add(t662, t664);
+        let t666: L = t288 * t524;
+        let t667: L = t9 * t251;
+        let t668: L = t11 * t266;
+        let t669: L = t529 * t668;
+        let t670: L = t527.mul_add(t667, t669);
+        let t671: L = t11 * t251;
+        let t672: L = t9 * t266;
+        let t673: L = t529 * t672;
+        let t674: L = t527.mul_sub(t671, t673);
+        let t675: L = t263 * t527;
+        let t676: L = t527 * t668;
+        let t677: L = t529.mul_sub(t667, t676);
+        let t678: L = t527 * t672;
+        let t679: L = t529.mul_add(t671, t678);
+        let t680: L = t263 * t529;
+        let t681: L = t532 * t658;
+        let t682: L = t536.mul_sub(t660, t681);
+        let t683: L = t9 * t305;
+        let t684: L = t541.mul_add(t683, t682);
+        let t685: L = t536 * t663;
+        let t686: L = t532.mul_add(t662, t685);
+        let t687: L = t11 * t305;
+        let t688: L = t541.mul_add(t687, t686);
+        let t689: L = t320 * t541;
+        let t690: L = t288.mul_add(t536, t689);
+        let t691: L = t544 * t658;
+        let t692: L = t547.mul_sub(t660, t691);
+        let t693: L = t552.mul_add(t683, t692);
+        let t694: L = t547 * t663;
+        let t695: L = t544.mul_add(t662, t694);
+        let t696: L = t552.mul_add(t687, t695);
+        let t697: L = t320 * t552;
+        let t698: L = t288.mul_add(t547, t697);
+        let t699: L = t9 * t322;
+        let t700: L = t11 * t226;
+        let t701: L = t524 * t700;
+        let t702: L = t518.mul_sub(t699, t701);
+        let t703: L = t11 * t322;
+        let t704: L = t9 * t226;
+        let t705: L = t524 * t704;
+        let t706: L = t518.mul_add(t703, t705);
+        let t707: L = t11 * t208;
+        let t708: L = t9 * t203;
+        let t709: L = t529 * t708;
+        let t710: L = t527.mul_add(t707, t709);
+        let t711: L = -t710;
+        let t712: L = t9 * t208;
+        let t713: L = t11 * t203;
+        let t714: L = t529 * t713;
+        let t715: L = t527.mul_sub(t712, t714);
+        let t716: L = t214 * t529;
+        let t717: L = -t716;
+        let t718: L = t529 * t707;
+        let t719: L = t527.mul_sub(t708, t718);
+        let t720: L = t527 * t713;
+        let t721: L = t529.mul_add(t712, t720);
+        let t722: L = t214 * t527;
+        let t723: L = t536 * t700;
+        let t724: L = t532.mul_sub(t699, t723);
+        let t725: L = t11 * t325;
+        let t726: L = t541.neg_mul_add(t725, t724);
+        let t727: L = t536 * t704;
+        let t728: L = t532.mul_add(t703, t727);
+        let t729: L = t9 * t325;
+        let t730: L = t541.mul_add(t729, t728);
+        let t731: L = t547 * t700;
+        let t732: L = t544.mul_sub(t699, t731);
+        let t733: L = t552.neg_mul_add(t725, t732);
+        let t734: L = t547 * t704;
+        let t735: L = t544.mul_add(t703, t734);
+        let t736: L = t552.mul_add(t729, t735);
+        let t737: L = t338 * t518;
+        let t738: L = t432 * t524;
+        let t739: L = t524 * t738;
+        let t740: L = t518.mul_add(t737, t739);
+        let t741: L = t347 * t529;
+        let t742: L = t518 * t741;
+        let t743: L = t421 * t527;
+        let t744: L = t524.mul_sub(t743, t742);
+        let t745: L = t347 * t527;
+        let t746: L = t421 * t529;
+        let t747: L = t524 * t746;
+        let t748: L = t518.mul_add(t745, t747);
+        let t749: L = t338 * t532;
+        let t750: L = t447 * t541;
+        let t751: L = t432.mul_add(t536, t750);
+        let t752: L = t524 * t751;
+        let t753: L = t518.mul_add(t749, t752);
+        let t754: L = t338 * t544;
+        let t755: L = t447 * t552;
+        let t756: L = t432.mul_add(t547, t755);
+        let t757: L = t524 * t756;
+        let t758: L = t518.mul_add(t754, t757);
+        let t759: L = t382 * t524;
+        let t760: L = t406 * t518;
+        let t761: L = t529 * t760;
+        let t762: L = t527.mul_sub(t759, t761);
+        let t763: L = t366 * t527;
+        let t764: L = t413 * t529;
+        let t765: L = t529 * t764;
+        let t766: L = t527.mul_add(t763, t765);
+        let t767: L = t366 * t529;
+        let t768: L = t413 * t527;
+        let t769: L = t529 * t768;
+        let t770: L = t527.mul_sub(t767, t769);
+        let t771: L = t403 * t541;
+        let t772: L = t382.mul_add(t536, t771);
+        let t773: L = t406 * t532;
+        let t774: L = t529 * t773;
+        let t775: L = t527.mul_sub(t772, t774);
+        let t776: L = t403 * t552;
+        let t777: L = t382.mul_add(t547, t776);
+        let t778: L = t406 * t544;
+        let t779: L = t529 * t778;
+        let t780: L = t527.mul_sub(t777, t779);
+        let t781: L = t527 * t760;
+        let t782: L = t529.mul_add(t759, t781);
+        let t783: L = t527 * t764;
+        let t784: L = t529.mul_sub(t763, t783);
+        let t785: L = t527 * t768;
+        let t786: L = t529.mul_add(t767, t785);
+        let t787: L = t527 * t773;
+        let t788: L = t529.mul_add(t772, t787);
+        let t789: L = t527 * t778;
+        let t790: L = t529.mul_add(t777, t789);
+        let t791: L = t536 * t738;
+        let t792: L = t532.mul_add(t737, t791);
+        let t793: L = t447 * t524;
+        let t794: L = t541.mul_add(t793, t792);
+        let t795: L = t532 * t741;
+        let t796: L = t536.mul_sub(t743, t795);
+        let t797: L = t458 * t527;
+        let t798: L = t541.mul_add(t797, t796);
+        let t799: L = t536 * t746;
+        let t800: L = t532.mul_add(t745, t799);
+        let t801: L = t458 * t529;
+        let t802: L = t541.mul_add(t801, t800);
+        let t803: L = t536 * t751;
+        let t804: L = t532.mul_add(t749, t803);
+        let t805: L = t477 * t541;
+        let t806: L = t447.mul_add(t536, t805);
+        let t807: L = t541.mul_add(t806, t804);
+        let t808: L = t536 * t756;
+        let t809: L = t532.mul_add(t754, t808);
+        let t810: L = t477 * t552;
+        let t811: L = t447.mul_add(t547, t810);
+        let t812: L = t541.mul_add(t811, t809);
+        let t813: L = t547 * t738;
+        let t814: L = t544.mul_add(t737, t813);
+        let t815: L = t552.mul_add(t793, t814);
+        let t816: L = t544 * t741;
+        let t817: L = t547.mul_sub(t743, t816);
+        let t818: L = t552.mul_add(t797, t817);
+        let t819: L = t547 * t746;
+        let t820: L = t544.mul_add(t745, t819);
+        let t821: L = t552.mul_add(t801, t820);
+        let t822: L = t547 * t751;
+        let t823: L = t544.mul_add(t749, t822);
+        let t824: L = t552.mul_add(t806, t823);
+        let t825: L = t547 * t756;
+        let t826: L = t544.mul_add(t754, t825);
+        let t827: L = t552.mul_add(t811, t826);
         [
-            t484,
+            t481,
+            t485,
+            t486,
             t488,
-            t489,
+            t490,
             t491,
+            t492,
             t493,
-            t494,
-            t495,
-            t496,
-            t72,
-            t501,
-            t505,
-            t507,
+            t71,
+            t498,
+            t502,
+            t504,
+            t506,
+            t508,
             t509,
             t511,
             t512,
-            t514,
-            t515,
             L::splat(0.0),
-            t563,
-            t567,
-            t571,
+            t556,
+            t560,
+            t564,
+            t569,
+            t574,
             t576,
-            t581,
-            t583,
+            t578,
+            t580,
+            t582,
+            t584,
             t585,
+            t586,
             t587,
             t589,
             t591,
-            t592,
-            t593,
-            t594,
-            t596,
-            t598,
+            t595,
+            t597,
+            t599,
+            t600,
+            t595,
+            t601,
+            t503,
             t602,
-            t604,
-            t606,
-            t607,
-            t602,
-            t608,
-            t506,
-            t609,
             L::splat(0.0),
+            t606,
+            t610,
+            t611,
             t613,
+            t615,
+            t616,
             t617,
             t618,
-            t620,
+            t193,
             t622,
-            t623,
-            t624,
-            t625,
-            t195,
-            t629,
-            t634,
-            t638,
+            t627,
+            t631,
+            t636,
+            t641,
             t643,
-            t648,
-            t650,
+            t645,
+            t647,
+            t649,
+            t651,
             t652,
             t654,
+            t655,
             t656,
-            t658,
-            t659,
+            t657,
             t661,
-            t662,
-            t663,
-            t664,
-            t668,
-            t672,
-            t673,
+            t665,
+            t666,
+            t670,
+            t674,
+            t675,
             t677,
-            t681,
-            t682,
+            t679,
+            t680,
             t684,
-            t686,
-            t687,
-            t691,
-            t695,
-            t697,
-            t700,
-            t703,
-            t705,
-            t709,
-            t713,
-            t659,
-            t718,
+            t688,
+            t690,
+            t693,
+            t696,
+            t698,
+            t702,
+            t706,
+            t652,
+            t711,
+            t715,
+            t717,
+            t719,
+            t721,
             t722,
-            t724,
             t726,
-            t728,
-            t729,
+            t730,
+            t656,
             t733,
-            t737,
-            t663,
+            t736,
+            t657,
             t740,
-            t743,
-            t664,
-            t747,
-            t751,
-            t755,
-            t760,
-            t765,
-            t769,
-            t773,
-            t777,
+            t744,
+            t748,
+            t753,
+            t758,
+            t762,
+            t766,
+            t770,
+            t775,
+            t780,
             t782,
-            t787,
-            t789,
-            t791,
-            t793,
-            t795,
-            t797,
-            t801,
-            t805,
-            t809,
-            t814,
-            t819,
-            t822,
-            t825,
-            t828,
-            t831,
-            t834,
+            t784,
+            t786,
+            t788,
+            t790,
+            t794,
+            t798,
+            t802,
+            t807,
+            t812,
+            t815,
+            t818,
+            t821,
+            t824,
+            t827,
         ]
     };
     out

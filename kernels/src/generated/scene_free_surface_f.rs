@@ -534,7 +534,7 @@ pub fn free_surface_f_pair_product(
 /// Pruned to what the scene needs.
 /// Jets truncated at derivative order 4 of G.
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_f_pair_product`'s fields. Operation count with fused multiply-adds: 99 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_f_pair_product`'s fields. Operation count with fused multiply-adds: 98 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_surface_f_pair_product_lanes<L: lanes::Lane>(
@@ -591,63 +591,62 @@ pub fn free_surface_f_pair_product_lanes<L: lanes::Lane>(
         let t40: L = t35.powi(2);
         let t41: L = L::splat(-6.0).mul_add(t39, L::splat(1.0));
         let t42: L = L::splat(-6.0).mul_add(t38, t41);
-        let t43: L = t40 * t42;
-        let t44: L = L::splat(2.0).mul_add(t39, L::splat(1.0));
-        let t45: L = L::splat(2.0).mul_add(t38, t44);
-        let t46: L = t43 + t45;
-        let t47: L = t0 * t34;
-        let t48: L = t46 * t47;
-        let t49: L = t31.mul_add(t32, t48);
-        let t50: L = t22 * t28;
-        let t51: L = t21 * t50;
-        let t52: L = t32 * t51;
-        let t53: L = t39.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t54: L = t38.mul_add(L::splat(6.0), t53);
-        let t55: L = t36 * t54;
-        let t56: L = t35 * t55;
-        let t57: L = t47.mul_add(t56, t52);
-        let t58: L = t45 * t47;
-        let t59: L = t30.mul_add(t32, t58);
-        let t60: L = t36 * t42;
-        let t61: L = t35 * t60;
-        let t62: L = t47.mul_add(t61, t52);
-        let t63: L = t25.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t64: L = t24.mul_add(L::splat(6.0), t63);
-        let t65: L = t25.mul_add(L::splat(-4.0), L::splat(2.0));
-        let t66: L = t24.mul_add(L::splat(-4.0), t65);
-        let t67: L = t26.mul_add(t64, t66);
-        let t68: L = t39.mul_add(L::splat(4.0), L::splat(-2.0));
-        let t69: L = t38.mul_add(L::splat(4.0), t68);
-        let t70: L = t43 + t69;
-        let t71: L = t47 * t70;
-        let t72: L = t32.mul_add(t67, t71);
-        let t73: L = va[1] * t11;
-        let t74: L = va[0].mul_add(t9, t73);
-        let t75: L = va[0] * t11;
-        let t76: L = va[1].mul_sub(t9, t75);
-        let t77: L = vb[1] * t11;
-        let t78: L = vb[0].mul_add(t9, t77);
-        let t79: L = vb[0] * t11;
-        let t80: L = vb[1].mul_sub(t9, t79);
-        let t81: L = vb[2] * t57;
-        let t82: L = t49.mul_add(t78, t81);
-        let t83: L = t59 * t80;
-        let t84: L = t59 * t76;
-        let t85: L = va[2] * t62;
-        let t86: L = t49.mul_add(t74, t85);
-        let t87: L = vb[2] * t72;
-        let t88: L = t62.mul_add(t78, t87);
-        let t89: L = va[2] * t72;
-        let t90: L = t57.mul_add(t74, t89);
-        let t91: L = t11 * t83;
-        let t92: L = t9.mul_sub(t82, t91);
-        let t93: L = t9 * t83;
-        let t94: L = t11.mul_add(t82, t93);
-        let t95: L = t11 * t84;
-        let t96: L = t9.mul_sub(t86, t95);
-        let t97: L = t9 * t84;
-        let t98: L = t11.mul_add(t86, t97);
-        [t92, t94, t88, t96, t98, t90]
+        let t43: L = L::splat(2.0).mul_add(t39, L::splat(1.0));
+        let t44: L = L::splat(2.0).mul_add(t38, t43);
+        let t45: L = t40.mul_add(t42, t44);
+        let t46: L = t0 * t34;
+        let t47: L = t45 * t46;
+        let t48: L = t31.mul_add(t32, t47);
+        let t49: L = t22 * t28;
+        let t50: L = t21 * t49;
+        let t51: L = t32 * t50;
+        let t52: L = t39.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t53: L = t38.mul_add(L::splat(6.0), t52);
+        let t54: L = t36 * t53;
+        let t55: L = t35 * t54;
+        let t56: L = t46.mul_add(t55, t51);
+        let t57: L = t44 * t46;
+        let t58: L = t30.mul_add(t32, t57);
+        let t59: L = t36 * t42;
+        let t60: L = t35 * t59;
+        let t61: L = t46.mul_add(t60, t51);
+        let t62: L = t25.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t63: L = t24.mul_add(L::splat(6.0), t62);
+        let t64: L = t25.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t65: L = t24.mul_add(L::splat(-4.0), t64);
+        let t66: L = t26.mul_add(t63, t65);
+        let t67: L = t39.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t68: L = t38.mul_add(L::splat(4.0), t67);
+        let t69: L = t40.mul_add(t42, t68);
+        let t70: L = t46 * t69;
+        let t71: L = t32.mul_add(t66, t70);
+        let t72: L = va[1] * t11;
+        let t73: L = va[0].mul_add(t9, t72);
+        let t74: L = va[0] * t11;
+        let t75: L = va[1].mul_sub(t9, t74);
+        let t76: L = vb[1] * t11;
+        let t77: L = vb[0].mul_add(t9, t76);
+        let t78: L = vb[0] * t11;
+        let t79: L = vb[1].mul_sub(t9, t78);
+        let t80: L = vb[2] * t56;
+        let t81: L = t48.mul_add(t77, t80);
+        let t82: L = t58 * t79;
+        let t83: L = t58 * t75;
+        let t84: L = va[2] * t61;
+        let t85: L = t48.mul_add(t73, t84);
+        let t86: L = vb[2] * t71;
+        let t87: L = t61.mul_add(t77, t86);
+        let t88: L = va[2] * t71;
+        let t89: L = t56.mul_add(t73, t88);
+        let t90: L = t11 * t82;
+        let t91: L = t9.mul_sub(t81, t90);
+        let t92: L = t9 * t82;
+        let t93: L = t11.mul_add(t81, t92);
+        let t94: L = t11 * t83;
+        let t95: L = t9.mul_sub(t85, t94);
+        let t96: L = t9 * t83;
+        let t97: L = t11.mul_add(t85, t96);
+        [t91, t93, t87, t95, t97, t89]
     };
     out
 }
