@@ -398,25 +398,32 @@ fn cost_of_tables_and_calls() {
             .unwrap()
             .x11a;
     }
-    let tables: Vec<_> = [10, 22]
-        .iter()
-        .flat_map(|&count| [(count, true), (count, false)])
-        .map(|(count, far)| {
-            let t0 = std::time::Instant::now();
-            for i in 0..2000 {
-                let lambda = 0.011 + 0.049 * f64::from(i);
-                let s_dash = if far {
-                    3.0 + 0.01 * f64::from(i)
-                } else {
-                    2.0 + (-13.8 * (1.0 - f64::from(i) / 2000.0)).exp()
-                };
-                acc += stokesian::pair_tables::scalars(s_dash, lambda, count)
-                    .unwrap()
-                    .x11a;
-            }
-            (count, if far { "far" } else { "near" }, t0.elapsed() / 2000)
-        })
-        .collect();
+    // time per call of `f(i, s', count)` over 2000 separations, far or near, for the
+    // ten force-torque functions and all 22
+    let time_calls = |f: &mut dyn FnMut(u32, f64, usize) -> f64| -> Vec<_> {
+        [10, 22]
+            .iter()
+            .flat_map(|&count| [(count, true), (count, false)])
+            .map(|(count, far)| {
+                let t0 = std::time::Instant::now();
+                for i in 0..2000u32 {
+                    let s_dash = if far {
+                        3.0 + 0.01 * f64::from(i)
+                    } else {
+                        2.0 + (-13.8 * (1.0 - f64::from(i) / 2000.0)).exp()
+                    };
+                    std::hint::black_box(f(i, s_dash, count));
+                }
+                (count, if far { "far" } else { "near" }, t0.elapsed() / 2000)
+            })
+            .collect()
+    };
+    let tables = time_calls(&mut |i, s_dash, count| {
+        let lambda = 0.011 + 0.049 * f64::from(i);
+        stokesian::pair_tables::scalars(s_dash, lambda, count)
+            .unwrap()
+            .x11a
+    });
     println!("\ntables (functions, table, time per call): {tables:?}");
     // the tables contracted at a ratio (AtRatio): built for three ratios, then the same
     // loops cycling through them (a suspension of two sizes has three ratios)
@@ -426,22 +433,8 @@ fn cost_of_tables_and_calls() {
         .map(|&l| stokesian::pair_tables::AtRatio::new(l).unwrap())
         .collect();
     let build = t0.elapsed() / 3;
-    let at_ratio: Vec<_> = [10, 22]
-        .iter()
-        .flat_map(|&count| [(count, true), (count, false)])
-        .map(|(count, far)| {
-            let t0 = std::time::Instant::now();
-            for i in 0..2000 {
-                let s_dash = if far {
-                    3.0 + 0.01 * f64::from(i)
-                } else {
-                    2.0 + (-13.8 * (1.0 - f64::from(i) / 2000.0)).exp()
-                };
-                acc += at[i as usize % 3].scalars(s_dash, count).unwrap().x11a;
-            }
-            (count, if far { "far" } else { "near" }, t0.elapsed() / 2000)
-        })
-        .collect();
+    let at_ratio =
+        time_calls(&mut |i, s_dash, count| at[i as usize % 3].scalars(s_dash, count).unwrap().x11a);
     println!(
         "tables at a ratio: built in {build:?} per ratio; (functions, table, time per call): \
          {at_ratio:?}"
