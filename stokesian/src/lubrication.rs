@@ -481,9 +481,10 @@ fn free_surface_block(
 }
 
 /// Occurrences of a size ratio among the close pairs from which the tables contracted at
-/// it ([`AtRatio`]) pay: building one costs 20-40 us, as much as 30 to 100 calls of
-/// [`crate::pair_tables::scalars`] (0.3-0.75 us), and each of its calls then costs 0.07
-/// to 0.17 us (README).
+/// it ([`AtRatio`]) pay: building one costs 43-70 us, as much as 50 (near contact) to
+/// 250 (far) calls of [`crate::pair_tables::scalars`] (0.27-0.82 us), and each of its
+/// calls then costs 0.07 to 0.18 us (README); at 64 shared calls, mostly near pairs pay
+/// back the build, and a ratio shared by fewer stays on the two-dimensional tables.
 const SHARED_RATIO: usize = 64;
 
 /// The two-sphere functions of the pairs of one resistance, from the generated tables
