@@ -1,6 +1,7 @@
 //! Criterion benchmarks: time per pair of each scene's kernels, scalar and in lanes on
 //! every instruction set this processor has; matrix-free products near a wall (F and
-//! FT, N = 1e2, 1e3, 1e4, and per instruction set, FTS at N = 1e3); dense FTS assembly (N = 1e2, 1e3);
+//! FT, N = 1e2, 1e3, 1e4, and per instruction set, FTS at N = 1e3); dense FTS assembly (N = 1e2, 1e3,
+//! into a `Vec` and into huge pages);
 //! Brownian steps near a wall (F, N = 10, 100, 1000, Cholesky and Lanczos noise).
 //! Run with `cargo bench -p stokesian`.
 #![allow(missing_docs)] // criterion_group! generates undocumented items
@@ -14,6 +15,7 @@ use kernels::{
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Duration;
+use stokesian::dense::LargeMatrix;
 use stokesian::{Moments, Particle, Precision, System};
 
 /// `n` unit spheres at random in a box above a wall at z = 0, volume fraction about 5%
@@ -376,8 +378,17 @@ fn dense(c: &mut Criterion) {
             false,
         )
         .unwrap();
-        g.bench_function(BenchmarkId::from_parameter(n), |b| {
+        g.bench_function(BenchmarkId::new("Vec", n), |b| {
             b.iter(|| s.mobility(Moments::FTS))
+        });
+        // the command line's: the matrix in transparent huge pages
+        let dim = 11 * n;
+        g.bench_function(BenchmarkId::new("LargeMatrix", n), |b| {
+            b.iter(|| {
+                let mut m = LargeMatrix::zeros(dim, dim).unwrap();
+                s.mobility_into(Moments::FTS, m.as_mut_slice());
+                m
+            })
         });
     }
     g.finish();

@@ -4,7 +4,7 @@
 use crate::input::{validate, InputError, Particle};
 use kernels::lanes::Isa;
 use kernels::{pair_f, pair_ft, self_f, self_ft, self_mobility, Confinement, Grand};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DMatrixView};
 use rayon::prelude::*;
 use std::sync::Mutex;
 
@@ -14,10 +14,10 @@ use std::sync::Mutex;
 pub(crate) const PARALLEL_MIN: usize = 32;
 
 thread_local! {
-    /// The tile buffers of [`System::mobility`] on this thread (row-major and
-    /// column-major blocks of one tile).
-    static TILE_BUFFERS: std::cell::RefCell<(Vec<f64>, Vec<f64>)> =
-        const { std::cell::RefCell::new((Vec::new(), Vec::new())) };
+    /// The tile buffer of [`System::mobility`] on this thread (the row-major blocks of
+    /// one tile).
+    static TILE_BUFFER: std::cell::RefCell<Vec<f64>> =
+        const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// Particles per group in the dense assembly's tiles: a tile's blocks
@@ -212,23 +212,40 @@ impl System {
     /// the threads of a round own disjoint columns. Nothing is allocated but the
     /// matrix.
     pub fn mobility(&self, moments: Moments) -> DMatrix<f64> {
+        let dim = moments.per_particle() * self.len();
+        // zeroed by the allocator (`calloc`): the pages are mapped and cleared where the
+        // tiles first write, on every thread, rather than by one thread's `memset`
+        // (`DMatrix::zeros`), which took 0.3 s of the 0.9 s at FTS, N = 1000
+        let mut m = vec![0.0; dim * dim];
+        self.mobility_into(moments, &mut m);
+        DMatrix::from_vec(dim, dim, m)
+    }
+
+    /// [`System::mobility`] written into `out`, column-major (`K N` rows and columns,
+    /// `K` = 3, 6 or 11): every entry is written. For a matrix in memory of the
+    /// caller's choosing, such as [`crate::dense::LargeMatrix`] (transparent huge pages:
+    /// at FTS, N = 1000, the 4 KiB pages of a fresh `Vec` cost more to map and to reach
+    /// than the kernels). Panics if `out` has not `(K N)^2` entries.
+    pub fn mobility_into(&self, moments: Moments, out: &mut [f64]) {
         let n = self.len();
         let k = moments.per_particle();
+        assert_eq!(
+            out.len(),
+            k * n * k * n,
+            "a {0} x {0} matrix for {n} particles",
+            k * n
+        );
         let parts = moments.parts();
         let groups = n.div_ceil(DENSE_GROUP);
         let members = |g: usize| g * DENSE_GROUP..((g + 1) * DENSE_GROUP).min(n);
         // the first row of each kept moment: its component `o + i` of particle `a` is
         // on row `first[p] + a d + i`
         let first: Vec<usize> = parts.iter().map(|&(o, _)| global(parts, n, 0, o)).collect();
-        // zeroed by the allocator (`calloc`): the pages are mapped and cleared where the
-        // tiles first write, on every thread, rather than by one thread's `memset`
-        // (`DMatrix::zeros`), which took 0.3 s of the 0.9 s at FTS, N = 1000
-        let mut m = DMatrix::from_vec(k * n, k * n, vec![0.0; k * n * k * n]);
         // the columns of each group, indexed by (particle in the group) * k + component
         let mut slots: Vec<Vec<Option<&mut [f64]>>> = (0..groups)
             .map(|g| (0..members(g).len() * k).map(|_| None).collect())
             .collect();
-        for (c, col) in m.as_mut_slice().chunks_exact_mut(k * n).enumerate() {
+        for (c, col) in out.chunks_exact_mut(k * n).enumerate() {
             let (b, j) = component_of(parts, n, c);
             slots[b / DENSE_GROUP][(b % DENSE_GROUP) * k + j] = Some(col);
         }
@@ -238,9 +255,9 @@ impl System {
             .collect();
         let kk = k * k;
         // the tile's blocks M^{ab} at ((a in its group) DENSE_GROUP + b in its group) k^2,
-        // row-major in `rows` and column-major in `cols`, written into the matrix
-        // afterwards as contiguous runs of rows, column by column
-        let tile = |(rows, cols): &mut (Vec<f64>, Vec<f64>), &(ga, gb): &(usize, usize)| {
+        // row-major in `rows`, written into the matrix afterwards as contiguous runs of
+        // rows, column by column
+        let tile = |rows: &mut Vec<f64>, &(ga, gb): &(usize, usize)| {
             let (ra, rb) = (members(ga), members(gb));
             for (ia, a) in ra.clone().enumerate() {
                 // the pairs (a, b) of the tile: b from `first` of group b on
@@ -262,15 +279,6 @@ impl System {
                         self.block_into(moments, a, b, &mut rows[at..at + kk]);
                     }
                 }
-                for ib in first..rb.len() {
-                    let at = (ia * DENSE_GROUP + ib) * kk;
-                    let blk = &rows[at..at + kk];
-                    for (j, col) in cols[at..at + kk].chunks_exact_mut(k).enumerate() {
-                        for (i, v) in col.iter_mut().enumerate() {
-                            *v = blk[i * k + j];
-                        }
-                    }
-                }
             }
             // the tiles of a round touch disjoint groups: these locks never wait
             let mut cols_a = columns[ga].lock().expect("no tile panics");
@@ -280,20 +288,20 @@ impl System {
                     Some(g) => &mut g[..],
                     None => &mut cols_a[..],
                 };
-                // the columns of b: M^{ab} for every a of the first group (on the
-                // diagonal tile below its diagonal, (M^{ba})^T)
+                // the columns of b: M^{ab} for every a of the first group, a column of
+                // each block (on the diagonal tile below the diagonal, a row of M^{ba})
                 for (ib, out) in out.chunks_exact_mut(k).enumerate() {
                     for (j, col) in out.iter_mut().enumerate() {
                         for (&(o, d), &f) in parts.iter().zip(&first) {
                             let run = &mut col[f + ra.start * d..f + ra.end * d];
-                            for (ia, dst) in run.chunks_exact_mut(d).enumerate() {
-                                let src = if ga == gb && ib < ia {
-                                    &rows[(ib * DENSE_GROUP + ia) * kk + j * k + o..]
-                                } else {
-                                    &cols[(ia * DENSE_GROUP + ib) * kk + j * k + o..]
-                                };
-                                copy_run(dst, src);
-                            }
+                            let diagonal = if ga == gb { (ib + 1) * d } else { run.len() };
+                            let (upper, lower) = run.split_at_mut(diagonal);
+                            copy_runs(upper, d, k, |ia| {
+                                &rows[(ia * DENSE_GROUP + ib) * kk + o * k + j..]
+                            });
+                            copy_runs(lower, d, 1, |x| {
+                                &rows[(ib * DENSE_GROUP + ib + 1 + x) * kk + j * k + o..]
+                            });
                         }
                     }
                 }
@@ -304,23 +312,22 @@ impl System {
                     for (i, col) in out.iter_mut().enumerate() {
                         for (&(o, d), &f) in parts.iter().zip(&first) {
                             let run = &mut col[f + rb.start * d..f + rb.end * d];
-                            for (ib, dst) in run.chunks_exact_mut(d).enumerate() {
-                                let src = &rows[(ia * DENSE_GROUP + ib) * kk + i * k + o..];
-                                copy_run(dst, src);
-                            }
+                            copy_runs(run, d, 1, |ib| {
+                                &rows[(ia * DENSE_GROUP + ib) * kk + i * k + o..]
+                            });
                         }
                     }
                 }
             }
         };
-        // each thread's buffers, kept from tile to tile and call to call (a tile writes
-        // every value it reads, so they are never cleared)
+        // each thread's buffer, kept from tile to tile and call to call (a tile writes
+        // every value it reads, so it is never cleared)
         let len = DENSE_GROUP * DENSE_GROUP * kk;
-        let fresh = || (vec![0.0; len], vec![0.0; len]);
+        let fresh = || vec![0.0; len];
         let buffered = |t: &(usize, usize)| {
-            TILE_BUFFERS.with(|cell| match cell.try_borrow_mut() {
+            TILE_BUFFER.with(|cell| match cell.try_borrow_mut() {
                 Ok(mut b) => {
-                    if b.0.len() < len {
+                    if b.len() < len {
                         *b = fresh();
                     }
                     tile(&mut b, t)
@@ -337,7 +344,6 @@ impl System {
             }
         }
         drop(columns);
-        m
     }
 
     /// `M x` without forming `M`: `x` and the result in the layout of
@@ -393,11 +399,32 @@ impl System {
     }
 }
 
-/// `dst` from the start of `src`: runs of 3 or 5 values, too short for `memcpy`.
+/// `run`, in chunks of `d` = 3 or 5 values (one moment of one particle), chunk `i`
+/// from `src(i)`: `src(i)[0], src(i)[stride], ...`. Unrolled copies of a length known
+/// at compile time (a copy of a length known only at run time is a loop or a call to
+/// `memcpy`, slow for 3 values).
 #[inline(always)]
-fn copy_run(dst: &mut [f64], src: &[f64]) {
-    for (x, y) in dst.iter_mut().zip(src) {
-        *x = *y;
+fn copy_runs<'s>(run: &mut [f64], d: usize, stride: usize, src: impl Fn(usize) -> &'s [f64]) {
+    #[inline(always)]
+    fn fixed<'s, const D: usize>(run: &mut [f64], stride: usize, src: impl Fn(usize) -> &'s [f64]) {
+        let chunks = run.chunks_exact_mut(D).enumerate();
+        if stride == 1 {
+            for (i, dst) in chunks {
+                dst.copy_from_slice(&src(i)[..D]);
+            }
+        } else {
+            for (i, dst) in chunks {
+                let values = &src(i)[..(D - 1) * stride + 1];
+                for (x, v) in dst.iter_mut().enumerate() {
+                    *v = values[x * stride];
+                }
+            }
+        }
+    }
+    match d {
+        3 => fixed::<3>(run, stride, src),
+        5 => fixed::<5>(run, stride, src),
+        _ => unreachable!("a moment has 3 or 5 components"),
     }
 }
 
@@ -444,8 +471,10 @@ impl SpdCheck {
     }
 }
 
-/// Symmetry and positive-definiteness (Cholesky) of a mobility or resistance matrix.
-pub fn check_spd(m: &DMatrix<f64>) -> SpdCheck {
+/// Symmetry and positive-definiteness (Cholesky) of a mobility or resistance matrix
+/// (`&DMatrix` or a view, such as [`crate::dense::LargeMatrix::view`]).
+pub fn check_spd<'a>(m: impl Into<DMatrixView<'a, f64>>) -> SpdCheck {
+    let m: DMatrixView<f64> = m.into();
     let norm = m.norm();
     let asymmetry = if norm > 0.0 {
         (m - m.transpose()).norm() / norm

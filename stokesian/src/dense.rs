@@ -10,7 +10,7 @@
 
 use faer::linalg::solvers::{DenseSolveCore, Llt, Solve};
 use faer::{Mat, MatRef, Side};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DMatrixView, DVector};
 
 /// faer's view of a nalgebra matrix (no copy).
 fn view(m: &DMatrix<f64>) -> MatRef<'_, f64> {
@@ -125,6 +125,58 @@ impl Cholesky {
     }
 }
 
+/// A zeroed column-major matrix in an anonymous memory map that asks the kernel for
+/// transparent huge pages (Linux `madvise(MADV_HUGEPAGE)`, through `memmap2`), for the
+/// large matrices the command line assembles and writes ([`crate::System::mobility_into`]).
+/// A fresh `Vec` is mapped 4 KiB at a time where it is first written: at FTS, N = 1000
+/// (968 MB) mapping and clearing its pages and the TLB misses of the column-wise writes
+/// cost more than the kernels (README, "Dense assembly": 0.82 s into a `Vec`, 0.35 s
+/// here; for a 10 MB matrix the huge pages cost 2 ms more). Elsewhere than Linux, or where the kernel
+/// declines the advice, the same matrix in ordinary pages.
+pub struct LargeMatrix {
+    map: memmap2::MmapMut,
+    rows: usize,
+    cols: usize,
+}
+
+impl LargeMatrix {
+    /// A `rows x cols` matrix of zeros; an error if the memory cannot be mapped.
+    pub fn zeros(rows: usize, cols: usize) -> std::io::Result<LargeMatrix> {
+        let bytes = rows
+            .checked_mul(cols)
+            .and_then(|len| len.checked_mul(std::mem::size_of::<f64>()))
+            .ok_or_else(|| {
+                std::io::Error::new(
+                    std::io::ErrorKind::OutOfMemory,
+                    format!("a {rows} x {cols} matrix exceeds the address space"),
+                )
+            })?;
+        // (at least one value: a map cannot be empty)
+        let map = memmap2::MmapOptions::new()
+            .len(bytes.max(std::mem::size_of::<f64>()))
+            .map_anon()?;
+        // a hint: declined, the matrix is the same, only slower to fill
+        #[cfg(target_os = "linux")]
+        let _ = map.advise(memmap2::Advice::HugePage);
+        Ok(LargeMatrix { map, rows, cols })
+    }
+
+    /// The values, column-major.
+    pub fn as_slice(&self) -> &[f64] {
+        &bytemuck::cast_slice(&self.map[..])[..self.rows * self.cols]
+    }
+
+    /// The values, column-major, to write.
+    pub fn as_mut_slice(&mut self) -> &mut [f64] {
+        &mut bytemuck::cast_slice_mut(&mut self.map[..])[..self.rows * self.cols]
+    }
+
+    /// nalgebra's view of the matrix (no copy).
+    pub fn view(&self) -> DMatrixView<'_, f64> {
+        DMatrixView::from_slice(self.as_slice(), self.rows, self.cols)
+    }
+}
+
 /// `M^{-1} = L^-T L^-1` from the lower triangle of `l`: `X = L^-1` by forward
 /// substitution, column by column, then the lower triangle of `X^T X`, mirrored; about
 /// `n^3/3` flops in all. nalgebra's inverse solves the identity one column at a time
@@ -187,5 +239,22 @@ mod tests {
         assert!(close(&mul_vec(&m, &w), (&m * &wv).as_slice()));
         let not_spd = DMatrix::from_fn(3, 3, |i, j| if i == j { -1.0 } else { 0.0 });
         assert!(Cholesky::new(&not_spd).is_none());
+    }
+
+    /// A large matrix starts as zeros of its shape, holds what is written column-major,
+    /// and an empty one is empty; a shape beyond the address space is an error.
+    #[test]
+    fn large_matrices_hold_their_values() {
+        let (rows, cols) = (700, 900);
+        let mut m = LargeMatrix::zeros(rows, cols).expect("mapped");
+        assert!(m.as_slice().iter().all(|&v| v == 0.0));
+        for (i, v) in m.as_mut_slice().iter_mut().enumerate() {
+            *v = i as f64;
+        }
+        assert_eq!(m.view().shape(), (rows, cols));
+        assert_eq!(m.view()[(3, 2)], (2 * rows + 3) as f64);
+        let empty = LargeMatrix::zeros(0, 5).expect("mapped");
+        assert!(empty.as_slice().is_empty());
+        assert!(LargeMatrix::zeros(usize::MAX, 3).is_err());
     }
 }

@@ -39,7 +39,8 @@ fn tiled_product_equals_the_dense_matrix_on_every_instruction_set() {
 /// Eq. 1 says, exactly as the kernel returns it: `M^{ab}` for `a <= b` and its transpose
 /// below, the self blocks on the diagonal, the equal-radius kernel where radii match.
 /// 37 spheres: more than the serial threshold, three groups, the last one partial.
-/// Compared bit for bit: the assembly copies values and computes none.
+/// Compared bit for bit: the assembly copies values and computes none. The same into a
+/// `LargeMatrix` filled with NaN (`System::mobility_into` writes every entry).
 #[test]
 fn dense_assembly_places_every_block_exactly() {
     let mut rng = ChaCha8Rng::seed_from_u64(24);
@@ -54,6 +55,19 @@ fn dense_assembly_places_every_block_exactly() {
         for moments in [Moments::F, Moments::FT, Moments::FTS] {
             let k = moments.per_particle();
             let m = s.mobility(moments);
+            // the same matrix assembled into memory of the caller's, over NaN: every
+            // entry is written
+            let mut large = stokesian::dense::LargeMatrix::zeros(k * n, k * n).unwrap();
+            large.as_mut_slice().fill(f64::NAN);
+            s.mobility_into(moments, large.as_mut_slice());
+            assert!(
+                large
+                    .as_slice()
+                    .iter()
+                    .zip(m.as_slice())
+                    .all(|(x, y)| x.to_bits() == y.to_bits()),
+                "{name} {moments:?}: mobility_into differs from mobility"
+            );
             // component i of particle a in the moment-major layout
             let at = |a: usize, i: usize| match i {
                 0..3 => 3 * a + i,

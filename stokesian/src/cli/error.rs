@@ -117,6 +117,13 @@ pub enum CliError {
     /// The output path cannot be used.
     #[error("--out {path}: {reason}")]
     BadOut { path: String, reason: String },
+    /// The memory for the matrix could not be had.
+    #[error("cannot hold the {dim} x {dim} matrix ({gib:.1} GiB): {source}; nothing written")]
+    Memory {
+        dim: usize,
+        gib: f64,
+        source: io::Error,
+    },
     /// Writing the output failed.
     #[error("cannot write {path}: {source}")]
     Write { path: String, source: io::Error },

@@ -7,7 +7,9 @@ use super::options::{lubrication, PAIR_TOLERANCE_HELP};
 use super::output::{self, check_out, has_extension, write_atomically};
 use super::system::SystemArgs;
 use clap::Args;
+use nalgebra::DMatrixView;
 use std::path::PathBuf;
+use stokesian::dense::LargeMatrix;
 
 /// `mobility` and `resistance`.
 #[derive(Args, Debug)]
@@ -68,14 +70,31 @@ fn assemble_and_write(
         "assembling the {dim} x {dim} {} grand {what} of {n} spheres",
         moments.name()
     ));
-    let m = match lubrication {
-        Some(lub) => setup.system.resistance(moments.moments(), lub)?,
-        None => setup.system.mobility(moments.moments()),
+    // the mobility in huge pages (`LargeMatrix`): at FTS, N = 1000, the 4 KiB pages of
+    // an ordinary allocation took longer to map and fill than the kernels took
+    let (resistance, mut mobility);
+    let values: &[f64] = match lubrication {
+        Some(lub) => {
+            resistance = setup.system.resistance(moments.moments(), lub)?;
+            resistance.as_slice()
+        }
+        None => {
+            mobility = LargeMatrix::zeros(dim, dim).map_err(|source| CliError::Memory {
+                dim,
+                gib: (dim as f64).powi(2) * 8.0 / (1u64 << 30) as f64,
+                source,
+            })?;
+            setup
+                .system
+                .mobility_into(moments.moments(), mobility.as_mut_slice());
+            mobility.as_slice()
+        }
     };
-    setup.check_finite(m.as_slice(), what)?;
+    let m = DMatrixView::from_slice(values, dim, dim);
+    setup.check_finite(values, what)?;
     if args.check {
         pb.set_message("checking symmetry and positive definiteness (Cholesky)");
-        let c = stokesian::check_spd(&m);
+        let c = stokesian::check_spd(m);
         let cholesky = if c.positive_definite {
             "succeeds"
         } else {
@@ -105,9 +124,9 @@ fn assemble_and_write(
     let json = has_extension(&args.out, "json");
     write_atomically(&args.out, |w| {
         if json {
-            output::write_json(w, &m, n, moments.name(), pb)
+            output::write_json(w, m, n, moments.name(), pb)
         } else {
-            output::write_npy(w, &m, pb)
+            output::write_npy(w, m, pb)
         }
     })?;
     Ok((dim, n, moments.name()))

@@ -5,7 +5,7 @@
 
 use super::error::CliError;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use nalgebra::DMatrix;
+use nalgebra::DMatrixView;
 use npyz::{NpyWriter, Order, WriteOptions, WriterBuilder};
 use std::fs::{self, File};
 use std::io::{self, BufWriter, IsTerminal, Write};
@@ -114,18 +114,24 @@ pub fn write_npy_header(w: &mut impl Write, shape: &[usize], order: Order) -> io
     w.write_all(&preamble)
 }
 
-/// Numbers as little-endian float64, in one write.
+/// Numbers as little-endian float64, in one write. (Eight bytes appended per number:
+/// collecting `flat_map(f64::to_le_bytes)` took 1.3 s for the 968 MB of an FTS
+/// mobility of 1000 spheres.)
 pub fn write_f64s(w: &mut impl Write, values: impl IntoIterator<Item = f64>) -> io::Result<()> {
-    let bytes: Vec<u8> = values.into_iter().flat_map(f64::to_le_bytes).collect();
+    let values = values.into_iter();
+    let mut bytes = Vec::with_capacity(values.size_hint().0 * 8);
+    for v in values {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
     w.write_all(&bytes)
 }
 
 /// A matrix as a 2-D `.npy` array in Fortran order: nalgebra stores columns
 /// contiguously, so they are written as they are, one column per progress step.
-pub fn write_npy(w: &mut impl Write, m: &DMatrix<f64>, pb: &ProgressBar) -> io::Result<()> {
+pub fn write_npy(w: &mut impl Write, m: DMatrixView<f64>, pb: &ProgressBar) -> io::Result<()> {
     let (rows, cols) = m.shape();
     write_npy_header(w, &[rows, cols], Order::Fortran)?;
-    for col in m.as_slice().chunks_exact(rows.max(1)) {
+    for col in m.column_iter() {
         write_f64s(w, col.iter().copied())?;
         pb.inc(1);
     }
@@ -136,7 +142,7 @@ pub fn write_npy(w: &mut impl Write, m: &DMatrix<f64>, pb: &ProgressBar) -> io::
 /// numbers, which the commands check before writing).
 pub fn write_json(
     w: &mut impl Write,
-    m: &DMatrix<f64>,
+    m: DMatrixView<f64>,
     n: usize,
     moments: &str,
     pb: &ProgressBar,
