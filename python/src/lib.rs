@@ -279,7 +279,17 @@ impl PySystem {
     fn mobility<'py>(&self, py: Python<'py>, moments: &str) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let m = self::moments(moments)?;
         let s = &self.system;
-        matrix(py, py.detach(|| s.mobility(m)))
+        // assembled straight into NumPy's array (column-major: Fortran order), whose
+        // allocator asks for transparent huge pages for large arrays, as
+        // `stokesian::dense::LargeMatrix` does for the command line
+        let dim = m.per_particle() * s.len();
+        let out = PyArray2::<f64>::zeros(py, [dim, dim], true);
+        {
+            let mut values = out.readwrite();
+            let values = values.as_slice_mut().map_err(value_error)?;
+            py.detach(|| s.mobility_into(m, values));
+        }
+        Ok(out)
     }
 
     /// `M x` without forming `M`: `x` of length kN, moment-major; `precision`
