@@ -185,10 +185,22 @@ fn dispatch(families: &[Family]) -> TokenStream {
             ident(&format!("product_{lo}")),
         );
         let arm = |i: usize| -> Vec<TokenStream> {
-            truncated.iter().map(|t| t[5 * k + i].clone()).collect()
+            truncated.iter().map(|t| t[6 * k + i].clone()).collect()
         };
         let (arms_pair, arms_self, arms_prod) = (arm(0), arm(1), arm(2));
-        let (arms_lanes, arms_ordered) = (arm(3), arm(4));
+        let (arms_lanes, arms_ordered, arms_blocks) = (arm(3), arm(4), arm(5));
+        let fblocks = ident(&format!("pair_{lo}_lanes_ordered"));
+        let nn = n * n;
+        let flat = format!("{}_FLAT", moments_label(moments));
+        let d_blocks = format!(
+            " The lane twin of [`pair_{lo}`] without the exchange of roles, for pairs in \
+             which `b` is no higher than `a` where [`Confinement::exchanges_by_height`] \
+             (elsewhere any order): `L::WIDTH` pairs at once (unequal-radius kernels at any \
+             radii), the {nn} entries of [`{ty}`]'s fields in their order \
+             ([`crate::blocks::{flat}`]); the scene's lane kernel, or the FTS lane kernel \
+             truncated for a confinement without one.",
+            ty = blocks_type(moments)
+        );
         let flanes = ident(&format!("product_{lo}_lanes"));
         let fordered = ident(&format!("product_{lo}_lanes_ordered"));
         let n2 = 2 * n;
@@ -230,6 +242,11 @@ fn dispatch(families: &[Family]) -> TokenStream {
             #[inline(always)]
             pub fn #fordered<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L, va: [L; #n], vb: [L; #n]) -> [L; #n2] {
                 match *conf { #(#arms_ordered),* }
+            }
+            #[doc = #d_blocks]
+            #[inline(always)]
+            pub fn #fblocks<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; #nn] {
+                match *conf { #(#arms_blocks),* }
             }
         });
     }
@@ -679,9 +696,10 @@ fn moments_label(m: Moments) -> &'static str {
 }
 
 /// Match arms of the truncated entry points for one family, in the order
-/// `[pair_f, self_f, product_f, product_f_lanes, pair_ft, ...]`: a serving scene's
-/// kernels when the family has one, else the family's FTS kernels, truncated (and for
-/// the lanes, the scalar product lane by lane).
+/// `[pair_f, self_f, product_f, product_f_lanes, product_f_lanes_ordered,
+/// pair_f_lanes_ordered, pair_ft, ...]`: a serving scene's kernels when the family has
+/// one, else the family's FTS kernels, truncated (for the product's lanes, the scalar
+/// product lane by lane).
 fn truncated_arms(
     f: &Family,
     pattern: &TokenStream,
@@ -713,6 +731,8 @@ fn truncated_arms(
                     let ppl = ident(&format!("{name}_pair_product_{suffix}"));
                     arms.push(quote!(#pattern => #m::#ppl(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields),)* va, vb)));
                 }
+                let pl = ident(&format!("{name}_pair_lanes_ordered"));
+                arms.push(quote!(#pattern => #m::#pl(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)));
             }
             None => {
                 let (p, pe, s) = (
@@ -734,6 +754,9 @@ fn truncated_arms(
                 });
                 arms.push(by_lane.clone());
                 arms.push(by_lane);
+                let fpo = ident(&format!("{}_pair_lanes_ordered", f.name));
+                let at = ident(&format!("{}_FLAT", moments_label(moments)));
+                arms.push(quote!(#pattern => crate::blocks::truncate_lanes(#fm::#fpo(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*), &crate::blocks::#at)));
             }
         }
     }
@@ -828,8 +851,9 @@ pub fn scene_file<G: Green>(g: &G, scene: &Scene, standalone: bool) -> Generated
             float: Float::F64,
         };
         items.extend(emit::function(&kf));
-        // the lane twin of the unequal-radius product (the tiled products' kernel)
-        if product && !equal && !standalone {
+        // the lane twins of the unequal-radius product (the tiled products' kernel) and
+        // blocks (the dense assembly's)
+        if !equal && !standalone {
             let (f, n) = emit::lane_function(&kf);
             op_counts.push((format!("{name}_lanes (fma)"), n));
             items.extend(f);

@@ -291,18 +291,34 @@ impl Grand {
 /// Where entry `(i, j)` of [`Grand::matrix`] sits among [`Grand`]'s fields flattened in
 /// their order (`uf`, `ul`, `us`, `of`, `ol`, `os`, `ef`, `el`, `es`, each row-major): the
 /// layout of the lane kernels' outputs ([`crate::pair_lanes_ordered`]).
-pub const GRAND_FLAT: [[usize; 11]; 11] = grand_flat();
+pub const GRAND_FLAT: [[usize; 11]; 11] = flat();
 
-const fn grand_flat() -> [[usize; 11]; 11] {
-    // rows U, Omega, E and columns F, L, S: sizes 3, 3, 5
+/// [`GRAND_FLAT`] for [`BlocksFT`] (`uf`, `ul`, `of`, `ol`; [`BlocksFT::matrix`]): the
+/// layout of [`crate::pair_ft_lanes_ordered`].
+pub const FT_FLAT: [[usize; 6]; 6] = flat();
+
+/// [`GRAND_FLAT`] for [`BlocksF`] (`uf`, row-major): the layout of
+/// [`crate::pair_f_lanes_ordered`].
+pub const F_FLAT: [[usize; 3]; 3] = flat();
+
+/// Where entry `(i, j)` of the `K x K` matrix in grand order (`K` = 3, 6, 11: rows
+/// `U`, `Omega`, `E` and columns `F`, `L`, `S` of sizes 3, 3, 5, as many as fit) sits
+/// among its blocks flattened one after another, each row-major.
+const fn flat<const K: usize>() -> [[usize; K]; K] {
     const SIZE: [usize; 3] = [3, 3, 5];
     const START: [usize; 3] = [0, 3, 6];
-    let mut at = [[0; 11]; 11];
+    let parts = match K {
+        3 => 1,
+        6 => 2,
+        11 => 3,
+        _ => panic!("K is 3, 6 or 11"),
+    };
+    let mut at = [[0; K]; K];
     let mut offset = 0;
     let mut rb = 0;
-    while rb < 3 {
+    while rb < parts {
         let mut cb = 0;
-        while cb < 3 {
+        while cb < parts {
             let mut i = 0;
             while i < SIZE[rb] {
                 let mut j = 0;
@@ -318,6 +334,23 @@ const fn grand_flat() -> [[usize; 11]; 11] {
         rb += 1;
     }
     at
+}
+
+/// The F or FT blocks (`K` = 3 or 6, `N = K^2`), flattened as [`F_FLAT`] or [`FT_FLAT`]
+/// say, from the flattened FTS blocks of [`crate::pair_lanes_ordered`]: the truncation
+/// for a confinement without F or FT lane kernels of its own.
+#[inline(always)]
+pub fn truncate_lanes<L: lanes::Lane, const K: usize, const N: usize>(
+    m: [L; 121],
+    at: &[[usize; K]; K],
+) -> [L; N] {
+    let mut out = [L::splat(0.0); N];
+    for i in 0..K {
+        for j in 0..K {
+            out[at[i][j]] = m[GRAND_FLAT[i][j]];
+        }
+    }
+    out
 }
 
 /// The pair product of [`Grand::product`] on lanes, from the flattened blocks of
@@ -421,7 +454,8 @@ mod tests {
     use super::*;
 
     /// [`GRAND_FLAT`] reads [`Grand::matrix`] back from the fields flattened in their
-    /// order, and [`grand_lanes_product`] (on `f64` lanes) is [`Grand::product`]: the
+    /// order (and [`FT_FLAT`], [`F_FLAT`] their truncations, [`truncate_lanes`]), and
+    /// [`grand_lanes_product`] (on `f64` lanes) is [`Grand::product`]: the
     /// same products summed in the same order, fused (exact small integers here, so
     /// equal bit for bit).
     #[test]
@@ -452,5 +486,26 @@ mod tests {
         let (a, b) = grand_lanes_product(&lanes, va, vb);
         let want = g.product(va, vb);
         assert_eq!((a, b), (want.a, want.b));
+        // the F and FT truncations: their fields flattened, placed by F_FLAT and FT_FLAT
+        let ft = BlocksFT::from(&g);
+        let ft_flat = [
+            ft.uf.concat(),
+            ft.ul.concat(),
+            ft.of.concat(),
+            ft.ol.concat(),
+        ]
+        .concat();
+        let ftm = ft.matrix();
+        for i in 0..6 {
+            for j in 0..6 {
+                assert_eq!(ft_flat[FT_FLAT[i][j]], ftm[i][j], "FT entry ({i}, {j})");
+            }
+        }
+        let got: [f64; 36] = truncate_lanes(lanes, &FT_FLAT);
+        assert_eq!(got.to_vec(), ft_flat);
+        let f = BlocksF::from(&g);
+        let got: [f64; 9] = truncate_lanes(lanes, &F_FLAT);
+        assert_eq!(got.to_vec(), f.uf.concat());
+        assert_eq!(F_FLAT, [[0, 1, 2], [3, 4, 5], [6, 7, 8]]);
     }
 }

@@ -35,8 +35,8 @@ pub use blocks::{
 };
 pub use generated::{
     pair, pair_divergence, pair_divergence_lanes, pair_divergence_lanes_ordered, pair_equal,
-    pair_f, pair_ft, pair_lanes_ordered, product_f, product_f_lanes, product_f_lanes_ordered,
-    product_ft, product_ft_lanes, product_ft_lanes_ordered, self_divergence, self_f, self_ft,
-    self_mobility, Confinement,
+    pair_f, pair_f_lanes_ordered, pair_ft, pair_ft_lanes_ordered, pair_lanes_ordered, product_f,
+    product_f_lanes, product_f_lanes_ordered, product_ft, product_ft_lanes,
+    product_ft_lanes_ordered, self_divergence, self_f, self_ft, self_mobility, Confinement,
 };
 pub use lanes;

@@ -2,8 +2,8 @@
 //! without forming the matrix.
 
 use crate::input::{validate, InputError, Particle};
-use kernels::lanes::Isa;
-use kernels::{pair_f, pair_ft, self_f, self_ft, self_mobility, Confinement, Grand};
+use kernels::lanes::{dispatch, Isa};
+use kernels::{self_f, self_ft, self_mobility, Confinement};
 use nalgebra::{DMatrix, DMatrixView};
 use rayon::prelude::*;
 use std::sync::Mutex;
@@ -138,38 +138,45 @@ impl System {
         self.particles.is_empty()
     }
 
-    /// `M^{ab}` as the dense matrix holds it ([`System::mobility`]): the self blocks for
-    /// `a == b` (Eq. 17), else the lane twin of the FTS pair kernel on the widest
-    /// instruction set of this processor (the same blocks as [`kernels::pair`] to a few
-    /// ulps; `tests/lanes.rs`).
-    pub fn pair_blocks(&self, a: usize, b: usize) -> Grand {
+    /// `M^{ab}` truncated to `moments` (`K x K`, `K` = 3, 6 or 11, grand order) as the
+    /// dense matrix holds it ([`System::mobility`]): the self blocks for `a == b`
+    /// (Eq. 17), else the lane twin of the pair kernel of that truncation on the widest
+    /// instruction set of this processor (the same blocks as [`kernels::pair_f`],
+    /// [`kernels::pair_ft`] and [`kernels::pair`] to a few ulps; `tests/lanes.rs`).
+    pub fn block(&self, moments: Moments, a: usize, b: usize) -> DMatrix<f64> {
+        let k = moments.per_particle();
+        let mut out = vec![0.0; k * k];
         if a == b {
-            let p = &self.particles[a];
-            return self_mobility(&self.confinement, self.viscosity, p.x, p.a);
+            self.self_block_into(moments, a, &mut out);
+        } else {
+            self.pair_blocks_into(moments, a, b..b + 1, &mut out);
         }
-        let mut out = [0.0; 121];
-        self.fts_blocks(a, b..b + 1, &mut out);
-        Grand::from_matrix(&nalgebra::SMatrix::from_row_slice(&out))
+        DMatrix::from_row_slice(k, k, &out)
     }
 
-    /// The FTS blocks `M^{ab}` of `a` with every `b` of `bs` (none of them `a`), row-major
-    /// 11 x 11 one after another into `out`, in lanes ([`crate::tiled::FtsBlocks`]).
-    fn fts_blocks(&self, a: usize, bs: std::ops::Range<usize>, out: &mut [f64]) {
-        let blocks = crate::tiled::FtsBlocks {
-            conf: &self.confinement,
-            eta: self.viscosity,
-            a: &self.particles[a],
-            bs: &self.particles[bs],
-            out,
-        };
-        kernels::lanes::dispatch(blocks);
+    /// The blocks `M^{ab}` truncated to `moments` of `a` with every `b` of `bs` (none of
+    /// them `a`), row-major `K x K` one after another into `out`, in lanes
+    /// ([`crate::tiled::PairBlocks`]).
+    fn pair_blocks_into(
+        &self,
+        moments: Moments,
+        a: usize,
+        bs: std::ops::Range<usize>,
+        out: &mut [f64],
+    ) {
+        use crate::tiled::{BlocksF, BlocksFT, BlocksFTS, PairBlocks};
+        let (conf, eta) = (&self.confinement, self.viscosity);
+        let (a, bs) = (&self.particles[a], &self.particles[bs]);
+        match moments {
+            Moments::F => dispatch(PairBlocks::<BlocksF>::new(conf, eta, a, bs, out)),
+            Moments::FT => dispatch(PairBlocks::<BlocksFT>::new(conf, eta, a, bs, out)),
+            Moments::FTS => dispatch(PairBlocks::<BlocksFTS>::new(conf, eta, a, bs, out)),
+        }
     }
 
-    /// `M^{ab}` truncated to `moments`, written row-major `K x K` into `out` (`K` = 3, 6
-    /// or 11, grand order), from the scene kernels of that truncation (F and FT skip
-    /// every block they do not need).
-    fn block_into(&self, moments: Moments, a: usize, b: usize, out: &mut [f64]) {
-        let (p, q) = (&self.particles[a], &self.particles[b]);
+    /// `M^{aa}` truncated to `moments`, written row-major `K x K` into `out`.
+    fn self_block_into(&self, moments: Moments, a: usize, out: &mut [f64]) {
+        let p = &self.particles[a];
         let (c, eta) = (&self.confinement, self.viscosity);
         let mut put = |k: usize, at: &dyn Fn(usize, usize) -> f64| {
             for i in 0..k {
@@ -180,24 +187,15 @@ impl System {
         };
         match moments {
             Moments::F => {
-                let m = if a == b {
-                    self_f(c, eta, p.x, p.a)
-                } else {
-                    pair_f(c, eta, p.x, p.a, q.x, q.a)
-                };
+                let m = self_f(c, eta, p.x, p.a);
                 put(3, &|i, j| m.uf[i][j]);
             }
             Moments::FT => {
-                let m = if a == b {
-                    self_ft(c, eta, p.x, p.a)
-                } else {
-                    pair_ft(c, eta, p.x, p.a, q.x, q.a)
-                }
-                .matrix();
+                let m = self_ft(c, eta, p.x, p.a).matrix();
                 put(6, &|i, j| m[i][j]);
             }
             Moments::FTS => {
-                let g = self.pair_blocks(a, b).matrix();
+                let g = self_mobility(c, eta, p.x, p.a).matrix();
                 put(11, &|i, j| g[(i, j)]);
             }
         }
@@ -262,23 +260,16 @@ impl System {
             for (ia, a) in ra.clone().enumerate() {
                 // the pairs (a, b) of the tile: b from `first` of group b on
                 let first = if ga == gb { ia } else { 0 };
-                if moments == Moments::FTS {
-                    // the self block, then every pair in lanes
-                    let mut from = first;
-                    if ga == gb {
-                        let at = (ia * DENSE_GROUP + ia) * kk;
-                        self.block_into(moments, a, a, &mut rows[at..at + kk]);
-                        from += 1;
-                    }
-                    let row = ia * DENSE_GROUP;
-                    let out = &mut rows[(row + from) * kk..(row + rb.len()) * kk];
-                    self.fts_blocks(a, rb.start + from..rb.end, out);
-                } else {
-                    for (ib, b) in rb.clone().enumerate().skip(first) {
-                        let at = (ia * DENSE_GROUP + ib) * kk;
-                        self.block_into(moments, a, b, &mut rows[at..at + kk]);
-                    }
+                // the self block, then every pair in lanes
+                let mut from = first;
+                if ga == gb {
+                    let at = (ia * DENSE_GROUP + ia) * kk;
+                    self.self_block_into(moments, a, &mut rows[at..at + kk]);
+                    from += 1;
                 }
+                let row = ia * DENSE_GROUP;
+                let out = &mut rows[(row + from) * kk..(row + rb.len()) * kk];
+                self.pair_blocks_into(moments, a, rb.start + from..rb.end, out);
             }
             // the tiles of a round touch disjoint groups: these locks never wait
             let mut cols_a = columns[ga].lock().expect("no tile panics");

@@ -150,29 +150,114 @@ impl LaneProduct<11> for ProductFTS<'_> {
     }
 }
 
-/// The FTS blocks `M^{ab}` of particle `a` with each particle of `bs`, from the lane
-/// twin of the FTS pair blocks ([`kernels::pair_lanes_ordered`]), `L::WIDTH` pairs at a
-/// time: written row-major (11 x 11, grand order) one after another into `out`
-/// (`121 bs.len()` values). Where the kernels want the higher particle first
+/// The generated lane kernels of the pair blocks of one truncation: `K x K` blocks in
+/// grand order, their `N = K^2` entries flattened as [`LaneBlocks::FLAT`] says.
+pub(crate) trait LaneBlocks<const K: usize, const N: usize> {
+    /// Where entry `(i, j)` of a block sits among the kernel's outputs.
+    const FLAT: [[usize; K]; K];
+    /// The blocks `M^{ab}` of `L::WIDTH` pairs, `b` no higher than `a` where
+    /// [`Confinement::exchanges_by_height`].
+    fn blocks<L: Lane<Elem = f64>>(
+        conf: &Confinement,
+        eta: f64,
+        xa: [L; 3],
+        aa: L,
+        xb: [L; 3],
+        ab: L,
+    ) -> [L; N];
+}
+
+/// A truncation's [`LaneBlocks`]: its block kernel in the `kernels` crate's dispatch.
+macro_rules! lane_blocks {
+    ($(#[$doc:meta])* $name:ident, $k:literal, $n:literal, $flat:ident, $kernel:ident) => {
+        $(#[$doc])*
+        pub(crate) struct $name;
+
+        impl LaneBlocks<$k, $n> for $name {
+            const FLAT: [[usize; $k]; $k] = kernels::blocks::$flat;
+            #[inline(always)]
+            fn blocks<L: Lane<Elem = f64>>(
+                conf: &Confinement,
+                eta: f64,
+                xa: [L; 3],
+                aa: L,
+                xb: [L; 3],
+                ab: L,
+            ) -> [L; $n] {
+                kernels::$kernel(conf, eta, xa, aa, xb, ab)
+            }
+        }
+    };
+}
+
+lane_blocks!(
+    /// The F blocks (`kernels::pair_f_lanes_ordered`).
+    BlocksF,
+    3,
+    9,
+    F_FLAT,
+    pair_f_lanes_ordered
+);
+lane_blocks!(
+    /// The FT blocks (`kernels::pair_ft_lanes_ordered`).
+    BlocksFT,
+    6,
+    36,
+    FT_FLAT,
+    pair_ft_lanes_ordered
+);
+lane_blocks!(
+    /// The FTS blocks (`kernels::pair_lanes_ordered`).
+    BlocksFTS,
+    11,
+    121,
+    GRAND_FLAT,
+    pair_lanes_ordered
+);
+
+/// The blocks `M^{ab}` of particle `a` with each particle of `bs`, truncated as `T`
+/// says, from the generated lane kernels, `L::WIDTH` pairs at a time: written
+/// row-major (`K x K`, grand order) one after another into `out` (`K^2 bs.len()`
+/// values). Where the kernels want the higher particle first
 /// ([`Confinement::exchanges_by_height`]) and `b` is higher, the lane computes `M^{ba}`
 /// and its transpose is written (reciprocity), as the scalar kernels do.
-pub(crate) struct FtsBlocks<'a> {
+pub(crate) struct PairBlocks<'a, T> {
     pub conf: &'a Confinement,
     pub eta: f64,
     pub a: &'a Particle,
     pub bs: &'a [Particle],
     pub out: &'a mut [f64],
+    pub truncation: std::marker::PhantomData<T>,
 }
 
-impl WithLanes for FtsBlocks<'_> {
-    type Elem = f64;
-    type Output = ();
+impl<'a, T> PairBlocks<'a, T> {
+    /// The blocks of `a` with `bs` into `out`.
+    pub fn new(
+        conf: &'a Confinement,
+        eta: f64,
+        a: &'a Particle,
+        bs: &'a [Particle],
+        out: &'a mut [f64],
+    ) -> Self {
+        PairBlocks {
+            conf,
+            eta,
+            a,
+            bs,
+            out,
+            truncation: std::marker::PhantomData,
+        }
+    }
+
+    /// [`WithLanes::run`] for a truncation of `K x K` blocks (`N = K^2`).
     #[inline(always)]
-    fn run<L: Lane<Elem = f64>>(self) {
-        use kernels::blocks::GRAND_FLAT;
+    fn fill<L: Lane<Elem = f64>, const K: usize, const N: usize>(self)
+    where
+        T: LaneBlocks<K, N>,
+    {
         let w = L::WIDTH;
         let exchanges = self.conf.exchanges_by_height();
-        for (chunk, out) in self.bs.chunks(w).zip(self.out.chunks_mut(121 * w)) {
+        for (chunk, out) in self.bs.chunks(w).zip(self.out.chunks_mut(N * w)) {
             // x_a (3), a_a, x_b (3), a_b per lane; the last pair repeated as padding
             let mut args = [[0.0; lanes::MAX_WIDTH]; 8];
             let mut swapped = [false; lanes::MAX_WIDTH];
@@ -188,7 +273,7 @@ impl WithLanes for FtsBlocks<'_> {
                 args[7][l] = q.a;
             }
             let v = |k: usize| L::load(&args[k]);
-            let m = kernels::pair_lanes_ordered(
+            let m = T::blocks(
                 self.conf,
                 self.eta,
                 [v(0), v(1), v(2)],
@@ -196,17 +281,17 @@ impl WithLanes for FtsBlocks<'_> {
                 [v(4), v(5), v(6)],
                 v(7),
             );
-            let mut vals = [[0.0; lanes::MAX_WIDTH]; 121];
+            let mut vals = [[0.0; lanes::MAX_WIDTH]; N];
             for (lane, dst) in m.into_iter().zip(vals.iter_mut()) {
                 lane.store(dst);
             }
-            for (l, blk) in out.chunks_exact_mut(121).enumerate() {
-                for (i, row) in blk.chunks_exact_mut(11).enumerate() {
+            for (l, blk) in out.chunks_exact_mut(N).enumerate() {
+                for (i, row) in blk.chunks_exact_mut(K).enumerate() {
                     for (j, e) in row.iter_mut().enumerate() {
                         let k = if swapped[l] {
-                            GRAND_FLAT[j][i]
+                            T::FLAT[j][i]
                         } else {
-                            GRAND_FLAT[i][j]
+                            T::FLAT[i][j]
                         };
                         *e = vals[k][l];
                     }
@@ -215,6 +300,25 @@ impl WithLanes for FtsBlocks<'_> {
         }
     }
 }
+
+/// One `impl WithLanes` per truncation (a generic `impl` over `K` and `N` would leave
+/// them unconstrained).
+macro_rules! with_lanes {
+    ($name:ident, $k:literal, $n:literal) => {
+        impl WithLanes for PairBlocks<'_, $name> {
+            type Elem = f64;
+            type Output = ();
+            #[inline(always)]
+            fn run<L: Lane<Elem = f64>>(self) {
+                self.fill::<L, $k, $n>()
+            }
+        }
+    };
+}
+
+with_lanes!(BlocksF, 3, 9);
+with_lanes!(BlocksFT, 6, 36);
+with_lanes!(BlocksFTS, 11, 121);
 
 /// The Brownian drift: `a` the divergence of `M^{ab}` over the position of `b`, `b`
 /// that of `M^{ba}` over the position of `a` (rows `U` then `Omega`, force columns),

@@ -1,5 +1,6 @@
-//! The lane kernels (`kernels::product_f_lanes`, `product_ft_lanes`, and the FTS pair
-//! blocks `pair_lanes_ordered` times the moments: the same traces emitted over
+//! The lane kernels (`kernels::product_f_lanes`, `product_ft_lanes`, and the pair
+//! blocks `pair_f_lanes_ordered`, `pair_ft_lanes_ordered`, `pair_lanes_ordered` times the
+//! moments: the same traces emitted over
 //! `lanes::Lane`, branch-free per lane, with fused multiply-adds) equal the scalar kernels, on every instruction set this processor has, for every confinement:
 //! on random pairs, and on pairs straddling every branch of the scalar kernels (the
 //! exchange of roles at equal heights, the lateral far-field switch, `rho = 0` where
@@ -8,10 +9,12 @@
 //! bit on pairs ordered by height, as the tiled product passes them.
 
 use integration_tests::{all_confinements, bounds, norm, random_spheres};
+use kernels::blocks::{FT_FLAT, F_FLAT};
 use kernels::lanes::{dispatch_with, Element, Isa, Lane, WithLanes};
 use kernels::{
-    grand_lanes_product, pair, pair_lanes_ordered, product_f, product_f_lanes,
-    product_f_lanes_ordered, product_ft, product_ft_lanes, product_ft_lanes_ordered, Confinement,
+    grand_lanes_product, pair, pair_f, pair_f_lanes_ordered, pair_ft, pair_ft_lanes_ordered,
+    pair_lanes_ordered, product_f, product_f_lanes, product_f_lanes_ordered, product_ft,
+    product_ft_lanes, product_ft_lanes_ordered, Confinement,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -55,15 +58,36 @@ fn ordered(p: Pair) -> Pair {
 }
 
 /// The lane kernels over a list of pairs (a multiple of 16), outputs `a` then `b` per
-/// pair, on lanes of `E` (inputs rounded to `E`). FTS has only the kernel without the
-/// exchange of roles: the pairs must be [`ordered`].
+/// pair, on lanes of `E` (inputs rounded to `E`). The block kernels (FTS has only those)
+/// exist without the exchange of roles only: the pairs must be [`ordered`].
 struct Run<'a, E> {
     conf: &'a Confinement,
     pairs: &'a [Pair],
     level: Moments,
     /// The kernels without the exchange of roles.
     ordered: bool,
+    /// The block kernels times the moments, rather than the fused products.
+    blocks: bool,
     elem: std::marker::PhantomData<E>,
+}
+
+/// `(M^{ab} vb, (M^{ab})^T va)` from blocks flattened as `at` says.
+#[inline(always)]
+fn flat_product<L: Lane, const K: usize>(
+    m: &[L],
+    at: &[[usize; K]; K],
+    va: [L; K],
+    vb: [L; K],
+) -> Vec<L> {
+    let mut a = [L::splat(0.0); K];
+    let mut b = [L::splat(0.0); K];
+    for i in 0..K {
+        for j in 0..K {
+            a[i] = m[at[i][j]].mul_add(vb[j], a[i]);
+            b[j] = m[at[i][j]].mul_add(va[i], b[j]);
+        }
+    }
+    [a, b].concat()
 }
 
 impl<E: Element> WithLanes for Run<'_, E> {
@@ -85,7 +109,19 @@ impl<E: Element> WithLanes for Run<'_, E> {
             let first = |v: [L; 11]| -> [L; 3] { std::array::from_fn(|k| v[k]) };
             let six = |v: [L; 11]| -> [L; 6] { std::array::from_fn(|k| v[k]) };
             let (c, o) = (self.conf, self.ordered);
+            assert!(
+                o || !self.blocks,
+                "block lanes exist without the exchange only"
+            );
             let lanes: Vec<L> = match self.level {
+                Moments::F if self.blocks => {
+                    let m = pair_f_lanes_ordered(c, 1.3, xa, aa, xb, ab);
+                    flat_product(&m, &F_FLAT, first(va), first(vb))
+                }
+                Moments::FT if self.blocks => {
+                    let m = pair_ft_lanes_ordered(c, 1.3, xa, aa, xb, ab);
+                    flat_product(&m, &FT_FLAT, six(va), six(vb))
+                }
                 Moments::F if o => {
                     product_f_lanes_ordered(c, 1.3, xa, aa, xb, ab, first(va), first(vb)).to_vec()
                 }
@@ -97,7 +133,7 @@ impl<E: Element> WithLanes for Run<'_, E> {
                 }
                 Moments::FT => product_ft_lanes(c, 1.3, xa, aa, xb, ab, six(va), six(vb)).to_vec(),
                 Moments::FTS => {
-                    assert!(o, "FTS lanes exist without the exchange only");
+                    assert!(self.blocks, "FTS lanes are blocks");
                     let m = pair_lanes_ordered(c, 1.3, xa, aa, xb, ab);
                     let (a, b) = grand_lanes_product(&m, va, vb);
                     [a, b].concat()
@@ -117,11 +153,21 @@ impl<E: Element> WithLanes for Run<'_, E> {
     }
 }
 
-/// The scalar kernels' product (FTS: the pair blocks of [`kernels::pair`] times the
-/// moments).
-fn scalar(conf: &Confinement, p: &Pair, level: Moments) -> Vec<f64> {
+/// The scalar kernels' product (with `blocks`, and always at FTS, the pair blocks of
+/// [`kernels::pair_f`], [`kernels::pair_ft`] or [`kernels::pair`] times the moments).
+fn scalar(conf: &Confinement, p: &Pair, level: Moments, blocks: bool) -> Vec<f64> {
     let (xa, aa, xb, ab) = (p.xa, p.aa, p.xb, p.ab);
     let (a, b) = match level {
+        Moments::F if blocks => {
+            let (va, vb) = moments::<3>(p);
+            let r = pair_f(conf, 1.3, xa, aa, xb, ab).product(va, vb);
+            (r.a.to_vec(), r.b.to_vec())
+        }
+        Moments::FT if blocks => {
+            let (va, vb) = moments::<6>(p);
+            let r = pair_ft(conf, 1.3, xa, aa, xb, ab).product(va, vb);
+            (r.a.to_vec(), r.b.to_vec())
+        }
         Moments::F => {
             let (va, vb) = moments::<3>(p);
             let r = product_f(conf, 1.3, xa, aa, xb, ab, va, vb);
@@ -211,7 +257,8 @@ fn cancellation(name: &str, conf: &Confinement, p: &Pair) -> f64 {
     }
 }
 
-/// Every confinement, F and FT, on every instruction set with lanes of `E`: the
+/// Every confinement, the F and FT products and blocks and the FTS blocks, on every
+/// instruction set with lanes of `E`: the
 /// largest relative difference to the scalar `f64` kernels (of the larger output
 /// vector's norm) must stay within `tol(cancellation factor)`; returns nothing,
 /// prints the largest per case.
@@ -221,21 +268,32 @@ fn lanes_against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64) {
     println!("instruction sets on this processor: {isas:?}");
     for (name, conf) in all_confinements() {
         let list = pairs(&conf, &mut rng);
-        for level in [Moments::F, Moments::FT, Moments::FTS] {
-            // FTS: the kernel without the exchange, on pairs in the tiled product's order
-            let fts = level == Moments::FTS;
-            let list: Vec<Pair> = if fts {
+        let levels = [
+            (Moments::F, false),
+            (Moments::F, true),
+            (Moments::FT, false),
+            (Moments::FT, true),
+            (Moments::FTS, true),
+        ];
+        for (level, blocks) in levels {
+            // blocks: the kernel without the exchange, on pairs in the tiled product's
+            // order
+            let list: Vec<Pair> = if blocks {
                 list.iter().copied().map(ordered).collect()
             } else {
                 list.clone()
             };
-            let expect: Vec<Vec<f64>> = list.iter().map(|p| scalar(&conf, p, level)).collect();
+            let expect: Vec<Vec<f64>> = list
+                .iter()
+                .map(|p| scalar(&conf, p, level, blocks))
+                .collect();
             for &isa in &isas {
                 let run = Run::<E> {
                     conf: &conf,
                     pairs: &list,
                     level,
-                    ordered: fts,
+                    ordered: blocks,
+                    blocks,
                     elem: std::marker::PhantomData,
                 };
                 let got = dispatch_with(isa, run).ok().expect("available");
@@ -251,13 +309,13 @@ fn lanes_against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64) {
                     }
                     assert!(
                         rel <= tol,
-                        "{name} {level:?} {isa:?} pair {k}: relative difference {rel:e}\n lanes {g:?}\n scalar {e:?}"
+                        "{name} {level:?} {isa:?} blocks {blocks} pair {k}: relative difference {rel:e}\n lanes {g:?}\n scalar {e:?}"
                     );
                 }
                 let p = &list[worst.1];
                 println!(
-                    "{name:<13} {:<3} {:<7} {} pairs: largest relative difference {:.1e} (xa {:?}, xb {:?})",
-                    format!("{level:?}"),
+                    "{name:<13} {:<10} {:<7} {} pairs: largest relative difference {:.1e} (xa {:?}, xb {:?})",
+                    format!("{level:?}{}", if blocks { " blocks" } else { "" }),
                     isa.name(),
                     list.len(),
                     worst.0,
@@ -317,6 +375,7 @@ fn ordered_lane_kernels_equal_the_exchanging_ones_on_ordered_pairs() {
                             pairs: &list,
                             level,
                             ordered,
+                            blocks: false,
                             elem: std::marker::PhantomData,
                         };
                         dispatch_with(isa, r).ok().expect("available")

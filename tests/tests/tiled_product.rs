@@ -36,8 +36,9 @@ fn tiled_product_equals_the_dense_matrix_on_every_instruction_set() {
 }
 
 /// The dense assembly (tiles of particle groups) puts every block where the layout of
-/// Eq. 1 says, exactly as the kernel returns it: `M^{ab}` for `a <= b` and its transpose
-/// below, the self blocks on the diagonal, the equal-radius kernel where radii match.
+/// Eq. 1 says, exactly as `System::block` returns it (the lane kernels of each
+/// truncation, which `tests/lanes.rs` compares with the scalar kernels): `M^{ab}` for
+/// `a <= b` and its transpose below, the self blocks on the diagonal, equal radii too.
 /// 37 spheres: more than the serial threshold, three groups, the last one partial.
 /// Compared bit for bit: the assembly copies values and computes none. The same into a
 /// `LargeMatrix` filled with NaN (`System::mobility_into` writes every entry).
@@ -46,7 +47,7 @@ fn dense_assembly_places_every_block_exactly() {
     let mut rng = ChaCha8Rng::seed_from_u64(24);
     for (name, conf) in all_confinements() {
         let mut ps = random_spheres(&mut rng, &conf, 37, (0.4, 1.2), 0.05, 40.0);
-        // a few equal radii (the equal-radius kernels); shrinking keeps them apart
+        // a few equal radii; shrinking keeps them apart
         for p in ps.iter_mut().step_by(5) {
             p.a = 0.4;
         }
@@ -76,32 +77,10 @@ fn dense_assembly_places_every_block_exactly() {
             };
             for a in 0..n {
                 for b in a..n {
-                    let (p, q) = (&s.particles()[a], &s.particles()[b]);
-                    let blk: Vec<f64> = match moments {
-                        Moments::F => {
-                            let g = if a == b {
-                                kernels::self_f(&conf, 0.9, p.x, p.a)
-                            } else {
-                                kernels::pair_f(&conf, 0.9, p.x, p.a, q.x, q.a)
-                            };
-                            g.uf.concat()
-                        }
-                        Moments::FT => {
-                            let g = if a == b {
-                                kernels::self_ft(&conf, 0.9, p.x, p.a)
-                            } else {
-                                kernels::pair_ft(&conf, 0.9, p.x, p.a, q.x, q.a)
-                            };
-                            g.matrix().concat()
-                        }
-                        Moments::FTS => {
-                            let g = s.pair_blocks(a, b).matrix();
-                            (0..11 * 11).map(|e| g[(e / 11, e % 11)]).collect()
-                        }
-                    };
+                    let blk = s.block(moments, a, b);
                     for i in 0..k {
                         for j in 0..k {
-                            let v = blk[i * k + j];
+                            let v = blk[(i, j)];
                             assert_eq!(
                                 m[(at(a, i), at(b, j))].to_bits(),
                                 v.to_bits(),

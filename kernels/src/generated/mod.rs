@@ -363,6 +363,64 @@ pub fn product_f_lanes_ordered<L: lanes::Lane>(
         }
     }
 }
+/// The lane twin of [`pair_f`] without the exchange of roles, for pairs in which `b` is no higher than `a` where [`Confinement::exchanges_by_height`] (elsewhere any order): `L::WIDTH` pairs at once (unequal-radius kernels at any radii), the 9 entries of [`BlocksF`]'s fields in their order ([`crate::blocks::F_FLAT`]); the scene's lane kernel, or the FTS lane kernel truncated for a confinement without one.
+#[inline(always)]
+pub fn pair_f_lanes_ordered<L: lanes::Lane>(
+    conf: &Confinement,
+    eta: f64,
+    xa: [L; 3],
+    aa: L,
+    xb: [L; 3],
+    ab: L,
+) -> [L; 9usize] {
+    match *conf {
+        Confinement::Free => {
+            scene_free_f::free_f_pair_lanes_ordered(xa, xb, aa, ab, L::splat(eta))
+        }
+        Confinement::Wall { height } => {
+            scene_wall_f::wall_f_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+            )
+        }
+        Confinement::FreeSurface { height } => {
+            scene_free_surface_f::free_surface_f_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+            )
+        }
+        Confinement::Interface { height, lambda } => {
+            scene_interface_f::interface_f_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(lambda),
+            )
+        }
+        Confinement::Slit { height, gap } => {
+            scene_slit_f::slit_f_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(gap),
+            )
+        }
+    }
+}
 /// The FT blocks of `M^{ab}` (equal-radius kernels when `aa == ab`).
 pub fn pair_ft(
     conf: &Confinement,
@@ -707,6 +765,64 @@ pub fn product_ft_lanes_ordered<L: lanes::Lane>(
                 L::splat(gap),
                 va,
                 vb,
+            )
+        }
+    }
+}
+/// The lane twin of [`pair_ft`] without the exchange of roles, for pairs in which `b` is no higher than `a` where [`Confinement::exchanges_by_height`] (elsewhere any order): `L::WIDTH` pairs at once (unequal-radius kernels at any radii), the 36 entries of [`BlocksFT`]'s fields in their order ([`crate::blocks::FT_FLAT`]); the scene's lane kernel, or the FTS lane kernel truncated for a confinement without one.
+#[inline(always)]
+pub fn pair_ft_lanes_ordered<L: lanes::Lane>(
+    conf: &Confinement,
+    eta: f64,
+    xa: [L; 3],
+    aa: L,
+    xb: [L; 3],
+    ab: L,
+) -> [L; 36usize] {
+    match *conf {
+        Confinement::Free => {
+            scene_free_ft::free_ft_pair_lanes_ordered(xa, xb, aa, ab, L::splat(eta))
+        }
+        Confinement::Wall { height } => {
+            scene_wall_ft::wall_ft_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+            )
+        }
+        Confinement::FreeSurface { height } => {
+            scene_free_surface_ft::free_surface_ft_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+            )
+        }
+        Confinement::Interface { height, lambda } => {
+            scene_interface_ft::interface_ft_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(lambda),
+            )
+        }
+        Confinement::Slit { height, gap } => {
+            scene_slit_ft::slit_ft_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(height),
+                L::splat(gap),
             )
         }
     }

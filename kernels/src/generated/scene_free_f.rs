@@ -27,6 +27,35 @@ pub fn free_f_self(x: [f64; 3], a: f64, eta: f64) -> BlocksF {
         uf: [[t3, 0.0, 0.0], [0.0, t3, 0.0], [0.0, 0.0, t3]],
     }
 }
+/// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the F blocks, self.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_self`'s fields. Operation count with fused multiply-adds: 4 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_f_self_lanes<L: lanes::Lane>(x: [L; 3], a: L, eta: L) -> [L; 9usize] {
+    let out: [L; 9usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = a.recip();
+        let t2: L = t1 * L::splat(1.3333333333333333);
+        let t3: L = t0 * t2;
+        [
+            t3,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t3,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t3,
+        ]
+    };
+    out
+}
+pub use free_f_self_lanes as free_f_self_lanes_ordered;
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the F blocks, pair.
 ///
 /// Pruned to what the scene needs.
@@ -96,6 +125,67 @@ pub fn free_f_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Bl
         uf: [[t33, t36, t39], [t36, t43, t45], [t39, t45, t49]],
     }
 }
+/// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the F blocks, pair.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_f_pair`'s fields. Operation count with fused multiply-adds: 40 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_f_pair_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+) -> [L; 9usize] {
+    let out: [L; 9usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = xa[2] - xb[2];
+        let t4: L = aa * aa;
+        let t5: L = ab * ab;
+        let t6: L = t4 * L::splat(0.16666666666666666);
+        let t7: L = t5 * L::splat(0.16666666666666666);
+        let t8: L = t2 * t2;
+        let t9: L = t1.mul_add(t1, t8);
+        let t10: L = t3.mul_add(t3, t9);
+        let t11: L = t10.rsqrt();
+        let t12: L = t1 * t11;
+        let t13: L = t2 * t11;
+        let t14: L = t3 * t11;
+        let t15: L = t11 * t11;
+        let t16: L = t6 * t15;
+        let t17: L = t7 * t15;
+        let t18: L = t12.powi(2);
+        let t19: L = t17.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t20: L = t16.mul_add(L::splat(-6.0), t19);
+        let t21: L = t17.mul_add(L::splat(2.0), L::splat(1.0));
+        let t22: L = t16.mul_add(L::splat(2.0), t21);
+        let t23: L = t18.mul_add(t20, t22);
+        let t24: L = t0 * t11;
+        let t25: L = t23 * t24;
+        let t26: L = t13 * t20;
+        let t27: L = t12 * t26;
+        let t28: L = t24 * t27;
+        let t29: L = t14 * t20;
+        let t30: L = t12 * t29;
+        let t31: L = t24 * t30;
+        let t32: L = t13.powi(2);
+        let t33: L = t20.mul_add(t32, t22);
+        let t34: L = t24 * t33;
+        let t35: L = t13 * t29;
+        let t36: L = t24 * t35;
+        let t37: L = t14.powi(2);
+        let t38: L = t20.mul_add(t37, t22);
+        let t39: L = t24 * t38;
+        [t25, t28, t31, t28, t34, t36, t31, t36, t39]
+    };
+    out
+}
+pub use free_f_pair_lanes as free_f_pair_lanes_ordered;
 /// Scene `free_f` (unbounded fluid: the Stokeslet J of Eq. 4): the F blocks, pair equal.
 ///
 /// Pruned to what the scene needs.

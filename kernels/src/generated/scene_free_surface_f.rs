@@ -73,6 +73,93 @@ pub fn free_surface_f_self(x: [f64; 3], a: f64, eta: f64, height: f64) -> Blocks
         uf: [[t18, 0.0, 0.0], [0.0, t18, 0.0], [0.0, 0.0, t23]],
     }
 }
+/// Scene `free_surface_f` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the F blocks, self.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_f_self`'s fields. Operation count with fused multiply-adds: 19 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_surface_f_self_lanes<L: lanes::Lane>(
+    x: [L; 3],
+    a: L,
+    eta: L,
+    height: L,
+) -> [L; 9usize] {
+    let t0: L = x[2] - height;
+    let far = t0.gt(L::splat(0.0));
+    let near: [L; 9usize] = if L::all(far) {
+        [L::splat(0.0); 9usize]
+    } else {
+        let t1: L = L::splat(0.039788735772973836) / eta;
+        let t2: L = t0 * L::splat(2.0);
+        let t3: L = a * a;
+        let t4: L = a.recip();
+        let t5: L = t4 * L::splat(1.3333333333333333);
+        let t6: L = t3 * L::splat(0.16666666666666666);
+        let t7: L = t2 * t2;
+        let t8: L = t7.rsqrt();
+        let t9: L = t8 * t8;
+        let t10: L = t6 * t9;
+        let t11: L = L::splat(2.0).mul_add(t10, L::splat(1.0));
+        let t12: L = L::splat(2.0).mul_add(t10, t11);
+        let t13: L = t1 * t8;
+        let t14: L = t1 * t5;
+        let t15: L = t12.mul_add(t13, t14);
+        let t16: L = t10.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t17: L = t10.mul_add(L::splat(4.0), t16);
+        let t18: L = t13.mul_add(t17, t14);
+        [
+            t15,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t15,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t18,
+        ]
+    };
+    let farv: [L; 9usize] = if L::any(far) {
+        let t19: L = L::splat(0.039788735772973836) / eta;
+        let t20: L = a * a;
+        let t21: L = a * t0;
+        let t22: L = t21.recip();
+        let t23: L = t22 * a;
+        let t24: L = t22 * t0;
+        let t25: L = t24 * L::splat(1.3333333333333333);
+        let t26: L = t23 * t23;
+        let t27: L = t23 * t26;
+        let t28: L = L::splat(0.041666666666666664) * t27;
+        let t29: L = t28 + t28;
+        let t30: L = t23.mul_add(L::splat(0.5), t25);
+        let t31: L = t20.mul_add(t29, t30);
+        let t32: L = t27 * L::splat(0.08333333333333333);
+        let t33: L = t32 + t32;
+        let t34: L = t25 - t23;
+        let t35: L = t20.mul_add(t33, t34);
+        let t36: L = t19 * t31;
+        let t37: L = t19 * t35;
+        [
+            t36,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t36,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t37,
+        ]
+    } else {
+        [L::splat(0.0); 9usize]
+    };
+    let out: [L; 9usize] = lanes::select_array(far, farv, near);
+    out
+}
+pub use free_surface_f_self_lanes as free_surface_f_self_lanes_ordered;
 /// Scene `free_surface_f` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the F blocks, pair.
 ///
 /// Pruned to what the scene needs.
@@ -222,6 +309,116 @@ pub fn free_surface_f_pair(
         uf: [[t106, t111, t112], [t115, t118, t119], [t120, t121, t101]],
     }
 }
+/// Scene `free_surface_f` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the F blocks, pair.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_f_pair`'s fields. Operation count with fused multiply-adds: 88 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_surface_f_pair_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+) -> [L; 9usize] {
+    let out: [L; 9usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.rsqrt();
+        let t6: L = t4.sqrt_with(t5);
+        let t7: L = L::select(t4.gt(L::splat(0.0)), t5, L::splat(1.0));
+        let t8: L = t1 * t7;
+        let t9: L = L::select(t4.gt(L::splat(0.0)), t8, L::splat(1.0));
+        let t10: L = t2 * t7;
+        let t11: L = L::select(t4.gt(L::splat(0.0)), t10, L::splat(0.0));
+        let t12: L = xa[2] - xb[2];
+        let t13: L = xb[2] - height;
+        let t14: L = t13.mul_add(L::splat(2.0), t12);
+        let t15: L = aa * aa;
+        let t16: L = ab * ab;
+        let t17: L = t15 * L::splat(0.16666666666666666);
+        let t18: L = t16 * L::splat(0.16666666666666666);
+        let t19: L = t12.mul_add(t12, t4);
+        let t20: L = t19.rsqrt();
+        let t21: L = t6 * t20;
+        let t22: L = t12 * t20;
+        let t23: L = t20 * t20;
+        let t24: L = t17 * t23;
+        let t25: L = t18 * t23;
+        let t26: L = t21.powi(2);
+        let t27: L = t25.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t28: L = t24.mul_add(L::splat(-6.0), t27);
+        let t29: L = L::splat(2.0).mul_add(t25, L::splat(1.0));
+        let t30: L = L::splat(2.0).mul_add(t24, t29);
+        let t31: L = t26.mul_add(t28, t30);
+        let t32: L = t0 * t20;
+        let t33: L = t14.mul_add(t14, t4);
+        let t34: L = t33.rsqrt();
+        let t35: L = t6 * t34;
+        let t36: L = t14 * t34;
+        let t37: L = t34 * t34;
+        let t38: L = t17 * t37;
+        let t39: L = t18 * t37;
+        let t40: L = t35.powi(2);
+        let t41: L = L::splat(-6.0).mul_add(t39, L::splat(1.0));
+        let t42: L = L::splat(-6.0).mul_add(t38, t41);
+        let t43: L = L::splat(2.0).mul_add(t39, L::splat(1.0));
+        let t44: L = L::splat(2.0).mul_add(t38, t43);
+        let t45: L = t40.mul_add(t42, t44);
+        let t46: L = t0 * t34;
+        let t47: L = t45 * t46;
+        let t48: L = t31.mul_add(t32, t47);
+        let t49: L = t22 * t28;
+        let t50: L = t21 * t49;
+        let t51: L = t32 * t50;
+        let t52: L = t39.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t53: L = t38.mul_add(L::splat(6.0), t52);
+        let t54: L = t36 * t53;
+        let t55: L = t35 * t54;
+        let t56: L = t46.mul_add(t55, t51);
+        let t57: L = t44 * t46;
+        let t58: L = t30.mul_add(t32, t57);
+        let t59: L = t36 * t42;
+        let t60: L = t35 * t59;
+        let t61: L = t46.mul_add(t60, t51);
+        let t62: L = t25.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t63: L = t24.mul_add(L::splat(6.0), t62);
+        let t64: L = t25.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t65: L = t24.mul_add(L::splat(-4.0), t64);
+        let t66: L = t26.mul_add(t63, t65);
+        let t67: L = t39.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t68: L = t38.mul_add(L::splat(4.0), t67);
+        let t69: L = t40.mul_add(t42, t68);
+        let t70: L = t46 * t69;
+        let t71: L = t32.mul_add(t66, t70);
+        let t72: L = t9 * t48;
+        let t73: L = t11 * t58;
+        let t74: L = t11 * t73;
+        let t75: L = t9.mul_add(t72, t74);
+        let t76: L = t11 * t48;
+        let t77: L = t9 * t58;
+        let t78: L = t11 * t77;
+        let t79: L = t9.mul_sub(t76, t78);
+        let t80: L = t9 * t56;
+        let t81: L = t9 * t73;
+        let t82: L = t11.mul_sub(t72, t81);
+        let t83: L = t9 * t77;
+        let t84: L = t11.mul_add(t76, t83);
+        let t85: L = t11 * t56;
+        let t86: L = t9 * t61;
+        let t87: L = t11 * t61;
+        [t75, t79, t80, t82, t84, t85, t86, t87, t71]
+    };
+    out
+}
+pub use free_surface_f_pair_lanes as free_surface_f_pair_lanes_ordered;
 /// Scene `free_surface_f` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the F blocks, pair equal.
 ///
 /// Pruned to what the scene needs.

@@ -102,6 +102,167 @@ pub fn free_surface_ft_self(x: [f64; 3], a: f64, eta: f64, height: f64) -> Block
         ol: [[t33, 0.0, 0.0], [0.0, t33, 0.0], [0.0, 0.0, t34]],
     }
 }
+/// Scene `free_surface_ft` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the FT blocks, self.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_ft_self`'s fields. Operation count with fused multiply-adds: 29 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_surface_ft_self_lanes<L: lanes::Lane>(
+    x: [L; 3],
+    a: L,
+    eta: L,
+    height: L,
+) -> [L; 36usize] {
+    let t0: L = x[2] - height;
+    let far = t0.gt(L::splat(0.0));
+    let near: [L; 36usize] = if L::all(far) {
+        [L::splat(0.0); 36usize]
+    } else {
+        let t1: L = L::splat(0.039788735772973836) / eta;
+        let t2: L = t0 * L::splat(2.0);
+        let t3: L = a * a;
+        let t4: L = a.recip();
+        let t5: L = t4 * t4;
+        let t6: L = t4 * t5;
+        let t7: L = t4 * L::splat(1.3333333333333333);
+        let t8: L = t3 * L::splat(0.16666666666666666);
+        let t9: L = t2 * t2;
+        let t10: L = t9.rsqrt();
+        let t11: L = t2 * t10;
+        let t12: L = t10 * t10;
+        let t13: L = t8 * t12;
+        let t14: L = L::splat(2.0).mul_add(t13, L::splat(1.0));
+        let t15: L = L::splat(2.0).mul_add(t13, t14);
+        let t16: L = t1 * t10;
+        let t17: L = t1 * t7;
+        let t18: L = t15.mul_add(t16, t17);
+        let t19: L = t13.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t20: L = t13.mul_add(L::splat(4.0), t19);
+        let t21: L = t16.mul_add(t20, t17);
+        let t22: L = t10 * t16;
+        let t23: L = t11 * t22;
+        let t24: L = -t23;
+        let t25: L = t10 * t22;
+        let t26: L = t1 * t6;
+        let t27: L = L::splat(0.5).mul_add(t25, t26);
+        let t28: L = t25 + t26;
+        [
+            t18,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t18,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t21,
+            L::splat(0.0),
+            t24,
+            L::splat(0.0),
+            t23,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t23,
+            L::splat(0.0),
+            t24,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t27,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t27,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t28,
+        ]
+    };
+    let farv: [L; 36usize] = if L::any(far) {
+        let t29: L = L::splat(0.039788735772973836) / eta;
+        let t30: L = a * a;
+        let t31: L = a * t0;
+        let t32: L = t31.recip();
+        let t33: L = t32 * a;
+        let t34: L = t32 * t0;
+        let t35: L = t34 * t34;
+        let t36: L = t34 * t35;
+        let t37: L = t34 * L::splat(1.3333333333333333);
+        let t38: L = t33 * t33;
+        let t39: L = t33 * t38;
+        let t40: L = L::splat(0.041666666666666664) * t39;
+        let t41: L = t40 + t40;
+        let t42: L = L::splat(0.5).mul_add(t33, t37);
+        let t43: L = t30.mul_add(t41, t42);
+        let t44: L = t39 * L::splat(0.08333333333333333);
+        let t45: L = t44 + t44;
+        let t46: L = t37 - t33;
+        let t47: L = t30.mul_add(t45, t46);
+        let t48: L = t38 * L::splat(-0.25);
+        let t49: L = t38 * L::splat(0.25);
+        let t50: L = t39.mul_add(L::splat(0.0625), t36);
+        let t51: L = t39.mul_add(L::splat(0.125), t36);
+        let t52: L = t29 * t43;
+        let t53: L = t29 * t47;
+        let t54: L = t29 * t48;
+        let t55: L = t29 * t49;
+        let t56: L = t29 * t50;
+        let t57: L = t29 * t51;
+        [
+            t52,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t52,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t53,
+            L::splat(0.0),
+            t54,
+            L::splat(0.0),
+            t55,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t55,
+            L::splat(0.0),
+            t54,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t56,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t56,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t57,
+        ]
+    } else {
+        [L::splat(0.0); 36usize]
+    };
+    let out: [L; 36usize] = lanes::select_array(far, farv, near);
+    out
+}
+pub use free_surface_ft_self_lanes as free_surface_ft_self_lanes_ordered;
 /// Scene `free_surface_ft` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the FT blocks, pair.
 ///
 /// Pruned to what the scene needs.
@@ -350,6 +511,231 @@ pub fn free_surface_ft_pair(
         ol: [[t202, t207, t208], [t211, t214, t215], [t216, t217, t141]],
     }
 }
+/// Scene `free_surface_ft` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the FT blocks, pair.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_ft_pair`'s fields. Operation count with fused multiply-adds: 166 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn free_surface_ft_pair_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+) -> [L; 36usize] {
+    let out: [L; 36usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.rsqrt();
+        let t6: L = t4.sqrt_with(t5);
+        let t7: L = L::select(t4.gt(L::splat(0.0)), t5, L::splat(1.0));
+        let t8: L = t1 * t7;
+        let t9: L = L::select(t4.gt(L::splat(0.0)), t8, L::splat(1.0));
+        let t10: L = t2 * t7;
+        let t11: L = L::select(t4.gt(L::splat(0.0)), t10, L::splat(0.0));
+        let t12: L = xa[2] - xb[2];
+        let t13: L = xb[2] - height;
+        let t14: L = t13.mul_add(L::splat(2.0), t12);
+        let t15: L = aa * aa;
+        let t16: L = ab * ab;
+        let t17: L = t15 * L::splat(0.16666666666666666);
+        let t18: L = t16 * L::splat(0.16666666666666666);
+        let t19: L = t12.mul_add(t12, t4);
+        let t20: L = t19.rsqrt();
+        let t21: L = t6 * t20;
+        let t22: L = t12 * t20;
+        let t23: L = t20 * t20;
+        let t24: L = t17 * t23;
+        let t25: L = t18 * t23;
+        let t26: L = t21.powi(2);
+        let t27: L = t25.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t28: L = t24.mul_add(L::splat(-6.0), t27);
+        let t29: L = L::splat(2.0).mul_add(t25, L::splat(1.0));
+        let t30: L = L::splat(2.0).mul_add(t24, t29);
+        let t31: L = t26.mul_add(t28, t30);
+        let t32: L = t0 * t20;
+        let t33: L = t14.mul_add(t14, t4);
+        let t34: L = t33.rsqrt();
+        let t35: L = t6 * t34;
+        let t36: L = t14 * t34;
+        let t37: L = t34 * t34;
+        let t38: L = t17 * t37;
+        let t39: L = t18 * t37;
+        let t40: L = t35.powi(2);
+        let t41: L = L::splat(-6.0).mul_add(t39, L::splat(1.0));
+        let t42: L = L::splat(-6.0).mul_add(t38, t41);
+        let t43: L = L::splat(2.0).mul_add(t39, L::splat(1.0));
+        let t44: L = L::splat(2.0).mul_add(t38, t43);
+        let t45: L = t40.mul_add(t42, t44);
+        let t46: L = t0 * t34;
+        let t47: L = t45 * t46;
+        let t48: L = t31.mul_add(t32, t47);
+        let t49: L = t22 * t28;
+        let t50: L = t21 * t49;
+        let t51: L = t32 * t50;
+        let t52: L = t39.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t53: L = t38.mul_add(L::splat(6.0), t52);
+        let t54: L = t36 * t53;
+        let t55: L = t35 * t54;
+        let t56: L = t46.mul_add(t55, t51);
+        let t57: L = t44 * t46;
+        let t58: L = t30.mul_add(t32, t57);
+        let t59: L = t36 * t42;
+        let t60: L = t35 * t59;
+        let t61: L = t46.mul_add(t60, t51);
+        let t62: L = t25.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t63: L = t24.mul_add(L::splat(6.0), t62);
+        let t64: L = t25.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t65: L = t24.mul_add(L::splat(-4.0), t64);
+        let t66: L = t26.mul_add(t63, t65);
+        let t67: L = t39.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t68: L = t38.mul_add(L::splat(4.0), t67);
+        let t69: L = t40.mul_add(t42, t68);
+        let t70: L = t46 * t69;
+        let t71: L = t32.mul_add(t66, t70);
+        let t72: L = t20 * t32;
+        let t73: L = t22 * t72;
+        let t74: L = t34 * t46;
+        let t75: L = t36 * t74;
+        let t76: L = t73 - t75;
+        let t77: L = t75 - t73;
+        let t78: L = t21 * t72;
+        let t79: L = t35 * t74;
+        let t80: L = t78 + t79;
+        let t81: L = t79 - t78;
+        let t82: L = t73 + t75;
+        let t83: L = t78 - t79;
+        let t84: L = t26.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t85: L = t20 * t72;
+        let t86: L = t40.mul_add(L::splat(-1.5), L::splat(0.5));
+        let t87: L = t34 * t74;
+        let t88: L = t86 * t87;
+        let t89: L = t84.mul_add(t85, t88);
+        let t90: L = t21 * t22;
+        let t91: L = L::splat(1.5) * t90;
+        let t92: L = t85 * t91;
+        let t93: L = t35 * t36;
+        let t94: L = L::splat(1.5) * t93;
+        let t95: L = t87.mul_add(t94, t92);
+        let t96: L = L::splat(0.5) * t87;
+        let t97: L = L::splat(-0.5).mul_add(t85, t96);
+        let t98: L = L::splat(-1.5) * t93;
+        let t99: L = t87.mul_add(t98, t92);
+        let t100: L = t26.mul_add(L::splat(-1.5), L::splat(1.0));
+        let t101: L = t40.mul_add(L::splat(-1.5), L::splat(1.0));
+        let t102: L = t87 * t101;
+        let t103: L = t85.mul_add(t100, t102);
+        let t104: L = t9 * t48;
+        let t105: L = t11 * t58;
+        let t106: L = t11 * t105;
+        let t107: L = t9.mul_add(t104, t106);
+        let t108: L = t11 * t48;
+        let t109: L = t9 * t58;
+        let t110: L = t11 * t109;
+        let t111: L = t9.mul_sub(t108, t110);
+        let t112: L = t9 * t56;
+        let t113: L = t9 * t105;
+        let t114: L = t11.mul_sub(t104, t113);
+        let t115: L = t9 * t109;
+        let t116: L = t11.mul_add(t108, t115);
+        let t117: L = t11 * t56;
+        let t118: L = t9 * t61;
+        let t119: L = t11 * t61;
+        let t120: L = t11 * t76;
+        let t121: L = t9 * t77;
+        let t122: L = t11 * t121;
+        let t123: L = t9.mul_add(t120, t122);
+        let t124: L = -t123;
+        let t125: L = t9 * t76;
+        let t126: L = t11 * t77;
+        let t127: L = t11 * t126;
+        let t128: L = t9.mul_sub(t125, t127);
+        let t129: L = t11 * t80;
+        let t130: L = -t129;
+        let t131: L = t11 * t120;
+        let t132: L = t9.mul_sub(t121, t131);
+        let t133: L = t9 * t126;
+        let t134: L = t11.mul_add(t125, t133);
+        let t135: L = t9 * t80;
+        let t136: L = t11 * t81;
+        let t137: L = -t136;
+        let t138: L = t9 * t81;
+        let t139: L = t11 * t82;
+        let t140: L = t9 * t139;
+        let t141: L = t9 * t82;
+        let t142: L = t11.mul_sub(t141, t140);
+        let t143: L = t11 * t139;
+        let t144: L = t9.mul_add(t141, t143);
+        let t145: L = t11 * t83;
+        let t146: L = -t145;
+        let t147: L = -t144;
+        let t148: L = t9 * t83;
+        let t149: L = -t135;
+        let t150: L = t9 * t89;
+        let t151: L = t11 * t97;
+        let t152: L = t11 * t151;
+        let t153: L = t9.mul_add(t150, t152);
+        let t154: L = t11 * t89;
+        let t155: L = t9 * t97;
+        let t156: L = t11 * t155;
+        let t157: L = t9.mul_sub(t154, t156);
+        let t158: L = t9 * t95;
+        let t159: L = t9 * t151;
+        let t160: L = t11.mul_sub(t150, t159);
+        let t161: L = t9 * t155;
+        let t162: L = t11.mul_add(t154, t161);
+        let t163: L = t11 * t95;
+        let t164: L = t9 * t99;
+        let t165: L = t11 * t99;
+        [
+            t107,
+            t111,
+            t112,
+            t114,
+            t116,
+            t117,
+            t118,
+            t119,
+            t71,
+            t124,
+            t128,
+            t130,
+            t132,
+            t134,
+            t135,
+            t137,
+            t138,
+            L::splat(0.0),
+            t142,
+            t144,
+            t146,
+            t147,
+            t142,
+            t148,
+            t129,
+            t149,
+            L::splat(0.0),
+            t153,
+            t157,
+            t158,
+            t160,
+            t162,
+            t163,
+            t164,
+            t165,
+            t103,
+        ]
+    };
+    out
+}
+pub use free_surface_ft_pair_lanes as free_surface_ft_pair_lanes_ordered;
 /// Scene `free_surface_ft` (flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)): the FT blocks, pair equal.
 ///
 /// Pruned to what the scene needs.

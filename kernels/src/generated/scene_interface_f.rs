@@ -155,6 +155,151 @@ pub fn interface_f_self(
         uf: [[t42, 0.0, 0.0], [0.0, t42, 0.0], [0.0, 0.0, t66]],
     }
 }
+/// Scene `interface_f` (flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)): the F blocks, self.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `interface_f_self`'s fields. Operation count with fused multiply-adds: 49 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn interface_f_self_lanes<L: lanes::Lane>(
+    x: [L; 3],
+    a: L,
+    eta: L,
+    height: L,
+    lambda: L,
+) -> [L; 9usize] {
+    let t0: L = x[2] - height;
+    let far = t0.gt(L::splat(0.0));
+    let near: [L; 9usize] = if L::all(far) {
+        [L::splat(0.0); 9usize]
+    } else {
+        let t1: L = L::splat(0.039788735772973836) / eta;
+        let t2: L = lambda + L::splat(1.0);
+        let t3: L = t2 * a;
+        let t4: L = t3.recip();
+        let t5: L = t4 * t2;
+        let t6: L = t4 * a;
+        let t7: L = lambda * t6;
+        let t8: L = t0 * L::splat(2.0);
+        let t9: L = a * a;
+        let t10: L = t5 * L::splat(1.3333333333333333);
+        let t11: L = t9 * L::splat(0.16666666666666666);
+        let t12: L = t8 * t8;
+        let t13: L = t12.rsqrt();
+        let t14: L = t8 * t13;
+        let t15: L = t13 * t13;
+        let t16: L = t0 * t13;
+        let t17: L = t11 * t15;
+        let t18: L = L::splat(2.0).mul_add(t17, L::splat(1.0));
+        let t19: L = L::splat(2.0).mul_add(t17, t18);
+        let t20: L = t1 * t13;
+        let t21: L = t19 * t20;
+        let t22: L = t17.mul_add(L::splat(-12.0), L::splat(-2.0));
+        let t23: L = t17.mul_add(L::splat(12.0), t22);
+        let t24: L = L::splat(2.0) * t16;
+        let t25: L = t14.mul_add(t23, t24);
+        let t26: L = t17.mul_add(L::splat(-96.0), L::splat(-2.0));
+        let t27: L = t17.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t28: L = t17.mul_add(t26, t27);
+        let t29: L = t16.mul_add(t25, t28);
+        let t30: L = t20 * t29;
+        let t31: L = t7 * t30;
+        let t32: L = t6.mul_add(t21, t31);
+        let t33: L = t1.mul_add(t10, t32);
+        let t34: L = t17.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t35: L = t17.mul_add(L::splat(4.0), t34);
+        let t36: L = t20 * t35;
+        let t37: L = t17.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t38: L = t17.mul_add(L::splat(24.0), t37);
+        let t39: L = t16 * L::splat(4.0);
+        let t40: L = t14.mul_add(t38, t39);
+        let t41: L = t17.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t42: L = t17.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t43: L = t17.mul_add(t41, t42);
+        let t44: L = t16.mul_add(t40, t43);
+        let t45: L = t20 * t44;
+        let t46: L = t7 * t45;
+        let t47: L = t6.mul_add(t36, t46);
+        let t48: L = t1.mul_add(t10, t47);
+        [
+            t33,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t33,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t48,
+        ]
+    };
+    let farv: [L; 9usize] = if L::any(far) {
+        let t49: L = L::splat(0.039788735772973836) / eta;
+        let t50: L = lambda + L::splat(1.0);
+        let t51: L = t50 * a;
+        let t52: L = t51 * t0;
+        let t53: L = t52.recip();
+        let t54: L = t53 * t51;
+        let t55: L = t53 * t0;
+        let t56: L = t55 * t50;
+        let t57: L = t55 * a;
+        let t58: L = lambda * t57;
+        let t59: L = a * a;
+        let t60: L = t56 * L::splat(1.3333333333333333);
+        let t61: L = t54 * L::splat(0.5);
+        let t62: L = t54 * t54;
+        let t63: L = t54 * t62;
+        let t64: L = L::splat(0.041666666666666664) * t63;
+        let t65: L = t64 + t64;
+        let t66: L = t54 * L::splat(-0.75);
+        let t67: L = t63 * L::splat(0.08333333333333333);
+        let t68: L = t67 + t67;
+        let t69: L = t54 * t63;
+        let t70: L = t54 * t69;
+        let t71: L = L::splat(-0.08333333333333333) * t70;
+        let t72: L = t57.mul_add(t61, t60);
+        let t73: L = t59 * t65;
+        let t74: L = t57.mul_add(t73, t72);
+        let t75: L = t58.mul_add(t66, t74);
+        let t76: L = t59 * t68;
+        let t77: L = t58.mul_add(t76, t75);
+        let t78: L = t59 * t71;
+        let t79: L = t59 * t78;
+        let t80: L = t58.mul_add(t79, t77);
+        let t81: L = t54 * L::splat(-1.5);
+        let t82: L = t63 * L::splat(0.3333333333333333);
+        let t83: L = t82 + t82;
+        let t84: L = t70 * L::splat(-0.16666666666666666);
+        let t85: L = t57.neg_mul_add(t54, t60);
+        let t86: L = t57.mul_add(t76, t85);
+        let t87: L = t58.mul_add(t81, t86);
+        let t88: L = t59 * t83;
+        let t89: L = t58.mul_add(t88, t87);
+        let t90: L = t59 * t84;
+        let t91: L = t59 * t90;
+        let t92: L = t58.mul_add(t91, t89);
+        let t93: L = t49 * t80;
+        let t94: L = t49 * t92;
+        [
+            t93,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t93,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t94,
+        ]
+    } else {
+        [L::splat(0.0); 9usize]
+    };
+    let out: [L; 9usize] = lanes::select_array(far, farv, near);
+    out
+}
+pub use interface_f_self_lanes as interface_f_self_lanes_ordered;
 /// Scene `interface_f` (flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)): the F blocks, pair.
 ///
 /// Pruned to what the scene needs.
@@ -447,6 +592,205 @@ pub fn interface_f_pair(
         uf: [[t247, t252, t253], [t256, t259, t260], [t261, t262, t242]],
     }
 }
+/// Scene `interface_f` (flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)): the F blocks, pair.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `interface_f_pair`'s fields. Operation count with fused multiply-adds: 176 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn interface_f_pair_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+    lambda: L,
+) -> [L; 9usize] {
+    let out: [L; 9usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.rsqrt();
+        let t6: L = t4.sqrt_with(t5);
+        let t7: L = L::select(t4.gt(L::splat(0.0)), t5, L::splat(1.0));
+        let t8: L = t1 * t7;
+        let t9: L = L::select(t4.gt(L::splat(0.0)), t8, L::splat(1.0));
+        let t10: L = t2 * t7;
+        let t11: L = L::select(t4.gt(L::splat(0.0)), t10, L::splat(0.0));
+        let t12: L = lambda + L::splat(1.0);
+        let t13: L = t12.recip();
+        let t14: L = lambda * t13;
+        let t15: L = xa[2] - xb[2];
+        let t16: L = xb[2] - height;
+        let t17: L = t16.mul_add(L::splat(2.0), t15);
+        let t18: L = aa * aa;
+        let t19: L = ab * ab;
+        let t20: L = t18 * L::splat(0.16666666666666666);
+        let t21: L = t19 * L::splat(0.16666666666666666);
+        let t22: L = t15.mul_add(t15, t4);
+        let t23: L = t22.rsqrt();
+        let t24: L = t6 * t23;
+        let t25: L = t15 * t23;
+        let t26: L = t23 * t23;
+        let t27: L = t20 * t26;
+        let t28: L = t21 * t26;
+        let t29: L = t24.powi(2);
+        let t30: L = t28.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t31: L = t27.mul_add(L::splat(-6.0), t30);
+        let t32: L = L::splat(2.0).mul_add(t28, L::splat(1.0));
+        let t33: L = L::splat(2.0).mul_add(t27, t32);
+        let t34: L = t29.mul_add(t31, t33);
+        let t35: L = t0 * t23;
+        let t36: L = t17.mul_add(t17, t4);
+        let t37: L = t36.rsqrt();
+        let t38: L = t6 * t37;
+        let t39: L = t17 * t37;
+        let t40: L = t37 * t37;
+        let t41: L = t16 * t37;
+        let t42: L = t20 * t40;
+        let t43: L = t21 * t40;
+        let t44: L = t38.powi(2);
+        let t45: L = L::splat(-6.0).mul_add(t43, L::splat(1.0));
+        let t46: L = L::splat(-6.0).mul_add(t42, t45);
+        let t47: L = L::splat(2.0).mul_add(t43, L::splat(1.0));
+        let t48: L = L::splat(2.0).mul_add(t42, t47);
+        let t49: L = t44.mul_add(t46, t48);
+        let t50: L = t0 * t37;
+        let t51: L = t49 * t50;
+        let t52: L = t13 * t51;
+        let t53: L = t34.mul_add(t35, t52);
+        let t54: L = t42 * t43;
+        let t55: L = t43 * L::splat(60.0);
+        let t56: L = t54.mul_add(L::splat(-840.0), t55);
+        let t57: L = t55 + L::splat(6.0);
+        let t58: L = t42.mul_add(L::splat(-60.0), t57);
+        let t59: L = L::splat(-6.0) * t41;
+        let t60: L = t39.mul_add(t58, t59);
+        let t61: L = t43.mul_add(L::splat(840.0), L::splat(6.0));
+        let t62: L = t43.mul_add(L::splat(-66.0), L::splat(-1.0));
+        let t63: L = t42.mul_add(t61, t62);
+        let t64: L = t41.mul_add(t60, t63);
+        let t65: L = t44.mul_add(t56, t64);
+        let t66: L = t43 * L::splat(-12.0);
+        let t67: L = t66 + L::splat(-2.0);
+        let t68: L = t42.mul_add(L::splat(12.0), t67);
+        let t69: L = L::splat(2.0) * t41;
+        let t70: L = t39.mul_add(t68, t69);
+        let t71: L = t43.mul_add(L::splat(-96.0), L::splat(-2.0));
+        let t72: L = t43.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t73: L = t42.mul_add(t71, t72);
+        let t74: L = t41.mul_add(t70, t73);
+        let t75: L = t44.mul_add(t65, t74);
+        let t76: L = t50 * t75;
+        let t77: L = t14.mul_add(t76, t53);
+        let t78: L = t25 * t31;
+        let t79: L = t24 * t78;
+        let t80: L = t35 * t79;
+        let t81: L = t43.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t82: L = t42.mul_add(L::splat(6.0), t81);
+        let t83: L = t39 * t82;
+        let t84: L = t38 * t83;
+        let t85: L = t50 * t84;
+        let t86: L = t13.mul_add(t85, t80);
+        let t87: L = t43 * L::splat(-60.0);
+        let t88: L = t54.mul_add(L::splat(840.0), t87);
+        let t89: L = t41 * t58;
+        let t90: L = t39.mul_add(t88, t89);
+        let t91: L = t38 * t90;
+        let t92: L = t39 * t41;
+        let t93: L = t43.mul_add(L::splat(-48.0), L::splat(-4.0));
+        let t94: L = t42.mul_add(L::splat(48.0), t93);
+        let t95: L = L::splat(6.0).mul_add(t92, t94);
+        let t96: L = t43.mul_add(L::splat(-480.0), L::splat(6.0));
+        let t97: L = t43.mul_add(L::splat(42.0), L::splat(-1.0));
+        let t98: L = t42.mul_add(t96, t97);
+        let t99: L = t39 * t98;
+        let t100: L = t41.mul_add(t95, t99);
+        let t101: L = t38.mul_add(t91, t100);
+        let t102: L = t38 * t101;
+        let t103: L = t50 * t102;
+        let t104: L = t14.mul_add(t103, t86);
+        let t105: L = t48 * t50;
+        let t106: L = t13 * t105;
+        let t107: L = t33.mul_add(t35, t106);
+        let t108: L = t54.mul_add(L::splat(120.0), t66);
+        let t109: L = t44.mul_add(t108, t74);
+        let t110: L = t50 * t109;
+        let t111: L = t14.mul_add(t110, t107);
+        let t112: L = t39 * t46;
+        let t113: L = t38 * t112;
+        let t114: L = t50 * t113;
+        let t115: L = t13.mul_add(t114, t80);
+        let t116: L = L::splat(-6.0) + t87;
+        let t117: L = t42.mul_add(L::splat(60.0), t116);
+        let t118: L = t41 * t117;
+        let t119: L = t39.mul_add(t56, t118);
+        let t120: L = t38 * t119;
+        let t121: L = t43.mul_add(L::splat(48.0), L::splat(8.0));
+        let t122: L = t42.mul_add(L::splat(-48.0), t121);
+        let t123: L = L::splat(-6.0).mul_add(t92, t122);
+        let t124: L = t43.mul_add(L::splat(480.0), L::splat(6.0));
+        let t125: L = t43.mul_add(L::splat(-54.0), L::splat(-1.0));
+        let t126: L = t42.mul_add(t124, t125);
+        let t127: L = t39 * t126;
+        let t128: L = t41.mul_add(t123, t127);
+        let t129: L = t38.mul_add(t120, t128);
+        let t130: L = t38 * t129;
+        let t131: L = t50 * t130;
+        let t132: L = t14.mul_add(t131, t115);
+        let t133: L = t28.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t134: L = t27.mul_add(L::splat(6.0), t133);
+        let t135: L = t28.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t136: L = t27.mul_add(L::splat(-4.0), t135);
+        let t137: L = t29.mul_add(t134, t136);
+        let t138: L = t43.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t139: L = t42.mul_add(L::splat(4.0), t138);
+        let t140: L = t44.mul_add(t46, t139);
+        let t141: L = t50 * t140;
+        let t142: L = t13 * t141;
+        let t143: L = t35.mul_add(t137, t142);
+        let t144: L = t43.mul_add(L::splat(960.0), L::splat(-6.0));
+        let t145: L = t43.mul_add(L::splat(-90.0), L::splat(1.0));
+        let t146: L = t42.mul_add(t144, t145);
+        let t147: L = t41.mul_add(t60, t146);
+        let t148: L = t44.mul_add(t56, t147);
+        let t149: L = t43.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t150: L = t42.mul_add(L::splat(24.0), t149);
+        let t151: L = t41 * L::splat(4.0);
+        let t152: L = t39.mul_add(t150, t151);
+        let t153: L = t43.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t154: L = t43.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t155: L = t42.mul_add(t153, t154);
+        let t156: L = t41.mul_add(t152, t155);
+        let t157: L = t44.mul_add(t148, t156);
+        let t158: L = t50 * t157;
+        let t159: L = t14.mul_add(t158, t143);
+        let t160: L = t9 * t77;
+        let t161: L = t11 * t111;
+        let t162: L = t11 * t161;
+        let t163: L = t9.mul_add(t160, t162);
+        let t164: L = t11 * t77;
+        let t165: L = t9 * t111;
+        let t166: L = t11 * t165;
+        let t167: L = t9.mul_sub(t164, t166);
+        let t168: L = t9 * t104;
+        let t169: L = t9 * t161;
+        let t170: L = t11.mul_sub(t160, t169);
+        let t171: L = t9 * t165;
+        let t172: L = t11.mul_add(t164, t171);
+        let t173: L = t11 * t104;
+        let t174: L = t9 * t132;
+        let t175: L = t11 * t132;
+        [t163, t167, t168, t170, t172, t173, t174, t175, t159]
+    };
+    out
+}
+pub use interface_f_pair_lanes as interface_f_pair_lanes_ordered;
 /// Scene `interface_f` (flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)): the F blocks, pair equal.
 ///
 /// Pruned to what the scene needs.

@@ -233,6 +233,260 @@ pub fn interface_ft_self(
         ol: [[t104, 0.0, 0.0], [0.0, t104, 0.0], [0.0, 0.0, t108]],
     }
 }
+/// Scene `interface_ft` (flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)): the FT blocks, self.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `interface_ft_self`'s fields. Operation count with fused multiply-adds: 80 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn interface_ft_self_lanes<L: lanes::Lane>(
+    x: [L; 3],
+    a: L,
+    eta: L,
+    height: L,
+    lambda: L,
+) -> [L; 36usize] {
+    let t0: L = x[2] - height;
+    let far = t0.gt(L::splat(0.0));
+    let near: [L; 36usize] = if L::all(far) {
+        [L::splat(0.0); 36usize]
+    } else {
+        let t1: L = L::splat(0.039788735772973836) / eta;
+        let t2: L = lambda + L::splat(1.0);
+        let t3: L = t2 * a;
+        let t4: L = t3.recip();
+        let t5: L = t4 * t2;
+        let t6: L = t4 * a;
+        let t7: L = lambda * t6;
+        let t8: L = t0 * L::splat(2.0);
+        let t9: L = a * a;
+        let t10: L = t5 * t5;
+        let t11: L = t5 * t10;
+        let t12: L = t5 * L::splat(1.3333333333333333);
+        let t13: L = t9 * L::splat(0.16666666666666666);
+        let t14: L = t8 * t8;
+        let t15: L = t14.rsqrt();
+        let t16: L = t8 * t15;
+        let t17: L = t15 * t15;
+        let t18: L = t0 * t15;
+        let t19: L = t13 * t17;
+        let t20: L = L::splat(2.0).mul_add(t19, L::splat(1.0));
+        let t21: L = L::splat(2.0).mul_add(t19, t20);
+        let t22: L = t1 * t15;
+        let t23: L = t21 * t22;
+        let t24: L = t19.mul_add(L::splat(-12.0), L::splat(-2.0));
+        let t25: L = t19.mul_add(L::splat(12.0), t24);
+        let t26: L = L::splat(2.0) * t18;
+        let t27: L = t16.mul_add(t25, t26);
+        let t28: L = t19.mul_add(L::splat(-96.0), L::splat(-2.0));
+        let t29: L = t19.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t30: L = t19.mul_add(t28, t29);
+        let t31: L = t18.mul_add(t27, t30);
+        let t32: L = t22 * t31;
+        let t33: L = t7 * t32;
+        let t34: L = t6.mul_add(t23, t33);
+        let t35: L = t1.mul_add(t12, t34);
+        let t36: L = t19.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t37: L = t19.mul_add(L::splat(4.0), t36);
+        let t38: L = t22 * t37;
+        let t39: L = t19.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t40: L = t19.mul_add(L::splat(24.0), t39);
+        let t41: L = t18 * L::splat(4.0);
+        let t42: L = t16.mul_add(t40, t41);
+        let t43: L = t19.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t44: L = t19.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t45: L = t19.mul_add(t43, t44);
+        let t46: L = t18.mul_add(t42, t45);
+        let t47: L = t22 * t46;
+        let t48: L = t7 * t47;
+        let t49: L = t6.mul_add(t38, t48);
+        let t50: L = t1.mul_add(t12, t49);
+        let t51: L = t15 * t22;
+        let t52: L = t16 * t51;
+        let t53: L = t6 * t52;
+        let t54: L = t19.mul_add(L::splat(12.0), L::splat(-1.0));
+        let t55: L = t16.mul_add(t54, t26);
+        let t56: L = t51 * t55;
+        let t57: L = t7.mul_sub(t56, t53);
+        let t58: L = t19.mul_add(L::splat(-12.0), L::splat(1.0));
+        let t59: L = t18 * L::splat(-2.0);
+        let t60: L = t16.mul_add(t58, t59);
+        let t61: L = t51 * t60;
+        let t62: L = t7.mul_add(t61, t53);
+        let t63: L = t19.mul_add(L::splat(-12.0), L::splat(-1.0));
+        let t64: L = t16.mul_add(t63, t26);
+        let t65: L = t51 * t64;
+        let t66: L = t7.mul_add(t65, t53);
+        let t67: L = t19.mul_add(L::splat(12.0), L::splat(1.0));
+        let t68: L = t16.mul_add(t67, t59);
+        let t69: L = t51 * t68;
+        let t70: L = t7.mul_sub(t69, t53);
+        let t71: L = t15 * t51;
+        let t72: L = L::splat(0.5) * t71;
+        let t73: L = t71 * L::splat(-2.5);
+        let t74: L = t7 * t73;
+        let t75: L = t6.mul_add(t72, t74);
+        let t76: L = t1.mul_add(t11, t75);
+        let t77: L = t7 * t71;
+        let t78: L = t6.mul_sub(t71, t77);
+        let t79: L = t1.mul_add(t11, t78);
+        [
+            t35,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t35,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t50,
+            L::splat(0.0),
+            t57,
+            L::splat(0.0),
+            t62,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t66,
+            L::splat(0.0),
+            t70,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t76,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t76,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t79,
+        ]
+    };
+    let farv: [L; 36usize] = if L::any(far) {
+        let t80: L = L::splat(0.039788735772973836) / eta;
+        let t81: L = lambda + L::splat(1.0);
+        let t82: L = t81 * a;
+        let t83: L = t82 * t0;
+        let t84: L = t83.recip();
+        let t85: L = t84 * t82;
+        let t86: L = t84 * t0;
+        let t87: L = t86 * t81;
+        let t88: L = t86 * a;
+        let t89: L = lambda * t88;
+        let t90: L = a * a;
+        let t91: L = t87 * t87;
+        let t92: L = t87 * t91;
+        let t93: L = t87 * L::splat(1.3333333333333333);
+        let t94: L = L::splat(0.5) * t85;
+        let t95: L = t85 * t85;
+        let t96: L = t85 * t95;
+        let t97: L = L::splat(0.041666666666666664) * t96;
+        let t98: L = t97 + t97;
+        let t99: L = t85 * L::splat(-0.75);
+        let t100: L = t96 * L::splat(0.08333333333333333);
+        let t101: L = t100 + t100;
+        let t102: L = t85 * t96;
+        let t103: L = t85 * t102;
+        let t104: L = L::splat(-0.08333333333333333) * t103;
+        let t105: L = t88.mul_add(t94, t93);
+        let t106: L = t90 * t98;
+        let t107: L = t88.mul_add(t106, t105);
+        let t108: L = t89.mul_add(t99, t107);
+        let t109: L = t90 * t101;
+        let t110: L = t89.mul_add(t109, t108);
+        let t111: L = t90 * t104;
+        let t112: L = t90 * t111;
+        let t113: L = t89.mul_add(t112, t110);
+        let t114: L = t85 * L::splat(-1.5);
+        let t115: L = t96 * L::splat(0.3333333333333333);
+        let t116: L = t115 + t115;
+        let t117: L = t103 * L::splat(-0.16666666666666666);
+        let t118: L = t88.neg_mul_add(t85, t93);
+        let t119: L = t88.mul_add(t109, t118);
+        let t120: L = t89.mul_add(t114, t119);
+        let t121: L = t90 * t116;
+        let t122: L = t89.mul_add(t121, t120);
+        let t123: L = t90 * t117;
+        let t124: L = t90 * t123;
+        let t125: L = t89.mul_add(t124, t122);
+        let t126: L = t95 * L::splat(-0.25);
+        let t127: L = t102 * L::splat(0.125);
+        let t128: L = t90 * t127;
+        let t129: L = t89 * t128;
+        let t130: L = t88.mul_add(t126, t129);
+        let t131: L = t95 * L::splat(0.25);
+        let t132: L = t102 * L::splat(-0.125);
+        let t133: L = t90 * t132;
+        let t134: L = t89 * t133;
+        let t135: L = t88.mul_add(t131, t134);
+        let t136: L = t96 * L::splat(0.0625);
+        let t137: L = t96 * L::splat(-0.3125);
+        let t138: L = t88.mul_add(t136, t92);
+        let t139: L = t89.mul_add(t137, t138);
+        let t140: L = t96 * L::splat(0.125);
+        let t141: L = t96 * L::splat(-0.125);
+        let t142: L = t88.mul_add(t140, t92);
+        let t143: L = t89.mul_add(t141, t142);
+        let t144: L = t80 * t113;
+        let t145: L = t80 * t125;
+        let t146: L = t80 * t130;
+        let t147: L = t80 * t135;
+        let t148: L = t80 * t139;
+        let t149: L = t80 * t143;
+        [
+            t144,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t144,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t145,
+            L::splat(0.0),
+            t146,
+            L::splat(0.0),
+            t147,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t147,
+            L::splat(0.0),
+            t146,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t148,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t148,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t149,
+        ]
+    } else {
+        [L::splat(0.0); 36usize]
+    };
+    let out: [L; 36usize] = lanes::select_array(far, farv, near);
+    out
+}
+pub use interface_ft_self_lanes as interface_ft_self_lanes_ordered;
 /// Scene `interface_ft` (flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)): the FT blocks, pair.
 ///
 /// Pruned to what the scene needs.
@@ -720,6 +974,388 @@ pub fn interface_ft_pair(
         ol: [[t439, t444, t445], [t448, t451, t452], [t453, t454, t368]],
     }
 }
+/// Scene `interface_ft` (flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)): the FT blocks, pair.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `interface_ft_pair`'s fields. Operation count with fused multiply-adds: 322 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn interface_ft_pair_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+    lambda: L,
+) -> [L; 36usize] {
+    let out: [L; 36usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.rsqrt();
+        let t6: L = t4.sqrt_with(t5);
+        let t7: L = L::select(t4.gt(L::splat(0.0)), t5, L::splat(1.0));
+        let t8: L = t1 * t7;
+        let t9: L = L::select(t4.gt(L::splat(0.0)), t8, L::splat(1.0));
+        let t10: L = t2 * t7;
+        let t11: L = L::select(t4.gt(L::splat(0.0)), t10, L::splat(0.0));
+        let t12: L = lambda + L::splat(1.0);
+        let t13: L = t12.recip();
+        let t14: L = lambda * t13;
+        let t15: L = xa[2] - xb[2];
+        let t16: L = xb[2] - height;
+        let t17: L = t16.mul_add(L::splat(2.0), t15);
+        let t18: L = aa * aa;
+        let t19: L = ab * ab;
+        let t20: L = t18 * L::splat(0.16666666666666666);
+        let t21: L = t19 * L::splat(0.16666666666666666);
+        let t22: L = t15.mul_add(t15, t4);
+        let t23: L = t22.rsqrt();
+        let t24: L = t6 * t23;
+        let t25: L = t15 * t23;
+        let t26: L = t23 * t23;
+        let t27: L = t20 * t26;
+        let t28: L = t21 * t26;
+        let t29: L = t24.powi(2);
+        let t30: L = t28.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t31: L = t27.mul_add(L::splat(-6.0), t30);
+        let t32: L = L::splat(2.0).mul_add(t28, L::splat(1.0));
+        let t33: L = L::splat(2.0).mul_add(t27, t32);
+        let t34: L = t29.mul_add(t31, t33);
+        let t35: L = t0 * t23;
+        let t36: L = t17.mul_add(t17, t4);
+        let t37: L = t36.rsqrt();
+        let t38: L = t6 * t37;
+        let t39: L = t17 * t37;
+        let t40: L = t37 * t37;
+        let t41: L = t16 * t37;
+        let t42: L = t20 * t40;
+        let t43: L = t21 * t40;
+        let t44: L = t38.powi(2);
+        let t45: L = L::splat(-6.0).mul_add(t43, L::splat(1.0));
+        let t46: L = L::splat(-6.0).mul_add(t42, t45);
+        let t47: L = L::splat(2.0).mul_add(t43, L::splat(1.0));
+        let t48: L = L::splat(2.0).mul_add(t42, t47);
+        let t49: L = t44.mul_add(t46, t48);
+        let t50: L = t0 * t37;
+        let t51: L = t49 * t50;
+        let t52: L = t13 * t51;
+        let t53: L = t34.mul_add(t35, t52);
+        let t54: L = t42 * t43;
+        let t55: L = t43 * L::splat(60.0);
+        let t56: L = t54.mul_add(L::splat(-840.0), t55);
+        let t57: L = t55 + L::splat(6.0);
+        let t58: L = t42.mul_add(L::splat(-60.0), t57);
+        let t59: L = L::splat(-6.0) * t41;
+        let t60: L = t39.mul_add(t58, t59);
+        let t61: L = t43.mul_add(L::splat(840.0), L::splat(6.0));
+        let t62: L = t43.mul_add(L::splat(-66.0), L::splat(-1.0));
+        let t63: L = t42.mul_add(t61, t62);
+        let t64: L = t41.mul_add(t60, t63);
+        let t65: L = t44.mul_add(t56, t64);
+        let t66: L = t43 * L::splat(-12.0);
+        let t67: L = t66 + L::splat(-2.0);
+        let t68: L = t42.mul_add(L::splat(12.0), t67);
+        let t69: L = L::splat(2.0) * t41;
+        let t70: L = t39.mul_add(t68, t69);
+        let t71: L = t43.mul_add(L::splat(-96.0), L::splat(-2.0));
+        let t72: L = t43.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t73: L = t42.mul_add(t71, t72);
+        let t74: L = t41.mul_add(t70, t73);
+        let t75: L = t44.mul_add(t65, t74);
+        let t76: L = t50 * t75;
+        let t77: L = t14.mul_add(t76, t53);
+        let t78: L = t25 * t31;
+        let t79: L = t24 * t78;
+        let t80: L = t35 * t79;
+        let t81: L = t43.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t82: L = t42.mul_add(L::splat(6.0), t81);
+        let t83: L = t39 * t82;
+        let t84: L = t38 * t83;
+        let t85: L = t50 * t84;
+        let t86: L = t13.mul_add(t85, t80);
+        let t87: L = t43 * L::splat(-60.0);
+        let t88: L = t54.mul_add(L::splat(840.0), t87);
+        let t89: L = t41 * t58;
+        let t90: L = t39.mul_add(t88, t89);
+        let t91: L = t38 * t90;
+        let t92: L = t39 * t41;
+        let t93: L = t43.mul_add(L::splat(-48.0), L::splat(-4.0));
+        let t94: L = t42.mul_add(L::splat(48.0), t93);
+        let t95: L = L::splat(6.0).mul_add(t92, t94);
+        let t96: L = t43.mul_add(L::splat(-480.0), L::splat(6.0));
+        let t97: L = t43.mul_add(L::splat(42.0), L::splat(-1.0));
+        let t98: L = t42.mul_add(t96, t97);
+        let t99: L = t39 * t98;
+        let t100: L = t41.mul_add(t95, t99);
+        let t101: L = t38.mul_add(t91, t100);
+        let t102: L = t38 * t101;
+        let t103: L = t50 * t102;
+        let t104: L = t14.mul_add(t103, t86);
+        let t105: L = t48 * t50;
+        let t106: L = t13 * t105;
+        let t107: L = t33.mul_add(t35, t106);
+        let t108: L = t54.mul_add(L::splat(120.0), t66);
+        let t109: L = t44.mul_add(t108, t74);
+        let t110: L = t50 * t109;
+        let t111: L = t14.mul_add(t110, t107);
+        let t112: L = t39 * t46;
+        let t113: L = t38 * t112;
+        let t114: L = t50 * t113;
+        let t115: L = t13.mul_add(t114, t80);
+        let t116: L = L::splat(-6.0) + t87;
+        let t117: L = t42.mul_add(L::splat(60.0), t116);
+        let t118: L = t41 * t117;
+        let t119: L = t39.mul_add(t56, t118);
+        let t120: L = t38 * t119;
+        let t121: L = t43.mul_add(L::splat(48.0), L::splat(8.0));
+        let t122: L = t42.mul_add(L::splat(-48.0), t121);
+        let t123: L = L::splat(-6.0).mul_add(t92, t122);
+        let t124: L = t43.mul_add(L::splat(480.0), L::splat(6.0));
+        let t125: L = t43.mul_add(L::splat(-54.0), L::splat(-1.0));
+        let t126: L = t42.mul_add(t124, t125);
+        let t127: L = t39 * t126;
+        let t128: L = t41.mul_add(t123, t127);
+        let t129: L = t38.mul_add(t120, t128);
+        let t130: L = t38 * t129;
+        let t131: L = t50 * t130;
+        let t132: L = t14.mul_add(t131, t115);
+        let t133: L = t28.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t134: L = t27.mul_add(L::splat(6.0), t133);
+        let t135: L = t28.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t136: L = t27.mul_add(L::splat(-4.0), t135);
+        let t137: L = t29.mul_add(t134, t136);
+        let t138: L = t43.mul_add(L::splat(4.0), L::splat(-2.0));
+        let t139: L = t42.mul_add(L::splat(4.0), t138);
+        let t140: L = t44.mul_add(t46, t139);
+        let t141: L = t50 * t140;
+        let t142: L = t13 * t141;
+        let t143: L = t35.mul_add(t137, t142);
+        let t144: L = t43.mul_add(L::splat(960.0), L::splat(-6.0));
+        let t145: L = t43.mul_add(L::splat(-90.0), L::splat(1.0));
+        let t146: L = t42.mul_add(t144, t145);
+        let t147: L = t41.mul_add(t60, t146);
+        let t148: L = t44.mul_add(t56, t147);
+        let t149: L = t43.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t150: L = t42.mul_add(L::splat(24.0), t149);
+        let t151: L = t41 * L::splat(4.0);
+        let t152: L = t39.mul_add(t150, t151);
+        let t153: L = t43.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t154: L = t43.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t155: L = t42.mul_add(t153, t154);
+        let t156: L = t41.mul_add(t152, t155);
+        let t157: L = t44.mul_add(t148, t156);
+        let t158: L = t50 * t157;
+        let t159: L = t14.mul_add(t158, t143);
+        let t160: L = t23 * t35;
+        let t161: L = t25 * t160;
+        let t162: L = t37 * t50;
+        let t163: L = t39 * t162;
+        let t164: L = t13 * t163;
+        let t165: L = t161 - t164;
+        let t166: L = t42.mul_add(L::splat(-60.0), L::splat(6.0));
+        let t167: L = t39.mul_add(t166, t59);
+        let t168: L = t42.mul_add(L::splat(12.0), L::splat(-1.0));
+        let t169: L = t39.mul_add(t168, t69);
+        let t170: L = t44.mul_add(t167, t169);
+        let t171: L = t162 * t170;
+        let t172: L = t14.mul_add(t171, t165);
+        let t173: L = t164 - t161;
+        let t174: L = t42.mul_add(L::splat(-12.0), L::splat(1.0));
+        let t175: L = t41 * L::splat(-2.0);
+        let t176: L = t39.mul_add(t174, t175);
+        let t177: L = t162 * t176;
+        let t178: L = t14.mul_add(t177, t173);
+        let t179: L = t24 * t160;
+        let t180: L = t38 * t162;
+        let t181: L = t13 * t180;
+        let t182: L = t179 + t181;
+        let t183: L = t14.neg_mul_add(t180, t182);
+        let t184: L = t181 - t179;
+        let t185: L = t42.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t186: L = t38 * t185;
+        let t187: L = t42.mul_add(L::splat(-48.0), L::splat(7.0));
+        let t188: L = L::splat(-6.0).mul_add(t92, t187);
+        let t189: L = t38.mul_add(t186, t188);
+        let t190: L = t38 * t189;
+        let t191: L = t162 * t190;
+        let t192: L = t14.mul_add(t191, t184);
+        let t193: L = t161 + t164;
+        let t194: L = L::splat(-1.0) + t66;
+        let t195: L = t39.mul_add(t194, t69);
+        let t196: L = t162 * t195;
+        let t197: L = t14.mul_add(t196, t193);
+        let t198: L = t39 * t43;
+        let t199: L = t41 * L::splat(6.0);
+        let t200: L = L::splat(-60.0).mul_add(t198, t199);
+        let t201: L = t43.mul_add(L::splat(12.0), L::splat(1.0));
+        let t202: L = t39.mul_add(t201, t175);
+        let t203: L = t44.mul_add(t200, t202);
+        let t204: L = t162 * t203;
+        let t205: L = t14.mul_sub(t204, t193);
+        let t206: L = t179 - t181;
+        let t207: L = t38 * t43;
+        let t208: L = t38 * t207;
+        let t209: L = t43.mul_add(L::splat(48.0), L::splat(-1.0));
+        let t210: L = L::splat(-6.0).mul_add(t92, t209);
+        let t211: L = L::splat(-60.0).mul_add(t208, t210);
+        let t212: L = t38 * t211;
+        let t213: L = t162 * t212;
+        let t214: L = t14.mul_add(t213, t206);
+        let t215: L = t14.mul_sub(t180, t182);
+        let t216: L = t29.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t217: L = t23 * t160;
+        let t218: L = t44.mul_add(L::splat(-1.5), L::splat(0.5));
+        let t219: L = t37 * t162;
+        let t220: L = t218 * t219;
+        let t221: L = t13 * t220;
+        let t222: L = t216.mul_add(t217, t221);
+        let t223: L = t44.mul_add(L::splat(1.5), L::splat(-2.5));
+        let t224: L = t219 * t223;
+        let t225: L = t14.mul_add(t224, t222);
+        let t226: L = t24 * t25;
+        let t227: L = L::splat(1.5) * t226;
+        let t228: L = t217 * t227;
+        let t229: L = t38 * t39;
+        let t230: L = L::splat(1.5) * t229;
+        let t231: L = t219 * t230;
+        let t232: L = t13.mul_add(t231, t228);
+        let t233: L = L::splat(-1.5) * t229;
+        let t234: L = t219 * t233;
+        let t235: L = t14.mul_add(t234, t232);
+        let t236: L = L::splat(0.5) * t219;
+        let t237: L = t13 * t236;
+        let t238: L = L::splat(-0.5).mul_add(t217, t237);
+        let t239: L = t44.mul_add(L::splat(6.0), L::splat(-2.5));
+        let t240: L = t219 * t239;
+        let t241: L = t14.mul_add(t240, t238);
+        let t242: L = t13.mul_add(t234, t228);
+        let t243: L = t14.mul_add(t231, t242);
+        let t244: L = t29.mul_add(L::splat(-1.5), L::splat(1.0));
+        let t245: L = t44.mul_add(L::splat(-1.5), L::splat(1.0));
+        let t246: L = t219 * t245;
+        let t247: L = t13 * t246;
+        let t248: L = t217.mul_add(t244, t247);
+        let t249: L = t44.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t250: L = t219 * t249;
+        let t251: L = t14.mul_add(t250, t248);
+        let t252: L = t9 * t77;
+        let t253: L = t11 * t111;
+        let t254: L = t11 * t253;
+        let t255: L = t9.mul_add(t252, t254);
+        let t256: L = t11 * t77;
+        let t257: L = t9 * t111;
+        let t258: L = t11 * t257;
+        let t259: L = t9.mul_sub(t256, t258);
+        let t260: L = t9 * t104;
+        let t261: L = t9 * t253;
+        let t262: L = t11.mul_sub(t252, t261);
+        let t263: L = t9 * t257;
+        let t264: L = t11.mul_add(t256, t263);
+        let t265: L = t11 * t104;
+        let t266: L = t9 * t132;
+        let t267: L = t11 * t132;
+        let t268: L = t11 * t172;
+        let t269: L = t9 * t178;
+        let t270: L = t11 * t269;
+        let t271: L = t9.mul_add(t268, t270);
+        let t272: L = -t271;
+        let t273: L = t9 * t172;
+        let t274: L = t11 * t178;
+        let t275: L = t11 * t274;
+        let t276: L = t9.mul_sub(t273, t275);
+        let t277: L = t11 * t183;
+        let t278: L = -t277;
+        let t279: L = t11 * t268;
+        let t280: L = t9.mul_sub(t269, t279);
+        let t281: L = t9 * t274;
+        let t282: L = t11.mul_add(t273, t281);
+        let t283: L = t9 * t183;
+        let t284: L = t11 * t192;
+        let t285: L = -t284;
+        let t286: L = t9 * t192;
+        let t287: L = t11 * t197;
+        let t288: L = t9 * t205;
+        let t289: L = t11 * t288;
+        let t290: L = t9.mul_add(t287, t289);
+        let t291: L = -t290;
+        let t292: L = t9 * t197;
+        let t293: L = t11 * t205;
+        let t294: L = t11 * t293;
+        let t295: L = t9.mul_sub(t292, t294);
+        let t296: L = t11 * t214;
+        let t297: L = -t296;
+        let t298: L = t11 * t287;
+        let t299: L = t9.mul_sub(t288, t298);
+        let t300: L = t9 * t293;
+        let t301: L = t11.mul_add(t292, t300);
+        let t302: L = t9 * t214;
+        let t303: L = t11 * t215;
+        let t304: L = -t303;
+        let t305: L = t9 * t215;
+        let t306: L = t9 * t225;
+        let t307: L = t11 * t241;
+        let t308: L = t11 * t307;
+        let t309: L = t9.mul_add(t306, t308);
+        let t310: L = t11 * t225;
+        let t311: L = t9 * t241;
+        let t312: L = t11 * t311;
+        let t313: L = t9.mul_sub(t310, t312);
+        let t314: L = t9 * t235;
+        let t315: L = t9 * t307;
+        let t316: L = t11.mul_sub(t306, t315);
+        let t317: L = t9 * t311;
+        let t318: L = t11.mul_add(t310, t317);
+        let t319: L = t11 * t235;
+        let t320: L = t9 * t243;
+        let t321: L = t11 * t243;
+        [
+            t255,
+            t259,
+            t260,
+            t262,
+            t264,
+            t265,
+            t266,
+            t267,
+            t159,
+            t272,
+            t276,
+            t278,
+            t280,
+            t282,
+            t283,
+            t285,
+            t286,
+            L::splat(0.0),
+            t291,
+            t295,
+            t297,
+            t299,
+            t301,
+            t302,
+            t304,
+            t305,
+            L::splat(0.0),
+            t309,
+            t313,
+            t314,
+            t316,
+            t318,
+            t319,
+            t320,
+            t321,
+            t251,
+        ]
+    };
+    out
+}
+pub use interface_ft_pair_lanes as interface_ft_pair_lanes_ordered;
 /// Scene `interface_ft` (flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)): the FT blocks, pair equal.
 ///
 /// Pruned to what the scene needs.

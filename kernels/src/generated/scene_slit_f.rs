@@ -176,6 +176,163 @@ pub fn slit_f_self(x: [f64; 3], a: f64, eta: f64, height: f64, gap: f64) -> Bloc
         uf: [[t61, 0.0, 0.0], [0.0, t61, 0.0], [0.0, 0.0, t95]],
     }
 }
+/// Scene `slit_f` (slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)): the F blocks, self.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `slit_f_self`'s fields. Operation count with fused multiply-adds: 63 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn slit_f_self_lanes<L: lanes::Lane>(
+    x: [L; 3],
+    a: L,
+    eta: L,
+    height: L,
+    gap: L,
+) -> [L; 9usize] {
+    let t0: L = height + gap;
+    let t1: L = x[2] - height;
+    let t2: L = t0 - x[2];
+    let far = L::and(t1.gt(L::splat(0.0)), t2.gt(L::splat(0.0)));
+    let near: [L; 9usize] = if L::all(far) {
+        [L::splat(0.0); 9usize]
+    } else {
+        let t3: L = L::splat(0.039788735772973836) / eta;
+        let t4: L = t1 * L::splat(2.0);
+        let t5: L = x[2] - t0;
+        let t6: L = L::splat(2.0) * t5;
+        let t7: L = a * a;
+        let t8: L = a.recip();
+        let t9: L = t8 * L::splat(1.3333333333333333);
+        let t10: L = t7 * L::splat(0.16666666666666666);
+        let t11: L = t4 * t4;
+        let t12: L = t11.rsqrt();
+        let t13: L = t4 * t12;
+        let t14: L = t12 * t12;
+        let t15: L = t1 * t12;
+        let t16: L = t10 * t14;
+        let t17: L = t16.mul_add(L::splat(-12.0), L::splat(-2.0));
+        let t18: L = t16.mul_add(L::splat(12.0), t17);
+        let t19: L = L::splat(2.0) * t15;
+        let t20: L = t13.mul_add(t18, t19);
+        let t21: L = t16.mul_add(L::splat(-96.0), L::splat(-2.0));
+        let t22: L = t16.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t23: L = t16.mul_add(t21, t22);
+        let t24: L = t15.mul_add(t20, t23);
+        let t25: L = t3 * t12;
+        let t26: L = t6 * t6;
+        let t27: L = t26.rsqrt();
+        let t28: L = t6 * t27;
+        let t29: L = t27 * t27;
+        let t30: L = t5 * t27;
+        let t31: L = t10 * t29;
+        let t32: L = L::splat(-12.0).mul_add(t31, L::splat(-2.0));
+        let t33: L = L::splat(12.0).mul_add(t31, t32);
+        let t34: L = L::splat(2.0) * t30;
+        let t35: L = t28.mul_add(t33, t34);
+        let t36: L = L::splat(-96.0).mul_add(t31, L::splat(-2.0));
+        let t37: L = L::splat(10.0).mul_add(t31, L::splat(-1.0));
+        let t38: L = t31.mul_add(t36, t37);
+        let t39: L = t30.mul_add(t35, t38);
+        let t40: L = t3 * t27;
+        let t41: L = t39 * t40;
+        let t42: L = t24.mul_add(t25, t41);
+        let t43: L = t3.mul_add(t9, t42);
+        let t44: L = t16.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t45: L = t16.mul_add(L::splat(24.0), t44);
+        let t46: L = t15 * L::splat(4.0);
+        let t47: L = t13.mul_add(t45, t46);
+        let t48: L = t16.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t49: L = t16.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t50: L = t16.mul_add(t48, t49);
+        let t51: L = t15.mul_add(t47, t50);
+        let t52: L = t31.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t53: L = t31.mul_add(L::splat(24.0), t52);
+        let t54: L = t30 * L::splat(4.0);
+        let t55: L = t28.mul_add(t53, t54);
+        let t56: L = t31.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t57: L = t31.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t58: L = t31.mul_add(t56, t57);
+        let t59: L = t30.mul_add(t55, t58);
+        let t60: L = t40 * t59;
+        let t61: L = t25.mul_add(t51, t60);
+        let t62: L = t3.mul_add(t9, t61);
+        [
+            t43,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t43,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t62,
+        ]
+    };
+    let farv: [L; 9usize] = if L::any(far) {
+        let t63: L = L::splat(0.039788735772973836) / eta;
+        let t64: L = a * a;
+        let t65: L = a * t1;
+        let t66: L = t65 * t2;
+        let t67: L = t66.recip();
+        let t68: L = t67 * t65;
+        let t69: L = t67 * t2;
+        let t70: L = t69 * a;
+        let t71: L = t69 * t1;
+        let t72: L = t71 * L::splat(1.3333333333333333);
+        let t73: L = t70 * t70;
+        let t74: L = t70 * t73;
+        let t75: L = L::splat(0.08333333333333333) * t74;
+        let t76: L = t75 + t75;
+        let t77: L = t70 * t74;
+        let t78: L = t70 * t77;
+        let t79: L = t68 * L::splat(-0.75);
+        let t80: L = t70.mul_add(L::splat(-0.75), t79);
+        let t81: L = t68 * t68;
+        let t82: L = t68 * t81;
+        let t83: L = L::splat(0.08333333333333333).mul_add(t82, t76);
+        let t84: L = L::splat(0.08333333333333333).mul_add(t82, t83);
+        let t85: L = t68 * t82;
+        let t86: L = t68 * t85;
+        let t87: L = L::splat(-0.08333333333333333) * t86;
+        let t88: L = L::splat(-0.08333333333333333).mul_add(t78, t87);
+        let t89: L = t72 + t80;
+        let t90: L = t64.mul_add(t84, t89);
+        let t91: L = t64 * t88;
+        let t92: L = t64.mul_add(t91, t90);
+        let t93: L = t74 * L::splat(0.3333333333333333);
+        let t94: L = t93 + t93;
+        let t95: L = t68 * L::splat(-1.5);
+        let t96: L = t70.mul_add(L::splat(-1.5), t95);
+        let t97: L = t82.mul_add(L::splat(0.3333333333333333), t94);
+        let t98: L = t82.mul_add(L::splat(0.3333333333333333), t97);
+        let t99: L = t86 * L::splat(-0.16666666666666666);
+        let t100: L = t78.mul_add(L::splat(-0.16666666666666666), t99);
+        let t101: L = t72 + t96;
+        let t102: L = t64.mul_add(t98, t101);
+        let t103: L = t64 * t100;
+        let t104: L = t64.mul_add(t103, t102);
+        let t105: L = t63 * t92;
+        let t106: L = t63 * t104;
+        [
+            t105,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t105,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t106,
+        ]
+    } else {
+        [L::splat(0.0); 9usize]
+    };
+    let out: [L; 9usize] = lanes::select_array(far, farv, near);
+    out
+}
+pub use slit_f_self_lanes as slit_f_self_lanes_ordered;
 /// Scene `slit_f` (slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)): the F blocks, pair.
 ///
 /// Pruned to what the scene needs.
@@ -565,6 +722,260 @@ pub fn slit_f_pair(
         uf: [[t344, t349, t350], [t353, t356, t357], [t358, t359, t339]],
     }
 }
+/// Scene `slit_f` (slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)): the F blocks, pair.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `slit_f_pair`'s fields. Operation count with fused multiply-adds: 231 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn slit_f_pair_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+    gap: L,
+) -> [L; 9usize] {
+    let out: [L; 9usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.rsqrt();
+        let t6: L = t4.sqrt_with(t5);
+        let t7: L = L::select(t4.gt(L::splat(0.0)), t5, L::splat(1.0));
+        let t8: L = t1 * t7;
+        let t9: L = L::select(t4.gt(L::splat(0.0)), t8, L::splat(1.0));
+        let t10: L = t2 * t7;
+        let t11: L = L::select(t4.gt(L::splat(0.0)), t10, L::splat(0.0));
+        let t12: L = height + gap;
+        let t13: L = xa[2] - xb[2];
+        let t14: L = xb[2] - height;
+        let t15: L = t14.mul_add(L::splat(2.0), t13);
+        let t16: L = xb[2] - t12;
+        let t17: L = L::splat(2.0).mul_add(t16, t13);
+        let t18: L = aa * aa;
+        let t19: L = ab * ab;
+        let t20: L = t18 * L::splat(0.16666666666666666);
+        let t21: L = t19 * L::splat(0.16666666666666666);
+        let t22: L = t13.mul_add(t13, t4);
+        let t23: L = t22.rsqrt();
+        let t24: L = t6 * t23;
+        let t25: L = t13 * t23;
+        let t26: L = t23 * t23;
+        let t27: L = t20 * t26;
+        let t28: L = t21 * t26;
+        let t29: L = t24.powi(2);
+        let t30: L = t28.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t31: L = t27.mul_add(L::splat(-6.0), t30);
+        let t32: L = L::splat(2.0).mul_add(t28, L::splat(1.0));
+        let t33: L = L::splat(2.0).mul_add(t27, t32);
+        let t34: L = t29.mul_add(t31, t33);
+        let t35: L = t0 * t23;
+        let t36: L = t15.mul_add(t15, t4);
+        let t37: L = t36.rsqrt();
+        let t38: L = t6 * t37;
+        let t39: L = t15 * t37;
+        let t40: L = t37 * t37;
+        let t41: L = t14 * t37;
+        let t42: L = t20 * t40;
+        let t43: L = t21 * t40;
+        let t44: L = t38.powi(2);
+        let t45: L = t42 * t43;
+        let t46: L = t43 * L::splat(60.0);
+        let t47: L = t45.mul_add(L::splat(-840.0), t46);
+        let t48: L = t46 + L::splat(6.0);
+        let t49: L = t42.mul_add(L::splat(-60.0), t48);
+        let t50: L = L::splat(-6.0) * t41;
+        let t51: L = t39.mul_add(t49, t50);
+        let t52: L = t43.mul_add(L::splat(840.0), L::splat(6.0));
+        let t53: L = t43.mul_add(L::splat(-66.0), L::splat(-1.0));
+        let t54: L = t42.mul_add(t52, t53);
+        let t55: L = t41.mul_add(t51, t54);
+        let t56: L = t44.mul_add(t47, t55);
+        let t57: L = t43 * L::splat(-12.0);
+        let t58: L = t57 + L::splat(-2.0);
+        let t59: L = t42.mul_add(L::splat(12.0), t58);
+        let t60: L = L::splat(2.0) * t41;
+        let t61: L = t39.mul_add(t59, t60);
+        let t62: L = t43.mul_add(L::splat(-96.0), L::splat(-2.0));
+        let t63: L = t43.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t64: L = t42.mul_add(t62, t63);
+        let t65: L = t41.mul_add(t61, t64);
+        let t66: L = t44.mul_add(t56, t65);
+        let t67: L = t0 * t37;
+        let t68: L = t66 * t67;
+        let t69: L = t34.mul_add(t35, t68);
+        let t70: L = t17.mul_add(t17, t4);
+        let t71: L = t70.rsqrt();
+        let t72: L = t6 * t71;
+        let t73: L = t17 * t71;
+        let t74: L = t71 * t71;
+        let t75: L = t16 * t71;
+        let t76: L = t20 * t74;
+        let t77: L = t21 * t74;
+        let t78: L = t72.powi(2);
+        let t79: L = t76 * t77;
+        let t80: L = L::splat(60.0) * t77;
+        let t81: L = L::splat(-840.0).mul_add(t79, t80);
+        let t82: L = L::splat(6.0) + t80;
+        let t83: L = L::splat(-60.0).mul_add(t76, t82);
+        let t84: L = L::splat(-6.0) * t75;
+        let t85: L = t73.mul_add(t83, t84);
+        let t86: L = L::splat(840.0).mul_add(t77, L::splat(6.0));
+        let t87: L = L::splat(-66.0).mul_add(t77, L::splat(-1.0));
+        let t88: L = t76.mul_add(t86, t87);
+        let t89: L = t75.mul_add(t85, t88);
+        let t90: L = t78.mul_add(t81, t89);
+        let t91: L = L::splat(-12.0) * t77;
+        let t92: L = L::splat(-2.0) + t91;
+        let t93: L = L::splat(12.0).mul_add(t76, t92);
+        let t94: L = L::splat(2.0) * t75;
+        let t95: L = t73.mul_add(t93, t94);
+        let t96: L = L::splat(-96.0).mul_add(t77, L::splat(-2.0));
+        let t97: L = L::splat(10.0).mul_add(t77, L::splat(-1.0));
+        let t98: L = t76.mul_add(t96, t97);
+        let t99: L = t75.mul_add(t95, t98);
+        let t100: L = t78.mul_add(t90, t99);
+        let t101: L = t0 * t71;
+        let t102: L = t100.mul_add(t101, t69);
+        let t103: L = t25 * t31;
+        let t104: L = t24 * t103;
+        let t105: L = t35 * t104;
+        let t106: L = t43 * L::splat(-60.0);
+        let t107: L = t45.mul_add(L::splat(840.0), t106);
+        let t108: L = t41 * t49;
+        let t109: L = t39.mul_add(t107, t108);
+        let t110: L = t38 * t109;
+        let t111: L = t39 * t41;
+        let t112: L = t43.mul_add(L::splat(-48.0), L::splat(-4.0));
+        let t113: L = t42.mul_add(L::splat(48.0), t112);
+        let t114: L = L::splat(6.0).mul_add(t111, t113);
+        let t115: L = t43.mul_add(L::splat(-480.0), L::splat(6.0));
+        let t116: L = t43.mul_add(L::splat(42.0), L::splat(-1.0));
+        let t117: L = t42.mul_add(t115, t116);
+        let t118: L = t39 * t117;
+        let t119: L = t41.mul_add(t114, t118);
+        let t120: L = t38.mul_add(t110, t119);
+        let t121: L = t38 * t120;
+        let t122: L = t67.mul_add(t121, t105);
+        let t123: L = L::splat(-60.0) * t77;
+        let t124: L = L::splat(840.0).mul_add(t79, t123);
+        let t125: L = t75 * t83;
+        let t126: L = t73.mul_add(t124, t125);
+        let t127: L = t72 * t126;
+        let t128: L = t73 * t75;
+        let t129: L = t77.mul_add(L::splat(-48.0), L::splat(-4.0));
+        let t130: L = t76.mul_add(L::splat(48.0), t129);
+        let t131: L = L::splat(6.0).mul_add(t128, t130);
+        let t132: L = t77.mul_add(L::splat(-480.0), L::splat(6.0));
+        let t133: L = t77.mul_add(L::splat(42.0), L::splat(-1.0));
+        let t134: L = t76.mul_add(t132, t133);
+        let t135: L = t73 * t134;
+        let t136: L = t75.mul_add(t131, t135);
+        let t137: L = t72.mul_add(t127, t136);
+        let t138: L = t72 * t137;
+        let t139: L = t101.mul_add(t138, t122);
+        let t140: L = t45.mul_add(L::splat(120.0), t57);
+        let t141: L = t44.mul_add(t140, t65);
+        let t142: L = t67 * t141;
+        let t143: L = t33.mul_add(t35, t142);
+        let t144: L = t79.mul_add(L::splat(120.0), t91);
+        let t145: L = t78.mul_add(t144, t99);
+        let t146: L = t101.mul_add(t145, t143);
+        let t147: L = L::splat(-6.0) + t106;
+        let t148: L = t42.mul_add(L::splat(60.0), t147);
+        let t149: L = t41 * t148;
+        let t150: L = t39.mul_add(t47, t149);
+        let t151: L = t38 * t150;
+        let t152: L = t43.mul_add(L::splat(48.0), L::splat(8.0));
+        let t153: L = t42.mul_add(L::splat(-48.0), t152);
+        let t154: L = L::splat(-6.0).mul_add(t111, t153);
+        let t155: L = t43.mul_add(L::splat(480.0), L::splat(6.0));
+        let t156: L = t43.mul_add(L::splat(-54.0), L::splat(-1.0));
+        let t157: L = t42.mul_add(t155, t156);
+        let t158: L = t39 * t157;
+        let t159: L = t41.mul_add(t154, t158);
+        let t160: L = t38.mul_add(t151, t159);
+        let t161: L = t38 * t160;
+        let t162: L = t67.mul_add(t161, t105);
+        let t163: L = L::splat(-6.0) + t123;
+        let t164: L = L::splat(60.0).mul_add(t76, t163);
+        let t165: L = t75 * t164;
+        let t166: L = t73.mul_add(t81, t165);
+        let t167: L = t72 * t166;
+        let t168: L = t77.mul_add(L::splat(48.0), L::splat(8.0));
+        let t169: L = t76.mul_add(L::splat(-48.0), t168);
+        let t170: L = L::splat(-6.0).mul_add(t128, t169);
+        let t171: L = t77.mul_add(L::splat(480.0), L::splat(6.0));
+        let t172: L = t77.mul_add(L::splat(-54.0), L::splat(-1.0));
+        let t173: L = t76.mul_add(t171, t172);
+        let t174: L = t73 * t173;
+        let t175: L = t75.mul_add(t170, t174);
+        let t176: L = t72.mul_add(t167, t175);
+        let t177: L = t72 * t176;
+        let t178: L = t101.mul_add(t177, t162);
+        let t179: L = t28.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t180: L = t27.mul_add(L::splat(6.0), t179);
+        let t181: L = t28.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t182: L = t27.mul_add(L::splat(-4.0), t181);
+        let t183: L = t29.mul_add(t180, t182);
+        let t184: L = t43.mul_add(L::splat(960.0), L::splat(-6.0));
+        let t185: L = t43.mul_add(L::splat(-90.0), L::splat(1.0));
+        let t186: L = t42.mul_add(t184, t185);
+        let t187: L = t41.mul_add(t51, t186);
+        let t188: L = t44.mul_add(t47, t187);
+        let t189: L = t43.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t190: L = t42.mul_add(L::splat(24.0), t189);
+        let t191: L = t41 * L::splat(4.0);
+        let t192: L = t39.mul_add(t190, t191);
+        let t193: L = t43.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t194: L = t43.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t195: L = t42.mul_add(t193, t194);
+        let t196: L = t41.mul_add(t192, t195);
+        let t197: L = t44.mul_add(t188, t196);
+        let t198: L = t67 * t197;
+        let t199: L = t35.mul_add(t183, t198);
+        let t200: L = t77.mul_add(L::splat(960.0), L::splat(-6.0));
+        let t201: L = t77.mul_add(L::splat(-90.0), L::splat(1.0));
+        let t202: L = t76.mul_add(t200, t201);
+        let t203: L = t75.mul_add(t85, t202);
+        let t204: L = t78.mul_add(t81, t203);
+        let t205: L = t77.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t206: L = t76.mul_add(L::splat(24.0), t205);
+        let t207: L = t75 * L::splat(4.0);
+        let t208: L = t73.mul_add(t206, t207);
+        let t209: L = t77.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t210: L = t77.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t211: L = t76.mul_add(t209, t210);
+        let t212: L = t75.mul_add(t208, t211);
+        let t213: L = t78.mul_add(t204, t212);
+        let t214: L = t101.mul_add(t213, t199);
+        let t215: L = t9 * t102;
+        let t216: L = t11 * t146;
+        let t217: L = t11 * t216;
+        let t218: L = t9.mul_add(t215, t217);
+        let t219: L = t11 * t102;
+        let t220: L = t9 * t146;
+        let t221: L = t11 * t220;
+        let t222: L = t9.mul_sub(t219, t221);
+        let t223: L = t9 * t139;
+        let t224: L = t9 * t216;
+        let t225: L = t11.mul_sub(t215, t224);
+        let t226: L = t9 * t220;
+        let t227: L = t11.mul_add(t219, t226);
+        let t228: L = t11 * t139;
+        let t229: L = t9 * t178;
+        let t230: L = t11 * t178;
+        [t218, t222, t223, t225, t227, t228, t229, t230, t214]
+    };
+    out
+}
+pub use slit_f_pair_lanes as slit_f_pair_lanes_ordered;
 /// Scene `slit_f` (slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)): the F blocks, pair equal.
 ///
 /// Pruned to what the scene needs.

@@ -255,6 +255,272 @@ pub fn slit_ft_self(x: [f64; 3], a: f64, eta: f64, height: f64, gap: f64) -> Blo
         ol: [[t144, 0.0, 0.0], [0.0, t144, 0.0], [0.0, 0.0, t146]],
     }
 }
+/// Scene `slit_ft` (slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)): the FT blocks, self.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `slit_ft_self`'s fields. Operation count with fused multiply-adds: 100 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn slit_ft_self_lanes<L: lanes::Lane>(
+    x: [L; 3],
+    a: L,
+    eta: L,
+    height: L,
+    gap: L,
+) -> [L; 36usize] {
+    let t0: L = height + gap;
+    let t1: L = x[2] - height;
+    let t2: L = t0 - x[2];
+    let far = L::and(t1.gt(L::splat(0.0)), t2.gt(L::splat(0.0)));
+    let near: [L; 36usize] = if L::all(far) {
+        [L::splat(0.0); 36usize]
+    } else {
+        let t3: L = L::splat(0.039788735772973836) / eta;
+        let t4: L = t1 * L::splat(2.0);
+        let t5: L = x[2] - t0;
+        let t6: L = L::splat(2.0) * t5;
+        let t7: L = a * a;
+        let t8: L = a.recip();
+        let t9: L = t8 * t8;
+        let t10: L = t8 * t9;
+        let t11: L = t8 * L::splat(1.3333333333333333);
+        let t12: L = t7 * L::splat(0.16666666666666666);
+        let t13: L = t4 * t4;
+        let t14: L = t13.rsqrt();
+        let t15: L = t4 * t14;
+        let t16: L = t14 * t14;
+        let t17: L = t1 * t14;
+        let t18: L = t12 * t16;
+        let t19: L = t18.mul_add(L::splat(-12.0), L::splat(-2.0));
+        let t20: L = t18.mul_add(L::splat(12.0), t19);
+        let t21: L = L::splat(2.0) * t17;
+        let t22: L = t15.mul_add(t20, t21);
+        let t23: L = t18.mul_add(L::splat(-96.0), L::splat(-2.0));
+        let t24: L = t18.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t25: L = t18.mul_add(t23, t24);
+        let t26: L = t17.mul_add(t22, t25);
+        let t27: L = t3 * t14;
+        let t28: L = t6 * t6;
+        let t29: L = t28.rsqrt();
+        let t30: L = t6 * t29;
+        let t31: L = t29 * t29;
+        let t32: L = t5 * t29;
+        let t33: L = t12 * t31;
+        let t34: L = L::splat(-12.0).mul_add(t33, L::splat(-2.0));
+        let t35: L = L::splat(12.0).mul_add(t33, t34);
+        let t36: L = L::splat(2.0) * t32;
+        let t37: L = t30.mul_add(t35, t36);
+        let t38: L = L::splat(-96.0).mul_add(t33, L::splat(-2.0));
+        let t39: L = L::splat(10.0).mul_add(t33, L::splat(-1.0));
+        let t40: L = t33.mul_add(t38, t39);
+        let t41: L = t32.mul_add(t37, t40);
+        let t42: L = t3 * t29;
+        let t43: L = t41 * t42;
+        let t44: L = t26.mul_add(t27, t43);
+        let t45: L = t3.mul_add(t11, t44);
+        let t46: L = t18.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t47: L = t18.mul_add(L::splat(24.0), t46);
+        let t48: L = t17 * L::splat(4.0);
+        let t49: L = t15.mul_add(t47, t48);
+        let t50: L = t18.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t51: L = t18.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t52: L = t18.mul_add(t50, t51);
+        let t53: L = t17.mul_add(t49, t52);
+        let t54: L = t33.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t55: L = t33.mul_add(L::splat(24.0), t54);
+        let t56: L = t32 * L::splat(4.0);
+        let t57: L = t30.mul_add(t55, t56);
+        let t58: L = t33.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t59: L = t33.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t60: L = t33.mul_add(t58, t59);
+        let t61: L = t32.mul_add(t57, t60);
+        let t62: L = t42 * t61;
+        let t63: L = t27.mul_add(t53, t62);
+        let t64: L = t3.mul_add(t11, t63);
+        let t65: L = t18.mul_add(L::splat(12.0), L::splat(-1.0));
+        let t66: L = t15.mul_add(t65, t21);
+        let t67: L = t14 * t27;
+        let t68: L = L::splat(12.0).mul_add(t33, L::splat(-1.0));
+        let t69: L = t30.mul_add(t68, t36);
+        let t70: L = t29 * t42;
+        let t71: L = t69 * t70;
+        let t72: L = t66.mul_add(t67, t71);
+        let t73: L = t18.mul_add(L::splat(-12.0), L::splat(1.0));
+        let t74: L = t17 * L::splat(-2.0);
+        let t75: L = t15.mul_add(t73, t74);
+        let t76: L = L::splat(-12.0).mul_add(t33, L::splat(1.0));
+        let t77: L = L::splat(-2.0) * t32;
+        let t78: L = t30.mul_add(t76, t77);
+        let t79: L = t70 * t78;
+        let t80: L = t67.mul_add(t75, t79);
+        let t81: L = t18.mul_add(L::splat(-12.0), L::splat(-1.0));
+        let t82: L = t15.mul_add(t81, t21);
+        let t83: L = L::splat(-12.0).mul_add(t33, L::splat(-1.0));
+        let t84: L = t30.mul_add(t83, t36);
+        let t85: L = t70 * t84;
+        let t86: L = t67.mul_add(t82, t85);
+        let t87: L = t18.mul_add(L::splat(12.0), L::splat(1.0));
+        let t88: L = t15.mul_add(t87, t74);
+        let t89: L = L::splat(12.0).mul_add(t33, L::splat(1.0));
+        let t90: L = t30.mul_add(t89, t77);
+        let t91: L = t70 * t90;
+        let t92: L = t67.mul_add(t88, t91);
+        let t93: L = t14 * t67;
+        let t94: L = t29 * t70;
+        let t95: L = L::splat(-2.5) * t94;
+        let t96: L = L::splat(-2.5).mul_add(t93, t95);
+        let t97: L = t3.mul_add(t10, t96);
+        let t98: L = t93 + t94;
+        let t99: L = t3.mul_sub(t10, t98);
+        [
+            t45,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t45,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t64,
+            L::splat(0.0),
+            t72,
+            L::splat(0.0),
+            t80,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t86,
+            L::splat(0.0),
+            t92,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t97,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t97,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t99,
+        ]
+    };
+    let farv: [L; 36usize] = if L::any(far) {
+        let t100: L = L::splat(0.039788735772973836) / eta;
+        let t101: L = a * a;
+        let t102: L = a * t1;
+        let t103: L = t102 * t2;
+        let t104: L = t103.recip();
+        let t105: L = t104 * t102;
+        let t106: L = t104 * t2;
+        let t107: L = t106 * a;
+        let t108: L = t106 * t1;
+        let t109: L = t108 * t108;
+        let t110: L = t108 * t109;
+        let t111: L = t108 * L::splat(1.3333333333333333);
+        let t112: L = t107 * t107;
+        let t113: L = t107 * t112;
+        let t114: L = L::splat(0.08333333333333333) * t113;
+        let t115: L = t114 + t114;
+        let t116: L = t107 * t113;
+        let t117: L = t107 * t116;
+        let t118: L = t105 * L::splat(-0.75);
+        let t119: L = t107.mul_add(L::splat(-0.75), t118);
+        let t120: L = t105 * t105;
+        let t121: L = t105 * t120;
+        let t122: L = L::splat(0.08333333333333333).mul_add(t121, t115);
+        let t123: L = L::splat(0.08333333333333333).mul_add(t121, t122);
+        let t124: L = t105 * t121;
+        let t125: L = t105 * t124;
+        let t126: L = L::splat(-0.08333333333333333) * t125;
+        let t127: L = L::splat(-0.08333333333333333).mul_add(t117, t126);
+        let t128: L = t111 + t119;
+        let t129: L = t101.mul_add(t123, t128);
+        let t130: L = t101 * t127;
+        let t131: L = t101.mul_add(t130, t129);
+        let t132: L = t113 * L::splat(0.3333333333333333);
+        let t133: L = t132 + t132;
+        let t134: L = t105 * L::splat(-1.5);
+        let t135: L = t107.mul_add(L::splat(-1.5), t134);
+        let t136: L = t121.mul_add(L::splat(0.3333333333333333), t133);
+        let t137: L = t121.mul_add(L::splat(0.3333333333333333), t136);
+        let t138: L = t125 * L::splat(-0.16666666666666666);
+        let t139: L = t117.mul_add(L::splat(-0.16666666666666666), t138);
+        let t140: L = t111 + t135;
+        let t141: L = t101.mul_add(t137, t140);
+        let t142: L = t101 * t139;
+        let t143: L = t101.mul_add(t142, t141);
+        let t144: L = t124 * L::splat(-0.125);
+        let t145: L = t116.mul_add(L::splat(0.125), t144);
+        let t146: L = t101 * t145;
+        let t147: L = t124 * L::splat(0.125);
+        let t148: L = t116.mul_add(L::splat(-0.125), t147);
+        let t149: L = t101 * t148;
+        let t150: L = t121 * L::splat(-0.3125);
+        let t151: L = t113.mul_add(L::splat(-0.3125), t150);
+        let t152: L = t110 + t151;
+        let t153: L = t121 * L::splat(-0.125);
+        let t154: L = t113.mul_add(L::splat(-0.125), t153);
+        let t155: L = t110 + t154;
+        let t156: L = t100 * t131;
+        let t157: L = t100 * t143;
+        let t158: L = t100 * t146;
+        let t159: L = t100 * t149;
+        let t160: L = t100 * t152;
+        let t161: L = t100 * t155;
+        [
+            t156,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t156,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t157,
+            L::splat(0.0),
+            t158,
+            L::splat(0.0),
+            t159,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t159,
+            L::splat(0.0),
+            t158,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t160,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t160,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t161,
+        ]
+    } else {
+        [L::splat(0.0); 36usize]
+    };
+    let out: [L; 36usize] = lanes::select_array(far, farv, near);
+    out
+}
+pub use slit_ft_self_lanes as slit_ft_self_lanes_ordered;
 /// Scene `slit_ft` (slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)): the FT blocks, pair.
 ///
 /// Pruned to what the scene needs.
@@ -877,6 +1143,462 @@ pub fn slit_ft_pair(
         ol: [[t574, t579, t580], [t583, t586, t587], [t588, t589, t503]],
     }
 }
+/// Scene `slit_ft` (slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)): the FT blocks, pair.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `slit_ft_pair`'s fields. Operation count with fused multiply-adds: 396 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn slit_ft_pair_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+    gap: L,
+) -> [L; 36usize] {
+    let out: [L; 36usize] = {
+        let t0: L = L::splat(0.039788735772973836) / eta;
+        let t1: L = xa[0] - xb[0];
+        let t2: L = xa[1] - xb[1];
+        let t3: L = t2 * t2;
+        let t4: L = t1.mul_add(t1, t3);
+        let t5: L = t4.rsqrt();
+        let t6: L = t4.sqrt_with(t5);
+        let t7: L = L::select(t4.gt(L::splat(0.0)), t5, L::splat(1.0));
+        let t8: L = t1 * t7;
+        let t9: L = L::select(t4.gt(L::splat(0.0)), t8, L::splat(1.0));
+        let t10: L = t2 * t7;
+        let t11: L = L::select(t4.gt(L::splat(0.0)), t10, L::splat(0.0));
+        let t12: L = height + gap;
+        let t13: L = xa[2] - xb[2];
+        let t14: L = xb[2] - height;
+        let t15: L = t14.mul_add(L::splat(2.0), t13);
+        let t16: L = xb[2] - t12;
+        let t17: L = L::splat(2.0).mul_add(t16, t13);
+        let t18: L = aa * aa;
+        let t19: L = ab * ab;
+        let t20: L = t18 * L::splat(0.16666666666666666);
+        let t21: L = t19 * L::splat(0.16666666666666666);
+        let t22: L = t13.mul_add(t13, t4);
+        let t23: L = t22.rsqrt();
+        let t24: L = t6 * t23;
+        let t25: L = t13 * t23;
+        let t26: L = t23 * t23;
+        let t27: L = t20 * t26;
+        let t28: L = t21 * t26;
+        let t29: L = t24.powi(2);
+        let t30: L = t28.mul_add(L::splat(-6.0), L::splat(1.0));
+        let t31: L = t27.mul_add(L::splat(-6.0), t30);
+        let t32: L = L::splat(2.0).mul_add(t28, L::splat(1.0));
+        let t33: L = L::splat(2.0).mul_add(t27, t32);
+        let t34: L = t29.mul_add(t31, t33);
+        let t35: L = t0 * t23;
+        let t36: L = t15.mul_add(t15, t4);
+        let t37: L = t36.rsqrt();
+        let t38: L = t6 * t37;
+        let t39: L = t15 * t37;
+        let t40: L = t37 * t37;
+        let t41: L = t14 * t37;
+        let t42: L = t20 * t40;
+        let t43: L = t21 * t40;
+        let t44: L = t38.powi(2);
+        let t45: L = t42 * t43;
+        let t46: L = t43 * L::splat(60.0);
+        let t47: L = t45.mul_add(L::splat(-840.0), t46);
+        let t48: L = t46 + L::splat(6.0);
+        let t49: L = t42.mul_add(L::splat(-60.0), t48);
+        let t50: L = L::splat(-6.0) * t41;
+        let t51: L = t39.mul_add(t49, t50);
+        let t52: L = t43.mul_add(L::splat(840.0), L::splat(6.0));
+        let t53: L = t43.mul_add(L::splat(-66.0), L::splat(-1.0));
+        let t54: L = t42.mul_add(t52, t53);
+        let t55: L = t41.mul_add(t51, t54);
+        let t56: L = t44.mul_add(t47, t55);
+        let t57: L = t43 * L::splat(-12.0);
+        let t58: L = t57 + L::splat(-2.0);
+        let t59: L = t42.mul_add(L::splat(12.0), t58);
+        let t60: L = L::splat(2.0) * t41;
+        let t61: L = t39.mul_add(t59, t60);
+        let t62: L = t43.mul_add(L::splat(-96.0), L::splat(-2.0));
+        let t63: L = t43.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t64: L = t42.mul_add(t62, t63);
+        let t65: L = t41.mul_add(t61, t64);
+        let t66: L = t44.mul_add(t56, t65);
+        let t67: L = t0 * t37;
+        let t68: L = t66 * t67;
+        let t69: L = t34.mul_add(t35, t68);
+        let t70: L = t17.mul_add(t17, t4);
+        let t71: L = t70.rsqrt();
+        let t72: L = t6 * t71;
+        let t73: L = t17 * t71;
+        let t74: L = t71 * t71;
+        let t75: L = t16 * t71;
+        let t76: L = t20 * t74;
+        let t77: L = t21 * t74;
+        let t78: L = t72.powi(2);
+        let t79: L = t76 * t77;
+        let t80: L = L::splat(60.0) * t77;
+        let t81: L = L::splat(-840.0).mul_add(t79, t80);
+        let t82: L = L::splat(6.0) + t80;
+        let t83: L = L::splat(-60.0).mul_add(t76, t82);
+        let t84: L = L::splat(-6.0) * t75;
+        let t85: L = t73.mul_add(t83, t84);
+        let t86: L = L::splat(840.0).mul_add(t77, L::splat(6.0));
+        let t87: L = L::splat(-66.0).mul_add(t77, L::splat(-1.0));
+        let t88: L = t76.mul_add(t86, t87);
+        let t89: L = t75.mul_add(t85, t88);
+        let t90: L = t78.mul_add(t81, t89);
+        let t91: L = L::splat(-12.0) * t77;
+        let t92: L = L::splat(-2.0) + t91;
+        let t93: L = L::splat(12.0).mul_add(t76, t92);
+        let t94: L = L::splat(2.0) * t75;
+        let t95: L = t73.mul_add(t93, t94);
+        let t96: L = L::splat(-96.0).mul_add(t77, L::splat(-2.0));
+        let t97: L = L::splat(10.0).mul_add(t77, L::splat(-1.0));
+        let t98: L = t76.mul_add(t96, t97);
+        let t99: L = t75.mul_add(t95, t98);
+        let t100: L = t78.mul_add(t90, t99);
+        let t101: L = t0 * t71;
+        let t102: L = t100.mul_add(t101, t69);
+        let t103: L = t25 * t31;
+        let t104: L = t24 * t103;
+        let t105: L = t35 * t104;
+        let t106: L = t43 * L::splat(-60.0);
+        let t107: L = t45.mul_add(L::splat(840.0), t106);
+        let t108: L = t41 * t49;
+        let t109: L = t39.mul_add(t107, t108);
+        let t110: L = t38 * t109;
+        let t111: L = t39 * t41;
+        let t112: L = t43.mul_add(L::splat(-48.0), L::splat(-4.0));
+        let t113: L = t42.mul_add(L::splat(48.0), t112);
+        let t114: L = L::splat(6.0).mul_add(t111, t113);
+        let t115: L = t43.mul_add(L::splat(-480.0), L::splat(6.0));
+        let t116: L = t43.mul_add(L::splat(42.0), L::splat(-1.0));
+        let t117: L = t42.mul_add(t115, t116);
+        let t118: L = t39 * t117;
+        let t119: L = t41.mul_add(t114, t118);
+        let t120: L = t38.mul_add(t110, t119);
+        let t121: L = t38 * t120;
+        let t122: L = t67.mul_add(t121, t105);
+        let t123: L = L::splat(-60.0) * t77;
+        let t124: L = L::splat(840.0).mul_add(t79, t123);
+        let t125: L = t75 * t83;
+        let t126: L = t73.mul_add(t124, t125);
+        let t127: L = t72 * t126;
+        let t128: L = t73 * t75;
+        let t129: L = t77.mul_add(L::splat(-48.0), L::splat(-4.0));
+        let t130: L = t76.mul_add(L::splat(48.0), t129);
+        let t131: L = L::splat(6.0).mul_add(t128, t130);
+        let t132: L = t77.mul_add(L::splat(-480.0), L::splat(6.0));
+        let t133: L = t77.mul_add(L::splat(42.0), L::splat(-1.0));
+        let t134: L = t76.mul_add(t132, t133);
+        let t135: L = t73 * t134;
+        let t136: L = t75.mul_add(t131, t135);
+        let t137: L = t72.mul_add(t127, t136);
+        let t138: L = t72 * t137;
+        let t139: L = t101.mul_add(t138, t122);
+        let t140: L = t45.mul_add(L::splat(120.0), t57);
+        let t141: L = t44.mul_add(t140, t65);
+        let t142: L = t67 * t141;
+        let t143: L = t33.mul_add(t35, t142);
+        let t144: L = t79.mul_add(L::splat(120.0), t91);
+        let t145: L = t78.mul_add(t144, t99);
+        let t146: L = t101.mul_add(t145, t143);
+        let t147: L = L::splat(-6.0) + t106;
+        let t148: L = t42.mul_add(L::splat(60.0), t147);
+        let t149: L = t41 * t148;
+        let t150: L = t39.mul_add(t47, t149);
+        let t151: L = t38 * t150;
+        let t152: L = t43.mul_add(L::splat(48.0), L::splat(8.0));
+        let t153: L = t42.mul_add(L::splat(-48.0), t152);
+        let t154: L = L::splat(-6.0).mul_add(t111, t153);
+        let t155: L = t43.mul_add(L::splat(480.0), L::splat(6.0));
+        let t156: L = t43.mul_add(L::splat(-54.0), L::splat(-1.0));
+        let t157: L = t42.mul_add(t155, t156);
+        let t158: L = t39 * t157;
+        let t159: L = t41.mul_add(t154, t158);
+        let t160: L = t38.mul_add(t151, t159);
+        let t161: L = t38 * t160;
+        let t162: L = t67.mul_add(t161, t105);
+        let t163: L = L::splat(-6.0) + t123;
+        let t164: L = L::splat(60.0).mul_add(t76, t163);
+        let t165: L = t75 * t164;
+        let t166: L = t73.mul_add(t81, t165);
+        let t167: L = t72 * t166;
+        let t168: L = t77.mul_add(L::splat(48.0), L::splat(8.0));
+        let t169: L = t76.mul_add(L::splat(-48.0), t168);
+        let t170: L = L::splat(-6.0).mul_add(t128, t169);
+        let t171: L = t77.mul_add(L::splat(480.0), L::splat(6.0));
+        let t172: L = t77.mul_add(L::splat(-54.0), L::splat(-1.0));
+        let t173: L = t76.mul_add(t171, t172);
+        let t174: L = t73 * t173;
+        let t175: L = t75.mul_add(t170, t174);
+        let t176: L = t72.mul_add(t167, t175);
+        let t177: L = t72 * t176;
+        let t178: L = t101.mul_add(t177, t162);
+        let t179: L = t28.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t180: L = t27.mul_add(L::splat(6.0), t179);
+        let t181: L = t28.mul_add(L::splat(-4.0), L::splat(2.0));
+        let t182: L = t27.mul_add(L::splat(-4.0), t181);
+        let t183: L = t29.mul_add(t180, t182);
+        let t184: L = t43.mul_add(L::splat(960.0), L::splat(-6.0));
+        let t185: L = t43.mul_add(L::splat(-90.0), L::splat(1.0));
+        let t186: L = t42.mul_add(t184, t185);
+        let t187: L = t41.mul_add(t51, t186);
+        let t188: L = t44.mul_add(t47, t187);
+        let t189: L = t43.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t190: L = t42.mul_add(L::splat(24.0), t189);
+        let t191: L = t41 * L::splat(4.0);
+        let t192: L = t39.mul_add(t190, t191);
+        let t193: L = t43.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t194: L = t43.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t195: L = t42.mul_add(t193, t194);
+        let t196: L = t41.mul_add(t192, t195);
+        let t197: L = t44.mul_add(t188, t196);
+        let t198: L = t67 * t197;
+        let t199: L = t35.mul_add(t183, t198);
+        let t200: L = t77.mul_add(L::splat(960.0), L::splat(-6.0));
+        let t201: L = t77.mul_add(L::splat(-90.0), L::splat(1.0));
+        let t202: L = t76.mul_add(t200, t201);
+        let t203: L = t75.mul_add(t85, t202);
+        let t204: L = t78.mul_add(t81, t203);
+        let t205: L = t77.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t206: L = t76.mul_add(L::splat(24.0), t205);
+        let t207: L = t75 * L::splat(4.0);
+        let t208: L = t73.mul_add(t206, t207);
+        let t209: L = t77.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t210: L = t77.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t211: L = t76.mul_add(t209, t210);
+        let t212: L = t75.mul_add(t208, t211);
+        let t213: L = t78.mul_add(t204, t212);
+        let t214: L = t101.mul_add(t213, t199);
+        let t215: L = t23 * t35;
+        let t216: L = t25 * t215;
+        let t217: L = t42.mul_add(L::splat(-60.0), L::splat(6.0));
+        let t218: L = t39.mul_add(t217, t50);
+        let t219: L = t42.mul_add(L::splat(12.0), L::splat(-1.0));
+        let t220: L = t39.mul_add(t219, t60);
+        let t221: L = t44.mul_add(t218, t220);
+        let t222: L = t37 * t67;
+        let t223: L = t221.mul_add(t222, t216);
+        let t224: L = L::splat(-60.0).mul_add(t76, L::splat(6.0));
+        let t225: L = t73.mul_add(t224, t84);
+        let t226: L = L::splat(12.0).mul_add(t76, L::splat(-1.0));
+        let t227: L = t73.mul_add(t226, t94);
+        let t228: L = t78.mul_add(t225, t227);
+        let t229: L = t71 * t101;
+        let t230: L = t228.mul_add(t229, t223);
+        let t231: L = t42.mul_add(L::splat(-12.0), L::splat(1.0));
+        let t232: L = t41 * L::splat(-2.0);
+        let t233: L = t39.mul_add(t231, t232);
+        let t234: L = t222.mul_sub(t233, t216);
+        let t235: L = L::splat(-12.0).mul_add(t76, L::splat(1.0));
+        let t236: L = L::splat(-2.0) * t75;
+        let t237: L = t73.mul_add(t235, t236);
+        let t238: L = t229.mul_add(t237, t234);
+        let t239: L = t24 * t215;
+        let t240: L = t38 * t222;
+        let t241: L = t239 - t240;
+        let t242: L = t72.neg_mul_add(t229, t241);
+        let t243: L = t42.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t244: L = t38 * t243;
+        let t245: L = t42.mul_add(L::splat(-48.0), L::splat(7.0));
+        let t246: L = L::splat(-6.0).mul_add(t111, t245);
+        let t247: L = t38.mul_add(t244, t246);
+        let t248: L = t38 * t247;
+        let t249: L = t222.mul_sub(t248, t239);
+        let t250: L = L::splat(60.0).mul_add(t76, L::splat(-6.0));
+        let t251: L = t72 * t250;
+        let t252: L = t76.mul_add(L::splat(-48.0), L::splat(7.0));
+        let t253: L = L::splat(-6.0).mul_add(t128, t252);
+        let t254: L = t72.mul_add(t251, t253);
+        let t255: L = t72 * t254;
+        let t256: L = t229.mul_add(t255, t249);
+        let t257: L = L::splat(-1.0) + t57;
+        let t258: L = t39.mul_add(t257, t60);
+        let t259: L = t222.mul_add(t258, t216);
+        let t260: L = L::splat(-1.0) + t91;
+        let t261: L = t73.mul_add(t260, t94);
+        let t262: L = t229.mul_add(t261, t259);
+        let t263: L = t39 * t43;
+        let t264: L = t41 * L::splat(6.0);
+        let t265: L = L::splat(-60.0).mul_add(t263, t264);
+        let t266: L = t43.mul_add(L::splat(12.0), L::splat(1.0));
+        let t267: L = t39.mul_add(t266, t232);
+        let t268: L = t44.mul_add(t265, t267);
+        let t269: L = t222.mul_sub(t268, t216);
+        let t270: L = t73 * t77;
+        let t271: L = L::splat(6.0) * t75;
+        let t272: L = L::splat(-60.0).mul_add(t270, t271);
+        let t273: L = L::splat(12.0).mul_add(t77, L::splat(1.0));
+        let t274: L = t73.mul_add(t273, t236);
+        let t275: L = t78.mul_add(t272, t274);
+        let t276: L = t229.mul_add(t275, t269);
+        let t277: L = t38 * t43;
+        let t278: L = t38 * t277;
+        let t279: L = t43.mul_add(L::splat(48.0), L::splat(-1.0));
+        let t280: L = L::splat(-6.0).mul_add(t111, t279);
+        let t281: L = L::splat(-60.0).mul_add(t278, t280);
+        let t282: L = t38 * t281;
+        let t283: L = t222.mul_add(t282, t239);
+        let t284: L = t72 * t77;
+        let t285: L = t72 * t284;
+        let t286: L = t77.mul_add(L::splat(48.0), L::splat(-1.0));
+        let t287: L = L::splat(-6.0).mul_add(t128, t286);
+        let t288: L = L::splat(-60.0).mul_add(t285, t287);
+        let t289: L = t72 * t288;
+        let t290: L = t229.mul_add(t289, t283);
+        let t291: L = t240 - t239;
+        let t292: L = t72.mul_add(t229, t291);
+        let t293: L = t29.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t294: L = t23 * t215;
+        let t295: L = t44.mul_add(L::splat(1.5), L::splat(-2.5));
+        let t296: L = t37 * t222;
+        let t297: L = t295 * t296;
+        let t298: L = t293.mul_add(t294, t297);
+        let t299: L = t78.mul_add(L::splat(1.5), L::splat(-2.5));
+        let t300: L = t71 * t229;
+        let t301: L = t299.mul_add(t300, t298);
+        let t302: L = t24 * t25;
+        let t303: L = L::splat(1.5) * t302;
+        let t304: L = t294 * t303;
+        let t305: L = t38 * t39;
+        let t306: L = t305 * L::splat(-1.5);
+        let t307: L = t296.mul_add(t306, t304);
+        let t308: L = t72 * t73;
+        let t309: L = L::splat(-1.5) * t308;
+        let t310: L = t300.mul_add(t309, t307);
+        let t311: L = t44.mul_add(L::splat(6.0), L::splat(-2.5));
+        let t312: L = t296 * t311;
+        let t313: L = L::splat(-0.5).mul_add(t294, t312);
+        let t314: L = L::splat(6.0).mul_add(t78, L::splat(-2.5));
+        let t315: L = t300.mul_add(t314, t313);
+        let t316: L = L::splat(1.5) * t305;
+        let t317: L = t296.mul_add(t316, t304);
+        let t318: L = L::splat(1.5) * t308;
+        let t319: L = t300.mul_add(t318, t317);
+        let t320: L = t29.mul_add(L::splat(-1.5), L::splat(1.0));
+        let t321: L = t44.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t322: L = t296 * t321;
+        let t323: L = t294.mul_add(t320, t322);
+        let t324: L = t78.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t325: L = t300.mul_add(t324, t323);
+        let t326: L = t9 * t102;
+        let t327: L = t11 * t146;
+        let t328: L = t11 * t327;
+        let t329: L = t9.mul_add(t326, t328);
+        let t330: L = t11 * t102;
+        let t331: L = t9 * t146;
+        let t332: L = t11 * t331;
+        let t333: L = t9.mul_sub(t330, t332);
+        let t334: L = t9 * t139;
+        let t335: L = t9 * t327;
+        let t336: L = t11.mul_sub(t326, t335);
+        let t337: L = t9 * t331;
+        let t338: L = t11.mul_add(t330, t337);
+        let t339: L = t11 * t139;
+        let t340: L = t9 * t178;
+        let t341: L = t11 * t178;
+        let t342: L = t11 * t230;
+        let t343: L = t9 * t238;
+        let t344: L = t11 * t343;
+        let t345: L = t9.mul_add(t342, t344);
+        let t346: L = -t345;
+        let t347: L = t9 * t230;
+        let t348: L = t11 * t238;
+        let t349: L = t11 * t348;
+        let t350: L = t9.mul_sub(t347, t349);
+        let t351: L = t11 * t242;
+        let t352: L = -t351;
+        let t353: L = t11 * t342;
+        let t354: L = t9.mul_sub(t343, t353);
+        let t355: L = t9 * t348;
+        let t356: L = t11.mul_add(t347, t355);
+        let t357: L = t9 * t242;
+        let t358: L = t11 * t256;
+        let t359: L = -t358;
+        let t360: L = t9 * t256;
+        let t361: L = t11 * t262;
+        let t362: L = t9 * t276;
+        let t363: L = t11 * t362;
+        let t364: L = t9.mul_add(t361, t363);
+        let t365: L = -t364;
+        let t366: L = t9 * t262;
+        let t367: L = t11 * t276;
+        let t368: L = t11 * t367;
+        let t369: L = t9.mul_sub(t366, t368);
+        let t370: L = t11 * t290;
+        let t371: L = -t370;
+        let t372: L = t11 * t361;
+        let t373: L = t9.mul_sub(t362, t372);
+        let t374: L = t9 * t367;
+        let t375: L = t11.mul_add(t366, t374);
+        let t376: L = t9 * t290;
+        let t377: L = t11 * t292;
+        let t378: L = -t377;
+        let t379: L = t9 * t292;
+        let t380: L = t9 * t301;
+        let t381: L = t11 * t315;
+        let t382: L = t11 * t381;
+        let t383: L = t9.mul_add(t380, t382);
+        let t384: L = t11 * t301;
+        let t385: L = t9 * t315;
+        let t386: L = t11 * t385;
+        let t387: L = t9.mul_sub(t384, t386);
+        let t388: L = t9 * t310;
+        let t389: L = t9 * t381;
+        let t390: L = t11.mul_sub(t380, t389);
+        let t391: L = t9 * t385;
+        let t392: L = t11.mul_add(t384, t391);
+        let t393: L = t11 * t310;
+        let t394: L = t9 * t319;
+        let t395: L = t11 * t319;
+        [
+            t329,
+            t333,
+            t334,
+            t336,
+            t338,
+            t339,
+            t340,
+            t341,
+            t214,
+            t346,
+            t350,
+            t352,
+            t354,
+            t356,
+            t357,
+            t359,
+            t360,
+            L::splat(0.0),
+            t365,
+            t369,
+            t371,
+            t373,
+            t375,
+            t376,
+            t378,
+            t379,
+            L::splat(0.0),
+            t383,
+            t387,
+            t388,
+            t390,
+            t392,
+            t393,
+            t394,
+            t395,
+            t325,
+        ]
+    };
+    out
+}
+pub use slit_ft_pair_lanes as slit_ft_pair_lanes_ordered;
 /// Scene `slit_ft` (slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)): the FT blocks, pair equal.
 ///
 /// Pruned to what the scene needs.

@@ -110,6 +110,115 @@ pub fn wall_f_self(x: [f64; 3], a: f64, eta: f64, height: f64) -> BlocksF {
         uf: [[t32, 0.0, 0.0], [0.0, t32, 0.0], [0.0, 0.0, t49]],
     }
 }
+/// Scene `wall_f` (plane no-slip wall at x3 = height: Stokeslet plus Blake's image (Eqs. 5, 7)): the F blocks, self.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `wall_f_self`'s fields. Operation count with fused multiply-adds: 33 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn wall_f_self_lanes<L: lanes::Lane>(
+    x: [L; 3],
+    a: L,
+    eta: L,
+    height: L,
+) -> [L; 9usize] {
+    let t0: L = x[2] - height;
+    let far = t0.gt(L::splat(0.0));
+    let near: [L; 9usize] = if L::all(far) {
+        [L::splat(0.0); 9usize]
+    } else {
+        let t1: L = L::splat(0.039788735772973836) / eta;
+        let t2: L = t0 * L::splat(2.0);
+        let t3: L = a * a;
+        let t4: L = a.recip();
+        let t5: L = t4 * L::splat(1.3333333333333333);
+        let t6: L = t3 * L::splat(0.16666666666666666);
+        let t7: L = t2 * t2;
+        let t8: L = t7.rsqrt();
+        let t9: L = t2 * t8;
+        let t10: L = t8 * t8;
+        let t11: L = t0 * t8;
+        let t12: L = t6 * t10;
+        let t13: L = t12.mul_add(L::splat(-12.0), L::splat(-2.0));
+        let t14: L = t12.mul_add(L::splat(12.0), t13);
+        let t15: L = L::splat(2.0) * t11;
+        let t16: L = t9.mul_add(t14, t15);
+        let t17: L = t12.mul_add(L::splat(-96.0), L::splat(-2.0));
+        let t18: L = t12.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t19: L = t12.mul_add(t17, t18);
+        let t20: L = t11.mul_add(t16, t19);
+        let t21: L = t1 * t8;
+        let t22: L = t1 * t5;
+        let t23: L = t20.mul_add(t21, t22);
+        let t24: L = t12.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t25: L = t12.mul_add(L::splat(24.0), t24);
+        let t26: L = t11 * L::splat(4.0);
+        let t27: L = t9.mul_add(t25, t26);
+        let t28: L = t12.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t29: L = t12.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t30: L = t12.mul_add(t28, t29);
+        let t31: L = t11.mul_add(t27, t30);
+        let t32: L = t21.mul_add(t31, t22);
+        [
+            t23,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t23,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t32,
+        ]
+    };
+    let farv: [L; 9usize] = if L::any(far) {
+        let t33: L = L::splat(0.039788735772973836) / eta;
+        let t34: L = a * a;
+        let t35: L = a * t0;
+        let t36: L = t35.recip();
+        let t37: L = t36 * a;
+        let t38: L = t36 * t0;
+        let t39: L = t38 * L::splat(1.3333333333333333);
+        let t40: L = t37 * t37;
+        let t41: L = t37 * t40;
+        let t42: L = L::splat(0.08333333333333333) * t41;
+        let t43: L = t42 + t42;
+        let t44: L = t37 * t41;
+        let t45: L = t37 * t44;
+        let t46: L = L::splat(-0.08333333333333333) * t45;
+        let t47: L = t37.mul_add(L::splat(-0.75), t39);
+        let t48: L = t34.mul_add(t43, t47);
+        let t49: L = t34 * t46;
+        let t50: L = t34.mul_add(t49, t48);
+        let t51: L = t41 * L::splat(0.3333333333333333);
+        let t52: L = t51 + t51;
+        let t53: L = t45 * L::splat(-0.16666666666666666);
+        let t54: L = t37.mul_add(L::splat(-1.5), t39);
+        let t55: L = t34.mul_add(t52, t54);
+        let t56: L = t34 * t53;
+        let t57: L = t34.mul_add(t56, t55);
+        let t58: L = t33 * t50;
+        let t59: L = t33 * t57;
+        [
+            t58,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t58,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t59,
+        ]
+    } else {
+        [L::splat(0.0); 9usize]
+    };
+    let out: [L; 9usize] = lanes::select_array(far, farv, near);
+    out
+}
+pub use wall_f_self_lanes as wall_f_self_lanes_ordered;
 /// Scene `wall_f` (plane no-slip wall at x3 = height: Stokeslet plus Blake's image (Eqs. 5, 7)): the F blocks, pair.
 ///
 /// Pruned to what the scene needs.
@@ -1351,6 +1460,802 @@ pub fn wall_f_pair(
     BlocksF {
         uf: [[t288, t293, t294], [t297, t300, t301], [t302, t303, t283]],
     }
+}
+/// Scene `wall_f` (plane no-slip wall at x3 = height: Stokeslet plus Blake's image (Eqs. 5, 7)): the F blocks, pair.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `wall_f_pair`'s fields. Operation count with fused multiply-adds: 223 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn wall_f_pair_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+) -> [L; 9usize] {
+    let swap = {
+        let t0: L = xa[2] - height;
+        let t1: L = xb[2] - height;
+        t1.gt(t0)
+    };
+    let (xa, xb, aa, ab) = (
+        lanes::select_array(swap, xb, xa),
+        lanes::select_array(swap, xa, xb),
+        L::select(swap, ab, aa),
+        L::select(swap, aa, ab),
+    );
+    let out = wall_f_pair_lanes_ordered(xa, xb, aa, ab, eta, height);
+    [
+        L::select(swap, out[0], out[0]),
+        L::select(swap, out[3], out[1]),
+        L::select(swap, out[6], out[2]),
+        L::select(swap, out[1], out[3]),
+        L::select(swap, out[4], out[4]),
+        L::select(swap, out[7], out[5]),
+        L::select(swap, out[2], out[6]),
+        L::select(swap, out[5], out[7]),
+        L::select(swap, out[8], out[8]),
+    ]
+}
+/// [`wall_f_pair_lanes`] without the exchange of roles: the same values in lanes where `b` is no farther than `a` from the cancelling plane; elsewhere the same tensor with the cancellation the exchange avoids. The caller orders the particles (by height, highest first) and passes the earlier one as `a`.
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn wall_f_pair_lanes_ordered<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+) -> [L; 9usize] {
+    let t0: L = xa[0] - xb[0];
+    let t1: L = xa[1] - xb[1];
+    let t2: L = t1 * t1;
+    let t3: L = t0.mul_add(t0, t2);
+    let t4: L = xa[2] - height;
+    let t5: L = xb[2] - height;
+    let t6: L = t5 * t5;
+    let t7: L = t4.mul_add(t4, t6);
+    let t8: L = L::splat(20000.0) * t7;
+    let far = t3.gt(t8);
+    let near: [L; 9usize] = if L::all(far) {
+        [L::splat(0.0); 9usize]
+    } else {
+        let t9: L = L::splat(0.039788735772973836) / eta;
+        let t10: L = t3.rsqrt();
+        let t11: L = t3.sqrt_with(t10);
+        let t12: L = L::select(t3.gt(L::splat(0.0)), t10, L::splat(1.0));
+        let t13: L = t0 * t12;
+        let t14: L = L::select(t3.gt(L::splat(0.0)), t13, L::splat(1.0));
+        let t15: L = t1 * t12;
+        let t16: L = L::select(t3.gt(L::splat(0.0)), t15, L::splat(0.0));
+        let t17: L = xa[2] - xb[2];
+        let t18: L = t5.mul_add(L::splat(2.0), t17);
+        let t19: L = aa * aa;
+        let t20: L = ab * ab;
+        let t21: L = t19 * L::splat(0.16666666666666666);
+        let t22: L = t20 * L::splat(0.16666666666666666);
+        let t23: L = t18.mul_add(t18, t3);
+        let t24: L = t23.rsqrt();
+        let t25: L = t23.sqrt_with(t24);
+        let t26: L = t11 * t24;
+        let t27: L = t18 * t24;
+        let t28: L = t24 * t24;
+        let t29: L = t5 * t24;
+        let t30: L = t21 * t28;
+        let t31: L = t22 * t28;
+        let t32: L = t26.powi(2);
+        let t33: L = t30 * t31;
+        let t34: L = t31 * L::splat(60.0);
+        let t35: L = t33.mul_add(L::splat(-840.0), t34);
+        let t36: L = t34 + L::splat(6.0);
+        let t37: L = t30.mul_add(L::splat(-60.0), t36);
+        let t38: L = t29 * L::splat(-6.0);
+        let t39: L = t27.mul_add(t37, t38);
+        let t40: L = t33 * L::splat(840.0);
+        let t41: L = t31.mul_add(L::splat(-72.0), t40);
+        let t42: L = t29.mul_add(t39, t41);
+        let t43: L = t32.mul_add(t35, t42);
+        let t44: L = t31 * L::splat(-12.0);
+        let t45: L = t44 + L::splat(-2.0);
+        let t46: L = t30.mul_add(L::splat(12.0), t45);
+        let t47: L = L::splat(2.0) * t29;
+        let t48: L = t27.mul_add(t46, t47);
+        let t49: L = t31 * L::splat(12.0);
+        let t50: L = t33.mul_add(L::splat(-96.0), t49);
+        let t51: L = t29.mul_add(t48, t50);
+        let t52: L = t32.mul_add(t43, t51);
+        let t53: L = t9 * t24;
+        let t54: L = L::splat(2.0) * t26;
+        let t55: L = L::splat(2.0) * t27;
+        let t56: L = t26 * t54;
+        let t57: L = t56.mul_add(L::splat(-0.25), L::splat(0.5));
+        let t58: L = t27 * t54;
+        let t59: L = t26 * t55;
+        let t60: L = L::splat(0.5).mul_sub(t58, t59);
+        let t61: L = t17.mul_add(t17, t3);
+        let t62: L = t61.rsqrt();
+        let t63: L = t61.sqrt_with(t62);
+        let t64: L = t24 * t63;
+        let t65: L = t17 * t24;
+        let t66: L = L::splat(2.0) * t65;
+        let t67: L = t25 * t62;
+        let t68: L = t67 * t67;
+        let t69: L = t54 * t64;
+        let t70: L = L::splat(0.5) * t69;
+        let t71: L = t68 * t70;
+        let t72: L = t64 * t66;
+        let t73: L = L::splat(0.5) * t72;
+        let t74: L = t68 * t73;
+        let t75: L = t54 * t71;
+        let t76: L = L::splat(0.5) * t64;
+        let t77: L = L::splat(-0.25).mul_add(t75, t76);
+        let t78: L = t68 * t77;
+        let t79: L = t54 * t74;
+        let t80: L = t66 * t71;
+        let t81: L = L::splat(0.5).mul_sub(t79, t80);
+        let t82: L = t68 * t81;
+        let t83: L = t5 * L::splat(4.0);
+        let t84: L = t24 * t83;
+        let t85: L = t4 * t84;
+        let t86: L = t24 * t85;
+        let t87: L = L::splat(1.0) + t64;
+        let t88: L = t26 + t71;
+        let t89: L = t27 + t74;
+        let t90: L = t57 + t78;
+        let t91: L = t60 + t82;
+        let t92: L = t68.mul_add(t76, L::splat(0.5));
+        let t93: L = t87.recip();
+        let t94: L = t86 * t93;
+        let t95: L = t88 * t94;
+        let t96: L = t93 * t95;
+        let t97: L = t89.neg_mul_add(t94, t84);
+        let t98: L = t93 * t97;
+        let t99: L = t90 * t94;
+        let t100: L = t88.mul_sub(t96, t99);
+        let t101: L = t93 * t100;
+        let t102: L = t89 * t96;
+        let t103: L = t88.mul_sub(t98, t102);
+        let t104: L = t91.mul_add(t94, t103);
+        let t105: L = t93 * t104;
+        let t106: L = t92 * t94;
+        let t107: L = t93 * t106;
+        let t108: L = L::splat(2.0) * t101;
+        let t109: L = t26.mul_add(t64, t71);
+        let t110: L = t27.mul_add(t64, t74);
+        let t111: L = t26.mul_add(t71, t78);
+        let t112: L = t57.mul_add(t64, t111);
+        let t113: L = t26.mul_add(t74, t82);
+        let t114: L = t27.mul_add(t71, t113);
+        let t115: L = t60.mul_add(t64, t114);
+        let t116: L = t68.mul_add(t76, t76);
+        let t117: L = t67 * t94;
+        let t118: L = t109.mul_add(t117, t96);
+        let t119: L = t67 * t118;
+        let t120: L = t110.neg_mul_add(t117, t98);
+        let t121: L = t67 * t120;
+        let t122: L = t109 * t119;
+        let t123: L = t112.mul_sub(t117, t122);
+        let t124: L = t101 - t123;
+        let t125: L = t67 * t124;
+        let t126: L = t110 * t119;
+        let t127: L = t109.mul_sub(t121, t126);
+        let t128: L = t115.mul_add(t117, t127);
+        let t129: L = t105 + t128;
+        let t130: L = t67 * t129;
+        let t131: L = t116.mul_add(t117, t107);
+        let t132: L = t67 * t131;
+        let t133: L = L::splat(-2.0) * t117;
+        let t134: L = t53 * t133;
+        let t135: L = t53.mul_sub(t108, t134);
+        let t136: L = L::splat(4.0) * t125;
+        let t137: L = t24 * t53;
+        let t138: L = t24 * t137;
+        let t139: L = t136 * t138;
+        let t140: L = t22.neg_mul_add(t139, t135);
+        let t141: L = t21.neg_mul_add(t139, t140);
+        let t142: L = t52.mul_add(t53, t141);
+        let t143: L = t31 * L::splat(-60.0);
+        let t144: L = t40 + t143;
+        let t145: L = t29 * t37;
+        let t146: L = t27.mul_add(t144, t145);
+        let t147: L = t26 * t146;
+        let t148: L = t27 * t29;
+        let t149: L = t31.mul_add(L::splat(-48.0), L::splat(-4.0));
+        let t150: L = t30.mul_add(L::splat(48.0), t149);
+        let t151: L = L::splat(6.0).mul_add(t148, t150);
+        let t152: L = t31 * L::splat(36.0);
+        let t153: L = t33.mul_add(L::splat(-480.0), t152);
+        let t154: L = t27 * t153;
+        let t155: L = t29.mul_add(t151, t154);
+        let t156: L = t26.mul_add(t147, t155);
+        let t157: L = t26 * t156;
+        let t158: L = t53 * t105;
+        let t159: L = L::splat(2.0) * t130;
+        let t160: L = t138 * t159;
+        let t161: L = t22.mul_sub(t160, t158);
+        let t162: L = t21.mul_add(t160, t161);
+        let t163: L = t53.mul_add(t157, t162);
+        let t164: L = t33.mul_add(L::splat(120.0), t44);
+        let t165: L = t32.mul_add(t164, t51);
+        let t166: L = L::splat(2.0) * t107;
+        let t167: L = t53.mul_add(t166, t134);
+        let t168: L = L::splat(4.0) * t132;
+        let t169: L = t138 * t168;
+        let t170: L = t22.mul_sub(t169, t167);
+        let t171: L = t21.mul_add(t169, t170);
+        let t172: L = t53.mul_add(t165, t171);
+        let t173: L = L::splat(-6.0) + t143;
+        let t174: L = t30.mul_add(L::splat(60.0), t173);
+        let t175: L = t29 * t174;
+        let t176: L = t27.mul_add(t35, t175);
+        let t177: L = t26 * t176;
+        let t178: L = t31.mul_add(L::splat(48.0), L::splat(8.0));
+        let t179: L = t30.mul_add(L::splat(-48.0), t178);
+        let t180: L = L::splat(-6.0).mul_add(t148, t179);
+        let t181: L = t33.mul_add(L::splat(480.0), t143);
+        let t182: L = t27 * t181;
+        let t183: L = t29.mul_add(t180, t182);
+        let t184: L = t26.mul_add(t177, t183);
+        let t185: L = t26 * t184;
+        let t186: L = t53.mul_add(t185, t162);
+        let t187: L = t31 * L::splat(-84.0);
+        let t188: L = t33.mul_add(L::splat(960.0), t187);
+        let t189: L = t29.mul_add(t39, t188);
+        let t190: L = t32.mul_add(t35, t189);
+        let t191: L = t31.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t192: L = t30.mul_add(L::splat(24.0), t191);
+        let t193: L = t29 * L::splat(4.0);
+        let t194: L = t27.mul_add(t192, t193);
+        let t195: L = t31 * L::splat(24.0);
+        let t196: L = t33.mul_add(L::splat(-192.0), t195);
+        let t197: L = t29.mul_add(t194, t196);
+        let t198: L = t32.mul_add(t190, t197);
+        let t199: L = t166 - t108;
+        let t200: L = t125 * L::splat(-4.0);
+        let t201: L = t132.mul_sub(L::splat(-4.0), t200);
+        let t202: L = t138 * t201;
+        let t203: L = t22 * t202;
+        let t204: L = t53.mul_add(t199, t203);
+        let t205: L = t21.mul_add(t202, t204);
+        let t206: L = t53.mul_add(t198, t205);
+        let t207: L = t14 * t142;
+        let t208: L = t16 * t172;
+        let t209: L = t16 * t208;
+        let t210: L = t14.mul_add(t207, t209);
+        let t211: L = t16 * t142;
+        let t212: L = t14 * t172;
+        let t213: L = t16 * t212;
+        let t214: L = t14.mul_sub(t211, t213);
+        let t215: L = t14 * t163;
+        let t216: L = t14 * t208;
+        let t217: L = t16.mul_sub(t207, t216);
+        let t218: L = t14 * t212;
+        let t219: L = t16.mul_add(t211, t218);
+        let t220: L = t16 * t163;
+        let t221: L = t14 * t186;
+        let t222: L = t16 * t186;
+        [t210, t214, t215, t217, t219, t220, t221, t222, t206]
+    };
+    let farv: [L; 9usize] = if L::any(far) {
+        let t223: L = L::splat(0.039788735772973836) / eta;
+        let t224: L = t3.rsqrt();
+        let t225: L = L::select(t3.gt(L::splat(0.0)), t224, L::splat(1.0));
+        let t226: L = t0 * t225;
+        let t227: L = L::select(t3.gt(L::splat(0.0)), t226, L::splat(1.0));
+        let t228: L = t1 * t225;
+        let t229: L = L::select(t3.gt(L::splat(0.0)), t228, L::splat(0.0));
+        let t230: L = t224 * t4;
+        let t231: L = t224 * t5;
+        let t232: L = aa * t224;
+        let t233: L = ab * t224;
+        let t234: L = t232 * t232;
+        let t235: L = t233 * t233;
+        let t236: L = t230 * t230;
+        let t237: L = t230 * t236;
+        let t238: L = t230 * t237;
+        let t239: L = t230 * t238;
+        let t240: L = t230 * t239;
+        let t241: L = t230 * t240;
+        let t242: L = t230 * t241;
+        let t243: L = t230 * t242;
+        let t244: L = t231 * t231;
+        let t245: L = t231 * t244;
+        let t246: L = t231 * t245;
+        let t247: L = t231 * t246;
+        let t248: L = t231 * t247;
+        let t249: L = t231 * t248;
+        let t250: L = t231 * t249;
+        let t251: L = t231 * t250;
+        let t252: L = t230 * t231;
+        let t253: L = t231 * t237;
+        let t254: L = L::splat(-30.0) * t253;
+        let t255: L = L::splat(12.0).mul_add(t252, t254);
+        let t256: L = t236 * t244;
+        let t257: L = L::splat(-24.0).mul_add(t256, t255);
+        let t258: L = t230 * t245;
+        let t259: L = L::splat(-30.0).mul_add(t258, t257);
+        let t260: L = t231 * t239;
+        let t261: L = L::splat(52.5).mul_add(t260, t259);
+        let t262: L = t238 * t244;
+        let t263: L = L::splat(90.0).mul_add(t262, t261);
+        let t264: L = t237 * t245;
+        let t265: L = L::splat(235.0).mul_add(t264, t263);
+        let t266: L = t236 * t246;
+        let t267: L = L::splat(90.0).mul_add(t266, t265);
+        let t268: L = t230 * t247;
+        let t269: L = L::splat(52.5).mul_add(t268, t267);
+        let t270: L = t231 * t241;
+        let t271: L = L::splat(-78.75).mul_add(t270, t269);
+        let t272: L = t240 * t244;
+        let t273: L = L::splat(-210.0).mul_add(t272, t271);
+        let t274: L = t239 * t245;
+        let t275: L = L::splat(-831.25).mul_add(t274, t273);
+        let t276: L = t238 * t246;
+        let t277: L = L::splat(-700.0).mul_add(t276, t275);
+        let t278: L = t237 * t247;
+        let t279: L = L::splat(-831.25).mul_add(t278, t277);
+        let t280: L = t236 * t248;
+        let t281: L = L::splat(-210.0).mul_add(t280, t279);
+        let t282: L = t230 * t249;
+        let t283: L = L::splat(-78.75).mul_add(t282, t281);
+        let t284: L = t252 * L::splat(-16.0);
+        let t285: L = t236.mul_add(L::splat(-8.0), t284);
+        let t286: L = t238.mul_add(L::splat(30.0), t285);
+        let t287: L = L::splat(120.0).mul_add(t253, t286);
+        let t288: L = t256.mul_add(L::splat(90.0), t287);
+        let t289: L = L::splat(60.0).mul_add(t258, t288);
+        let t290: L = t240.mul_add(L::splat(-70.0), t289);
+        let t291: L = t260.mul_add(L::splat(-420.0), t290);
+        let t292: L = t262.mul_add(L::splat(-700.0), t291);
+        let t293: L = t264.mul_add(L::splat(-933.3333333333334), t292);
+        let t294: L = t266.mul_add(L::splat(-350.0), t293);
+        let t295: L = t268.mul_add(L::splat(-140.0), t294);
+        let t296: L = t242.mul_add(L::splat(131.25), t295);
+        let t297: L = t270.mul_add(L::splat(1050.0), t296);
+        let t298: L = t272.mul_add(L::splat(2756.25), t297);
+        let t299: L = t274.mul_add(L::splat(5512.5), t298);
+        let t300: L = t276.mul_add(L::splat(4593.75), t299);
+        let t301: L = t278.mul_add(L::splat(3675.0), t300);
+        let t302: L = t280.mul_add(L::splat(918.75), t301);
+        let t303: L = t282.mul_add(L::splat(262.5), t302);
+        let t304: L = t244.mul_add(L::splat(-8.0), t284);
+        let t305: L = L::splat(60.0).mul_add(t253, t304);
+        let t306: L = t256.mul_add(L::splat(90.0), t305);
+        let t307: L = L::splat(120.0).mul_add(t258, t306);
+        let t308: L = t246.mul_add(L::splat(30.0), t307);
+        let t309: L = t260.mul_add(L::splat(-140.0), t308);
+        let t310: L = t262.mul_add(L::splat(-350.0), t309);
+        let t311: L = t264.mul_add(L::splat(-933.3333333333334), t310);
+        let t312: L = t266.mul_add(L::splat(-700.0), t311);
+        let t313: L = t268.mul_add(L::splat(-420.0), t312);
+        let t314: L = t248.mul_add(L::splat(-70.0), t313);
+        let t315: L = t270.mul_add(L::splat(262.5), t314);
+        let t316: L = t272.mul_add(L::splat(918.75), t315);
+        let t317: L = t274.mul_add(L::splat(3675.0), t316);
+        let t318: L = t276.mul_add(L::splat(4593.75), t317);
+        let t319: L = t278.mul_add(L::splat(5512.5), t318);
+        let t320: L = t280.mul_add(L::splat(2756.25), t319);
+        let t321: L = t282.mul_add(L::splat(1050.0), t320);
+        let t322: L = t250.mul_add(L::splat(131.25), t321);
+        let t323: L = t236.mul_add(L::splat(30.0), L::splat(-2.6666666666666665));
+        let t324: L = L::splat(60.0).mul_add(t252, t323);
+        let t325: L = t244.mul_add(L::splat(30.0), t324);
+        let t326: L = t238.mul_add(L::splat(-116.66666666666667), t325);
+        let t327: L = t253.mul_add(L::splat(-466.6666666666667), t326);
+        let t328: L = t256.mul_add(L::splat(-700.0), t327);
+        let t329: L = t258.mul_add(L::splat(-466.6666666666667), t328);
+        let t330: L = t246.mul_add(L::splat(-116.66666666666667), t329);
+        let t331: L = t240.mul_add(L::splat(306.25), t330);
+        let t332: L = t260.mul_add(L::splat(1837.5), t331);
+        let t333: L = t262.mul_add(L::splat(4593.75), t332);
+        let t334: L = t264.mul_add(L::splat(6125.0), t333);
+        let t335: L = t266.mul_add(L::splat(4593.75), t334);
+        let t336: L = t268.mul_add(L::splat(1837.5), t335);
+        let t337: L = t248.mul_add(L::splat(306.25), t336);
+        let t338: L = t242.mul_add(L::splat(-649.6875), t337);
+        let t339: L = t270.mul_add(L::splat(-5197.5), t338);
+        let t340: L = t272.mul_add(L::splat(-18191.25), t339);
+        let t341: L = t274.mul_add(L::splat(-36382.5), t340);
+        let t342: L = t276.mul_add(L::splat(-45478.125), t341);
+        let t343: L = t278.mul_add(L::splat(-36382.5), t342);
+        let t344: L = t280.mul_add(L::splat(-18191.25), t343);
+        let t345: L = t282.mul_add(L::splat(-5197.5), t344);
+        let t346: L = t250.mul_add(L::splat(-649.6875), t345);
+        let t347: L = t235.mul_add(t303, t283);
+        let t348: L = t234.mul_add(t322, t347);
+        let t349: L = t234 * t346;
+        let t350: L = t235.mul_add(t349, t348);
+        let t351: L = t224 * t350;
+        let t352: L = t230 * t244;
+        let t353: L = t237 * t244;
+        let t354: L = L::splat(60.0) * t353;
+        let t355: L = L::splat(-12.0).mul_add(t352, t354);
+        let t356: L = t236 * t245;
+        let t357: L = L::splat(30.0).mul_add(t356, t355);
+        let t358: L = t230 * t246;
+        let t359: L = L::splat(30.0).mul_add(t358, t357);
+        let t360: L = t239 * t244;
+        let t361: L = L::splat(-157.5).mul_add(t360, t359);
+        let t362: L = t238 * t245;
+        let t363: L = L::splat(-175.0).mul_add(t362, t361);
+        let t364: L = t237 * t246;
+        let t365: L = L::splat(-350.0).mul_add(t364, t363);
+        let t366: L = t236 * t247;
+        let t367: L = L::splat(-105.0).mul_add(t366, t365);
+        let t368: L = t230 * t248;
+        let t369: L = L::splat(-52.5).mul_add(t368, t367);
+        let t370: L = t241 * t244;
+        let t371: L = L::splat(315.0).mul_add(t370, t369);
+        let t372: L = t240 * t245;
+        let t373: L = L::splat(551.25).mul_add(t372, t371);
+        let t374: L = t239 * t246;
+        let t375: L = L::splat(1653.75).mul_add(t374, t373);
+        let t376: L = t238 * t247;
+        let t377: L = L::splat(1102.5).mul_add(t376, t375);
+        let t378: L = t237 * t248;
+        let t379: L = L::splat(1102.5).mul_add(t378, t377);
+        let t380: L = t236 * t249;
+        let t381: L = L::splat(236.25).mul_add(t380, t379);
+        let t382: L = t230 * t250;
+        let t383: L = L::splat(78.75).mul_add(t382, t381);
+        let t384: L = t237 * L::splat(20.0);
+        let t385: L = L::splat(-4.0).mul_add(t230, t384);
+        let t386: L = t231 * t236;
+        let t387: L = L::splat(30.0).mul_add(t386, t385);
+        let t388: L = L::splat(30.0) * t352;
+        let t389: L = t387 + t388;
+        let t390: L = t239.mul_add(L::splat(-52.5), t389);
+        let t391: L = t231 * t238;
+        let t392: L = L::splat(-175.0).mul_add(t391, t390);
+        let t393: L = L::splat(-350.0).mul_add(t353, t392);
+        let t394: L = t356.mul_add(L::splat(-175.0), t393);
+        let t395: L = t358.mul_add(L::splat(-87.5), t394);
+        let t396: L = t241.mul_add(L::splat(105.0), t395);
+        let t397: L = t231 * t240;
+        let t398: L = L::splat(551.25).mul_add(t397, t396);
+        let t399: L = t360.mul_add(L::splat(1653.75), t398);
+        let t400: L = L::splat(1837.5).mul_add(t362, t399);
+        let t401: L = L::splat(1837.5).mul_add(t364, t400);
+        let t402: L = t366.mul_add(L::splat(551.25), t401);
+        let t403: L = t368.mul_add(L::splat(183.75), t402);
+        let t404: L = t243.mul_add(L::splat(-180.46875), t403);
+        let t405: L = t231 * t242;
+        let t406: L = L::splat(-1299.375).mul_add(t405, t404);
+        let t407: L = L::splat(-5197.5).mul_add(t370, t406);
+        let t408: L = t372.mul_add(L::splat(-9095.625), t407);
+        let t409: L = t374.mul_add(L::splat(-13643.4375), t408);
+        let t410: L = t376.mul_add(L::splat(-9095.625), t409);
+        let t411: L = t378.mul_add(L::splat(-6063.75), t410);
+        let t412: L = t380.mul_add(L::splat(-1299.375), t411);
+        let t413: L = t382.mul_add(L::splat(-324.84375), t412);
+        let t414: L = t245.mul_add(L::splat(10.0), t388);
+        let t415: L = t353.mul_add(L::splat(-175.0), t414);
+        let t416: L = t356.mul_add(L::splat(-175.0), t415);
+        let t417: L = t358.mul_add(L::splat(-175.0), t416);
+        let t418: L = t247.mul_add(L::splat(-35.0), t417);
+        let t419: L = t360.mul_add(L::splat(551.25), t418);
+        let t420: L = L::splat(918.75).mul_add(t362, t419);
+        let t421: L = L::splat(1837.5).mul_add(t364, t420);
+        let t422: L = t366.mul_add(L::splat(1102.5), t421);
+        let t423: L = t368.mul_add(L::splat(551.25), t422);
+        let t424: L = t249.mul_add(L::splat(78.75), t423);
+        let t425: L = t370.mul_add(L::splat(-1299.375), t424);
+        let t426: L = t372.mul_add(L::splat(-3031.875), t425);
+        let t427: L = t374.mul_add(L::splat(-9095.625), t426);
+        let t428: L = t376.mul_add(L::splat(-9095.625), t427);
+        let t429: L = t378.mul_add(L::splat(-9095.625), t428);
+        let t430: L = t380.mul_add(L::splat(-3898.125), t429);
+        let t431: L = t382.mul_add(L::splat(-1299.375), t430);
+        let t432: L = t251.mul_add(L::splat(-144.375), t431);
+        let t433: L = t231 * L::splat(10.0);
+        let t434: L = t230.mul_add(L::splat(10.0), t433);
+        let t435: L = t237.mul_add(L::splat(-58.333333333333336), t434);
+        let t436: L = L::splat(-175.0).mul_add(t386, t435);
+        let t437: L = t352.mul_add(L::splat(-175.0), t436);
+        let t438: L = t245.mul_add(L::splat(-58.333333333333336), t437);
+        let t439: L = t239.mul_add(L::splat(183.75), t438);
+        let t440: L = L::splat(918.75).mul_add(t391, t439);
+        let t441: L = L::splat(1837.5).mul_add(t353, t440);
+        let t442: L = L::splat(1837.5).mul_add(t356, t441);
+        let t443: L = L::splat(918.75).mul_add(t358, t442);
+        let t444: L = t247.mul_add(L::splat(183.75), t443);
+        let t445: L = t241.mul_add(L::splat(-433.125), t444);
+        let t446: L = t397.mul_add(L::splat(-3031.875), t445);
+        let t447: L = t360.mul_add(L::splat(-9095.625), t446);
+        let t448: L = t362.mul_add(L::splat(-15159.375), t447);
+        let t449: L = t364.mul_add(L::splat(-15159.375), t448);
+        let t450: L = t366.mul_add(L::splat(-9095.625), t449);
+        let t451: L = t368.mul_add(L::splat(-3031.875), t450);
+        let t452: L = t249.mul_add(L::splat(-433.125), t451);
+        let t453: L = t243.mul_add(L::splat(860.234375), t452);
+        let t454: L = t405.mul_add(L::splat(7742.109375), t453);
+        let t455: L = t370.mul_add(L::splat(30968.4375), t454);
+        let t456: L = t372.mul_add(L::splat(72259.6875), t455);
+        let t457: L = t374.mul_add(L::splat(108389.53125), t456);
+        let t458: L = t376.mul_add(L::splat(108389.53125), t457);
+        let t459: L = t378.mul_add(L::splat(72259.6875), t458);
+        let t460: L = t380.mul_add(L::splat(30968.4375), t459);
+        let t461: L = t382.mul_add(L::splat(7742.109375), t460);
+        let t462: L = t251.mul_add(L::splat(860.234375), t461);
+        let t463: L = t235.mul_add(t413, t383);
+        let t464: L = t234.mul_add(t432, t463);
+        let t465: L = t234 * t462;
+        let t466: L = t235.mul_add(t465, t464);
+        let t467: L = t224 * t466;
+        let t468: L = t262 * L::splat(-15.0);
+        let t469: L = L::splat(6.0).mul_add(t256, t468);
+        let t470: L = t264.mul_add(L::splat(-10.0), t469);
+        let t471: L = t266.mul_add(L::splat(-15.0), t470);
+        let t472: L = t272.mul_add(L::splat(26.25), t471);
+        let t473: L = t274.mul_add(L::splat(35.0), t472);
+        let t474: L = t276.mul_add(L::splat(87.5), t473);
+        let t475: L = t278.mul_add(L::splat(35.0), t474);
+        let t476: L = t280.mul_add(L::splat(26.25), t475);
+        let t477: L = L::splat(4.0) * t252;
+        let t478: L = L::splat(2.0).mul_add(t236, t477);
+        let t479: L = t238.mul_add(L::splat(-5.0), t478);
+        let t480: L = t253.mul_add(L::splat(-20.0), t479);
+        let t481: L = t256.mul_add(L::splat(-15.0), t480);
+        let t482: L = t258.mul_add(L::splat(-10.0), t481);
+        let t483: L = t240.mul_add(L::splat(8.75), t482);
+        let t484: L = L::splat(52.5).mul_add(t260, t483);
+        let t485: L = t262.mul_add(L::splat(87.5), t484);
+        let t486: L = t264.mul_add(L::splat(116.66666666666667), t485);
+        let t487: L = t266.mul_add(L::splat(43.75), t486);
+        let t488: L = t268.mul_add(L::splat(17.5), t487);
+        let t489: L = t242.mul_add(L::splat(-13.125), t488);
+        let t490: L = t270.mul_add(L::splat(-105.0), t489);
+        let t491: L = t272.mul_add(L::splat(-275.625), t490);
+        let t492: L = t274.mul_add(L::splat(-551.25), t491);
+        let t493: L = t276.mul_add(L::splat(-459.375), t492);
+        let t494: L = t278.mul_add(L::splat(-367.5), t493);
+        let t495: L = t280.mul_add(L::splat(-91.875), t494);
+        let t496: L = t282.mul_add(L::splat(-26.25), t495);
+        let t497: L = L::splat(2.0).mul_add(t244, t477);
+        let t498: L = t253.mul_add(L::splat(-10.0), t497);
+        let t499: L = t256.mul_add(L::splat(-15.0), t498);
+        let t500: L = t258.mul_add(L::splat(-20.0), t499);
+        let t501: L = t246.mul_add(L::splat(-5.0), t500);
+        let t502: L = t260.mul_add(L::splat(17.5), t501);
+        let t503: L = t262.mul_add(L::splat(43.75), t502);
+        let t504: L = t264.mul_add(L::splat(116.66666666666667), t503);
+        let t505: L = t266.mul_add(L::splat(87.5), t504);
+        let t506: L = L::splat(52.5).mul_add(t268, t505);
+        let t507: L = t248.mul_add(L::splat(8.75), t506);
+        let t508: L = t270.mul_add(L::splat(-26.25), t507);
+        let t509: L = t272.mul_add(L::splat(-91.875), t508);
+        let t510: L = t274.mul_add(L::splat(-367.5), t509);
+        let t511: L = t276.mul_add(L::splat(-459.375), t510);
+        let t512: L = t278.mul_add(L::splat(-551.25), t511);
+        let t513: L = t280.mul_add(L::splat(-275.625), t512);
+        let t514: L = t282.mul_add(L::splat(-105.0), t513);
+        let t515: L = t250.mul_add(L::splat(-13.125), t514);
+        let t516: L = t236.mul_add(L::splat(-5.0), L::splat(0.6666666666666666));
+        let t517: L = t252.mul_add(L::splat(-10.0), t516);
+        let t518: L = t244.mul_add(L::splat(-5.0), t517);
+        let t519: L = t238.mul_add(L::splat(14.583333333333334), t518);
+        let t520: L = t253.mul_add(L::splat(58.333333333333336), t519);
+        let t521: L = t256.mul_add(L::splat(87.5), t520);
+        let t522: L = t258.mul_add(L::splat(58.333333333333336), t521);
+        let t523: L = t246.mul_add(L::splat(14.583333333333334), t522);
+        let t524: L = t240.mul_add(L::splat(-30.625), t523);
+        let t525: L = t260.mul_add(L::splat(-183.75), t524);
+        let t526: L = t262.mul_add(L::splat(-459.375), t525);
+        let t527: L = t264.mul_add(L::splat(-612.5), t526);
+        let t528: L = t266.mul_add(L::splat(-459.375), t527);
+        let t529: L = t268.mul_add(L::splat(-183.75), t528);
+        let t530: L = t248.mul_add(L::splat(-30.625), t529);
+        let t531: L = t242.mul_add(L::splat(54.140625), t530);
+        let t532: L = t270.mul_add(L::splat(433.125), t531);
+        let t533: L = t272.mul_add(L::splat(1515.9375), t532);
+        let t534: L = t274.mul_add(L::splat(3031.875), t533);
+        let t535: L = t276.mul_add(L::splat(3789.84375), t534);
+        let t536: L = t278.mul_add(L::splat(3031.875), t535);
+        let t537: L = t280.mul_add(L::splat(1515.9375), t536);
+        let t538: L = t282.mul_add(L::splat(433.125), t537);
+        let t539: L = t250.mul_add(L::splat(54.140625), t538);
+        let t540: L = t235.mul_add(t496, t476);
+        let t541: L = t234.mul_add(t515, t540);
+        let t542: L = t234 * t539;
+        let t543: L = t235.mul_add(t542, t541);
+        let t544: L = t224 * t543;
+        let t545: L = L::splat(-30.0) * t391;
+        let t546: L = L::splat(12.0).mul_add(t386, t545);
+        let t547: L = L::splat(-30.0).mul_add(t353, t546);
+        let t548: L = L::splat(-60.0).mul_add(t356, t547);
+        let t549: L = L::splat(52.5).mul_add(t397, t548);
+        let t550: L = t360.mul_add(L::splat(105.0), t549);
+        let t551: L = t362.mul_add(L::splat(350.0), t550);
+        let t552: L = t364.mul_add(L::splat(175.0), t551);
+        let t553: L = t366.mul_add(L::splat(157.5), t552);
+        let t554: L = L::splat(-78.75).mul_add(t405, t553);
+        let t555: L = t370.mul_add(L::splat(-236.25), t554);
+        let t556: L = t372.mul_add(L::splat(-1102.5), t555);
+        let t557: L = t374.mul_add(L::splat(-1102.5), t556);
+        let t558: L = t376.mul_add(L::splat(-1653.75), t557);
+        let t559: L = t378.mul_add(L::splat(-551.25), t558);
+        let t560: L = t380.mul_add(L::splat(-315.0), t559);
+        let t561: L = L::splat(-30.0) * t386;
+        let t562: L = t237.mul_add(L::splat(-10.0), t561);
+        let t563: L = t239.mul_add(L::splat(35.0), t562);
+        let t564: L = t391.mul_add(L::splat(175.0), t563);
+        let t565: L = t353.mul_add(L::splat(175.0), t564);
+        let t566: L = t356.mul_add(L::splat(175.0), t565);
+        let t567: L = t241.mul_add(L::splat(-78.75), t566);
+        let t568: L = t397.mul_add(L::splat(-551.25), t567);
+        let t569: L = t360.mul_add(L::splat(-1102.5), t568);
+        let t570: L = t362.mul_add(L::splat(-1837.5), t569);
+        let t571: L = t364.mul_add(L::splat(-918.75), t570);
+        let t572: L = t366.mul_add(L::splat(-551.25), t571);
+        let t573: L = t243.mul_add(L::splat(144.375), t572);
+        let t574: L = t405.mul_add(L::splat(1299.375), t573);
+        let t575: L = t370.mul_add(L::splat(3898.125), t574);
+        let t576: L = t372.mul_add(L::splat(9095.625), t575);
+        let t577: L = t374.mul_add(L::splat(9095.625), t576);
+        let t578: L = t376.mul_add(L::splat(9095.625), t577);
+        let t579: L = t378.mul_add(L::splat(3031.875), t578);
+        let t580: L = t380.mul_add(L::splat(1299.375), t579);
+        let t581: L = L::splat(4.0).mul_add(t231, t561);
+        let t582: L = L::splat(-30.0).mul_add(t352, t581);
+        let t583: L = t245.mul_add(L::splat(-20.0), t582);
+        let t584: L = t391.mul_add(L::splat(87.5), t583);
+        let t585: L = t353.mul_add(L::splat(175.0), t584);
+        let t586: L = t356.mul_add(L::splat(350.0), t585);
+        let t587: L = t358.mul_add(L::splat(175.0), t586);
+        let t588: L = t247.mul_add(L::splat(52.5), t587);
+        let t589: L = t397.mul_add(L::splat(-183.75), t588);
+        let t590: L = t360.mul_add(L::splat(-551.25), t589);
+        let t591: L = t362.mul_add(L::splat(-1837.5), t590);
+        let t592: L = t364.mul_add(L::splat(-1837.5), t591);
+        let t593: L = t366.mul_add(L::splat(-1653.75), t592);
+        let t594: L = t368.mul_add(L::splat(-551.25), t593);
+        let t595: L = t249.mul_add(L::splat(-105.0), t594);
+        let t596: L = t405.mul_add(L::splat(324.84375), t595);
+        let t597: L = t370.mul_add(L::splat(1299.375), t596);
+        let t598: L = t372.mul_add(L::splat(6063.75), t597);
+        let t599: L = t374.mul_add(L::splat(9095.625), t598);
+        let t600: L = t376.mul_add(L::splat(13643.4375), t599);
+        let t601: L = t378.mul_add(L::splat(9095.625), t600);
+        let t602: L = t380.mul_add(L::splat(5197.5), t601);
+        let t603: L = t382.mul_add(L::splat(1299.375), t602);
+        let t604: L = t251.mul_add(L::splat(180.46875), t603);
+        let t605: L = t231 * L::splat(-10.0);
+        let t606: L = t230.mul_add(L::splat(-10.0), t605);
+        let t607: L = t237.mul_add(L::splat(58.333333333333336), t606);
+        let t608: L = t386.mul_add(L::splat(175.0), t607);
+        let t609: L = t352.mul_add(L::splat(175.0), t608);
+        let t610: L = t245.mul_add(L::splat(58.333333333333336), t609);
+        let t611: L = t239.mul_add(L::splat(-183.75), t610);
+        let t612: L = t391.mul_add(L::splat(-918.75), t611);
+        let t613: L = t353.mul_add(L::splat(-1837.5), t612);
+        let t614: L = t356.mul_add(L::splat(-1837.5), t613);
+        let t615: L = t358.mul_add(L::splat(-918.75), t614);
+        let t616: L = t247.mul_add(L::splat(-183.75), t615);
+        let t617: L = t241.mul_add(L::splat(433.125), t616);
+        let t618: L = t397.mul_add(L::splat(3031.875), t617);
+        let t619: L = t360.mul_add(L::splat(9095.625), t618);
+        let t620: L = t362.mul_add(L::splat(15159.375), t619);
+        let t621: L = t364.mul_add(L::splat(15159.375), t620);
+        let t622: L = t366.mul_add(L::splat(9095.625), t621);
+        let t623: L = t368.mul_add(L::splat(3031.875), t622);
+        let t624: L = t249.mul_add(L::splat(433.125), t623);
+        let t625: L = t243.mul_add(L::splat(-860.234375), t624);
+        let t626: L = t405.mul_add(L::splat(-7742.109375), t625);
+        let t627: L = t370.mul_add(L::splat(-30968.4375), t626);
+        let t628: L = t372.mul_add(L::splat(-72259.6875), t627);
+        let t629: L = t374.mul_add(L::splat(-108389.53125), t628);
+        let t630: L = t376.mul_add(L::splat(-108389.53125), t629);
+        let t631: L = t378.mul_add(L::splat(-72259.6875), t630);
+        let t632: L = t380.mul_add(L::splat(-30968.4375), t631);
+        let t633: L = t382.mul_add(L::splat(-7742.109375), t632);
+        let t634: L = t251.mul_add(L::splat(-860.234375), t633);
+        let t635: L = t235.mul_add(t580, t560);
+        let t636: L = t234.mul_add(t604, t635);
+        let t637: L = t234 * t634;
+        let t638: L = t235.mul_add(t637, t636);
+        let t639: L = t224 * t638;
+        let t640: L = t262 * L::splat(75.0);
+        let t641: L = t256.mul_add(L::splat(-18.0), t640);
+        let t642: L = t264.mul_add(L::splat(50.0), t641);
+        let t643: L = t266.mul_add(L::splat(75.0), t642);
+        let t644: L = t272.mul_add(L::splat(-183.75), t643);
+        let t645: L = t274.mul_add(L::splat(-245.0), t644);
+        let t646: L = t276.mul_add(L::splat(-612.5), t645);
+        let t647: L = t278.mul_add(L::splat(-245.0), t646);
+        let t648: L = t280.mul_add(L::splat(-183.75), t647);
+        let t649: L = t238 * L::splat(25.0);
+        let t650: L = L::splat(-6.0).mul_add(t236, t649);
+        let t651: L = t253.mul_add(L::splat(50.0), t650);
+        let t652: L = t256 * L::splat(75.0);
+        let t653: L = t651 + t652;
+        let t654: L = t240.mul_add(L::splat(-61.25), t653);
+        let t655: L = t260.mul_add(L::splat(-245.0), t654);
+        let t656: L = t262.mul_add(L::splat(-612.5), t655);
+        let t657: L = t264.mul_add(L::splat(-408.3333333333333), t656);
+        let t658: L = t266.mul_add(L::splat(-306.25), t657);
+        let t659: L = t242.mul_add(L::splat(118.125), t658);
+        let t660: L = t270.mul_add(L::splat(708.75), t659);
+        let t661: L = t272.mul_add(L::splat(2480.625), t660);
+        let t662: L = t274.mul_add(L::splat(3307.5), t661);
+        let t663: L = t276.mul_add(L::splat(4134.375), t662);
+        let t664: L = t278.mul_add(L::splat(1653.75), t663);
+        let t665: L = t280.mul_add(L::splat(826.875), t664);
+        let t666: L = L::splat(-6.0).mul_add(t244, t652);
+        let t667: L = t258.mul_add(L::splat(50.0), t666);
+        let t668: L = t246.mul_add(L::splat(25.0), t667);
+        let t669: L = t262.mul_add(L::splat(-306.25), t668);
+        let t670: L = t264.mul_add(L::splat(-408.3333333333333), t669);
+        let t671: L = t266.mul_add(L::splat(-612.5), t670);
+        let t672: L = t268.mul_add(L::splat(-245.0), t671);
+        let t673: L = t248.mul_add(L::splat(-61.25), t672);
+        let t674: L = t272.mul_add(L::splat(826.875), t673);
+        let t675: L = t274.mul_add(L::splat(1653.75), t674);
+        let t676: L = t276.mul_add(L::splat(4134.375), t675);
+        let t677: L = t278.mul_add(L::splat(3307.5), t676);
+        let t678: L = t280.mul_add(L::splat(2480.625), t677);
+        let t679: L = t282.mul_add(L::splat(708.75), t678);
+        let t680: L = t250.mul_add(L::splat(118.125), t679);
+        let t681: L = t236.mul_add(L::splat(25.0), L::splat(-2.0));
+        let t682: L = t252.mul_add(L::splat(50.0), t681);
+        let t683: L = t244.mul_add(L::splat(25.0), t682);
+        let t684: L = t238.mul_add(L::splat(-102.08333333333333), t683);
+        let t685: L = t253.mul_add(L::splat(-408.3333333333333), t684);
+        let t686: L = t256.mul_add(L::splat(-612.5), t685);
+        let t687: L = t258.mul_add(L::splat(-408.3333333333333), t686);
+        let t688: L = t246.mul_add(L::splat(-102.08333333333333), t687);
+        let t689: L = t240.mul_add(L::splat(275.625), t688);
+        let t690: L = t260.mul_add(L::splat(1653.75), t689);
+        let t691: L = t262.mul_add(L::splat(4134.375), t690);
+        let t692: L = t264.mul_add(L::splat(5512.5), t691);
+        let t693: L = t266.mul_add(L::splat(4134.375), t692);
+        let t694: L = t268.mul_add(L::splat(1653.75), t693);
+        let t695: L = t248.mul_add(L::splat(275.625), t694);
+        let t696: L = t242.mul_add(L::splat(-595.546875), t695);
+        let t697: L = t270.mul_add(L::splat(-4764.375), t696);
+        let t698: L = t272.mul_add(L::splat(-16675.3125), t697);
+        let t699: L = t274.mul_add(L::splat(-33350.625), t698);
+        let t700: L = t276.mul_add(L::splat(-41688.28125), t699);
+        let t701: L = t278.mul_add(L::splat(-33350.625), t700);
+        let t702: L = t280.mul_add(L::splat(-16675.3125), t701);
+        let t703: L = t282.mul_add(L::splat(-4764.375), t702);
+        let t704: L = t250.mul_add(L::splat(-595.546875), t703);
+        let t705: L = t235.mul_add(t665, t648);
+        let t706: L = t234.mul_add(t680, t705);
+        let t707: L = t234 * t704;
+        let t708: L = t235.mul_add(t707, t706);
+        let t709: L = t224 * t708;
+        let t710: L = t223 * t351;
+        let t711: L = t223 * t467;
+        let t712: L = t223 * t544;
+        let t713: L = t223 * t639;
+        let t714: L = t223 * t709;
+        let t715: L = t227 * t710;
+        let t716: L = t229 * t712;
+        let t717: L = t229 * t716;
+        let t718: L = t227.mul_add(t715, t717);
+        let t719: L = t229 * t710;
+        let t720: L = t227 * t712;
+        let t721: L = t229 * t720;
+        let t722: L = t227.mul_sub(t719, t721);
+        let t723: L = t227 * t711;
+        let t724: L = t227 * t716;
+        let t725: L = t229.mul_sub(t715, t724);
+        let t726: L = t227 * t720;
+        let t727: L = t229.mul_add(t719, t726);
+        let t728: L = t229 * t711;
+        let t729: L = t227 * t713;
+        let t730: L = t229 * t713;
+        [t718, t722, t723, t725, t727, t728, t729, t730, t714]
+    } else {
+        [L::splat(0.0); 9usize]
+    };
+    let out: [L; 9usize] = lanes::select_array(far, farv, near);
+    out
 }
 /// Scene `wall_f` (plane no-slip wall at x3 = height: Stokeslet plus Blake's image (Eqs. 5, 7)): the F blocks, pair equal.
 ///

@@ -155,6 +155,201 @@ pub fn wall_ft_self(x: [f64; 3], a: f64, eta: f64, height: f64) -> BlocksFT {
         ol: [[t73, 0.0, 0.0], [0.0, t73, 0.0], [0.0, 0.0, t74]],
     }
 }
+/// Scene `wall_ft` (plane no-slip wall at x3 = height: Stokeslet plus Blake's image (Eqs. 5, 7)): the FT blocks, self.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `wall_ft_self`'s fields. Operation count with fused multiply-adds: 53 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn wall_ft_self_lanes<L: lanes::Lane>(
+    x: [L; 3],
+    a: L,
+    eta: L,
+    height: L,
+) -> [L; 36usize] {
+    let t0: L = x[2] - height;
+    let far = t0.gt(L::splat(0.0));
+    let near: [L; 36usize] = if L::all(far) {
+        [L::splat(0.0); 36usize]
+    } else {
+        let t1: L = L::splat(0.039788735772973836) / eta;
+        let t2: L = t0 * L::splat(2.0);
+        let t3: L = a * a;
+        let t4: L = a.recip();
+        let t5: L = t4 * t4;
+        let t6: L = t4 * t5;
+        let t7: L = t4 * L::splat(1.3333333333333333);
+        let t8: L = t3 * L::splat(0.16666666666666666);
+        let t9: L = t2 * t2;
+        let t10: L = t9.rsqrt();
+        let t11: L = t2 * t10;
+        let t12: L = t10 * t10;
+        let t13: L = t0 * t10;
+        let t14: L = t8 * t12;
+        let t15: L = t14.mul_add(L::splat(-12.0), L::splat(-2.0));
+        let t16: L = t14.mul_add(L::splat(12.0), t15);
+        let t17: L = L::splat(2.0) * t13;
+        let t18: L = t11.mul_add(t16, t17);
+        let t19: L = t14.mul_add(L::splat(-96.0), L::splat(-2.0));
+        let t20: L = t14.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t21: L = t14.mul_add(t19, t20);
+        let t22: L = t13.mul_add(t18, t21);
+        let t23: L = t1 * t10;
+        let t24: L = t1 * t7;
+        let t25: L = t22.mul_add(t23, t24);
+        let t26: L = t14.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t27: L = t14.mul_add(L::splat(24.0), t26);
+        let t28: L = t13 * L::splat(4.0);
+        let t29: L = t11.mul_add(t27, t28);
+        let t30: L = t14.mul_add(L::splat(-192.0), L::splat(4.0));
+        let t31: L = t14.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t32: L = t14.mul_add(t30, t31);
+        let t33: L = t13.mul_add(t29, t32);
+        let t34: L = t23.mul_add(t33, t24);
+        let t35: L = t14.mul_add(L::splat(12.0), L::splat(-1.0));
+        let t36: L = t11.mul_add(t35, t17);
+        let t37: L = t10 * t23;
+        let t38: L = t36 * t37;
+        let t39: L = t14.mul_add(L::splat(-12.0), L::splat(1.0));
+        let t40: L = t13 * L::splat(-2.0);
+        let t41: L = t11.mul_add(t39, t40);
+        let t42: L = t37 * t41;
+        let t43: L = t14.mul_add(L::splat(-12.0), L::splat(-1.0));
+        let t44: L = t11.mul_add(t43, t17);
+        let t45: L = t37 * t44;
+        let t46: L = t14.mul_add(L::splat(12.0), L::splat(1.0));
+        let t47: L = t11.mul_add(t46, t40);
+        let t48: L = t37 * t47;
+        let t49: L = t10 * t37;
+        let t50: L = t1 * t6;
+        let t51: L = L::splat(-2.5).mul_add(t49, t50);
+        let t52: L = t50 - t49;
+        [
+            t25,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t25,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t34,
+            L::splat(0.0),
+            t38,
+            L::splat(0.0),
+            t42,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t45,
+            L::splat(0.0),
+            t48,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t51,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t51,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t52,
+        ]
+    };
+    let farv: [L; 36usize] = if L::any(far) {
+        let t53: L = L::splat(0.039788735772973836) / eta;
+        let t54: L = a * a;
+        let t55: L = a * t0;
+        let t56: L = t55.recip();
+        let t57: L = t56 * a;
+        let t58: L = t56 * t0;
+        let t59: L = t58 * t58;
+        let t60: L = t58 * t59;
+        let t61: L = t58 * L::splat(1.3333333333333333);
+        let t62: L = t57 * t57;
+        let t63: L = t57 * t62;
+        let t64: L = L::splat(0.08333333333333333) * t63;
+        let t65: L = t64 + t64;
+        let t66: L = t57 * t63;
+        let t67: L = t57 * t66;
+        let t68: L = L::splat(-0.08333333333333333) * t67;
+        let t69: L = t57.mul_add(L::splat(-0.75), t61);
+        let t70: L = t54.mul_add(t65, t69);
+        let t71: L = t54 * t68;
+        let t72: L = t54.mul_add(t71, t70);
+        let t73: L = t63 * L::splat(0.3333333333333333);
+        let t74: L = t73 + t73;
+        let t75: L = t67 * L::splat(-0.16666666666666666);
+        let t76: L = t57.mul_add(L::splat(-1.5), t61);
+        let t77: L = t54.mul_add(t74, t76);
+        let t78: L = t54 * t75;
+        let t79: L = t54.mul_add(t78, t77);
+        let t80: L = t66 * L::splat(0.125);
+        let t81: L = t54 * t80;
+        let t82: L = t66 * L::splat(-0.125);
+        let t83: L = t54 * t82;
+        let t84: L = t63.mul_add(L::splat(-0.3125), t60);
+        let t85: L = t63.mul_add(L::splat(-0.125), t60);
+        let t86: L = t53 * t72;
+        let t87: L = t53 * t79;
+        let t88: L = t53 * t81;
+        let t89: L = t53 * t83;
+        let t90: L = t53 * t84;
+        let t91: L = t53 * t85;
+        [
+            t86,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t86,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t87,
+            L::splat(0.0),
+            t88,
+            L::splat(0.0),
+            t89,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t89,
+            L::splat(0.0),
+            t88,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t90,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t90,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t91,
+        ]
+    } else {
+        [L::splat(0.0); 36usize]
+    };
+    let out: [L; 36usize] = lanes::select_array(far, farv, near);
+    out
+}
+pub use wall_ft_self_lanes as wall_ft_self_lanes_ordered;
 /// Scene `wall_ft` (plane no-slip wall at x3 = height: Stokeslet plus Blake's image (Eqs. 5, 7)): the FT blocks, pair.
 ///
 /// Pruned to what the scene needs.
@@ -2298,6 +2493,1427 @@ pub fn wall_ft_pair(
         of: [[t398, t403, t405], [t408, t411, t412], [t381, t413, 0.0]],
         ol: [[t418, t423, t424], [t427, t430, t431], [t432, t433, t349]],
     }
+}
+/// Scene `wall_ft` (plane no-slip wall at x3 = height: Stokeslet plus Blake's image (Eqs. 5, 7)): the FT blocks, pair.
+///
+/// Pruned to what the scene needs.
+/// Jets truncated at derivative order 4 of G.
+///
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `wall_ft_pair`'s fields. Operation count with fused multiply-adds: 321 (direct sum).
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn wall_ft_pair_lanes<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+) -> [L; 36usize] {
+    let swap = {
+        let t0: L = xa[2] - height;
+        let t1: L = xb[2] - height;
+        t1.gt(t0)
+    };
+    let (xa, xb, aa, ab) = (
+        lanes::select_array(swap, xb, xa),
+        lanes::select_array(swap, xa, xb),
+        L::select(swap, ab, aa),
+        L::select(swap, aa, ab),
+    );
+    let out = wall_ft_pair_lanes_ordered(xa, xb, aa, ab, eta, height);
+    [
+        L::select(swap, out[0], out[0]),
+        L::select(swap, out[3], out[1]),
+        L::select(swap, out[6], out[2]),
+        L::select(swap, out[1], out[3]),
+        L::select(swap, out[4], out[4]),
+        L::select(swap, out[7], out[5]),
+        L::select(swap, out[2], out[6]),
+        L::select(swap, out[5], out[7]),
+        L::select(swap, out[8], out[8]),
+        L::select(swap, out[18], out[9]),
+        L::select(swap, out[21], out[10]),
+        L::select(swap, out[24], out[11]),
+        L::select(swap, out[19], out[12]),
+        L::select(swap, out[22], out[13]),
+        L::select(swap, out[25], out[14]),
+        L::select(swap, out[20], out[15]),
+        L::select(swap, out[23], out[16]),
+        L::select(swap, out[26], out[17]),
+        L::select(swap, out[9], out[18]),
+        L::select(swap, out[12], out[19]),
+        L::select(swap, out[15], out[20]),
+        L::select(swap, out[10], out[21]),
+        L::select(swap, out[13], out[22]),
+        L::select(swap, out[16], out[23]),
+        L::select(swap, out[11], out[24]),
+        L::select(swap, out[14], out[25]),
+        L::select(swap, out[17], out[26]),
+        L::select(swap, out[27], out[27]),
+        L::select(swap, out[30], out[28]),
+        L::select(swap, out[33], out[29]),
+        L::select(swap, out[28], out[30]),
+        L::select(swap, out[31], out[31]),
+        L::select(swap, out[34], out[32]),
+        L::select(swap, out[29], out[33]),
+        L::select(swap, out[32], out[34]),
+        L::select(swap, out[35], out[35]),
+    ]
+}
+/// [`wall_ft_pair_lanes`] without the exchange of roles: the same values in lanes where `b` is no farther than `a` from the cancelling plane; elsewhere the same tensor with the cancellation the exchange avoids. The caller orders the particles (by height, highest first) and passes the earlier one as `a`.
+#[inline(always)]
+#[allow(unused_variables)]
+pub fn wall_ft_pair_lanes_ordered<L: lanes::Lane>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    eta: L,
+    height: L,
+) -> [L; 36usize] {
+    let t0: L = xa[0] - xb[0];
+    let t1: L = xa[1] - xb[1];
+    let t2: L = t1 * t1;
+    let t3: L = t0.mul_add(t0, t2);
+    let t4: L = xa[2] - height;
+    let t5: L = xb[2] - height;
+    let t6: L = t5 * t5;
+    let t7: L = t4.mul_add(t4, t6);
+    let t8: L = L::splat(20000.0) * t7;
+    let far = t3.gt(t8);
+    let near: [L; 36usize] = if L::all(far) {
+        [L::splat(0.0); 36usize]
+    } else {
+        let t9: L = L::splat(0.039788735772973836) / eta;
+        let t10: L = t3.rsqrt();
+        let t11: L = t3.sqrt_with(t10);
+        let t12: L = L::select(t3.gt(L::splat(0.0)), t10, L::splat(1.0));
+        let t13: L = t0 * t12;
+        let t14: L = L::select(t3.gt(L::splat(0.0)), t13, L::splat(1.0));
+        let t15: L = t1 * t12;
+        let t16: L = L::select(t3.gt(L::splat(0.0)), t15, L::splat(0.0));
+        let t17: L = xa[2] - xb[2];
+        let t18: L = t5.mul_add(L::splat(2.0), t17);
+        let t19: L = aa * aa;
+        let t20: L = ab * ab;
+        let t21: L = t19 * L::splat(0.16666666666666666);
+        let t22: L = t20 * L::splat(0.16666666666666666);
+        let t23: L = t18.mul_add(t18, t3);
+        let t24: L = t23.rsqrt();
+        let t25: L = t23.sqrt_with(t24);
+        let t26: L = t11 * t24;
+        let t27: L = t18 * t24;
+        let t28: L = t24 * t24;
+        let t29: L = t5 * t24;
+        let t30: L = t21 * t28;
+        let t31: L = t22 * t28;
+        let t32: L = t26.powi(2);
+        let t33: L = t30 * t31;
+        let t34: L = t31 * L::splat(60.0);
+        let t35: L = t33.mul_add(L::splat(-840.0), t34);
+        let t36: L = t34 + L::splat(6.0);
+        let t37: L = t30.mul_add(L::splat(-60.0), t36);
+        let t38: L = t29 * L::splat(-6.0);
+        let t39: L = t27.mul_add(t37, t38);
+        let t40: L = t33 * L::splat(840.0);
+        let t41: L = t31.mul_add(L::splat(-72.0), t40);
+        let t42: L = t29.mul_add(t39, t41);
+        let t43: L = t32.mul_add(t35, t42);
+        let t44: L = t31 * L::splat(-12.0);
+        let t45: L = t44 + L::splat(-2.0);
+        let t46: L = t30.mul_add(L::splat(12.0), t45);
+        let t47: L = L::splat(2.0) * t29;
+        let t48: L = t27.mul_add(t46, t47);
+        let t49: L = t31 * L::splat(12.0);
+        let t50: L = t33.mul_add(L::splat(-96.0), t49);
+        let t51: L = t29.mul_add(t48, t50);
+        let t52: L = t32.mul_add(t43, t51);
+        let t53: L = t9 * t24;
+        let t54: L = L::splat(2.0) * t26;
+        let t55: L = L::splat(2.0) * t27;
+        let t56: L = t26 * t54;
+        let t57: L = t56.mul_add(L::splat(-0.25), L::splat(0.5));
+        let t58: L = t27 * t54;
+        let t59: L = t26 * t55;
+        let t60: L = L::splat(0.5).mul_sub(t58, t59);
+        let t61: L = t17.mul_add(t17, t3);
+        let t62: L = t61.rsqrt();
+        let t63: L = t61.sqrt_with(t62);
+        let t64: L = t24 * t63;
+        let t65: L = t17 * t24;
+        let t66: L = L::splat(2.0) * t65;
+        let t67: L = t25 * t62;
+        let t68: L = t67 * t67;
+        let t69: L = t54 * t64;
+        let t70: L = L::splat(0.5) * t69;
+        let t71: L = t68 * t70;
+        let t72: L = t64 * t66;
+        let t73: L = L::splat(0.5) * t72;
+        let t74: L = t68 * t73;
+        let t75: L = t54 * t71;
+        let t76: L = L::splat(0.5) * t64;
+        let t77: L = L::splat(-0.25).mul_add(t75, t76);
+        let t78: L = t68 * t77;
+        let t79: L = t54 * t74;
+        let t80: L = t66 * t71;
+        let t81: L = L::splat(0.5).mul_sub(t79, t80);
+        let t82: L = t68 * t81;
+        let t83: L = t5 * L::splat(4.0);
+        let t84: L = t24 * t83;
+        let t85: L = t4 * t84;
+        let t86: L = t24 * t85;
+        let t87: L = L::splat(1.0) + t64;
+        let t88: L = t26 + t71;
+        let t89: L = t27 + t74;
+        let t90: L = t57 + t78;
+        let t91: L = t60 + t82;
+        let t92: L = t68.mul_add(t76, L::splat(0.5));
+        let t93: L = t87.recip();
+        let t94: L = t86 * t93;
+        let t95: L = t88 * t94;
+        let t96: L = t93 * t95;
+        let t97: L = t89.neg_mul_add(t94, t84);
+        let t98: L = t93 * t97;
+        let t99: L = t90 * t94;
+        let t100: L = t88.mul_sub(t96, t99);
+        let t101: L = t93 * t100;
+        let t102: L = t89 * t96;
+        let t103: L = t88.mul_sub(t98, t102);
+        let t104: L = t91.mul_add(t94, t103);
+        let t105: L = t93 * t104;
+        let t106: L = t92 * t94;
+        let t107: L = t93 * t106;
+        let t108: L = L::splat(2.0) * t101;
+        let t109: L = t26.mul_add(t64, t71);
+        let t110: L = t27.mul_add(t64, t74);
+        let t111: L = t26.mul_add(t71, t78);
+        let t112: L = t57.mul_add(t64, t111);
+        let t113: L = t26.mul_add(t74, t82);
+        let t114: L = t27.mul_add(t71, t113);
+        let t115: L = t60.mul_add(t64, t114);
+        let t116: L = t68.mul_add(t76, t76);
+        let t117: L = t67 * t94;
+        let t118: L = t109.mul_add(t117, t96);
+        let t119: L = t67 * t118;
+        let t120: L = t110.neg_mul_add(t117, t98);
+        let t121: L = t67 * t120;
+        let t122: L = t109 * t119;
+        let t123: L = t112.mul_sub(t117, t122);
+        let t124: L = t101 - t123;
+        let t125: L = t67 * t124;
+        let t126: L = t110 * t119;
+        let t127: L = t109.mul_sub(t121, t126);
+        let t128: L = t115.mul_add(t117, t127);
+        let t129: L = t105 + t128;
+        let t130: L = t67 * t129;
+        let t131: L = t116.mul_add(t117, t107);
+        let t132: L = t67 * t131;
+        let t133: L = L::splat(-2.0) * t117;
+        let t134: L = t53 * t133;
+        let t135: L = t53.mul_sub(t108, t134);
+        let t136: L = L::splat(4.0) * t125;
+        let t137: L = t24 * t53;
+        let t138: L = t24 * t137;
+        let t139: L = t136 * t138;
+        let t140: L = t22.neg_mul_add(t139, t135);
+        let t141: L = t21.neg_mul_add(t139, t140);
+        let t142: L = t52.mul_add(t53, t141);
+        let t143: L = t31 * L::splat(-60.0);
+        let t144: L = t40 + t143;
+        let t145: L = t29 * t37;
+        let t146: L = t27.mul_add(t144, t145);
+        let t147: L = t26 * t146;
+        let t148: L = t27 * t29;
+        let t149: L = t31.mul_add(L::splat(-48.0), L::splat(-4.0));
+        let t150: L = t30.mul_add(L::splat(48.0), t149);
+        let t151: L = L::splat(6.0).mul_add(t148, t150);
+        let t152: L = t31 * L::splat(36.0);
+        let t153: L = t33.mul_add(L::splat(-480.0), t152);
+        let t154: L = t27 * t153;
+        let t155: L = t29.mul_add(t151, t154);
+        let t156: L = t26.mul_add(t147, t155);
+        let t157: L = t26 * t156;
+        let t158: L = t53 * t105;
+        let t159: L = L::splat(2.0) * t130;
+        let t160: L = t138 * t159;
+        let t161: L = t22.mul_sub(t160, t158);
+        let t162: L = t21.mul_add(t160, t161);
+        let t163: L = t53.mul_add(t157, t162);
+        let t164: L = t33.mul_add(L::splat(120.0), t44);
+        let t165: L = t32.mul_add(t164, t51);
+        let t166: L = L::splat(2.0) * t107;
+        let t167: L = t53.mul_add(t166, t134);
+        let t168: L = L::splat(4.0) * t132;
+        let t169: L = t138 * t168;
+        let t170: L = t22.mul_sub(t169, t167);
+        let t171: L = t21.mul_add(t169, t170);
+        let t172: L = t53.mul_add(t165, t171);
+        let t173: L = L::splat(-6.0) + t143;
+        let t174: L = t30.mul_add(L::splat(60.0), t173);
+        let t175: L = t29 * t174;
+        let t176: L = t27.mul_add(t35, t175);
+        let t177: L = t26 * t176;
+        let t178: L = t31.mul_add(L::splat(48.0), L::splat(8.0));
+        let t179: L = t30.mul_add(L::splat(-48.0), t178);
+        let t180: L = L::splat(-6.0) * t148;
+        let t181: L = t179 + t180;
+        let t182: L = t33.mul_add(L::splat(480.0), t143);
+        let t183: L = t27 * t182;
+        let t184: L = t29.mul_add(t181, t183);
+        let t185: L = t26.mul_add(t177, t184);
+        let t186: L = t26 * t185;
+        let t187: L = t53.mul_add(t186, t162);
+        let t188: L = t31 * L::splat(-84.0);
+        let t189: L = t33.mul_add(L::splat(960.0), t188);
+        let t190: L = t29.mul_add(t39, t189);
+        let t191: L = t32.mul_add(t35, t190);
+        let t192: L = t31.mul_add(L::splat(-24.0), L::splat(-4.0));
+        let t193: L = t30.mul_add(L::splat(24.0), t192);
+        let t194: L = t29 * L::splat(4.0);
+        let t195: L = t27.mul_add(t193, t194);
+        let t196: L = t31 * L::splat(24.0);
+        let t197: L = t33.mul_add(L::splat(-192.0), t196);
+        let t198: L = t29.mul_add(t195, t197);
+        let t199: L = t32.mul_add(t191, t198);
+        let t200: L = t166 - t108;
+        let t201: L = t125 * L::splat(-4.0);
+        let t202: L = t132.mul_sub(L::splat(-4.0), t201);
+        let t203: L = t138 * t202;
+        let t204: L = t22 * t203;
+        let t205: L = t53.mul_add(t200, t204);
+        let t206: L = t21.mul_add(t203, t205);
+        let t207: L = t53.mul_add(t199, t206);
+        let t208: L = t30.mul_add(L::splat(-60.0), L::splat(6.0));
+        let t209: L = t27.mul_add(t208, t38);
+        let t210: L = t27 * t30;
+        let t211: L = L::splat(12.0).mul_add(t210, t47);
+        let t212: L = t32.mul_add(t209, t211);
+        let t213: L = t121 * t137;
+        let t214: L = t137.mul_sub(t212, t213);
+        let t215: L = t29 * L::splat(-2.0);
+        let t216: L = L::splat(-12.0).mul_add(t210, t215);
+        let t217: L = t137.mul_add(t216, t213);
+        let t218: L = t119 * t137;
+        let t219: L = t30.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t220: L = t26 * t219;
+        let t221: L = t30.mul_add(L::splat(-48.0), L::splat(6.0));
+        let t222: L = t180 + t221;
+        let t223: L = t26.mul_add(t220, t222);
+        let t224: L = t26 * t223;
+        let t225: L = t137.mul_sub(t224, t218);
+        let t226: L = t27 * t31;
+        let t227: L = L::splat(-12.0).mul_add(t226, t47);
+        let t228: L = t137.mul_sub(t227, t213);
+        let t229: L = t29 * L::splat(6.0);
+        let t230: L = L::splat(-60.0).mul_add(t226, t229);
+        let t231: L = L::splat(12.0).mul_add(t226, t215);
+        let t232: L = t32.mul_add(t230, t231);
+        let t233: L = t137.mul_add(t232, t213);
+        let t234: L = t26 * t31;
+        let t235: L = t26 * t234;
+        let t236: L = t31.mul_add(L::splat(48.0), t180);
+        let t237: L = L::splat(-60.0).mul_add(t235, t236);
+        let t238: L = t26 * t237;
+        let t239: L = t137.mul_add(t238, t218);
+        let t240: L = t32.mul_add(L::splat(3.0), L::splat(-3.0));
+        let t241: L = t125 * t138;
+        let t242: L = t138.mul_add(t240, t241);
+        let t243: L = L::splat(-0.5) * t130;
+        let t244: L = t138 * t243;
+        let t245: L = t32.mul_add(L::splat(6.0), L::splat(-3.0));
+        let t246: L = t132 * t138;
+        let t247: L = t138.mul_sub(t245, t246);
+        let t248: L = t26 * t27;
+        let t249: L = L::splat(3.0) * t248;
+        let t250: L = t138.mul_add(t249, t244);
+        let t251: L = t132 - t125;
+        let t252: L = t138 * t251;
+        let t253: L = t14 * t142;
+        let t254: L = t16 * t172;
+        let t255: L = t16 * t254;
+        let t256: L = t14.mul_add(t253, t255);
+        let t257: L = t16 * t142;
+        let t258: L = t14 * t172;
+        let t259: L = t16 * t258;
+        let t260: L = t14.mul_sub(t257, t259);
+        let t261: L = t14 * t163;
+        let t262: L = t14 * t254;
+        let t263: L = t16.mul_sub(t253, t262);
+        let t264: L = t14 * t258;
+        let t265: L = t16.mul_add(t257, t264);
+        let t266: L = t16 * t163;
+        let t267: L = t14 * t187;
+        let t268: L = t16 * t187;
+        let t269: L = t16 * t214;
+        let t270: L = t14 * t217;
+        let t271: L = t16 * t270;
+        let t272: L = t14.mul_add(t269, t271);
+        let t273: L = -t272;
+        let t274: L = t14 * t214;
+        let t275: L = t16 * t217;
+        let t276: L = t16 * t275;
+        let t277: L = t14.mul_sub(t274, t276);
+        let t278: L = t16 * t218;
+        let t279: L = -t278;
+        let t280: L = t16 * t269;
+        let t281: L = t14.mul_sub(t270, t280);
+        let t282: L = t14 * t275;
+        let t283: L = t16.mul_add(t274, t282);
+        let t284: L = t14 * t218;
+        let t285: L = t16 * t225;
+        let t286: L = -t285;
+        let t287: L = t14 * t225;
+        let t288: L = t16 * t228;
+        let t289: L = t14 * t233;
+        let t290: L = t16 * t289;
+        let t291: L = t14.mul_add(t288, t290);
+        let t292: L = -t291;
+        let t293: L = t14 * t228;
+        let t294: L = t16 * t233;
+        let t295: L = t16 * t294;
+        let t296: L = t14.mul_sub(t293, t295);
+        let t297: L = t16 * t239;
+        let t298: L = -t297;
+        let t299: L = t16 * t288;
+        let t300: L = t14.mul_sub(t289, t299);
+        let t301: L = t14 * t294;
+        let t302: L = t16.mul_add(t293, t301);
+        let t303: L = t14 * t239;
+        let t304: L = -t284;
+        let t305: L = t14 * t242;
+        let t306: L = t16 * t247;
+        let t307: L = t16 * t306;
+        let t308: L = t14.mul_add(t305, t307);
+        let t309: L = t16 * t242;
+        let t310: L = t14 * t247;
+        let t311: L = t16 * t310;
+        let t312: L = t14.mul_sub(t309, t311);
+        let t313: L = t14 * t244;
+        let t314: L = t14 * t306;
+        let t315: L = t16.mul_sub(t305, t314);
+        let t316: L = t14 * t310;
+        let t317: L = t16.mul_add(t309, t316);
+        let t318: L = t16 * t244;
+        let t319: L = t14 * t250;
+        let t320: L = t16 * t250;
+        [
+            t256,
+            t260,
+            t261,
+            t263,
+            t265,
+            t266,
+            t267,
+            t268,
+            t207,
+            t273,
+            t277,
+            t279,
+            t281,
+            t283,
+            t284,
+            t286,
+            t287,
+            L::splat(0.0),
+            t292,
+            t296,
+            t298,
+            t300,
+            t302,
+            t303,
+            t278,
+            t304,
+            L::splat(0.0),
+            t308,
+            t312,
+            t313,
+            t315,
+            t317,
+            t318,
+            t319,
+            t320,
+            t252,
+        ]
+    };
+    let farv: [L; 36usize] = if L::any(far) {
+        let t321: L = L::splat(0.039788735772973836) / eta;
+        let t322: L = t3.rsqrt();
+        let t323: L = L::select(t3.gt(L::splat(0.0)), t322, L::splat(1.0));
+        let t324: L = t0 * t323;
+        let t325: L = L::select(t3.gt(L::splat(0.0)), t324, L::splat(1.0));
+        let t326: L = t1 * t323;
+        let t327: L = L::select(t3.gt(L::splat(0.0)), t326, L::splat(0.0));
+        let t328: L = t322 * t4;
+        let t329: L = t322 * t5;
+        let t330: L = aa * t322;
+        let t331: L = ab * t322;
+        let t332: L = t330 * t330;
+        let t333: L = t331 * t331;
+        let t334: L = t328 * t328;
+        let t335: L = t328 * t334;
+        let t336: L = t328 * t335;
+        let t337: L = t328 * t336;
+        let t338: L = t328 * t337;
+        let t339: L = t328 * t338;
+        let t340: L = t328 * t339;
+        let t341: L = t328 * t340;
+        let t342: L = t329 * t329;
+        let t343: L = t329 * t342;
+        let t344: L = t329 * t343;
+        let t345: L = t329 * t344;
+        let t346: L = t329 * t345;
+        let t347: L = t329 * t346;
+        let t348: L = t329 * t347;
+        let t349: L = t329 * t348;
+        let t350: L = t322 * t322;
+        let t351: L = t322 * t350;
+        let t352: L = t328 * t329;
+        let t353: L = t329 * t335;
+        let t354: L = L::splat(-30.0) * t353;
+        let t355: L = L::splat(12.0).mul_add(t352, t354);
+        let t356: L = t334 * t342;
+        let t357: L = L::splat(-24.0).mul_add(t356, t355);
+        let t358: L = t328 * t343;
+        let t359: L = L::splat(-30.0).mul_add(t358, t357);
+        let t360: L = t329 * t337;
+        let t361: L = L::splat(52.5).mul_add(t360, t359);
+        let t362: L = t336 * t342;
+        let t363: L = L::splat(90.0).mul_add(t362, t361);
+        let t364: L = t335 * t343;
+        let t365: L = L::splat(235.0).mul_add(t364, t363);
+        let t366: L = t334 * t344;
+        let t367: L = L::splat(90.0).mul_add(t366, t365);
+        let t368: L = t328 * t345;
+        let t369: L = L::splat(52.5).mul_add(t368, t367);
+        let t370: L = t329 * t339;
+        let t371: L = L::splat(-78.75).mul_add(t370, t369);
+        let t372: L = t338 * t342;
+        let t373: L = L::splat(-210.0).mul_add(t372, t371);
+        let t374: L = t337 * t343;
+        let t375: L = L::splat(-831.25).mul_add(t374, t373);
+        let t376: L = t336 * t344;
+        let t377: L = L::splat(-700.0).mul_add(t376, t375);
+        let t378: L = t335 * t345;
+        let t379: L = L::splat(-831.25).mul_add(t378, t377);
+        let t380: L = t334 * t346;
+        let t381: L = L::splat(-210.0).mul_add(t380, t379);
+        let t382: L = t328 * t347;
+        let t383: L = L::splat(-78.75).mul_add(t382, t381);
+        let t384: L = t352 * L::splat(-16.0);
+        let t385: L = t334.mul_add(L::splat(-8.0), t384);
+        let t386: L = t336.mul_add(L::splat(30.0), t385);
+        let t387: L = L::splat(120.0).mul_add(t353, t386);
+        let t388: L = t356.mul_add(L::splat(90.0), t387);
+        let t389: L = L::splat(60.0).mul_add(t358, t388);
+        let t390: L = t338.mul_add(L::splat(-70.0), t389);
+        let t391: L = t360.mul_add(L::splat(-420.0), t390);
+        let t392: L = t362.mul_add(L::splat(-700.0), t391);
+        let t393: L = t364.mul_add(L::splat(-933.3333333333334), t392);
+        let t394: L = t366.mul_add(L::splat(-350.0), t393);
+        let t395: L = t368.mul_add(L::splat(-140.0), t394);
+        let t396: L = t340.mul_add(L::splat(131.25), t395);
+        let t397: L = t370.mul_add(L::splat(1050.0), t396);
+        let t398: L = t372.mul_add(L::splat(2756.25), t397);
+        let t399: L = t374.mul_add(L::splat(5512.5), t398);
+        let t400: L = t376.mul_add(L::splat(4593.75), t399);
+        let t401: L = t378.mul_add(L::splat(3675.0), t400);
+        let t402: L = t380.mul_add(L::splat(918.75), t401);
+        let t403: L = t382.mul_add(L::splat(262.5), t402);
+        let t404: L = t342.mul_add(L::splat(-8.0), t384);
+        let t405: L = L::splat(60.0).mul_add(t353, t404);
+        let t406: L = t356.mul_add(L::splat(90.0), t405);
+        let t407: L = L::splat(120.0).mul_add(t358, t406);
+        let t408: L = t344.mul_add(L::splat(30.0), t407);
+        let t409: L = t360.mul_add(L::splat(-140.0), t408);
+        let t410: L = t362.mul_add(L::splat(-350.0), t409);
+        let t411: L = t364.mul_add(L::splat(-933.3333333333334), t410);
+        let t412: L = t366.mul_add(L::splat(-700.0), t411);
+        let t413: L = t368.mul_add(L::splat(-420.0), t412);
+        let t414: L = t346.mul_add(L::splat(-70.0), t413);
+        let t415: L = t370.mul_add(L::splat(262.5), t414);
+        let t416: L = t372.mul_add(L::splat(918.75), t415);
+        let t417: L = t374.mul_add(L::splat(3675.0), t416);
+        let t418: L = t376.mul_add(L::splat(4593.75), t417);
+        let t419: L = t378.mul_add(L::splat(5512.5), t418);
+        let t420: L = t380.mul_add(L::splat(2756.25), t419);
+        let t421: L = t382.mul_add(L::splat(1050.0), t420);
+        let t422: L = t348.mul_add(L::splat(131.25), t421);
+        let t423: L = t334.mul_add(L::splat(30.0), L::splat(-2.6666666666666665));
+        let t424: L = L::splat(60.0).mul_add(t352, t423);
+        let t425: L = t342.mul_add(L::splat(30.0), t424);
+        let t426: L = t336.mul_add(L::splat(-116.66666666666667), t425);
+        let t427: L = t353.mul_add(L::splat(-466.6666666666667), t426);
+        let t428: L = t356.mul_add(L::splat(-700.0), t427);
+        let t429: L = t358.mul_add(L::splat(-466.6666666666667), t428);
+        let t430: L = t344.mul_add(L::splat(-116.66666666666667), t429);
+        let t431: L = t338.mul_add(L::splat(306.25), t430);
+        let t432: L = t360.mul_add(L::splat(1837.5), t431);
+        let t433: L = t362.mul_add(L::splat(4593.75), t432);
+        let t434: L = t364.mul_add(L::splat(6125.0), t433);
+        let t435: L = t366.mul_add(L::splat(4593.75), t434);
+        let t436: L = t368.mul_add(L::splat(1837.5), t435);
+        let t437: L = t346.mul_add(L::splat(306.25), t436);
+        let t438: L = t340.mul_add(L::splat(-649.6875), t437);
+        let t439: L = t370.mul_add(L::splat(-5197.5), t438);
+        let t440: L = t372.mul_add(L::splat(-18191.25), t439);
+        let t441: L = t374.mul_add(L::splat(-36382.5), t440);
+        let t442: L = t376.mul_add(L::splat(-45478.125), t441);
+        let t443: L = t378.mul_add(L::splat(-36382.5), t442);
+        let t444: L = t380.mul_add(L::splat(-18191.25), t443);
+        let t445: L = t382.mul_add(L::splat(-5197.5), t444);
+        let t446: L = t348.mul_add(L::splat(-649.6875), t445);
+        let t447: L = t333.mul_add(t403, t383);
+        let t448: L = t332.mul_add(t422, t447);
+        let t449: L = t332 * t446;
+        let t450: L = t333.mul_add(t449, t448);
+        let t451: L = t322 * t450;
+        let t452: L = t328 * t342;
+        let t453: L = t335 * t342;
+        let t454: L = L::splat(60.0) * t453;
+        let t455: L = L::splat(-12.0).mul_add(t452, t454);
+        let t456: L = t334 * t343;
+        let t457: L = L::splat(30.0).mul_add(t456, t455);
+        let t458: L = t328 * t344;
+        let t459: L = L::splat(30.0).mul_add(t458, t457);
+        let t460: L = t337 * t342;
+        let t461: L = L::splat(-157.5).mul_add(t460, t459);
+        let t462: L = t336 * t343;
+        let t463: L = L::splat(-175.0).mul_add(t462, t461);
+        let t464: L = t335 * t344;
+        let t465: L = L::splat(-350.0).mul_add(t464, t463);
+        let t466: L = t334 * t345;
+        let t467: L = L::splat(-105.0).mul_add(t466, t465);
+        let t468: L = t328 * t346;
+        let t469: L = L::splat(-52.5).mul_add(t468, t467);
+        let t470: L = t339 * t342;
+        let t471: L = L::splat(315.0).mul_add(t470, t469);
+        let t472: L = t338 * t343;
+        let t473: L = L::splat(551.25).mul_add(t472, t471);
+        let t474: L = t337 * t344;
+        let t475: L = L::splat(1653.75).mul_add(t474, t473);
+        let t476: L = t336 * t345;
+        let t477: L = L::splat(1102.5).mul_add(t476, t475);
+        let t478: L = t335 * t346;
+        let t479: L = L::splat(1102.5).mul_add(t478, t477);
+        let t480: L = t334 * t347;
+        let t481: L = L::splat(236.25).mul_add(t480, t479);
+        let t482: L = t328 * t348;
+        let t483: L = L::splat(78.75).mul_add(t482, t481);
+        let t484: L = t335 * L::splat(20.0);
+        let t485: L = L::splat(-4.0).mul_add(t328, t484);
+        let t486: L = t329 * t334;
+        let t487: L = L::splat(30.0).mul_add(t486, t485);
+        let t488: L = L::splat(30.0) * t452;
+        let t489: L = t487 + t488;
+        let t490: L = t337.mul_add(L::splat(-52.5), t489);
+        let t491: L = t329 * t336;
+        let t492: L = L::splat(-175.0).mul_add(t491, t490);
+        let t493: L = L::splat(-350.0).mul_add(t453, t492);
+        let t494: L = t456.mul_add(L::splat(-175.0), t493);
+        let t495: L = t458.mul_add(L::splat(-87.5), t494);
+        let t496: L = t339.mul_add(L::splat(105.0), t495);
+        let t497: L = t329 * t338;
+        let t498: L = L::splat(551.25).mul_add(t497, t496);
+        let t499: L = t460.mul_add(L::splat(1653.75), t498);
+        let t500: L = L::splat(1837.5).mul_add(t462, t499);
+        let t501: L = L::splat(1837.5).mul_add(t464, t500);
+        let t502: L = t466.mul_add(L::splat(551.25), t501);
+        let t503: L = t468.mul_add(L::splat(183.75), t502);
+        let t504: L = t341.mul_add(L::splat(-180.46875), t503);
+        let t505: L = t329 * t340;
+        let t506: L = L::splat(-1299.375).mul_add(t505, t504);
+        let t507: L = L::splat(-5197.5).mul_add(t470, t506);
+        let t508: L = t472.mul_add(L::splat(-9095.625), t507);
+        let t509: L = t474.mul_add(L::splat(-13643.4375), t508);
+        let t510: L = t476.mul_add(L::splat(-9095.625), t509);
+        let t511: L = t478.mul_add(L::splat(-6063.75), t510);
+        let t512: L = t480.mul_add(L::splat(-1299.375), t511);
+        let t513: L = t482.mul_add(L::splat(-324.84375), t512);
+        let t514: L = t343.mul_add(L::splat(10.0), t488);
+        let t515: L = t453.mul_add(L::splat(-175.0), t514);
+        let t516: L = t456.mul_add(L::splat(-175.0), t515);
+        let t517: L = t458.mul_add(L::splat(-175.0), t516);
+        let t518: L = t345.mul_add(L::splat(-35.0), t517);
+        let t519: L = t460.mul_add(L::splat(551.25), t518);
+        let t520: L = L::splat(918.75).mul_add(t462, t519);
+        let t521: L = L::splat(1837.5).mul_add(t464, t520);
+        let t522: L = t466.mul_add(L::splat(1102.5), t521);
+        let t523: L = t468.mul_add(L::splat(551.25), t522);
+        let t524: L = t347.mul_add(L::splat(78.75), t523);
+        let t525: L = t470.mul_add(L::splat(-1299.375), t524);
+        let t526: L = t472.mul_add(L::splat(-3031.875), t525);
+        let t527: L = t474.mul_add(L::splat(-9095.625), t526);
+        let t528: L = t476.mul_add(L::splat(-9095.625), t527);
+        let t529: L = t478.mul_add(L::splat(-9095.625), t528);
+        let t530: L = t480.mul_add(L::splat(-3898.125), t529);
+        let t531: L = t482.mul_add(L::splat(-1299.375), t530);
+        let t532: L = t349.mul_add(L::splat(-144.375), t531);
+        let t533: L = t329 * L::splat(10.0);
+        let t534: L = t328.mul_add(L::splat(10.0), t533);
+        let t535: L = t335.mul_add(L::splat(-58.333333333333336), t534);
+        let t536: L = L::splat(-175.0).mul_add(t486, t535);
+        let t537: L = t452.mul_add(L::splat(-175.0), t536);
+        let t538: L = t343.mul_add(L::splat(-58.333333333333336), t537);
+        let t539: L = t337.mul_add(L::splat(183.75), t538);
+        let t540: L = L::splat(918.75).mul_add(t491, t539);
+        let t541: L = L::splat(1837.5).mul_add(t453, t540);
+        let t542: L = L::splat(1837.5).mul_add(t456, t541);
+        let t543: L = L::splat(918.75).mul_add(t458, t542);
+        let t544: L = t345.mul_add(L::splat(183.75), t543);
+        let t545: L = t339.mul_add(L::splat(-433.125), t544);
+        let t546: L = t497.mul_add(L::splat(-3031.875), t545);
+        let t547: L = t460.mul_add(L::splat(-9095.625), t546);
+        let t548: L = t462.mul_add(L::splat(-15159.375), t547);
+        let t549: L = t464.mul_add(L::splat(-15159.375), t548);
+        let t550: L = t466.mul_add(L::splat(-9095.625), t549);
+        let t551: L = t468.mul_add(L::splat(-3031.875), t550);
+        let t552: L = t347.mul_add(L::splat(-433.125), t551);
+        let t553: L = t341.mul_add(L::splat(860.234375), t552);
+        let t554: L = t505.mul_add(L::splat(7742.109375), t553);
+        let t555: L = t470.mul_add(L::splat(30968.4375), t554);
+        let t556: L = t472.mul_add(L::splat(72259.6875), t555);
+        let t557: L = t474.mul_add(L::splat(108389.53125), t556);
+        let t558: L = t476.mul_add(L::splat(108389.53125), t557);
+        let t559: L = t478.mul_add(L::splat(72259.6875), t558);
+        let t560: L = t480.mul_add(L::splat(30968.4375), t559);
+        let t561: L = t482.mul_add(L::splat(7742.109375), t560);
+        let t562: L = t349.mul_add(L::splat(860.234375), t561);
+        let t563: L = t333.mul_add(t513, t483);
+        let t564: L = t332.mul_add(t532, t563);
+        let t565: L = t332 * t562;
+        let t566: L = t333.mul_add(t565, t564);
+        let t567: L = t322 * t566;
+        let t568: L = t362 * L::splat(-15.0);
+        let t569: L = L::splat(6.0).mul_add(t356, t568);
+        let t570: L = t364.mul_add(L::splat(-10.0), t569);
+        let t571: L = t366.mul_add(L::splat(-15.0), t570);
+        let t572: L = t372.mul_add(L::splat(26.25), t571);
+        let t573: L = t374.mul_add(L::splat(35.0), t572);
+        let t574: L = t376.mul_add(L::splat(87.5), t573);
+        let t575: L = t378.mul_add(L::splat(35.0), t574);
+        let t576: L = t380.mul_add(L::splat(26.25), t575);
+        let t577: L = L::splat(4.0) * t352;
+        let t578: L = L::splat(2.0).mul_add(t334, t577);
+        let t579: L = t336.mul_add(L::splat(-5.0), t578);
+        let t580: L = t353.mul_add(L::splat(-20.0), t579);
+        let t581: L = t356.mul_add(L::splat(-15.0), t580);
+        let t582: L = t358.mul_add(L::splat(-10.0), t581);
+        let t583: L = t338.mul_add(L::splat(8.75), t582);
+        let t584: L = L::splat(52.5).mul_add(t360, t583);
+        let t585: L = t362.mul_add(L::splat(87.5), t584);
+        let t586: L = t364.mul_add(L::splat(116.66666666666667), t585);
+        let t587: L = t366.mul_add(L::splat(43.75), t586);
+        let t588: L = t368.mul_add(L::splat(17.5), t587);
+        let t589: L = t340.mul_add(L::splat(-13.125), t588);
+        let t590: L = t370.mul_add(L::splat(-105.0), t589);
+        let t591: L = t372.mul_add(L::splat(-275.625), t590);
+        let t592: L = t374.mul_add(L::splat(-551.25), t591);
+        let t593: L = t376.mul_add(L::splat(-459.375), t592);
+        let t594: L = t378.mul_add(L::splat(-367.5), t593);
+        let t595: L = t380.mul_add(L::splat(-91.875), t594);
+        let t596: L = t382.mul_add(L::splat(-26.25), t595);
+        let t597: L = L::splat(2.0).mul_add(t342, t577);
+        let t598: L = t353.mul_add(L::splat(-10.0), t597);
+        let t599: L = t356.mul_add(L::splat(-15.0), t598);
+        let t600: L = t358.mul_add(L::splat(-20.0), t599);
+        let t601: L = t344.mul_add(L::splat(-5.0), t600);
+        let t602: L = t360.mul_add(L::splat(17.5), t601);
+        let t603: L = t362.mul_add(L::splat(43.75), t602);
+        let t604: L = t364.mul_add(L::splat(116.66666666666667), t603);
+        let t605: L = t366.mul_add(L::splat(87.5), t604);
+        let t606: L = L::splat(52.5).mul_add(t368, t605);
+        let t607: L = t346.mul_add(L::splat(8.75), t606);
+        let t608: L = t370.mul_add(L::splat(-26.25), t607);
+        let t609: L = t372.mul_add(L::splat(-91.875), t608);
+        let t610: L = t374.mul_add(L::splat(-367.5), t609);
+        let t611: L = t376.mul_add(L::splat(-459.375), t610);
+        let t612: L = t378.mul_add(L::splat(-551.25), t611);
+        let t613: L = t380.mul_add(L::splat(-275.625), t612);
+        let t614: L = t382.mul_add(L::splat(-105.0), t613);
+        let t615: L = t348.mul_add(L::splat(-13.125), t614);
+        let t616: L = t334.mul_add(L::splat(-5.0), L::splat(0.6666666666666666));
+        let t617: L = t352.mul_add(L::splat(-10.0), t616);
+        let t618: L = t342.mul_add(L::splat(-5.0), t617);
+        let t619: L = t336.mul_add(L::splat(14.583333333333334), t618);
+        let t620: L = t353.mul_add(L::splat(58.333333333333336), t619);
+        let t621: L = t356.mul_add(L::splat(87.5), t620);
+        let t622: L = t358.mul_add(L::splat(58.333333333333336), t621);
+        let t623: L = t344.mul_add(L::splat(14.583333333333334), t622);
+        let t624: L = t338.mul_add(L::splat(-30.625), t623);
+        let t625: L = t360.mul_add(L::splat(-183.75), t624);
+        let t626: L = t362.mul_add(L::splat(-459.375), t625);
+        let t627: L = t364.mul_add(L::splat(-612.5), t626);
+        let t628: L = t366.mul_add(L::splat(-459.375), t627);
+        let t629: L = t368.mul_add(L::splat(-183.75), t628);
+        let t630: L = t346.mul_add(L::splat(-30.625), t629);
+        let t631: L = t340.mul_add(L::splat(54.140625), t630);
+        let t632: L = t370.mul_add(L::splat(433.125), t631);
+        let t633: L = t372.mul_add(L::splat(1515.9375), t632);
+        let t634: L = t374.mul_add(L::splat(3031.875), t633);
+        let t635: L = t376.mul_add(L::splat(3789.84375), t634);
+        let t636: L = t378.mul_add(L::splat(3031.875), t635);
+        let t637: L = t380.mul_add(L::splat(1515.9375), t636);
+        let t638: L = t382.mul_add(L::splat(433.125), t637);
+        let t639: L = t348.mul_add(L::splat(54.140625), t638);
+        let t640: L = t333.mul_add(t596, t576);
+        let t641: L = t332.mul_add(t615, t640);
+        let t642: L = t332 * t639;
+        let t643: L = t333.mul_add(t642, t641);
+        let t644: L = t322 * t643;
+        let t645: L = L::splat(-30.0) * t491;
+        let t646: L = L::splat(12.0).mul_add(t486, t645);
+        let t647: L = L::splat(-30.0).mul_add(t453, t646);
+        let t648: L = L::splat(-60.0).mul_add(t456, t647);
+        let t649: L = L::splat(52.5).mul_add(t497, t648);
+        let t650: L = t460.mul_add(L::splat(105.0), t649);
+        let t651: L = t462.mul_add(L::splat(350.0), t650);
+        let t652: L = t464.mul_add(L::splat(175.0), t651);
+        let t653: L = t466.mul_add(L::splat(157.5), t652);
+        let t654: L = L::splat(-78.75).mul_add(t505, t653);
+        let t655: L = t470.mul_add(L::splat(-236.25), t654);
+        let t656: L = t472.mul_add(L::splat(-1102.5), t655);
+        let t657: L = t474.mul_add(L::splat(-1102.5), t656);
+        let t658: L = t476.mul_add(L::splat(-1653.75), t657);
+        let t659: L = t478.mul_add(L::splat(-551.25), t658);
+        let t660: L = t480.mul_add(L::splat(-315.0), t659);
+        let t661: L = L::splat(-30.0) * t486;
+        let t662: L = t335.mul_add(L::splat(-10.0), t661);
+        let t663: L = t337.mul_add(L::splat(35.0), t662);
+        let t664: L = t491.mul_add(L::splat(175.0), t663);
+        let t665: L = t453.mul_add(L::splat(175.0), t664);
+        let t666: L = t456.mul_add(L::splat(175.0), t665);
+        let t667: L = t339.mul_add(L::splat(-78.75), t666);
+        let t668: L = t497.mul_add(L::splat(-551.25), t667);
+        let t669: L = t460.mul_add(L::splat(-1102.5), t668);
+        let t670: L = t462.mul_add(L::splat(-1837.5), t669);
+        let t671: L = t464.mul_add(L::splat(-918.75), t670);
+        let t672: L = t466.mul_add(L::splat(-551.25), t671);
+        let t673: L = t341.mul_add(L::splat(144.375), t672);
+        let t674: L = t505.mul_add(L::splat(1299.375), t673);
+        let t675: L = t470.mul_add(L::splat(3898.125), t674);
+        let t676: L = t472.mul_add(L::splat(9095.625), t675);
+        let t677: L = t474.mul_add(L::splat(9095.625), t676);
+        let t678: L = t476.mul_add(L::splat(9095.625), t677);
+        let t679: L = t478.mul_add(L::splat(3031.875), t678);
+        let t680: L = t480.mul_add(L::splat(1299.375), t679);
+        let t681: L = L::splat(4.0).mul_add(t329, t661);
+        let t682: L = L::splat(-30.0).mul_add(t452, t681);
+        let t683: L = t343.mul_add(L::splat(-20.0), t682);
+        let t684: L = t491.mul_add(L::splat(87.5), t683);
+        let t685: L = t453.mul_add(L::splat(175.0), t684);
+        let t686: L = t456.mul_add(L::splat(350.0), t685);
+        let t687: L = t458.mul_add(L::splat(175.0), t686);
+        let t688: L = t345.mul_add(L::splat(52.5), t687);
+        let t689: L = t497.mul_add(L::splat(-183.75), t688);
+        let t690: L = t460.mul_add(L::splat(-551.25), t689);
+        let t691: L = t462.mul_add(L::splat(-1837.5), t690);
+        let t692: L = t464.mul_add(L::splat(-1837.5), t691);
+        let t693: L = t466.mul_add(L::splat(-1653.75), t692);
+        let t694: L = t468.mul_add(L::splat(-551.25), t693);
+        let t695: L = t347.mul_add(L::splat(-105.0), t694);
+        let t696: L = t505.mul_add(L::splat(324.84375), t695);
+        let t697: L = t470.mul_add(L::splat(1299.375), t696);
+        let t698: L = t472.mul_add(L::splat(6063.75), t697);
+        let t699: L = t474.mul_add(L::splat(9095.625), t698);
+        let t700: L = t476.mul_add(L::splat(13643.4375), t699);
+        let t701: L = t478.mul_add(L::splat(9095.625), t700);
+        let t702: L = t480.mul_add(L::splat(5197.5), t701);
+        let t703: L = t482.mul_add(L::splat(1299.375), t702);
+        let t704: L = t349.mul_add(L::splat(180.46875), t703);
+        let t705: L = t329 * L::splat(-10.0);
+        let t706: L = t328.mul_add(L::splat(-10.0), t705);
+        let t707: L = t335.mul_add(L::splat(58.333333333333336), t706);
+        let t708: L = t486.mul_add(L::splat(175.0), t707);
+        let t709: L = t452.mul_add(L::splat(175.0), t708);
+        let t710: L = t343.mul_add(L::splat(58.333333333333336), t709);
+        let t711: L = t337.mul_add(L::splat(-183.75), t710);
+        let t712: L = t491.mul_add(L::splat(-918.75), t711);
+        let t713: L = t453.mul_add(L::splat(-1837.5), t712);
+        let t714: L = t456.mul_add(L::splat(-1837.5), t713);
+        let t715: L = t458.mul_add(L::splat(-918.75), t714);
+        let t716: L = t345.mul_add(L::splat(-183.75), t715);
+        let t717: L = t339.mul_add(L::splat(433.125), t716);
+        let t718: L = t497.mul_add(L::splat(3031.875), t717);
+        let t719: L = t460.mul_add(L::splat(9095.625), t718);
+        let t720: L = t462.mul_add(L::splat(15159.375), t719);
+        let t721: L = t464.mul_add(L::splat(15159.375), t720);
+        let t722: L = t466.mul_add(L::splat(9095.625), t721);
+        let t723: L = t468.mul_add(L::splat(3031.875), t722);
+        let t724: L = t347.mul_add(L::splat(433.125), t723);
+        let t725: L = t341.mul_add(L::splat(-860.234375), t724);
+        let t726: L = t505.mul_add(L::splat(-7742.109375), t725);
+        let t727: L = t470.mul_add(L::splat(-30968.4375), t726);
+        let t728: L = t472.mul_add(L::splat(-72259.6875), t727);
+        let t729: L = t474.mul_add(L::splat(-108389.53125), t728);
+        let t730: L = t476.mul_add(L::splat(-108389.53125), t729);
+        let t731: L = t478.mul_add(L::splat(-72259.6875), t730);
+        let t732: L = t480.mul_add(L::splat(-30968.4375), t731);
+        let t733: L = t482.mul_add(L::splat(-7742.109375), t732);
+        let t734: L = t349.mul_add(L::splat(-860.234375), t733);
+        let t735: L = t333.mul_add(t680, t660);
+        let t736: L = t332.mul_add(t704, t735);
+        let t737: L = t332 * t734;
+        let t738: L = t333.mul_add(t737, t736);
+        let t739: L = t322 * t738;
+        let t740: L = t362 * L::splat(75.0);
+        let t741: L = t356.mul_add(L::splat(-18.0), t740);
+        let t742: L = t364.mul_add(L::splat(50.0), t741);
+        let t743: L = t366.mul_add(L::splat(75.0), t742);
+        let t744: L = t372.mul_add(L::splat(-183.75), t743);
+        let t745: L = t374.mul_add(L::splat(-245.0), t744);
+        let t746: L = t376.mul_add(L::splat(-612.5), t745);
+        let t747: L = t378.mul_add(L::splat(-245.0), t746);
+        let t748: L = t380.mul_add(L::splat(-183.75), t747);
+        let t749: L = t336 * L::splat(25.0);
+        let t750: L = L::splat(-6.0).mul_add(t334, t749);
+        let t751: L = t353.mul_add(L::splat(50.0), t750);
+        let t752: L = t356.mul_add(L::splat(75.0), t751);
+        let t753: L = t338.mul_add(L::splat(-61.25), t752);
+        let t754: L = t360.mul_add(L::splat(-245.0), t753);
+        let t755: L = t362.mul_add(L::splat(-612.5), t754);
+        let t756: L = t364.mul_add(L::splat(-408.3333333333333), t755);
+        let t757: L = t366.mul_add(L::splat(-306.25), t756);
+        let t758: L = t340.mul_add(L::splat(118.125), t757);
+        let t759: L = t370.mul_add(L::splat(708.75), t758);
+        let t760: L = t372.mul_add(L::splat(2480.625), t759);
+        let t761: L = t374.mul_add(L::splat(3307.5), t760);
+        let t762: L = t376.mul_add(L::splat(4134.375), t761);
+        let t763: L = t378.mul_add(L::splat(1653.75), t762);
+        let t764: L = t380.mul_add(L::splat(826.875), t763);
+        let t765: L = L::splat(-6.0) * t342;
+        let t766: L = t356.mul_add(L::splat(75.0), t765);
+        let t767: L = t358.mul_add(L::splat(50.0), t766);
+        let t768: L = t344.mul_add(L::splat(25.0), t767);
+        let t769: L = t362.mul_add(L::splat(-306.25), t768);
+        let t770: L = t364.mul_add(L::splat(-408.3333333333333), t769);
+        let t771: L = t366.mul_add(L::splat(-612.5), t770);
+        let t772: L = t368.mul_add(L::splat(-245.0), t771);
+        let t773: L = t346.mul_add(L::splat(-61.25), t772);
+        let t774: L = t372.mul_add(L::splat(826.875), t773);
+        let t775: L = t374.mul_add(L::splat(1653.75), t774);
+        let t776: L = t376.mul_add(L::splat(4134.375), t775);
+        let t777: L = t378.mul_add(L::splat(3307.5), t776);
+        let t778: L = t380.mul_add(L::splat(2480.625), t777);
+        let t779: L = t382.mul_add(L::splat(708.75), t778);
+        let t780: L = t348.mul_add(L::splat(118.125), t779);
+        let t781: L = t334.mul_add(L::splat(25.0), L::splat(-2.0));
+        let t782: L = t352.mul_add(L::splat(50.0), t781);
+        let t783: L = t342.mul_add(L::splat(25.0), t782);
+        let t784: L = t336.mul_add(L::splat(-102.08333333333333), t783);
+        let t785: L = t353.mul_add(L::splat(-408.3333333333333), t784);
+        let t786: L = t356.mul_add(L::splat(-612.5), t785);
+        let t787: L = t358.mul_add(L::splat(-408.3333333333333), t786);
+        let t788: L = t344.mul_add(L::splat(-102.08333333333333), t787);
+        let t789: L = t338.mul_add(L::splat(275.625), t788);
+        let t790: L = t360.mul_add(L::splat(1653.75), t789);
+        let t791: L = t362.mul_add(L::splat(4134.375), t790);
+        let t792: L = t364.mul_add(L::splat(5512.5), t791);
+        let t793: L = t366.mul_add(L::splat(4134.375), t792);
+        let t794: L = t368.mul_add(L::splat(1653.75), t793);
+        let t795: L = t346.mul_add(L::splat(275.625), t794);
+        let t796: L = t340.mul_add(L::splat(-595.546875), t795);
+        let t797: L = t370.mul_add(L::splat(-4764.375), t796);
+        let t798: L = t372.mul_add(L::splat(-16675.3125), t797);
+        let t799: L = t374.mul_add(L::splat(-33350.625), t798);
+        let t800: L = t376.mul_add(L::splat(-41688.28125), t799);
+        let t801: L = t378.mul_add(L::splat(-33350.625), t800);
+        let t802: L = t380.mul_add(L::splat(-16675.3125), t801);
+        let t803: L = t382.mul_add(L::splat(-4764.375), t802);
+        let t804: L = t348.mul_add(L::splat(-595.546875), t803);
+        let t805: L = t333.mul_add(t764, t748);
+        let t806: L = t332.mul_add(t780, t805);
+        let t807: L = t332 * t804;
+        let t808: L = t333.mul_add(t807, t806);
+        let t809: L = t322 * t808;
+        let t810: L = t335 * L::splat(-15.0);
+        let t811: L = L::splat(6.0).mul_add(t328, t810);
+        let t812: L = L::splat(-24.0).mul_add(t486, t811);
+        let t813: L = t452.mul_add(L::splat(-21.0), t812);
+        let t814: L = t337.mul_add(L::splat(26.25), t813);
+        let t815: L = L::splat(90.0).mul_add(t491, t814);
+        let t816: L = t453.mul_add(L::splat(172.5), t815);
+        let t817: L = L::splat(90.0).mul_add(t456, t816);
+        let t818: L = t458.mul_add(L::splat(41.25), t817);
+        let t819: L = t339.mul_add(L::splat(-39.375), t818);
+        let t820: L = L::splat(-210.0).mul_add(t497, t819);
+        let t821: L = t460.mul_add(L::splat(-616.875), t820);
+        let t822: L = L::splat(-700.0).mul_add(t462, t821);
+        let t823: L = t464.mul_add(L::splat(-678.125), t822);
+        let t824: L = L::splat(-210.0).mul_add(t466, t823);
+        let t825: L = t468.mul_add(L::splat(-65.625), t824);
+        let t826: L = t341.mul_add(L::splat(54.140625), t825);
+        let t827: L = t505.mul_add(L::splat(393.75), t826);
+        let t828: L = t470.mul_add(L::splat(1555.3125), t827);
+        let t829: L = L::splat(2756.25).mul_add(t472, t828);
+        let t830: L = t474.mul_add(L::splat(4065.46875), t829);
+        let t831: L = L::splat(2756.25).mul_add(t476, t830);
+        let t832: L = t478.mul_add(L::splat(1791.5625), t831);
+        let t833: L = t480.mul_add(L::splat(393.75), t832);
+        let t834: L = t482.mul_add(L::splat(93.515625), t833);
+        let t835: L = t329 * L::splat(-8.0);
+        let t836: L = t328.mul_add(L::splat(-8.0), t835);
+        let t837: L = t335.mul_add(L::splat(30.0), t836);
+        let t838: L = L::splat(90.0).mul_add(t486, t837);
+        let t839: L = L::splat(90.0).mul_add(t452, t838);
+        let t840: L = t343.mul_add(L::splat(30.0), t839);
+        let t841: L = t337.mul_add(L::splat(-70.0), t840);
+        let t842: L = L::splat(-350.0).mul_add(t491, t841);
+        let t843: L = L::splat(-700.0).mul_add(t453, t842);
+        let t844: L = L::splat(-700.0).mul_add(t456, t843);
+        let t845: L = L::splat(-350.0).mul_add(t458, t844);
+        let t846: L = t345.mul_add(L::splat(-70.0), t845);
+        let t847: L = t339.mul_add(L::splat(131.25), t846);
+        let t848: L = L::splat(918.75).mul_add(t497, t847);
+        let t849: L = L::splat(2756.25).mul_add(t460, t848);
+        let t850: L = L::splat(4593.75).mul_add(t462, t849);
+        let t851: L = L::splat(4593.75).mul_add(t464, t850);
+        let t852: L = L::splat(2756.25).mul_add(t466, t851);
+        let t853: L = L::splat(918.75).mul_add(t468, t852);
+        let t854: L = t347.mul_add(L::splat(131.25), t853);
+        let t855: L = t341.mul_add(L::splat(-216.5625), t854);
+        let t856: L = t505.mul_add(L::splat(-1949.0625), t855);
+        let t857: L = t470.mul_add(L::splat(-7796.25), t856);
+        let t858: L = L::splat(-18191.25).mul_add(t472, t857);
+        let t859: L = t474.mul_add(L::splat(-27286.875), t858);
+        let t860: L = t476.mul_add(L::splat(-27286.875), t859);
+        let t861: L = L::splat(-18191.25).mul_add(t478, t860);
+        let t862: L = t480.mul_add(L::splat(-7796.25), t861);
+        let t863: L = t482.mul_add(L::splat(-1949.0625), t862);
+        let t864: L = t349.mul_add(L::splat(-216.5625), t863);
+        let t865: L = t332.mul_add(t864, t834);
+        let t866: L = t350 * t865;
+        let t867: L = L::splat(6.0) * t452;
+        let t868: L = L::splat(-6.0).mul_add(t486, t867);
+        let t869: L = t491.mul_add(L::splat(15.0), t868);
+        let t870: L = t453.mul_add(L::splat(-15.0), t869);
+        let t871: L = t456.mul_add(L::splat(15.0), t870);
+        let t872: L = t458.mul_add(L::splat(-15.0), t871);
+        let t873: L = t497.mul_add(L::splat(-26.25), t872);
+        let t874: L = t460.mul_add(L::splat(26.25), t873);
+        let t875: L = t462.mul_add(L::splat(-87.5), t874);
+        let t876: L = t464.mul_add(L::splat(87.5), t875);
+        let t877: L = t466.mul_add(L::splat(-26.25), t876);
+        let t878: L = t468.mul_add(L::splat(26.25), t877);
+        let t879: L = t505.mul_add(L::splat(39.375), t878);
+        let t880: L = t470.mul_add(L::splat(-39.375), t879);
+        let t881: L = t472.mul_add(L::splat(275.625), t880);
+        let t882: L = t474.mul_add(L::splat(-275.625), t881);
+        let t883: L = t476.mul_add(L::splat(275.625), t882);
+        let t884: L = t478.mul_add(L::splat(-275.625), t883);
+        let t885: L = t480.mul_add(L::splat(39.375), t884);
+        let t886: L = t482.mul_add(L::splat(-39.375), t885);
+        let t887: L = L::splat(-2.0) * t329;
+        let t888: L = L::splat(-2.0).mul_add(t328, t887);
+        let t889: L = t335.mul_add(L::splat(5.0), t888);
+        let t890: L = t486.mul_add(L::splat(15.0), t889);
+        let t891: L = t452.mul_add(L::splat(15.0), t890);
+        let t892: L = t343.mul_add(L::splat(5.0), t891);
+        let t893: L = t337.mul_add(L::splat(-8.75), t892);
+        let t894: L = t491.mul_add(L::splat(-43.75), t893);
+        let t895: L = t453.mul_add(L::splat(-87.5), t894);
+        let t896: L = t456.mul_add(L::splat(-87.5), t895);
+        let t897: L = t458.mul_add(L::splat(-43.75), t896);
+        let t898: L = t345.mul_add(L::splat(-8.75), t897);
+        let t899: L = t339.mul_add(L::splat(13.125), t898);
+        let t900: L = t497.mul_add(L::splat(91.875), t899);
+        let t901: L = t460.mul_add(L::splat(275.625), t900);
+        let t902: L = t462.mul_add(L::splat(459.375), t901);
+        let t903: L = t464.mul_add(L::splat(459.375), t902);
+        let t904: L = t466.mul_add(L::splat(275.625), t903);
+        let t905: L = t468.mul_add(L::splat(91.875), t904);
+        let t906: L = t347.mul_add(L::splat(13.125), t905);
+        let t907: L = t341.mul_add(L::splat(-18.046875), t906);
+        let t908: L = t505.mul_add(L::splat(-162.421875), t907);
+        let t909: L = L::splat(-649.6875).mul_add(t470, t908);
+        let t910: L = t472.mul_add(L::splat(-1515.9375), t909);
+        let t911: L = t474.mul_add(L::splat(-2273.90625), t910);
+        let t912: L = t476.mul_add(L::splat(-2273.90625), t911);
+        let t913: L = t478.mul_add(L::splat(-1515.9375), t912);
+        let t914: L = L::splat(-649.6875).mul_add(t480, t913);
+        let t915: L = t482.mul_add(L::splat(-162.421875), t914);
+        let t916: L = t349.mul_add(L::splat(-18.046875), t915);
+        let t917: L = t332.mul_add(t916, t886);
+        let t918: L = t350 * t917;
+        let t919: L = L::splat(6.0) * t352;
+        let t920: L = t353 * L::splat(-15.0);
+        let t921: L = t919 + t920;
+        let t922: L = t358.mul_add(L::splat(-15.0), t921);
+        let t923: L = t360.mul_add(L::splat(26.25), t922);
+        let t924: L = t364.mul_add(L::splat(87.5), t923);
+        let t925: L = t368.mul_add(L::splat(26.25), t924);
+        let t926: L = t370.mul_add(L::splat(-39.375), t925);
+        let t927: L = t374.mul_add(L::splat(-275.625), t926);
+        let t928: L = t378.mul_add(L::splat(-275.625), t927);
+        let t929: L = t382.mul_add(L::splat(-39.375), t928);
+        let t930: L = t350 * t929;
+        let t931: L = t336 * L::splat(-15.0);
+        let t932: L = L::splat(6.0).mul_add(t334, t931);
+        let t933: L = t354 + t932;
+        let t934: L = t356.mul_add(L::splat(-45.0), t933);
+        let t935: L = t338.mul_add(L::splat(26.25), t934);
+        let t936: L = t360.mul_add(L::splat(105.0), t935);
+        let t937: L = t362.mul_add(L::splat(262.5), t936);
+        let t938: L = t364.mul_add(L::splat(175.0), t937);
+        let t939: L = t366.mul_add(L::splat(131.25), t938);
+        let t940: L = t340.mul_add(L::splat(-39.375), t939);
+        let t941: L = t370.mul_add(L::splat(-236.25), t940);
+        let t942: L = t372.mul_add(L::splat(-826.875), t941);
+        let t943: L = t374.mul_add(L::splat(-1102.5), t942);
+        let t944: L = t376.mul_add(L::splat(-1378.125), t943);
+        let t945: L = t378.mul_add(L::splat(-551.25), t944);
+        let t946: L = t380.mul_add(L::splat(-275.625), t945);
+        let t947: L = t334.mul_add(L::splat(-15.0), L::splat(2.0));
+        let t948: L = t352.mul_add(L::splat(-30.0), t947);
+        let t949: L = t342.mul_add(L::splat(-15.0), t948);
+        let t950: L = t336.mul_add(L::splat(43.75), t949);
+        let t951: L = t353.mul_add(L::splat(175.0), t950);
+        let t952: L = t356.mul_add(L::splat(262.5), t951);
+        let t953: L = t358.mul_add(L::splat(175.0), t952);
+        let t954: L = t344.mul_add(L::splat(43.75), t953);
+        let t955: L = t338.mul_add(L::splat(-91.875), t954);
+        let t956: L = t360.mul_add(L::splat(-551.25), t955);
+        let t957: L = t362.mul_add(L::splat(-1378.125), t956);
+        let t958: L = t364.mul_add(L::splat(-1837.5), t957);
+        let t959: L = t366.mul_add(L::splat(-1378.125), t958);
+        let t960: L = t368.mul_add(L::splat(-551.25), t959);
+        let t961: L = t346.mul_add(L::splat(-91.875), t960);
+        let t962: L = t340.mul_add(L::splat(162.421875), t961);
+        let t963: L = t370.mul_add(L::splat(1299.375), t962);
+        let t964: L = t372.mul_add(L::splat(4547.8125), t963);
+        let t965: L = t374.mul_add(L::splat(9095.625), t964);
+        let t966: L = t376.mul_add(L::splat(11369.53125), t965);
+        let t967: L = t378.mul_add(L::splat(9095.625), t966);
+        let t968: L = t380.mul_add(L::splat(4547.8125), t967);
+        let t969: L = t382.mul_add(L::splat(1299.375), t968);
+        let t970: L = t348.mul_add(L::splat(162.421875), t969);
+        let t971: L = t332.mul_add(t970, t946);
+        let t972: L = t350 * t971;
+        let t973: L = L::splat(-6.0) * t452;
+        let t974: L = L::splat(6.0).mul_add(t486, t973);
+        let t975: L = t491.mul_add(L::splat(-15.0), t974);
+        let t976: L = t453.mul_add(L::splat(15.0), t975);
+        let t977: L = t456.mul_add(L::splat(-15.0), t976);
+        let t978: L = t458.mul_add(L::splat(15.0), t977);
+        let t979: L = t497.mul_add(L::splat(26.25), t978);
+        let t980: L = t460.mul_add(L::splat(-26.25), t979);
+        let t981: L = t462.mul_add(L::splat(87.5), t980);
+        let t982: L = t464.mul_add(L::splat(-87.5), t981);
+        let t983: L = t466.mul_add(L::splat(26.25), t982);
+        let t984: L = t468.mul_add(L::splat(-26.25), t983);
+        let t985: L = t505.mul_add(L::splat(-39.375), t984);
+        let t986: L = t470.mul_add(L::splat(39.375), t985);
+        let t987: L = t472.mul_add(L::splat(-275.625), t986);
+        let t988: L = t474.mul_add(L::splat(275.625), t987);
+        let t989: L = t476.mul_add(L::splat(-275.625), t988);
+        let t990: L = t478.mul_add(L::splat(275.625), t989);
+        let t991: L = t480.mul_add(L::splat(-39.375), t990);
+        let t992: L = t482.mul_add(L::splat(39.375), t991);
+        let t993: L = t333.mul_add(t916, t992);
+        let t994: L = t350 * t993;
+        let t995: L = t486 * L::splat(-21.0);
+        let t996: L = L::splat(6.0).mul_add(t329, t995);
+        let t997: L = L::splat(-24.0).mul_add(t452, t996);
+        let t998: L = t343.mul_add(L::splat(-15.0), t997);
+        let t999: L = t491.mul_add(L::splat(41.25), t998);
+        let t1000: L = L::splat(90.0).mul_add(t453, t999);
+        let t1001: L = t456.mul_add(L::splat(172.5), t1000);
+        let t1002: L = L::splat(90.0).mul_add(t458, t1001);
+        let t1003: L = t345.mul_add(L::splat(26.25), t1002);
+        let t1004: L = t497.mul_add(L::splat(-65.625), t1003);
+        let t1005: L = L::splat(-210.0).mul_add(t460, t1004);
+        let t1006: L = t462.mul_add(L::splat(-678.125), t1005);
+        let t1007: L = L::splat(-700.0).mul_add(t464, t1006);
+        let t1008: L = t466.mul_add(L::splat(-616.875), t1007);
+        let t1009: L = L::splat(-210.0).mul_add(t468, t1008);
+        let t1010: L = t347.mul_add(L::splat(-39.375), t1009);
+        let t1011: L = t505.mul_add(L::splat(93.515625), t1010);
+        let t1012: L = t470.mul_add(L::splat(393.75), t1011);
+        let t1013: L = t472.mul_add(L::splat(1791.5625), t1012);
+        let t1014: L = L::splat(2756.25).mul_add(t474, t1013);
+        let t1015: L = t476.mul_add(L::splat(4065.46875), t1014);
+        let t1016: L = L::splat(2756.25).mul_add(t478, t1015);
+        let t1017: L = t480.mul_add(L::splat(1555.3125), t1016);
+        let t1018: L = t482.mul_add(L::splat(393.75), t1017);
+        let t1019: L = t349.mul_add(L::splat(54.140625), t1018);
+        let t1020: L = t333.mul_add(t864, t1019);
+        let t1021: L = t350 * t1020;
+        let t1022: L = t356 * L::splat(45.0);
+        let t1023: L = t765 + t1022;
+        let t1024: L = t358.mul_add(L::splat(30.0), t1023);
+        let t1025: L = t344.mul_add(L::splat(15.0), t1024);
+        let t1026: L = t362.mul_add(L::splat(-131.25), t1025);
+        let t1027: L = t364.mul_add(L::splat(-175.0), t1026);
+        let t1028: L = t366.mul_add(L::splat(-262.5), t1027);
+        let t1029: L = t368.mul_add(L::splat(-105.0), t1028);
+        let t1030: L = t346.mul_add(L::splat(-26.25), t1029);
+        let t1031: L = t372.mul_add(L::splat(275.625), t1030);
+        let t1032: L = t374.mul_add(L::splat(551.25), t1031);
+        let t1033: L = t376.mul_add(L::splat(1378.125), t1032);
+        let t1034: L = t378.mul_add(L::splat(1102.5), t1033);
+        let t1035: L = t380.mul_add(L::splat(826.875), t1034);
+        let t1036: L = t382.mul_add(L::splat(236.25), t1035);
+        let t1037: L = t348.mul_add(L::splat(39.375), t1036);
+        let t1038: L = t334.mul_add(L::splat(15.0), L::splat(-2.0));
+        let t1039: L = t352.mul_add(L::splat(30.0), t1038);
+        let t1040: L = t342.mul_add(L::splat(15.0), t1039);
+        let t1041: L = t336.mul_add(L::splat(-43.75), t1040);
+        let t1042: L = t353.mul_add(L::splat(-175.0), t1041);
+        let t1043: L = t356.mul_add(L::splat(-262.5), t1042);
+        let t1044: L = t358.mul_add(L::splat(-175.0), t1043);
+        let t1045: L = t344.mul_add(L::splat(-43.75), t1044);
+        let t1046: L = t338.mul_add(L::splat(91.875), t1045);
+        let t1047: L = t360.mul_add(L::splat(551.25), t1046);
+        let t1048: L = t362.mul_add(L::splat(1378.125), t1047);
+        let t1049: L = t364.mul_add(L::splat(1837.5), t1048);
+        let t1050: L = t366.mul_add(L::splat(1378.125), t1049);
+        let t1051: L = t368.mul_add(L::splat(551.25), t1050);
+        let t1052: L = t346.mul_add(L::splat(91.875), t1051);
+        let t1053: L = t340.mul_add(L::splat(-162.421875), t1052);
+        let t1054: L = t370.mul_add(L::splat(-1299.375), t1053);
+        let t1055: L = t372.mul_add(L::splat(-4547.8125), t1054);
+        let t1056: L = t374.mul_add(L::splat(-9095.625), t1055);
+        let t1057: L = t376.mul_add(L::splat(-11369.53125), t1056);
+        let t1058: L = t378.mul_add(L::splat(-9095.625), t1057);
+        let t1059: L = t380.mul_add(L::splat(-4547.8125), t1058);
+        let t1060: L = t382.mul_add(L::splat(-1299.375), t1059);
+        let t1061: L = t348.mul_add(L::splat(-162.421875), t1060);
+        let t1062: L = t333.mul_add(t1061, t1037);
+        let t1063: L = t350 * t1062;
+        let t1064: L = t353 * L::splat(15.0);
+        let t1065: L = L::splat(-6.0).mul_add(t352, t1064);
+        let t1066: L = t358.mul_add(L::splat(15.0), t1065);
+        let t1067: L = t360.mul_add(L::splat(-26.25), t1066);
+        let t1068: L = t364.mul_add(L::splat(-87.5), t1067);
+        let t1069: L = t368.mul_add(L::splat(-26.25), t1068);
+        let t1070: L = t370.mul_add(L::splat(39.375), t1069);
+        let t1071: L = t374.mul_add(L::splat(275.625), t1070);
+        let t1072: L = t378.mul_add(L::splat(275.625), t1071);
+        let t1073: L = t382.mul_add(L::splat(39.375), t1072);
+        let t1074: L = t350 * t1073;
+        let t1075: L = L::splat(-3.0).mul_add(t334, t919);
+        let t1076: L = L::splat(-3.0).mul_add(t342, t1075);
+        let t1077: L = t336.mul_add(L::splat(7.5), t1076);
+        let t1078: L = t920 + t1077;
+        let t1079: L = t1022 + t1078;
+        let t1080: L = t358.mul_add(L::splat(-15.0), t1079);
+        let t1081: L = t344.mul_add(L::splat(7.5), t1080);
+        let t1082: L = t338.mul_add(L::splat(-13.125), t1081);
+        let t1083: L = t360.mul_add(L::splat(26.25), t1082);
+        let t1084: L = t362.mul_add(L::splat(-196.875), t1083);
+        let t1085: L = t364.mul_add(L::splat(87.5), t1084);
+        let t1086: L = t366.mul_add(L::splat(-196.875), t1085);
+        let t1087: L = t368.mul_add(L::splat(26.25), t1086);
+        let t1088: L = t346.mul_add(L::splat(-13.125), t1087);
+        let t1089: L = t340.mul_add(L::splat(19.6875), t1088);
+        let t1090: L = t370.mul_add(L::splat(-39.375), t1089);
+        let t1091: L = t372.mul_add(L::splat(551.25), t1090);
+        let t1092: L = t374.mul_add(L::splat(-275.625), t1091);
+        let t1093: L = t376.mul_add(L::splat(1378.125), t1092);
+        let t1094: L = t378.mul_add(L::splat(-275.625), t1093);
+        let t1095: L = t380.mul_add(L::splat(551.25), t1094);
+        let t1096: L = t382.mul_add(L::splat(-39.375), t1095);
+        let t1097: L = t348.mul_add(L::splat(19.6875), t1096);
+        let t1098: L = t351 * t1097;
+        let t1099: L = t486 * L::splat(22.5);
+        let t1100: L = L::splat(-3.0).mul_add(t329, t1099);
+        let t1101: L = t343.mul_add(L::splat(7.5), t1100);
+        let t1102: L = t491.mul_add(L::splat(-65.625), t1101);
+        let t1103: L = t456.mul_add(L::splat(-131.25), t1102);
+        let t1104: L = t345.mul_add(L::splat(-13.125), t1103);
+        let t1105: L = t497.mul_add(L::splat(137.8125), t1104);
+        let t1106: L = t462.mul_add(L::splat(689.0625), t1105);
+        let t1107: L = t466.mul_add(L::splat(413.4375), t1106);
+        let t1108: L = t347.mul_add(L::splat(19.6875), t1107);
+        let t1109: L = t505.mul_add(L::splat(-243.6328125), t1108);
+        let t1110: L = t472.mul_add(L::splat(-2273.90625), t1109);
+        let t1111: L = t476.mul_add(L::splat(-3410.859375), t1110);
+        let t1112: L = t480.mul_add(L::splat(-974.53125), t1111);
+        let t1113: L = t349.mul_add(L::splat(-27.0703125), t1112);
+        let t1114: L = t351 * t1113;
+        let t1115: L = t334.mul_add(L::splat(-10.5), L::splat(3.0));
+        let t1116: L = L::splat(-24.0).mul_add(t352, t1115);
+        let t1117: L = t342.mul_add(L::splat(-10.5), t1116);
+        let t1118: L = t336.mul_add(L::splat(20.625), t1117);
+        let t1119: L = t353.mul_add(L::splat(90.0), t1118);
+        let t1120: L = t356.mul_add(L::splat(123.75), t1119);
+        let t1121: L = t358.mul_add(L::splat(90.0), t1120);
+        let t1122: L = t344.mul_add(L::splat(20.625), t1121);
+        let t1123: L = t338.mul_add(L::splat(-32.8125), t1122);
+        let t1124: L = t360.mul_add(L::splat(-210.0), t1123);
+        let t1125: L = t362.mul_add(L::splat(-492.1875), t1124);
+        let t1126: L = t364.mul_add(L::splat(-700.0), t1125);
+        let t1127: L = t366.mul_add(L::splat(-492.1875), t1126);
+        let t1128: L = t368.mul_add(L::splat(-210.0), t1127);
+        let t1129: L = t346.mul_add(L::splat(-32.8125), t1128);
+        let t1130: L = t340.mul_add(L::splat(46.7578125), t1129);
+        let t1131: L = t370.mul_add(L::splat(393.75), t1130);
+        let t1132: L = t372.mul_add(L::splat(1309.21875), t1131);
+        let t1133: L = t374.mul_add(L::splat(2756.25), t1132);
+        let t1134: L = t376.mul_add(L::splat(3273.046875), t1133);
+        let t1135: L = t378.mul_add(L::splat(2756.25), t1134);
+        let t1136: L = t380.mul_add(L::splat(1309.21875), t1135);
+        let t1137: L = t382.mul_add(L::splat(393.75), t1136);
+        let t1138: L = t348.mul_add(L::splat(46.7578125), t1137);
+        let t1139: L = t351 * t1138;
+        let t1140: L = t335 * L::splat(-7.5);
+        let t1141: L = L::splat(3.0).mul_add(t328, t1140);
+        let t1142: L = t452.mul_add(L::splat(-22.5), t1141);
+        let t1143: L = t337.mul_add(L::splat(13.125), t1142);
+        let t1144: L = L::splat(131.25).mul_add(t453, t1143);
+        let t1145: L = t458.mul_add(L::splat(65.625), t1144);
+        let t1146: L = t339.mul_add(L::splat(-19.6875), t1145);
+        let t1147: L = t460.mul_add(L::splat(-413.4375), t1146);
+        let t1148: L = t464.mul_add(L::splat(-689.0625), t1147);
+        let t1149: L = t468.mul_add(L::splat(-137.8125), t1148);
+        let t1150: L = t341.mul_add(L::splat(27.0703125), t1149);
+        let t1151: L = t470.mul_add(L::splat(974.53125), t1150);
+        let t1152: L = t474.mul_add(L::splat(3410.859375), t1151);
+        let t1153: L = t478.mul_add(L::splat(2273.90625), t1152);
+        let t1154: L = t482.mul_add(L::splat(243.6328125), t1153);
+        let t1155: L = t351 * t1154;
+        let t1156: L = t353 * L::splat(37.5);
+        let t1157: L = t352.mul_add(L::splat(-9.0), t1156);
+        let t1158: L = t358.mul_add(L::splat(37.5), t1157);
+        let t1159: L = t360.mul_add(L::splat(-91.875), t1158);
+        let t1160: L = t364.mul_add(L::splat(-306.25), t1159);
+        let t1161: L = t368.mul_add(L::splat(-91.875), t1160);
+        let t1162: L = t370.mul_add(L::splat(177.1875), t1161);
+        let t1163: L = t374.mul_add(L::splat(1240.3125), t1162);
+        let t1164: L = t378.mul_add(L::splat(1240.3125), t1163);
+        let t1165: L = t382.mul_add(L::splat(177.1875), t1164);
+        let t1166: L = t351 * t1165;
+        let t1167: L = t321 * t451;
+        let t1168: L = t321 * t567;
+        let t1169: L = t321 * t644;
+        let t1170: L = t321 * t739;
+        let t1171: L = t321 * t809;
+        let t1172: L = t321 * t866;
+        let t1173: L = t321 * t918;
+        let t1174: L = t321 * t930;
+        let t1175: L = t321 * t972;
+        let t1176: L = t321 * t994;
+        let t1177: L = t321 * t1021;
+        let t1178: L = t321 * t1063;
+        let t1179: L = t321 * t1074;
+        let t1180: L = t321 * t1098;
+        let t1181: L = t321 * t1114;
+        let t1182: L = t321 * t1139;
+        let t1183: L = t321 * t1155;
+        let t1184: L = t321 * t1166;
+        let t1185: L = t325 * t1167;
+        let t1186: L = t327 * t1169;
+        let t1187: L = t327 * t1186;
+        let t1188: L = t325.mul_add(t1185, t1187);
+        let t1189: L = t327 * t1167;
+        let t1190: L = t325 * t1169;
+        let t1191: L = t327 * t1190;
+        let t1192: L = t325.mul_sub(t1189, t1191);
+        let t1193: L = t325 * t1168;
+        let t1194: L = t325 * t1186;
+        let t1195: L = t327.mul_sub(t1185, t1194);
+        let t1196: L = t325 * t1190;
+        let t1197: L = t327.mul_add(t1189, t1196);
+        let t1198: L = t327 * t1168;
+        let t1199: L = t325 * t1170;
+        let t1200: L = t327 * t1170;
+        let t1201: L = t327 * t1172;
+        let t1202: L = t325 * t1173;
+        let t1203: L = t327 * t1202;
+        let t1204: L = t325.mul_add(t1201, t1203);
+        let t1205: L = -t1204;
+        let t1206: L = t325 * t1172;
+        let t1207: L = t327 * t1173;
+        let t1208: L = t327 * t1207;
+        let t1209: L = t325.mul_sub(t1206, t1208);
+        let t1210: L = t327 * t1174;
+        let t1211: L = -t1210;
+        let t1212: L = t327 * t1201;
+        let t1213: L = t325.mul_sub(t1202, t1212);
+        let t1214: L = t325 * t1207;
+        let t1215: L = t327.mul_add(t1206, t1214);
+        let t1216: L = t325 * t1174;
+        let t1217: L = t327 * t1175;
+        let t1218: L = -t1217;
+        let t1219: L = t325 * t1175;
+        let t1220: L = t327 * t1176;
+        let t1221: L = t325 * t1177;
+        let t1222: L = t327 * t1221;
+        let t1223: L = t325.mul_add(t1220, t1222);
+        let t1224: L = -t1223;
+        let t1225: L = t325 * t1176;
+        let t1226: L = t327 * t1177;
+        let t1227: L = t327 * t1226;
+        let t1228: L = t325.mul_sub(t1225, t1227);
+        let t1229: L = t327 * t1178;
+        let t1230: L = -t1229;
+        let t1231: L = t327 * t1220;
+        let t1232: L = t325.mul_sub(t1221, t1231);
+        let t1233: L = t325 * t1226;
+        let t1234: L = t327.mul_add(t1225, t1233);
+        let t1235: L = t325 * t1178;
+        let t1236: L = t327 * t1179;
+        let t1237: L = -t1236;
+        let t1238: L = t325 * t1179;
+        let t1239: L = t325 * t1180;
+        let t1240: L = t327 * t1182;
+        let t1241: L = t327 * t1240;
+        let t1242: L = t325.mul_add(t1239, t1241);
+        let t1243: L = t327 * t1180;
+        let t1244: L = t325 * t1182;
+        let t1245: L = t327 * t1244;
+        let t1246: L = t325.mul_sub(t1243, t1245);
+        let t1247: L = t325 * t1181;
+        let t1248: L = t325 * t1240;
+        let t1249: L = t327.mul_sub(t1239, t1248);
+        let t1250: L = t325 * t1244;
+        let t1251: L = t327.mul_add(t1243, t1250);
+        let t1252: L = t327 * t1181;
+        let t1253: L = t325 * t1183;
+        let t1254: L = t327 * t1183;
+        [
+            t1188,
+            t1192,
+            t1193,
+            t1195,
+            t1197,
+            t1198,
+            t1199,
+            t1200,
+            t1171,
+            t1205,
+            t1209,
+            t1211,
+            t1213,
+            t1215,
+            t1216,
+            t1218,
+            t1219,
+            L::splat(0.0),
+            t1224,
+            t1228,
+            t1230,
+            t1232,
+            t1234,
+            t1235,
+            t1237,
+            t1238,
+            L::splat(0.0),
+            t1242,
+            t1246,
+            t1247,
+            t1249,
+            t1251,
+            t1252,
+            t1253,
+            t1254,
+            t1184,
+        ]
+    } else {
+        [L::splat(0.0); 36usize]
+    };
+    let out: [L; 36usize] = lanes::select_array(far, farv, near);
+    out
 }
 /// Scene `wall_ft` (plane no-slip wall at x3 = height: Stokeslet plus Blake's image (Eqs. 5, 7)): the FT blocks, pair equal.
 ///
