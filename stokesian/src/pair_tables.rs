@@ -154,7 +154,7 @@ struct Read {
 
 /// The most the trailing rows a table drops may add to a function on a patch (each
 /// `|T_i T_j| <= 1`), in Kim & Karrila's normalisation: absolute, so that it stays below
-/// the tables' errors against the series relative to `max(|F|, 1)` (2.3e-9 near,
+/// the tables' errors against the series relative to `max(|F|, 1)` (6.6e-10 near,
 /// 3.6e-11 far, both unchanged by the trimming) and below the step where they meet
 /// (2.7e-11 at `s' = 3` with the rows trimmed).
 const TRIM: f64 = 1e-11;
@@ -205,19 +205,19 @@ static FAR: Table = Table {
 };
 static FAR_READ: OnceLock<Option<Read>> = OnceLock::new();
 
-/// `u = ln xi` on twenty patches of `[U_MIN, 0]` shrinking quadratically towards `xi = 1`
-/// (ends -36, -32.49, ..., -2.25, -1.44, -0.81, -0.36, -0.09, 0), 10 terms; `ln lambda` on
+/// `u = ln xi` on 24 patches of `[U_MIN, 0]` shrinking quadratically towards `xi = 1`
+/// (ends -36, -33.06, ..., -1, -0.563, -0.25, -0.063, 0), 10 terms; `ln lambda` on
 /// eight equal patches of `[ln 1e-2, ln 1e2]`, 16 terms: 160 coefficients per function,
-/// 2.3e-9 off the series. Tried: six patches of 20 terms in `u` (1.1e-9, but twice the
-/// coefficients per call: a call for all 22 functions took 0.83-0.87 us against
-/// 0.52-0.73 us); 12 and 16 patches of 10 terms (1.1e-6, 1.5e-8 at `lambda = 100`);
-/// 16 patches of 8 terms in `ln lambda` (3.4e-6).
+/// 6.6e-10 off the series. Tried: six patches of 20 terms in `u` (1.1e-9, but twice the
+/// coefficients per call: a call for all 22 functions took 0.83-1.02 us against
+/// 0.52-0.73 us); 12, 16 and 20 patches of 10 terms (1.1e-6, 1.5e-8 and 2.3e-9 at
+/// `lambda = 100`); 16 patches of 8 terms in `ln lambda` (3.4e-6).
 static NEAR: Table = Table {
     file: include_bytes!("generated/two_sphere_near.bin"),
     separation: Axis {
         lo: U_MIN,
         hi: 0.0,
-        patches: 20,
+        patches: 24,
         grading: Grading::TowardsHi,
         terms: 10,
     },
@@ -538,7 +538,7 @@ impl WithLanes for RowSums<'_> {
 /// ratio terms done once), with the near-contact coefficients of the singular closed
 /// forms at that ratio: the functions of a pair at this ratio then cost one row of
 /// multiply-adds per separation term for all 22 together (0.07-0.18 us, against
-/// 0.27-0.62 us for [`scalars`]; README). Building one reads both
+/// 0.23-0.72 us for [`scalars`]; README). Building one reads both
 /// tables' column at `lambda` once (about 0.1 ms): worth it for a ratio that
 /// many pairs share, as in [`crate::assembly::System::resistance`]. The same functions
 /// as [`scalars`] to rounding (the two sums in the other order).
@@ -678,7 +678,7 @@ mod tests {
     /// 100, one ulp of which is 4.5e-13), so the sums' rounding reaches a few ulps of
     /// that (measured 1.4e-12 of `max(|F|, 1)`, near contact at the largest ratios); 1e-11
     /// (about 20 such ulps) allows for that with a margin and is far below the tables'
-    /// errors against the series (2.3e-9 near). Ratios across both ends and
+    /// errors against the series (6.6e-10 near). Ratios across both ends and
     /// interior ones, not at the nodes; separations through both tables, the step
     /// between them and contact.
     #[test]
@@ -714,7 +714,7 @@ mod tests {
     /// each is a sum of at most 160 or 192 products, so fused and unfused multiply-adds and the
     /// lanes' order of summing differ by a few ulps of `max(|F|, 1)` (measured 8.9e-16
     /// between the scalar and AVX2 lanes); 1e-14 allows for that with a margin and is far
-    /// below the tables' errors against the series (3.6e-11 far, 2.3e-9 near).
+    /// below the tables' errors against the series (3.6e-11 far, 6.6e-10 near).
     #[test]
     fn every_instruction_set_gives_the_same_functions() {
         let best = Isa::best();
