@@ -528,9 +528,40 @@ impl PairFunctions {
             Some(at) => at.scalars(s_dash, count),
             None => crate::pair_tables::scalars(s_dash, lambda, count),
         };
-        if let Some(f) = tables {
-            return Ok(f);
+        tables.map_or_else(|| Self::series(s_dash, lambda, ft_only), Ok)
+    }
+
+    /// The functions of one pair at `s_dash` seen from each sphere, `lambdas` its
+    /// partner's size over its own (as [`PairFunctions::scalars`] for each, the same
+    /// numbers; from the two-dimensional tables in one call, which locates the
+    /// separation once).
+    fn pair(
+        &self,
+        s_dash: f64,
+        lambdas: [f64; 2],
+        ft_only: bool,
+    ) -> Result<[PairScalars; 2], ResistanceError> {
+        let count = if ft_only { 10 } else { 22 };
+        let shared = lambdas.map(|l| self.at.get(&l.to_bits()));
+        let tables = match shared {
+            [Some(first), Some(second)] => first
+                .scalars(s_dash, count)
+                .zip(second.scalars(s_dash, count))
+                .map(<[PairScalars; 2]>::from),
+            _ => crate::pair_tables::pair_scalars(s_dash, lambdas, count),
+        };
+        match tables {
+            Some(views) => Ok(views),
+            None => Ok([
+                Self::series(s_dash, lambdas[0], ft_only)?,
+                Self::series(s_dash, lambdas[1], ft_only)?,
+            ]),
         }
+    }
+
+    /// The functions from the series (if a committed table file does not have its
+    /// table's shape).
+    fn series(s_dash: f64, lambda: f64, ft_only: bool) -> Result<PairScalars, ResistanceError> {
         PairSeries::cached_at(lambda, ft_only, s_dash)
             .and_then(|s| s.scalars(s_dash))
             .map_err(ResistanceError::TwoSphere)
@@ -737,8 +768,7 @@ impl System {
                 .map(|&(a, b, dist, weight)| {
                     let (p, q) = (&ps[a], &ps[b]);
                     let s_dash = 2.0 * dist / (p.a + q.a);
-                    let fi = functions.scalars(s_dash, q.a / p.a, k != 11)?;
-                    let fj = functions.scalars(s_dash, p.a / q.a, k != 11)?;
+                    let [fi, fj] = functions.pair(s_dash, [q.a / p.a, p.a / q.a], k != 11)?;
                     let d: [f64; 3] = std::array::from_fn(|c| (q.x[c] - p.x[c]) / dist);
                     let exact = pair_block(eta, [(p.a, fi), (q.a, fj)], d, k);
                     let far = free_pair_mobility(eta, (p.x, p.a), (q.x, q.a), k);

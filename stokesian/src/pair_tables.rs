@@ -11,7 +11,7 @@
 //!   sit at contact, `t = 1`).
 //! - **Near** (`2 < s' < 3`, gap `xi = s' - 2` in `(0, 1)`): the series' closed forms
 //!   carry the singular terms `1/xi`, `ln(1/xi)` and `xi ln(1/xi)` exactly
-//!   ([`crate::two_sphere::singular_parts`], evaluated at run time); the tables fit only
+//!   ([`crate::two_sphere::SingularForms`], evaluated at run time); the tables fit only
 //!   the regular remainder ([`crate::two_sphere::PairSeries::regular`]), continuous up to
 //!   contact, in `u = ln xi` and `ln lambda`. In `u` the remainder's first non-analytic
 //!   term, `xi^2 ln xi`, is smooth, and the remainder tends to its contact value
@@ -25,10 +25,13 @@
 //!   `mu` near `mu = 1` for a few patches (tried: 16 patches in `mu` were still 2.7e-2
 //!   off, 8 in `ln lambda` 6e-10).
 //!
-//! Each table holds, patch by patch (separation variable, then ratio variable), every
-//! function's `terms` x `terms` coefficients (separation x ratio), so a pair reads one
-//! contiguous block and costs their product in multiply-adds per function, less the
-//! trailing separation rows the generator zeroed (`TRIM`), which are skipped.
+//! Each table file holds, patch by patch (separation variable, then ratio variable),
+//! every function's `terms` x `terms` coefficients (separation x ratio), the terms that
+//! no function needs zeroed by the generator (`TRIM`, `trim_patch`: 64 of 160 terms kept
+//! on an average near patch, 48 of 80 far). Read once, each patch is packed with the
+//! functions in lanes: per kept term `(i, j)` one weight `T_i T_j` and one multiply-add
+//! per vector of functions, from one contiguous block, with no sums across lanes.
+//! [`pair_scalars`] gives both spheres' functions of a pair in one call.
 //!
 //! [`AtRatio`] contracts both tables at one size ratio (the ratio sums done once), for
 //! the many pairs of a suspension that share it: their functions then cost a fifth to a
@@ -38,7 +41,7 @@
 //! see README ("Resistance with lubrication").
 
 use crate::tables::{chebyshev_coefficients, chebyshev_nodes};
-use crate::two_sphere::{singular_parts, PairScalars, PairSeries, LAMBDA_MIN};
+use crate::two_sphere::{PairScalars, PairSeries, SingularForms, LAMBDA_MIN};
 use kernels::lanes::{dispatch_with, Isa, Lane, WithLanes};
 use std::sync::OnceLock;
 
@@ -49,17 +52,13 @@ pub const S_MIN: f64 = 3.0;
 pub const U_MIN: f64 = -36.0;
 /// The functions, in the order of [`PairScalars::to_array`].
 const FUNCTIONS: usize = 22;
-/// The most Chebyshev coefficients in a separation variable.
+/// The most Chebyshev coefficients in a separation or ratio variable.
 const MAX_TERMS: usize = 20;
-/// The widest `f64` lanes: the ratio terms of a table fill whole vectors of any width.
-const F64_LANES: usize = 8;
-// (the functions even in number: they are summed two at a time, `PatchSums`)
-const _: () = assert!(FUNCTIONS.is_multiple_of(2));
 const _: () = assert!(
-    (FAR.ratio.terms == F64_LANES || FAR.ratio.terms == 2 * F64_LANES)
-        && (NEAR.ratio.terms == F64_LANES || NEAR.ratio.terms == 2 * F64_LANES)
-        && FAR.separation.terms <= MAX_TERMS
+    FAR.separation.terms <= MAX_TERMS
         && NEAR.separation.terms <= MAX_TERMS
+        && FAR.ratio.terms <= MAX_TERMS
+        && NEAR.ratio.terms <= MAX_TERMS
 );
 
 /// One variable of a table: `patches` parts of `[lo, hi]`, part `k` ending at `hi - (hi -
@@ -100,32 +99,9 @@ impl Axis {
         self.hi - (self.hi - self.lo) * scaled
     }
 
-    /// The part holding `x` (clamped to the ends) and `x` mapped to `[-1, 1]` on it.
-    fn locate(&self, x: f64) -> (usize, f64) {
-        self.locate_by(x, |k| self.bound(k))
-    }
-
-    /// [`Axis::locate`] with the bounds from `bound(k)` (equal to [`Axis::bound`]; a
-    /// [`Column`] keeps them rather than compute them at each call).
-    #[inline(always)]
-    fn locate_by(&self, x: f64, bound: impl Fn(usize) -> f64) -> (usize, f64) {
-        // the grading inverted, then the part settled against the bounds exactly
-        let left = ((self.hi - x) / (self.hi - self.lo)).clamp(0.0, 1.0);
-        let root = match self.grading {
-            Grading::Equal => left,
-            Grading::TowardsHi => left.sqrt(),
-            Grading::TowardsEnds => (1.0 - 2.0 * left).acos() / std::f64::consts::PI,
-        };
-        let n = self.patches;
-        let mut p = ((n as f64 * (1.0 - root)) as usize).min(n - 1);
-        while p > 0 && x < bound(p) {
-            p -= 1;
-        }
-        while p + 1 < n && x >= bound(p + 1) {
-            p += 1;
-        }
-        let (a, b) = (bound(p), bound(p + 1));
-        (p, ((2.0 * x - a - b) / (b - a)).clamp(-1.0, 1.0))
+    /// The ends of every part: [`Axis::bound`] of `0..=patches`.
+    fn bounds(&self) -> Vec<f64> {
+        (0..=self.patches).map(|k| self.bound(k)).collect()
     }
 
     /// The Chebyshev points of every part.
@@ -136,6 +112,16 @@ impl Axis {
     }
 }
 
+/// The part of an axis with ends `bounds` ([`Axis::bounds`]) holding `x` (clamped to
+/// the ends), and `x` mapped to `[-1, 1]` on it.
+fn locate(bounds: &[f64], x: f64) -> (usize, f64) {
+    let parts = bounds.len() - 1;
+    // the inner ends at or below x
+    let p = bounds[1..parts].partition_point(|&b| b <= x);
+    let (a, b) = (bounds[p], bounds[p + 1]);
+    (p, ((2.0 * x - a - b) / (b - a)).clamp(-1.0, 1.0))
+}
+
 /// A table: its file, its two variables (separation, ratio) and the coefficients, read once.
 struct Table {
     file: &'static [u8],
@@ -144,33 +130,60 @@ struct Table {
     read: &'static OnceLock<Option<Read>>,
 }
 
-/// A table's file as read: the coefficients, and for each function on each patch the
-/// rows (separation terms) up to its last non-zero one: the generator zeroes the
-/// trailing rows that add less than [`TRIM`] ([`trim_rows`]), and the sums stop there.
+/// A table's file as read, packed for sums with the functions in lanes: for each patch
+/// (separation, then ratio), the terms `(i, j)` (separation, ratio) that any function
+/// keeps (the generator zeroes the others, [`trim_patch`]), and for each such term the
+/// 22 functions' coefficients side by side ([`PADDED`] numbers); the sums read nothing
+/// else.
 struct Read {
-    coefficients: Vec<f64>,
-    rows: Vec<u8>,
+    /// The kept terms' coefficients: patch after patch, term after term.
+    coefficients: Vec<[f64; PADDED]>,
+    /// The kept terms `(i, j)`, in the same order.
+    terms: Vec<[u8; 2]>,
+    /// Where each patch's terms start (and the end).
+    starts: Vec<usize>,
+    /// [`Axis::bound`] of the separation's parts, and of the ratio's.
+    bounds: (Vec<f64>, Vec<f64>),
 }
 
-/// The most the trailing rows a table drops may add to a function on a patch (each
+/// The most the terms a table drops may add to a function on a patch (each
 /// `|T_i T_j| <= 1`), in Kim & Karrila's normalisation: absolute, so that it stays below
 /// the tables' errors against the series relative to `max(|F|, 1)` (6.6e-10 near,
 /// 3.6e-11 far, both unchanged by the trimming) and below the step where they meet
-/// (2.7e-11 at `s' = 3` with the rows trimmed).
+/// (2.7e-11 at `s' = 3` with the terms trimmed).
 const TRIM: f64 = 1e-11;
 
-/// Zero the trailing rows (separation terms) of one function's `rows x terms`
-/// coefficients on one patch while the absolute sum of what is zeroed stays within
-/// `budget`; the first row is kept.
-fn trim_rows(patch: &mut [f64], terms: usize, budget: f64) {
-    let mut dropped = 0.0;
-    for row in patch.chunks_exact_mut(terms).skip(1).rev() {
-        let sum: f64 = row.iter().map(|c| c.abs()).sum();
-        if dropped + sum > budget {
-            break;
+/// Zero the terms of a patch that no function needs: the patch's 22 functions'
+/// `rows x terms` coefficients (function after function) lose the last kept term of a
+/// row (separation term `i`, ratio terms `j` from 0), the one whose largest coefficient
+/// over the functions is least first, while what each function loses in absolute sum
+/// stays within `budget`; row 0 keeps its first term, and no row keeps more terms than
+/// the row before it.
+fn trim_patch(patch: &mut [f64], rows: usize, terms: usize, budget: f64) {
+    let size = rows * terms;
+    let mut kept = vec![terms; rows];
+    let mut lost = [0.0; FUNCTIONS];
+    let cell = |i: usize, j: usize| (0..FUNCTIONS).map(move |k| k * size + i * terms + j);
+    loop {
+        let cheapest = (0..rows)
+            .filter(|&i| kept[i] > usize::from(i == 0))
+            .filter(|&i| kept.get(i + 1).is_none_or(|&n| n < kept[i]))
+            .filter(|&i| {
+                cell(i, kept[i] - 1)
+                    .zip(&lost)
+                    .all(|(c, lost)| lost + patch[c].abs() <= budget)
+            })
+            .map(|i| {
+                let largest = cell(i, kept[i] - 1).fold(0.0, |m: f64, c| m.max(patch[c].abs()));
+                (largest, i)
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        let Some((_, i)) = cheapest else { break };
+        kept[i] -= 1;
+        for (c, lost) in cell(i, kept[i]).zip(&mut lost) {
+            *lost += patch[c].abs();
+            patch[c] = 0.0;
         }
-        dropped += sum;
-        row.fill(0.0);
     }
 }
 
@@ -245,78 +258,111 @@ impl Table {
         self.separation.terms * self.ratio.terms
     }
 
-    /// The coefficients (little-endian `f64` in the file) and the rows to sum; `None` if
+    /// The coefficients (little-endian `f64` in the file), packed ([`Read`]); `None` if
     /// the file does not have the table's shape (then the callers take the series, and
     /// `cargo xtask gen --check` reports the file). Not typed by length, so that a file
     /// of another shape (the axes changed, the file not yet regenerated) still compiles.
     fn read(&self) -> Option<&'static Read> {
         self.read
-            .get_or_init(|| {
-                (self.file.len() == self.len() * 8).then(|| {
-                    let coefficients: Vec<f64> = self
-                        .file
-                        .chunks_exact(8)
-                        .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of eight")))
-                        .collect();
-                    let terms = self.ratio.terms;
-                    let rows = coefficients
-                        .chunks_exact(self.patch())
-                        .map(|f| {
-                            let last = f
-                                .chunks_exact(terms)
-                                .rposition(|r| r.iter().any(|&c| c != 0.0));
-                            // (at most MAX_TERMS rows, asserted at compile time)
-                            last.map_or(1, |i| i + 1) as u8
-                        })
-                        .collect();
-                    Read { coefficients, rows }
-                })
-            })
+            .get_or_init(|| (self.file.len() == self.len() * 8).then(|| self.pack()))
             .as_ref()
+    }
+
+    /// The file's coefficients packed as [`Read`] holds them.
+    fn pack(&self) -> Read {
+        let (rows, terms, size) = (self.separation.terms, self.ratio.terms, self.patch());
+        let values: Vec<f64> = self
+            .file
+            .chunks_exact(8)
+            .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of eight")))
+            .collect();
+        let mut read = Read {
+            coefficients: Vec::new(),
+            terms: Vec::new(),
+            starts: vec![0],
+            bounds: (self.separation.bounds(), self.ratio.bounds()),
+        };
+        for patch in values.chunks_exact(FUNCTIONS * size) {
+            for (i, j) in (0..rows).flat_map(|i| (0..terms).map(move |j| (i, j))) {
+                let mut c = [0.0; PADDED];
+                for (c, f) in c.iter_mut().zip(patch.chunks_exact(size)) {
+                    *c = f[i * terms + j];
+                }
+                if c.iter().any(|&c| c != 0.0) {
+                    read.coefficients.push(c);
+                    // (at most MAX_TERMS of each, asserted at compile time)
+                    read.terms.push([i as u8, j as u8]);
+                }
+            }
+            read.starts.push(read.coefficients.len());
+        }
+        read
+    }
+
+    /// Where `x` falls on the separation axis: the patch and `T_i` there (`None` if the
+    /// file does not have the table's shape).
+    #[inline]
+    fn at_separation(&self, x: f64) -> Option<(usize, [f64; MAX_TERMS])> {
+        let read = self.read()?;
+        let (px, x) = locate(&read.bounds.0, x);
+        Some((px, chebyshev_values(x, self.separation.terms)))
     }
 
     /// The first `count` functions at separation variable `x` and ratio variable `y`, on
     /// the lanes of `isa` (`None` if this processor lacks it, or if the file does not
     /// have the table's shape).
     fn evaluate(&self, isa: Isa, x: f64, y: f64, count: usize) -> Option<[f64; FUNCTIONS]> {
+        let (px, cx) = self.at_separation(x)?;
+        self.evaluate_at(isa, (px, &cx), y, count)
+    }
+
+    /// [`Table::evaluate`] with the separation located ([`Table::at_separation`]).
+    #[inline]
+    fn evaluate_at(
+        &self,
+        isa: Isa,
+        (px, cx): (usize, &[f64; MAX_TERMS]),
+        y: f64,
+        count: usize,
+    ) -> Option<[f64; FUNCTIONS]> {
         let read = self.read()?;
-        let (px, x) = self.separation.locate(x);
-        let (py, y) = self.ratio.locate(y);
-        let cx = chebyshev_values(x, self.separation.terms);
+        let (py, y) = locate(&read.bounds.1, y);
         let cy = chebyshev_values(y, self.ratio.terms);
-        let size = self.patch();
-        let first = (px * self.ratio.patches + py) * FUNCTIONS;
-        let start = first * size;
-        let mut out = [0.0; FUNCTIONS];
-        // an even number of functions (`PatchSums`; FUNCTIONS is even)
-        let summed = count.min(FUNCTIONS).next_multiple_of(2);
-        let (block, rows, cx) = (
-            &read.coefficients[start..start + summed * size],
-            &read.rows[first..first + summed],
-            &cx[..self.separation.terms],
-        );
-        let sums = &mut out[..summed];
-        // the ratio terms known at compile time: the vectors of a row unrolled
-        let done = match self.ratio.terms {
-            8 => PatchSums::<8>::run_on(isa, block, rows, cx, &cy, sums),
-            16 => PatchSums::<16>::run_on(isa, block, rows, cx, &cy, sums),
-            _ => unreachable!("ratio terms are 8 or 16 (asserted at compile time)"),
+        let patch = read.starts[px * self.ratio.patches + py]
+            ..read.starts[px * self.ratio.patches + py + 1];
+        let (coefficients, terms) = (&read.coefficients[patch.clone()], &read.terms[patch]);
+        let mut out = [0.0; PADDED];
+        let count = count.min(FUNCTIONS);
+        // the functions asked for, in as few lanes as serve them
+        let done = if count <= FT_LANES {
+            let sums = TermSums::<FT_LANES> {
+                coefficients,
+                terms,
+                cx,
+                cy: &cy,
+                out: &mut out,
+            };
+            dispatch_with(isa, sums).is_ok()
+        } else {
+            let sums = TermSums::<PADDED> {
+                coefficients,
+                terms,
+                cx,
+                cy: &cy,
+                out: &mut out,
+            };
+            dispatch_with(isa, sums).is_ok()
         };
-        if !done {
-            return None;
-        }
-        out[count.min(FUNCTIONS)..].fill(0.0);
-        Some(out)
+        done.then(|| std::array::from_fn(|k| if k < count { out[k] } else { 0.0 }))
     }
 
     /// The table contracted at ratio variable `y` ([`Column`]; `None` if the file does
     /// not have the table's shape): on each separation patch, row `i` of function `k` is
-    /// `sum_j T_j(y) c_ij` over the function's rows (the trimmed ones stay zero).
+    /// `sum_j T_j(y) c_ij` over the kept terms (the others zero).
     fn column(&self, y: f64) -> Option<Column> {
         let read = self.read()?;
-        let (py, y) = self.ratio.locate(y);
+        let (py, y) = locate(&read.bounds.1, y);
         let cy = chebyshev_values(y, self.ratio.terms);
-        let (terms, size) = (self.ratio.terms, self.patch());
         let rows_per_patch = self.separation.terms;
         let mut coefficients = vec![0.0; self.separation.patches * rows_per_patch * PADDED];
         let mut rows = vec![1u8; self.separation.patches];
@@ -325,22 +371,22 @@ impl Table {
             .zip(&mut rows)
             .enumerate()
         {
-            let first = (px * self.ratio.patches + py) * FUNCTIONS;
-            for k in 0..FUNCTIONS {
-                let block = &read.coefficients[(first + k) * size..(first + k + 1) * size];
-                let r = read.rows[first + k];
-                *used = (*used).max(r);
-                for (i, row) in block.chunks_exact(terms).take(usize::from(r)).enumerate() {
-                    column[i * PADDED + k] =
-                        row.iter().zip(&cy).fold(0.0, |sum, (c, t)| sum + c * t);
+            let patch = px * self.ratio.patches + py;
+            let kept = read.starts[patch]..read.starts[patch + 1];
+            for (c, &[i, j]) in read.coefficients[kept.clone()]
+                .iter()
+                .zip(&read.terms[kept])
+            {
+                *used = (*used).max(i + 1);
+                let row = &mut column[usize::from(i) * PADDED..][..PADDED];
+                for (r, c) in row.iter_mut().zip(c) {
+                    *r += c * cy[usize::from(j)];
                 }
             }
         }
         Some(Column {
             separation: self.separation,
-            bounds: (0..=self.separation.patches)
-                .map(|k| self.separation.bound(k))
-                .collect(),
+            bounds: read.bounds.0.clone(),
             coefficients,
             rows,
         })
@@ -366,7 +412,8 @@ impl Table {
         let mut out = Vec::with_capacity(self.len() * 8);
         for px in 0..self.separation.patches {
             for at_y in &at {
-                for k in 0..FUNCTIONS {
+                let mut patch = vec![0.0; FUNCTIONS * nx * ny];
+                for (k, patch) in patch.chunks_exact_mut(nx * ny).enumerate() {
                     // along the ratio for each separation node, then along the
                     // separation for each ratio term
                     let rows: Vec<Vec<f64>> = (0..nx)
@@ -375,7 +422,6 @@ impl Table {
                             chebyshev_coefficients(&v)
                         })
                         .collect();
-                    let mut patch = vec![0.0; nx * ny];
                     for j in 0..ny {
                         let c =
                             chebyshev_coefficients(&rows.iter().map(|r| r[j]).collect::<Vec<_>>());
@@ -383,95 +429,59 @@ impl Table {
                             patch[i * ny + j] = ci;
                         }
                     }
-                    trim_rows(&mut patch, ny, TRIM);
-                    out.extend(patch.iter().flat_map(|v| v.to_le_bytes()));
                 }
+                trim_patch(&mut patch, nx, ny, TRIM);
+                out.extend(patch.iter().flat_map(|v| v.to_le_bytes()));
             }
         }
         out
     }
 }
 
-/// `sum_j T_j(y) sum_i T_i(x) c_ij` of each function of one patch, on the widest vector
-/// lanes of the processor ([`kernels::lanes`]): the ratio terms `j` in lanes, the rows `i`
-/// as multiply-adds into them (independent chains side by side), then one dot product.
-struct PatchSums<'a, const N: usize> {
-    /// The patch's coefficients, function after function, row `i` after row.
-    block: &'a [f64],
-    /// The rows to sum of each function (the rest are zero).
-    rows: &'a [u8],
-    /// `T_i(x)` of the rows.
-    cx: &'a [f64],
+/// `sum_ij T_i(x) T_j(y) c_ij` of the first `N` functions of one patch ([`Read`]'s
+/// packing), the functions in lanes ([`kernels::lanes`]): one weight `T_i(x) T_j(y)` per
+/// kept term and one multiply-add per vector of functions (independent chains side by
+/// side); no sum across lanes.
+struct TermSums<'a, const N: usize> {
+    /// The patch's kept terms' coefficients.
+    coefficients: &'a [[f64; PADDED]],
+    /// The kept terms `(i, j)`.
+    terms: &'a [[u8; 2]],
+    /// `T_i(x)`.
+    cx: &'a [f64; MAX_TERMS],
     /// `T_j(y)`.
-    cy: [f64; N],
-    out: &'a mut [f64],
+    cy: &'a [f64; MAX_TERMS],
+    /// The sums, the first `N` set.
+    out: &'a mut [f64; PADDED],
 }
 
-impl<'a, const N: usize> PatchSums<'a, N> {
-    /// The sums on the lanes of `isa` into `out`; false if this processor lacks `isa`.
-    fn run_on(
-        isa: Isa,
-        block: &'a [f64],
-        rows: &'a [u8],
-        cx: &'a [f64],
-        cy: &[f64],
-        out: &'a mut [f64],
-    ) -> bool {
-        let cy = std::array::from_fn(|j| cy[j]);
-        let sums = PatchSums::<N> {
-            block,
-            rows,
-            cx,
-            cy,
-            out,
-        };
-        dispatch_with(isa, sums).is_ok()
-    }
-}
-
-impl<const N: usize> WithLanes for PatchSums<'_, N> {
+impl<const N: usize> WithLanes for TermSums<'_, N> {
     type Elem = f64;
     type Output = ();
 
     #[inline(always)]
     fn run<L: Lane<Elem = f64>>(self) {
-        let terms = N;
         let vectors = N / L::WIDTH;
-        let size = self.cx.len() * terms;
-        // two functions at a time: twice the independent chains of multiply-adds (the
-        // block holds an even number of functions)
-        for ((o, c), r) in self
-            .out
-            .chunks_exact_mut(2)
-            .zip(self.block.chunks_exact(2 * size))
-            .zip(self.rows.chunks_exact(2))
-        {
-            let (c0, c1) = c.split_at(size);
-            let mut acc = [[L::splat(0.0); N]; 2];
-            let rows = usize::from(r[0].max(r[1]));
-            for (i, &x) in self.cx.iter().enumerate().take(rows) {
-                let x = L::splat(x);
-                let (r0, r1) = (&c0[i * terms..], &c1[i * terms..]);
-                for v in 0..vectors {
-                    let j = v * L::WIDTH;
-                    acc[0][v] = L::load(&r0[j..]).mul_add(x, acc[0][v]);
-                    acc[1][v] = L::load(&r1[j..]).mul_add(x, acc[1][v]);
-                }
+        let mut acc = [L::splat(0.0); PADDED];
+        for (c, &[i, j]) in self.coefficients.iter().zip(self.terms) {
+            let w = L::splat(self.cx[usize::from(i)] * self.cy[usize::from(j)]);
+            for (v, a) in acc.iter_mut().take(vectors).enumerate() {
+                *a = L::load(&c[v * L::WIDTH..]).mul_add(w, *a);
             }
-            for (o, acc) in o.iter_mut().zip(&acc) {
-                let mut total = L::splat(0.0);
-                for (v, a) in acc.iter().take(vectors).enumerate() {
-                    total = a.mul_add(L::load(&self.cy[v * L::WIDTH..]), total);
-                }
-                *o = total.sum();
-            }
+        }
+        for (v, a) in acc.iter().take(vectors).enumerate() {
+            a.store(&mut self.out[v * L::WIDTH..]);
         }
     }
 }
 
-/// The functions of a [`Column`] row padded to a multiple of every lane width.
+/// The functions padded to a multiple of every lane width (the widest: 8 `f64`).
 const PADDED: usize = 24;
-const _: () = assert!(PADDED >= FUNCTIONS && PADDED.is_multiple_of(F64_LANES));
+/// The force-torque functions (the first ten) padded the same way.
+const FT_LANES: usize = 16;
+const _: () = assert!(
+    PADDED >= FUNCTIONS && PADDED.is_multiple_of(8) && FT_LANES >= 10 && FT_LANES.is_multiple_of(8)
+);
 
 /// One table contracted at one size ratio ([`Table::column`]): on each separation patch,
 /// row after row (separation terms), the 22 functions' coefficients side by side
@@ -488,7 +498,7 @@ impl Column {
     /// Every function at separation variable `x`, on the lanes of `isa` (`None` if this
     /// processor lacks it).
     fn evaluate(&self, isa: Isa, x: f64) -> Option<[f64; FUNCTIONS]> {
-        let (px, x) = self.separation.locate_by(x, |k| self.bounds[k]);
+        let (px, x) = locate(&self.bounds, x);
         let terms = self.separation.terms;
         let rows = usize::from(self.rows[px]);
         let cx = chebyshev_values(x, terms);
@@ -569,9 +579,9 @@ impl AtRatio {
         let mut out = if s_dash >= S_MIN {
             self.far.evaluate(Isa::best(), 2.0 / s_dash)?
         } else if s_dash > 2.0 {
-            let regular = self.near.evaluate(Isa::best(), near_variable(s_dash))?;
-            let singular =
-                crate::two_sphere::singular_parts_from(&self.singular, s_dash, count).ok()?;
+            let forms = SingularForms::new(s_dash).ok()?;
+            let regular = self.near.evaluate(Isa::best(), forms.ln_gap().max(U_MIN))?;
+            let singular = forms.parts_from(&self.singular, count);
             std::array::from_fn(|k| singular[k] + regular[k])
         } else {
             return None;
@@ -610,6 +620,37 @@ pub fn scalars(s_dash: f64, lambda: f64, count: usize) -> Option<PairScalars> {
     far_scalars(s_dash, lambda, count).or_else(|| near_scalars(s_dash, lambda, count))
 }
 
+/// The functions of one pair seen from each sphere: the first `count` (as [`scalars`])
+/// at `s_dash > 2` and the size ratios `lambdas = [a2/a1, a1/a2]` (each in `[1e-2,
+/// 1e2]`); `None` outside. The same numbers as [`scalars`] at each ratio, bit for bit,
+/// for less: the separation is located and its Chebyshev terms and closed forms
+/// computed once for both.
+pub fn pair_scalars(s_dash: f64, lambdas: [f64; 2], count: usize) -> Option<[PairScalars; 2]> {
+    if !(s_dash > 2.0 && lambdas.iter().all(|&l| in_range(l))) {
+        return None;
+    }
+    let isa = Isa::best();
+    let [first, second] = lambdas;
+    let (first, second) = if s_dash >= S_MIN {
+        let (px, cx) = FAR.at_separation(2.0 / s_dash)?;
+        (
+            FAR.evaluate_at(isa, (px, &cx), mu(first), count)?,
+            FAR.evaluate_at(isa, (px, &cx), mu(second), count)?,
+        )
+    } else {
+        let forms = SingularForms::new(s_dash).ok()?;
+        let (px, cx) = NEAR.at_separation(forms.ln_gap().max(U_MIN))?;
+        (
+            near_view(isa, &forms, (px, &cx), first, count)?,
+            near_view(isa, &forms, (px, &cx), second, count)?,
+        )
+    };
+    Some([
+        PairScalars::from_array(first),
+        PairScalars::from_array(second),
+    ])
+}
+
 /// The far table: `s_dash >= S_MIN`, else `None` (as [`scalars`]).
 pub fn far_scalars(s_dash: f64, lambda: f64, count: usize) -> Option<PairScalars> {
     if !(s_dash >= S_MIN && in_range(lambda)) {
@@ -625,18 +666,26 @@ pub fn near_scalars(s_dash: f64, lambda: f64, count: usize) -> Option<PairScalar
     if !(s_dash > 2.0 && s_dash < S_MIN && in_range(lambda)) {
         return None;
     }
-    let regular = NEAR.evaluate(Isa::best(), near_variable(s_dash), lambda.ln(), count)?;
-    let singular = singular_parts(s_dash, lambda, count).ok()?;
-    Some(PairScalars::from_array(std::array::from_fn(|k| {
-        singular[k] + regular[k]
-    })))
+    let forms = SingularForms::new(s_dash).ok()?;
+    let (px, cx) = NEAR.at_separation(forms.ln_gap().max(U_MIN))?;
+    near_view(Isa::best(), &forms, (px, &cx), lambda, count).map(PairScalars::from_array)
 }
 
-/// The near table's separation variable `u = ln xi` at `s_dash` in `(2, S_MIN)`, no
+/// The near table's regular remainders at the located separation plus the closed forms'
+/// singular parts, at ratio `lambda`. The table's separation variable is `u = ln xi`
+/// ([`SingularForms::ln_gap`]: `xi = s' - 2` exact for `s'` in `(2, 4]`, Sterbenz), no
 /// smaller than [`U_MIN`].
-fn near_variable(s_dash: f64) -> f64 {
-    // exact for s' in (2, 4] (Sterbenz), as in the series
-    (s_dash - 2.0).ln().max(U_MIN)
+#[inline]
+fn near_view(
+    isa: Isa,
+    forms: &SingularForms,
+    at: (usize, &[f64; MAX_TERMS]),
+    lambda: f64,
+    count: usize,
+) -> Option<[f64; FUNCTIONS]> {
+    let regular = NEAR.evaluate_at(isa, at, lambda.ln(), count)?;
+    let singular = forms.parts(lambda, count).ok()?;
+    Some(std::array::from_fn(|k| singular[k] + regular[k]))
 }
 
 /// The contents of `src/generated/two_sphere_far.bin`: the functions from the series at
@@ -708,6 +757,44 @@ mod tests {
         assert!(AtRatio::new(0.009).is_none() && AtRatio::new(f64::NAN).is_none());
         let at = AtRatio::new(1.0).expect("in range");
         assert!(at.scalars(2.0, 22).is_none() && at.scalars(f64::NAN, 22).is_none());
+    }
+
+    /// A pair's functions in one call ([`pair_scalars`]) are those of [`scalars`] at each
+    /// sphere's ratio, bit for bit: the same sums in the same order, only the location
+    /// of the separation and the closed forms shared. Ratios across the range, both
+    /// tables, the step between them, contact and infinity.
+    #[test]
+    fn a_pair_in_one_call_gives_each_spheres_functions() {
+        for i in 0..=40 {
+            let lambda = 10f64.powf(-2.0 + 4.0 * f64::from(i) / 40.0);
+            let separations = [
+                2.0 + 4.0 * f64::EPSILON,
+                2.0 + 1e-9,
+                2.3,
+                2.999,
+                S_MIN,
+                3.5,
+                40.0,
+            ];
+            for s in separations.into_iter().chain([f64::INFINITY]) {
+                for count in [10, 22] {
+                    let lambdas = [lambda, 1.0 / lambda];
+                    let views = pair_scalars(s, lambdas, count).expect("in range");
+                    for (view, lambda) in views.iter().zip(lambdas) {
+                        let alone = scalars(s, lambda, count).expect("in range");
+                        assert_eq!(view.to_array(), alone.to_array(), "lambda {lambda}, s' {s}");
+                    }
+                }
+            }
+        }
+        for (s, lambdas) in [
+            (2.0, [1.0, 1.0]),
+            (f64::NAN, [1.0, 1.0]),
+            (2.5, [200.0, 0.005]),
+        ] {
+            assert!(pair_scalars(s, lambdas, 22).is_none());
+        }
+        assert!(pair_scalars(2.5, [1.0, f64::NAN], 22).is_none());
     }
 
     /// Every instruction set this processor has gives the same functions to rounding:

@@ -604,33 +604,48 @@ pub fn resistance_scalars_ft(s_dash: f64, lambda: f64) -> Result<FtScalars, TwoS
 /// [`PairSeries::scalars`], bit for bit.
 pub fn singular_parts(s_dash: f64, lambda: f64, count: usize) -> Result<[f64; 22], TwoSphereError> {
     check_lambda(lambda)?;
-    singular_sums(s_dash, count, |k| (FUNCTIONS[k].singular)(lambda))
+    SingularForms::new(s_dash)?.parts(lambda, count)
 }
 
-/// [`singular_parts`] from the coefficients of [`singular_coefficients`], computed once
-/// for a size ratio: the same numbers, bit for bit.
-pub fn singular_parts_from(
-    coefficients: &[[f64; 3]; 22],
-    s_dash: f64,
-    count: usize,
-) -> Result<[f64; 22], TwoSphereError> {
-    singular_sums(s_dash, count, |k| coefficients[k])
-}
+/// The closed forms carrying the singular terms (module docs) at one separation, for the
+/// functions at any size ratio: the two spheres of a pair see the same separation and
+/// inverse ratios, and share these (three logarithms).
+pub struct SingularForms(Geometry);
 
-/// `h . S(t)` of the first `count` functions, `h` of function `k` from `coefficient(k)`.
-fn singular_sums(
-    s_dash: f64,
-    count: usize,
-    coefficient: impl Fn(usize) -> [f64; 3],
-) -> Result<[f64; 22], TwoSphereError> {
-    let geo = Geometry::new(s_dash)?;
-    Ok(std::array::from_fn(|k| {
-        if k < count {
-            singular_part(k, &coefficient(k), &geo)
-        } else {
-            0.0
-        }
-    }))
+impl SingularForms {
+    /// The closed forms at `s_dash > 2`.
+    pub fn new(s_dash: f64) -> Result<Self, TwoSphereError> {
+        Geometry::new(s_dash).map(SingularForms)
+    }
+
+    /// `ln xi = ln(s' - 2)`.
+    pub fn ln_gap(&self) -> f64 {
+        self.0.ln_xi
+    }
+
+    /// [`singular_parts`] at `lambda`: the same numbers, bit for bit.
+    pub fn parts(&self, lambda: f64, count: usize) -> Result<[f64; 22], TwoSphereError> {
+        check_lambda(lambda)?;
+        Ok(self.sums(count, |k| (FUNCTIONS[k].singular)(lambda)))
+    }
+
+    /// [`SingularForms::parts`] from the coefficients of [`singular_coefficients`],
+    /// computed once for a size ratio: the same numbers, bit for bit.
+    pub fn parts_from(&self, coefficients: &[[f64; 3]; 22], count: usize) -> [f64; 22] {
+        self.sums(count, |k| coefficients[k])
+    }
+
+    /// `h . S(t)` of the first `count` functions, `h` of function `k` from
+    /// `coefficient(k)`; the others zero.
+    fn sums(&self, count: usize, coefficient: impl Fn(usize) -> [f64; 3]) -> [f64; 22] {
+        std::array::from_fn(|k| {
+            if k < count {
+                singular_part(k, &coefficient(k), &self.0)
+            } else {
+                0.0
+            }
+        })
+    }
 }
 
 /// `h . S(t)` of function `k`.
@@ -665,6 +680,8 @@ fn check_lambda(lambda: f64) -> Result<(), TwoSphereError> {
 /// nothing cancels near contact: `1 - t^2 = xi (4 + xi)/(2 + xi)^2`.
 struct Geometry {
     xi: f64,
+    /// `ln xi`
+    ln_xi: f64,
     t: f64,
     /// `[1/(1-t^2), -ln(1-t^2), -(1-t^2) ln(1-t^2)]`
     even: [f64; 3],
@@ -680,10 +697,12 @@ impl Geometry {
         let xi = s_dash - 2.0; // exact for s' in (2, 4] (Sterbenz)
         let t = 2.0 / s_dash;
         let one_m_t2 = xi * (4.0 + xi) / (s_dash * s_dash);
-        let mln = -(xi.ln() + (4.0 + xi).ln() - 2.0 * s_dash.ln()); // -ln(1 - t^2)
-        let lnr = (4.0 + xi).ln() - xi.ln(); // ln((1+t)/(1-t)) = ln((s'+2)/(s'-2))
+        let (ln_xi, ln_4_xi) = (xi.ln(), (4.0 + xi).ln());
+        let mln = -(ln_xi + ln_4_xi - 2.0 * s_dash.ln()); // -ln(1 - t^2)
+        let lnr = ln_4_xi - ln_xi; // ln((1+t)/(1-t)) = ln((s'+2)/(s'-2))
         Ok(Geometry {
             xi,
+            ln_xi,
             t,
             even: [1.0 / one_m_t2, mln, one_m_t2 * mln],
             odd: [t / one_m_t2, lnr, one_m_t2 * lnr],
