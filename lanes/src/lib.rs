@@ -106,6 +106,9 @@ pub trait Lane:
     fn splat(v: f64) -> Self;
     /// Lanes `s[0..WIDTH]` (panics if `s` is shorter).
     fn load(s: &[Self::Elem]) -> Self;
+    /// Lanes `s[0..WIDTH]` of single-precision numbers, each converted to
+    /// [`Lane::Elem`] (exactly: every `f32` is an `f64`; panics if `s` is shorter).
+    fn load_f32(s: &[f32]) -> Self;
     /// Write the lanes to `s[0..WIDTH]` (panics if `s` is shorter).
     fn store(self, s: &mut [Self::Elem]);
     /// Lanes `0, 1, ..., WIDTH - 1`.
@@ -207,6 +210,10 @@ macro_rules! scalar_lane {
             #[inline(always)]
             fn load(s: &[$t]) -> Self {
                 s[0]
+            }
+            #[inline(always)]
+            fn load_f32(s: &[f32]) -> Self {
+                $t::from(s[0])
             }
             #[inline(always)]
             fn store(self, s: &mut [$t]) {
@@ -414,6 +421,38 @@ mod tests {
                     (g - e).abs() <= 4.0 * f64::EPSILON * e.abs(),
                     "{isa:?} {k}: {g} {e}"
                 );
+            }
+        }
+    }
+
+    /// Single-precision numbers loaded into lanes of either element.
+    struct Widen<E>(Vec<f32>, std::marker::PhantomData<E>);
+    impl<E: Element> WithLanes for Widen<E> {
+        type Elem = E;
+        type Output = Vec<E>;
+        #[inline(always)]
+        fn run<L: Lane<Elem = E>>(self) -> Vec<E> {
+            let mut out = vec![E::from_f64(0.0); self.0.len()];
+            for (x, o) in self.0.chunks(L::WIDTH).zip(out.chunks_mut(L::WIDTH)) {
+                L::load_f32(x).store(o);
+            }
+            out
+        }
+    }
+
+    /// `load_f32` converts exactly on every instruction set, into `f64` and `f32` lanes
+    /// (normal, subnormal, signed zero, the extremes).
+    #[test]
+    fn single_precision_loads_are_exact() {
+        let mut x: Vec<f32> = (0..64).map(|k| (k as f32 - 17.3) * 0.731).collect();
+        x[..4].copy_from_slice(&[f32::MAX, f32::MIN_POSITIVE, 1e-45, -0.0]);
+        for isa in Isa::all_available() {
+            let wide = dispatch_with(isa, Widen::<f64>(x.clone(), Default::default()));
+            let narrow = dispatch_with(isa, Widen::<f32>(x.clone(), Default::default()));
+            let (wide, narrow) = (wide.ok().unwrap(), narrow.ok().unwrap());
+            for ((&w, &n), &v) in wide.iter().zip(&narrow).zip(&x) {
+                assert_eq!(w.to_bits(), f64::from(v).to_bits(), "{isa:?}");
+                assert_eq!(n.to_bits(), v.to_bits(), "{isa:?}");
             }
         }
     }

@@ -151,6 +151,13 @@ impl Lane for F64x4 {
         F64x4(unsafe { _mm256_loadu_pd(s.as_ptr()) })
     }
     #[inline(always)]
+    fn load_f32(s: &[f32]) -> Self {
+        let s = &s[..4];
+        // SAFETY: `s` holds 4 f32 (bounds-checked above); unaligned load, widened
+        // exactly; AVX detected before (module docs).
+        F64x4(unsafe { _mm256_cvtps_pd(_mm_loadu_ps(s.as_ptr())) })
+    }
+    #[inline(always)]
     fn store(self, s: &mut [f64]) {
         let s = &mut s[..4];
         // SAFETY: `s` has room for 4 f64 (bounds-checked above); unaligned store.
@@ -222,6 +229,13 @@ impl Lane for F64x8 {
         let s = &s[..8];
         // SAFETY: `s` holds 8 f64 (bounds-checked above); unaligned load.
         F64x8(unsafe { _mm512_loadu_pd(s.as_ptr()) })
+    }
+    #[inline(always)]
+    fn load_f32(s: &[f32]) -> Self {
+        let s = &s[..8];
+        // SAFETY: `s` holds 8 f32 (bounds-checked above); unaligned load, widened
+        // exactly; AVX-512F detected before (module docs).
+        F64x8(unsafe { _mm512_cvtps_pd(_mm256_loadu_ps(s.as_ptr())) })
     }
     #[inline(always)]
     fn store(self, s: &mut [f64]) {
@@ -366,6 +380,10 @@ impl Lane for F32x8 {
         F32x8(unsafe { _mm256_loadu_ps(s.as_ptr()) })
     }
     #[inline(always)]
+    fn load_f32(s: &[f32]) -> Self {
+        Self::load(s)
+    }
+    #[inline(always)]
     fn store(self, s: &mut [f32]) {
         let s = &mut s[..8];
         // SAFETY: `s` has room for 8 f32 (bounds-checked above); unaligned store.
@@ -437,6 +455,10 @@ impl Lane for F32x16 {
         let s = &s[..16];
         // SAFETY: `s` holds 16 f32 (bounds-checked above); unaligned load.
         F32x16(unsafe { _mm512_loadu_ps(s.as_ptr()) })
+    }
+    #[inline(always)]
+    fn load_f32(s: &[f32]) -> Self {
+        Self::load(s)
     }
     #[inline(always)]
     fn store(self, s: &mut [f32]) {
