@@ -2,7 +2,8 @@
 //! every instruction set this processor has; matrix-free products near a wall (F and
 //! FT, N = 1e2, 1e3, 1e4, and per instruction set, FTS at N = 1e3); dense FTS assembly (N = 1e2, 1e3,
 //! into a `Vec` and into huge pages);
-//! Brownian steps near a wall (F, N = 10, 100, 1000, Cholesky and Lanczos noise).
+//! Brownian steps near a wall (F, N = 10, 100, 1000, Cholesky and Lanczos noise); the
+//! two-sphere resistance functions of a pair, near and far.
 //! Run with `cargo bench -p stokesian`.
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 
@@ -537,8 +538,43 @@ fn lubricated_resistance(c: &mut Criterion) {
     g.finish();
 }
 
+/// All 22 two-sphere resistance functions of a pair, seen from each sphere
+/// (`stokesian::pair_tables::pair_scalars`), every pair its own size ratio (1024 pairs,
+/// ratios spread over `[1e-2, 1e2]`): near contact (`s' - 2` from 1e-6 to 1, evenly in
+/// its logarithm) and far (`s'` in `[3, 23]`). Criterion reports time per pair.
+fn pair_functions(c: &mut Criterion) {
+    let mut g = c.benchmark_group("two-sphere functions of a pair");
+    let pairs = 1024u32;
+    g.throughput(Throughput::Elements(u64::from(pairs)));
+    for near in [true, false] {
+        let inputs: Vec<(f64, [f64; 2])> = (0..pairs)
+            .map(|i| {
+                let q = (f64::from(i) * 0.618_033_988_75).fract();
+                let lambda = 10f64.powf(-2.0 + 4.0 * q);
+                let r = (f64::from(i) * 0.414_213_562_37).fract();
+                let s = if near {
+                    2.0 + (-13.8 * r).exp()
+                } else {
+                    3.0 + 20.0 * r
+                };
+                (s, [lambda, 1.0 / lambda])
+            })
+            .collect();
+        let name = if near { "near, all 22" } else { "far, all 22" };
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                for &(s, lambdas) in &inputs {
+                    black_box(stokesian::pair_tables::pair_scalars(s, lambdas, 22));
+                }
+            })
+        });
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
+    pair_functions,
     per_pair,
     per_pair_lanes,
     products,
