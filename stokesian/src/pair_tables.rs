@@ -304,37 +304,38 @@ impl Table {
     /// The file's coefficients packed as [`Read`] holds them.
     fn pack(&self) -> Read {
         let (rows, terms, size) = (self.separation.terms, self.ratio.terms, self.patch());
-        let values: Vec<f64> = self
-            .file
-            .chunks_exact(8)
-            .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of eight")))
-            .collect();
         let mut read = Read {
             wide: Terms::new(),
             narrow: Terms::new(),
             bounds: (self.separation.bounds(), self.ratio.bounds()),
         };
-        for patch in values.chunks_exact(FUNCTIONS * size) {
-            let kept: Vec<([u8; 2], [f64; PADDED])> = (0..rows)
-                .flat_map(|i| (0..terms).map(move |j| (i, j)))
-                .map(|(i, j)| {
+        // (read from the file's bytes as needed: no copy of the whole file)
+        for patch in self.file.chunks_exact(FUNCTIONS * size * 8) {
+            let mut kept: Vec<([u8; 2], [f64; PADDED])> = Vec::with_capacity(size);
+            for i in 0..rows {
+                for j in 0..terms {
                     let mut c = [0.0; PADDED];
-                    for (c, f) in c.iter_mut().zip(patch.chunks_exact(size)) {
-                        *c = f[i * terms + j];
+                    for (c, f) in c.iter_mut().zip(patch.chunks_exact(size * 8)) {
+                        let at = (i * terms + j) * 8;
+                        *c = f64::from_le_bytes(f[at..at + 8].try_into().expect("eight bytes"));
                     }
-                    // (at most MAX_TERMS of each, asserted at compile time)
-                    ([i as u8, j as u8], c)
-                })
-                .filter(|(_, c)| c.iter().any(|&c| c != 0.0))
-                .collect();
+                    if c.iter().any(|&c| c != 0.0) {
+                        // (at most MAX_TERMS of each, asserted at compile time)
+                        kept.push(([i as u8, j as u8], c));
+                    }
+                }
+            }
             // the smallest terms (by their largest coefficient) in single precision,
             // while every function's rounding stays within NARROW
-            let largest = |c: &[f64; PADDED]| c.iter().fold(0.0, |m: f64, c| m.max(c.abs()));
-            let mut order: Vec<usize> = (0..kept.len()).collect();
-            order.sort_by(|&a, &b| largest(&kept[a].1).total_cmp(&largest(&kept[b].1)));
+            let mut order: Vec<(f64, usize)> = kept
+                .iter()
+                .enumerate()
+                .map(|(t, (_, c))| (c.iter().fold(0.0, |m: f64, c| m.max(c.abs())), t))
+                .collect();
+            order.sort_by(|a, b| a.0.total_cmp(&b.0));
             let mut narrow = vec![false; kept.len()];
             let mut rounding = [0.0; PADDED];
-            for t in order {
+            for (_, t) in order {
                 // (2^-24 |c| bounds the rounding of a normal f32; 1e-45 a subnormal's)
                 let r = kept[t].1.map(|c| c.abs() * 2f64.powi(-24) + 1e-45);
                 if rounding.iter().zip(&r).any(|(sum, r)| sum + r > NARROW) {
