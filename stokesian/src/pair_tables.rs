@@ -393,24 +393,11 @@ impl Table {
         let mut out = [0.0; PADDED];
         let count = count.min(FUNCTIONS);
         // the functions asked for, in as few lanes as serve them
+        let terms = (wide, narrow);
         let done = if count <= FT_LANES {
-            let sums = TermSums::<FT_LANES> {
-                wide,
-                narrow,
-                cx,
-                cy: &cy,
-                out: &mut out,
-            };
-            dispatch_with(isa, sums).is_ok()
+            TermSums::<FT_LANES>::run_on(isa, terms, (cx, &cy), &mut out)
         } else {
-            let sums = TermSums::<PADDED> {
-                wide,
-                narrow,
-                cx,
-                cy: &cy,
-                out: &mut out,
-            };
-            dispatch_with(isa, sums).is_ok()
+            TermSums::<PADDED>::run_on(isa, terms, (cx, &cy), &mut out)
         };
         done.then(|| std::array::from_fn(|k| if k < count { out[k] } else { 0.0 }))
     }
@@ -517,6 +504,32 @@ struct TermSums<'a, const N: usize> {
     /// The sums, the first `N` set.
     out: &'a mut [f64; PADDED],
 }
+
+impl<'a, const N: usize> TermSums<'a, N> {
+    /// The sums of the patch's `(wide, narrow)` terms at `(T_i(x), T_j(y))` into `out`
+    /// on the lanes of `isa`; false if this processor lacks it.
+    fn run_on(
+        isa: Isa,
+        (wide, narrow): TermsOf<'a>,
+        (cx, cy): (&'a [f64; MAX_TERMS], &'a [f64; MAX_TERMS]),
+        out: &'a mut [f64; PADDED],
+    ) -> bool {
+        let sums = TermSums::<N> {
+            wide,
+            narrow,
+            cx,
+            cy,
+            out,
+        };
+        dispatch_with(isa, sums).is_ok()
+    }
+}
+
+/// A patch's kept terms, double and single precision: coefficients and `(i, j)`.
+type TermsOf<'a> = (
+    (&'a [[f64; PADDED]], &'a [[u8; 2]]),
+    (&'a [[f32; PADDED]], &'a [[u8; 2]]),
+);
 
 impl<const N: usize> WithLanes for TermSums<'_, N> {
     type Elem = f64;
