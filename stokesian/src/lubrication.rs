@@ -481,15 +481,16 @@ fn free_surface_block(
 }
 
 /// Occurrences of a size ratio among the close pairs from which the tables contracted at
-/// it ([`AtRatio`]) pay: building one costs 0.13-0.15 ms, as much as 250 (near contact)
-/// to 450 (far) calls of [`crate::pair_tables::scalars`] (0.23-0.72 us), and each of its
-/// calls then costs 0.07 to 0.18 us (README); at 64 shared calls a build costs at most
-/// about 0.1 ms more than it saves, and a ratio shared by fewer stays on the
-/// two-dimensional tables.
+/// it ([`AtRatio`]) pay: building one costs 0.09-0.17 ms, as much as 300 (near contact)
+/// to 700 (far) calls of [`crate::pair_tables::scalars`] (0.14-0.64 us), and each of its
+/// calls then costs 0.06 to 0.21 us (`cargo test --release -p integration-tests --test
+/// two_sphere_exact cost -- --nocapture`, two runs, 2026-12-03); at 64 shared calls a
+/// build costs at most about 0.15 ms more than it saves, and a ratio shared by fewer
+/// stays on the two-dimensional tables.
 const SHARED_RATIO: usize = 64;
 
 /// The two-sphere functions of the pairs of one resistance, from the generated tables
-/// ([`crate::pair_tables`], far and near, within 6.6e-10 (near) and 3.6e-11 (far) of the
+/// ([`crate::pair_tables`], far and near, within 6.6e-10 (near) and 3.8e-11 (far) of the
 /// series): contracted once at each size ratio that at least [`SHARED_RATIO`] of the
 /// calls need ([`AtRatio`]), evaluated in two dimensions at the others (the same
 /// functions to rounding); only if a committed table file does not have its table's
