@@ -419,7 +419,7 @@ impl Table {
             .enumerate()
         {
             let patch = px * self.ratio.patches + py;
-            let mut add = |i: u8, j: u8, c: &mut dyn Iterator<Item = f64>| {
+            let mut add = |[i, j]: [u8; 2], c: &[f64; PADDED]| {
                 *used = (*used).max(i + 1);
                 let row = &mut column[usize::from(i) * PADDED..][..PADDED];
                 for (r, c) in row.iter_mut().zip(c) {
@@ -427,12 +427,12 @@ impl Table {
                 }
             };
             let (coefficients, terms) = read.wide.patch(patch);
-            for (c, &[i, j]) in coefficients.iter().zip(terms) {
-                add(i, j, &mut c.iter().copied());
+            for (c, &term) in coefficients.iter().zip(terms) {
+                add(term, c);
             }
             let (coefficients, terms) = read.narrow.patch(patch);
-            for (c, &[i, j]) in coefficients.iter().zip(terms) {
-                add(i, j, &mut c.iter().map(|&c| f64::from(c)));
+            for (c, &term) in coefficients.iter().zip(terms) {
+                add(term, &c.map(f64::from));
             }
         }
         Some(Column {
@@ -632,9 +632,10 @@ impl WithLanes for RowSums<'_> {
 /// The far and near tables contracted at one size ratio `lambda` (the sums over the
 /// ratio terms done once), with the near-contact coefficients of the singular closed
 /// forms at that ratio: the functions of a pair at this ratio then cost one row of
-/// multiply-adds per separation term for all 22 together (0.07-0.18 us, against
-/// 0.23-0.72 us for [`scalars`]; README). Building one reads both
-/// tables' column at `lambda` once (about 0.1 ms): worth it for a ratio that
+/// multiply-adds per separation term for all 22 together (0.06-0.21 us, against
+/// 0.14-0.64 us for [`scalars`]: the cost test of `tests/tests/two_sphere_exact.rs`, two
+/// runs). Building one reads both tables' column at `lambda` once (0.09-0.17 ms): worth
+/// it for a ratio that
 /// many pairs share, as in [`crate::assembly::System::resistance`]. The same functions
 /// as [`scalars`] to rounding (the two sums in the other order).
 pub struct AtRatio {
