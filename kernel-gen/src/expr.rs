@@ -342,9 +342,8 @@ impl Graph {
             return self.constant(x.powi(n));
         }
         if n == 2 {
-            if let Op::Sqrt(y) = self.nodes[a as usize] {
-                return y;
-            }
+            // a square is a product (one node for `x x` and `x^2`)
+            return self.mul(a, a);
         }
         self.intern(Op::Powi(a, n))
     }
@@ -400,6 +399,352 @@ impl Graph {
             map.push(id);
         }
         (g, map)
+    }
+
+    /// The graph with its power-of-two factors carried beside the nodes instead of
+    /// computed, and the new id of every old node (the old node's value, the factor
+    /// applied where it was not absorbed).
+    ///
+    /// Every old node becomes a pair `(x, s)`, its value `s x` with `s = ±2^k`: a
+    /// product by a power of two is no node at all (`2 x`, `x / 4`, `-x`); products,
+    /// quotients and integer powers multiply the factors; `s x + t x` is `(s + t) x`;
+    /// with `through_sums` a sum keeps the factor of its first operand and takes the
+    /// other's ratio into a constant multiple (one multiply-add), else it applies both
+    /// factors and has factor 1; a square root takes the root of an even power; a
+    /// comparison compares the unscaled operands where the factors agree (or against
+    /// a rescaled constant). Anything else applies the factor first. Which variant
+    /// costs fewer operations depends on the kernel ([`crate::emit::lane_function`]
+    /// takes the cheapest of none and both). Scaling by a power of two is exact, so
+    /// every value is rounded as before (barring overflow); what changes is that the
+    /// doubling `2 e1` and the product `e1 (2 e3)` are no longer nodes of their own,
+    /// and that `e1 (2 e3)` and `(2 e1) e3` become one node.
+    pub fn powers_of_two_carried(&self, through_sums: bool) -> (Graph, Vec<Id>) {
+        let mut g = Graph {
+            inputs: self.inputs.clone(),
+            ..Graph::default()
+        };
+        // (node of the new graph, its factor); constants always carry factor 1
+        let mut pair: Vec<(Id, f64)> = Vec::with_capacity(self.nodes.len());
+        let mut map: Vec<Id> = Vec::with_capacity(self.nodes.len());
+        for &op in &self.nodes {
+            let p = |a: Id| pair[a as usize];
+            let (x, s) = match op {
+                Op::Input(k) => (g.intern(Op::Input(k)), 1.0),
+                Op::Const(b) => (g.intern(Op::Const(b)), 1.0),
+                Op::Add(a, b) => g.sum_scaled(p(a), p(b), through_sums),
+                Op::Sub(a, b) => {
+                    let (y, t) = p(b);
+                    g.sum_scaled(p(a), (y, -t), through_sums)
+                }
+                Op::Mul(a, b) => g.product_scaled(p(a), p(b)),
+                Op::Div(a, b) => g.quotient_scaled(p(a), p(b)),
+                Op::Neg(a) => {
+                    let (y, t) = p(a);
+                    match g.as_const(y) {
+                        Some(c) => (g.constant(-c), 1.0),
+                        None => (y, -t),
+                    }
+                }
+                Op::Sqrt(a) | Op::Rsqrt(a) => {
+                    let root = |g: &mut Graph, y: Id| match op {
+                        Op::Sqrt(_) => g.sqrt(y),
+                        _ => match g.as_const(y) {
+                            Some(c) => g.constant(1.0 / c.sqrt()),
+                            None => g.intern(Op::Rsqrt(y)),
+                        },
+                    };
+                    let (y, t) = p(a);
+                    match even_power_of_two_root(t) {
+                        Some(r) => {
+                            let x = root(&mut g, y);
+                            (
+                                x,
+                                if matches!(op, Op::Sqrt(_)) {
+                                    r
+                                } else {
+                                    1.0 / r
+                                },
+                            )
+                        }
+                        None => {
+                            let y = g.scaled(y, t);
+                            (root(&mut g, y), 1.0)
+                        }
+                    }
+                }
+                Op::Powi(a, n) => {
+                    let (y, t) = p(a);
+                    let tn = t.powi(n);
+                    if g.as_const(y).is_none() && is_power_of_two(tn) {
+                        (g.powi(y, n), tn)
+                    } else {
+                        let y = g.scaled(y, t);
+                        (g.powi(y, n), 1.0)
+                    }
+                }
+                Op::Select(l, r, a, b) => {
+                    let (l, r) = g.comparison_unscaled(p(l), p(r));
+                    g.choice_scaled(l, r, p(a), p(b))
+                }
+            };
+            pair.push((x, s));
+            map.push(g.scaled(x, s));
+        }
+        (g, map)
+    }
+
+    /// The graph rewritten without the input `symbol` (the last input), which stands
+    /// for `rho` in the canonical frame ([`crate::frame`]), where `square` is a node
+    /// of `rho^2` built from the other inputs; and for every old node its new id where
+    /// the node is even in `rho` (None where it is odd, or mixes the two, or divides by
+    /// something odd).
+    ///
+    /// Each node is classified as it is rebuilt: an even node `x` as itself, an odd
+    /// one as `x / rho` (`rho` itself as 1); a product of two odd nodes takes the
+    /// factor `rho^2` from `square`, a quotient of two odd nodes is the quotient of
+    /// their even parts, sums and choices keep a common parity. A pair tensor in the
+    /// frame has even diagonal and odd off-diagonal couplings to `e3`, so `M'13 / rho`
+    /// is an even node here, built without a square root or a division by `rho`.
+    pub fn even_in(&self, symbol: Id, square: Id) -> (Graph, Vec<Option<Id>>) {
+        #[derive(Clone, Copy)]
+        enum Par {
+            Even(Id),
+            Odd(Id),
+            Mixed,
+        }
+        let Op::Input(k) = self.nodes[symbol as usize] else {
+            panic!("the symbol is an input");
+        };
+        assert_eq!(
+            k as usize + 1,
+            self.inputs.len(),
+            "the symbol is the last input"
+        );
+        assert!(square < symbol, "rho^2 is built before the symbol");
+        let mut g = Graph {
+            inputs: self.inputs[..k as usize].to_vec(),
+            ..Graph::default()
+        };
+        let mut par: Vec<Par> = Vec::with_capacity(self.nodes.len());
+        for (id, &op) in self.nodes.iter().enumerate() {
+            let p = |a: Id| par[a as usize];
+            let sq = |par: &[Par]| match par[square as usize] {
+                Par::Even(s) => s,
+                _ => unreachable!("rho^2 is even"),
+            };
+            use Par::{Even, Mixed, Odd};
+            let new = match op {
+                _ if id as Id == symbol => Odd(g.constant(1.0)),
+                Op::Input(k) => Even(g.intern(Op::Input(k))),
+                Op::Const(b) => Even(g.intern(Op::Const(b))),
+                Op::Add(a, b) | Op::Sub(a, b) => {
+                    let f = |g: &mut Graph, x, y| match op {
+                        Op::Add(..) => g.add(x, y),
+                        _ => g.sub(x, y),
+                    };
+                    match (p(a), p(b)) {
+                        (Even(x), Even(y)) => Even(f(&mut g, x, y)),
+                        (Odd(x), Odd(y)) => Odd(f(&mut g, x, y)),
+                        _ => Mixed,
+                    }
+                }
+                Op::Mul(a, b) => match (p(a), p(b)) {
+                    (Even(x), Even(y)) => Even(g.mul(x, y)),
+                    (Even(x), Odd(y)) | (Odd(y), Even(x)) => Odd(g.mul(x, y)),
+                    (Odd(x), Odd(y)) => {
+                        let xy = g.mul(x, y);
+                        Even(g.mul(sq(&par), xy))
+                    }
+                    _ => Mixed,
+                },
+                Op::Div(a, b) => match (p(a), p(b)) {
+                    (Even(x), Even(y)) => Even(g.div(x, y)),
+                    (Odd(x), Even(y)) => Odd(g.div(x, y)),
+                    (Odd(x), Odd(y)) => Even(g.div(x, y)),
+                    _ => Mixed,
+                },
+                Op::Neg(a) => match p(a) {
+                    Even(x) => Even(g.neg(x)),
+                    Odd(x) => Odd(g.neg(x)),
+                    Mixed => Mixed,
+                },
+                Op::Sqrt(a) => match p(a) {
+                    Even(x) => Even(g.sqrt(x)),
+                    _ => Mixed,
+                },
+                Op::Rsqrt(a) => match p(a) {
+                    Even(x) => Even(g.intern(Op::Rsqrt(x))),
+                    _ => Mixed,
+                },
+                Op::Powi(a, n) => match p(a) {
+                    Even(x) => Even(g.powi(x, n)),
+                    Odd(x) if n > 0 => {
+                        let xn = g.powi(x, n);
+                        let sn = g.powi(sq(&par), n / 2);
+                        let v = g.mul(sn, xn);
+                        if n % 2 == 0 {
+                            Even(v)
+                        } else {
+                            Odd(v)
+                        }
+                    }
+                    _ => Mixed,
+                },
+                Op::Select(l, r, a, b) => match (p(l), p(r), p(a), p(b)) {
+                    (Even(l), Even(r), Even(x), Even(y)) => Even(g.select_gt(l, r, x, y)),
+                    (Even(l), Even(r), Odd(x), Odd(y)) => Odd(g.select_gt(l, r, x, y)),
+                    _ => Mixed,
+                },
+            };
+            par.push(new);
+        }
+        let map = par
+            .into_iter()
+            .map(|p| match p {
+                Par::Even(x) => Some(x),
+                _ => None,
+            })
+            .collect();
+        (g, map)
+    }
+
+    /// `s x`: the node itself, its negation, or a product by the constant.
+    fn scaled(&mut self, x: Id, s: f64) -> Id {
+        if s == 1.0 {
+            return x;
+        }
+        let c = self.constant(s);
+        self.mul(c, x)
+    }
+
+    /// `s_a a + s_b b` as `(node, factor)` ([`Graph::powers_of_two_carried`]).
+    fn sum_scaled(
+        &mut self,
+        (a, sa): (Id, f64),
+        (b, sb): (Id, f64),
+        through_sums: bool,
+    ) -> (Id, f64) {
+        if a == b && self.as_const(a).is_none() {
+            // s_a x + s_b x = (s_a + s_b) x, exact for powers of two
+            return self.constant_times(sa + sb, a);
+        }
+        if !through_sums {
+            let (a, b) = (self.scaled(a, sa), self.scaled(b, sb));
+            return (self.add(a, b), 1.0);
+        }
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => (self.constant(sa * x + sb * y), 1.0),
+            (None, Some(y)) => {
+                let k = self.constant(sb * y / sa);
+                (self.add(a, k), sa)
+            }
+            (Some(x), None) => {
+                let k = self.constant(sa * x / sb);
+                (self.add(k, b), sb)
+            }
+            (None, None) if sa == sb => (self.add(a, b), sa),
+            (None, None) if sa == -sb => (self.sub(a, b), sa),
+            // the factor of magnitude 1 where there is one, so that factors spread
+            // no further than they must
+            (None, None) if sb.abs() == 1.0 && sa.abs() != 1.0 => {
+                let r = self.constant(sa / sb);
+                let ra = self.mul(r, a);
+                (self.add(ra, b), sb)
+            }
+            (None, None) => {
+                let r = self.constant(sb / sa);
+                let rb = self.mul(r, b);
+                (self.add(a, rb), sa)
+            }
+        }
+    }
+
+    /// `(s_a a) (s_b b)` as `(node, factor)`; a constant factor is split into its
+    /// power of two and its mantissa.
+    fn product_scaled(&mut self, (a, sa): (Id, f64), (b, sb): (Id, f64)) -> (Id, f64) {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => (self.constant(x * y), 1.0),
+            (Some(c), None) => self.constant_times(c * sb, b),
+            (None, Some(c)) => self.constant_times(c * sa, a),
+            (None, None) => (self.mul(a, b), sa * sb),
+        }
+    }
+
+    /// `c x` as `(x, c)` for a power of two `c`, else `(c x, 1)`.
+    fn constant_times(&mut self, c: f64, x: Id) -> (Id, f64) {
+        if is_power_of_two(c) {
+            return (x, c);
+        }
+        let c = self.constant(c);
+        (self.mul(c, x), 1.0)
+    }
+
+    /// `(s_a a) / (s_b b)` as `(node, factor)`.
+    fn quotient_scaled(&mut self, (a, sa): (Id, f64), (b, sb): (Id, f64)) -> (Id, f64) {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => (self.constant(x / y), 1.0),
+            (None, Some(d)) if is_power_of_two(d) => (a, sa / d),
+            (None, Some(_)) => (self.div(a, b), sa),
+            (Some(c), None) if is_power_of_two(c / sb) => {
+                let one = self.constant(1.0);
+                (self.div(one, b), c / sb)
+            }
+            (Some(c), None) => {
+                let c = self.constant(c / sb);
+                (self.div(c, b), 1.0)
+            }
+            (None, None) => (self.div(a, b), sa / sb),
+        }
+    }
+
+    /// The operands of `s_l l > s_r r` compared without their factors where that is
+    /// exact (equal factors, or a constant side rescaled), else with them applied.
+    fn comparison_unscaled(&mut self, (l, sl): (Id, f64), (r, sr): (Id, f64)) -> (Id, Id) {
+        match (self.as_const(l), self.as_const(r)) {
+            (None, Some(k)) => {
+                let k = self.constant(k / sl);
+                if sl > 0.0 {
+                    (l, k)
+                } else {
+                    (k, l)
+                }
+            }
+            (Some(k), None) => {
+                let k = self.constant(k / sr);
+                if sr > 0.0 {
+                    (k, r)
+                } else {
+                    (r, k)
+                }
+            }
+            (None, None) if sl == sr => {
+                if sl > 0.0 {
+                    (l, r)
+                } else {
+                    (r, l)
+                }
+            }
+            _ => (self.scaled(l, sl), self.scaled(r, sr)),
+        }
+    }
+
+    /// `if l > r { s_a a } else { s_b b }` as `(node, factor)`.
+    fn choice_scaled(&mut self, l: Id, r: Id, (a, sa): (Id, f64), (b, sb): (Id, f64)) -> (Id, f64) {
+        match (self.as_const(a), self.as_const(b)) {
+            (None, Some(k)) => {
+                let k = self.constant(k / sa);
+                (self.select_gt(l, r, a, k), sa)
+            }
+            (Some(k), None) => {
+                let k = self.constant(k / sb);
+                (self.select_gt(l, r, k, b), sb)
+            }
+            (None, None) if sa == sb => (self.select_gt(l, r, a, b), sa),
+            _ => {
+                let (a, b) = (self.scaled(a, sa), self.scaled(b, sb));
+                (self.select_gt(l, r, a, b), 1.0)
+            }
+        }
     }
 
     /// `a / b` by the rules of [`Graph::lane_form`]: `a (1/b)` where `1/b` needs no
@@ -518,6 +863,17 @@ impl Graph {
             .map(|o| val[*o as usize].clone().expect("live output"))
             .collect()
     }
+}
+
+/// True for `±2^k` (a normal number with a zero mantissa).
+fn is_power_of_two(t: f64) -> bool {
+    t.is_normal() && t.to_bits() & ((1 << 52) - 1) == 0
+}
+
+/// `sqrt(t)` where `t = 2^(2k)`, a power of two that is a square of one.
+fn even_power_of_two_root(t: f64) -> Option<f64> {
+    let r = t.sqrt();
+    (t > 0.0 && is_power_of_two(t) && is_power_of_two(r) && r * r == t).then_some(r)
 }
 
 thread_local! {
@@ -751,6 +1107,76 @@ mod tests {
                     w == v || (w - v).abs() <= 4.0 * f64::EPSILON * w.abs(),
                     "{w} {v}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn powers_of_two_are_carried_exactly() {
+        let t = Trace::begin();
+        let x = t.input("x");
+        let y = t.input("y");
+        let z = t.input("z");
+        let two = Ex::cst(2.0);
+        // e1 (2 e3) and (2 e1) e3 are one node once the doubling is carried
+        let p = x * (two * y);
+        let q = (two * x) * y;
+        let sum = Ex::cst(0.5) * p - q; // = -x y
+        let root = (Ex::cst(4.0) * (x * x + z * z)).sqrt() * Ex::cst(0.25);
+        let guarded = Ex::select_gt(two * z, Ex::cst(1.0), Ex::cst(3.0) * x, -y) / Ex::cst(8.0);
+        let mixed = two * x + Ex::cst(3.0) * (y * z) + Ex::cst(0.75);
+        let g = t.finish();
+        let outs = [p.0, q.0, sum.0, root.0, guarded.0, mixed.0];
+        for through_sums in [false, true] {
+            let (c, map) = g.powers_of_two_carried(through_sums);
+            let new: Vec<Id> = outs.iter().map(|&o| map[o as usize]).collect();
+            assert_eq!(new[0], new[1], "one product");
+            assert!(
+                c.op_count(&new).total() < g.op_count(&outs).total(),
+                "{} against {}",
+                c.op_count(&new),
+                g.op_count(&outs)
+            );
+            // scaling by a power of two is exact: the same values, bit for bit, on both
+            // sides of the select
+            for inputs in [[0.3, 1.7, 0.9], [-2.5, 0.1, 0.2], [1e3, -7.0, 4e-3]] {
+                let want: Vec<f64> = g.eval(&inputs, &outs);
+                let got: Vec<f64> = c.eval(&inputs, &new);
+                assert_eq!(want, got, "{inputs:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn even_in_rho_without_its_square_root() {
+        let t = Trace::begin();
+        let d1 = t.input("d1");
+        let d2 = t.input("d2");
+        let z = t.input("z");
+        let rho2 = d1 * d1 + d2 * d2;
+        let rho = t.input("rho");
+        let r2 = rho * rho + z * z;
+        let e1 = rho / r2.sqrt();
+        let even = e1 * e1 * z + e1.powi(4);
+        let over = (e1 * z + rho.powi(3)) / rho; // odd over odd
+        let odd = e1 * z;
+        let mixed = rho + z;
+        let g = t.finish();
+        let (h, map) = g.even_in(rho.0, rho2.0);
+        assert_eq!(h.input_names(), &["d1", "d2", "z"]);
+        assert!(map[odd.0 as usize].is_none() && map[mixed.0 as usize].is_none());
+        let outs = [even.0, over.0];
+        let new: Vec<Id> = outs
+            .iter()
+            .map(|&o| map[o as usize].expect("even"))
+            .collect();
+        assert_eq!(h.op_count(&new).sqrt, 1, "|r| only, no rho");
+        for [a, b, c] in [[0.3, -1.2, 0.7], [2.0, 0.5, -3.0], [1e-3, 0.0, 1.5]] {
+            let r = f64::hypot(a, b);
+            let want: Vec<f64> = g.eval(&[a, b, c, r], &outs);
+            let got: Vec<f64> = h.eval(&[a, b, c], &new);
+            for (w, v) in want.iter().zip(&got) {
+                approx::assert_relative_eq!(*w, *v, max_relative = 8.0 * f64::EPSILON);
             }
         }
     }

@@ -104,7 +104,7 @@ pub use free_ft_self_lanes as free_ft_self_lanes_ordered;
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 76 flops (15 add/sub, 52 mul, 2 div, 1 sqrt, 3 powi, 3 neg).
+/// Operation count (after dead-code elimination): 76 flops (15 add/sub, 55 mul, 2 div, 1 sqrt, 0 powi, 3 neg).
 #[inline]
 pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> BlocksFT {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -128,7 +128,7 @@ pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> B
     let t18: f64 = t14 * t14;
     let t19: f64 = t6 * t18;
     let t20: f64 = t7 * t18;
-    let t21: f64 = t15.powi(2);
+    let t21: f64 = t15 * t15;
     let t22: f64 = t20 * (-6.0);
     let t23: f64 = 1.0 + t22;
     let t24: f64 = t19 * (-6.0);
@@ -147,13 +147,13 @@ pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> B
     let t37: f64 = t17 * t25;
     let t38: f64 = t15 * t37;
     let t39: f64 = t32 * t38;
-    let t40: f64 = t16.powi(2);
+    let t40: f64 = t16 * t16;
     let t41: f64 = t25 * t40;
     let t42: f64 = t30 + t41;
     let t43: f64 = t32 * t42;
     let t44: f64 = t16 * t37;
     let t45: f64 = t32 * t44;
-    let t46: f64 = t17.powi(2);
+    let t46: f64 = t17 * t17;
     let t47: f64 = t25 * t46;
     let t48: f64 = t30 + t47;
     let t49: f64 = t32 * t48;
@@ -224,7 +224,7 @@ pub fn free_ft_pair_lanes<L: lanes::Lane>(
         let t15: L = t11 * t11;
         let t16: L = t6 * t15;
         let t17: L = t7 * t15;
-        let t18: L = t12.powi(2);
+        let t18: L = t12 * t12;
         let t19: L = t17.mul_add(L::splat(-6.0), L::splat(1.0));
         let t20: L = t16.mul_add(L::splat(-6.0), t19);
         let t21: L = t17.mul_add(L::splat(2.0), L::splat(1.0));
@@ -238,12 +238,12 @@ pub fn free_ft_pair_lanes<L: lanes::Lane>(
         let t29: L = t14 * t20;
         let t30: L = t12 * t29;
         let t31: L = t24 * t30;
-        let t32: L = t13.powi(2);
+        let t32: L = t13 * t13;
         let t33: L = t20.mul_add(t32, t22);
         let t34: L = t24 * t33;
         let t35: L = t13 * t29;
         let t36: L = t24 * t35;
-        let t37: L = t14.powi(2);
+        let t37: L = t14 * t14;
         let t38: L = t20.mul_add(t37, t22);
         let t39: L = t24 * t38;
         let t40: L = t11 * t24;
@@ -322,7 +322,7 @@ pub use free_ft_pair_lanes as free_ft_pair_lanes_ordered;
 /// - `a`: radius of the particle(s)
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 71 flops (15 add/sub, 47 mul, 2 div, 1 sqrt, 3 powi, 3 neg).
+/// Operation count (after dead-code elimination): 71 flops (15 add/sub, 50 mul, 2 div, 1 sqrt, 0 powi, 3 neg).
 #[inline]
 pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> BlocksFT {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -343,7 +343,7 @@ pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Block
     let t15: f64 = t3 * t12;
     let t16: f64 = t12 * t12;
     let t17: f64 = t5 * t16;
-    let t18: f64 = t13.powi(2);
+    let t18: f64 = t13 * t13;
     let t19: f64 = t17 * (-6.0);
     let t20: f64 = 1.0 + t19;
     let t21: f64 = t19 + t20;
@@ -360,13 +360,13 @@ pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Block
     let t32: f64 = t15 * t21;
     let t33: f64 = t13 * t32;
     let t34: f64 = t27 * t33;
-    let t35: f64 = t14.powi(2);
+    let t35: f64 = t14 * t14;
     let t36: f64 = t21 * t35;
     let t37: f64 = t25 + t36;
     let t38: f64 = t27 * t37;
     let t39: f64 = t14 * t32;
     let t40: f64 = t27 * t39;
-    let t41: f64 = t15.powi(2);
+    let t41: f64 = t15 * t15;
     let t42: f64 = t21 * t41;
     let t43: f64 = t25 + t42;
     let t44: f64 = t27 * t43;
@@ -417,7 +417,7 @@ pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Block
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 177 flops (57 add/sub, 111 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 177 flops (57 add/sub, 112 mul, 3 div, 2 sqrt, 0 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_ft_pair_product(
     xa: [f64; 3],
@@ -455,7 +455,7 @@ pub fn free_ft_pair_product(
     let t24: f64 = t21 * t21;
     let t25: f64 = t16 * t24;
     let t26: f64 = t17 * t24;
-    let t27: f64 = t22.powi(2);
+    let t27: f64 = t22 * t22;
     let t28: f64 = t26 * (-6.0);
     let t29: f64 = 1.0 + t28;
     let t30: f64 = t25 * (-6.0);
@@ -652,7 +652,7 @@ pub fn free_ft_pair_product_lanes<L: lanes::Lane>(
         let t21: L = t18 * t18;
         let t22: L = t15 * t21;
         let t23: L = t16 * t21;
-        let t24: L = t19.powi(2);
+        let t24: L = t19 * t19;
         let t25: L = t23.mul_add(L::splat(-6.0), L::splat(1.0));
         let t26: L = t22.mul_add(L::splat(-6.0), t25);
         let t27: L = t23.mul_add(L::splat(2.0), L::splat(1.0));
@@ -768,7 +768,7 @@ pub use free_ft_pair_product_lanes as free_ft_pair_product_lanes_ordered;
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 170 flops (57 add/sub, 104 mul, 3 div, 2 sqrt, 1 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 170 flops (57 add/sub, 105 mul, 3 div, 2 sqrt, 0 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_ft_pair_equal_product(
     xa: [f64; 3],
@@ -802,7 +802,7 @@ pub fn free_ft_pair_equal_product(
     let t21: f64 = t13 * t19;
     let t22: f64 = t19 * t19;
     let t23: f64 = t15 * t22;
-    let t24: f64 = t20.powi(2);
+    let t24: f64 = t20 * t20;
     let t25: f64 = t23 * (-6.0);
     let t26: f64 = 1.0 + t25;
     let t27: f64 = t25 + t26;

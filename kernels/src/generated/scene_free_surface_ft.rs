@@ -276,7 +276,7 @@ pub use free_surface_ft_self_lanes as free_surface_ft_self_lanes_ordered;
 /// - `eta`: viscosity of the fluid
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
-/// Operation count (after dead-code elimination): 218 flops (62 add/sub, 138 mul, 4 div, 3 sqrt, 2 powi, 6 neg, 3 select).
+/// Operation count (after dead-code elimination): 218 flops (62 add/sub, 140 mul, 4 div, 3 sqrt, 0 powi, 6 neg, 3 select).
 #[inline]
 pub fn free_surface_ft_pair(
     xa: [f64; 3],
@@ -316,7 +316,7 @@ pub fn free_surface_ft_pair(
     let t27: f64 = t24 * t24;
     let t28: f64 = t19 * t27;
     let t29: f64 = t20 * t27;
-    let t30: f64 = t25.powi(2);
+    let t30: f64 = t25 * t25;
     let t31: f64 = t29 * (-6.0);
     let t32: f64 = 1.0 + t31;
     let t33: f64 = t28 * (-6.0);
@@ -338,7 +338,7 @@ pub fn free_surface_ft_pair(
     let t49: f64 = t46 * t46;
     let t50: f64 = t19 * t49;
     let t51: f64 = t20 * t49;
-    let t52: f64 = t47.powi(2);
+    let t52: f64 = t47 * t47;
     let t53: f64 = (-6.0) * t51;
     let t54: f64 = 1.0 + t53;
     let t55: f64 = (-6.0) * t50;
@@ -554,7 +554,7 @@ pub fn free_surface_ft_pair_lanes<L: lanes::Lane>(
         let t23: L = t20 * t20;
         let t24: L = t17 * t23;
         let t25: L = t18 * t23;
-        let t26: L = t21.powi(2);
+        let t26: L = t21 * t21;
         let t27: L = t25.mul_add(L::splat(-6.0), L::splat(1.0));
         let t28: L = t24.mul_add(L::splat(-6.0), t27);
         let t29: L = L::splat(2.0).mul_add(t25, L::splat(1.0));
@@ -568,7 +568,7 @@ pub fn free_surface_ft_pair_lanes<L: lanes::Lane>(
         let t37: L = t34 * t34;
         let t38: L = t17 * t37;
         let t39: L = t18 * t37;
-        let t40: L = t35.powi(2);
+        let t40: L = t35 * t35;
         let t41: L = L::splat(-6.0).mul_add(t39, L::splat(1.0));
         let t42: L = L::splat(-6.0).mul_add(t38, t41);
         let t43: L = L::splat(2.0).mul_add(t39, L::splat(1.0));
@@ -748,7 +748,7 @@ pub use free_surface_ft_pair_lanes as free_surface_ft_pair_lanes_ordered;
 /// - `eta`: viscosity of the fluid
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
-/// Operation count (after dead-code elimination): 206 flops (62 add/sub, 126 mul, 4 div, 3 sqrt, 2 powi, 6 neg, 3 select).
+/// Operation count (after dead-code elimination): 206 flops (62 add/sub, 128 mul, 4 div, 3 sqrt, 0 powi, 6 neg, 3 select).
 #[inline]
 pub fn free_surface_ft_pair_equal(
     xa: [f64; 3],
@@ -784,7 +784,7 @@ pub fn free_surface_ft_pair_equal(
     let t24: f64 = t13 * t22;
     let t25: f64 = t22 * t22;
     let t26: f64 = t18 * t25;
-    let t27: f64 = t23.powi(2);
+    let t27: f64 = t23 * t23;
     let t28: f64 = t26 * (-6.0);
     let t29: f64 = 1.0 + t28;
     let t30: f64 = t28 + t29;
@@ -803,7 +803,7 @@ pub fn free_surface_ft_pair_equal(
     let t43: f64 = t16 * t41;
     let t44: f64 = t41 * t41;
     let t45: f64 = t18 * t44;
-    let t46: f64 = t42.powi(2);
+    let t46: f64 = t42 * t42;
     let t47: f64 = (-6.0) * t45;
     let t48: f64 = 1.0 + t47;
     let t49: f64 = t47 + t48;
@@ -985,7 +985,7 @@ pub fn free_surface_ft_pair_equal(
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 250 flops (88 add/sub, 150 mul, 4 div, 3 sqrt, 2 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 250 flops (88 add/sub, 152 mul, 4 div, 3 sqrt, 0 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_surface_ft_pair_product(
     xa: [f64; 3],
@@ -1027,7 +1027,7 @@ pub fn free_surface_ft_pair_product(
     let t27: f64 = t24 * t24;
     let t28: f64 = t19 * t27;
     let t29: f64 = t20 * t27;
-    let t30: f64 = t25.powi(2);
+    let t30: f64 = t25 * t25;
     let t31: f64 = t29 * (-6.0);
     let t32: f64 = 1.0 + t31;
     let t33: f64 = t28 * (-6.0);
@@ -1049,7 +1049,7 @@ pub fn free_surface_ft_pair_product(
     let t49: f64 = t46 * t46;
     let t50: f64 = t19 * t49;
     let t51: f64 = t20 * t49;
-    let t52: f64 = t47.powi(2);
+    let t52: f64 = t47 * t47;
     let t53: f64 = (-6.0) * t51;
     let t54: f64 = 1.0 + t53;
     let t55: f64 = (-6.0) * t50;
@@ -1297,7 +1297,7 @@ pub fn free_surface_ft_pair_product_lanes<L: lanes::Lane>(
         let t23: L = t20 * t20;
         let t24: L = t17 * t23;
         let t25: L = t18 * t23;
-        let t26: L = t21.powi(2);
+        let t26: L = t21 * t21;
         let t27: L = t25.mul_add(L::splat(-6.0), L::splat(1.0));
         let t28: L = t24.mul_add(L::splat(-6.0), t27);
         let t29: L = L::splat(2.0).mul_add(t25, L::splat(1.0));
@@ -1311,7 +1311,7 @@ pub fn free_surface_ft_pair_product_lanes<L: lanes::Lane>(
         let t37: L = t34 * t34;
         let t38: L = t17 * t37;
         let t39: L = t18 * t37;
-        let t40: L = t35.powi(2);
+        let t40: L = t35 * t35;
         let t41: L = L::splat(-6.0).mul_add(t39, L::splat(1.0));
         let t42: L = L::splat(-6.0).mul_add(t38, t41);
         let t43: L = L::splat(2.0).mul_add(t39, L::splat(1.0));
@@ -1462,7 +1462,7 @@ pub use free_surface_ft_pair_product_lanes as free_surface_ft_pair_product_lanes
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 238 flops (88 add/sub, 138 mul, 4 div, 3 sqrt, 2 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 238 flops (88 add/sub, 140 mul, 4 div, 3 sqrt, 0 powi, 0 neg, 3 select).
 #[inline]
 pub fn free_surface_ft_pair_equal_product(
     xa: [f64; 3],
@@ -1500,7 +1500,7 @@ pub fn free_surface_ft_pair_equal_product(
     let t24: f64 = t13 * t22;
     let t25: f64 = t22 * t22;
     let t26: f64 = t18 * t25;
-    let t27: f64 = t23.powi(2);
+    let t27: f64 = t23 * t23;
     let t28: f64 = t26 * (-6.0);
     let t29: f64 = 1.0 + t28;
     let t30: f64 = t28 + t29;
@@ -1519,7 +1519,7 @@ pub fn free_surface_ft_pair_equal_product(
     let t43: f64 = t16 * t41;
     let t44: f64 = t41 * t41;
     let t45: f64 = t18 * t44;
-    let t46: f64 = t42.powi(2);
+    let t46: f64 = t42 * t42;
     let t47: f64 = (-6.0) * t45;
     let t48: f64 = 1.0 + t47;
     let t49: f64 = t47 + t48;

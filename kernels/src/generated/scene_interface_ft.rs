@@ -501,7 +501,7 @@ pub use interface_ft_self_lanes as interface_ft_self_lanes_ordered;
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 /// - `lambda`: viscosity ratio lambda of the liquid beyond the interface to this one
 ///
-/// Operation count (after dead-code elimination): 455 flops (159 add/sub, 277 mul, 5 div, 3 sqrt, 2 powi, 6 neg, 3 select).
+/// Operation count (after dead-code elimination): 455 flops (159 add/sub, 279 mul, 5 div, 3 sqrt, 0 powi, 6 neg, 3 select).
 #[inline]
 pub fn interface_ft_pair(
     xa: [f64; 3],
@@ -545,7 +545,7 @@ pub fn interface_ft_pair(
     let t30: f64 = t27 * t27;
     let t31: f64 = t22 * t30;
     let t32: f64 = t23 * t30;
-    let t33: f64 = t28.powi(2);
+    let t33: f64 = t28 * t28;
     let t34: f64 = t32 * (-6.0);
     let t35: f64 = 1.0 + t34;
     let t36: f64 = t31 * (-6.0);
@@ -568,7 +568,7 @@ pub fn interface_ft_pair(
     let t53: f64 = t17 * t49;
     let t54: f64 = t22 * t52;
     let t55: f64 = t23 * t52;
-    let t56: f64 = t50.powi(2);
+    let t56: f64 = t50 * t50;
     let t57: f64 = (-6.0) * t55;
     let t58: f64 = 1.0 + t57;
     let t59: f64 = (-6.0) * t54;
@@ -1021,7 +1021,7 @@ pub fn interface_ft_pair_lanes<L: lanes::Lane>(
         let t26: L = t23 * t23;
         let t27: L = t20 * t26;
         let t28: L = t21 * t26;
-        let t29: L = t24.powi(2);
+        let t29: L = t24 * t24;
         let t30: L = t28.mul_add(L::splat(-6.0), L::splat(1.0));
         let t31: L = t27.mul_add(L::splat(-6.0), t30);
         let t32: L = L::splat(2.0).mul_add(t28, L::splat(1.0));
@@ -1036,7 +1036,7 @@ pub fn interface_ft_pair_lanes<L: lanes::Lane>(
         let t41: L = t16 * t37;
         let t42: L = t20 * t40;
         let t43: L = t21 * t40;
-        let t44: L = t38.powi(2);
+        let t44: L = t38 * t38;
         let t45: L = L::splat(-6.0).mul_add(t43, L::splat(1.0));
         let t46: L = L::splat(-6.0).mul_add(t42, t45);
         let t47: L = L::splat(2.0).mul_add(t43, L::splat(1.0));
@@ -1369,7 +1369,7 @@ pub use interface_ft_pair_lanes as interface_ft_pair_lanes_ordered;
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 /// - `lambda`: viscosity ratio lambda of the liquid beyond the interface to this one
 ///
-/// Operation count (after dead-code elimination): 437 flops (159 add/sub, 259 mul, 5 div, 3 sqrt, 2 powi, 6 neg, 3 select).
+/// Operation count (after dead-code elimination): 437 flops (159 add/sub, 261 mul, 5 div, 3 sqrt, 0 powi, 6 neg, 3 select).
 #[inline]
 pub fn interface_ft_pair_equal(
     xa: [f64; 3],
@@ -1409,7 +1409,7 @@ pub fn interface_ft_pair_equal(
     let t27: f64 = t16 * t25;
     let t28: f64 = t25 * t25;
     let t29: f64 = t21 * t28;
-    let t30: f64 = t26.powi(2);
+    let t30: f64 = t26 * t26;
     let t31: f64 = t29 * (-6.0);
     let t32: f64 = 1.0 + t31;
     let t33: f64 = t31 + t32;
@@ -1429,7 +1429,7 @@ pub fn interface_ft_pair_equal(
     let t47: f64 = t44 * t44;
     let t48: f64 = t17 * t44;
     let t49: f64 = t21 * t47;
-    let t50: f64 = t45.powi(2);
+    let t50: f64 = t45 * t45;
     let t51: f64 = (-6.0) * t49;
     let t52: f64 = 1.0 + t51;
     let t53: f64 = t51 + t52;
@@ -1839,7 +1839,7 @@ pub fn interface_ft_pair_equal(
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 477 flops (183 add/sub, 281 mul, 5 div, 3 sqrt, 2 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 477 flops (183 add/sub, 283 mul, 5 div, 3 sqrt, 0 powi, 0 neg, 3 select).
 #[inline]
 pub fn interface_ft_pair_product(
     xa: [f64; 3],
@@ -1885,7 +1885,7 @@ pub fn interface_ft_pair_product(
     let t30: f64 = t27 * t27;
     let t31: f64 = t22 * t30;
     let t32: f64 = t23 * t30;
-    let t33: f64 = t28.powi(2);
+    let t33: f64 = t28 * t28;
     let t34: f64 = t32 * (-6.0);
     let t35: f64 = 1.0 + t34;
     let t36: f64 = t31 * (-6.0);
@@ -1908,7 +1908,7 @@ pub fn interface_ft_pair_product(
     let t53: f64 = t17 * t49;
     let t54: f64 = t22 * t52;
     let t55: f64 = t23 * t52;
-    let t56: f64 = t50.powi(2);
+    let t56: f64 = t50 * t50;
     let t57: f64 = (-6.0) * t55;
     let t58: f64 = 1.0 + t57;
     let t59: f64 = (-6.0) * t54;
@@ -2383,7 +2383,7 @@ pub fn interface_ft_pair_product_lanes<L: lanes::Lane>(
         let t26: L = t23 * t23;
         let t27: L = t20 * t26;
         let t28: L = t21 * t26;
-        let t29: L = t24.powi(2);
+        let t29: L = t24 * t24;
         let t30: L = t28.mul_add(L::splat(-6.0), L::splat(1.0));
         let t31: L = t27.mul_add(L::splat(-6.0), t30);
         let t32: L = L::splat(2.0).mul_add(t28, L::splat(1.0));
@@ -2398,7 +2398,7 @@ pub fn interface_ft_pair_product_lanes<L: lanes::Lane>(
         let t41: L = t16 * t37;
         let t42: L = t20 * t40;
         let t43: L = t21 * t40;
-        let t44: L = t38.powi(2);
+        let t44: L = t38 * t38;
         let t45: L = L::splat(-6.0).mul_add(t43, L::splat(1.0));
         let t46: L = L::splat(-6.0).mul_add(t42, t45);
         let t47: L = L::splat(2.0).mul_add(t43, L::splat(1.0));
@@ -2694,7 +2694,7 @@ pub use interface_ft_pair_product_lanes as interface_ft_pair_product_lanes_order
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 459 flops (183 add/sub, 263 mul, 5 div, 3 sqrt, 2 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 459 flops (183 add/sub, 265 mul, 5 div, 3 sqrt, 0 powi, 0 neg, 3 select).
 #[inline]
 pub fn interface_ft_pair_equal_product(
     xa: [f64; 3],
@@ -2736,7 +2736,7 @@ pub fn interface_ft_pair_equal_product(
     let t27: f64 = t16 * t25;
     let t28: f64 = t25 * t25;
     let t29: f64 = t21 * t28;
-    let t30: f64 = t26.powi(2);
+    let t30: f64 = t26 * t26;
     let t31: f64 = t29 * (-6.0);
     let t32: f64 = 1.0 + t31;
     let t33: f64 = t31 + t32;
@@ -2756,7 +2756,7 @@ pub fn interface_ft_pair_equal_product(
     let t47: f64 = t44 * t44;
     let t48: f64 = t17 * t44;
     let t49: f64 = t21 * t47;
-    let t50: f64 = t45.powi(2);
+    let t50: f64 = t45 * t45;
     let t51: f64 = (-6.0) * t49;
     let t52: f64 = 1.0 + t51;
     let t53: f64 = t51 + t52;

@@ -535,7 +535,7 @@ pub use slit_ft_self_lanes as slit_ft_self_lanes_ordered;
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 /// - `gap`: distance from the lower wall to the upper wall
 ///
-/// Operation count (after dead-code elimination): 590 flops (228 add/sub, 341 mul, 5 div, 4 sqrt, 3 powi, 6 neg, 3 select).
+/// Operation count (after dead-code elimination): 590 flops (228 add/sub, 344 mul, 5 div, 4 sqrt, 0 powi, 6 neg, 3 select).
 #[inline]
 pub fn slit_ft_pair(
     xa: [f64; 3],
@@ -580,7 +580,7 @@ pub fn slit_ft_pair(
     let t31: f64 = t28 * t28;
     let t32: f64 = t23 * t31;
     let t33: f64 = t24 * t31;
-    let t34: f64 = t29.powi(2);
+    let t34: f64 = t29 * t29;
     let t35: f64 = t33 * (-6.0);
     let t36: f64 = 1.0 + t35;
     let t37: f64 = t32 * (-6.0);
@@ -603,7 +603,7 @@ pub fn slit_ft_pair(
     let t54: f64 = t15 * t50;
     let t55: f64 = t23 * t53;
     let t56: f64 = t24 * t53;
-    let t57: f64 = t51.powi(2);
+    let t57: f64 = t51 * t51;
     let t58: f64 = t55 * t56;
     let t59: f64 = t58 * (-840.0);
     let t60: f64 = t56 * 60.0;
@@ -654,7 +654,7 @@ pub fn slit_ft_pair(
     let t105: f64 = t18 * t101;
     let t106: f64 = t23 * t104;
     let t107: f64 = t24 * t104;
-    let t108: f64 = t102.powi(2);
+    let t108: f64 = t102 * t102;
     let t109: f64 = t106 * t107;
     let t110: f64 = (-840.0) * t109;
     let t111: f64 = 60.0 * t107;
@@ -1190,7 +1190,7 @@ pub fn slit_ft_pair_lanes<L: lanes::Lane>(
         let t26: L = t23 * t23;
         let t27: L = t20 * t26;
         let t28: L = t21 * t26;
-        let t29: L = t24.powi(2);
+        let t29: L = t24 * t24;
         let t30: L = t28.mul_add(L::splat(-6.0), L::splat(1.0));
         let t31: L = t27.mul_add(L::splat(-6.0), t30);
         let t32: L = L::splat(2.0).mul_add(t28, L::splat(1.0));
@@ -1205,7 +1205,7 @@ pub fn slit_ft_pair_lanes<L: lanes::Lane>(
         let t41: L = t14 * t37;
         let t42: L = t20 * t40;
         let t43: L = t21 * t40;
-        let t44: L = t38.powi(2);
+        let t44: L = t38 * t38;
         let t45: L = t42 * t43;
         let t46: L = t43 * L::splat(60.0);
         let t47: L = t45.mul_add(L::splat(-840.0), t46);
@@ -1239,7 +1239,7 @@ pub fn slit_ft_pair_lanes<L: lanes::Lane>(
         let t75: L = t16 * t71;
         let t76: L = t20 * t74;
         let t77: L = t21 * t74;
-        let t78: L = t72.powi(2);
+        let t78: L = t72 * t72;
         let t79: L = t76 * t77;
         let t80: L = L::splat(60.0) * t77;
         let t81: L = L::splat(-840.0).mul_add(t79, t80);
@@ -1612,7 +1612,7 @@ pub use slit_ft_pair_lanes as slit_ft_pair_lanes_ordered;
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 /// - `gap`: distance from the lower wall to the upper wall
 ///
-/// Operation count (after dead-code elimination): 569 flops (228 add/sub, 320 mul, 5 div, 4 sqrt, 3 powi, 6 neg, 3 select).
+/// Operation count (after dead-code elimination): 569 flops (228 add/sub, 323 mul, 5 div, 4 sqrt, 0 powi, 6 neg, 3 select).
 #[inline]
 pub fn slit_ft_pair_equal(
     xa: [f64; 3],
@@ -1653,7 +1653,7 @@ pub fn slit_ft_pair_equal(
     let t28: f64 = t14 * t26;
     let t29: f64 = t26 * t26;
     let t30: f64 = t22 * t29;
-    let t31: f64 = t27.powi(2);
+    let t31: f64 = t27 * t27;
     let t32: f64 = t30 * (-6.0);
     let t33: f64 = 1.0 + t32;
     let t34: f64 = t32 + t33;
@@ -1673,7 +1673,7 @@ pub fn slit_ft_pair_equal(
     let t48: f64 = t45 * t45;
     let t49: f64 = t15 * t45;
     let t50: f64 = t22 * t48;
-    let t51: f64 = t46.powi(2);
+    let t51: f64 = t46 * t46;
     let t52: f64 = t50 * t50;
     let t53: f64 = t52 * (-840.0);
     let t54: f64 = t50 * 60.0;
@@ -1723,7 +1723,7 @@ pub fn slit_ft_pair_equal(
     let t98: f64 = t95 * t95;
     let t99: f64 = t18 * t95;
     let t100: f64 = t22 * t98;
-    let t101: f64 = t96.powi(2);
+    let t101: f64 = t96 * t96;
     let t102: f64 = t100 * t100;
     let t103: f64 = (-840.0) * t102;
     let t104: f64 = 60.0 * t100;
@@ -2214,7 +2214,7 @@ pub fn slit_ft_pair_equal(
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 612 flops (252 add/sub, 345 mul, 5 div, 4 sqrt, 3 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 612 flops (252 add/sub, 348 mul, 5 div, 4 sqrt, 0 powi, 0 neg, 3 select).
 #[inline]
 pub fn slit_ft_pair_product(
     xa: [f64; 3],
@@ -2261,7 +2261,7 @@ pub fn slit_ft_pair_product(
     let t31: f64 = t28 * t28;
     let t32: f64 = t23 * t31;
     let t33: f64 = t24 * t31;
-    let t34: f64 = t29.powi(2);
+    let t34: f64 = t29 * t29;
     let t35: f64 = t33 * (-6.0);
     let t36: f64 = 1.0 + t35;
     let t37: f64 = t32 * (-6.0);
@@ -2284,7 +2284,7 @@ pub fn slit_ft_pair_product(
     let t54: f64 = t15 * t50;
     let t55: f64 = t23 * t53;
     let t56: f64 = t24 * t53;
-    let t57: f64 = t51.powi(2);
+    let t57: f64 = t51 * t51;
     let t58: f64 = t55 * t56;
     let t59: f64 = t58 * (-840.0);
     let t60: f64 = t56 * 60.0;
@@ -2335,7 +2335,7 @@ pub fn slit_ft_pair_product(
     let t105: f64 = t18 * t101;
     let t106: f64 = t23 * t104;
     let t107: f64 = t24 * t104;
-    let t108: f64 = t102.powi(2);
+    let t108: f64 = t102 * t102;
     let t109: f64 = t106 * t107;
     let t110: f64 = (-840.0) * t109;
     let t111: f64 = 60.0 * t107;
@@ -2893,7 +2893,7 @@ pub fn slit_ft_pair_product_lanes<L: lanes::Lane>(
         let t26: L = t23 * t23;
         let t27: L = t20 * t26;
         let t28: L = t21 * t26;
-        let t29: L = t24.powi(2);
+        let t29: L = t24 * t24;
         let t30: L = t28.mul_add(L::splat(-6.0), L::splat(1.0));
         let t31: L = t27.mul_add(L::splat(-6.0), t30);
         let t32: L = L::splat(2.0).mul_add(t28, L::splat(1.0));
@@ -2908,7 +2908,7 @@ pub fn slit_ft_pair_product_lanes<L: lanes::Lane>(
         let t41: L = t14 * t37;
         let t42: L = t20 * t40;
         let t43: L = t21 * t40;
-        let t44: L = t38.powi(2);
+        let t44: L = t38 * t38;
         let t45: L = t42 * t43;
         let t46: L = t43 * L::splat(60.0);
         let t47: L = t45.mul_add(L::splat(-840.0), t46);
@@ -2942,7 +2942,7 @@ pub fn slit_ft_pair_product_lanes<L: lanes::Lane>(
         let t75: L = t16 * t71;
         let t76: L = t20 * t74;
         let t77: L = t21 * t74;
-        let t78: L = t72.powi(2);
+        let t78: L = t72 * t72;
         let t79: L = t76 * t77;
         let t80: L = L::splat(60.0) * t77;
         let t81: L = L::splat(-840.0).mul_add(t79, t80);
@@ -3278,7 +3278,7 @@ pub use slit_ft_pair_product_lanes as slit_ft_pair_product_lanes_ordered;
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 591 flops (252 add/sub, 324 mul, 5 div, 4 sqrt, 3 powi, 0 neg, 3 select).
+/// Operation count (after dead-code elimination): 591 flops (252 add/sub, 327 mul, 5 div, 4 sqrt, 0 powi, 0 neg, 3 select).
 #[inline]
 pub fn slit_ft_pair_equal_product(
     xa: [f64; 3],
@@ -3321,7 +3321,7 @@ pub fn slit_ft_pair_equal_product(
     let t28: f64 = t14 * t26;
     let t29: f64 = t26 * t26;
     let t30: f64 = t22 * t29;
-    let t31: f64 = t27.powi(2);
+    let t31: f64 = t27 * t27;
     let t32: f64 = t30 * (-6.0);
     let t33: f64 = 1.0 + t32;
     let t34: f64 = t32 + t33;
@@ -3341,7 +3341,7 @@ pub fn slit_ft_pair_equal_product(
     let t48: f64 = t45 * t45;
     let t49: f64 = t15 * t45;
     let t50: f64 = t22 * t48;
-    let t51: f64 = t46.powi(2);
+    let t51: f64 = t46 * t46;
     let t52: f64 = t50 * t50;
     let t53: f64 = t52 * (-840.0);
     let t54: f64 = t50 * 60.0;
@@ -3391,7 +3391,7 @@ pub fn slit_ft_pair_equal_product(
     let t98: f64 = t95 * t95;
     let t99: f64 = t18 * t95;
     let t100: f64 = t22 * t98;
-    let t101: f64 = t96.powi(2);
+    let t101: f64 = t96 * t96;
     let t102: f64 = t100 * t100;
     let t103: f64 = (-840.0) * t102;
     let t104: f64 = 60.0 * t100;

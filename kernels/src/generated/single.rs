@@ -99,7 +99,7 @@ pub fn free_self(x: [f32; 3], a: f32, eta: f32) -> Grand32 {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 515 flops (133 add/sub, 372 mul, 2 div, 1 sqrt, 4 powi, 3 neg).
+/// Operation count (after dead-code elimination): 515 flops (133 add/sub, 375 mul, 2 div, 1 sqrt, 1 powi, 3 neg).
 #[inline]
 pub fn free_pair(xa: [f32; 3], xb: [f32; 3], aa: f32, ab: f32, eta: f32) -> Grand32 {
     let t0: f32 = 0.039788735772973836 / eta;
@@ -123,7 +123,7 @@ pub fn free_pair(xa: [f32; 3], xb: [f32; 3], aa: f32, ab: f32, eta: f32) -> Gran
     let t18: f32 = t14 * t14;
     let t19: f32 = t6 * t18;
     let t20: f32 = t7 * t18;
-    let t21: f32 = t15.powi(2);
+    let t21: f32 = t15 * t15;
     let t22: f32 = t20 * (-6.0);
     let t23: f32 = 1.0 + t22;
     let t24: f32 = t19 * (-6.0);
@@ -142,13 +142,13 @@ pub fn free_pair(xa: [f32; 3], xb: [f32; 3], aa: f32, ab: f32, eta: f32) -> Gran
     let t37: f32 = t17 * t25;
     let t38: f32 = t15 * t37;
     let t39: f32 = t32 * t38;
-    let t40: f32 = t16.powi(2);
+    let t40: f32 = t16 * t16;
     let t41: f32 = t25 * t40;
     let t42: f32 = t30 + t41;
     let t43: f32 = t32 * t42;
     let t44: f32 = t16 * t37;
     let t45: f32 = t32 * t44;
-    let t46: f32 = t17.powi(2);
+    let t46: f32 = t17 * t17;
     let t47: f32 = t25 * t46;
     let t48: f32 = t30 + t47;
     let t49: f32 = t32 * t48;
@@ -1084,7 +1084,7 @@ pub fn wall_self(x: [f32; 3], a: f32, eta: f32, height: f32) -> Grand32 {
 /// - `eta`: viscosity of the fluid
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
-/// Operation count (after dead-code elimination): 2445 flops (932 add/sub, 1488 mul, 5 div, 3 sqrt, 1 powi, 13 neg, 3 select).
+/// Operation count (after dead-code elimination): 2445 flops (932 add/sub, 1489 mul, 5 div, 3 sqrt, 0 powi, 13 neg, 3 select).
 /// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::farfield): 8032 flops (3836 add/sub, 4179 mul, 3 div, 1 sqrt, 0 powi, 10 neg, 3 select).
 /// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::scene::Swap).
 #[inline]
@@ -9314,7 +9314,7 @@ pub fn wall_pair(
     let t33: f32 = t6 * t29;
     let t34: f32 = t24 * t32;
     let t35: f32 = t25 * t32;
-    let t36: f32 = t30.powi(2);
+    let t36: f32 = t30 * t30;
     let t37: f32 = t34 * t35;
     let t38: f32 = t37 * (-840.0);
     let t39: f32 = t35 * 60.0;
@@ -12012,7 +12012,7 @@ pub fn free_surface_self(x: [f32; 3], a: f32, eta: f32, height: f32) -> Grand32 
 /// - `eta`: viscosity of the fluid
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
-/// Operation count (after dead-code elimination): 1176 flops (384 add/sub, 768 mul, 4 div, 3 sqrt, 4 powi, 10 neg, 3 select).
+/// Operation count (after dead-code elimination): 1176 flops (384 add/sub, 772 mul, 4 div, 3 sqrt, 0 powi, 10 neg, 3 select).
 #[inline]
 pub fn free_surface_pair(
     xa: [f32; 3],
@@ -12052,7 +12052,7 @@ pub fn free_surface_pair(
     let t27: f32 = t24 * t24;
     let t28: f32 = t19 * t27;
     let t29: f32 = t20 * t27;
-    let t30: f32 = t25.powi(2);
+    let t30: f32 = t25 * t25;
     let t31: f32 = t29 * (-6.0);
     let t32: f32 = 1.0 + t31;
     let t33: f32 = t28 * (-6.0);
@@ -12074,7 +12074,7 @@ pub fn free_surface_pair(
     let t49: f32 = t46 * t46;
     let t50: f32 = t19 * t49;
     let t51: f32 = t20 * t49;
-    let t52: f32 = t47.powi(2);
+    let t52: f32 = t47 * t47;
     let t53: f32 = (-6.0) * t51;
     let t54: f32 = 1.0 + t53;
     let t55: f32 = (-6.0) * t50;
@@ -12224,12 +12224,12 @@ pub fn free_surface_pair(
     let t199: f32 = t104 * t136;
     let t200: f32 = t198 + t199;
     let t201: f32 = 0.7071067811865476 * t200;
-    let t202: f32 = t26.powi(2);
+    let t202: f32 = t26 * t26;
     let t203: f32 = t25 * t118;
     let t204: f32 = t202 * t203;
     let t205: f32 = t192 + t204;
     let t206: f32 = t102 * t205;
-    let t207: f32 = t48.powi(2);
+    let t207: f32 = t48 * t48;
     let t208: f32 = t47 * t130;
     let t209: f32 = t207 * t208;
     let t210: f32 = t47 * t135;
@@ -13855,7 +13855,7 @@ pub fn interface_self(
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 /// - `lambda`: viscosity ratio lambda of the liquid beyond the interface to this one
 ///
-/// Operation count (after dead-code elimination): 2504 flops (968 add/sub, 1513 mul, 5 div, 3 sqrt, 2 powi, 10 neg, 3 select).
+/// Operation count (after dead-code elimination): 2504 flops (968 add/sub, 1515 mul, 5 div, 3 sqrt, 0 powi, 10 neg, 3 select).
 #[inline]
 pub fn interface_pair(
     xa: [f32; 3],
@@ -13899,7 +13899,7 @@ pub fn interface_pair(
     let t30: f32 = t27 * t27;
     let t31: f32 = t22 * t30;
     let t32: f32 = t23 * t30;
-    let t33: f32 = t28.powi(2);
+    let t33: f32 = t28 * t28;
     let t34: f32 = t32 * (-6.0);
     let t35: f32 = 1.0 + t34;
     let t36: f32 = t31 * (-6.0);
@@ -13922,7 +13922,7 @@ pub fn interface_pair(
     let t53: f32 = t17 * t49;
     let t54: f32 = t22 * t52;
     let t55: f32 = t23 * t52;
-    let t56: f32 = t50.powi(2);
+    let t56: f32 = t50 * t50;
     let t57: f32 = (-6.0) * t55;
     let t58: f32 = 1.0 + t57;
     let t59: f32 = (-6.0) * t54;
@@ -17121,7 +17121,7 @@ pub fn slit_self(x: [f32; 3], a: f32, eta: f32, height: f32, gap: f32) -> Grand3
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 /// - `gap`: distance from the lower wall to the upper wall
 ///
-/// Operation count (after dead-code elimination): 3311 flops (1380 add/sub, 1906 mul, 5 div, 4 sqrt, 3 powi, 10 neg, 3 select).
+/// Operation count (after dead-code elimination): 3311 flops (1380 add/sub, 1909 mul, 5 div, 4 sqrt, 0 powi, 10 neg, 3 select).
 #[inline]
 pub fn slit_pair(
     xa: [f32; 3],
@@ -17166,7 +17166,7 @@ pub fn slit_pair(
     let t31: f32 = t28 * t28;
     let t32: f32 = t23 * t31;
     let t33: f32 = t24 * t31;
-    let t34: f32 = t29.powi(2);
+    let t34: f32 = t29 * t29;
     let t35: f32 = t33 * (-6.0);
     let t36: f32 = 1.0 + t35;
     let t37: f32 = t32 * (-6.0);
@@ -17189,7 +17189,7 @@ pub fn slit_pair(
     let t54: f32 = t15 * t50;
     let t55: f32 = t23 * t53;
     let t56: f32 = t24 * t53;
-    let t57: f32 = t51.powi(2);
+    let t57: f32 = t51 * t51;
     let t58: f32 = t55 * t56;
     let t59: f32 = t58 * (-840.0);
     let t60: f32 = t56 * 60.0;
@@ -17240,7 +17240,7 @@ pub fn slit_pair(
     let t105: f32 = t18 * t101;
     let t106: f32 = t23 * t104;
     let t107: f32 = t24 * t104;
-    let t108: f32 = t102.powi(2);
+    let t108: f32 = t102 * t102;
     let t109: f32 = t106 * t107;
     let t110: f32 = (-840.0) * t109;
     let t111: f32 = 60.0 * t107;
