@@ -278,6 +278,64 @@ impl Graph {
         self.intern(Op::Mul(a, b))
     }
 
+    /// The node `op` with its operands `m(operand)`, built by the rules above.
+    fn rebuilt(&mut self, op: Op, m: impl Fn(Id) -> Id) -> Id {
+        match op {
+            Op::Input(k) => self.intern(Op::Input(k)),
+            Op::Const(b) => self.intern(Op::Const(b)),
+            Op::Add(a, b) => self.add(m(a), m(b)),
+            Op::Sub(a, b) => self.sub(m(a), m(b)),
+            Op::Mul(a, b) => self.mul(m(a), m(b)),
+            Op::Div(a, b) => self.div(m(a), m(b)),
+            Op::Neg(a) => self.neg(m(a)),
+            Op::Sqrt(a) => self.sqrt(m(a)),
+            Op::Rsqrt(a) => self.intern(Op::Rsqrt(m(a))),
+            Op::Powi(a, n) => self.powi(m(a), n),
+            Op::Select(l, r, a, b) => self.select_gt(m(l), m(r), m(a), m(b)),
+        }
+    }
+
+    /// The graph with `a (a x)` taken as `(a a) x` wherever the square `a a` is a node
+    /// that `live` marks (computed anyway, so the product `a x` is saved), and the new
+    /// id of every old node. Decided on the finished graph, so that two entries built
+    /// alike stay alike whichever was built first (a self block's reciprocal entries
+    /// keep equal bits).
+    pub fn squares_shared(&self, live: &[bool]) -> (Graph, Vec<Id>) {
+        let mut g = Graph {
+            inputs: self.inputs.clone(),
+            ..Graph::default()
+        };
+        let mut map: Vec<Id> = Vec::with_capacity(self.nodes.len());
+        for &op in &self.nodes {
+            let square_first = match op {
+                Op::Mul(a, b) => [(a, b), (b, a)].into_iter().find_map(|(u, v)| {
+                    let Op::Mul(p, q) = self.nodes[v as usize] else {
+                        return None;
+                    };
+                    let x = if p == u {
+                        q
+                    } else if q == u {
+                        p
+                    } else {
+                        return None;
+                    };
+                    let uu = self.find(Op::Mul(u, u))?;
+                    (x != u && self.as_const(u).is_none() && live[uu as usize]).then_some((u, x))
+                }),
+                _ => None,
+            };
+            let id = match square_first {
+                Some((u, x)) => {
+                    let uu = g.mul(map[u as usize], map[u as usize]);
+                    g.mul(uu, map[x as usize])
+                }
+                None => g.rebuilt(op, |a| map[a as usize]),
+            };
+            map.push(id);
+        }
+        (g, map)
+    }
+
     /// `a / b`.
     pub fn div(&mut self, a: Id, b: Id) -> Id {
         match (self.as_const(a), self.as_const(b)) {
@@ -384,17 +442,8 @@ impl Graph {
         for &op in &self.nodes {
             let m = |a: Id| map[a as usize];
             let id = match op {
-                Op::Input(k) => g.intern(Op::Input(k)),
-                Op::Const(b) => g.intern(Op::Const(b)),
-                Op::Add(a, b) => g.add(m(a), m(b)),
-                Op::Sub(a, b) => g.sub(m(a), m(b)),
-                Op::Mul(a, b) => g.mul(m(a), m(b)),
                 Op::Div(a, b) => g.quotient_by_roots(m(a), m(b)),
-                Op::Neg(a) => g.neg(m(a)),
-                Op::Sqrt(a) => g.sqrt(m(a)),
-                Op::Rsqrt(a) => g.intern(Op::Rsqrt(m(a))),
-                Op::Powi(a, n) => g.powi(m(a), n),
-                Op::Select(l, r, a, b) => g.select_gt(m(l), m(r), m(a), m(b)),
+                _ => g.rebuilt(op, m),
             };
             map.push(id);
         }

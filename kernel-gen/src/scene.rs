@@ -199,6 +199,47 @@ impl FarBranch {
 }
 
 impl Traced {
+    /// The same kernel on `graph`, where `map` takes every old id to its new one;
+    /// None where an id the kernel needs has none.
+    fn remapped(self, graph: Graph, map: &[Option<Id>]) -> Option<Traced> {
+        let Traced {
+            args,
+            mut outputs,
+            order,
+            mut far,
+            mut swap,
+            ..
+        } = self;
+        let new = |id: &mut Id| -> Option<()> {
+            *id = map[*id as usize]?;
+            Some(())
+        };
+        for o in outputs.iter_mut() {
+            o.ids.iter_mut().try_for_each(new)?;
+        }
+        if let Some(f) = far.as_mut() {
+            for o in f.outputs.iter_mut() {
+                o.ids.iter_mut().try_for_each(new)?;
+            }
+            for (l, r) in f.conds.iter_mut() {
+                new(l)?;
+                new(r)?;
+            }
+        }
+        if let Some(w) = swap.as_mut() {
+            new(&mut w.cond.0)?;
+            new(&mut w.cond.1)?;
+        }
+        Some(Traced {
+            graph,
+            args,
+            outputs,
+            order,
+            far,
+            swap,
+        })
+    }
+
     /// All output ids in order.
     pub fn output_ids(&self) -> Vec<Id> {
         self.outputs
@@ -546,7 +587,7 @@ fn trace_with<G: Green>(
             f.outputs = to_world(std::mem::take(&mut f.outputs), false);
         }
     }
-    let mut swap = match (
+    let swap = match (
         spec.path,
         spec.interaction,
         spec.basis,
@@ -559,54 +600,39 @@ fn trace_with<G: Green>(
         }
         _ => None,
     };
-    let graph = t.finish();
-    let Some((_, symbol)) = world else {
-        return Traced {
-            graph,
-            args,
-            outputs,
-            order,
-            far,
-            swap,
-        };
+    let traced = Traced {
+        graph: t.finish(),
+        args,
+        outputs,
+        order,
+        far,
+        swap,
     };
-    // the entries as functions of rho^2; where one is not, the frame's rotation
-    let rho2 = frame.as_ref().expect("frame").rho2;
-    let (graph, map) = graph.even_in(symbol.0, rho2.0);
-    let even = |ids: &mut Vec<Id>| -> Option<()> {
-        for id in ids.iter_mut() {
-            *id = map[*id as usize]?;
-        }
-        Some(())
-    };
-    let mut remapped = || -> Option<()> {
-        for o in outputs.iter_mut() {
-            even(&mut o.ids)?;
-        }
-        if let Some(f) = far.as_mut() {
-            for o in f.outputs.iter_mut() {
-                even(&mut o.ids)?;
-            }
-            for c in f.conds.iter_mut() {
-                *c = (map[c.0 as usize]?, map[c.1 as usize]?);
+    let traced = match world {
+        None => traced,
+        Some((_, symbol)) => {
+            // the entries as functions of rho^2; where one is not, the frame's rotation
+            let rho2 = frame.as_ref().expect("frame").rho2;
+            let (graph, map) = traced.graph.even_in(symbol.0, rho2.0);
+            match traced.remapped(graph, &map) {
+                Some(t) => t,
+                None => return trace_with(g, spec, collect, canonical, false),
             }
         }
-        if let Some(w) = swap.as_mut() {
-            w.cond = (map[w.cond.0 as usize]?, map[w.cond.1 as usize]?);
-        }
-        Some(())
     };
-    match remapped() {
-        Some(()) => Traced {
-            graph,
-            args,
-            outputs,
-            order,
-            far,
-            swap,
-        },
-        None => trace_with(g, spec, collect, canonical, false),
+    // pair kernels only: a self block's reciprocal entries (`U` from `S` and `E` from
+    // `F`) are separate nodes that round alike, so the self blocks stay symmetric to the
+    // bit, and there are only `N` of them
+    if spec.interaction == Interaction::SelfTerm {
+        return traced;
     }
+    let mut ids = traced.output_ids();
+    ids.extend(traced.far_ids());
+    ids.extend(traced.far.iter().flat_map(|f| f.condition_ids()));
+    ids.extend(traced.swap.iter().flat_map(|w| [w.cond.0, w.cond.1]));
+    let (graph, map) = traced.graph.squares_shared(&traced.graph.live(&ids));
+    let map: Vec<Option<Id>> = map.into_iter().map(Some).collect();
+    traced.remapped(graph, &map).expect("every node kept")
 }
 
 /// The fused product of a [`World`] from the frame blocks (as [`product_outputs`]).

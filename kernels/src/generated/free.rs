@@ -78,7 +78,7 @@ pub fn free_self(x: [f64; 3], a: f64, eta: f64) -> Grand {
 /// - `ab`: radius of particle b
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 515 flops (133 add/sub, 375 mul, 2 div, 1 sqrt, 1 powi, 3 neg).
+/// Operation count (after dead-code elimination): 498 flops (133 add/sub, 358 mul, 2 div, 1 sqrt, 1 powi, 3 neg).
 #[inline]
 pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Grand {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -131,7 +131,7 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
     let t47: f64 = t25 * t46;
     let t48: f64 = t30 + t47;
     let t49: f64 = t32 * t48;
-    let t50: f64 = t14 * t32;
+    let t50: f64 = t0 * t18;
     let t51: f64 = t17 * t50;
     let t52: f64 = t16 * t50;
     let t53: f64 = -t52;
@@ -167,470 +167,453 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
     let t83: f64 = t82 + 3.0;
     let t84: f64 = t19 * (-30.0);
     let t85: f64 = t83 + t84;
-    let t86: f64 = t15 * t85;
-    let t87: f64 = t15 * t86;
-    let t88: f64 = t58 * 30.0;
-    let t89: f64 = t88 + (-3.0);
-    let t90: f64 = t19 * 30.0;
-    let t91: f64 = t89 + t90;
-    let t92: f64 = t40 * t91;
-    let t93: f64 = t67 + t92;
-    let t94: f64 = t87 + t93;
-    let t95: f64 = t15 * t94;
-    let t96: f64 = t50 * t95;
-    let t97: f64 = 0.7071067811865476 * t96;
-    let t98: f64 = t58 * (-90.0);
-    let t99: f64 = t98 + 9.0;
-    let t100: f64 = t19 * (-90.0);
-    let t101: f64 = t99 + t100;
-    let t102: f64 = t15 * t101;
-    let t103: f64 = t46 * t102;
-    let t104: f64 = t58 * 18.0;
-    let t105: f64 = (-3.0) + t104;
-    let t106: f64 = t19 * 18.0;
-    let t107: f64 = t105 + t106;
-    let t108: f64 = t15 * t107;
-    let t109: f64 = t103 + t108;
-    let t110: f64 = t50 * t109;
-    let t111: f64 = t110 * 0.408248290463863;
-    let t112: f64 = t15 * t62;
-    let t113: f64 = t40 * t112;
-    let t114: f64 = t15 * t67;
-    let t115: f64 = t113 + t114;
-    let t116: f64 = t50 * t115;
-    let t117: f64 = 0.7071067811865476 * t116;
-    let t118: f64 = t40 * t72;
-    let t119: f64 = t74 + t118;
-    let t120: f64 = t50 * t119;
-    let t121: f64 = 0.7071067811865476 * t120;
-    let t122: f64 = t16 * t91;
-    let t123: f64 = t16 * t122;
-    let t124: f64 = t21 * t85;
-    let t125: f64 = t19 * (-12.0);
-    let t126: f64 = t58 * (-12.0);
-    let t127: f64 = t125 + t126;
-    let t128: f64 = t124 + t127;
-    let t129: f64 = t123 + t128;
-    let t130: f64 = t16 * t129;
-    let t131: f64 = t50 * t130;
-    let t132: f64 = 0.7071067811865476 * t131;
-    let t133: f64 = t16 * t101;
-    let t134: f64 = t46 * t133;
-    let t135: f64 = t16 * t107;
-    let t136: f64 = t134 + t135;
+    let t86: f64 = t21 * t85;
+    let t87: f64 = t58 * 30.0;
+    let t88: f64 = t87 + (-3.0);
+    let t89: f64 = t19 * 30.0;
+    let t90: f64 = t88 + t89;
+    let t91: f64 = t40 * t90;
+    let t92: f64 = t67 + t91;
+    let t93: f64 = t86 + t92;
+    let t94: f64 = t15 * t93;
+    let t95: f64 = t50 * t94;
+    let t96: f64 = 0.7071067811865476 * t95;
+    let t97: f64 = t58 * (-90.0);
+    let t98: f64 = t97 + 9.0;
+    let t99: f64 = t19 * (-90.0);
+    let t100: f64 = t98 + t99;
+    let t101: f64 = t15 * t100;
+    let t102: f64 = t46 * t101;
+    let t103: f64 = t58 * 18.0;
+    let t104: f64 = (-3.0) + t103;
+    let t105: f64 = t19 * 18.0;
+    let t106: f64 = t104 + t105;
+    let t107: f64 = t15 * t106;
+    let t108: f64 = t102 + t107;
+    let t109: f64 = t50 * t108;
+    let t110: f64 = t109 * 0.408248290463863;
+    let t111: f64 = t15 * t62;
+    let t112: f64 = t40 * t111;
+    let t113: f64 = t15 * t67;
+    let t114: f64 = t112 + t113;
+    let t115: f64 = t50 * t114;
+    let t116: f64 = 0.7071067811865476 * t115;
+    let t117: f64 = t40 * t72;
+    let t118: f64 = t74 + t117;
+    let t119: f64 = t50 * t118;
+    let t120: f64 = 0.7071067811865476 * t119;
+    let t121: f64 = t19 * (-12.0);
+    let t122: f64 = t58 * (-12.0);
+    let t123: f64 = t121 + t122;
+    let t124: f64 = t86 + t123;
+    let t125: f64 = t91 + t124;
+    let t126: f64 = t16 * t125;
+    let t127: f64 = t50 * t126;
+    let t128: f64 = 0.7071067811865476 * t127;
+    let t129: f64 = t16 * t100;
+    let t130: f64 = t46 * t129;
+    let t131: f64 = t16 * t106;
+    let t132: f64 = t130 + t131;
+    let t133: f64 = t50 * t132;
+    let t134: f64 = 0.408248290463863 * t133;
+    let t135: f64 = t46 * t111;
+    let t136: f64 = t113 + t135;
     let t137: f64 = t50 * t136;
-    let t138: f64 = 0.408248290463863 * t137;
-    let t139: f64 = t46 * t112;
-    let t140: f64 = t114 + t139;
+    let t138: f64 = 0.7071067811865476 * t137;
+    let t139: f64 = t46 * t63;
+    let t140: f64 = t68 + t139;
     let t141: f64 = t50 * t140;
     let t142: f64 = 0.7071067811865476 * t141;
-    let t143: f64 = t46 * t63;
-    let t144: f64 = t68 + t143;
-    let t145: f64 = t50 * t144;
-    let t146: f64 = 0.7071067811865476 * t145;
-    let t147: f64 = t17 * t85;
-    let t148: f64 = t21 * t147;
-    let t149: f64 = t17 * t91;
-    let t150: f64 = t40 * t149;
-    let t151: f64 = t148 + t150;
-    let t152: f64 = t50 * t151;
-    let t153: f64 = 0.7071067811865476 * t152;
-    let t154: f64 = t17 * t101;
-    let t155: f64 = t17 * t154;
-    let t156: f64 = t58 * 54.0;
-    let t157: f64 = (-3.0) + t156;
-    let t158: f64 = t19 * 54.0;
-    let t159: f64 = t157 + t158;
-    let t160: f64 = t155 + t159;
-    let t161: f64 = t17 * t160;
-    let t162: f64 = t50 * t161;
-    let t163: f64 = 0.408248290463863 * t162;
-    let t164: f64 = t21 * 1.5;
-    let t165: f64 = t164 + (-0.5);
-    let t166: f64 = t14 * t50;
-    let t167: f64 = t165 * t166;
-    let t168: f64 = t15 * t16;
-    let t169: f64 = 1.5 * t168;
-    let t170: f64 = t166 * t169;
-    let t171: f64 = t15 * t17;
-    let t172: f64 = 1.5 * t171;
-    let t173: f64 = t166 * t172;
-    let t174: f64 = t40 * 1.5;
-    let t175: f64 = (-0.5) + t174;
-    let t176: f64 = t166 * t175;
-    let t177: f64 = t16 * t17;
-    let t178: f64 = 1.5 * t177;
-    let t179: f64 = t166 * t178;
-    let t180: f64 = t46 * 1.5;
-    let t181: f64 = (-0.5) + t180;
-    let t182: f64 = t166 * t181;
-    let t183: f64 = 3.0 * t171;
-    let t184: f64 = t166 * t183;
-    let t185: f64 = 0.7071067811865476 * t184;
-    let t186: f64 = (-3.0) * t168;
-    let t187: f64 = t166 * t186;
+    let t143: f64 = t17 * t85;
+    let t144: f64 = t21 * t143;
+    let t145: f64 = t17 * t90;
+    let t146: f64 = t40 * t145;
+    let t147: f64 = t144 + t146;
+    let t148: f64 = t50 * t147;
+    let t149: f64 = 0.7071067811865476 * t148;
+    let t150: f64 = t46 * t100;
+    let t151: f64 = t58 * 54.0;
+    let t152: f64 = (-3.0) + t151;
+    let t153: f64 = t19 * 54.0;
+    let t154: f64 = t152 + t153;
+    let t155: f64 = t150 + t154;
+    let t156: f64 = t17 * t155;
+    let t157: f64 = t50 * t156;
+    let t158: f64 = 0.408248290463863 * t157;
+    let t159: f64 = t21 * 1.5;
+    let t160: f64 = t159 + (-0.5);
+    let t161: f64 = t18 * t32;
+    let t162: f64 = t160 * t161;
+    let t163: f64 = t15 * t16;
+    let t164: f64 = 1.5 * t163;
+    let t165: f64 = t161 * t164;
+    let t166: f64 = t15 * t17;
+    let t167: f64 = 1.5 * t166;
+    let t168: f64 = t161 * t167;
+    let t169: f64 = t40 * 1.5;
+    let t170: f64 = (-0.5) + t169;
+    let t171: f64 = t161 * t170;
+    let t172: f64 = t16 * t17;
+    let t173: f64 = 1.5 * t172;
+    let t174: f64 = t161 * t173;
+    let t175: f64 = t46 * 1.5;
+    let t176: f64 = (-0.5) + t175;
+    let t177: f64 = t161 * t176;
+    let t178: f64 = 3.0 * t166;
+    let t179: f64 = t161 * t178;
+    let t180: f64 = 0.7071067811865476 * t179;
+    let t181: f64 = (-3.0) * t163;
+    let t182: f64 = t161 * t181;
+    let t183: f64 = 0.7071067811865476 * t182;
+    let t184: f64 = t40 * (-3.0);
+    let t185: f64 = t46 * 3.0;
+    let t186: f64 = t184 + t185;
+    let t187: f64 = t161 * t186;
     let t188: f64 = 0.7071067811865476 * t187;
-    let t189: f64 = t40 * (-3.0);
-    let t190: f64 = t46 * 3.0;
-    let t191: f64 = t189 + t190;
-    let t192: f64 = t166 * t191;
-    let t193: f64 = 0.7071067811865476 * t192;
-    let t194: f64 = (-3.0) * t177;
-    let t195: f64 = t166 * t194;
-    let t196: f64 = 0.7071067811865476 * t195;
-    let t197: f64 = t177 * (-9.0);
-    let t198: f64 = t166 * t197;
-    let t199: f64 = 0.408248290463863 * t198;
-    let t200: f64 = t21 * 3.0;
-    let t201: f64 = t46 * (-3.0);
-    let t202: f64 = t200 + t201;
-    let t203: f64 = t166 * t202;
-    let t204: f64 = 0.7071067811865476 * t203;
-    let t205: f64 = 3.0 * t168;
-    let t206: f64 = t166 * t205;
-    let t207: f64 = 0.7071067811865476 * t206;
-    let t208: f64 = (-3.0) * t171;
-    let t209: f64 = t166 * t208;
-    let t210: f64 = 0.7071067811865476 * t209;
-    let t211: f64 = 9.0 * t171;
-    let t212: f64 = t166 * t211;
-    let t213: f64 = 0.408248290463863 * t212;
-    let t214: f64 = t21 * (-3.0);
-    let t215: f64 = t40 * 3.0;
-    let t216: f64 = t214 + t215;
-    let t217: f64 = t166 * t216;
-    let t218: f64 = 0.7071067811865476 * t217;
-    let t219: f64 = 3.0 * t177;
-    let t220: f64 = t166 * t219;
-    let t221: f64 = 0.7071067811865476 * t220;
-    let t222: f64 = 6.0 * t168;
-    let t223: f64 = t166 * t222;
-    let t224: f64 = 0.7071067811865476 * t223;
-    let t225: f64 = t4 * 0.1;
-    let t226: f64 = t18 * t225;
-    let t227: f64 = t20 * 60.0;
-    let t228: f64 = (-6.0) + t227;
-    let t229: f64 = t226 * 60.0;
+    let t189: f64 = (-3.0) * t172;
+    let t190: f64 = t161 * t189;
+    let t191: f64 = 0.7071067811865476 * t190;
+    let t192: f64 = t172 * (-9.0);
+    let t193: f64 = t161 * t192;
+    let t194: f64 = 0.408248290463863 * t193;
+    let t195: f64 = t21 * 3.0;
+    let t196: f64 = t46 * (-3.0);
+    let t197: f64 = t195 + t196;
+    let t198: f64 = t161 * t197;
+    let t199: f64 = 0.7071067811865476 * t198;
+    let t200: f64 = 3.0 * t163;
+    let t201: f64 = t161 * t200;
+    let t202: f64 = 0.7071067811865476 * t201;
+    let t203: f64 = (-3.0) * t166;
+    let t204: f64 = t161 * t203;
+    let t205: f64 = 0.7071067811865476 * t204;
+    let t206: f64 = 9.0 * t166;
+    let t207: f64 = t161 * t206;
+    let t208: f64 = 0.408248290463863 * t207;
+    let t209: f64 = t21 * (-3.0);
+    let t210: f64 = t40 * 3.0;
+    let t211: f64 = t209 + t210;
+    let t212: f64 = t161 * t211;
+    let t213: f64 = 0.7071067811865476 * t212;
+    let t214: f64 = 3.0 * t172;
+    let t215: f64 = t161 * t214;
+    let t216: f64 = 0.7071067811865476 * t215;
+    let t217: f64 = 6.0 * t163;
+    let t218: f64 = t161 * t217;
+    let t219: f64 = 0.7071067811865476 * t218;
+    let t220: f64 = t4 * 0.1;
+    let t221: f64 = t18 * t220;
+    let t222: f64 = t20 * 60.0;
+    let t223: f64 = (-6.0) + t222;
+    let t224: f64 = t221 * 60.0;
+    let t225: f64 = t223 + t224;
+    let t226: f64 = t16 * t225;
+    let t227: f64 = t21 * t226;
+    let t228: f64 = (-12.0) * t221;
+    let t229: f64 = t20 * (-12.0);
     let t230: f64 = t228 + t229;
     let t231: f64 = t16 * t230;
-    let t232: f64 = t21 * t231;
-    let t233: f64 = (-12.0) * t226;
-    let t234: f64 = t20 * (-12.0);
-    let t235: f64 = t233 + t234;
-    let t236: f64 = t16 * t235;
-    let t237: f64 = t232 + t236;
-    let t238: f64 = t50 * t237;
-    let t239: f64 = 0.7071067811865476 * t238;
-    let t240: f64 = t15 * t230;
-    let t241: f64 = t40 * t240;
-    let t242: f64 = t15 * t235;
-    let t243: f64 = t241 + t242;
+    let t232: f64 = t227 + t231;
+    let t233: f64 = t50 * t232;
+    let t234: f64 = 0.7071067811865476 * t233;
+    let t235: f64 = t15 * t225;
+    let t236: f64 = t40 * t235;
+    let t237: f64 = t15 * t230;
+    let t238: f64 = t236 + t237;
+    let t239: f64 = t50 * t238;
+    let t240: f64 = 0.7071067811865476 * t239;
+    let t241: f64 = t17 * t225;
+    let t242: f64 = t16 * t241;
+    let t243: f64 = t15 * t242;
     let t244: f64 = t50 * t243;
     let t245: f64 = 0.7071067811865476 * t244;
-    let t246: f64 = t17 * t230;
-    let t247: f64 = t16 * t246;
-    let t248: f64 = t15 * t247;
+    let t246: f64 = t21 * t241;
+    let t247: f64 = t17 * t230;
+    let t248: f64 = t246 + t247;
     let t249: f64 = t50 * t248;
     let t250: f64 = 0.7071067811865476 * t249;
-    let t251: f64 = t21 * t246;
-    let t252: f64 = t17 * t235;
-    let t253: f64 = t251 + t252;
-    let t254: f64 = t50 * t253;
-    let t255: f64 = 0.7071067811865476 * t254;
-    let t256: f64 = t46 * t240;
-    let t257: f64 = t242 + t256;
-    let t258: f64 = t50 * t257;
-    let t259: f64 = 0.7071067811865476 * t258;
-    let t260: f64 = t40 * t246;
-    let t261: f64 = t252 + t260;
-    let t262: f64 = t50 * t261;
-    let t263: f64 = 0.7071067811865476 * t262;
-    let t264: f64 = t46 * t231;
-    let t265: f64 = t236 + t264;
-    let t266: f64 = t50 * t265;
-    let t267: f64 = 0.7071067811865476 * t266;
-    let t268: f64 = t20 * 30.0;
-    let t269: f64 = (-3.0) + t268;
-    let t270: f64 = 30.0 * t226;
+    let t251: f64 = t46 * t235;
+    let t252: f64 = t237 + t251;
+    let t253: f64 = t50 * t252;
+    let t254: f64 = 0.7071067811865476 * t253;
+    let t255: f64 = t40 * t241;
+    let t256: f64 = t247 + t255;
+    let t257: f64 = t50 * t256;
+    let t258: f64 = 0.7071067811865476 * t257;
+    let t259: f64 = t46 * t226;
+    let t260: f64 = t231 + t259;
+    let t261: f64 = t50 * t260;
+    let t262: f64 = 0.7071067811865476 * t261;
+    let t263: f64 = t20 * 30.0;
+    let t264: f64 = (-3.0) + t263;
+    let t265: f64 = 30.0 * t221;
+    let t266: f64 = t264 + t265;
+    let t267: f64 = t21 * t266;
+    let t268: f64 = t20 * (-30.0);
+    let t269: f64 = 3.0 + t268;
+    let t270: f64 = (-30.0) * t221;
     let t271: f64 = t269 + t270;
-    let t272: f64 = t15 * t271;
-    let t273: f64 = t15 * t272;
-    let t274: f64 = t20 * (-30.0);
-    let t275: f64 = 3.0 + t274;
-    let t276: f64 = (-30.0) * t226;
-    let t277: f64 = t275 + t276;
-    let t278: f64 = t40 * t277;
-    let t279: f64 = t235 + t278;
-    let t280: f64 = t273 + t279;
-    let t281: f64 = t15 * t280;
-    let t282: f64 = t50 * t281;
-    let t283: f64 = 0.7071067811865476 * t282;
-    let t284: f64 = t16 * t277;
-    let t285: f64 = t16 * t284;
-    let t286: f64 = t21 * t271;
-    let t287: f64 = 12.0 * t226;
-    let t288: f64 = t20 * 12.0;
-    let t289: f64 = t287 + t288;
-    let t290: f64 = t286 + t289;
-    let t291: f64 = t285 + t290;
-    let t292: f64 = t16 * t291;
-    let t293: f64 = t50 * t292;
-    let t294: f64 = 0.7071067811865476 * t293;
-    let t295: f64 = t17 * t271;
-    let t296: f64 = t21 * t295;
-    let t297: f64 = t17 * t277;
-    let t298: f64 = t40 * t297;
-    let t299: f64 = t296 + t298;
-    let t300: f64 = t50 * t299;
-    let t301: f64 = 0.7071067811865476 * t300;
-    let t302: f64 = t20 * 90.0;
-    let t303: f64 = (-9.0) + t302;
-    let t304: f64 = t226 * 90.0;
-    let t305: f64 = t303 + t304;
-    let t306: f64 = t15 * t305;
-    let t307: f64 = t46 * t306;
-    let t308: f64 = t20 * (-18.0);
-    let t309: f64 = 3.0 + t308;
-    let t310: f64 = t226 * (-18.0);
-    let t311: f64 = t309 + t310;
-    let t312: f64 = t15 * t311;
-    let t313: f64 = t307 + t312;
-    let t314: f64 = t50 * t313;
-    let t315: f64 = 0.408248290463863 * t314;
-    let t316: f64 = t16 * t305;
-    let t317: f64 = t46 * t316;
-    let t318: f64 = t16 * t311;
-    let t319: f64 = t317 + t318;
+    let t272: f64 = t40 * t271;
+    let t273: f64 = t230 + t272;
+    let t274: f64 = t267 + t273;
+    let t275: f64 = t15 * t274;
+    let t276: f64 = t50 * t275;
+    let t277: f64 = 0.7071067811865476 * t276;
+    let t278: f64 = 12.0 * t221;
+    let t279: f64 = t20 * 12.0;
+    let t280: f64 = t278 + t279;
+    let t281: f64 = t267 + t280;
+    let t282: f64 = t272 + t281;
+    let t283: f64 = t16 * t282;
+    let t284: f64 = t50 * t283;
+    let t285: f64 = 0.7071067811865476 * t284;
+    let t286: f64 = t17 * t266;
+    let t287: f64 = t21 * t286;
+    let t288: f64 = t17 * t271;
+    let t289: f64 = t40 * t288;
+    let t290: f64 = t287 + t289;
+    let t291: f64 = t50 * t290;
+    let t292: f64 = 0.7071067811865476 * t291;
+    let t293: f64 = t20 * 90.0;
+    let t294: f64 = (-9.0) + t293;
+    let t295: f64 = t221 * 90.0;
+    let t296: f64 = t294 + t295;
+    let t297: f64 = t15 * t296;
+    let t298: f64 = t46 * t297;
+    let t299: f64 = t20 * (-18.0);
+    let t300: f64 = 3.0 + t299;
+    let t301: f64 = t221 * (-18.0);
+    let t302: f64 = t300 + t301;
+    let t303: f64 = t15 * t302;
+    let t304: f64 = t298 + t303;
+    let t305: f64 = t50 * t304;
+    let t306: f64 = 0.408248290463863 * t305;
+    let t307: f64 = t16 * t296;
+    let t308: f64 = t46 * t307;
+    let t309: f64 = t16 * t302;
+    let t310: f64 = t308 + t309;
+    let t311: f64 = t50 * t310;
+    let t312: f64 = 0.408248290463863 * t311;
+    let t313: f64 = t46 * t296;
+    let t314: f64 = t20 * (-54.0);
+    let t315: f64 = 3.0 + t314;
+    let t316: f64 = t221 * (-54.0);
+    let t317: f64 = t315 + t316;
+    let t318: f64 = t313 + t317;
+    let t319: f64 = t17 * t318;
     let t320: f64 = t50 * t319;
     let t321: f64 = 0.408248290463863 * t320;
-    let t322: f64 = t17 * t305;
-    let t323: f64 = t17 * t322;
-    let t324: f64 = t20 * (-54.0);
-    let t325: f64 = 3.0 + t324;
-    let t326: f64 = t226 * (-54.0);
-    let t327: f64 = t325 + t326;
-    let t328: f64 = t323 + t327;
-    let t329: f64 = t17 * t328;
-    let t330: f64 = t50 * t329;
-    let t331: f64 = 0.408248290463863 * t330;
-    let t332: f64 = t58 * 840.0;
-    let t333: f64 = (-60.0) + t332;
-    let t334: f64 = t226 * 840.0;
-    let t335: f64 = t333 + t334;
-    let t336: f64 = t40 * t335;
-    let t337: f64 = t58 * (-120.0);
-    let t338: f64 = 6.0 + t337;
-    let t339: f64 = t226 * (-120.0);
-    let t340: f64 = t338 + t339;
-    let t341: f64 = t336 + t340;
-    let t342: f64 = t21 * t341;
-    let t343: f64 = t40 * t340;
-    let t344: f64 = t226 * 24.0;
-    let t345: f64 = t58 * 24.0;
-    let t346: f64 = t344 + t345;
-    let t347: f64 = t343 + t346;
-    let t348: f64 = t342 + t347;
-    let t349: f64 = t166 * t348;
-    let t350: f64 = t349 * 0.5;
-    let t351: f64 = t17 * t335;
-    let t352: f64 = t16 * t351;
-    let t353: f64 = t21 * t352;
-    let t354: f64 = t17 * t340;
-    let t355: f64 = t16 * t354;
-    let t356: f64 = t353 + t355;
-    let t357: f64 = t166 * t356;
-    let t358: f64 = 0.5 * t357;
-    let t359: f64 = t15 * t351;
-    let t360: f64 = t40 * t359;
-    let t361: f64 = t15 * t354;
-    let t362: f64 = t360 + t361;
-    let t363: f64 = t166 * t362;
-    let t364: f64 = 0.5 * t363;
-    let t365: f64 = t58 * 420.0;
-    let t366: f64 = (-30.0) + t365;
-    let t367: f64 = t226 * 420.0;
-    let t368: f64 = t366 + t367;
-    let t369: f64 = t16 * t368;
-    let t370: f64 = t15 * t369;
-    let t371: f64 = t15 * t370;
-    let t372: f64 = t16.powi(3);
-    let t373: f64 = t58 * (-420.0);
-    let t374: f64 = 30.0 + t373;
-    let t375: f64 = t226 * (-420.0);
-    let t376: f64 = t374 + t375;
-    let t377: f64 = t372 * t376;
-    let t378: f64 = t371 + t377;
-    let t379: f64 = t15 * t378;
-    let t380: f64 = t166 * t379;
-    let t381: f64 = 0.5 * t380;
-    let t382: f64 = t58 * 1260.0;
-    let t383: f64 = (-90.0) + t382;
-    let t384: f64 = t226 * 1260.0;
-    let t385: f64 = t383 + t384;
-    let t386: f64 = t16 * t385;
-    let t387: f64 = t15 * t386;
-    let t388: f64 = t46 * t387;
-    let t389: f64 = t58 * (-180.0);
-    let t390: f64 = 18.0 + t389;
-    let t391: f64 = t226 * (-180.0);
-    let t392: f64 = t390 + t391;
-    let t393: f64 = t16 * t392;
-    let t394: f64 = t15 * t393;
-    let t395: f64 = t388 + t394;
-    let t396: f64 = t166 * t395;
-    let t397: f64 = t396 * 0.28867513459481287;
-    let t398: f64 = t46 * t335;
-    let t399: f64 = t340 + t398;
-    let t400: f64 = t21 * t399;
-    let t401: f64 = t46 * t340;
-    let t402: f64 = t346 + t401;
-    let t403: f64 = t400 + t402;
-    let t404: f64 = t166 * t403;
-    let t405: f64 = 0.5 * t404;
-    let t406: f64 = t16 * t335;
-    let t407: f64 = t15 * t406;
-    let t408: f64 = t46 * t407;
-    let t409: f64 = t16 * t340;
-    let t410: f64 = t15 * t409;
-    let t411: f64 = t408 + t410;
-    let t412: f64 = t166 * t411;
-    let t413: f64 = 0.5 * t412;
-    let t414: f64 = t17 * t368;
-    let t415: f64 = t15 * t414;
-    let t416: f64 = t15 * t415;
-    let t417: f64 = t17 * t376;
-    let t418: f64 = t40 * t417;
-    let t419: f64 = t354 + t418;
-    let t420: f64 = t416 + t419;
-    let t421: f64 = t15 * t420;
-    let t422: f64 = t166 * t421;
-    let t423: f64 = 0.5 * t422;
-    let t424: f64 = t15 * t385;
-    let t425: f64 = t17 * t424;
-    let t426: f64 = t17 * t425;
-    let t427: f64 = t58 * (-540.0);
-    let t428: f64 = t427 + 36.0;
-    let t429: f64 = t226 * (-540.0);
+    let t322: f64 = t58 * 840.0;
+    let t323: f64 = (-60.0) + t322;
+    let t324: f64 = t221 * 840.0;
+    let t325: f64 = t323 + t324;
+    let t326: f64 = t40 * t325;
+    let t327: f64 = t58 * (-120.0);
+    let t328: f64 = 6.0 + t327;
+    let t329: f64 = t221 * (-120.0);
+    let t330: f64 = t328 + t329;
+    let t331: f64 = t326 + t330;
+    let t332: f64 = t21 * t331;
+    let t333: f64 = t40 * t330;
+    let t334: f64 = t221 * 24.0;
+    let t335: f64 = t58 * 24.0;
+    let t336: f64 = t334 + t335;
+    let t337: f64 = t333 + t336;
+    let t338: f64 = t332 + t337;
+    let t339: f64 = t161 * t338;
+    let t340: f64 = t339 * 0.5;
+    let t341: f64 = t17 * t325;
+    let t342: f64 = t16 * t341;
+    let t343: f64 = t21 * t342;
+    let t344: f64 = t17 * t330;
+    let t345: f64 = t16 * t344;
+    let t346: f64 = t343 + t345;
+    let t347: f64 = t161 * t346;
+    let t348: f64 = 0.5 * t347;
+    let t349: f64 = t15 * t341;
+    let t350: f64 = t40 * t349;
+    let t351: f64 = t15 * t344;
+    let t352: f64 = t350 + t351;
+    let t353: f64 = t161 * t352;
+    let t354: f64 = 0.5 * t353;
+    let t355: f64 = t58 * 420.0;
+    let t356: f64 = (-30.0) + t355;
+    let t357: f64 = t221 * 420.0;
+    let t358: f64 = t356 + t357;
+    let t359: f64 = t16 * t358;
+    let t360: f64 = t21 * t359;
+    let t361: f64 = t16.powi(3);
+    let t362: f64 = t58 * (-420.0);
+    let t363: f64 = 30.0 + t362;
+    let t364: f64 = t221 * (-420.0);
+    let t365: f64 = t363 + t364;
+    let t366: f64 = t361 * t365;
+    let t367: f64 = t360 + t366;
+    let t368: f64 = t15 * t367;
+    let t369: f64 = t161 * t368;
+    let t370: f64 = 0.5 * t369;
+    let t371: f64 = t58 * 1260.0;
+    let t372: f64 = (-90.0) + t371;
+    let t373: f64 = t221 * 1260.0;
+    let t374: f64 = t372 + t373;
+    let t375: f64 = t16 * t374;
+    let t376: f64 = t15 * t375;
+    let t377: f64 = t46 * t376;
+    let t378: f64 = t58 * (-180.0);
+    let t379: f64 = 18.0 + t378;
+    let t380: f64 = t221 * (-180.0);
+    let t381: f64 = t379 + t380;
+    let t382: f64 = t16 * t381;
+    let t383: f64 = t15 * t382;
+    let t384: f64 = t377 + t383;
+    let t385: f64 = t161 * t384;
+    let t386: f64 = t385 * 0.28867513459481287;
+    let t387: f64 = t46 * t325;
+    let t388: f64 = t330 + t387;
+    let t389: f64 = t21 * t388;
+    let t390: f64 = t46 * t330;
+    let t391: f64 = t336 + t390;
+    let t392: f64 = t389 + t391;
+    let t393: f64 = t161 * t392;
+    let t394: f64 = 0.5 * t393;
+    let t395: f64 = t16 * t325;
+    let t396: f64 = t15 * t395;
+    let t397: f64 = t46 * t396;
+    let t398: f64 = t16 * t330;
+    let t399: f64 = t15 * t398;
+    let t400: f64 = t397 + t399;
+    let t401: f64 = t161 * t400;
+    let t402: f64 = 0.5 * t401;
+    let t403: f64 = t17 * t358;
+    let t404: f64 = t21 * t403;
+    let t405: f64 = t17 * t365;
+    let t406: f64 = t40 * t405;
+    let t407: f64 = t344 + t406;
+    let t408: f64 = t404 + t407;
+    let t409: f64 = t15 * t408;
+    let t410: f64 = t161 * t409;
+    let t411: f64 = 0.5 * t410;
+    let t412: f64 = t15 * t374;
+    let t413: f64 = t46 * t412;
+    let t414: f64 = t58 * (-540.0);
+    let t415: f64 = t414 + 36.0;
+    let t416: f64 = t221 * (-540.0);
+    let t417: f64 = t415 + t416;
+    let t418: f64 = t15 * t417;
+    let t419: f64 = t413 + t418;
+    let t420: f64 = t17 * t419;
+    let t421: f64 = t161 * t420;
+    let t422: f64 = 0.28867513459481287 * t421;
+    let t423: f64 = t40 * t388;
+    let t424: f64 = t391 + t423;
+    let t425: f64 = t161 * t424;
+    let t426: f64 = 0.5 * t425;
+    let t427: f64 = t58 * 120.0;
+    let t428: f64 = (-6.0) + t427;
+    let t429: f64 = t221 * 120.0;
     let t430: f64 = t428 + t429;
-    let t431: f64 = t15 * t430;
-    let t432: f64 = t426 + t431;
-    let t433: f64 = t17 * t432;
-    let t434: f64 = t166 * t433;
-    let t435: f64 = 0.28867513459481287 * t434;
-    let t436: f64 = t40 * t399;
-    let t437: f64 = t402 + t436;
-    let t438: f64 = t166 * t437;
-    let t439: f64 = 0.5 * t438;
-    let t440: f64 = t16 * t417;
-    let t441: f64 = t16 * t440;
-    let t442: f64 = t21 * t414;
-    let t443: f64 = t58 * 120.0;
-    let t444: f64 = (-6.0) + t443;
-    let t445: f64 = t226 * 120.0;
+    let t431: f64 = t17 * t430;
+    let t432: f64 = t404 + t431;
+    let t433: f64 = t406 + t432;
+    let t434: f64 = t16 * t433;
+    let t435: f64 = t161 * t434;
+    let t436: f64 = 0.5 * t435;
+    let t437: f64 = t46 * t375;
+    let t438: f64 = t16 * t417;
+    let t439: f64 = t437 + t438;
+    let t440: f64 = t17 * t439;
+    let t441: f64 = t161 * t440;
+    let t442: f64 = 0.28867513459481287 * t441;
+    let t443: f64 = t58 * 210.0;
+    let t444: f64 = t443 + (-15.0);
+    let t445: f64 = t221 * 210.0;
     let t446: f64 = t444 + t445;
-    let t447: f64 = t17 * t446;
-    let t448: f64 = t442 + t447;
-    let t449: f64 = t441 + t448;
-    let t450: f64 = t16 * t449;
-    let t451: f64 = t166 * t450;
-    let t452: f64 = 0.5 * t451;
-    let t453: f64 = t17 * t386;
-    let t454: f64 = t17 * t453;
-    let t455: f64 = t16 * t430;
-    let t456: f64 = t454 + t455;
-    let t457: f64 = t17 * t456;
-    let t458: f64 = t166 * t457;
-    let t459: f64 = 0.28867513459481287 * t458;
-    let t460: f64 = t58 * 210.0;
-    let t461: f64 = t460 + (-15.0);
-    let t462: f64 = t226 * 210.0;
-    let t463: f64 = t461 + t462;
-    let t464: f64 = t21 * t463;
-    let t465: f64 = t40 * t376;
-    let t466: f64 = t340 + t465;
-    let t467: f64 = t464 + t466;
-    let t468: f64 = t21 * t467;
-    let t469: f64 = t40 * t463;
-    let t470: f64 = t340 + t469;
-    let t471: f64 = t40 * t470;
-    let t472: f64 = t346 + t471;
-    let t473: f64 = t468 + t472;
-    let t474: f64 = t166 * t473;
-    let t475: f64 = 0.5 * t474;
-    let t476: f64 = t58 * (-630.0);
-    let t477: f64 = t476 + 45.0;
-    let t478: f64 = t226 * (-630.0);
-    let t479: f64 = t477 + t478;
-    let t480: f64 = t21 * t479;
-    let t481: f64 = t58 * 540.0;
-    let t482: f64 = t481 + (-36.0);
-    let t483: f64 = t226 * 540.0;
-    let t484: f64 = t482 + t483;
-    let t485: f64 = t480 + t484;
-    let t486: f64 = t21 * t485;
-    let t487: f64 = t58 * 630.0;
-    let t488: f64 = t487 + (-45.0);
-    let t489: f64 = t226 * 630.0;
-    let t490: f64 = t488 + t489;
-    let t491: f64 = t40 * t490;
-    let t492: f64 = t430 + t491;
-    let t493: f64 = t40 * t492;
-    let t494: f64 = t486 + t493;
-    let t495: f64 = t166 * t494;
-    let t496: f64 = 0.28867513459481287 * t495;
-    let t497: f64 = t58 * 1890.0;
-    let t498: f64 = t497 + (-135.0);
-    let t499: f64 = t226 * 1890.0;
-    let t500: f64 = t498 + t499;
-    let t501: f64 = t46 * t500;
-    let t502: f64 = t58 * (-1620.0);
-    let t503: f64 = t502 + 108.0;
-    let t504: f64 = t226 * (-1620.0);
-    let t505: f64 = t503 + t504;
-    let t506: f64 = t501 + t505;
-    let t507: f64 = t46 * t506;
-    let t508: f64 = t58 * 162.0;
-    let t509: f64 = (-9.0) + t508;
-    let t510: f64 = t226 * 162.0;
-    let t511: f64 = t509 + t510;
-    let t512: f64 = t507 + t511;
-    let t513: f64 = t166 * t512;
-    let t514: f64 = 0.16666666666666666 * t513;
+    let t447: f64 = t21 * t446;
+    let t448: f64 = t40 * t365;
+    let t449: f64 = t330 + t448;
+    let t450: f64 = t447 + t449;
+    let t451: f64 = t21 * t450;
+    let t452: f64 = t40 * t446;
+    let t453: f64 = t330 + t452;
+    let t454: f64 = t40 * t453;
+    let t455: f64 = t336 + t454;
+    let t456: f64 = t451 + t455;
+    let t457: f64 = t161 * t456;
+    let t458: f64 = 0.5 * t457;
+    let t459: f64 = t58 * (-630.0);
+    let t460: f64 = t459 + 45.0;
+    let t461: f64 = t221 * (-630.0);
+    let t462: f64 = t460 + t461;
+    let t463: f64 = t21 * t462;
+    let t464: f64 = t58 * 540.0;
+    let t465: f64 = t464 + (-36.0);
+    let t466: f64 = t221 * 540.0;
+    let t467: f64 = t465 + t466;
+    let t468: f64 = t463 + t467;
+    let t469: f64 = t21 * t468;
+    let t470: f64 = t58 * 630.0;
+    let t471: f64 = t470 + (-45.0);
+    let t472: f64 = t221 * 630.0;
+    let t473: f64 = t471 + t472;
+    let t474: f64 = t40 * t473;
+    let t475: f64 = t417 + t474;
+    let t476: f64 = t40 * t475;
+    let t477: f64 = t469 + t476;
+    let t478: f64 = t161 * t477;
+    let t479: f64 = 0.28867513459481287 * t478;
+    let t480: f64 = t58 * 1890.0;
+    let t481: f64 = t480 + (-135.0);
+    let t482: f64 = t221 * 1890.0;
+    let t483: f64 = t481 + t482;
+    let t484: f64 = t46 * t483;
+    let t485: f64 = t58 * (-1620.0);
+    let t486: f64 = t485 + 108.0;
+    let t487: f64 = t221 * (-1620.0);
+    let t488: f64 = t486 + t487;
+    let t489: f64 = t484 + t488;
+    let t490: f64 = t46 * t489;
+    let t491: f64 = t58 * 162.0;
+    let t492: f64 = (-9.0) + t491;
+    let t493: f64 = t221 * 162.0;
+    let t494: f64 = t492 + t493;
+    let t495: f64 = t490 + t494;
+    let t496: f64 = t161 * t495;
+    let t497: f64 = 0.16666666666666666 * t496;
     Grand {
         uf: [[t33, t36, t39], [t36, t43, t45], [t39, t45, t49]],
         ul: [[0.0, t51, t53], [t54, 0.0, t55], [t52, t56, 0.0]],
         us: [
-            [t71, t77, t81, t97, t111],
-            [t117, t81, t121, t132, t138],
-            [t81, t142, t146, t153, t163],
+            [t71, t77, t81, t96, t110],
+            [t116, t81, t120, t128, t134],
+            [t81, t138, t142, t149, t158],
         ],
         of: [[0.0, t51, t53], [t54, 0.0, t55], [t52, t56, 0.0]],
-        ol: [[t167, t170, t173], [t170, t176, t179], [t173, t179, t182]],
+        ol: [[t162, t165, t168], [t165, t171, t174], [t168, t174, t177]],
         os: [
-            [t185, t188, t193, t196, t199],
-            [t196, t204, t207, t210, t213],
-            [t218, t221, t210, t224, 0.0],
+            [t180, t183, t188, t191, t194],
+            [t191, t199, t202, t205, t208],
+            [t213, t216, t205, t219, 0.0],
         ],
         ef: [
-            [t239, t245, t250],
-            [t255, t250, t259],
-            [t250, t263, t267],
-            [t283, t294, t301],
-            [t315, t321, t331],
+            [t234, t240, t245],
+            [t250, t245, t254],
+            [t245, t258, t262],
+            [t277, t285, t292],
+            [t306, t312, t321],
         ],
         el: [
-            [t185, t196, t218],
-            [t188, t204, t221],
-            [t193, t207, t210],
-            [t196, t210, t224],
-            [t199, t213, 0.0],
+            [t180, t191, t213],
+            [t183, t199, t216],
+            [t188, t202, t205],
+            [t191, t205, t219],
+            [t194, t208, 0.0],
         ],
         es: [
-            [t350, t358, t364, t381, t397],
-            [t358, t405, t413, t423, t435],
-            [t364, t413, t439, t452, t459],
-            [t381, t423, t452, t475, t496],
-            [t397, t435, t459, t496, t514],
+            [t340, t348, t354, t370, t386],
+            [t348, t394, t402, t411, t422],
+            [t354, t402, t426, t436, t442],
+            [t370, t411, t436, t458, t479],
+            [t386, t422, t442, t479, t497],
         ],
     }
 }
@@ -639,7 +622,7 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
 /// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).
 /// Strain and stresslet in the 5-component orthonormal basis (kernels::STRAIN_BASIS).
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_pair`'s fields. Operation count with fused multiply-adds: 384 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_pair`'s fields. Operation count with fused multiply-adds: 373 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_pair_lanes<L: lanes::Lane>(
@@ -690,7 +673,7 @@ pub fn free_pair_lanes<L: lanes::Lane>(
         let t37: L = t14 * t14;
         let t38: L = t20.mul_add(t37, t22);
         let t39: L = t24 * t38;
-        let t40: L = t11 * t24;
+        let t40: L = t0 * t15;
         let t41: L = t14 * t40;
         let t42: L = t13 * t40;
         let t43: L = -t42;
@@ -719,321 +702,310 @@ pub fn free_pair_lanes<L: lanes::Lane>(
         let t66: L = L::splat(0.7071067811865476) * t65;
         let t67: L = t48.mul_add(L::splat(-30.0), L::splat(3.0));
         let t68: L = t16.mul_add(L::splat(-30.0), t67);
-        let t69: L = t12 * t68;
-        let t70: L = t48.mul_add(L::splat(30.0), L::splat(-3.0));
-        let t71: L = t16.mul_add(L::splat(30.0), t70);
-        let t72: L = t32.mul_add(t71, t53);
-        let t73: L = t12.mul_add(t69, t72);
-        let t74: L = t12 * t73;
-        let t75: L = t40 * t74;
-        let t76: L = L::splat(0.7071067811865476) * t75;
-        let t77: L = t48.mul_add(L::splat(-90.0), L::splat(9.0));
-        let t78: L = t16.mul_add(L::splat(-90.0), t77);
-        let t79: L = t12 * t78;
-        let t80: L = t48.mul_add(L::splat(18.0), L::splat(-3.0));
-        let t81: L = t16.mul_add(L::splat(18.0), t80);
-        let t82: L = t12 * t81;
-        let t83: L = t37.mul_add(t79, t82);
-        let t84: L = t40 * t83;
-        let t85: L = t84 * L::splat(0.408248290463863);
-        let t86: L = t12 * t50;
-        let t87: L = t12 * t53;
-        let t88: L = t32.mul_add(t86, t87);
-        let t89: L = t40 * t88;
-        let t90: L = L::splat(0.7071067811865476) * t89;
-        let t91: L = t32.mul_add(t58, t59);
-        let t92: L = t40 * t91;
-        let t93: L = L::splat(0.7071067811865476) * t92;
-        let t94: L = t13 * t71;
-        let t95: L = t48 * L::splat(-12.0);
-        let t96: L = t16.mul_add(L::splat(-12.0), t95);
-        let t97: L = t18.mul_add(t68, t96);
-        let t98: L = t13.mul_add(t94, t97);
-        let t99: L = t13 * t98;
-        let t100: L = t40 * t99;
-        let t101: L = L::splat(0.7071067811865476) * t100;
-        let t102: L = t13 * t78;
-        let t103: L = t13 * t81;
-        let t104: L = t37.mul_add(t102, t103);
-        let t105: L = t40 * t104;
-        let t106: L = L::splat(0.408248290463863) * t105;
-        let t107: L = t37.mul_add(t86, t87);
-        let t108: L = t40 * t107;
-        let t109: L = L::splat(0.7071067811865476) * t108;
-        let t110: L = t37.mul_add(t51, t54);
-        let t111: L = t40 * t110;
-        let t112: L = L::splat(0.7071067811865476) * t111;
-        let t113: L = t14 * t68;
-        let t114: L = t14 * t71;
-        let t115: L = t32 * t114;
-        let t116: L = t18.mul_add(t113, t115);
-        let t117: L = t40 * t116;
-        let t118: L = L::splat(0.7071067811865476) * t117;
-        let t119: L = t14 * t78;
-        let t120: L = t48.mul_add(L::splat(54.0), L::splat(-3.0));
-        let t121: L = t16.mul_add(L::splat(54.0), t120);
-        let t122: L = t14.mul_add(t119, t121);
-        let t123: L = t14 * t122;
-        let t124: L = t40 * t123;
-        let t125: L = L::splat(0.408248290463863) * t124;
-        let t126: L = t18.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t127: L = t11 * t40;
-        let t128: L = t126 * t127;
-        let t129: L = t12 * t13;
+        let t69: L = t48.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t70: L = t16.mul_add(L::splat(30.0), t69);
+        let t71: L = t32.mul_add(t70, t53);
+        let t72: L = t18.mul_add(t68, t71);
+        let t73: L = t12 * t72;
+        let t74: L = t40 * t73;
+        let t75: L = L::splat(0.7071067811865476) * t74;
+        let t76: L = t48.mul_add(L::splat(-90.0), L::splat(9.0));
+        let t77: L = t16.mul_add(L::splat(-90.0), t76);
+        let t78: L = t12 * t77;
+        let t79: L = t48.mul_add(L::splat(18.0), L::splat(-3.0));
+        let t80: L = t16.mul_add(L::splat(18.0), t79);
+        let t81: L = t12 * t80;
+        let t82: L = t37.mul_add(t78, t81);
+        let t83: L = t40 * t82;
+        let t84: L = t83 * L::splat(0.408248290463863);
+        let t85: L = t12 * t50;
+        let t86: L = t12 * t53;
+        let t87: L = t32.mul_add(t85, t86);
+        let t88: L = t40 * t87;
+        let t89: L = L::splat(0.7071067811865476) * t88;
+        let t90: L = t32.mul_add(t58, t59);
+        let t91: L = t40 * t90;
+        let t92: L = L::splat(0.7071067811865476) * t91;
+        let t93: L = t48 * L::splat(-12.0);
+        let t94: L = t16.mul_add(L::splat(-12.0), t93);
+        let t95: L = t18.mul_add(t68, t94);
+        let t96: L = t32.mul_add(t70, t95);
+        let t97: L = t13 * t96;
+        let t98: L = t40 * t97;
+        let t99: L = L::splat(0.7071067811865476) * t98;
+        let t100: L = t13 * t77;
+        let t101: L = t13 * t80;
+        let t102: L = t37.mul_add(t100, t101);
+        let t103: L = t40 * t102;
+        let t104: L = L::splat(0.408248290463863) * t103;
+        let t105: L = t37.mul_add(t85, t86);
+        let t106: L = t40 * t105;
+        let t107: L = L::splat(0.7071067811865476) * t106;
+        let t108: L = t37.mul_add(t51, t54);
+        let t109: L = t40 * t108;
+        let t110: L = L::splat(0.7071067811865476) * t109;
+        let t111: L = t14 * t68;
+        let t112: L = t14 * t70;
+        let t113: L = t32 * t112;
+        let t114: L = t18.mul_add(t111, t113);
+        let t115: L = t40 * t114;
+        let t116: L = L::splat(0.7071067811865476) * t115;
+        let t117: L = t48.mul_add(L::splat(54.0), L::splat(-3.0));
+        let t118: L = t16.mul_add(L::splat(54.0), t117);
+        let t119: L = t37.mul_add(t77, t118);
+        let t120: L = t14 * t119;
+        let t121: L = t40 * t120;
+        let t122: L = L::splat(0.408248290463863) * t121;
+        let t123: L = t18.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t124: L = t15 * t24;
+        let t125: L = t123 * t124;
+        let t126: L = t12 * t13;
+        let t127: L = L::splat(1.5) * t126;
+        let t128: L = t124 * t127;
+        let t129: L = t12 * t14;
         let t130: L = L::splat(1.5) * t129;
-        let t131: L = t127 * t130;
-        let t132: L = t12 * t14;
-        let t133: L = L::splat(1.5) * t132;
-        let t134: L = t127 * t133;
-        let t135: L = t32.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t136: L = t127 * t135;
-        let t137: L = t13 * t14;
-        let t138: L = L::splat(1.5) * t137;
-        let t139: L = t127 * t138;
-        let t140: L = t37.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t141: L = t127 * t140;
-        let t142: L = L::splat(3.0) * t132;
-        let t143: L = t127 * t142;
+        let t131: L = t124 * t130;
+        let t132: L = t32.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t133: L = t124 * t132;
+        let t134: L = t13 * t14;
+        let t135: L = L::splat(1.5) * t134;
+        let t136: L = t124 * t135;
+        let t137: L = t37.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t138: L = t124 * t137;
+        let t139: L = L::splat(3.0) * t129;
+        let t140: L = t124 * t139;
+        let t141: L = L::splat(0.7071067811865476) * t140;
+        let t142: L = L::splat(-3.0) * t126;
+        let t143: L = t124 * t142;
         let t144: L = L::splat(0.7071067811865476) * t143;
-        let t145: L = L::splat(-3.0) * t129;
-        let t146: L = t127 * t145;
-        let t147: L = L::splat(0.7071067811865476) * t146;
-        let t148: L = t37 * L::splat(3.0);
-        let t149: L = t32.mul_add(L::splat(-3.0), t148);
-        let t150: L = t127 * t149;
+        let t145: L = t37 * L::splat(3.0);
+        let t146: L = t32.mul_add(L::splat(-3.0), t145);
+        let t147: L = t124 * t146;
+        let t148: L = L::splat(0.7071067811865476) * t147;
+        let t149: L = L::splat(-3.0) * t134;
+        let t150: L = t124 * t149;
         let t151: L = L::splat(0.7071067811865476) * t150;
-        let t152: L = L::splat(-3.0) * t137;
-        let t153: L = t127 * t152;
-        let t154: L = L::splat(0.7071067811865476) * t153;
-        let t155: L = t137 * L::splat(-9.0);
-        let t156: L = t127 * t155;
-        let t157: L = L::splat(0.408248290463863) * t156;
-        let t158: L = t37 * L::splat(-3.0);
-        let t159: L = t18.mul_add(L::splat(3.0), t158);
-        let t160: L = t127 * t159;
+        let t152: L = t134 * L::splat(-9.0);
+        let t153: L = t124 * t152;
+        let t154: L = L::splat(0.408248290463863) * t153;
+        let t155: L = t37 * L::splat(-3.0);
+        let t156: L = t18.mul_add(L::splat(3.0), t155);
+        let t157: L = t124 * t156;
+        let t158: L = L::splat(0.7071067811865476) * t157;
+        let t159: L = L::splat(3.0) * t126;
+        let t160: L = t124 * t159;
         let t161: L = L::splat(0.7071067811865476) * t160;
-        let t162: L = L::splat(3.0) * t129;
-        let t163: L = t127 * t162;
+        let t162: L = L::splat(-3.0) * t129;
+        let t163: L = t124 * t162;
         let t164: L = L::splat(0.7071067811865476) * t163;
-        let t165: L = L::splat(-3.0) * t132;
-        let t166: L = t127 * t165;
-        let t167: L = L::splat(0.7071067811865476) * t166;
-        let t168: L = L::splat(9.0) * t132;
-        let t169: L = t127 * t168;
-        let t170: L = L::splat(0.408248290463863) * t169;
-        let t171: L = t32 * L::splat(3.0);
-        let t172: L = t18.mul_add(L::splat(-3.0), t171);
-        let t173: L = t127 * t172;
+        let t165: L = L::splat(9.0) * t129;
+        let t166: L = t124 * t165;
+        let t167: L = L::splat(0.408248290463863) * t166;
+        let t168: L = t32 * L::splat(3.0);
+        let t169: L = t18.mul_add(L::splat(-3.0), t168);
+        let t170: L = t124 * t169;
+        let t171: L = L::splat(0.7071067811865476) * t170;
+        let t172: L = L::splat(3.0) * t134;
+        let t173: L = t124 * t172;
         let t174: L = L::splat(0.7071067811865476) * t173;
-        let t175: L = L::splat(3.0) * t137;
-        let t176: L = t127 * t175;
+        let t175: L = L::splat(6.0) * t126;
+        let t176: L = t124 * t175;
         let t177: L = L::splat(0.7071067811865476) * t176;
-        let t178: L = L::splat(6.0) * t129;
-        let t179: L = t127 * t178;
-        let t180: L = L::splat(0.7071067811865476) * t179;
-        let t181: L = t4 * L::splat(0.1);
-        let t182: L = t15 * t181;
-        let t183: L = t17.mul_add(L::splat(60.0), L::splat(-6.0));
-        let t184: L = t182.mul_add(L::splat(60.0), t183);
+        let t178: L = t4 * L::splat(0.1);
+        let t179: L = t15 * t178;
+        let t180: L = t17.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t181: L = t179.mul_add(L::splat(60.0), t180);
+        let t182: L = t13 * t181;
+        let t183: L = t17 * L::splat(-12.0);
+        let t184: L = L::splat(-12.0).mul_add(t179, t183);
         let t185: L = t13 * t184;
-        let t186: L = t17 * L::splat(-12.0);
-        let t187: L = L::splat(-12.0).mul_add(t182, t186);
-        let t188: L = t13 * t187;
-        let t189: L = t18.mul_add(t185, t188);
-        let t190: L = t40 * t189;
-        let t191: L = L::splat(0.7071067811865476) * t190;
-        let t192: L = t12 * t184;
-        let t193: L = t12 * t187;
-        let t194: L = t32.mul_add(t192, t193);
-        let t195: L = t40 * t194;
-        let t196: L = L::splat(0.7071067811865476) * t195;
-        let t197: L = t14 * t184;
-        let t198: L = t13 * t197;
-        let t199: L = t12 * t198;
-        let t200: L = t40 * t199;
-        let t201: L = L::splat(0.7071067811865476) * t200;
-        let t202: L = t14 * t187;
-        let t203: L = t18.mul_add(t197, t202);
+        let t186: L = t18.mul_add(t182, t185);
+        let t187: L = t40 * t186;
+        let t188: L = L::splat(0.7071067811865476) * t187;
+        let t189: L = t12 * t181;
+        let t190: L = t12 * t184;
+        let t191: L = t32.mul_add(t189, t190);
+        let t192: L = t40 * t191;
+        let t193: L = L::splat(0.7071067811865476) * t192;
+        let t194: L = t14 * t181;
+        let t195: L = t13 * t194;
+        let t196: L = t12 * t195;
+        let t197: L = t40 * t196;
+        let t198: L = L::splat(0.7071067811865476) * t197;
+        let t199: L = t14 * t184;
+        let t200: L = t18.mul_add(t194, t199);
+        let t201: L = t40 * t200;
+        let t202: L = L::splat(0.7071067811865476) * t201;
+        let t203: L = t37.mul_add(t189, t190);
         let t204: L = t40 * t203;
         let t205: L = L::splat(0.7071067811865476) * t204;
-        let t206: L = t37.mul_add(t192, t193);
+        let t206: L = t32.mul_add(t194, t199);
         let t207: L = t40 * t206;
         let t208: L = L::splat(0.7071067811865476) * t207;
-        let t209: L = t32.mul_add(t197, t202);
+        let t209: L = t37.mul_add(t182, t185);
         let t210: L = t40 * t209;
         let t211: L = L::splat(0.7071067811865476) * t210;
-        let t212: L = t37.mul_add(t185, t188);
-        let t213: L = t40 * t212;
-        let t214: L = L::splat(0.7071067811865476) * t213;
-        let t215: L = t17.mul_add(L::splat(30.0), L::splat(-3.0));
-        let t216: L = L::splat(30.0).mul_add(t182, t215);
-        let t217: L = t12 * t216;
-        let t218: L = t17.mul_add(L::splat(-30.0), L::splat(3.0));
-        let t219: L = L::splat(-30.0).mul_add(t182, t218);
-        let t220: L = t32.mul_add(t219, t187);
-        let t221: L = t12.mul_add(t217, t220);
-        let t222: L = t12 * t221;
-        let t223: L = t40 * t222;
-        let t224: L = L::splat(0.7071067811865476) * t223;
-        let t225: L = t13 * t219;
-        let t226: L = t17 * L::splat(12.0);
-        let t227: L = L::splat(12.0).mul_add(t182, t226);
-        let t228: L = t18.mul_add(t216, t227);
-        let t229: L = t13.mul_add(t225, t228);
-        let t230: L = t13 * t229;
-        let t231: L = t40 * t230;
-        let t232: L = L::splat(0.7071067811865476) * t231;
-        let t233: L = t14 * t216;
-        let t234: L = t14 * t219;
-        let t235: L = t32 * t234;
-        let t236: L = t18.mul_add(t233, t235);
-        let t237: L = t40 * t236;
-        let t238: L = L::splat(0.7071067811865476) * t237;
-        let t239: L = t17.mul_add(L::splat(90.0), L::splat(-9.0));
-        let t240: L = t182.mul_add(L::splat(90.0), t239);
-        let t241: L = t12 * t240;
-        let t242: L = t17.mul_add(L::splat(-18.0), L::splat(3.0));
-        let t243: L = t182.mul_add(L::splat(-18.0), t242);
-        let t244: L = t12 * t243;
-        let t245: L = t37.mul_add(t241, t244);
+        let t212: L = t17.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t213: L = L::splat(30.0).mul_add(t179, t212);
+        let t214: L = t17.mul_add(L::splat(-30.0), L::splat(3.0));
+        let t215: L = L::splat(-30.0).mul_add(t179, t214);
+        let t216: L = t32.mul_add(t215, t184);
+        let t217: L = t18.mul_add(t213, t216);
+        let t218: L = t12 * t217;
+        let t219: L = t40 * t218;
+        let t220: L = L::splat(0.7071067811865476) * t219;
+        let t221: L = t17 * L::splat(12.0);
+        let t222: L = L::splat(12.0).mul_add(t179, t221);
+        let t223: L = t18.mul_add(t213, t222);
+        let t224: L = t32.mul_add(t215, t223);
+        let t225: L = t13 * t224;
+        let t226: L = t40 * t225;
+        let t227: L = L::splat(0.7071067811865476) * t226;
+        let t228: L = t14 * t213;
+        let t229: L = t14 * t215;
+        let t230: L = t32 * t229;
+        let t231: L = t18.mul_add(t228, t230);
+        let t232: L = t40 * t231;
+        let t233: L = L::splat(0.7071067811865476) * t232;
+        let t234: L = t17.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t235: L = t179.mul_add(L::splat(90.0), t234);
+        let t236: L = t12 * t235;
+        let t237: L = t17.mul_add(L::splat(-18.0), L::splat(3.0));
+        let t238: L = t179.mul_add(L::splat(-18.0), t237);
+        let t239: L = t12 * t238;
+        let t240: L = t37.mul_add(t236, t239);
+        let t241: L = t40 * t240;
+        let t242: L = L::splat(0.408248290463863) * t241;
+        let t243: L = t13 * t235;
+        let t244: L = t13 * t238;
+        let t245: L = t37.mul_add(t243, t244);
         let t246: L = t40 * t245;
         let t247: L = L::splat(0.408248290463863) * t246;
-        let t248: L = t13 * t240;
-        let t249: L = t13 * t243;
-        let t250: L = t37.mul_add(t248, t249);
-        let t251: L = t40 * t250;
-        let t252: L = L::splat(0.408248290463863) * t251;
-        let t253: L = t14 * t240;
-        let t254: L = t17.mul_add(L::splat(-54.0), L::splat(3.0));
-        let t255: L = t182.mul_add(L::splat(-54.0), t254);
-        let t256: L = t14.mul_add(t253, t255);
-        let t257: L = t14 * t256;
-        let t258: L = t40 * t257;
-        let t259: L = L::splat(0.408248290463863) * t258;
-        let t260: L = t48.mul_add(L::splat(840.0), L::splat(-60.0));
-        let t261: L = t182.mul_add(L::splat(840.0), t260);
-        let t262: L = t48.mul_add(L::splat(-120.0), L::splat(6.0));
-        let t263: L = t182.mul_add(L::splat(-120.0), t262);
-        let t264: L = t32.mul_add(t261, t263);
-        let t265: L = t48 * L::splat(24.0);
-        let t266: L = t182.mul_add(L::splat(24.0), t265);
-        let t267: L = t32.mul_add(t263, t266);
-        let t268: L = t18.mul_add(t264, t267);
-        let t269: L = t127 * t268;
-        let t270: L = t269 * L::splat(0.5);
-        let t271: L = t14 * t261;
-        let t272: L = t13 * t271;
-        let t273: L = t14 * t263;
-        let t274: L = t13 * t273;
-        let t275: L = t18.mul_add(t272, t274);
-        let t276: L = t127 * t275;
-        let t277: L = L::splat(0.5) * t276;
-        let t278: L = t12 * t271;
-        let t279: L = t12 * t273;
-        let t280: L = t32.mul_add(t278, t279);
-        let t281: L = t127 * t280;
-        let t282: L = L::splat(0.5) * t281;
-        let t283: L = t48.mul_add(L::splat(420.0), L::splat(-30.0));
-        let t284: L = t182.mul_add(L::splat(420.0), t283);
-        let t285: L = t13 * t284;
-        let t286: L = t12 * t285;
-        let t287: L = t13.powi(3);
-        let t288: L = t48.mul_add(L::splat(-420.0), L::splat(30.0));
-        let t289: L = t182.mul_add(L::splat(-420.0), t288);
-        let t290: L = t287 * t289;
-        let t291: L = t12.mul_add(t286, t290);
-        let t292: L = t12 * t291;
-        let t293: L = t127 * t292;
-        let t294: L = L::splat(0.5) * t293;
-        let t295: L = t48.mul_add(L::splat(1260.0), L::splat(-90.0));
-        let t296: L = t182.mul_add(L::splat(1260.0), t295);
-        let t297: L = t13 * t296;
-        let t298: L = t12 * t297;
-        let t299: L = t48.mul_add(L::splat(-180.0), L::splat(18.0));
-        let t300: L = t182.mul_add(L::splat(-180.0), t299);
-        let t301: L = t13 * t300;
-        let t302: L = t12 * t301;
-        let t303: L = t37.mul_add(t298, t302);
-        let t304: L = t127 * t303;
-        let t305: L = t304 * L::splat(0.28867513459481287);
-        let t306: L = t37.mul_add(t261, t263);
-        let t307: L = t37.mul_add(t263, t266);
-        let t308: L = t18.mul_add(t306, t307);
-        let t309: L = t127 * t308;
+        let t248: L = t17.mul_add(L::splat(-54.0), L::splat(3.0));
+        let t249: L = t179.mul_add(L::splat(-54.0), t248);
+        let t250: L = t37.mul_add(t235, t249);
+        let t251: L = t14 * t250;
+        let t252: L = t40 * t251;
+        let t253: L = L::splat(0.408248290463863) * t252;
+        let t254: L = t48.mul_add(L::splat(840.0), L::splat(-60.0));
+        let t255: L = t179.mul_add(L::splat(840.0), t254);
+        let t256: L = t48.mul_add(L::splat(-120.0), L::splat(6.0));
+        let t257: L = t179.mul_add(L::splat(-120.0), t256);
+        let t258: L = t32.mul_add(t255, t257);
+        let t259: L = t48 * L::splat(24.0);
+        let t260: L = t179.mul_add(L::splat(24.0), t259);
+        let t261: L = t32.mul_add(t257, t260);
+        let t262: L = t18.mul_add(t258, t261);
+        let t263: L = t124 * t262;
+        let t264: L = t263 * L::splat(0.5);
+        let t265: L = t14 * t255;
+        let t266: L = t13 * t265;
+        let t267: L = t14 * t257;
+        let t268: L = t13 * t267;
+        let t269: L = t18.mul_add(t266, t268);
+        let t270: L = t124 * t269;
+        let t271: L = L::splat(0.5) * t270;
+        let t272: L = t12 * t265;
+        let t273: L = t12 * t267;
+        let t274: L = t32.mul_add(t272, t273);
+        let t275: L = t124 * t274;
+        let t276: L = L::splat(0.5) * t275;
+        let t277: L = t48.mul_add(L::splat(420.0), L::splat(-30.0));
+        let t278: L = t179.mul_add(L::splat(420.0), t277);
+        let t279: L = t13 * t278;
+        let t280: L = t13.powi(3);
+        let t281: L = t48.mul_add(L::splat(-420.0), L::splat(30.0));
+        let t282: L = t179.mul_add(L::splat(-420.0), t281);
+        let t283: L = t280 * t282;
+        let t284: L = t18.mul_add(t279, t283);
+        let t285: L = t12 * t284;
+        let t286: L = t124 * t285;
+        let t287: L = L::splat(0.5) * t286;
+        let t288: L = t48.mul_add(L::splat(1260.0), L::splat(-90.0));
+        let t289: L = t179.mul_add(L::splat(1260.0), t288);
+        let t290: L = t13 * t289;
+        let t291: L = t12 * t290;
+        let t292: L = t48.mul_add(L::splat(-180.0), L::splat(18.0));
+        let t293: L = t179.mul_add(L::splat(-180.0), t292);
+        let t294: L = t13 * t293;
+        let t295: L = t12 * t294;
+        let t296: L = t37.mul_add(t291, t295);
+        let t297: L = t124 * t296;
+        let t298: L = t297 * L::splat(0.28867513459481287);
+        let t299: L = t37.mul_add(t255, t257);
+        let t300: L = t37.mul_add(t257, t260);
+        let t301: L = t18.mul_add(t299, t300);
+        let t302: L = t124 * t301;
+        let t303: L = L::splat(0.5) * t302;
+        let t304: L = t13 * t255;
+        let t305: L = t12 * t304;
+        let t306: L = t13 * t257;
+        let t307: L = t12 * t306;
+        let t308: L = t37.mul_add(t305, t307);
+        let t309: L = t124 * t308;
         let t310: L = L::splat(0.5) * t309;
-        let t311: L = t13 * t261;
-        let t312: L = t12 * t311;
-        let t313: L = t13 * t263;
-        let t314: L = t12 * t313;
-        let t315: L = t37.mul_add(t312, t314);
-        let t316: L = t127 * t315;
-        let t317: L = L::splat(0.5) * t316;
-        let t318: L = t14 * t284;
-        let t319: L = t12 * t318;
-        let t320: L = t14 * t289;
-        let t321: L = t32.mul_add(t320, t273);
-        let t322: L = t12.mul_add(t319, t321);
-        let t323: L = t12 * t322;
-        let t324: L = t127 * t323;
-        let t325: L = L::splat(0.5) * t324;
-        let t326: L = t12 * t296;
-        let t327: L = t14 * t326;
-        let t328: L = t48.mul_add(L::splat(-540.0), L::splat(36.0));
-        let t329: L = t182.mul_add(L::splat(-540.0), t328);
-        let t330: L = t12 * t329;
-        let t331: L = t14.mul_add(t327, t330);
-        let t332: L = t14 * t331;
-        let t333: L = t127 * t332;
-        let t334: L = L::splat(0.28867513459481287) * t333;
-        let t335: L = t32.mul_add(t306, t307);
-        let t336: L = t127 * t335;
-        let t337: L = L::splat(0.5) * t336;
-        let t338: L = t13 * t320;
-        let t339: L = t48.mul_add(L::splat(120.0), L::splat(-6.0));
-        let t340: L = t182.mul_add(L::splat(120.0), t339);
-        let t341: L = t14 * t340;
-        let t342: L = t18.mul_add(t318, t341);
-        let t343: L = t13.mul_add(t338, t342);
-        let t344: L = t13 * t343;
-        let t345: L = t127 * t344;
-        let t346: L = L::splat(0.5) * t345;
-        let t347: L = t14 * t297;
-        let t348: L = t13 * t329;
-        let t349: L = t14.mul_add(t347, t348);
-        let t350: L = t14 * t349;
-        let t351: L = t127 * t350;
-        let t352: L = L::splat(0.28867513459481287) * t351;
-        let t353: L = t48.mul_add(L::splat(210.0), L::splat(-15.0));
-        let t354: L = t182.mul_add(L::splat(210.0), t353);
-        let t355: L = t32.mul_add(t289, t263);
-        let t356: L = t18.mul_add(t354, t355);
-        let t357: L = t32.mul_add(t354, t263);
-        let t358: L = t32.mul_add(t357, t266);
-        let t359: L = t18.mul_add(t356, t358);
-        let t360: L = t127 * t359;
-        let t361: L = L::splat(0.5) * t360;
-        let t362: L = t48.mul_add(L::splat(-630.0), L::splat(45.0));
-        let t363: L = t182.mul_add(L::splat(-630.0), t362);
-        let t364: L = t48.mul_add(L::splat(540.0), L::splat(-36.0));
-        let t365: L = t182.mul_add(L::splat(540.0), t364);
-        let t366: L = t18.mul_add(t363, t365);
-        let t367: L = t48.mul_add(L::splat(630.0), L::splat(-45.0));
-        let t368: L = t182.mul_add(L::splat(630.0), t367);
-        let t369: L = t32.mul_add(t368, t329);
-        let t370: L = t32 * t369;
-        let t371: L = t18.mul_add(t366, t370);
-        let t372: L = t127 * t371;
-        let t373: L = L::splat(0.28867513459481287) * t372;
-        let t374: L = t48.mul_add(L::splat(1890.0), L::splat(-135.0));
-        let t375: L = t182.mul_add(L::splat(1890.0), t374);
-        let t376: L = t48.mul_add(L::splat(-1620.0), L::splat(108.0));
-        let t377: L = t182.mul_add(L::splat(-1620.0), t376);
-        let t378: L = t37.mul_add(t375, t377);
-        let t379: L = t48.mul_add(L::splat(162.0), L::splat(-9.0));
-        let t380: L = t182.mul_add(L::splat(162.0), t379);
-        let t381: L = t37.mul_add(t378, t380);
-        let t382: L = t127 * t381;
-        let t383: L = L::splat(0.16666666666666666) * t382;
+        let t311: L = t14 * t278;
+        let t312: L = t18 * t311;
+        let t313: L = t14 * t282;
+        let t314: L = t32.mul_add(t313, t267);
+        let t315: L = t312 + t314;
+        let t316: L = t12 * t315;
+        let t317: L = t124 * t316;
+        let t318: L = L::splat(0.5) * t317;
+        let t319: L = t12 * t289;
+        let t320: L = t48.mul_add(L::splat(-540.0), L::splat(36.0));
+        let t321: L = t179.mul_add(L::splat(-540.0), t320);
+        let t322: L = t12 * t321;
+        let t323: L = t37.mul_add(t319, t322);
+        let t324: L = t14 * t323;
+        let t325: L = t124 * t324;
+        let t326: L = L::splat(0.28867513459481287) * t325;
+        let t327: L = t32.mul_add(t299, t300);
+        let t328: L = t124 * t327;
+        let t329: L = L::splat(0.5) * t328;
+        let t330: L = t48.mul_add(L::splat(120.0), L::splat(-6.0));
+        let t331: L = t179.mul_add(L::splat(120.0), t330);
+        let t332: L = t14.mul_add(t331, t312);
+        let t333: L = t32.mul_add(t313, t332);
+        let t334: L = t13 * t333;
+        let t335: L = t124 * t334;
+        let t336: L = L::splat(0.5) * t335;
+        let t337: L = t13 * t321;
+        let t338: L = t37.mul_add(t290, t337);
+        let t339: L = t14 * t338;
+        let t340: L = t124 * t339;
+        let t341: L = L::splat(0.28867513459481287) * t340;
+        let t342: L = t48.mul_add(L::splat(210.0), L::splat(-15.0));
+        let t343: L = t179.mul_add(L::splat(210.0), t342);
+        let t344: L = t32.mul_add(t282, t257);
+        let t345: L = t18.mul_add(t343, t344);
+        let t346: L = t32.mul_add(t343, t257);
+        let t347: L = t32.mul_add(t346, t260);
+        let t348: L = t18.mul_add(t345, t347);
+        let t349: L = t124 * t348;
+        let t350: L = L::splat(0.5) * t349;
+        let t351: L = t48.mul_add(L::splat(-630.0), L::splat(45.0));
+        let t352: L = t179.mul_add(L::splat(-630.0), t351);
+        let t353: L = t48.mul_add(L::splat(540.0), L::splat(-36.0));
+        let t354: L = t179.mul_add(L::splat(540.0), t353);
+        let t355: L = t18.mul_add(t352, t354);
+        let t356: L = t48.mul_add(L::splat(630.0), L::splat(-45.0));
+        let t357: L = t179.mul_add(L::splat(630.0), t356);
+        let t358: L = t32.mul_add(t357, t321);
+        let t359: L = t32 * t358;
+        let t360: L = t18.mul_add(t355, t359);
+        let t361: L = t124 * t360;
+        let t362: L = L::splat(0.28867513459481287) * t361;
+        let t363: L = t48.mul_add(L::splat(1890.0), L::splat(-135.0));
+        let t364: L = t179.mul_add(L::splat(1890.0), t363);
+        let t365: L = t48.mul_add(L::splat(-1620.0), L::splat(108.0));
+        let t366: L = t179.mul_add(L::splat(-1620.0), t365);
+        let t367: L = t37.mul_add(t364, t366);
+        let t368: L = t48.mul_add(L::splat(162.0), L::splat(-9.0));
+        let t369: L = t179.mul_add(L::splat(162.0), t368);
+        let t370: L = t37.mul_add(t367, t369);
+        let t371: L = t124 * t370;
+        let t372: L = L::splat(0.16666666666666666) * t371;
         [
             t25,
             t28,
@@ -1056,18 +1028,18 @@ pub fn free_pair_lanes<L: lanes::Lane>(
             t57,
             t62,
             t66,
-            t76,
-            t85,
-            t90,
+            t75,
+            t84,
+            t89,
             t66,
-            t93,
-            t101,
-            t106,
+            t92,
+            t99,
+            t104,
             t66,
-            t109,
-            t112,
-            t118,
-            t125,
+            t107,
+            t110,
+            t116,
+            t122,
             L::splat(0.0),
             t41,
             t43,
@@ -1077,85 +1049,85 @@ pub fn free_pair_lanes<L: lanes::Lane>(
             t42,
             t46,
             L::splat(0.0),
+            t125,
             t128,
             t131,
-            t134,
+            t128,
+            t133,
+            t136,
             t131,
             t136,
-            t139,
-            t134,
-            t139,
+            t138,
             t141,
             t144,
-            t147,
+            t148,
             t151,
             t154,
-            t157,
-            t154,
+            t151,
+            t158,
             t161,
             t164,
             t167,
-            t170,
+            t171,
             t174,
+            t164,
             t177,
-            t167,
-            t180,
             L::splat(0.0),
-            t191,
-            t196,
-            t201,
+            t188,
+            t193,
+            t198,
+            t202,
+            t198,
             t205,
-            t201,
+            t198,
             t208,
-            t201,
             t211,
-            t214,
-            t224,
-            t232,
-            t238,
+            t220,
+            t227,
+            t233,
+            t242,
             t247,
-            t252,
-            t259,
+            t253,
+            t141,
+            t151,
+            t171,
             t144,
-            t154,
+            t158,
             t174,
-            t147,
+            t148,
             t161,
-            t177,
+            t164,
             t151,
             t164,
-            t167,
+            t177,
             t154,
             t167,
-            t180,
-            t157,
-            t170,
             L::splat(0.0),
-            t270,
-            t277,
-            t282,
-            t294,
-            t305,
-            t277,
+            t264,
+            t271,
+            t276,
+            t287,
+            t298,
+            t271,
+            t303,
             t310,
-            t317,
-            t325,
-            t334,
-            t282,
-            t317,
-            t337,
-            t346,
-            t352,
-            t294,
-            t325,
-            t346,
-            t361,
-            t373,
-            t305,
-            t334,
-            t352,
-            t373,
-            t383,
+            t318,
+            t326,
+            t276,
+            t310,
+            t329,
+            t336,
+            t341,
+            t287,
+            t318,
+            t336,
+            t350,
+            t362,
+            t298,
+            t326,
+            t341,
+            t362,
+            t372,
         ]
     };
     out
@@ -1172,7 +1144,7 @@ pub use free_pair_lanes as free_pair_lanes_ordered;
 /// - `a`: radius of the particle(s)
 /// - `eta`: viscosity of the fluid
 ///
-/// Operation count (after dead-code elimination): 482 flops (131 add/sub, 344 mul, 2 div, 1 sqrt, 1 powi, 3 neg).
+/// Operation count (after dead-code elimination): 465 flops (131 add/sub, 327 mul, 2 div, 1 sqrt, 1 powi, 3 neg).
 #[inline]
 pub fn free_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Grand {
     let t0: f64 = 0.039788735772973836 / eta;
@@ -1220,7 +1192,7 @@ pub fn free_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Grand {
     let t42: f64 = t21 * t41;
     let t43: f64 = t25 + t42;
     let t44: f64 = t27 * t43;
-    let t45: f64 = t12 * t27;
+    let t45: f64 = t0 * t16;
     let t46: f64 = t15 * t45;
     let t47: f64 = t14 * t45;
     let t48: f64 = -t47;
@@ -1256,442 +1228,425 @@ pub fn free_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Grand {
     let t78: f64 = t77 + 3.0;
     let t79: f64 = t17 * (-30.0);
     let t80: f64 = t78 + t79;
-    let t81: f64 = t13 * t80;
-    let t82: f64 = t13 * t81;
-    let t83: f64 = t53 * 30.0;
-    let t84: f64 = t83 + (-3.0);
-    let t85: f64 = t17 * 30.0;
-    let t86: f64 = t84 + t85;
-    let t87: f64 = t35 * t86;
-    let t88: f64 = t62 + t87;
-    let t89: f64 = t82 + t88;
-    let t90: f64 = t13 * t89;
-    let t91: f64 = t45 * t90;
-    let t92: f64 = 0.7071067811865476 * t91;
-    let t93: f64 = t53 * (-90.0);
-    let t94: f64 = t93 + 9.0;
-    let t95: f64 = t17 * (-90.0);
-    let t96: f64 = t94 + t95;
-    let t97: f64 = t13 * t96;
-    let t98: f64 = t41 * t97;
-    let t99: f64 = t53 * 18.0;
-    let t100: f64 = (-3.0) + t99;
-    let t101: f64 = t17 * 18.0;
-    let t102: f64 = t100 + t101;
-    let t103: f64 = t13 * t102;
-    let t104: f64 = t98 + t103;
-    let t105: f64 = t45 * t104;
-    let t106: f64 = t105 * 0.408248290463863;
-    let t107: f64 = t13 * t57;
-    let t108: f64 = t35 * t107;
-    let t109: f64 = t13 * t62;
-    let t110: f64 = t108 + t109;
-    let t111: f64 = t45 * t110;
-    let t112: f64 = 0.7071067811865476 * t111;
-    let t113: f64 = t35 * t67;
-    let t114: f64 = t69 + t113;
-    let t115: f64 = t45 * t114;
-    let t116: f64 = 0.7071067811865476 * t115;
-    let t117: f64 = t14 * t86;
-    let t118: f64 = t14 * t117;
-    let t119: f64 = t18 * t80;
-    let t120: f64 = t17 * (-12.0);
-    let t121: f64 = t53 * (-12.0);
-    let t122: f64 = t120 + t121;
-    let t123: f64 = t119 + t122;
-    let t124: f64 = t118 + t123;
-    let t125: f64 = t14 * t124;
-    let t126: f64 = t45 * t125;
-    let t127: f64 = 0.7071067811865476 * t126;
-    let t128: f64 = t14 * t96;
-    let t129: f64 = t41 * t128;
-    let t130: f64 = t14 * t102;
-    let t131: f64 = t129 + t130;
+    let t81: f64 = t18 * t80;
+    let t82: f64 = t53 * 30.0;
+    let t83: f64 = t82 + (-3.0);
+    let t84: f64 = t17 * 30.0;
+    let t85: f64 = t83 + t84;
+    let t86: f64 = t35 * t85;
+    let t87: f64 = t62 + t86;
+    let t88: f64 = t81 + t87;
+    let t89: f64 = t13 * t88;
+    let t90: f64 = t45 * t89;
+    let t91: f64 = 0.7071067811865476 * t90;
+    let t92: f64 = t53 * (-90.0);
+    let t93: f64 = t92 + 9.0;
+    let t94: f64 = t17 * (-90.0);
+    let t95: f64 = t93 + t94;
+    let t96: f64 = t13 * t95;
+    let t97: f64 = t41 * t96;
+    let t98: f64 = t53 * 18.0;
+    let t99: f64 = (-3.0) + t98;
+    let t100: f64 = t17 * 18.0;
+    let t101: f64 = t99 + t100;
+    let t102: f64 = t13 * t101;
+    let t103: f64 = t97 + t102;
+    let t104: f64 = t45 * t103;
+    let t105: f64 = t104 * 0.408248290463863;
+    let t106: f64 = t13 * t57;
+    let t107: f64 = t35 * t106;
+    let t108: f64 = t13 * t62;
+    let t109: f64 = t107 + t108;
+    let t110: f64 = t45 * t109;
+    let t111: f64 = 0.7071067811865476 * t110;
+    let t112: f64 = t35 * t67;
+    let t113: f64 = t69 + t112;
+    let t114: f64 = t45 * t113;
+    let t115: f64 = 0.7071067811865476 * t114;
+    let t116: f64 = t17 * (-12.0);
+    let t117: f64 = t53 * (-12.0);
+    let t118: f64 = t116 + t117;
+    let t119: f64 = t81 + t118;
+    let t120: f64 = t86 + t119;
+    let t121: f64 = t14 * t120;
+    let t122: f64 = t45 * t121;
+    let t123: f64 = 0.7071067811865476 * t122;
+    let t124: f64 = t14 * t95;
+    let t125: f64 = t41 * t124;
+    let t126: f64 = t14 * t101;
+    let t127: f64 = t125 + t126;
+    let t128: f64 = t45 * t127;
+    let t129: f64 = 0.408248290463863 * t128;
+    let t130: f64 = t41 * t106;
+    let t131: f64 = t108 + t130;
     let t132: f64 = t45 * t131;
-    let t133: f64 = 0.408248290463863 * t132;
-    let t134: f64 = t41 * t107;
-    let t135: f64 = t109 + t134;
+    let t133: f64 = 0.7071067811865476 * t132;
+    let t134: f64 = t41 * t58;
+    let t135: f64 = t63 + t134;
     let t136: f64 = t45 * t135;
     let t137: f64 = 0.7071067811865476 * t136;
-    let t138: f64 = t41 * t58;
-    let t139: f64 = t63 + t138;
-    let t140: f64 = t45 * t139;
-    let t141: f64 = 0.7071067811865476 * t140;
-    let t142: f64 = t15 * t80;
-    let t143: f64 = t18 * t142;
-    let t144: f64 = t15 * t86;
-    let t145: f64 = t35 * t144;
-    let t146: f64 = t143 + t145;
-    let t147: f64 = t45 * t146;
-    let t148: f64 = 0.7071067811865476 * t147;
-    let t149: f64 = t15 * t96;
-    let t150: f64 = t15 * t149;
-    let t151: f64 = t53 * 54.0;
-    let t152: f64 = (-3.0) + t151;
-    let t153: f64 = t17 * 54.0;
-    let t154: f64 = t152 + t153;
-    let t155: f64 = t150 + t154;
-    let t156: f64 = t15 * t155;
-    let t157: f64 = t45 * t156;
-    let t158: f64 = 0.408248290463863 * t157;
-    let t159: f64 = t18 * 1.5;
-    let t160: f64 = t159 + (-0.5);
-    let t161: f64 = t12 * t45;
-    let t162: f64 = t160 * t161;
-    let t163: f64 = t13 * t14;
-    let t164: f64 = 1.5 * t163;
-    let t165: f64 = t161 * t164;
-    let t166: f64 = t13 * t15;
-    let t167: f64 = 1.5 * t166;
-    let t168: f64 = t161 * t167;
-    let t169: f64 = t35 * 1.5;
-    let t170: f64 = (-0.5) + t169;
-    let t171: f64 = t161 * t170;
-    let t172: f64 = t14 * t15;
-    let t173: f64 = 1.5 * t172;
-    let t174: f64 = t161 * t173;
-    let t175: f64 = t41 * 1.5;
-    let t176: f64 = (-0.5) + t175;
-    let t177: f64 = t161 * t176;
-    let t178: f64 = 3.0 * t166;
-    let t179: f64 = t161 * t178;
-    let t180: f64 = 0.7071067811865476 * t179;
-    let t181: f64 = (-3.0) * t163;
-    let t182: f64 = t161 * t181;
+    let t138: f64 = t15 * t80;
+    let t139: f64 = t18 * t138;
+    let t140: f64 = t15 * t85;
+    let t141: f64 = t35 * t140;
+    let t142: f64 = t139 + t141;
+    let t143: f64 = t45 * t142;
+    let t144: f64 = 0.7071067811865476 * t143;
+    let t145: f64 = t41 * t95;
+    let t146: f64 = t53 * 54.0;
+    let t147: f64 = (-3.0) + t146;
+    let t148: f64 = t17 * 54.0;
+    let t149: f64 = t147 + t148;
+    let t150: f64 = t145 + t149;
+    let t151: f64 = t15 * t150;
+    let t152: f64 = t45 * t151;
+    let t153: f64 = 0.408248290463863 * t152;
+    let t154: f64 = t18 * 1.5;
+    let t155: f64 = t154 + (-0.5);
+    let t156: f64 = t16 * t27;
+    let t157: f64 = t155 * t156;
+    let t158: f64 = t13 * t14;
+    let t159: f64 = 1.5 * t158;
+    let t160: f64 = t156 * t159;
+    let t161: f64 = t13 * t15;
+    let t162: f64 = 1.5 * t161;
+    let t163: f64 = t156 * t162;
+    let t164: f64 = t35 * 1.5;
+    let t165: f64 = (-0.5) + t164;
+    let t166: f64 = t156 * t165;
+    let t167: f64 = t14 * t15;
+    let t168: f64 = 1.5 * t167;
+    let t169: f64 = t156 * t168;
+    let t170: f64 = t41 * 1.5;
+    let t171: f64 = (-0.5) + t170;
+    let t172: f64 = t156 * t171;
+    let t173: f64 = 3.0 * t161;
+    let t174: f64 = t156 * t173;
+    let t175: f64 = 0.7071067811865476 * t174;
+    let t176: f64 = (-3.0) * t158;
+    let t177: f64 = t156 * t176;
+    let t178: f64 = 0.7071067811865476 * t177;
+    let t179: f64 = t35 * (-3.0);
+    let t180: f64 = t41 * 3.0;
+    let t181: f64 = t179 + t180;
+    let t182: f64 = t156 * t181;
     let t183: f64 = 0.7071067811865476 * t182;
-    let t184: f64 = t35 * (-3.0);
-    let t185: f64 = t41 * 3.0;
-    let t186: f64 = t184 + t185;
-    let t187: f64 = t161 * t186;
-    let t188: f64 = 0.7071067811865476 * t187;
-    let t189: f64 = (-3.0) * t172;
-    let t190: f64 = t161 * t189;
-    let t191: f64 = 0.7071067811865476 * t190;
-    let t192: f64 = t172 * (-9.0);
-    let t193: f64 = t161 * t192;
-    let t194: f64 = 0.408248290463863 * t193;
-    let t195: f64 = t18 * 3.0;
-    let t196: f64 = t41 * (-3.0);
-    let t197: f64 = t195 + t196;
-    let t198: f64 = t161 * t197;
-    let t199: f64 = 0.7071067811865476 * t198;
-    let t200: f64 = 3.0 * t163;
-    let t201: f64 = t161 * t200;
-    let t202: f64 = 0.7071067811865476 * t201;
-    let t203: f64 = (-3.0) * t166;
-    let t204: f64 = t161 * t203;
-    let t205: f64 = 0.7071067811865476 * t204;
-    let t206: f64 = 9.0 * t166;
-    let t207: f64 = t161 * t206;
-    let t208: f64 = 0.408248290463863 * t207;
-    let t209: f64 = t18 * (-3.0);
-    let t210: f64 = t35 * 3.0;
-    let t211: f64 = t209 + t210;
-    let t212: f64 = t161 * t211;
-    let t213: f64 = 0.7071067811865476 * t212;
-    let t214: f64 = 3.0 * t172;
-    let t215: f64 = t161 * t214;
-    let t216: f64 = 0.7071067811865476 * t215;
-    let t217: f64 = 6.0 * t163;
-    let t218: f64 = t161 * t217;
-    let t219: f64 = 0.7071067811865476 * t218;
-    let t220: f64 = t17 * 60.0;
-    let t221: f64 = (-6.0) + t220;
-    let t222: f64 = t53 * 60.0;
-    let t223: f64 = t221 + t222;
-    let t224: f64 = t14 * t223;
-    let t225: f64 = t18 * t224;
-    let t226: f64 = t14 * t122;
-    let t227: f64 = t225 + t226;
-    let t228: f64 = t45 * t227;
-    let t229: f64 = 0.7071067811865476 * t228;
-    let t230: f64 = t13 * t223;
-    let t231: f64 = t35 * t230;
-    let t232: f64 = t13 * t122;
-    let t233: f64 = t231 + t232;
+    let t184: f64 = (-3.0) * t167;
+    let t185: f64 = t156 * t184;
+    let t186: f64 = 0.7071067811865476 * t185;
+    let t187: f64 = t167 * (-9.0);
+    let t188: f64 = t156 * t187;
+    let t189: f64 = 0.408248290463863 * t188;
+    let t190: f64 = t18 * 3.0;
+    let t191: f64 = t41 * (-3.0);
+    let t192: f64 = t190 + t191;
+    let t193: f64 = t156 * t192;
+    let t194: f64 = 0.7071067811865476 * t193;
+    let t195: f64 = 3.0 * t158;
+    let t196: f64 = t156 * t195;
+    let t197: f64 = 0.7071067811865476 * t196;
+    let t198: f64 = (-3.0) * t161;
+    let t199: f64 = t156 * t198;
+    let t200: f64 = 0.7071067811865476 * t199;
+    let t201: f64 = 9.0 * t161;
+    let t202: f64 = t156 * t201;
+    let t203: f64 = 0.408248290463863 * t202;
+    let t204: f64 = t18 * (-3.0);
+    let t205: f64 = t35 * 3.0;
+    let t206: f64 = t204 + t205;
+    let t207: f64 = t156 * t206;
+    let t208: f64 = 0.7071067811865476 * t207;
+    let t209: f64 = 3.0 * t167;
+    let t210: f64 = t156 * t209;
+    let t211: f64 = 0.7071067811865476 * t210;
+    let t212: f64 = 6.0 * t158;
+    let t213: f64 = t156 * t212;
+    let t214: f64 = 0.7071067811865476 * t213;
+    let t215: f64 = t17 * 60.0;
+    let t216: f64 = (-6.0) + t215;
+    let t217: f64 = t53 * 60.0;
+    let t218: f64 = t216 + t217;
+    let t219: f64 = t14 * t218;
+    let t220: f64 = t18 * t219;
+    let t221: f64 = t14 * t118;
+    let t222: f64 = t220 + t221;
+    let t223: f64 = t45 * t222;
+    let t224: f64 = 0.7071067811865476 * t223;
+    let t225: f64 = t13 * t218;
+    let t226: f64 = t35 * t225;
+    let t227: f64 = t13 * t118;
+    let t228: f64 = t226 + t227;
+    let t229: f64 = t45 * t228;
+    let t230: f64 = 0.7071067811865476 * t229;
+    let t231: f64 = t15 * t218;
+    let t232: f64 = t14 * t231;
+    let t233: f64 = t13 * t232;
     let t234: f64 = t45 * t233;
     let t235: f64 = 0.7071067811865476 * t234;
-    let t236: f64 = t15 * t223;
-    let t237: f64 = t14 * t236;
-    let t238: f64 = t13 * t237;
+    let t236: f64 = t18 * t231;
+    let t237: f64 = t15 * t118;
+    let t238: f64 = t236 + t237;
     let t239: f64 = t45 * t238;
     let t240: f64 = 0.7071067811865476 * t239;
-    let t241: f64 = t18 * t236;
-    let t242: f64 = t15 * t122;
-    let t243: f64 = t241 + t242;
-    let t244: f64 = t45 * t243;
-    let t245: f64 = 0.7071067811865476 * t244;
-    let t246: f64 = t41 * t230;
-    let t247: f64 = t232 + t246;
-    let t248: f64 = t45 * t247;
-    let t249: f64 = 0.7071067811865476 * t248;
-    let t250: f64 = t35 * t236;
-    let t251: f64 = t242 + t250;
-    let t252: f64 = t45 * t251;
-    let t253: f64 = 0.7071067811865476 * t252;
-    let t254: f64 = t41 * t224;
-    let t255: f64 = t226 + t254;
-    let t256: f64 = t45 * t255;
-    let t257: f64 = 0.7071067811865476 * t256;
-    let t258: f64 = (-3.0) + t85;
-    let t259: f64 = t83 + t258;
-    let t260: f64 = t13 * t259;
+    let t241: f64 = t41 * t225;
+    let t242: f64 = t227 + t241;
+    let t243: f64 = t45 * t242;
+    let t244: f64 = 0.7071067811865476 * t243;
+    let t245: f64 = t35 * t231;
+    let t246: f64 = t237 + t245;
+    let t247: f64 = t45 * t246;
+    let t248: f64 = 0.7071067811865476 * t247;
+    let t249: f64 = t41 * t219;
+    let t250: f64 = t221 + t249;
+    let t251: f64 = t45 * t250;
+    let t252: f64 = 0.7071067811865476 * t251;
+    let t253: f64 = (-3.0) + t84;
+    let t254: f64 = t82 + t253;
+    let t255: f64 = t18 * t254;
+    let t256: f64 = 3.0 + t79;
+    let t257: f64 = t77 + t256;
+    let t258: f64 = t35 * t257;
+    let t259: f64 = t118 + t258;
+    let t260: f64 = t255 + t259;
     let t261: f64 = t13 * t260;
-    let t262: f64 = 3.0 + t79;
-    let t263: f64 = t77 + t262;
-    let t264: f64 = t35 * t263;
-    let t265: f64 = t122 + t264;
-    let t266: f64 = t261 + t265;
-    let t267: f64 = t13 * t266;
-    let t268: f64 = t45 * t267;
-    let t269: f64 = 0.7071067811865476 * t268;
-    let t270: f64 = t14 * t263;
-    let t271: f64 = t14 * t270;
-    let t272: f64 = t18 * t259;
-    let t273: f64 = t62 + t272;
-    let t274: f64 = t271 + t273;
-    let t275: f64 = t14 * t274;
-    let t276: f64 = t45 * t275;
-    let t277: f64 = 0.7071067811865476 * t276;
-    let t278: f64 = t15 * t259;
-    let t279: f64 = t18 * t278;
-    let t280: f64 = t15 * t263;
-    let t281: f64 = t35 * t280;
-    let t282: f64 = t279 + t281;
-    let t283: f64 = t45 * t282;
-    let t284: f64 = 0.7071067811865476 * t283;
-    let t285: f64 = t17 * 90.0;
-    let t286: f64 = (-9.0) + t285;
-    let t287: f64 = t53 * 90.0;
-    let t288: f64 = t286 + t287;
-    let t289: f64 = t13 * t288;
-    let t290: f64 = t41 * t289;
-    let t291: f64 = t17 * (-18.0);
-    let t292: f64 = 3.0 + t291;
-    let t293: f64 = t53 * (-18.0);
-    let t294: f64 = t292 + t293;
-    let t295: f64 = t13 * t294;
-    let t296: f64 = t290 + t295;
-    let t297: f64 = t45 * t296;
-    let t298: f64 = 0.408248290463863 * t297;
-    let t299: f64 = t14 * t288;
-    let t300: f64 = t41 * t299;
-    let t301: f64 = t14 * t294;
-    let t302: f64 = t300 + t301;
+    let t262: f64 = t45 * t261;
+    let t263: f64 = 0.7071067811865476 * t262;
+    let t264: f64 = t62 + t255;
+    let t265: f64 = t258 + t264;
+    let t266: f64 = t14 * t265;
+    let t267: f64 = t45 * t266;
+    let t268: f64 = 0.7071067811865476 * t267;
+    let t269: f64 = t15 * t254;
+    let t270: f64 = t18 * t269;
+    let t271: f64 = t15 * t257;
+    let t272: f64 = t35 * t271;
+    let t273: f64 = t270 + t272;
+    let t274: f64 = t45 * t273;
+    let t275: f64 = 0.7071067811865476 * t274;
+    let t276: f64 = t17 * 90.0;
+    let t277: f64 = (-9.0) + t276;
+    let t278: f64 = t53 * 90.0;
+    let t279: f64 = t277 + t278;
+    let t280: f64 = t13 * t279;
+    let t281: f64 = t41 * t280;
+    let t282: f64 = t17 * (-18.0);
+    let t283: f64 = 3.0 + t282;
+    let t284: f64 = t53 * (-18.0);
+    let t285: f64 = t283 + t284;
+    let t286: f64 = t13 * t285;
+    let t287: f64 = t281 + t286;
+    let t288: f64 = t45 * t287;
+    let t289: f64 = 0.408248290463863 * t288;
+    let t290: f64 = t14 * t279;
+    let t291: f64 = t41 * t290;
+    let t292: f64 = t14 * t285;
+    let t293: f64 = t291 + t292;
+    let t294: f64 = t45 * t293;
+    let t295: f64 = 0.408248290463863 * t294;
+    let t296: f64 = t41 * t279;
+    let t297: f64 = t17 * (-54.0);
+    let t298: f64 = 3.0 + t297;
+    let t299: f64 = t53 * (-54.0);
+    let t300: f64 = t298 + t299;
+    let t301: f64 = t296 + t300;
+    let t302: f64 = t15 * t301;
     let t303: f64 = t45 * t302;
     let t304: f64 = 0.408248290463863 * t303;
-    let t305: f64 = t15 * t288;
-    let t306: f64 = t15 * t305;
-    let t307: f64 = t17 * (-54.0);
-    let t308: f64 = 3.0 + t307;
-    let t309: f64 = t53 * (-54.0);
-    let t310: f64 = t308 + t309;
-    let t311: f64 = t306 + t310;
-    let t312: f64 = t15 * t311;
-    let t313: f64 = t45 * t312;
-    let t314: f64 = 0.408248290463863 * t313;
-    let t315: f64 = t53 * 840.0;
-    let t316: f64 = (-60.0) + t315;
-    let t317: f64 = t315 + t316;
-    let t318: f64 = t35 * t317;
-    let t319: f64 = t53 * (-120.0);
-    let t320: f64 = 6.0 + t319;
-    let t321: f64 = t319 + t320;
-    let t322: f64 = t318 + t321;
+    let t305: f64 = t53 * 840.0;
+    let t306: f64 = (-60.0) + t305;
+    let t307: f64 = t305 + t306;
+    let t308: f64 = t35 * t307;
+    let t309: f64 = t53 * (-120.0);
+    let t310: f64 = 6.0 + t309;
+    let t311: f64 = t309 + t310;
+    let t312: f64 = t308 + t311;
+    let t313: f64 = t18 * t312;
+    let t314: f64 = t35 * t311;
+    let t315: f64 = t53 * 24.0;
+    let t316: f64 = t315 + t315;
+    let t317: f64 = t314 + t316;
+    let t318: f64 = t313 + t317;
+    let t319: f64 = t156 * t318;
+    let t320: f64 = t319 * 0.5;
+    let t321: f64 = t15 * t307;
+    let t322: f64 = t14 * t321;
     let t323: f64 = t18 * t322;
-    let t324: f64 = t35 * t321;
-    let t325: f64 = t53 * 24.0;
-    let t326: f64 = t325 + t325;
-    let t327: f64 = t324 + t326;
-    let t328: f64 = t323 + t327;
-    let t329: f64 = t161 * t328;
-    let t330: f64 = t329 * 0.5;
-    let t331: f64 = t15 * t317;
-    let t332: f64 = t14 * t331;
-    let t333: f64 = t18 * t332;
-    let t334: f64 = t15 * t321;
-    let t335: f64 = t14 * t334;
-    let t336: f64 = t333 + t335;
-    let t337: f64 = t161 * t336;
-    let t338: f64 = 0.5 * t337;
-    let t339: f64 = t13 * t331;
-    let t340: f64 = t35 * t339;
-    let t341: f64 = t13 * t334;
-    let t342: f64 = t340 + t341;
-    let t343: f64 = t161 * t342;
-    let t344: f64 = 0.5 * t343;
-    let t345: f64 = t53 * 420.0;
-    let t346: f64 = (-30.0) + t345;
-    let t347: f64 = t345 + t346;
-    let t348: f64 = t14 * t347;
-    let t349: f64 = t13 * t348;
-    let t350: f64 = t13 * t349;
-    let t351: f64 = t14.powi(3);
-    let t352: f64 = t53 * (-420.0);
-    let t353: f64 = 30.0 + t352;
-    let t354: f64 = t352 + t353;
-    let t355: f64 = t351 * t354;
-    let t356: f64 = t350 + t355;
-    let t357: f64 = t13 * t356;
-    let t358: f64 = t161 * t357;
-    let t359: f64 = 0.5 * t358;
-    let t360: f64 = t53 * 1260.0;
-    let t361: f64 = (-90.0) + t360;
-    let t362: f64 = t360 + t361;
-    let t363: f64 = t14 * t362;
-    let t364: f64 = t13 * t363;
-    let t365: f64 = t41 * t364;
-    let t366: f64 = t53 * (-180.0);
-    let t367: f64 = 18.0 + t366;
-    let t368: f64 = t366 + t367;
-    let t369: f64 = t14 * t368;
-    let t370: f64 = t13 * t369;
-    let t371: f64 = t365 + t370;
-    let t372: f64 = t161 * t371;
-    let t373: f64 = t372 * 0.28867513459481287;
-    let t374: f64 = t41 * t317;
-    let t375: f64 = t321 + t374;
-    let t376: f64 = t18 * t375;
-    let t377: f64 = t41 * t321;
-    let t378: f64 = t326 + t377;
-    let t379: f64 = t376 + t378;
-    let t380: f64 = t161 * t379;
-    let t381: f64 = 0.5 * t380;
-    let t382: f64 = t14 * t317;
-    let t383: f64 = t13 * t382;
-    let t384: f64 = t41 * t383;
-    let t385: f64 = t14 * t321;
-    let t386: f64 = t13 * t385;
-    let t387: f64 = t384 + t386;
-    let t388: f64 = t161 * t387;
-    let t389: f64 = 0.5 * t388;
-    let t390: f64 = t15 * t347;
-    let t391: f64 = t13 * t390;
-    let t392: f64 = t13 * t391;
-    let t393: f64 = t15 * t354;
-    let t394: f64 = t35 * t393;
-    let t395: f64 = t334 + t394;
-    let t396: f64 = t392 + t395;
-    let t397: f64 = t13 * t396;
-    let t398: f64 = t161 * t397;
-    let t399: f64 = 0.5 * t398;
-    let t400: f64 = t13 * t362;
-    let t401: f64 = t15 * t400;
-    let t402: f64 = t15 * t401;
-    let t403: f64 = t53 * (-540.0);
-    let t404: f64 = t403 + 36.0;
-    let t405: f64 = t403 + t404;
-    let t406: f64 = t13 * t405;
-    let t407: f64 = t402 + t406;
-    let t408: f64 = t15 * t407;
-    let t409: f64 = t161 * t408;
-    let t410: f64 = 0.28867513459481287 * t409;
-    let t411: f64 = t35 * t375;
-    let t412: f64 = t378 + t411;
-    let t413: f64 = t161 * t412;
-    let t414: f64 = 0.5 * t413;
-    let t415: f64 = t14 * t393;
-    let t416: f64 = t14 * t415;
-    let t417: f64 = t18 * t390;
-    let t418: f64 = t53 * 120.0;
-    let t419: f64 = (-6.0) + t418;
-    let t420: f64 = t418 + t419;
-    let t421: f64 = t15 * t420;
-    let t422: f64 = t417 + t421;
-    let t423: f64 = t416 + t422;
-    let t424: f64 = t14 * t423;
-    let t425: f64 = t161 * t424;
-    let t426: f64 = 0.5 * t425;
-    let t427: f64 = t15 * t363;
-    let t428: f64 = t15 * t427;
-    let t429: f64 = t14 * t405;
-    let t430: f64 = t428 + t429;
-    let t431: f64 = t15 * t430;
-    let t432: f64 = t161 * t431;
-    let t433: f64 = 0.28867513459481287 * t432;
-    let t434: f64 = t53 * 210.0;
-    let t435: f64 = t434 + (-15.0);
-    let t436: f64 = t434 + t435;
-    let t437: f64 = t18 * t436;
-    let t438: f64 = t35 * t354;
-    let t439: f64 = t321 + t438;
-    let t440: f64 = t437 + t439;
-    let t441: f64 = t18 * t440;
-    let t442: f64 = t35 * t436;
-    let t443: f64 = t321 + t442;
+    let t324: f64 = t15 * t311;
+    let t325: f64 = t14 * t324;
+    let t326: f64 = t323 + t325;
+    let t327: f64 = t156 * t326;
+    let t328: f64 = 0.5 * t327;
+    let t329: f64 = t13 * t321;
+    let t330: f64 = t35 * t329;
+    let t331: f64 = t13 * t324;
+    let t332: f64 = t330 + t331;
+    let t333: f64 = t156 * t332;
+    let t334: f64 = 0.5 * t333;
+    let t335: f64 = t53 * 420.0;
+    let t336: f64 = (-30.0) + t335;
+    let t337: f64 = t335 + t336;
+    let t338: f64 = t14 * t337;
+    let t339: f64 = t18 * t338;
+    let t340: f64 = t14.powi(3);
+    let t341: f64 = t53 * (-420.0);
+    let t342: f64 = 30.0 + t341;
+    let t343: f64 = t341 + t342;
+    let t344: f64 = t340 * t343;
+    let t345: f64 = t339 + t344;
+    let t346: f64 = t13 * t345;
+    let t347: f64 = t156 * t346;
+    let t348: f64 = 0.5 * t347;
+    let t349: f64 = t53 * 1260.0;
+    let t350: f64 = (-90.0) + t349;
+    let t351: f64 = t349 + t350;
+    let t352: f64 = t14 * t351;
+    let t353: f64 = t13 * t352;
+    let t354: f64 = t41 * t353;
+    let t355: f64 = t53 * (-180.0);
+    let t356: f64 = 18.0 + t355;
+    let t357: f64 = t355 + t356;
+    let t358: f64 = t14 * t357;
+    let t359: f64 = t13 * t358;
+    let t360: f64 = t354 + t359;
+    let t361: f64 = t156 * t360;
+    let t362: f64 = t361 * 0.28867513459481287;
+    let t363: f64 = t41 * t307;
+    let t364: f64 = t311 + t363;
+    let t365: f64 = t18 * t364;
+    let t366: f64 = t41 * t311;
+    let t367: f64 = t316 + t366;
+    let t368: f64 = t365 + t367;
+    let t369: f64 = t156 * t368;
+    let t370: f64 = 0.5 * t369;
+    let t371: f64 = t14 * t307;
+    let t372: f64 = t13 * t371;
+    let t373: f64 = t41 * t372;
+    let t374: f64 = t14 * t311;
+    let t375: f64 = t13 * t374;
+    let t376: f64 = t373 + t375;
+    let t377: f64 = t156 * t376;
+    let t378: f64 = 0.5 * t377;
+    let t379: f64 = t15 * t337;
+    let t380: f64 = t18 * t379;
+    let t381: f64 = t15 * t343;
+    let t382: f64 = t35 * t381;
+    let t383: f64 = t324 + t382;
+    let t384: f64 = t380 + t383;
+    let t385: f64 = t13 * t384;
+    let t386: f64 = t156 * t385;
+    let t387: f64 = 0.5 * t386;
+    let t388: f64 = t13 * t351;
+    let t389: f64 = t41 * t388;
+    let t390: f64 = t53 * (-540.0);
+    let t391: f64 = t390 + 36.0;
+    let t392: f64 = t390 + t391;
+    let t393: f64 = t13 * t392;
+    let t394: f64 = t389 + t393;
+    let t395: f64 = t15 * t394;
+    let t396: f64 = t156 * t395;
+    let t397: f64 = 0.28867513459481287 * t396;
+    let t398: f64 = t35 * t364;
+    let t399: f64 = t367 + t398;
+    let t400: f64 = t156 * t399;
+    let t401: f64 = 0.5 * t400;
+    let t402: f64 = t53 * 120.0;
+    let t403: f64 = (-6.0) + t402;
+    let t404: f64 = t402 + t403;
+    let t405: f64 = t15 * t404;
+    let t406: f64 = t380 + t405;
+    let t407: f64 = t382 + t406;
+    let t408: f64 = t14 * t407;
+    let t409: f64 = t156 * t408;
+    let t410: f64 = 0.5 * t409;
+    let t411: f64 = t41 * t352;
+    let t412: f64 = t14 * t392;
+    let t413: f64 = t411 + t412;
+    let t414: f64 = t15 * t413;
+    let t415: f64 = t156 * t414;
+    let t416: f64 = 0.28867513459481287 * t415;
+    let t417: f64 = t53 * 210.0;
+    let t418: f64 = t417 + (-15.0);
+    let t419: f64 = t417 + t418;
+    let t420: f64 = t18 * t419;
+    let t421: f64 = t35 * t343;
+    let t422: f64 = t311 + t421;
+    let t423: f64 = t420 + t422;
+    let t424: f64 = t18 * t423;
+    let t425: f64 = t35 * t419;
+    let t426: f64 = t311 + t425;
+    let t427: f64 = t35 * t426;
+    let t428: f64 = t316 + t427;
+    let t429: f64 = t424 + t428;
+    let t430: f64 = t156 * t429;
+    let t431: f64 = 0.5 * t430;
+    let t432: f64 = t53 * (-630.0);
+    let t433: f64 = t432 + 45.0;
+    let t434: f64 = t432 + t433;
+    let t435: f64 = t18 * t434;
+    let t436: f64 = t53 * 540.0;
+    let t437: f64 = t436 + (-36.0);
+    let t438: f64 = t436 + t437;
+    let t439: f64 = t435 + t438;
+    let t440: f64 = t18 * t439;
+    let t441: f64 = t53 * 630.0;
+    let t442: f64 = t441 + (-45.0);
+    let t443: f64 = t441 + t442;
     let t444: f64 = t35 * t443;
-    let t445: f64 = t326 + t444;
-    let t446: f64 = t441 + t445;
-    let t447: f64 = t161 * t446;
-    let t448: f64 = 0.5 * t447;
-    let t449: f64 = t53 * (-630.0);
-    let t450: f64 = t449 + 45.0;
-    let t451: f64 = t449 + t450;
-    let t452: f64 = t18 * t451;
-    let t453: f64 = t53 * 540.0;
-    let t454: f64 = t453 + (-36.0);
-    let t455: f64 = t453 + t454;
-    let t456: f64 = t452 + t455;
-    let t457: f64 = t18 * t456;
-    let t458: f64 = t53 * 630.0;
-    let t459: f64 = t458 + (-45.0);
-    let t460: f64 = t458 + t459;
-    let t461: f64 = t35 * t460;
-    let t462: f64 = t405 + t461;
-    let t463: f64 = t35 * t462;
-    let t464: f64 = t457 + t463;
-    let t465: f64 = t161 * t464;
-    let t466: f64 = 0.28867513459481287 * t465;
-    let t467: f64 = t53 * 1890.0;
-    let t468: f64 = t467 + (-135.0);
-    let t469: f64 = t467 + t468;
-    let t470: f64 = t41 * t469;
-    let t471: f64 = t53 * (-1620.0);
-    let t472: f64 = t471 + 108.0;
-    let t473: f64 = t471 + t472;
-    let t474: f64 = t470 + t473;
-    let t475: f64 = t41 * t474;
-    let t476: f64 = t53 * 162.0;
-    let t477: f64 = (-9.0) + t476;
-    let t478: f64 = t476 + t477;
-    let t479: f64 = t475 + t478;
-    let t480: f64 = t161 * t479;
-    let t481: f64 = 0.16666666666666666 * t480;
+    let t445: f64 = t392 + t444;
+    let t446: f64 = t35 * t445;
+    let t447: f64 = t440 + t446;
+    let t448: f64 = t156 * t447;
+    let t449: f64 = 0.28867513459481287 * t448;
+    let t450: f64 = t53 * 1890.0;
+    let t451: f64 = t450 + (-135.0);
+    let t452: f64 = t450 + t451;
+    let t453: f64 = t41 * t452;
+    let t454: f64 = t53 * (-1620.0);
+    let t455: f64 = t454 + 108.0;
+    let t456: f64 = t454 + t455;
+    let t457: f64 = t453 + t456;
+    let t458: f64 = t41 * t457;
+    let t459: f64 = t53 * 162.0;
+    let t460: f64 = (-9.0) + t459;
+    let t461: f64 = t459 + t460;
+    let t462: f64 = t458 + t461;
+    let t463: f64 = t156 * t462;
+    let t464: f64 = 0.16666666666666666 * t463;
     Grand {
         uf: [[t28, t31, t34], [t31, t38, t40], [t34, t40, t44]],
         ul: [[0.0, t46, t48], [t49, 0.0, t50], [t47, t51, 0.0]],
         us: [
-            [t66, t72, t76, t92, t106],
-            [t112, t76, t116, t127, t133],
-            [t76, t137, t141, t148, t158],
+            [t66, t72, t76, t91, t105],
+            [t111, t76, t115, t123, t129],
+            [t76, t133, t137, t144, t153],
         ],
         of: [[0.0, t46, t48], [t49, 0.0, t50], [t47, t51, 0.0]],
-        ol: [[t162, t165, t168], [t165, t171, t174], [t168, t174, t177]],
+        ol: [[t157, t160, t163], [t160, t166, t169], [t163, t169, t172]],
         os: [
-            [t180, t183, t188, t191, t194],
-            [t191, t199, t202, t205, t208],
-            [t213, t216, t205, t219, 0.0],
+            [t175, t178, t183, t186, t189],
+            [t186, t194, t197, t200, t203],
+            [t208, t211, t200, t214, 0.0],
         ],
         ef: [
-            [t229, t235, t240],
-            [t245, t240, t249],
-            [t240, t253, t257],
-            [t269, t277, t284],
-            [t298, t304, t314],
+            [t224, t230, t235],
+            [t240, t235, t244],
+            [t235, t248, t252],
+            [t263, t268, t275],
+            [t289, t295, t304],
         ],
         el: [
-            [t180, t191, t213],
-            [t183, t199, t216],
-            [t188, t202, t205],
-            [t191, t205, t219],
-            [t194, t208, 0.0],
+            [t175, t186, t208],
+            [t178, t194, t211],
+            [t183, t197, t200],
+            [t186, t200, t214],
+            [t189, t203, 0.0],
         ],
         es: [
-            [t330, t338, t344, t359, t373],
-            [t338, t381, t389, t399, t410],
-            [t344, t389, t414, t426, t433],
-            [t359, t399, t426, t448, t466],
-            [t373, t410, t433, t466, t481],
+            [t320, t328, t334, t348, t362],
+            [t328, t370, t378, t387, t397],
+            [t334, t378, t401, t410, t416],
+            [t348, t387, t410, t431, t449],
+            [t362, t397, t416, t449, t464],
         ],
     }
 }
@@ -1769,75 +1724,75 @@ pub fn free_pair_divergence(
     let t30: f64 = t20 * t24;
     let t31: f64 = 1.0 / t22;
     let t32: f64 = t25 * t31;
-    let t33: f64 = t31 * t32;
-    let t34: f64 = t26 * t31;
-    let t35: f64 = t31 * t34;
-    let t36: f64 = t27 * t31;
-    let t37: f64 = t31 * t36;
-    let t38: f64 = t28 * t31;
-    let t39: f64 = t31 * t38;
-    let t40: f64 = t29 * t31;
-    let t41: f64 = t31 * t40;
-    let t42: f64 = t30 * t31;
-    let t43: f64 = t31 * t42;
-    let t44: f64 = t1 * t31;
-    let t45: f64 = t1 * t33;
-    let t46: f64 = t31 - t45;
-    let t47: f64 = t1 * t35;
-    let t48: f64 = t1 * t37;
-    let t49: f64 = t1 * t39;
-    let t50: f64 = t31 + t49;
-    let t51: f64 = t1 * t41;
-    let t52: f64 = t1 * t43;
-    let t53: f64 = t2 * t31;
-    let t54: f64 = t2 * t33;
-    let t55: f64 = t2 * t35;
-    let t56: f64 = t31 - t55;
-    let t57: f64 = t2 * t37;
-    let t58: f64 = t2 * t39;
-    let t59: f64 = t2 * t41;
-    let t60: f64 = t31 + t59;
-    let t61: f64 = t2 * t43;
-    let t62: f64 = t3 * t31;
-    let t63: f64 = t3 * t33;
-    let t64: f64 = t3 * t35;
-    let t65: f64 = t3 * t37;
-    let t66: f64 = t31 - t65;
-    let t67: f64 = t3 * t39;
-    let t68: f64 = t3 * t41;
-    let t69: f64 = t3 * t43;
-    let t70: f64 = t31 + t69;
-    let t71: f64 = t31 * t31;
-    let t72: f64 = t31 * t33;
+    let t33: f64 = t31 * t31;
+    let t34: f64 = t25 * t33;
+    let t35: f64 = t26 * t31;
+    let t36: f64 = t26 * t33;
+    let t37: f64 = t27 * t31;
+    let t38: f64 = t27 * t33;
+    let t39: f64 = t28 * t31;
+    let t40: f64 = t28 * t33;
+    let t41: f64 = t29 * t31;
+    let t42: f64 = t29 * t33;
+    let t43: f64 = t30 * t31;
+    let t44: f64 = t30 * t33;
+    let t45: f64 = t1 * t31;
+    let t46: f64 = t1 * t34;
+    let t47: f64 = t31 - t46;
+    let t48: f64 = t1 * t36;
+    let t49: f64 = t1 * t38;
+    let t50: f64 = t1 * t40;
+    let t51: f64 = t31 + t50;
+    let t52: f64 = t1 * t42;
+    let t53: f64 = t1 * t44;
+    let t54: f64 = t2 * t31;
+    let t55: f64 = t2 * t34;
+    let t56: f64 = t2 * t36;
+    let t57: f64 = t31 - t56;
+    let t58: f64 = t2 * t38;
+    let t59: f64 = t2 * t40;
+    let t60: f64 = t2 * t42;
+    let t61: f64 = t31 + t60;
+    let t62: f64 = t2 * t44;
+    let t63: f64 = t3 * t31;
+    let t64: f64 = t3 * t34;
+    let t65: f64 = t3 * t36;
+    let t66: f64 = t3 * t38;
+    let t67: f64 = t31 - t66;
+    let t68: f64 = t3 * t40;
+    let t69: f64 = t3 * t42;
+    let t70: f64 = t3 * t44;
+    let t71: f64 = t31 + t70;
+    let t72: f64 = t32 * t33;
     let t73: f64 = t72 + t72;
-    let t74: f64 = t31 * t35;
+    let t74: f64 = t33 * t35;
     let t75: f64 = t74 + t74;
-    let t76: f64 = t31 * t37;
+    let t76: f64 = t33 * t37;
     let t77: f64 = t76 + t76;
-    let t78: f64 = t31 * t39;
+    let t78: f64 = t33 * t39;
     let t79: f64 = t78 + t78;
-    let t80: f64 = t31 * t41;
+    let t80: f64 = t33 * t41;
     let t81: f64 = t80 + t80;
-    let t82: f64 = t31 * t43;
+    let t82: f64 = t33 * t43;
     let t83: f64 = t82 + t82;
-    let t84: f64 = t6 * t71;
+    let t84: f64 = t6 * t33;
     let t85: f64 = t6 * t73;
     let t86: f64 = t6 * t75;
     let t87: f64 = t6 * t77;
     let t88: f64 = t6 * t79;
     let t89: f64 = t6 * t81;
     let t90: f64 = t6 * t83;
-    let t91: f64 = t7 * t71;
+    let t91: f64 = t7 * t33;
     let t92: f64 = t7 * t73;
     let t93: f64 = t7 * t75;
     let t94: f64 = t7 * t77;
     let t95: f64 = t7 * t79;
     let t96: f64 = t7 * t81;
     let t97: f64 = t7 * t83;
-    let t98: f64 = t44 * t44;
-    let t99: f64 = t44 * t46;
+    let t98: f64 = t45 * t45;
+    let t99: f64 = t45 * t47;
     let t100: f64 = t99 + t99;
-    let t101: f64 = t44 * t50;
+    let t101: f64 = t45 * t51;
     let t102: f64 = t101 + t101;
     let t103: f64 = t91 * (-6.0);
     let t104: f64 = t92 * (-6.0);
@@ -1894,97 +1849,97 @@ pub fn free_pair_divergence(
     let t155: f64 = t128 - t148;
     let t156: f64 = t131 + t151;
     let t157: f64 = t31 * t155;
-    let t158: f64 = t33 * t154;
+    let t158: f64 = t34 * t154;
     let t159: f64 = t157 - t158;
     let t160: f64 = t31 * t156;
-    let t161: f64 = t39 * t154;
+    let t161: f64 = t40 * t154;
     let t162: f64 = t160 + t161;
-    let t163: f64 = t53 * t118;
-    let t164: f64 = t54 * t118;
-    let t165: f64 = t53 * t119;
+    let t163: f64 = t54 * t118;
+    let t164: f64 = t55 * t118;
+    let t165: f64 = t54 * t119;
     let t166: f64 = t164 + t165;
-    let t167: f64 = t56 * t118;
-    let t168: f64 = t53 * t120;
+    let t167: f64 = t57 * t118;
+    let t168: f64 = t54 * t120;
     let t169: f64 = t167 - t168;
-    let t170: f64 = t58 * t118;
-    let t171: f64 = t53 * t122;
+    let t170: f64 = t59 * t118;
+    let t171: f64 = t54 * t122;
     let t172: f64 = t170 + t171;
-    let t173: f64 = t60 * t118;
-    let t174: f64 = t53 * t123;
+    let t173: f64 = t61 * t118;
+    let t174: f64 = t54 * t123;
     let t175: f64 = t173 + t174;
-    let t176: f64 = t44 * t163;
-    let t177: f64 = t46 * t163;
-    let t178: f64 = t44 * t166;
+    let t176: f64 = t45 * t163;
+    let t177: f64 = t47 * t163;
+    let t178: f64 = t45 * t166;
     let t179: f64 = t177 - t178;
-    let t180: f64 = t47 * t163;
-    let t181: f64 = t44 * t169;
+    let t180: f64 = t48 * t163;
+    let t181: f64 = t45 * t169;
     let t182: f64 = t181 - t180;
-    let t183: f64 = t50 * t163;
-    let t184: f64 = t44 * t172;
+    let t183: f64 = t51 * t163;
+    let t184: f64 = t45 * t172;
     let t185: f64 = t183 + t184;
-    let t186: f64 = t51 * t163;
-    let t187: f64 = t44 * t175;
+    let t186: f64 = t52 * t163;
+    let t187: f64 = t45 * t175;
     let t188: f64 = t186 + t187;
     let t189: f64 = t31 * t179;
-    let t190: f64 = t33 * t176;
+    let t190: f64 = t34 * t176;
     let t191: f64 = t189 - t190;
     let t192: f64 = t31 * t182;
-    let t193: f64 = t35 * t176;
+    let t193: f64 = t36 * t176;
     let t194: f64 = t192 - t193;
     let t195: f64 = t31 * t185;
-    let t196: f64 = t39 * t176;
+    let t196: f64 = t40 * t176;
     let t197: f64 = t195 + t196;
     let t198: f64 = t31 * t188;
-    let t199: f64 = t41 * t176;
+    let t199: f64 = t42 * t176;
     let t200: f64 = t198 + t199;
-    let t201: f64 = t62 * t118;
-    let t202: f64 = t63 * t118;
-    let t203: f64 = t62 * t119;
+    let t201: f64 = t63 * t118;
+    let t202: f64 = t64 * t118;
+    let t203: f64 = t63 * t119;
     let t204: f64 = t202 + t203;
-    let t205: f64 = t64 * t118;
-    let t206: f64 = t62 * t120;
+    let t205: f64 = t65 * t118;
+    let t206: f64 = t63 * t120;
     let t207: f64 = t205 + t206;
-    let t208: f64 = t66 * t118;
-    let t209: f64 = t62 * t121;
+    let t208: f64 = t67 * t118;
+    let t209: f64 = t63 * t121;
     let t210: f64 = t208 - t209;
-    let t211: f64 = t67 * t118;
-    let t212: f64 = t62 * t122;
+    let t211: f64 = t68 * t118;
+    let t212: f64 = t63 * t122;
     let t213: f64 = t211 + t212;
-    let t214: f64 = t68 * t118;
-    let t215: f64 = t62 * t123;
+    let t214: f64 = t69 * t118;
+    let t215: f64 = t63 * t123;
     let t216: f64 = t214 + t215;
-    let t217: f64 = t70 * t118;
-    let t218: f64 = t62 * t124;
+    let t217: f64 = t71 * t118;
+    let t218: f64 = t63 * t124;
     let t219: f64 = t217 + t218;
-    let t220: f64 = t44 * t201;
-    let t221: f64 = t46 * t201;
-    let t222: f64 = t44 * t204;
+    let t220: f64 = t45 * t201;
+    let t221: f64 = t47 * t201;
+    let t222: f64 = t45 * t204;
     let t223: f64 = t221 - t222;
-    let t224: f64 = t48 * t201;
-    let t225: f64 = t44 * t210;
+    let t224: f64 = t49 * t201;
+    let t225: f64 = t45 * t210;
     let t226: f64 = t225 - t224;
-    let t227: f64 = t50 * t201;
-    let t228: f64 = t44 * t213;
+    let t227: f64 = t51 * t201;
+    let t228: f64 = t45 * t213;
     let t229: f64 = t227 + t228;
-    let t230: f64 = t52 * t201;
-    let t231: f64 = t44 * t219;
+    let t230: f64 = t53 * t201;
+    let t231: f64 = t45 * t219;
     let t232: f64 = t230 + t231;
     let t233: f64 = t31 * t223;
-    let t234: f64 = t33 * t220;
+    let t234: f64 = t34 * t220;
     let t235: f64 = t233 - t234;
     let t236: f64 = t31 * t226;
-    let t237: f64 = t37 * t220;
+    let t237: f64 = t38 * t220;
     let t238: f64 = t236 - t237;
     let t239: f64 = t31 * t229;
-    let t240: f64 = t39 * t220;
+    let t240: f64 = t40 * t220;
     let t241: f64 = t239 + t240;
     let t242: f64 = t31 * t232;
-    let t243: f64 = t43 * t220;
+    let t243: f64 = t44 * t220;
     let t244: f64 = t242 + t243;
-    let t245: f64 = t53 * t53;
-    let t246: f64 = t53 * t56;
+    let t245: f64 = t54 * t54;
+    let t246: f64 = t54 * t57;
     let t247: f64 = t246 + t246;
-    let t248: f64 = t53 * t60;
+    let t248: f64 = t54 * t61;
     let t249: f64 = t248 + t248;
     let t250: f64 = t118 * t245;
     let t251: f64 = t118 * t247;
@@ -1997,40 +1952,40 @@ pub fn free_pair_divergence(
     let t258: f64 = t253 - t149;
     let t259: f64 = t152 + t256;
     let t260: f64 = t31 * t258;
-    let t261: f64 = t35 * t257;
+    let t261: f64 = t36 * t257;
     let t262: f64 = t260 - t261;
     let t263: f64 = t31 * t259;
-    let t264: f64 = t41 * t257;
+    let t264: f64 = t42 * t257;
     let t265: f64 = t263 + t264;
-    let t266: f64 = t53 * t201;
-    let t267: f64 = t56 * t201;
-    let t268: f64 = t53 * t207;
+    let t266: f64 = t54 * t201;
+    let t267: f64 = t57 * t201;
+    let t268: f64 = t54 * t207;
     let t269: f64 = t267 - t268;
-    let t270: f64 = t57 * t201;
-    let t271: f64 = t53 * t210;
+    let t270: f64 = t58 * t201;
+    let t271: f64 = t54 * t210;
     let t272: f64 = t271 - t270;
-    let t273: f64 = t60 * t201;
-    let t274: f64 = t53 * t216;
+    let t273: f64 = t61 * t201;
+    let t274: f64 = t54 * t216;
     let t275: f64 = t273 + t274;
-    let t276: f64 = t61 * t201;
-    let t277: f64 = t53 * t219;
+    let t276: f64 = t62 * t201;
+    let t277: f64 = t54 * t219;
     let t278: f64 = t276 + t277;
     let t279: f64 = t31 * t269;
-    let t280: f64 = t35 * t266;
+    let t280: f64 = t36 * t266;
     let t281: f64 = t279 - t280;
     let t282: f64 = t31 * t272;
-    let t283: f64 = t37 * t266;
+    let t283: f64 = t38 * t266;
     let t284: f64 = t282 - t283;
     let t285: f64 = t31 * t275;
-    let t286: f64 = t41 * t266;
+    let t286: f64 = t42 * t266;
     let t287: f64 = t285 + t286;
     let t288: f64 = t31 * t278;
-    let t289: f64 = t43 * t266;
+    let t289: f64 = t44 * t266;
     let t290: f64 = t288 + t289;
-    let t291: f64 = t62 * t62;
-    let t292: f64 = t62 * t66;
+    let t291: f64 = t63 * t63;
+    let t292: f64 = t63 * t67;
     let t293: f64 = t292 + t292;
-    let t294: f64 = t62 * t70;
+    let t294: f64 = t63 * t71;
     let t295: f64 = t294 + t294;
     let t296: f64 = t118 * t291;
     let t297: f64 = t118 * t293;
@@ -2043,46 +1998,46 @@ pub fn free_pair_divergence(
     let t304: f64 = t299 - t150;
     let t305: f64 = t153 + t302;
     let t306: f64 = t31 * t304;
-    let t307: f64 = t37 * t303;
+    let t307: f64 = t38 * t303;
     let t308: f64 = t306 - t307;
     let t309: f64 = t31 * t305;
-    let t310: f64 = t43 * t303;
+    let t310: f64 = t44 * t303;
     let t311: f64 = t309 + t310;
-    let t312: f64 = t63 * t71;
-    let t313: f64 = t62 * t73;
+    let t312: f64 = t33 * t64;
+    let t313: f64 = t63 * t73;
     let t314: f64 = t312 + t313;
-    let t315: f64 = t64 * t71;
-    let t316: f64 = t62 * t75;
+    let t315: f64 = t33 * t65;
+    let t316: f64 = t63 * t75;
     let t317: f64 = t315 + t316;
-    let t318: f64 = t67 * t71;
-    let t319: f64 = t62 * t79;
+    let t318: f64 = t33 * t68;
+    let t319: f64 = t63 * t79;
     let t320: f64 = t318 + t319;
-    let t321: f64 = t68 * t71;
-    let t322: f64 = t62 * t81;
+    let t321: f64 = t33 * t69;
+    let t322: f64 = t63 * t81;
     let t323: f64 = t321 + t322;
-    let t324: f64 = t54 * t71;
-    let t325: f64 = t53 * t73;
+    let t324: f64 = t33 * t55;
+    let t325: f64 = t54 * t73;
     let t326: f64 = t324 + t325;
-    let t327: f64 = t57 * t71;
-    let t328: f64 = t53 * t77;
+    let t327: f64 = t33 * t58;
+    let t328: f64 = t54 * t77;
     let t329: f64 = t327 + t328;
-    let t330: f64 = t58 * t71;
-    let t331: f64 = t53 * t79;
+    let t330: f64 = t33 * t59;
+    let t331: f64 = t54 * t79;
     let t332: f64 = t330 + t331;
-    let t333: f64 = t61 * t71;
-    let t334: f64 = t53 * t83;
+    let t333: f64 = t33 * t62;
+    let t334: f64 = t54 * t83;
     let t335: f64 = t333 + t334;
-    let t336: f64 = t47 * t71;
-    let t337: f64 = t44 * t75;
+    let t336: f64 = t33 * t48;
+    let t337: f64 = t45 * t75;
     let t338: f64 = t336 + t337;
-    let t339: f64 = t48 * t71;
-    let t340: f64 = t44 * t77;
+    let t339: f64 = t33 * t49;
+    let t340: f64 = t45 * t77;
     let t341: f64 = t339 + t340;
-    let t342: f64 = t51 * t71;
-    let t343: f64 = t44 * t81;
+    let t342: f64 = t33 * t52;
+    let t343: f64 = t45 * t81;
     let t344: f64 = t342 + t343;
-    let t345: f64 = t52 * t71;
-    let t346: f64 = t44 * t83;
+    let t345: f64 = t33 * t53;
+    let t346: f64 = t45 * t83;
     let t347: f64 = t345 + t346;
     let t348: f64 = t162 + t200;
     let t349: f64 = t244 + t348;
@@ -2160,50 +2115,50 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
         let t19: L = t10 * t14;
         let t20: L = t12 * t14;
         let t21: L = t14 * t15;
-        let t22: L = t14 * t21;
-        let t23: L = t14 * t16;
-        let t24: L = t14 * t23;
-        let t25: L = t14 * t17;
-        let t26: L = t14 * t25;
-        let t27: L = t14 * t18;
-        let t28: L = t14 * t27;
-        let t29: L = t14 * t19;
-        let t30: L = t14 * t29;
-        let t31: L = t14 * t20;
-        let t32: L = t14 * t31;
-        let t33: L = t1.neg_mul_add(t22, t14);
-        let t34: L = t1 * t24;
-        let t35: L = t1 * t26;
-        let t36: L = t1.mul_add(t28, t14);
-        let t37: L = t1 * t30;
-        let t38: L = t1 * t32;
-        let t39: L = t2 * t22;
-        let t40: L = t2.neg_mul_add(t24, t14);
-        let t41: L = t2 * t26;
-        let t42: L = t2 * t28;
-        let t43: L = t2.mul_add(t30, t14);
-        let t44: L = t2 * t32;
-        let t45: L = t3 * t22;
-        let t46: L = t3 * t24;
-        let t47: L = t3.neg_mul_add(t26, t14);
-        let t48: L = t3 * t28;
-        let t49: L = t3 * t30;
-        let t50: L = t3.mul_add(t32, t14);
-        let t51: L = t14 * t14;
-        let t52: L = t14 * t22;
-        let t53: L = t14 * t24;
-        let t54: L = t14 * t26;
-        let t55: L = t14 * t28;
-        let t56: L = t14 * t30;
-        let t57: L = t14 * t32;
-        let t58: L = t6 * t51;
+        let t22: L = t14 * t14;
+        let t23: L = t15 * t22;
+        let t24: L = t14 * t16;
+        let t25: L = t16 * t22;
+        let t26: L = t14 * t17;
+        let t27: L = t17 * t22;
+        let t28: L = t14 * t18;
+        let t29: L = t18 * t22;
+        let t30: L = t14 * t19;
+        let t31: L = t19 * t22;
+        let t32: L = t14 * t20;
+        let t33: L = t20 * t22;
+        let t34: L = t1.neg_mul_add(t23, t14);
+        let t35: L = t1 * t25;
+        let t36: L = t1 * t27;
+        let t37: L = t1.mul_add(t29, t14);
+        let t38: L = t1 * t31;
+        let t39: L = t1 * t33;
+        let t40: L = t2 * t23;
+        let t41: L = t2.neg_mul_add(t25, t14);
+        let t42: L = t2 * t27;
+        let t43: L = t2 * t29;
+        let t44: L = t2.mul_add(t31, t14);
+        let t45: L = t2 * t33;
+        let t46: L = t3 * t23;
+        let t47: L = t3 * t25;
+        let t48: L = t3.neg_mul_add(t27, t14);
+        let t49: L = t3 * t29;
+        let t50: L = t3 * t31;
+        let t51: L = t3.mul_add(t33, t14);
+        let t52: L = t21 * t22;
+        let t53: L = t22 * t24;
+        let t54: L = t22 * t26;
+        let t55: L = t22 * t28;
+        let t56: L = t22 * t30;
+        let t57: L = t22 * t32;
+        let t58: L = t6 * t22;
         let t59: L = t6 * t52;
         let t60: L = t6 * t53;
         let t61: L = t6 * t54;
         let t62: L = t6 * t55;
         let t63: L = t6 * t56;
         let t64: L = t6 * t57;
-        let t65: L = t7 * t51;
+        let t65: L = t7 * t22;
         let t66: L = t7 * t52;
         let t67: L = t7 * t53;
         let t68: L = t7 * t54;
@@ -2211,8 +2166,8 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
         let t70: L = t7 * t56;
         let t71: L = t7 * t57;
         let t72: L = t15 * t15;
-        let t73: L = t15 * t33;
-        let t74: L = t15 * t36;
+        let t73: L = t15 * t34;
+        let t74: L = t15 * t37;
         let t75: L = t65.mul_add(L::splat(-6.0), L::splat(1.0));
         let t76: L = t59 * L::splat(-12.0);
         let t77: L = t60 * L::splat(-12.0);
@@ -2245,69 +2200,69 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
         let t104: L = t72.mul_add(t82, t97);
         let t105: L = L::splat(4.0).mul_add(t98, t91);
         let t106: L = L::splat(4.0).mul_add(t101, t94);
-        let t107: L = t22 * t104;
+        let t107: L = t23 * t104;
         let t108: L = t14.mul_add(t105, t107);
-        let t109: L = t28 * t104;
+        let t109: L = t29 * t104;
         let t110: L = t14.mul_add(t106, t109);
         let t111: L = t16 * t82;
         let t112: L = t16 * t83;
-        let t113: L = t39.mul_add(t82, t112);
+        let t113: L = t40.mul_add(t82, t112);
         let t114: L = t16 * t84;
-        let t115: L = t40.mul_sub(t82, t114);
+        let t115: L = t41.mul_sub(t82, t114);
         let t116: L = t16 * t86;
-        let t117: L = t42.mul_add(t82, t116);
+        let t117: L = t43.mul_add(t82, t116);
         let t118: L = t16 * t87;
-        let t119: L = t43.mul_add(t82, t118);
+        let t119: L = t44.mul_add(t82, t118);
         let t120: L = t15 * t111;
         let t121: L = t15 * t113;
-        let t122: L = t33.mul_sub(t111, t121);
-        let t123: L = t34 * t111;
+        let t122: L = t34.mul_sub(t111, t121);
+        let t123: L = t35 * t111;
         let t124: L = t15.mul_sub(t115, t123);
         let t125: L = t15 * t117;
-        let t126: L = t36.mul_add(t111, t125);
+        let t126: L = t37.mul_add(t111, t125);
         let t127: L = t15 * t119;
-        let t128: L = t37.mul_add(t111, t127);
-        let t129: L = t22 * t120;
+        let t128: L = t38.mul_add(t111, t127);
+        let t129: L = t23 * t120;
         let t130: L = t14.mul_sub(t122, t129);
-        let t131: L = t24 * t120;
+        let t131: L = t25 * t120;
         let t132: L = t14.mul_sub(t124, t131);
-        let t133: L = t28 * t120;
+        let t133: L = t29 * t120;
         let t134: L = t14.mul_add(t126, t133);
-        let t135: L = t30 * t120;
+        let t135: L = t31 * t120;
         let t136: L = t14.mul_add(t128, t135);
         let t137: L = t17 * t82;
         let t138: L = t17 * t83;
-        let t139: L = t45.mul_add(t82, t138);
+        let t139: L = t46.mul_add(t82, t138);
         let t140: L = t17 * t84;
-        let t141: L = t46.mul_add(t82, t140);
+        let t141: L = t47.mul_add(t82, t140);
         let t142: L = t17 * t85;
-        let t143: L = t47.mul_sub(t82, t142);
+        let t143: L = t48.mul_sub(t82, t142);
         let t144: L = t17 * t86;
-        let t145: L = t48.mul_add(t82, t144);
+        let t145: L = t49.mul_add(t82, t144);
         let t146: L = t17 * t87;
-        let t147: L = t49.mul_add(t82, t146);
+        let t147: L = t50.mul_add(t82, t146);
         let t148: L = t17 * t88;
-        let t149: L = t50.mul_add(t82, t148);
+        let t149: L = t51.mul_add(t82, t148);
         let t150: L = t15 * t137;
         let t151: L = t15 * t139;
-        let t152: L = t33.mul_sub(t137, t151);
-        let t153: L = t35 * t137;
+        let t152: L = t34.mul_sub(t137, t151);
+        let t153: L = t36 * t137;
         let t154: L = t15.mul_sub(t143, t153);
         let t155: L = t15 * t145;
-        let t156: L = t36.mul_add(t137, t155);
+        let t156: L = t37.mul_add(t137, t155);
         let t157: L = t15 * t149;
-        let t158: L = t38.mul_add(t137, t157);
-        let t159: L = t22 * t150;
+        let t158: L = t39.mul_add(t137, t157);
+        let t159: L = t23 * t150;
         let t160: L = t14.mul_sub(t152, t159);
-        let t161: L = t26 * t150;
+        let t161: L = t27 * t150;
         let t162: L = t14.mul_sub(t154, t161);
-        let t163: L = t28 * t150;
+        let t163: L = t29 * t150;
         let t164: L = t14.mul_add(t156, t163);
-        let t165: L = t32 * t150;
+        let t165: L = t33 * t150;
         let t166: L = t14.mul_add(t158, t165);
         let t167: L = t16 * t16;
-        let t168: L = t16 * t40;
-        let t169: L = t16 * t43;
+        let t168: L = t16 * t41;
+        let t169: L = t16 * t44;
         let t170: L = t82 * t168;
         let t171: L = L::splat(-2.0) * t170;
         let t172: L = t84.mul_add(t167, t171);
@@ -2317,30 +2272,30 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
         let t176: L = t82.mul_add(t167, t97);
         let t177: L = L::splat(4.0).mul_add(t99, t172);
         let t178: L = L::splat(4.0).mul_add(t102, t175);
-        let t179: L = t24 * t176;
+        let t179: L = t25 * t176;
         let t180: L = t14.mul_add(t177, t179);
-        let t181: L = t30 * t176;
+        let t181: L = t31 * t176;
         let t182: L = t14.mul_add(t178, t181);
         let t183: L = t16 * t137;
         let t184: L = t16 * t141;
-        let t185: L = t40.mul_sub(t137, t184);
-        let t186: L = t41 * t137;
+        let t185: L = t41.mul_sub(t137, t184);
+        let t186: L = t42 * t137;
         let t187: L = t16.mul_sub(t143, t186);
         let t188: L = t16 * t147;
-        let t189: L = t43.mul_add(t137, t188);
+        let t189: L = t44.mul_add(t137, t188);
         let t190: L = t16 * t149;
-        let t191: L = t44.mul_add(t137, t190);
-        let t192: L = t24 * t183;
+        let t191: L = t45.mul_add(t137, t190);
+        let t192: L = t25 * t183;
         let t193: L = t14.mul_sub(t185, t192);
-        let t194: L = t26 * t183;
+        let t194: L = t27 * t183;
         let t195: L = t14.mul_sub(t187, t194);
-        let t196: L = t30 * t183;
+        let t196: L = t31 * t183;
         let t197: L = t14.mul_add(t189, t196);
-        let t198: L = t32 * t183;
+        let t198: L = t33 * t183;
         let t199: L = t14.mul_add(t191, t198);
         let t200: L = t17 * t17;
-        let t201: L = t17 * t47;
-        let t202: L = t17 * t50;
+        let t201: L = t17 * t48;
+        let t202: L = t17 * t51;
         let t203: L = t82 * t201;
         let t204: L = L::splat(-2.0) * t203;
         let t205: L = t85.mul_add(t200, t204);
@@ -2350,46 +2305,46 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
         let t209: L = t82.mul_add(t200, t97);
         let t210: L = L::splat(4.0).mul_add(t100, t205);
         let t211: L = L::splat(4.0).mul_add(t103, t208);
-        let t212: L = t26 * t209;
+        let t212: L = t27 * t209;
         let t213: L = t14.mul_add(t210, t212);
-        let t214: L = t32 * t209;
+        let t214: L = t33 * t209;
         let t215: L = t14.mul_add(t211, t214);
         let t216: L = t17 * t52;
         let t217: L = L::splat(2.0) * t216;
-        let t218: L = t45.mul_add(t51, t217);
+        let t218: L = t22.mul_add(t46, t217);
         let t219: L = t17 * t53;
         let t220: L = L::splat(2.0) * t219;
-        let t221: L = t46.mul_add(t51, t220);
+        let t221: L = t22.mul_add(t47, t220);
         let t222: L = t17 * t55;
         let t223: L = L::splat(2.0) * t222;
-        let t224: L = t48.mul_add(t51, t223);
+        let t224: L = t22.mul_add(t49, t223);
         let t225: L = t17 * t56;
         let t226: L = L::splat(2.0) * t225;
-        let t227: L = t49.mul_add(t51, t226);
+        let t227: L = t22.mul_add(t50, t226);
         let t228: L = t16 * t52;
         let t229: L = L::splat(2.0) * t228;
-        let t230: L = t39.mul_add(t51, t229);
+        let t230: L = t22.mul_add(t40, t229);
         let t231: L = t16 * t54;
         let t232: L = L::splat(2.0) * t231;
-        let t233: L = t41.mul_add(t51, t232);
+        let t233: L = t22.mul_add(t42, t232);
         let t234: L = t16 * t55;
         let t235: L = L::splat(2.0) * t234;
-        let t236: L = t42.mul_add(t51, t235);
+        let t236: L = t22.mul_add(t43, t235);
         let t237: L = t16 * t57;
         let t238: L = L::splat(2.0) * t237;
-        let t239: L = t44.mul_add(t51, t238);
+        let t239: L = t22.mul_add(t45, t238);
         let t240: L = t15 * t53;
         let t241: L = L::splat(2.0) * t240;
-        let t242: L = t34.mul_add(t51, t241);
+        let t242: L = t22.mul_add(t35, t241);
         let t243: L = t15 * t54;
         let t244: L = L::splat(2.0) * t243;
-        let t245: L = t35.mul_add(t51, t244);
+        let t245: L = t22.mul_add(t36, t244);
         let t246: L = t15 * t56;
         let t247: L = L::splat(2.0) * t246;
-        let t248: L = t37.mul_add(t51, t247);
+        let t248: L = t22.mul_add(t38, t247);
         let t249: L = t15 * t57;
         let t250: L = L::splat(2.0) * t249;
-        let t251: L = t38.mul_add(t51, t250);
+        let t251: L = t22.mul_add(t39, t250);
         let t252: L = t110 + t136;
         let t253: L = t166 + t252;
         let t254: L = t134 + t182;

@@ -157,7 +157,7 @@ pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> B
     let t47: f64 = t25 * t46;
     let t48: f64 = t30 + t47;
     let t49: f64 = t32 * t48;
-    let t50: f64 = t14 * t32;
+    let t50: f64 = t0 * t18;
     let t51: f64 = t17 * t50;
     let t52: f64 = t16 * t50;
     let t53: f64 = -t52;
@@ -166,7 +166,7 @@ pub fn free_ft_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> B
     let t56: f64 = -t55;
     let t57: f64 = t21 * 1.5;
     let t58: f64 = t57 + (-0.5);
-    let t59: f64 = t14 * t50;
+    let t59: f64 = t18 * t32;
     let t60: f64 = t58 * t59;
     let t61: f64 = t15 * t16;
     let t62: f64 = 1.5 * t61;
@@ -246,7 +246,7 @@ pub fn free_ft_pair_lanes<L: lanes::Lane>(
         let t37: L = t14 * t14;
         let t38: L = t20.mul_add(t37, t22);
         let t39: L = t24 * t38;
-        let t40: L = t11 * t24;
+        let t40: L = t0 * t15;
         let t41: L = t14 * t40;
         let t42: L = t13 * t40;
         let t43: L = -t42;
@@ -254,7 +254,7 @@ pub fn free_ft_pair_lanes<L: lanes::Lane>(
         let t45: L = t12 * t40;
         let t46: L = -t45;
         let t47: L = t18.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t48: L = t11 * t40;
+        let t48: L = t15 * t24;
         let t49: L = t47 * t48;
         let t50: L = t12 * t13;
         let t51: L = L::splat(1.5) * t50;
@@ -370,7 +370,7 @@ pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Block
     let t42: f64 = t21 * t41;
     let t43: f64 = t25 + t42;
     let t44: f64 = t27 * t43;
-    let t45: f64 = t12 * t27;
+    let t45: f64 = t0 * t16;
     let t46: f64 = t15 * t45;
     let t47: f64 = t14 * t45;
     let t48: f64 = -t47;
@@ -379,7 +379,7 @@ pub fn free_ft_pair_equal(xa: [f64; 3], xb: [f64; 3], a: f64, eta: f64) -> Block
     let t51: f64 = -t50;
     let t52: f64 = t18 * 1.5;
     let t53: f64 = t52 + (-0.5);
-    let t54: f64 = t12 * t45;
+    let t54: f64 = t16 * t27;
     let t55: f64 = t53 * t54;
     let t56: f64 = t13 * t14;
     let t57: f64 = 1.5 * t56;
@@ -483,12 +483,12 @@ pub fn free_ft_pair_product(
     let t52: f64 = t50 + t51;
     let t53: f64 = t48 + t52;
     let t54: f64 = t38 * t53;
-    let t55: f64 = t21 * t38;
+    let t55: f64 = t0 * t24;
     let t56: f64 = t23 * t55;
     let t57: f64 = t22 * t55;
     let t58: f64 = t27 * 1.5;
     let t59: f64 = t58 + (-0.5);
-    let t60: f64 = t21 * t55;
+    let t60: f64 = t24 * t38;
     let t61: f64 = t59 * t60;
     let t62: f64 = t22 * t23;
     let t63: f64 = 1.5 * t62;
@@ -670,11 +670,11 @@ pub fn free_ft_pair_product_lanes<L: lanes::Lane>(
         let t39: L = t22.mul_add(L::splat(-4.0), t38);
         let t40: L = t24.mul_add(t37, t39);
         let t41: L = t30 * t40;
-        let t42: L = t18 * t30;
+        let t42: L = t0 * t21;
         let t43: L = t20 * t42;
         let t44: L = t19 * t42;
         let t45: L = t24.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t46: L = t18 * t42;
+        let t46: L = t21 * t30;
         let t47: L = t45 * t46;
         let t48: L = t19 * t20;
         let t49: L = L::splat(1.5) * t48;
@@ -826,12 +826,12 @@ pub fn free_ft_pair_equal_product(
     let t45: f64 = t43 + t44;
     let t46: f64 = t42 + t45;
     let t47: f64 = t33 * t46;
-    let t48: f64 = t19 * t33;
+    let t48: f64 = t0 * t22;
     let t49: f64 = t21 * t48;
     let t50: f64 = t20 * t48;
     let t51: f64 = t24 * 1.5;
     let t52: f64 = t51 + (-0.5);
-    let t53: f64 = t19 * t48;
+    let t53: f64 = t22 * t33;
     let t54: f64 = t52 * t53;
     let t55: f64 = t20 * t21;
     let t56: f64 = 1.5 * t55;
