@@ -9,7 +9,7 @@
 
 use crate::derivatives::{Collection, GenericJets, Part, Structured};
 use crate::expr::{Ex, Graph, Id, Trace};
-use crate::frame::{Frame, World};
+use crate::frame::Frame;
 use crate::green::Green;
 use crate::jet::{Jet, Layout};
 use crate::operators::{
@@ -199,9 +199,8 @@ impl FarBranch {
 }
 
 impl Traced {
-    /// The same kernel on `graph`, where `map` takes every old id to its new one;
-    /// None where an id the kernel needs has none.
-    fn remapped(self, graph: Graph, map: &[Option<Id>]) -> Option<Traced> {
+    /// The same kernel on `graph`, where `map` takes every old id to its new one.
+    fn remapped(self, graph: Graph, map: &[Id]) -> Traced {
         let Traced {
             args,
             mut outputs,
@@ -210,34 +209,31 @@ impl Traced {
             mut swap,
             ..
         } = self;
-        let new = |id: &mut Id| -> Option<()> {
-            *id = map[*id as usize]?;
-            Some(())
-        };
+        let new = |id: &mut Id| *id = map[*id as usize];
         for o in outputs.iter_mut() {
-            o.ids.iter_mut().try_for_each(new)?;
+            o.ids.iter_mut().for_each(new);
         }
         if let Some(f) = far.as_mut() {
             for o in f.outputs.iter_mut() {
-                o.ids.iter_mut().try_for_each(new)?;
+                o.ids.iter_mut().for_each(new);
             }
             for (l, r) in f.conds.iter_mut() {
-                new(l)?;
-                new(r)?;
+                new(l);
+                new(r);
             }
         }
         if let Some(w) = swap.as_mut() {
-            new(&mut w.cond.0)?;
-            new(&mut w.cond.1)?;
+            new(&mut w.cond.0);
+            new(&mut w.cond.1);
         }
-        Some(Traced {
+        Traced {
             graph,
             args,
             outputs,
             order,
             far,
             swap,
-        })
+        }
     }
 
     /// All output ids in order.
@@ -328,7 +324,7 @@ fn shape(r: Response, m: Moment, b: Basis) -> Vec<usize> {
 /// collects and cost more in every shipped kernel (measured when `Entries` came,
 /// 2026-12-02).
 pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
-    let first = trace_with(g, spec, Collection::Entries, true, true);
+    let first = trace_with(g, spec, Collection::Entries, true);
     if g.image_terms().is_none() || spec.path == Path::Generic {
         return first;
     }
@@ -341,13 +337,6 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
     };
     // without images nothing singles out e3: the world frame is a candidate too
     let isotropic = g.image_terms().is_some_and(|t| t.is_empty());
-    // a product of 3-vector blocks in the canonical frame: with the frame's rotation
-    // or applied in the world ([`World`]), whichever is cheaper
-    let worlds: &[bool] = if spec.product && !kept(&spec.blocks).1 {
-        &[true, false]
-    } else {
-        &[true]
-    };
     let mut best = first;
     for canonical in [true, false] {
         if !canonical && !isotropic {
@@ -358,30 +347,19 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
             Collection::EntriesOnSphere,
             Collection::Atoms,
         ] {
-            for &world in worlds {
-                if canonical && collect == Collection::Entries && world {
-                    continue; // `first`
-                }
-                if !(world || (canonical && collect == Collection::Entries)) {
-                    continue; // the rotation only with whole entries (it wins for FT)
-                }
-                let other = trace_with(g, spec, collect, canonical, world);
-                if cost(&other) < cost(&best) {
-                    best = other;
-                }
+            if canonical && collect == Collection::Entries {
+                continue; // `first`
+            }
+            let other = trace_with(g, spec, collect, canonical);
+            if cost(&other) < cost(&best) {
+                best = other;
             }
         }
     }
     best
 }
 
-fn trace_with<G: Green>(
-    g: &G,
-    spec: &KernelSpec,
-    collect: Collection,
-    canonical: bool,
-    world: bool,
-) -> Traced {
+fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: Collection, canonical: bool) -> Traced {
     let t = Trace::begin();
     let mut args = Vec::new();
     let mut point = |t: &Trace, name: &str, doc: &str| -> [Ex; 3] {
@@ -464,18 +442,9 @@ fn trace_with<G: Green>(
         && !spec.divergence
         && g.axisymmetric())
     .then(|| Frame::of(&xa, &xb));
-    // A product of 3-vector blocks is applied in the world ([`World`]): its trace
-    // takes `rho` as a symbol (the last input), and the entries, once traced, as
-    // functions of `rho^2` ([`Graph::even_in`]): no square root, no rotation.
-    let world = (world && frame.is_some() && spec.product && !kept(&spec.blocks).1).then(|| {
-        let (f, _, _) = frame.as_ref().expect("frame");
-        let symbol = t.input("rho");
-        (World::of([xa[0] - xb[0], xa[1] - xb[1]], f.rho2), symbol)
-    });
-    let (fxa, fxb) = match (&frame, &world) {
-        (Some((_, fa, fb)), Some((_, symbol))) => ([*symbol, fa[1], fa[2]], *fb),
-        (Some((_, fa, fb)), None) => (*fa, *fb),
-        (None, _) => (xa, xb),
+    let (fxa, fxb) = match &frame {
+        Some((_, fa, fb)) => (*fa, *fb),
+        None => (xa, xb),
     };
     let frame = frame.map(|(f, _, _)| f);
     let mut outputs = Vec::new();
@@ -555,15 +524,8 @@ fn trace_with<G: Green>(
     }
     // From the frame to the world: the products rotate the moments in and the
     // responses out; the block kernels rotate the blocks.
-    let to_world = |blocks: Vec<BlockOut>, near: bool| -> Vec<BlockOut> {
+    let to_world = |blocks: Vec<BlockOut>| -> Vec<BlockOut> {
         match (&vectors, &frame) {
-            (Some((va, vb)), Some(f)) if world.is_some() => {
-                let (w, symbol) = world.as_ref().expect("world");
-                // near: by parity; the far field has the real rho
-                let inv = Ex::select_gt(f.rho2, Ex::cst(0.0), f.rho, Ex::cst(1.0)).recip();
-                let over_rho = |x: Ex| if near { x / *symbol } else { x * inv };
-                world_outputs(&blocks, va, vb, w, &over_rho)
-            }
             (Some((va, vb)), _) => product_outputs(&blocks, va, vb, frame.as_ref()),
             (None, Some(f)) => blocks
                 .into_iter()
@@ -582,9 +544,9 @@ fn trace_with<G: Green>(
         }
     };
     if !spec.divergence {
-        outputs = to_world(outputs, true);
+        outputs = to_world(outputs);
         if let Some(f) = &mut far {
-            f.outputs = to_world(std::mem::take(&mut f.outputs), false);
+            f.outputs = to_world(std::mem::take(&mut f.outputs));
         }
     }
     let swap = match (
@@ -608,18 +570,6 @@ fn trace_with<G: Green>(
         far,
         swap,
     };
-    let traced = match world {
-        None => traced,
-        Some((_, symbol)) => {
-            // the entries as functions of rho^2; where one is not, the frame's rotation
-            let rho2 = frame.as_ref().expect("frame").rho2;
-            let (graph, map) = traced.graph.even_in(symbol.0, rho2.0);
-            match traced.remapped(graph, &map) {
-                Some(t) => t,
-                None => return trace_with(g, spec, collect, canonical, false),
-            }
-        }
-    };
     // pair kernels only: a self block's reciprocal entries (`U` from `S` and `E` from
     // `F`) are separate nodes that round alike, so the self blocks stay symmetric to the
     // bit, and there are only `N` of them
@@ -631,34 +581,7 @@ fn trace_with<G: Green>(
     ids.extend(traced.far.iter().flat_map(|f| f.condition_ids()));
     ids.extend(traced.swap.iter().flat_map(|w| [w.cond.0, w.cond.1]));
     let (graph, map) = traced.graph.squares_shared(&traced.graph.live(&ids));
-    let map: Vec<Option<Id>> = map.into_iter().map(Some).collect();
-    traced.remapped(graph, &map).expect("every node kept")
-}
-
-/// The fused product of a [`World`] from the frame blocks (as [`product_outputs`]).
-fn world_outputs(
-    blocks: &[BlockOut],
-    va: &[Ex],
-    vb: &[Ex],
-    w: &World,
-    over_rho: &dyn Fn(Ex) -> Ex,
-) -> Vec<BlockOut> {
-    let which: Vec<(Response, Moment)> = blocks
-        .iter()
-        .map(|b| b.block.expect("block outputs"))
-        .collect();
-    let values: Vec<Vec<Ex>> = blocks
-        .iter()
-        .map(|b| b.ids.iter().map(|&id| Ex(id)).collect())
-        .collect();
-    let (a, b) = w.product(&which, &values, va, vb, over_rho);
-    let out = |name: &str, v: Vec<Ex>| BlockOut {
-        name: name.into(),
-        block: None,
-        shape: vec![v.len()],
-        ids: v.into_iter().map(|e| e.0).collect(),
-    };
-    vec![out("a", a), out("b", b)]
+    traced.remapped(graph, &map)
 }
 
 /// The exchange of particles `a` and `b` ([`Swap`]) for a pair kernel with arguments

@@ -453,7 +453,7 @@ pub use free_f_pair_product_lanes as free_f_pair_product_lanes_ordered;
 /// - `va`: moments of particle a: force, then torque, then stresslet (as kept)
 /// - `vb`: moments of particle b, same layout
 ///
-/// Operation count (after dead-code elimination): 74 flops (26 add/sub, 43 mul, 3 div, 1 sqrt, 0 powi, 0 neg, 1 select).
+/// Operation count (after dead-code elimination): 75 flops (24 add/sub, 48 mul, 2 div, 1 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn free_f_pair_equal_product(
     xa: [f64; 3],
@@ -466,22 +466,22 @@ pub fn free_f_pair_equal_product(
     let t0: f64 = 0.039788735772973836 / eta;
     let t1: f64 = xa[0] - xb[0];
     let t2: f64 = xa[1] - xb[1];
-    let t3: f64 = t1 * t1;
-    let t4: f64 = t2 * t2;
-    let t5: f64 = t3 + t4;
-    let t6: f64 = if t5 > 0.0 { t5 } else { 1.0 };
-    let t7: f64 = 1.0 / t6;
-    let t8: f64 = xa[2] - xb[2];
-    let t9: f64 = a * a;
-    let t10: f64 = t9 * 0.16666666666666666;
-    let t11: f64 = t8 * t8;
-    let t12: f64 = t5 + t11;
-    let t13: f64 = t12.sqrt();
-    let t14: f64 = 1.0 / t13;
-    let t15: f64 = t8 * t14;
-    let t16: f64 = t14 * t14;
-    let t17: f64 = t10 * t16;
-    let t18: f64 = t5 * t16;
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = a * a;
+    let t5: f64 = t4 * 0.16666666666666666;
+    let t6: f64 = t1 * t1;
+    let t7: f64 = t2 * t2;
+    let t8: f64 = t6 + t7;
+    let t9: f64 = t3 * t3;
+    let t10: f64 = t8 + t9;
+    let t11: f64 = t10.sqrt();
+    let t12: f64 = 1.0 / t11;
+    let t13: f64 = t1 * t12;
+    let t14: f64 = t2 * t12;
+    let t15: f64 = t3 * t12;
+    let t16: f64 = t12 * t12;
+    let t17: f64 = t5 * t16;
+    let t18: f64 = t13 * t13;
     let t19: f64 = t17 * (-6.0);
     let t20: f64 = 1.0 + t19;
     let t21: f64 = t19 + t20;
@@ -490,55 +490,56 @@ pub fn free_f_pair_equal_product(
     let t24: f64 = 1.0 + t23;
     let t25: f64 = t23 + t24;
     let t26: f64 = t22 + t25;
-    let t27: f64 = t0 * t14;
+    let t27: f64 = t0 * t12;
     let t28: f64 = t26 * t27;
-    let t29: f64 = t15 * t21;
-    let t30: f64 = t14 * t29;
+    let t29: f64 = t14 * t21;
+    let t30: f64 = t13 * t29;
     let t31: f64 = t27 * t30;
-    let t32: f64 = t25 * t27;
-    let t33: f64 = t17 * 6.0;
-    let t34: f64 = t33 + (-1.0);
-    let t35: f64 = t33 + t34;
-    let t36: f64 = t18 * t35;
-    let t37: f64 = t17 * (-4.0);
-    let t38: f64 = 2.0 + t37;
-    let t39: f64 = t37 + t38;
-    let t40: f64 = t36 + t39;
-    let t41: f64 = t27 * t40;
-    let t42: f64 = vb[0] * t1;
-    let t43: f64 = vb[1] * t2;
-    let t44: f64 = t42 + t43;
-    let t45: f64 = t28 - t32;
-    let t46: f64 = t7 * t45;
-    let t47: f64 = vb[0] * t32;
-    let t48: f64 = vb[1] * t32;
-    let t49: f64 = t44 * t46;
-    let t50: f64 = vb[2] * t31;
-    let t51: f64 = t49 + t50;
-    let t52: f64 = t31 * t44;
-    let t53: f64 = vb[2] * t41;
-    let t54: f64 = t52 + t53;
-    let t55: f64 = va[0] * t1;
-    let t56: f64 = va[1] * t2;
-    let t57: f64 = t55 + t56;
-    let t58: f64 = va[0] * t32;
-    let t59: f64 = va[1] * t32;
-    let t60: f64 = t46 * t57;
-    let t61: f64 = va[2] * t31;
-    let t62: f64 = t60 + t61;
-    let t63: f64 = t31 * t57;
-    let t64: f64 = va[2] * t41;
-    let t65: f64 = t63 + t64;
-    let t66: f64 = t1 * t51;
-    let t67: f64 = t47 + t66;
-    let t68: f64 = t2 * t51;
-    let t69: f64 = t48 + t68;
-    let t70: f64 = t1 * t62;
-    let t71: f64 = t58 + t70;
-    let t72: f64 = t2 * t62;
-    let t73: f64 = t59 + t72;
+    let t32: f64 = t15 * t21;
+    let t33: f64 = t13 * t32;
+    let t34: f64 = t27 * t33;
+    let t35: f64 = t14 * t14;
+    let t36: f64 = t21 * t35;
+    let t37: f64 = t25 + t36;
+    let t38: f64 = t27 * t37;
+    let t39: f64 = t14 * t32;
+    let t40: f64 = t27 * t39;
+    let t41: f64 = t15 * t15;
+    let t42: f64 = t21 * t41;
+    let t43: f64 = t25 + t42;
+    let t44: f64 = t27 * t43;
+    let t45: f64 = vb[0] * t28;
+    let t46: f64 = va[0] * t28;
+    let t47: f64 = vb[1] * t31;
+    let t48: f64 = t45 + t47;
+    let t49: f64 = va[0] * t31;
+    let t50: f64 = vb[2] * t34;
+    let t51: f64 = t48 + t50;
+    let t52: f64 = va[0] * t34;
+    let t53: f64 = vb[0] * t31;
+    let t54: f64 = va[1] * t31;
+    let t55: f64 = t46 + t54;
+    let t56: f64 = vb[1] * t38;
+    let t57: f64 = t53 + t56;
+    let t58: f64 = va[1] * t38;
+    let t59: f64 = t49 + t58;
+    let t60: f64 = vb[2] * t40;
+    let t61: f64 = t57 + t60;
+    let t62: f64 = va[1] * t40;
+    let t63: f64 = t52 + t62;
+    let t64: f64 = vb[0] * t34;
+    let t65: f64 = va[2] * t34;
+    let t66: f64 = t55 + t65;
+    let t67: f64 = vb[1] * t40;
+    let t68: f64 = t64 + t67;
+    let t69: f64 = va[2] * t40;
+    let t70: f64 = t59 + t69;
+    let t71: f64 = vb[2] * t44;
+    let t72: f64 = t68 + t71;
+    let t73: f64 = va[2] * t44;
+    let t74: f64 = t63 + t73;
     Product::<3> {
-        a: [t67, t69, t54],
-        b: [t71, t73, t65],
+        a: [t51, t61, t72],
+        b: [t66, t70, t74],
     }
 }
