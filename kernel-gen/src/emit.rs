@@ -708,24 +708,25 @@ pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
                 (g, first.iter().map(|&i| second[i as usize]).collect())
             }
         };
-        let count = lane_count(t, &g, &map);
-        (g, map, count)
+        let parts = LaneParts::of(t, &g, &map);
+        (g, map, parts)
     });
-    let (lane_graph, map, count) = forms.into_iter().min_by_key(|f| f.2).expect("three forms");
+    let (lane_graph, map, parts) = forms
+        .into_iter()
+        .min_by_key(|f| f.2.count)
+        .expect("three forms");
     let g = &lane_graph;
-    let m = |ids: Vec<Id>| -> Vec<Id> { ids.into_iter().map(|i| map[i as usize]).collect() };
-    let outputs = m(t.output_ids());
-    let far_ids = m(t.far_ids());
-    let swap_cond: Vec<Id> = m(t.swap.iter().flat_map(|w| [w.cond.0, w.cond.1]).collect());
-    let far_cond: Vec<Id> = m(t.far.iter().flat_map(|f| f.condition_ids()).collect());
-    let live_near = g.live(&outputs.iter().chain(&far_cond).copied().collect::<Vec<_>>());
-    let live_far = g.live(&far_ids.iter().chain(&far_cond).copied().collect::<Vec<_>>());
-    let live_swap = g.live(&swap_cond);
-    let live_cond = g.live(&far_cond);
-    let live: Vec<bool> = (0..g.len())
-        .map(|i| live_near[i] || live_far[i] || live_swap[i])
-        .collect();
-    let fusion = Fusion::of(g, &live);
+    let LaneParts {
+        outputs,
+        far_ids,
+        swap_cond,
+        live_near,
+        live_far,
+        live_swap,
+        live_cond,
+        fusion,
+        count,
+    } = parts;
     let n_out = outputs.len();
 
     let mut next = 0usize;
@@ -869,29 +870,56 @@ pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
     (f, count)
 }
 
-/// The operation count of a lane kernel traced as `t`, from its lane graph `g` (`map`
-/// takes `t.graph`'s ids to `g`'s): the near branch with its far-field condition, a
-/// fused multiply-add counted once, a group of `k` reciprocals as one division and
-/// `3 (k - 1)` multiplications.
-fn lane_count(t: &crate::scene::Traced, g: &Graph, map: &[Id]) -> usize {
-    let m = |ids: Vec<Id>| -> Vec<Id> { ids.into_iter().map(|i| map[i as usize]).collect() };
-    let outputs = m(t.output_ids());
-    let far_ids = m(t.far_ids());
-    let swap_cond: Vec<Id> = m(t.swap.iter().flat_map(|w| [w.cond.0, w.cond.1]).collect());
-    let far_cond: Vec<Id> = m(t.far.iter().flat_map(|f| f.condition_ids()).collect());
-    let near_all: Vec<Id> = outputs.iter().chain(&far_cond).copied().collect();
-    let live_near = g.live(&near_all);
-    let live_far = g.live(&far_ids.iter().chain(&far_cond).copied().collect::<Vec<_>>());
-    let live_swap = g.live(&swap_cond);
-    let live: Vec<bool> = (0..g.len())
-        .map(|i| live_near[i] || live_far[i] || live_swap[i])
-        .collect();
-    let fusion = Fusion::of(g, &live);
-    let batched: usize = reciprocal_groups(g, &live_near, &vec![None; g.len()])
-        .iter()
-        .map(|m| 2 * (m.len() - 1))
-        .sum();
-    g.op_count(&near_all).total() - fusion.count(&live_near) + batched
+/// A lane kernel traced as `t`, on its lane graph `g` (`map` takes `t.graph`'s ids to
+/// `g`'s): its outputs and conditions, what each branch needs, the fused products, and
+/// its operation count (the near branch with its far-field condition, a fused
+/// multiply-add counted once, a group of `k` reciprocals as one division and
+/// `3 (k - 1)` multiplications).
+struct LaneParts {
+    outputs: Vec<Id>,
+    far_ids: Vec<Id>,
+    swap_cond: Vec<Id>,
+    live_near: Vec<bool>,
+    live_far: Vec<bool>,
+    live_swap: Vec<bool>,
+    live_cond: Vec<bool>,
+    fusion: Fusion,
+    count: usize,
+}
+
+impl LaneParts {
+    fn of(t: &crate::scene::Traced, g: &Graph, map: &[Id]) -> LaneParts {
+        let m = |ids: Vec<Id>| -> Vec<Id> { ids.into_iter().map(|i| map[i as usize]).collect() };
+        let outputs = m(t.output_ids());
+        let far_ids = m(t.far_ids());
+        let swap_cond: Vec<Id> = m(t.swap.iter().flat_map(|w| [w.cond.0, w.cond.1]).collect());
+        let far_cond: Vec<Id> = m(t.far.iter().flat_map(|f| f.condition_ids()).collect());
+        let near_all: Vec<Id> = outputs.iter().chain(&far_cond).copied().collect();
+        let live_near = g.live(&near_all);
+        let live_far = g.live(&far_ids.iter().chain(&far_cond).copied().collect::<Vec<_>>());
+        let live_swap = g.live(&swap_cond);
+        let live_cond = g.live(&far_cond);
+        let live: Vec<bool> = (0..g.len())
+            .map(|i| live_near[i] || live_far[i] || live_swap[i])
+            .collect();
+        let fusion = Fusion::of(g, &live);
+        let batched: usize = reciprocal_groups(g, &live_near, &vec![None; g.len()])
+            .iter()
+            .map(|m| 2 * (m.len() - 1))
+            .sum();
+        let count = g.op_count(&near_all).total() - fusion.count(&live_near) + batched;
+        LaneParts {
+            outputs,
+            far_ids,
+            swap_cond,
+            live_near,
+            live_far,
+            live_swap,
+            live_cond,
+            fusion,
+            count,
+        }
+    }
 }
 
 /// A small expression of the graph inlined as one Rust expression (for the handful of
