@@ -356,13 +356,18 @@ pub fn function(k: &KernelFn) -> TokenStream {
 pub struct Fusion {
     /// `fused_into[n] = Some(m)`: node `n` (`+`/`-`) takes the product `m` fused.
     pub fused_into: Vec<Option<Id>>,
-    /// `fused[m]`: product `m` is emitted only inside its users.
+    /// `fused[m]`: product `m` is emitted only inside its users (or a sum, only inside
+    /// its negation).
     pub fused: Vec<bool>,
+    /// `negated[n]`: node `n` is `-(x y + c)` of a sum used only there with its product
+    /// fused, emitted as one `neg_mul_sub` (the sum is `fused`).
+    pub negated: Vec<bool>,
 }
 
 impl Fusion {
-    /// The fusions among the nodes `live`.
-    pub fn of(g: &Graph, live: &[bool]) -> Fusion {
+    /// The fusions among the nodes `live`, of which `named` (outputs, conditions) are
+    /// used by name.
+    pub fn of(g: &Graph, live: &[bool], named: &[Id]) -> Fusion {
         // uses of each node, and uses as an operand of a sum
         let (mut uses, mut in_sums) = (vec![0u32; g.len()], vec![0u32; g.len()]);
         for id in 0..g.len() {
@@ -375,6 +380,9 @@ impl Fusion {
                 uses[a as usize] += 1;
                 in_sums[a as usize] += u32::from(sum);
             }
+        }
+        for &n in named {
+            uses[n as usize] += 1;
         }
         let candidate =
             |x: Id| matches!(g.op(x), Op::Mul(..)) && uses[x as usize] == in_sums[x as usize];
@@ -419,7 +427,25 @@ impl Fusion {
                 }
             }
         }
-        Fusion { fused_into, fused }
+        // a negated multiply-add, `-(x y + c)`, is one instruction too
+        let mut negated = vec![false; g.len()];
+        for id in 0..g.len() {
+            if !live[id] {
+                continue;
+            }
+            if let Op::Neg(s) = g.op(id as Id) {
+                let s = s as usize;
+                if matches!(g.op(s as Id), Op::Add(..)) && fused_into[s].is_some() && uses[s] == 1 {
+                    negated[id] = true;
+                    fused[s] = true;
+                }
+            }
+        }
+        Fusion {
+            fused_into,
+            fused,
+            negated,
+        }
     }
 
     /// How many products are fused among the nodes `want` (each saves one operation).
@@ -552,6 +578,14 @@ impl LaneEmitter<'_> {
         let op = g.op(id);
         // operands first (a fused product's operands for its sum)
         let mut operands = op.operands();
+        if self.fusion.negated[i] {
+            // the negated sum's operands instead of the sum
+            let s = operands[0];
+            operands = g.op(s).operands();
+            if let Some(Op::Mul(x, y)) = self.fusion.fused_into[s as usize].map(|m| g.op(m)) {
+                operands.extend([x, y]);
+            }
+        }
         if let Some(m) = self.fusion.fused_into[i] {
             if let Op::Mul(x, y) = g.op(m) {
                 operands.extend([x, y]);
@@ -650,6 +684,14 @@ impl LaneEmitter<'_> {
             Op::Div(a, b) => {
                 let (a, b) = (self.v(a), self.v(b));
                 quote!(#a / #b)
+            }
+            Op::Neg(s) if self.fusion.negated[i] => {
+                let (Op::Add(a, b), Some(m)) = (g.op(s), self.fusion.fused_into[s as usize]) else {
+                    unreachable!("negated nodes are sums with a fused product")
+                };
+                let (x, y) = factors(self, m);
+                let other = if m == a { self.v(b) } else { self.v(a) };
+                quote!(#x.neg_mul_sub(#y, #other))
             }
             Op::Neg(a) => {
                 let a = self.v(a);
@@ -902,7 +944,12 @@ impl LaneParts {
         let live: Vec<bool> = (0..g.len())
             .map(|i| live_near[i] || live_far[i] || live_swap[i])
             .collect();
-        let fusion = Fusion::of(g, &live);
+        let named: Vec<Id> = [&outputs, &far_ids, &swap_cond, &far_cond]
+            .into_iter()
+            .flatten()
+            .copied()
+            .collect();
+        let fusion = Fusion::of(g, &live, &named);
         let batched: usize = reciprocal_groups(g, &live_near, &vec![None; g.len()])
             .iter()
             .map(|m| 2 * (m.len() - 1))
@@ -1011,5 +1058,27 @@ mod tests {
             let back: f64 = s.parse().unwrap();
             assert_eq!(back, c, "{s}");
         }
+    }
+
+    #[test]
+    fn a_negated_multiply_add_is_one_operation() {
+        use crate::expr::Trace;
+        let t = Trace::begin();
+        let (x, y, z) = (t.input("x"), t.input("y"), t.input("z"));
+        let s = x * y + z;
+        let n = -s;
+        let g = t.finish();
+        let f = Fusion::of(&g, &g.live(&[n.0]), &[n.0]);
+        assert!(f.negated[n.0 as usize], "-(x y + z) is one neg_mul_sub");
+        assert!(f.fused[s.0 as usize], "and the sum is not emitted");
+        assert_eq!(
+            f.count(&g.live(&[n.0])),
+            2,
+            "of three operations, two saved"
+        );
+        // a sum that is an output itself is kept, and its negation with it
+        let both = [n.0, s.0];
+        let f = Fusion::of(&g, &g.live(&both), &both);
+        assert!(!f.negated[n.0 as usize] && !f.fused[s.0 as usize]);
     }
 }

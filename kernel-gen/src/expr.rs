@@ -610,8 +610,11 @@ impl Graph {
         if is_power_of_two(c) {
             return (x, c);
         }
+        // a negative multiple carries its sign: `(-c) x` rounds as `c x` does, so
+        // `-60 x` and `60 x` are one node
+        let (c, s) = if c < 0.0 { (-c, -1.0) } else { (c, 1.0) };
         let c = self.constant(c);
-        (self.mul(c, x), 1.0)
+        (self.mul(c, x), s)
     }
 
     /// `(s_a a) / (s_b b)` as `(node, factor)`.
@@ -1060,12 +1063,23 @@ mod tests {
         let root = (Ex::cst(4.0) * (x * x + z * z)).sqrt() * Ex::cst(0.25);
         let guarded = Ex::select_gt(two * z, Ex::cst(1.0), Ex::cst(3.0) * x, -y) / Ex::cst(8.0);
         let mixed = two * x + Ex::cst(3.0) * (y * z) + Ex::cst(0.75);
+        // a negative multiple carries its sign: 60 z and -60 z are one node
+        let (up, down) = (Ex::cst(60.0) * z + x, y - Ex::cst(-60.0) * z);
         let g = t.finish();
-        let outs = [p.0, q.0, sum.0, root.0, guarded.0, mixed.0];
+        let outs = [p.0, q.0, sum.0, root.0, guarded.0, mixed.0, up.0, down.0];
         for through_sums in [false, true] {
             let (c, map) = g.powers_of_two_carried(through_sums);
             let new: Vec<Id> = outs.iter().map(|&o| map[o as usize]).collect();
             assert_eq!(new[0], new[1], "one product");
+            let sixty = c.find(Op::Const(60.0f64.to_bits())).expect("60 kept");
+            let z_new = map[z.0 as usize];
+            assert!(c
+                .find(Op::Mul(sixty, z_new))
+                .or(c.find(Op::Mul(z_new, sixty)))
+                .is_some());
+            let live = c.live(&new);
+            let minus = c.find(Op::Const((-60.0f64).to_bits()));
+            assert!(minus.is_none_or(|m| !live[m as usize]), "no product by -60");
             assert!(
                 c.op_count(&new).total() < g.op_count(&outs).total(),
                 "{} against {}",

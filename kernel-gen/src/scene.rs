@@ -7,7 +7,7 @@
 //! are dimensional: the Green's functions in units of `1/(8 pi eta)` are scaled by
 //! `1/(8 pi eta)` as the last step.
 
-use crate::derivatives::{Collection, GenericJets, Part, Structured};
+use crate::derivatives::{Collection, Differences, Form, GenericJets, Part, Structured};
 use crate::expr::{Ex, Graph, Id, Trace};
 use crate::frame::Frame;
 use crate::green::Green;
@@ -324,7 +324,7 @@ fn shape(r: Response, m: Moment, b: Basis) -> Vec<usize> {
 /// collects and cost more in every shipped kernel (measured when `Entries` came,
 /// 2026-12-02).
 pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
-    let first = trace_with(g, spec, Collection::Entries, true);
+    let first = trace_with(g, spec, Form::collecting(Collection::Entries), true);
     if g.image_terms().is_none() || spec.path == Path::Generic {
         return first;
     }
@@ -337,7 +337,7 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
     };
     // without images nothing singles out e3: the world frame is a candidate too
     let isotropic = g.image_terms().is_some_and(|t| t.is_empty());
-    let mut best = first;
+    let mut best = (first, Form::collecting(Collection::Entries), true);
     for canonical in [true, false] {
         if !canonical && !isotropic {
             continue;
@@ -350,16 +350,32 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
             if canonical && collect == Collection::Entries {
                 continue; // `first`
             }
-            let other = trace_with(g, spec, collect, canonical);
-            if cost(&other) < cost(&best) {
-                best = other;
+            let form = Form::collecting(collect);
+            let other = trace_with(g, spec, form, canonical);
+            if cost(&other) < cost(&best.0) {
+                best = (other, form, canonical);
             }
         }
     }
-    best
+    // near a cancelling image, the winner again with the exact difference for the
+    // leading terms only
+    let (best, form, canonical) = best;
+    if g.cancelling_image().is_none() || spec.interaction != Interaction::Pair {
+        return best;
+    }
+    let leading = Form {
+        differences: Differences::Leading,
+        ..form
+    };
+    let other = trace_with(g, spec, leading, canonical);
+    if cost(&other) < cost(&best) {
+        other
+    } else {
+        best
+    }
 }
 
-fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: Collection, canonical: bool) -> Traced {
+fn trace_with<G: Green>(g: &G, spec: &KernelSpec, form: Form, canonical: bool) -> Traced {
     let t = Trace::begin();
     let mut args = Vec::new();
     let mut point = |t: &Trace, name: &str, doc: &str| -> [Ex; 3] {
@@ -450,7 +466,7 @@ fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: Collection, canonical
     let mut outputs = Vec::new();
     let mut far = None;
     if spec.divergence {
-        outputs = divergence_outputs(g, spec, &xa, &xb, &aa, &ab, &params, order, &scale, collect);
+        outputs = divergence_outputs(g, spec, &xa, &xb, &aa, &ab, &params, order, &scale, form);
     } else {
         let values = block_values(
             g,
@@ -461,7 +477,7 @@ fn trace_with<G: Green>(g: &G, spec: &KernelSpec, collect: Collection, canonical
             &ab,
             &params,
             order,
-            collect,
+            form,
             Some(&scale),
         );
         for (&(r, m), vals) in spec.blocks.iter().zip(values) {
@@ -707,7 +723,7 @@ pub fn evaluate_direct<G: Green, S: Scalar>(g: &G, spec: &KernelSpec, inputs: &[
         &ab,
         &params,
         order,
-        Collection::Atoms,
+        Form::collecting(Collection::Atoms),
         Some(&scale),
     );
     let blocks = values;
@@ -813,14 +829,14 @@ impl<S: Scalar> Source<S> {
         xb: &[S; 3],
         p: &[S],
         order: usize,
-        collect: Collection,
+        form: Form,
         scale: Option<&S>,
     ) -> Self {
         let pair = spec.interaction == Interaction::Pair;
         if g.image_terms().is_some() && spec.path != Path::Generic {
             let explicit = spec.path != Path::StructuredNoExplicitHeight;
             let s = Structured::new(g, xa, xb, p, order, pair, explicit);
-            let s = s.collecting(collect);
+            let s = s.in_form(form);
             let s = match scale {
                 Some(m) => s.scaled(m.clone()),
                 None => s,
@@ -857,10 +873,10 @@ fn block_values<G: Green, S: Scalar>(
     ab: &S,
     params: &[S],
     order: usize,
-    collect: Collection,
+    form: Form,
     scale: Option<&S>,
 ) -> Vec<Vec<S>> {
-    let mut src = Source::new(g, spec, xa, xb, params, order, collect, scale);
+    let mut src = Source::new(g, spec, xa, xb, params, order, form, scale);
     // the structured derivatives carry the scale themselves (`Structured::scaled`)
     let outside = match (&src, scale) {
         (Source::Generic(_), Some(s)) => Some(s),
@@ -919,7 +935,7 @@ fn divergence_outputs<G: Green>(
     params: &[Ex],
     order: usize,
     scale: &Ex,
-    collect: Collection,
+    form: Form,
 ) -> Vec<BlockOut> {
     let pair = spec.interaction == Interaction::Pair;
     let l = Layout::get(if pair { 6 } else { 3 }, 1);
@@ -931,7 +947,7 @@ fn divergence_outputs<G: Green>(
     };
     let c = |e: &Ex| Jet::constant(*e);
     let jp: Vec<Jet<Ex>> = params.iter().map(c).collect();
-    let values = block_values(g, spec, &ja, &jb, &c(aa), &c(ab), &jp, order, collect, None);
+    let values = block_values(g, spec, &ja, &jb, &c(aa), &c(ab), &jp, order, form, None);
     let block = |r: Response, m: Moment| -> Option<&Vec<Jet<Ex>>> {
         spec.blocks
             .iter()

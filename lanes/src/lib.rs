@@ -143,6 +143,9 @@ pub trait Lane:
     fn mul_sub(self, b: Self, c: Self) -> Self;
     /// `c - self * b`, fused like [`Lane::mul_add`].
     fn neg_mul_add(self, b: Self, c: Self) -> Self;
+    /// `-(self * b) - c`, fused like [`Lane::mul_add`]: `-(self.mul_add(b, c))` to the
+    /// bit (rounding is symmetric), in one instruction.
+    fn neg_mul_sub(self, b: Self, c: Self) -> Self;
     /// Lane-wise `self > o` (false where either is NaN).
     fn gt(self, o: Self) -> Self::Mask;
     /// Lane-wise `m1 && m2`.
@@ -239,6 +242,10 @@ macro_rules! scalar_lane {
             #[inline(always)]
             fn neg_mul_add(self, b: Self, c: Self) -> Self {
                 c - self * b
+            }
+            #[inline(always)]
+            fn neg_mul_sub(self, b: Self, c: Self) -> Self {
+                -(self * b) - c
             }
             #[inline(always)]
             fn gt(self, o: Self) -> bool {
@@ -421,6 +428,62 @@ mod tests {
                     (g - e).abs() <= 4.0 * f64::EPSILON * e.abs(),
                     "{isa:?} {k}: {g} {e}"
                 );
+            }
+        }
+    }
+
+    /// The four fused forms on triples `(a, b, c)`: `mul_add`, `mul_sub`, `neg_mul_add`,
+    /// `neg_mul_sub`, one after another per triple.
+    struct Fused(Vec<[f64; 3]>);
+    impl WithLanes for Fused {
+        type Elem = f64;
+        type Output = Vec<[f64; 4]>;
+        #[inline(always)]
+        fn run<L: Lane<Elem = f64>>(self) -> Vec<[f64; 4]> {
+            let mut out = Vec::with_capacity(self.0.len());
+            for t in self.0.chunks(L::WIDTH) {
+                let col = |k: usize| L::load(&t.iter().map(|x| x[k]).collect::<Vec<f64>>());
+                let (a, b, c) = (col(0), col(1), col(2));
+                let mut r = [[0.0; MAX_WIDTH]; 4];
+                a.mul_add(b, c).store(&mut r[0]);
+                a.mul_sub(b, c).store(&mut r[1]);
+                a.neg_mul_add(b, c).store(&mut r[2]);
+                a.neg_mul_sub(b, c).store(&mut r[3]);
+                out.extend((0..L::WIDTH).map(|l| [r[0][l], r[1][l], r[2][l], r[3][l]]));
+            }
+            out
+        }
+    }
+
+    #[test]
+    fn fused_forms_are_signed_multiply_adds() {
+        let t: Vec<[f64; 3]> = (0..64)
+            .map(|k| {
+                let x = k as f64;
+                [
+                    (x * 0.731).sin() * 3.0,
+                    (x * 1.37).cos() + 0.1,
+                    x * 0.29 - 7.0,
+                ]
+            })
+            .collect();
+        for isa in Isa::all_available() {
+            let got = dispatch_with(isa, Fused(t.clone())).ok().unwrap();
+            for ([a, b, c], r) in t.iter().zip(&got) {
+                // the fused value (one rounding), or the fallback's two roundings
+                let fused = [a.mul_add(*b, *c), a.mul_add(*b, -c)];
+                let twice = [a * b + c, a * b - c];
+                for k in 0..2 {
+                    assert!(
+                        r[k] == fused[k] || r[k] == twice[k],
+                        "{isa:?} {k}: {}",
+                        r[k]
+                    );
+                }
+                // the negated forms: negation is exact and rounding symmetric, so they
+                // are the others negated to the bit
+                assert_eq!(r[2].to_bits(), (-r[1]).to_bits(), "{isa:?}: c - a b");
+                assert_eq!(r[3].to_bits(), (-r[0]).to_bits(), "{isa:?}: -(a b) - c");
             }
         }
     }

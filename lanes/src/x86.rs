@@ -189,6 +189,11 @@ impl Lane for F64x4 {
         F64x4(unsafe { _mm256_fnmadd_pd(self.0, b.0, c.0) })
     }
     #[inline(always)]
+    fn neg_mul_sub(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F64x4(unsafe { _mm256_fnmsub_pd(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
     fn gt(self, o: Self) -> __m256d {
         // SAFETY: as `splat`.
         unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(self.0, o.0) }
@@ -317,6 +322,11 @@ impl Lane for F64x8 {
         F64x8(unsafe { _mm512_fnmadd_pd(self.0, b.0, c.0) })
     }
     #[inline(always)]
+    fn neg_mul_sub(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F64x8(unsafe { _mm512_fnmsub_pd(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
     fn gt(self, o: Self) -> __mmask8 {
         // SAFETY: as `splat`.
         unsafe { _mm512_cmp_pd_mask::<_CMP_GT_OQ>(self.0, o.0) }
@@ -413,6 +423,11 @@ impl Lane for F32x8 {
     fn neg_mul_add(self, b: Self, c: Self) -> Self {
         // SAFETY: as `mul_add`.
         F32x8(unsafe { _mm256_fnmadd_ps(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn neg_mul_sub(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F32x8(unsafe { _mm256_fnmsub_ps(self.0, b.0, c.0) })
     }
     #[inline(always)]
     fn gt(self, o: Self) -> __m256 {
@@ -537,6 +552,11 @@ impl Lane for F32x16 {
     fn neg_mul_add(self, b: Self, c: Self) -> Self {
         // SAFETY: as `mul_add`.
         F32x16(unsafe { _mm512_fnmadd_ps(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn neg_mul_sub(self, b: Self, c: Self) -> Self {
+        // SAFETY: as `mul_add`.
+        F32x16(unsafe { _mm512_fnmsub_ps(self.0, b.0, c.0) })
     }
     #[inline(always)]
     fn gt(self, o: Self) -> __mmask16 {

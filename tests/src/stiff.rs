@@ -129,8 +129,29 @@ impl Kind {
         matches!(self, Kind::SelfFts | Kind::SelfF | Kind::SelfFt)
     }
 
-    /// The kernel as the generator traces it for emission. The unequal-radius pair
-    /// spec serves the equal-radius kernels too (same function).
+    /// The spec the generated kernel of this kind is traced with: [`Kind::spec`], but
+    /// `pair_equal` takes one radius (its trace may choose another form than the
+    /// two-radius kernel's, so the two agree to rounding, not to the bit).
+    pub fn kernel_spec(self) -> KernelSpec {
+        KernelSpec {
+            equal_radii: self == Kind::PairEqualFts,
+            ..self.spec()
+        }
+    }
+
+    /// The inputs of [`evaluate`] (two radii for every pair) as the kernel of
+    /// [`Kind::kernel_spec`] takes them.
+    pub fn kernel_inputs(self, inputs: &[f64]) -> Vec<f64> {
+        let mut v = inputs.to_vec();
+        if self == Kind::PairEqualFts {
+            // xa, xb, aa, ab, eta, ...: drop ab
+            v.remove(7);
+        }
+        v
+    }
+
+    /// The kernel with two radii for every pair kind (the unequal-radius spec serves
+    /// `pair_equal` at equal radii, within rounding; [`Kind::kernel_spec`] is its own).
     pub fn spec(self) -> KernelSpec {
         let (interaction, moments, product) = match self {
             Kind::SelfFts => (Interaction::SelfTerm, Moments::FTS, false),

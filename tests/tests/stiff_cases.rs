@@ -121,6 +121,7 @@ fn second_branches_are_accurate_and_continuous() {
         let (got, inputs) = evaluate(kind, &conf, &p, c);
         let dd: Vec<Dd> = inputs.iter().map(|&x| Dd::new(x)).collect();
         let want: Vec<Dd> = evaluate_direct(g, &kind.reference(), &dd);
+        let inputs = kind.kernel_inputs(&inputs);
         assert_eq!(traced.takes_far(&inputs), far, "{} {}", g.name(), c.label);
         let interpreted: Vec<f64> = traced.eval(&inputs);
         for (k, (a, b)) in got.iter().zip(&interpreted).enumerate() {
@@ -153,7 +154,7 @@ fn second_branches_are_accurate_and_continuous() {
     impl Visitor for Switch {
         fn visit<G: Green>(&mut self, g: &G) {
             for kind in KINDS {
-                let traced = trace(g, &kind.spec());
+                let traced = trace(g, &kind.kernel_spec());
                 if traced.far.is_none() {
                     continue;
                 }

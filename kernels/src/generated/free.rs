@@ -622,7 +622,7 @@ pub fn free_pair(xa: [f64; 3], xb: [f64; 3], aa: f64, ab: f64, eta: f64) -> Gran
 /// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).
 /// Strain and stresslet in the 5-component orthonormal basis (kernels::STRAIN_BASIS).
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_pair`'s fields. Operation count with fused multiply-adds: 373 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_pair`'s fields. Operation count with fused multiply-adds: 364 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_pair_lanes<L: lanes::Lane>(
@@ -652,8 +652,8 @@ pub fn free_pair_lanes<L: lanes::Lane>(
         let t16: L = t6 * t15;
         let t17: L = t7 * t15;
         let t18: L = t12 * t12;
-        let t19: L = t17.mul_add(L::splat(-6.0), L::splat(1.0));
-        let t20: L = t16.mul_add(L::splat(-6.0), t19);
+        let t19: L = t17.neg_mul_add(L::splat(6.0), L::splat(1.0));
+        let t20: L = t16.neg_mul_add(L::splat(6.0), t19);
         let t21: L = t17.mul_add(L::splat(2.0), L::splat(1.0));
         let t22: L = t16.mul_add(L::splat(2.0), t21);
         let t23: L = t18.mul_add(t20, t22);
@@ -682,8 +682,8 @@ pub fn free_pair_lanes<L: lanes::Lane>(
         let t46: L = -t45;
         let t47: L = t5 * L::splat(0.1);
         let t48: L = t15 * t47;
-        let t49: L = t48.mul_add(L::splat(-60.0), L::splat(6.0));
-        let t50: L = t16.mul_add(L::splat(-60.0), t49);
+        let t49: L = t48.neg_mul_add(L::splat(60.0), L::splat(6.0));
+        let t50: L = t16.neg_mul_add(L::splat(60.0), t49);
         let t51: L = t13 * t50;
         let t52: L = t48 * L::splat(12.0);
         let t53: L = t16.mul_add(L::splat(12.0), t52);
@@ -700,8 +700,8 @@ pub fn free_pair_lanes<L: lanes::Lane>(
         let t64: L = t12 * t63;
         let t65: L = t40 * t64;
         let t66: L = L::splat(0.7071067811865476) * t65;
-        let t67: L = t48.mul_add(L::splat(-30.0), L::splat(3.0));
-        let t68: L = t16.mul_add(L::splat(-30.0), t67);
+        let t67: L = t48.neg_mul_add(L::splat(30.0), L::splat(3.0));
+        let t68: L = t16.neg_mul_add(L::splat(30.0), t67);
         let t69: L = t48.mul_add(L::splat(30.0), L::splat(-3.0));
         let t70: L = t16.mul_add(L::splat(30.0), t69);
         let t71: L = t32.mul_add(t70, t53);
@@ -709,8 +709,8 @@ pub fn free_pair_lanes<L: lanes::Lane>(
         let t73: L = t12 * t72;
         let t74: L = t40 * t73;
         let t75: L = L::splat(0.7071067811865476) * t74;
-        let t76: L = t48.mul_add(L::splat(-90.0), L::splat(9.0));
-        let t77: L = t16.mul_add(L::splat(-90.0), t76);
+        let t76: L = t48.neg_mul_add(L::splat(90.0), L::splat(9.0));
+        let t77: L = t16.neg_mul_add(L::splat(90.0), t76);
         let t78: L = t12 * t77;
         let t79: L = t48.mul_add(L::splat(18.0), L::splat(-3.0));
         let t80: L = t16.mul_add(L::splat(18.0), t79);
@@ -726,286 +726,277 @@ pub fn free_pair_lanes<L: lanes::Lane>(
         let t90: L = t32.mul_add(t58, t59);
         let t91: L = t40 * t90;
         let t92: L = L::splat(0.7071067811865476) * t91;
-        let t93: L = t48 * L::splat(-12.0);
-        let t94: L = t16.mul_add(L::splat(-12.0), t93);
-        let t95: L = t18.mul_add(t68, t94);
-        let t96: L = t32.mul_add(t70, t95);
-        let t97: L = t13 * t96;
-        let t98: L = t40 * t97;
-        let t99: L = L::splat(0.7071067811865476) * t98;
-        let t100: L = t13 * t77;
-        let t101: L = t13 * t80;
-        let t102: L = t37.mul_add(t100, t101);
-        let t103: L = t40 * t102;
-        let t104: L = L::splat(0.408248290463863) * t103;
-        let t105: L = t37.mul_add(t85, t86);
-        let t106: L = t40 * t105;
-        let t107: L = L::splat(0.7071067811865476) * t106;
-        let t108: L = t37.mul_add(t51, t54);
-        let t109: L = t40 * t108;
-        let t110: L = L::splat(0.7071067811865476) * t109;
-        let t111: L = t14 * t68;
-        let t112: L = t14 * t70;
-        let t113: L = t32 * t112;
-        let t114: L = t18.mul_add(t111, t113);
-        let t115: L = t40 * t114;
-        let t116: L = L::splat(0.7071067811865476) * t115;
-        let t117: L = t48.mul_add(L::splat(54.0), L::splat(-3.0));
-        let t118: L = t16.mul_add(L::splat(54.0), t117);
-        let t119: L = t37.mul_add(t77, t118);
-        let t120: L = t14 * t119;
-        let t121: L = t40 * t120;
-        let t122: L = L::splat(0.408248290463863) * t121;
-        let t123: L = t18.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t124: L = t15 * t24;
-        let t125: L = t123 * t124;
-        let t126: L = t12 * t13;
-        let t127: L = L::splat(1.5) * t126;
-        let t128: L = t124 * t127;
-        let t129: L = t12 * t14;
-        let t130: L = L::splat(1.5) * t129;
-        let t131: L = t124 * t130;
-        let t132: L = t32.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t133: L = t124 * t132;
-        let t134: L = t13 * t14;
-        let t135: L = L::splat(1.5) * t134;
-        let t136: L = t124 * t135;
-        let t137: L = t37.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t138: L = t124 * t137;
-        let t139: L = L::splat(3.0) * t129;
-        let t140: L = t124 * t139;
-        let t141: L = L::splat(0.7071067811865476) * t140;
-        let t142: L = L::splat(-3.0) * t126;
-        let t143: L = t124 * t142;
-        let t144: L = L::splat(0.7071067811865476) * t143;
+        let t93: L = t18.mul_sub(t68, t53);
+        let t94: L = t32.mul_add(t70, t93);
+        let t95: L = t13 * t94;
+        let t96: L = t40 * t95;
+        let t97: L = L::splat(0.7071067811865476) * t96;
+        let t98: L = t13 * t77;
+        let t99: L = t13 * t80;
+        let t100: L = t37.mul_add(t98, t99);
+        let t101: L = t40 * t100;
+        let t102: L = L::splat(0.408248290463863) * t101;
+        let t103: L = t37.mul_add(t85, t86);
+        let t104: L = t40 * t103;
+        let t105: L = L::splat(0.7071067811865476) * t104;
+        let t106: L = t37.mul_add(t51, t54);
+        let t107: L = t40 * t106;
+        let t108: L = L::splat(0.7071067811865476) * t107;
+        let t109: L = t14 * t68;
+        let t110: L = t14 * t70;
+        let t111: L = t32 * t110;
+        let t112: L = t18.mul_add(t109, t111);
+        let t113: L = t40 * t112;
+        let t114: L = L::splat(0.7071067811865476) * t113;
+        let t115: L = t48.mul_add(L::splat(54.0), L::splat(-3.0));
+        let t116: L = t16.mul_add(L::splat(54.0), t115);
+        let t117: L = t37.mul_add(t77, t116);
+        let t118: L = t14 * t117;
+        let t119: L = t40 * t118;
+        let t120: L = L::splat(0.408248290463863) * t119;
+        let t121: L = t18.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t122: L = t15 * t24;
+        let t123: L = t121 * t122;
+        let t124: L = t12 * t13;
+        let t125: L = L::splat(1.5) * t124;
+        let t126: L = t122 * t125;
+        let t127: L = t12 * t14;
+        let t128: L = L::splat(1.5) * t127;
+        let t129: L = t122 * t128;
+        let t130: L = t32.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t131: L = t122 * t130;
+        let t132: L = t13 * t14;
+        let t133: L = L::splat(1.5) * t132;
+        let t134: L = t122 * t133;
+        let t135: L = t37.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t136: L = t122 * t135;
+        let t137: L = L::splat(3.0) * t127;
+        let t138: L = t122 * t137;
+        let t139: L = L::splat(0.7071067811865476) * t138;
+        let t140: L = L::splat(3.0) * t124;
+        let t141: L = t122 * t140;
+        let t142: L = L::splat(0.7071067811865476) * t141;
+        let t143: L = -t142;
+        let t144: L = t32 * L::splat(3.0);
         let t145: L = t37 * L::splat(3.0);
-        let t146: L = t32.mul_add(L::splat(-3.0), t145);
-        let t147: L = t124 * t146;
+        let t146: L = t145 - t144;
+        let t147: L = t122 * t146;
         let t148: L = L::splat(0.7071067811865476) * t147;
-        let t149: L = L::splat(-3.0) * t134;
-        let t150: L = t124 * t149;
+        let t149: L = L::splat(3.0) * t132;
+        let t150: L = t122 * t149;
         let t151: L = L::splat(0.7071067811865476) * t150;
-        let t152: L = t134 * L::splat(-9.0);
-        let t153: L = t124 * t152;
-        let t154: L = L::splat(0.408248290463863) * t153;
-        let t155: L = t37 * L::splat(-3.0);
-        let t156: L = t18.mul_add(L::splat(3.0), t155);
-        let t157: L = t124 * t156;
-        let t158: L = L::splat(0.7071067811865476) * t157;
-        let t159: L = L::splat(3.0) * t126;
-        let t160: L = t124 * t159;
-        let t161: L = L::splat(0.7071067811865476) * t160;
-        let t162: L = L::splat(-3.0) * t129;
-        let t163: L = t124 * t162;
-        let t164: L = L::splat(0.7071067811865476) * t163;
-        let t165: L = L::splat(9.0) * t129;
-        let t166: L = t124 * t165;
-        let t167: L = L::splat(0.408248290463863) * t166;
-        let t168: L = t32 * L::splat(3.0);
-        let t169: L = t18.mul_add(L::splat(-3.0), t168);
-        let t170: L = t124 * t169;
-        let t171: L = L::splat(0.7071067811865476) * t170;
-        let t172: L = L::splat(3.0) * t134;
-        let t173: L = t124 * t172;
-        let t174: L = L::splat(0.7071067811865476) * t173;
-        let t175: L = L::splat(6.0) * t126;
-        let t176: L = t124 * t175;
-        let t177: L = L::splat(0.7071067811865476) * t176;
-        let t178: L = t4 * L::splat(0.1);
-        let t179: L = t15 * t178;
-        let t180: L = t17.mul_add(L::splat(60.0), L::splat(-6.0));
-        let t181: L = t179.mul_add(L::splat(60.0), t180);
-        let t182: L = t13 * t181;
-        let t183: L = t17 * L::splat(-12.0);
-        let t184: L = L::splat(-12.0).mul_add(t179, t183);
-        let t185: L = t13 * t184;
-        let t186: L = t18.mul_add(t182, t185);
-        let t187: L = t40 * t186;
-        let t188: L = L::splat(0.7071067811865476) * t187;
-        let t189: L = t12 * t181;
-        let t190: L = t12 * t184;
-        let t191: L = t32.mul_add(t189, t190);
-        let t192: L = t40 * t191;
-        let t193: L = L::splat(0.7071067811865476) * t192;
-        let t194: L = t14 * t181;
-        let t195: L = t13 * t194;
-        let t196: L = t12 * t195;
+        let t152: L = -t151;
+        let t153: L = L::splat(9.0) * t132;
+        let t154: L = t122 * t153;
+        let t155: L = L::splat(0.408248290463863) * t154;
+        let t156: L = -t155;
+        let t157: L = t18 * L::splat(3.0);
+        let t158: L = t157 - t145;
+        let t159: L = t122 * t158;
+        let t160: L = L::splat(0.7071067811865476) * t159;
+        let t161: L = -t139;
+        let t162: L = L::splat(9.0) * t127;
+        let t163: L = t122 * t162;
+        let t164: L = L::splat(0.408248290463863) * t163;
+        let t165: L = t144 - t157;
+        let t166: L = t122 * t165;
+        let t167: L = L::splat(0.7071067811865476) * t166;
+        let t168: L = L::splat(6.0) * t124;
+        let t169: L = t122 * t168;
+        let t170: L = L::splat(0.7071067811865476) * t169;
+        let t171: L = t4 * L::splat(0.1);
+        let t172: L = t15 * t171;
+        let t173: L = t17.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t174: L = L::splat(60.0).mul_add(t172, t173);
+        let t175: L = t13 * t174;
+        let t176: L = t17 * L::splat(12.0);
+        let t177: L = L::splat(12.0).mul_add(t172, t176);
+        let t178: L = t13 * t177;
+        let t179: L = t18.mul_sub(t175, t178);
+        let t180: L = t40 * t179;
+        let t181: L = L::splat(0.7071067811865476) * t180;
+        let t182: L = t12 * t174;
+        let t183: L = t12 * t177;
+        let t184: L = t32.mul_sub(t182, t183);
+        let t185: L = t40 * t184;
+        let t186: L = L::splat(0.7071067811865476) * t185;
+        let t187: L = t14 * t174;
+        let t188: L = t13 * t187;
+        let t189: L = t12 * t188;
+        let t190: L = t40 * t189;
+        let t191: L = L::splat(0.7071067811865476) * t190;
+        let t192: L = t14 * t177;
+        let t193: L = t18.mul_sub(t187, t192);
+        let t194: L = t40 * t193;
+        let t195: L = L::splat(0.7071067811865476) * t194;
+        let t196: L = t37.mul_sub(t182, t183);
         let t197: L = t40 * t196;
         let t198: L = L::splat(0.7071067811865476) * t197;
-        let t199: L = t14 * t184;
-        let t200: L = t18.mul_add(t194, t199);
-        let t201: L = t40 * t200;
-        let t202: L = L::splat(0.7071067811865476) * t201;
-        let t203: L = t37.mul_add(t189, t190);
-        let t204: L = t40 * t203;
-        let t205: L = L::splat(0.7071067811865476) * t204;
-        let t206: L = t32.mul_add(t194, t199);
-        let t207: L = t40 * t206;
-        let t208: L = L::splat(0.7071067811865476) * t207;
-        let t209: L = t37.mul_add(t182, t185);
-        let t210: L = t40 * t209;
-        let t211: L = L::splat(0.7071067811865476) * t210;
-        let t212: L = t17.mul_add(L::splat(30.0), L::splat(-3.0));
-        let t213: L = L::splat(30.0).mul_add(t179, t212);
-        let t214: L = t17.mul_add(L::splat(-30.0), L::splat(3.0));
-        let t215: L = L::splat(-30.0).mul_add(t179, t214);
-        let t216: L = t32.mul_add(t215, t184);
-        let t217: L = t18.mul_add(t213, t216);
-        let t218: L = t12 * t217;
-        let t219: L = t40 * t218;
-        let t220: L = L::splat(0.7071067811865476) * t219;
-        let t221: L = t17 * L::splat(12.0);
-        let t222: L = L::splat(12.0).mul_add(t179, t221);
-        let t223: L = t18.mul_add(t213, t222);
-        let t224: L = t32.mul_add(t215, t223);
-        let t225: L = t13 * t224;
-        let t226: L = t40 * t225;
-        let t227: L = L::splat(0.7071067811865476) * t226;
-        let t228: L = t14 * t213;
-        let t229: L = t14 * t215;
-        let t230: L = t32 * t229;
-        let t231: L = t18.mul_add(t228, t230);
+        let t199: L = t32.mul_sub(t187, t192);
+        let t200: L = t40 * t199;
+        let t201: L = L::splat(0.7071067811865476) * t200;
+        let t202: L = t37.mul_sub(t175, t178);
+        let t203: L = t40 * t202;
+        let t204: L = L::splat(0.7071067811865476) * t203;
+        let t205: L = t17.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t206: L = L::splat(30.0).mul_add(t172, t205);
+        let t207: L = t17.neg_mul_add(L::splat(30.0), L::splat(3.0));
+        let t208: L = L::splat(30.0).neg_mul_add(t172, t207);
+        let t209: L = t32.mul_sub(t208, t177);
+        let t210: L = t18.mul_add(t206, t209);
+        let t211: L = t12 * t210;
+        let t212: L = t40 * t211;
+        let t213: L = L::splat(0.7071067811865476) * t212;
+        let t214: L = t18.mul_add(t206, t177);
+        let t215: L = t32.mul_add(t208, t214);
+        let t216: L = t13 * t215;
+        let t217: L = t40 * t216;
+        let t218: L = L::splat(0.7071067811865476) * t217;
+        let t219: L = t14 * t206;
+        let t220: L = t14 * t208;
+        let t221: L = t32 * t220;
+        let t222: L = t18.mul_add(t219, t221);
+        let t223: L = t40 * t222;
+        let t224: L = L::splat(0.7071067811865476) * t223;
+        let t225: L = t17.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t226: L = L::splat(90.0).mul_add(t172, t225);
+        let t227: L = t12 * t226;
+        let t228: L = t17.neg_mul_add(L::splat(18.0), L::splat(3.0));
+        let t229: L = L::splat(18.0).neg_mul_add(t172, t228);
+        let t230: L = t12 * t229;
+        let t231: L = t37.mul_add(t227, t230);
         let t232: L = t40 * t231;
-        let t233: L = L::splat(0.7071067811865476) * t232;
-        let t234: L = t17.mul_add(L::splat(90.0), L::splat(-9.0));
-        let t235: L = t179.mul_add(L::splat(90.0), t234);
-        let t236: L = t12 * t235;
-        let t237: L = t17.mul_add(L::splat(-18.0), L::splat(3.0));
-        let t238: L = t179.mul_add(L::splat(-18.0), t237);
-        let t239: L = t12 * t238;
-        let t240: L = t37.mul_add(t236, t239);
-        let t241: L = t40 * t240;
-        let t242: L = L::splat(0.408248290463863) * t241;
-        let t243: L = t13 * t235;
-        let t244: L = t13 * t238;
-        let t245: L = t37.mul_add(t243, t244);
-        let t246: L = t40 * t245;
-        let t247: L = L::splat(0.408248290463863) * t246;
-        let t248: L = t17.mul_add(L::splat(-54.0), L::splat(3.0));
-        let t249: L = t179.mul_add(L::splat(-54.0), t248);
-        let t250: L = t37.mul_add(t235, t249);
-        let t251: L = t14 * t250;
-        let t252: L = t40 * t251;
-        let t253: L = L::splat(0.408248290463863) * t252;
-        let t254: L = t48.mul_add(L::splat(840.0), L::splat(-60.0));
-        let t255: L = t179.mul_add(L::splat(840.0), t254);
-        let t256: L = t48.mul_add(L::splat(-120.0), L::splat(6.0));
-        let t257: L = t179.mul_add(L::splat(-120.0), t256);
-        let t258: L = t32.mul_add(t255, t257);
-        let t259: L = t48 * L::splat(24.0);
-        let t260: L = t179.mul_add(L::splat(24.0), t259);
-        let t261: L = t32.mul_add(t257, t260);
-        let t262: L = t18.mul_add(t258, t261);
-        let t263: L = t124 * t262;
-        let t264: L = t263 * L::splat(0.5);
-        let t265: L = t14 * t255;
-        let t266: L = t13 * t265;
-        let t267: L = t14 * t257;
-        let t268: L = t13 * t267;
-        let t269: L = t18.mul_add(t266, t268);
-        let t270: L = t124 * t269;
-        let t271: L = L::splat(0.5) * t270;
-        let t272: L = t12 * t265;
-        let t273: L = t12 * t267;
-        let t274: L = t32.mul_add(t272, t273);
-        let t275: L = t124 * t274;
-        let t276: L = L::splat(0.5) * t275;
-        let t277: L = t48.mul_add(L::splat(420.0), L::splat(-30.0));
-        let t278: L = t179.mul_add(L::splat(420.0), t277);
-        let t279: L = t13 * t278;
-        let t280: L = t13.powi(3);
-        let t281: L = t48.mul_add(L::splat(-420.0), L::splat(30.0));
-        let t282: L = t179.mul_add(L::splat(-420.0), t281);
-        let t283: L = t280 * t282;
-        let t284: L = t18.mul_add(t279, t283);
-        let t285: L = t12 * t284;
-        let t286: L = t124 * t285;
-        let t287: L = L::splat(0.5) * t286;
-        let t288: L = t48.mul_add(L::splat(1260.0), L::splat(-90.0));
-        let t289: L = t179.mul_add(L::splat(1260.0), t288);
-        let t290: L = t13 * t289;
-        let t291: L = t12 * t290;
-        let t292: L = t48.mul_add(L::splat(-180.0), L::splat(18.0));
-        let t293: L = t179.mul_add(L::splat(-180.0), t292);
-        let t294: L = t13 * t293;
-        let t295: L = t12 * t294;
-        let t296: L = t37.mul_add(t291, t295);
-        let t297: L = t124 * t296;
-        let t298: L = t297 * L::splat(0.28867513459481287);
-        let t299: L = t37.mul_add(t255, t257);
-        let t300: L = t37.mul_add(t257, t260);
-        let t301: L = t18.mul_add(t299, t300);
-        let t302: L = t124 * t301;
-        let t303: L = L::splat(0.5) * t302;
-        let t304: L = t13 * t255;
-        let t305: L = t12 * t304;
-        let t306: L = t13 * t257;
+        let t233: L = L::splat(0.408248290463863) * t232;
+        let t234: L = t13 * t226;
+        let t235: L = t13 * t229;
+        let t236: L = t37.mul_add(t234, t235);
+        let t237: L = t40 * t236;
+        let t238: L = L::splat(0.408248290463863) * t237;
+        let t239: L = t17.neg_mul_add(L::splat(54.0), L::splat(3.0));
+        let t240: L = L::splat(54.0).neg_mul_add(t172, t239);
+        let t241: L = t37.mul_add(t226, t240);
+        let t242: L = t14 * t241;
+        let t243: L = t40 * t242;
+        let t244: L = L::splat(0.408248290463863) * t243;
+        let t245: L = t48.mul_add(L::splat(840.0), L::splat(-60.0));
+        let t246: L = t172.mul_add(L::splat(840.0), t245);
+        let t247: L = t48.neg_mul_add(L::splat(120.0), L::splat(6.0));
+        let t248: L = t172.neg_mul_add(L::splat(120.0), t247);
+        let t249: L = t32.mul_add(t246, t248);
+        let t250: L = t48 * L::splat(24.0);
+        let t251: L = t172.mul_add(L::splat(24.0), t250);
+        let t252: L = t32.mul_add(t248, t251);
+        let t253: L = t18.mul_add(t249, t252);
+        let t254: L = t122 * t253;
+        let t255: L = t254 * L::splat(0.5);
+        let t256: L = t14 * t246;
+        let t257: L = t13 * t256;
+        let t258: L = t14 * t248;
+        let t259: L = t13 * t258;
+        let t260: L = t18.mul_add(t257, t259);
+        let t261: L = t122 * t260;
+        let t262: L = L::splat(0.5) * t261;
+        let t263: L = t12 * t256;
+        let t264: L = t12 * t258;
+        let t265: L = t32.mul_add(t263, t264);
+        let t266: L = t122 * t265;
+        let t267: L = L::splat(0.5) * t266;
+        let t268: L = t48.mul_add(L::splat(420.0), L::splat(-30.0));
+        let t269: L = t172.mul_add(L::splat(420.0), t268);
+        let t270: L = t13 * t269;
+        let t271: L = t13.powi(3);
+        let t272: L = t48.neg_mul_add(L::splat(420.0), L::splat(30.0));
+        let t273: L = t172.neg_mul_add(L::splat(420.0), t272);
+        let t274: L = t271 * t273;
+        let t275: L = t18.mul_add(t270, t274);
+        let t276: L = t12 * t275;
+        let t277: L = t122 * t276;
+        let t278: L = L::splat(0.5) * t277;
+        let t279: L = t48.mul_add(L::splat(1260.0), L::splat(-90.0));
+        let t280: L = t172.mul_add(L::splat(1260.0), t279);
+        let t281: L = t13 * t280;
+        let t282: L = t12 * t281;
+        let t283: L = t48.neg_mul_add(L::splat(180.0), L::splat(18.0));
+        let t284: L = t172.neg_mul_add(L::splat(180.0), t283);
+        let t285: L = t13 * t284;
+        let t286: L = t12 * t285;
+        let t287: L = t37.mul_add(t282, t286);
+        let t288: L = t122 * t287;
+        let t289: L = t288 * L::splat(0.28867513459481287);
+        let t290: L = t37.mul_add(t246, t248);
+        let t291: L = t37.mul_add(t248, t251);
+        let t292: L = t18.mul_add(t290, t291);
+        let t293: L = t122 * t292;
+        let t294: L = L::splat(0.5) * t293;
+        let t295: L = t13 * t246;
+        let t296: L = t12 * t295;
+        let t297: L = t13 * t248;
+        let t298: L = t12 * t297;
+        let t299: L = t37.mul_add(t296, t298);
+        let t300: L = t122 * t299;
+        let t301: L = L::splat(0.5) * t300;
+        let t302: L = t14 * t269;
+        let t303: L = t18 * t302;
+        let t304: L = t14 * t273;
+        let t305: L = t32.mul_add(t304, t258);
+        let t306: L = t303 + t305;
         let t307: L = t12 * t306;
-        let t308: L = t37.mul_add(t305, t307);
-        let t309: L = t124 * t308;
-        let t310: L = L::splat(0.5) * t309;
-        let t311: L = t14 * t278;
-        let t312: L = t18 * t311;
-        let t313: L = t14 * t282;
-        let t314: L = t32.mul_add(t313, t267);
-        let t315: L = t312 + t314;
-        let t316: L = t12 * t315;
-        let t317: L = t124 * t316;
-        let t318: L = L::splat(0.5) * t317;
-        let t319: L = t12 * t289;
-        let t320: L = t48.mul_add(L::splat(-540.0), L::splat(36.0));
-        let t321: L = t179.mul_add(L::splat(-540.0), t320);
-        let t322: L = t12 * t321;
-        let t323: L = t37.mul_add(t319, t322);
-        let t324: L = t14 * t323;
-        let t325: L = t124 * t324;
-        let t326: L = L::splat(0.28867513459481287) * t325;
-        let t327: L = t32.mul_add(t299, t300);
-        let t328: L = t124 * t327;
-        let t329: L = L::splat(0.5) * t328;
-        let t330: L = t48.mul_add(L::splat(120.0), L::splat(-6.0));
-        let t331: L = t179.mul_add(L::splat(120.0), t330);
-        let t332: L = t14.mul_add(t331, t312);
-        let t333: L = t32.mul_add(t313, t332);
-        let t334: L = t13 * t333;
-        let t335: L = t124 * t334;
-        let t336: L = L::splat(0.5) * t335;
-        let t337: L = t13 * t321;
-        let t338: L = t37.mul_add(t290, t337);
-        let t339: L = t14 * t338;
-        let t340: L = t124 * t339;
-        let t341: L = L::splat(0.28867513459481287) * t340;
-        let t342: L = t48.mul_add(L::splat(210.0), L::splat(-15.0));
-        let t343: L = t179.mul_add(L::splat(210.0), t342);
-        let t344: L = t32.mul_add(t282, t257);
-        let t345: L = t18.mul_add(t343, t344);
-        let t346: L = t32.mul_add(t343, t257);
-        let t347: L = t32.mul_add(t346, t260);
-        let t348: L = t18.mul_add(t345, t347);
-        let t349: L = t124 * t348;
-        let t350: L = L::splat(0.5) * t349;
-        let t351: L = t48.mul_add(L::splat(-630.0), L::splat(45.0));
-        let t352: L = t179.mul_add(L::splat(-630.0), t351);
-        let t353: L = t48.mul_add(L::splat(540.0), L::splat(-36.0));
-        let t354: L = t179.mul_add(L::splat(540.0), t353);
-        let t355: L = t18.mul_add(t352, t354);
-        let t356: L = t48.mul_add(L::splat(630.0), L::splat(-45.0));
-        let t357: L = t179.mul_add(L::splat(630.0), t356);
-        let t358: L = t32.mul_add(t357, t321);
-        let t359: L = t32 * t358;
-        let t360: L = t18.mul_add(t355, t359);
-        let t361: L = t124 * t360;
-        let t362: L = L::splat(0.28867513459481287) * t361;
-        let t363: L = t48.mul_add(L::splat(1890.0), L::splat(-135.0));
-        let t364: L = t179.mul_add(L::splat(1890.0), t363);
-        let t365: L = t48.mul_add(L::splat(-1620.0), L::splat(108.0));
-        let t366: L = t179.mul_add(L::splat(-1620.0), t365);
-        let t367: L = t37.mul_add(t364, t366);
-        let t368: L = t48.mul_add(L::splat(162.0), L::splat(-9.0));
-        let t369: L = t179.mul_add(L::splat(162.0), t368);
-        let t370: L = t37.mul_add(t367, t369);
-        let t371: L = t124 * t370;
-        let t372: L = L::splat(0.16666666666666666) * t371;
+        let t308: L = t122 * t307;
+        let t309: L = L::splat(0.5) * t308;
+        let t310: L = t12 * t280;
+        let t311: L = t48.neg_mul_add(L::splat(540.0), L::splat(36.0));
+        let t312: L = t172.neg_mul_add(L::splat(540.0), t311);
+        let t313: L = t12 * t312;
+        let t314: L = t37.mul_add(t310, t313);
+        let t315: L = t14 * t314;
+        let t316: L = t122 * t315;
+        let t317: L = L::splat(0.28867513459481287) * t316;
+        let t318: L = t32.mul_add(t290, t291);
+        let t319: L = t122 * t318;
+        let t320: L = L::splat(0.5) * t319;
+        let t321: L = t48.mul_add(L::splat(120.0), L::splat(-6.0));
+        let t322: L = t172.mul_add(L::splat(120.0), t321);
+        let t323: L = t14.mul_add(t322, t303);
+        let t324: L = t32.mul_add(t304, t323);
+        let t325: L = t13 * t324;
+        let t326: L = t122 * t325;
+        let t327: L = L::splat(0.5) * t326;
+        let t328: L = t13 * t312;
+        let t329: L = t37.mul_add(t281, t328);
+        let t330: L = t14 * t329;
+        let t331: L = t122 * t330;
+        let t332: L = L::splat(0.28867513459481287) * t331;
+        let t333: L = t48.mul_add(L::splat(210.0), L::splat(-15.0));
+        let t334: L = t172.mul_add(L::splat(210.0), t333);
+        let t335: L = t32.mul_add(t273, t248);
+        let t336: L = t18.mul_add(t334, t335);
+        let t337: L = t32.mul_add(t334, t248);
+        let t338: L = t32.mul_add(t337, t251);
+        let t339: L = t18.mul_add(t336, t338);
+        let t340: L = t122 * t339;
+        let t341: L = L::splat(0.5) * t340;
+        let t342: L = t48.neg_mul_add(L::splat(630.0), L::splat(45.0));
+        let t343: L = t172.neg_mul_add(L::splat(630.0), t342);
+        let t344: L = t48.mul_add(L::splat(540.0), L::splat(-36.0));
+        let t345: L = t172.mul_add(L::splat(540.0), t344);
+        let t346: L = t18.mul_add(t343, t345);
+        let t347: L = t48.mul_add(L::splat(630.0), L::splat(-45.0));
+        let t348: L = t172.mul_add(L::splat(630.0), t347);
+        let t349: L = t32.mul_add(t348, t312);
+        let t350: L = t32 * t349;
+        let t351: L = t18.mul_add(t346, t350);
+        let t352: L = t122 * t351;
+        let t353: L = L::splat(0.28867513459481287) * t352;
+        let t354: L = t48.mul_add(L::splat(1890.0), L::splat(-135.0));
+        let t355: L = t172.mul_add(L::splat(1890.0), t354);
+        let t356: L = t48.neg_mul_add(L::splat(1620.0), L::splat(108.0));
+        let t357: L = t172.neg_mul_add(L::splat(1620.0), t356);
+        let t358: L = t37.mul_add(t355, t357);
+        let t359: L = t48.mul_add(L::splat(162.0), L::splat(-9.0));
+        let t360: L = t172.mul_add(L::splat(162.0), t359);
+        let t361: L = t37.mul_add(t358, t360);
+        let t362: L = t122 * t361;
+        let t363: L = L::splat(0.16666666666666666) * t362;
         [
             t25,
             t28,
@@ -1033,13 +1024,13 @@ pub fn free_pair_lanes<L: lanes::Lane>(
             t89,
             t66,
             t92,
-            t99,
-            t104,
+            t97,
+            t102,
             t66,
-            t107,
-            t110,
-            t116,
-            t122,
+            t105,
+            t108,
+            t114,
+            t120,
             L::splat(0.0),
             t41,
             t43,
@@ -1049,85 +1040,85 @@ pub fn free_pair_lanes<L: lanes::Lane>(
             t42,
             t46,
             L::splat(0.0),
-            t125,
-            t128,
+            t123,
+            t126,
+            t129,
+            t126,
             t131,
-            t128,
-            t133,
+            t134,
+            t129,
+            t134,
             t136,
-            t131,
-            t136,
-            t138,
-            t141,
-            t144,
+            t139,
+            t143,
             t148,
-            t151,
-            t154,
-            t151,
-            t158,
+            t152,
+            t156,
+            t152,
+            t160,
+            t142,
             t161,
             t164,
             t167,
-            t171,
-            t174,
-            t164,
-            t177,
+            t151,
+            t161,
+            t170,
             L::splat(0.0),
-            t188,
-            t193,
+            t181,
+            t186,
+            t191,
+            t195,
+            t191,
             t198,
-            t202,
-            t198,
-            t205,
-            t198,
-            t208,
-            t211,
-            t220,
-            t227,
+            t191,
+            t201,
+            t204,
+            t213,
+            t218,
+            t224,
             t233,
-            t242,
-            t247,
-            t253,
-            t141,
-            t151,
-            t171,
-            t144,
-            t158,
-            t174,
-            t148,
-            t161,
-            t164,
-            t151,
-            t164,
-            t177,
-            t154,
+            t238,
+            t244,
+            t139,
+            t152,
             t167,
+            t143,
+            t160,
+            t151,
+            t148,
+            t142,
+            t161,
+            t152,
+            t161,
+            t170,
+            t156,
+            t164,
             L::splat(0.0),
-            t264,
-            t271,
-            t276,
-            t287,
-            t298,
-            t271,
-            t303,
-            t310,
-            t318,
-            t326,
-            t276,
-            t310,
-            t329,
-            t336,
+            t255,
+            t262,
+            t267,
+            t278,
+            t289,
+            t262,
+            t294,
+            t301,
+            t309,
+            t317,
+            t267,
+            t301,
+            t320,
+            t327,
+            t332,
+            t278,
+            t309,
+            t327,
             t341,
-            t287,
-            t318,
-            t336,
-            t350,
-            t362,
-            t298,
-            t326,
-            t341,
-            t362,
-            t372,
+            t353,
+            t289,
+            t317,
+            t332,
+            t353,
+            t363,
         ]
     };
     out
@@ -2082,7 +2073,7 @@ pub fn free_pair_divergence(
 /// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).
 /// Strain and stresslet in the 5-component orthonormal basis (kernels::STRAIN_BASIS).
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_pair_divergence`'s fields. Operation count with fused multiply-adds: 286 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_pair_divergence`'s fields. Operation count with fused multiply-adds: 284 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_pair_divergence_lanes<L: lanes::Lane>(
@@ -2168,38 +2159,38 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
         let t72: L = t15 * t15;
         let t73: L = t15 * t34;
         let t74: L = t15 * t37;
-        let t75: L = t65.mul_add(L::splat(-6.0), L::splat(1.0));
-        let t76: L = t59 * L::splat(-12.0);
-        let t77: L = t60 * L::splat(-12.0);
-        let t78: L = t61 * L::splat(-12.0);
-        let t79: L = t62 * L::splat(-12.0);
-        let t80: L = t63 * L::splat(-12.0);
-        let t81: L = t64 * L::splat(-12.0);
-        let t82: L = t58.mul_add(L::splat(-6.0), t75);
-        let t83: L = t66.mul_add(L::splat(-12.0), t76);
-        let t84: L = t67.mul_add(L::splat(-12.0), t77);
-        let t85: L = t68.mul_add(L::splat(-12.0), t78);
-        let t86: L = t69.mul_add(L::splat(-12.0), t79);
-        let t87: L = t70.mul_add(L::splat(-12.0), t80);
-        let t88: L = t71.mul_add(L::splat(-12.0), t81);
+        let t75: L = t65.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t76: L = t59 * L::splat(12.0);
+        let t77: L = t60 * L::splat(12.0);
+        let t78: L = t61 * L::splat(12.0);
+        let t79: L = t62 * L::splat(12.0);
+        let t80: L = t63 * L::splat(12.0);
+        let t81: L = t64 * L::splat(12.0);
+        let t82: L = t58.mul_add(L::splat(6.0), t75);
+        let t83: L = t66.mul_add(L::splat(12.0), t76);
+        let t84: L = t67.mul_add(L::splat(12.0), t77);
+        let t85: L = t68.mul_add(L::splat(12.0), t78);
+        let t86: L = t69.mul_add(L::splat(12.0), t79);
+        let t87: L = t70.mul_add(L::splat(12.0), t80);
+        let t88: L = t71.mul_add(L::splat(12.0), t81);
         let t89: L = t73 * t82;
-        let t90: L = L::splat(-2.0) * t89;
-        let t91: L = t72.mul_add(t83, t90);
+        let t90: L = t72 * t83;
+        let t91: L = L::splat(-2.0).mul_add(t89, t90);
         let t92: L = t74 * t82;
         let t93: L = t72 * t86;
         let t94: L = L::splat(2.0).mul_add(t92, t93);
         let t95: L = L::splat(0.5) + t65;
         let t96: L = t58 + t95;
-        let t97: L = L::splat(2.0) * t96;
-        let t98: L = t59 + t66;
-        let t99: L = t60 + t67;
-        let t100: L = t61 + t68;
-        let t101: L = t62 + t69;
-        let t102: L = t63 + t70;
-        let t103: L = t64 + t71;
-        let t104: L = t72.mul_add(t82, t97);
-        let t105: L = L::splat(4.0).mul_add(t98, t91);
-        let t106: L = L::splat(4.0).mul_add(t101, t94);
+        let t97: L = t59 + t66;
+        let t98: L = t60 + t67;
+        let t99: L = t61 + t68;
+        let t100: L = t62 + t69;
+        let t101: L = t63 + t70;
+        let t102: L = t64 + t71;
+        let t103: L = L::splat(-2.0) * t96;
+        let t104: L = t72.mul_add(t82, t103);
+        let t105: L = L::splat(-4.0).mul_add(t97, t91);
+        let t106: L = L::splat(-4.0).mul_add(t100, t94);
         let t107: L = t23 * t104;
         let t108: L = t14.mul_add(t105, t107);
         let t109: L = t29 * t104;
@@ -2264,14 +2255,14 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
         let t168: L = t16 * t41;
         let t169: L = t16 * t44;
         let t170: L = t82 * t168;
-        let t171: L = L::splat(-2.0) * t170;
-        let t172: L = t84.mul_add(t167, t171);
+        let t171: L = t84 * t167;
+        let t172: L = L::splat(-2.0).mul_add(t170, t171);
         let t173: L = t82 * t169;
         let t174: L = t87 * t167;
         let t175: L = L::splat(2.0).mul_add(t173, t174);
-        let t176: L = t82.mul_add(t167, t97);
-        let t177: L = L::splat(4.0).mul_add(t99, t172);
-        let t178: L = L::splat(4.0).mul_add(t102, t175);
+        let t176: L = t82.mul_add(t167, t103);
+        let t177: L = L::splat(-4.0).mul_add(t98, t172);
+        let t178: L = L::splat(-4.0).mul_add(t101, t175);
         let t179: L = t25 * t176;
         let t180: L = t14.mul_add(t177, t179);
         let t181: L = t31 * t176;
@@ -2297,14 +2288,14 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
         let t201: L = t17 * t48;
         let t202: L = t17 * t51;
         let t203: L = t82 * t201;
-        let t204: L = L::splat(-2.0) * t203;
-        let t205: L = t85.mul_add(t200, t204);
+        let t204: L = t85 * t200;
+        let t205: L = L::splat(-2.0).mul_add(t203, t204);
         let t206: L = t82 * t202;
         let t207: L = t88 * t200;
         let t208: L = L::splat(2.0).mul_add(t206, t207);
-        let t209: L = t82.mul_add(t200, t97);
-        let t210: L = L::splat(4.0).mul_add(t100, t205);
-        let t211: L = L::splat(4.0).mul_add(t103, t208);
+        let t209: L = t82.mul_add(t200, t103);
+        let t210: L = L::splat(-4.0).mul_add(t99, t205);
+        let t211: L = L::splat(-4.0).mul_add(t102, t208);
         let t212: L = t27 * t209;
         let t213: L = t14.mul_add(t210, t212);
         let t214: L = t33 * t209;
@@ -2355,31 +2346,29 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
         let t259: L = t224 - t251;
         let t260: L = t248 - t236;
         let t261: L = t0 * t253;
-        let t262: L = -t261;
-        let t263: L = t0 * t255;
-        let t264: L = -t263;
-        let t265: L = t0 * t257;
-        let t266: L = -t265;
-        let t267: L = t0 * t258;
-        let t268: L = t0 * t259;
-        let t269: L = t0 * t260;
-        let t270: L = t108 - t132;
-        let t271: L = t162 - t270;
-        let t272: L = t130 - t180;
-        let t273: L = t195 + t272;
-        let t274: L = t160 + t193;
-        let t275: L = t213 - t274;
-        let t276: L = t221 - t233;
-        let t277: L = t245 - t218;
-        let t278: L = t230 - t242;
-        let t279: L = t0 * t271;
-        let t280: L = t0 * t273;
-        let t281: L = t0 * t275;
-        let t282: L = -t281;
-        let t283: L = t0 * t276;
-        let t284: L = t0 * t277;
-        let t285: L = t0 * t278;
-        [t262, t264, t266, t267, t268, t269, t279, t280, t282, t283, t284, t285]
+        let t262: L = t0 * t255;
+        let t263: L = t0 * t257;
+        let t264: L = t0 * t258;
+        let t265: L = t0 * t259;
+        let t266: L = t0 * t260;
+        let t267: L = t108 - t132;
+        let t268: L = t162 - t267;
+        let t269: L = t130 - t180;
+        let t270: L = t195 + t269;
+        let t271: L = t160 + t193;
+        let t272: L = t213 - t271;
+        let t273: L = t221 - t233;
+        let t274: L = t245 - t218;
+        let t275: L = t230 - t242;
+        let t276: L = t0 * t268;
+        let t277: L = -t276;
+        let t278: L = t0 * t270;
+        let t279: L = -t278;
+        let t280: L = t0 * t272;
+        let t281: L = t0 * t273;
+        let t282: L = t0 * t274;
+        let t283: L = t0 * t275;
+        [t261, t262, t263, t264, t265, t266, t277, t279, t280, t281, t282, t283]
     };
     out
 }

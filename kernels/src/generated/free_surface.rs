@@ -1471,7 +1471,7 @@ pub fn free_surface_pair(
 /// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).
 /// Strain and stresslet in the 5-component orthonormal basis (kernels::STRAIN_BASIS).
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_pair`'s fields. Operation count with fused multiply-adds: 814 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_pair`'s fields. Operation count with fused multiply-adds: 777 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_surface_pair_lanes<L: lanes::Lane>(
@@ -1510,915 +1510,878 @@ pub fn free_surface_pair_lanes<L: lanes::Lane>(
         let t24: L = t17 * t23;
         let t25: L = t18 * t23;
         let t26: L = t21 * t21;
-        let t27: L = t25.mul_add(L::splat(-6.0), L::splat(1.0));
-        let t28: L = t24.mul_add(L::splat(-6.0), t27);
-        let t29: L = L::splat(2.0).mul_add(t25, L::splat(1.0));
-        let t30: L = L::splat(2.0).mul_add(t24, t29);
-        let t31: L = t26.mul_add(t28, t30);
-        let t32: L = t0 * t20;
-        let t33: L = t14.mul_add(t14, t4);
-        let t34: L = t33.rsqrt();
-        let t35: L = t6 * t34;
-        let t36: L = t14 * t34;
-        let t37: L = t34 * t34;
-        let t38: L = t17 * t37;
-        let t39: L = t18 * t37;
-        let t40: L = t35 * t35;
-        let t41: L = L::splat(-6.0).mul_add(t39, L::splat(1.0));
-        let t42: L = L::splat(-6.0).mul_add(t38, t41);
-        let t43: L = L::splat(2.0).mul_add(t39, L::splat(1.0));
-        let t44: L = L::splat(2.0).mul_add(t38, t43);
-        let t45: L = t40.mul_add(t42, t44);
-        let t46: L = t0 * t34;
-        let t47: L = t45 * t46;
-        let t48: L = t31.mul_add(t32, t47);
-        let t49: L = t22 * t28;
-        let t50: L = t21 * t49;
-        let t51: L = t32 * t50;
-        let t52: L = t39.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t53: L = t38.mul_add(L::splat(6.0), t52);
+        let t27: L = t25.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t28: L = t24.mul_add(L::splat(6.0), t27);
+        let t29: L = t26 * t28;
+        let t30: L = t25 + L::splat(0.5);
+        let t31: L = t24 + t30;
+        let t32: L = t31.mul_add(L::splat(-2.0), t29);
+        let t33: L = t0 * t20;
+        let t34: L = t14.mul_add(t14, t4);
+        let t35: L = t34.rsqrt();
+        let t36: L = t6 * t35;
+        let t37: L = t14 * t35;
+        let t38: L = t35 * t35;
+        let t39: L = t17 * t38;
+        let t40: L = t18 * t38;
+        let t41: L = t36 * t36;
+        let t42: L = L::splat(6.0).mul_add(t40, L::splat(-1.0));
+        let t43: L = L::splat(6.0).mul_add(t39, t42);
+        let t44: L = t41 * t43;
+        let t45: L = L::splat(0.5) + t40;
+        let t46: L = t39 + t45;
+        let t47: L = L::splat(-2.0).mul_add(t46, t44);
+        let t48: L = t0 * t35;
+        let t49: L = t47 * t48;
+        let t50: L = t32.mul_add(t33, t49);
+        let t51: L = t22 * t28;
+        let t52: L = t21 * t51;
+        let t53: L = t37 * t43;
         let t54: L = t36 * t53;
-        let t55: L = t35 * t54;
-        let t56: L = t46.mul_add(t55, t51);
-        let t57: L = t44 * t46;
-        let t58: L = t30.mul_add(t32, t57);
-        let t59: L = t36 * t42;
-        let t60: L = t35 * t59;
-        let t61: L = t46.mul_add(t60, t51);
-        let t62: L = t25.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t63: L = t24.mul_add(L::splat(6.0), t62);
-        let t64: L = t25.mul_add(L::splat(-4.0), L::splat(2.0));
-        let t65: L = t24.mul_add(L::splat(-4.0), t64);
-        let t66: L = t26.mul_add(t63, t65);
-        let t67: L = t39.mul_add(L::splat(4.0), L::splat(-2.0));
-        let t68: L = t38.mul_add(L::splat(4.0), t67);
-        let t69: L = t40.mul_add(t42, t68);
-        let t70: L = t46 * t69;
-        let t71: L = t32.mul_add(t66, t70);
-        let t72: L = t0 * t23;
-        let t73: L = t22 * t72;
-        let t74: L = t0 * t37;
-        let t75: L = t36 * t74;
-        let t76: L = t73 - t75;
-        let t77: L = t75 - t73;
-        let t78: L = t21 * t72;
-        let t79: L = t35 * t74;
-        let t80: L = t78 + t79;
-        let t81: L = t79 - t78;
-        let t82: L = t16 * L::splat(0.1);
-        let t83: L = t23 * t82;
-        let t84: L = t37 * t82;
-        let t85: L = t83.mul_add(L::splat(-60.0), L::splat(6.0));
-        let t86: L = t24.mul_add(L::splat(-60.0), t85);
-        let t87: L = t22 * t86;
-        let t88: L = t83 * L::splat(12.0);
-        let t89: L = t24.mul_add(L::splat(12.0), t88);
-        let t90: L = t22 * t89;
-        let t91: L = t26.mul_add(t87, t90);
-        let t92: L = t84.mul_add(L::splat(60.0), L::splat(-6.0));
-        let t93: L = t38.mul_add(L::splat(60.0), t92);
-        let t94: L = t36 * t93;
-        let t95: L = t84 * L::splat(-12.0);
-        let t96: L = t38.mul_add(L::splat(-12.0), t95);
-        let t97: L = t36 * t96;
-        let t98: L = t40.mul_add(t94, t97);
-        let t99: L = t74 * t98;
-        let t100: L = t72.mul_add(t91, t99);
-        let t101: L = L::splat(0.7071067811865476) * t100;
-        let t102: L = t83.mul_add(L::splat(-30.0), L::splat(3.0));
-        let t103: L = t24.mul_add(L::splat(-30.0), t102);
-        let t104: L = t26.mul_add(t103, t89);
-        let t105: L = t21 * t104;
-        let t106: L = t84.mul_add(L::splat(-30.0), L::splat(3.0));
-        let t107: L = t38.mul_add(L::splat(-30.0), t106);
-        let t108: L = t84 * L::splat(12.0);
-        let t109: L = t38.mul_add(L::splat(12.0), t108);
-        let t110: L = t40.mul_add(t107, t109);
-        let t111: L = t35 * t110;
-        let t112: L = t74 * t111;
-        let t113: L = t72.mul_add(t105, t112);
-        let t114: L = L::splat(0.7071067811865476) * t113;
-        let t115: L = t83.mul_add(L::splat(90.0), L::splat(-9.0));
-        let t116: L = t24.mul_add(L::splat(90.0), t115);
-        let t117: L = t83.mul_add(L::splat(-72.0), L::splat(6.0));
-        let t118: L = t24.mul_add(L::splat(-72.0), t117);
-        let t119: L = t26.mul_add(t116, t118);
-        let t120: L = t21 * t119;
-        let t121: L = t84.mul_add(L::splat(90.0), L::splat(-9.0));
-        let t122: L = t38.mul_add(L::splat(90.0), t121);
-        let t123: L = t84.mul_add(L::splat(-72.0), L::splat(6.0));
-        let t124: L = t38.mul_add(L::splat(-72.0), t123);
-        let t125: L = t40.mul_add(t122, t124);
-        let t126: L = t35 * t125;
-        let t127: L = t74 * t126;
-        let t128: L = t72.mul_add(t120, t127);
-        let t129: L = t128 * L::splat(0.408248290463863);
-        let t130: L = t21 * t89;
-        let t131: L = t35 * t109;
-        let t132: L = t74 * t131;
-        let t133: L = t72.mul_add(t130, t132);
-        let t134: L = L::splat(0.7071067811865476) * t133;
-        let t135: L = t74 * t97;
-        let t136: L = t72.mul_add(t90, t135);
-        let t137: L = L::splat(0.7071067811865476) * t136;
-        let t138: L = t22 * t22;
-        let t139: L = t21 * t86;
-        let t140: L = t138.mul_add(t139, t130);
-        let t141: L = t36 * t36;
-        let t142: L = t35 * t93;
-        let t143: L = t35 * t96;
-        let t144: L = t141.mul_add(t142, t143);
-        let t145: L = t74 * t144;
-        let t146: L = t72.mul_add(t140, t145);
+        let t55: L = t48 * t54;
+        let t56: L = t33.mul_sub(t52, t55);
+        let t57: L = t46 * t48;
+        let t58: L = t31.mul_add(t33, t57);
+        let t59: L = t33.mul_add(t52, t55);
+        let t60: L = t25 + L::splat(-0.5);
+        let t61: L = t24 + t60;
+        let t62: L = L::splat(-4.0).mul_add(t61, t29);
+        let t63: L = t40 + L::splat(-0.5);
+        let t64: L = t39 + t63;
+        let t65: L = L::splat(-4.0).mul_add(t64, t44);
+        let t66: L = t48 * t65;
+        let t67: L = t33.mul_sub(t62, t66);
+        let t68: L = t0 * t23;
+        let t69: L = t22 * t68;
+        let t70: L = t0 * t38;
+        let t71: L = t37 * t70;
+        let t72: L = t69 - t71;
+        let t73: L = t71 - t69;
+        let t74: L = t21 * t68;
+        let t75: L = t36 * t70;
+        let t76: L = t74 + t75;
+        let t77: L = t75 - t74;
+        let t78: L = t16 * L::splat(0.1);
+        let t79: L = t23 * t78;
+        let t80: L = t38 * t78;
+        let t81: L = t79.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t82: L = t24.mul_add(L::splat(60.0), t81);
+        let t83: L = t22 * t82;
+        let t84: L = t79 * L::splat(12.0);
+        let t85: L = t24.mul_add(L::splat(12.0), t84);
+        let t86: L = t22 * t85;
+        let t87: L = t26.mul_sub(t83, t86);
+        let t88: L = t80.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t89: L = t39.mul_add(L::splat(60.0), t88);
+        let t90: L = t37 * t89;
+        let t91: L = t80 * L::splat(12.0);
+        let t92: L = t39.mul_add(L::splat(12.0), t91);
+        let t93: L = t37 * t92;
+        let t94: L = t41.mul_sub(t90, t93);
+        let t95: L = t70 * t94;
+        let t96: L = t68.mul_sub(t87, t95);
+        let t97: L = L::splat(0.7071067811865476) * t96;
+        let t98: L = t79.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t99: L = t24.mul_add(L::splat(30.0), t98);
+        let t100: L = t26.neg_mul_add(t99, t85);
+        let t101: L = t21 * t100;
+        let t102: L = t80.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t103: L = t39.mul_add(L::splat(30.0), t102);
+        let t104: L = t41.mul_sub(t103, t92);
+        let t105: L = t36 * t104;
+        let t106: L = t70 * t105;
+        let t107: L = t68.mul_sub(t101, t106);
+        let t108: L = L::splat(0.7071067811865476) * t107;
+        let t109: L = t79.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t110: L = t24.mul_add(L::splat(90.0), t109);
+        let t111: L = t79.mul_add(L::splat(72.0), L::splat(-6.0));
+        let t112: L = t24.mul_add(L::splat(72.0), t111);
+        let t113: L = t26.mul_sub(t110, t112);
+        let t114: L = t21 * t113;
+        let t115: L = t80.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t116: L = t39.mul_add(L::splat(90.0), t115);
+        let t117: L = t80.mul_add(L::splat(72.0), L::splat(-6.0));
+        let t118: L = t39.mul_add(L::splat(72.0), t117);
+        let t119: L = t41.mul_sub(t116, t118);
+        let t120: L = t36 * t119;
+        let t121: L = t70 * t120;
+        let t122: L = t68.mul_add(t114, t121);
+        let t123: L = t122 * L::splat(0.408248290463863);
+        let t124: L = t21 * t85;
+        let t125: L = t36 * t92;
+        let t126: L = t70 * t125;
+        let t127: L = t68.mul_add(t124, t126);
+        let t128: L = L::splat(0.7071067811865476) * t127;
+        let t129: L = t70 * t93;
+        let t130: L = t68.mul_sub(t86, t129);
+        let t131: L = L::splat(0.7071067811865476) * t130;
+        let t132: L = t22 * t22;
+        let t133: L = t21 * t82;
+        let t134: L = t132.neg_mul_add(t133, t124);
+        let t135: L = t37 * t37;
+        let t136: L = t36 * t89;
+        let t137: L = t135.mul_sub(t136, t125);
+        let t138: L = t70 * t137;
+        let t139: L = t68.mul_add(t134, t138);
+        let t140: L = L::splat(0.7071067811865476) * t139;
+        let t141: L = t22 * t99;
+        let t142: L = t26 * t141;
+        let t143: L = t37 * t103;
+        let t144: L = t41 * t143;
+        let t145: L = t70 * t144;
+        let t146: L = t68.mul_add(t142, t145);
         let t147: L = L::splat(0.7071067811865476) * t146;
-        let t148: L = t22 * t103;
-        let t149: L = t26 * t148;
-        let t150: L = t36 * t107;
-        let t151: L = t40 * t150;
-        let t152: L = t74 * t151;
-        let t153: L = t72.mul_add(t149, t152);
-        let t154: L = L::splat(0.7071067811865476) * t153;
-        let t155: L = t22 * t116;
-        let t156: L = t83.mul_add(L::splat(-36.0), L::splat(6.0));
-        let t157: L = t24.mul_add(L::splat(-36.0), t156);
-        let t158: L = t22 * t157;
-        let t159: L = t26.mul_add(t155, t158);
-        let t160: L = t36 * t122;
-        let t161: L = t84.mul_add(L::splat(-36.0), L::splat(6.0));
-        let t162: L = t38.mul_add(L::splat(-36.0), t161);
-        let t163: L = t36 * t162;
-        let t164: L = t40.mul_add(t160, t163);
-        let t165: L = t74 * t164;
-        let t166: L = t72.mul_add(t159, t165);
-        let t167: L = L::splat(0.408248290463863) * t166;
-        let t168: L = t73 + t75;
-        let t169: L = t78 - t79;
-        let t170: L = t26.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t171: L = t23 * t32;
-        let t172: L = t40.mul_add(L::splat(-1.5), L::splat(0.5));
-        let t173: L = t37 * t46;
-        let t174: L = t172 * t173;
-        let t175: L = t170.mul_add(t171, t174);
-        let t176: L = t21 * t22;
-        let t177: L = L::splat(1.5) * t176;
-        let t178: L = t171 * t177;
-        let t179: L = t35 * t36;
-        let t180: L = L::splat(1.5) * t179;
-        let t181: L = t173.mul_add(t180, t178);
-        let t182: L = L::splat(0.5) * t173;
-        let t183: L = L::splat(-0.5).mul_add(t171, t182);
-        let t184: L = L::splat(-1.5) * t179;
-        let t185: L = t173.mul_add(t184, t178);
-        let t186: L = t26.mul_add(L::splat(-1.5), L::splat(1.0));
-        let t187: L = t40.mul_add(L::splat(-1.5), L::splat(1.0));
-        let t188: L = t173 * t187;
-        let t189: L = t171.mul_add(t186, t188);
-        let t190: L = L::splat(3.0) * t176;
-        let t191: L = L::splat(3.0) * t179;
-        let t192: L = t173 * t191;
-        let t193: L = t171.mul_add(t190, t192);
-        let t194: L = L::splat(0.7071067811865476) * t193;
-        let t195: L = L::splat(3.0) * t138;
-        let t196: L = t141 * L::splat(-3.0);
-        let t197: L = t173 * t196;
-        let t198: L = t171.mul_add(t195, t197);
-        let t199: L = L::splat(0.7071067811865476) * t198;
-        let t200: L = t26.mul_add(L::splat(6.0), L::splat(-3.0));
-        let t201: L = L::splat(-6.0).mul_add(t40, L::splat(3.0));
-        let t202: L = t173 * t201;
-        let t203: L = t171.mul_add(t200, t202);
-        let t204: L = L::splat(0.7071067811865476) * t203;
-        let t205: L = t176 * L::splat(-3.0);
-        let t206: L = t171 * t205;
-        let t207: L = t179 * L::splat(-3.0);
-        let t208: L = t173 * t207;
-        let t209: L = t206 + t208;
-        let t210: L = L::splat(0.7071067811865476) * t209;
-        let t211: L = t176 * L::splat(9.0);
-        let t212: L = t171 * t211;
-        let t213: L = t179 * L::splat(9.0);
-        let t214: L = t173.mul_add(t213, t212);
-        let t215: L = L::splat(0.408248290463863) * t214;
-        let t216: L = t26 * L::splat(-3.0);
-        let t217: L = t40 * L::splat(-3.0);
-        let t218: L = t173 * t217;
-        let t219: L = t171.mul_add(t216, t218);
+        let t148: L = t22 * t110;
+        let t149: L = t79.mul_add(L::splat(36.0), L::splat(-6.0));
+        let t150: L = t24.mul_add(L::splat(36.0), t149);
+        let t151: L = t22 * t150;
+        let t152: L = t26.mul_sub(t148, t151);
+        let t153: L = t37 * t116;
+        let t154: L = t80.mul_add(L::splat(36.0), L::splat(-6.0));
+        let t155: L = t39.mul_add(L::splat(36.0), t154);
+        let t156: L = t37 * t155;
+        let t157: L = t41.mul_sub(t153, t156);
+        let t158: L = t70 * t157;
+        let t159: L = t68.mul_add(t152, t158);
+        let t160: L = L::splat(0.408248290463863) * t159;
+        let t161: L = t69 + t71;
+        let t162: L = t74 - t75;
+        let t163: L = t26.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t164: L = t23 * t33;
+        let t165: L = t41.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t166: L = t38 * t48;
+        let t167: L = t165 * t166;
+        let t168: L = t163.mul_sub(t164, t167);
+        let t169: L = t21 * t22;
+        let t170: L = L::splat(1.5) * t169;
+        let t171: L = t36 * t37;
+        let t172: L = L::splat(1.5) * t171;
+        let t173: L = t166 * t172;
+        let t174: L = t164.mul_add(t170, t173);
+        let t175: L = t164 - t166;
+        let t176: L = t164.mul_sub(t170, t173);
+        let t177: L = t26.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t178: L = t41.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t179: L = t166 * t178;
+        let t180: L = t164.neg_mul_sub(t177, t179);
+        let t181: L = L::splat(3.0) * t169;
+        let t182: L = t164 * t181;
+        let t183: L = L::splat(3.0) * t171;
+        let t184: L = t166 * t183;
+        let t185: L = t182 + t184;
+        let t186: L = L::splat(0.7071067811865476) * t185;
+        let t187: L = L::splat(3.0) * t132;
+        let t188: L = L::splat(3.0) * t135;
+        let t189: L = t166 * t188;
+        let t190: L = t164.mul_sub(t187, t189);
+        let t191: L = L::splat(0.7071067811865476) * t190;
+        let t192: L = t26.mul_add(L::splat(6.0), L::splat(-3.0));
+        let t193: L = L::splat(6.0).mul_add(t41, L::splat(-3.0));
+        let t194: L = t166 * t193;
+        let t195: L = t164.mul_sub(t192, t194);
+        let t196: L = L::splat(0.7071067811865476) * t195;
+        let t197: L = t169 * L::splat(9.0);
+        let t198: L = t171 * L::splat(9.0);
+        let t199: L = t166 * t198;
+        let t200: L = t164.mul_add(t197, t199);
+        let t201: L = L::splat(0.408248290463863) * t200;
+        let t202: L = t26 * L::splat(3.0);
+        let t203: L = t41 * L::splat(3.0);
+        let t204: L = t166 * t203;
+        let t205: L = t164.mul_add(t202, t204);
+        let t206: L = L::splat(0.7071067811865476) * t205;
+        let t207: L = t184 - t182;
+        let t208: L = L::splat(0.7071067811865476) * t207;
+        let t209: L = t15 * L::splat(0.1);
+        let t210: L = t23 * t209;
+        let t211: L = t38 * t209;
+        let t212: L = t25 * L::splat(12.0);
+        let t213: L = L::splat(12.0).mul_add(t210, t212);
+        let t214: L = t21 * t213;
+        let t215: L = t40 * L::splat(12.0);
+        let t216: L = L::splat(12.0).mul_add(t211, t215);
+        let t217: L = t36 * t216;
+        let t218: L = t70 * t217;
+        let t219: L = t68.mul_add(t214, t218);
         let t220: L = L::splat(0.7071067811865476) * t219;
-        let t221: L = t192 + t206;
-        let t222: L = L::splat(0.7071067811865476) * t221;
-        let t223: L = t15 * L::splat(0.1);
-        let t224: L = t23 * t223;
-        let t225: L = t37 * t223;
-        let t226: L = t25 * L::splat(-12.0);
-        let t227: L = L::splat(-12.0).mul_add(t224, t226);
-        let t228: L = t21 * t227;
-        let t229: L = t39 * L::splat(-12.0);
-        let t230: L = L::splat(-12.0).mul_add(t225, t229);
-        let t231: L = t35 * t230;
-        let t232: L = t74 * t231;
-        let t233: L = t72.mul_add(t228, t232);
-        let t234: L = L::splat(0.7071067811865476) * t233;
-        let t235: L = t25.mul_add(L::splat(60.0), L::splat(-6.0));
-        let t236: L = L::splat(60.0).mul_add(t224, t235);
-        let t237: L = t22 * t236;
-        let t238: L = t22 * t227;
-        let t239: L = t26.mul_add(t237, t238);
-        let t240: L = t39.mul_add(L::splat(60.0), L::splat(-6.0));
-        let t241: L = L::splat(60.0).mul_add(t225, t240);
-        let t242: L = t36 * t241;
-        let t243: L = t36 * t230;
-        let t244: L = t40.mul_add(t242, t243);
-        let t245: L = t74 * t244;
-        let t246: L = t72.mul_add(t239, t245);
-        let t247: L = L::splat(0.7071067811865476) * t246;
-        let t248: L = t21 * t236;
-        let t249: L = t138.mul_add(t248, t228);
-        let t250: L = t39.mul_add(L::splat(-60.0), L::splat(6.0));
-        let t251: L = L::splat(-60.0).mul_add(t225, t250);
-        let t252: L = t35 * t251;
-        let t253: L = t39 * L::splat(12.0);
-        let t254: L = L::splat(12.0).mul_add(t225, t253);
-        let t255: L = t35 * t254;
-        let t256: L = t141.mul_add(t252, t255);
-        let t257: L = t74 * t256;
-        let t258: L = t72.mul_add(t249, t257);
-        let t259: L = L::splat(0.7071067811865476) * t258;
-        let t260: L = t74 * t243;
-        let t261: L = t72.mul_add(t238, t260);
-        let t262: L = L::splat(0.7071067811865476) * t261;
-        let t263: L = t25.mul_add(L::splat(30.0), L::splat(-3.0));
-        let t264: L = t224.mul_add(L::splat(30.0), t263);
-        let t265: L = t26.mul_add(t264, t227);
-        let t266: L = t21 * t265;
-        let t267: L = t39.mul_add(L::splat(30.0), L::splat(-3.0));
-        let t268: L = t225.mul_add(L::splat(30.0), t267);
-        let t269: L = t40.mul_add(t268, t230);
-        let t270: L = t35 * t269;
-        let t271: L = t74 * t270;
-        let t272: L = t72.mul_add(t266, t271);
-        let t273: L = L::splat(0.7071067811865476) * t272;
-        let t274: L = t22 * t264;
-        let t275: L = t26 * t274;
-        let t276: L = t39.mul_add(L::splat(-30.0), L::splat(3.0));
-        let t277: L = L::splat(-30.0).mul_add(t225, t276);
-        let t278: L = t36 * t277;
-        let t279: L = t40 * t278;
-        let t280: L = t74 * t279;
-        let t281: L = t72.mul_add(t275, t280);
-        let t282: L = L::splat(0.7071067811865476) * t281;
-        let t283: L = t25.mul_add(L::splat(-90.0), L::splat(9.0));
-        let t284: L = t224.mul_add(L::splat(-90.0), t283);
-        let t285: L = t25.mul_add(L::splat(72.0), L::splat(-6.0));
-        let t286: L = t224.mul_add(L::splat(72.0), t285);
-        let t287: L = t26.mul_add(t284, t286);
-        let t288: L = t21 * t287;
-        let t289: L = t39.mul_add(L::splat(-90.0), L::splat(9.0));
-        let t290: L = t225.mul_add(L::splat(-90.0), t289);
-        let t291: L = t39.mul_add(L::splat(72.0), L::splat(-6.0));
-        let t292: L = t225.mul_add(L::splat(72.0), t291);
-        let t293: L = t40.mul_add(t290, t292);
-        let t294: L = t35 * t293;
-        let t295: L = t74 * t294;
-        let t296: L = t72.mul_add(t288, t295);
-        let t297: L = L::splat(0.408248290463863) * t296;
-        let t298: L = t22 * t284;
-        let t299: L = t25.mul_add(L::splat(36.0), L::splat(-6.0));
-        let t300: L = t224.mul_add(L::splat(36.0), t299);
-        let t301: L = t22 * t300;
-        let t302: L = t26.mul_add(t298, t301);
-        let t303: L = t39.mul_add(L::splat(90.0), L::splat(-9.0));
-        let t304: L = L::splat(90.0).mul_add(t225, t303);
-        let t305: L = t36 * t304;
-        let t306: L = t39.mul_add(L::splat(-36.0), L::splat(6.0));
-        let t307: L = L::splat(-36.0).mul_add(t225, t306);
-        let t308: L = t36 * t307;
-        let t309: L = t40.mul_add(t305, t308);
-        let t310: L = t74 * t309;
-        let t311: L = t72.mul_add(t302, t310);
-        let t312: L = L::splat(0.408248290463863) * t311;
-        let t313: L = t171.mul_add(t190, t208);
-        let t314: L = L::splat(0.7071067811865476) * t313;
-        let t315: L = L::splat(-9.0) * t179;
-        let t316: L = t173.mul_add(t315, t212);
-        let t317: L = L::splat(0.408248290463863) * t316;
-        let t318: L = t83.mul_add(L::splat(-120.0), L::splat(6.0));
-        let t319: L = t224.mul_add(L::splat(-120.0), t318);
-        let t320: L = t83 * L::splat(24.0);
-        let t321: L = t224.mul_add(L::splat(24.0), t320);
-        let t322: L = t26.mul_add(t319, t321);
-        let t323: L = t84.mul_add(L::splat(-120.0), L::splat(6.0));
-        let t324: L = t225.mul_add(L::splat(-120.0), t323);
-        let t325: L = t84 * L::splat(24.0);
-        let t326: L = t225.mul_add(L::splat(24.0), t325);
-        let t327: L = t40.mul_add(t324, t326);
-        let t328: L = t173 * t327;
-        let t329: L = t171.mul_add(t322, t328);
-        let t330: L = L::splat(0.5) * t329;
-        let t331: L = t22 * t319;
-        let t332: L = t21 * t331;
-        let t333: L = t171 * t332;
-        let t334: L = t84.mul_add(L::splat(120.0), L::splat(-6.0));
-        let t335: L = t225.mul_add(L::splat(120.0), t334);
+        let t221: L = t25.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t222: L = L::splat(60.0).mul_add(t210, t221);
+        let t223: L = t22 * t222;
+        let t224: L = t22 * t213;
+        let t225: L = t26.mul_sub(t223, t224);
+        let t226: L = t40.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t227: L = L::splat(60.0).mul_add(t211, t226);
+        let t228: L = t37 * t227;
+        let t229: L = t37 * t216;
+        let t230: L = t41.mul_sub(t228, t229);
+        let t231: L = t70 * t230;
+        let t232: L = t68.mul_add(t225, t231);
+        let t233: L = L::splat(0.7071067811865476) * t232;
+        let t234: L = t21 * t222;
+        let t235: L = t132.neg_mul_add(t234, t214);
+        let t236: L = t36 * t227;
+        let t237: L = t135.mul_sub(t236, t217);
+        let t238: L = t70 * t237;
+        let t239: L = t68.mul_add(t235, t238);
+        let t240: L = L::splat(0.7071067811865476) * t239;
+        let t241: L = t70 * t229;
+        let t242: L = t68.mul_add(t224, t241);
+        let t243: L = L::splat(0.7071067811865476) * t242;
+        let t244: L = t25.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t245: L = L::splat(30.0).mul_add(t210, t244);
+        let t246: L = t26.neg_mul_add(t245, t213);
+        let t247: L = t21 * t246;
+        let t248: L = t40.mul_add(L::splat(30.0), L::splat(-3.0));
+        let t249: L = L::splat(30.0).mul_add(t211, t248);
+        let t250: L = t41.neg_mul_add(t249, t216);
+        let t251: L = t36 * t250;
+        let t252: L = t70 * t251;
+        let t253: L = t68.mul_add(t247, t252);
+        let t254: L = L::splat(0.7071067811865476) * t253;
+        let t255: L = t22 * t245;
+        let t256: L = t26 * t255;
+        let t257: L = t37 * t249;
+        let t258: L = t41 * t257;
+        let t259: L = t70 * t258;
+        let t260: L = t68.mul_sub(t256, t259);
+        let t261: L = L::splat(0.7071067811865476) * t260;
+        let t262: L = t25.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t263: L = L::splat(90.0).mul_add(t210, t262);
+        let t264: L = t25.mul_add(L::splat(72.0), L::splat(-6.0));
+        let t265: L = L::splat(72.0).mul_add(t210, t264);
+        let t266: L = t26.mul_sub(t263, t265);
+        let t267: L = t21 * t266;
+        let t268: L = t40.mul_add(L::splat(90.0), L::splat(-9.0));
+        let t269: L = L::splat(90.0).mul_add(t211, t268);
+        let t270: L = t40.mul_add(L::splat(72.0), L::splat(-6.0));
+        let t271: L = L::splat(72.0).mul_add(t211, t270);
+        let t272: L = t41.mul_sub(t269, t271);
+        let t273: L = t36 * t272;
+        let t274: L = t70 * t273;
+        let t275: L = t68.mul_add(t267, t274);
+        let t276: L = L::splat(0.408248290463863) * t275;
+        let t277: L = t22 * t263;
+        let t278: L = t25.mul_add(L::splat(36.0), L::splat(-6.0));
+        let t279: L = L::splat(36.0).mul_add(t210, t278);
+        let t280: L = t22 * t279;
+        let t281: L = t26.mul_sub(t277, t280);
+        let t282: L = t37 * t269;
+        let t283: L = t40.mul_add(L::splat(36.0), L::splat(-6.0));
+        let t284: L = L::splat(36.0).mul_add(t211, t283);
+        let t285: L = t37 * t284;
+        let t286: L = t41.mul_sub(t282, t285);
+        let t287: L = t70 * t286;
+        let t288: L = t68.mul_sub(t281, t287);
+        let t289: L = L::splat(0.408248290463863) * t288;
+        let t290: L = t182 - t184;
+        let t291: L = L::splat(0.7071067811865476) * t290;
+        let t292: L = t164.mul_sub(t197, t199);
+        let t293: L = L::splat(0.408248290463863) * t292;
+        let t294: L = t79.mul_add(L::splat(120.0), L::splat(-6.0));
+        let t295: L = t210.mul_add(L::splat(120.0), t294);
+        let t296: L = t79 * L::splat(24.0);
+        let t297: L = t210.mul_add(L::splat(24.0), t296);
+        let t298: L = t26.mul_sub(t295, t297);
+        let t299: L = t80.mul_add(L::splat(120.0), L::splat(-6.0));
+        let t300: L = t211.mul_add(L::splat(120.0), t299);
+        let t301: L = t80 * L::splat(24.0);
+        let t302: L = t211.mul_add(L::splat(24.0), t301);
+        let t303: L = t41.mul_sub(t300, t302);
+        let t304: L = t166 * t303;
+        let t305: L = t164.mul_add(t298, t304);
+        let t306: L = t22 * t295;
+        let t307: L = t21 * t306;
+        let t308: L = t37 * t300;
+        let t309: L = t36 * t308;
+        let t310: L = t166 * t309;
+        let t311: L = t164.mul_sub(t307, t310);
+        let t312: L = t79.mul_add(L::splat(840.0), L::splat(-60.0));
+        let t313: L = t210.mul_add(L::splat(840.0), t312);
+        let t314: L = t26.mul_sub(t313, t313);
+        let t315: L = t79.mul_add(L::splat(96.0), L::splat(-6.0));
+        let t316: L = t210.mul_add(L::splat(96.0), t315);
+        let t317: L = t26.mul_add(t314, t316);
+        let t318: L = t80.mul_add(L::splat(840.0), L::splat(-60.0));
+        let t319: L = t211.mul_add(L::splat(840.0), t318);
+        let t320: L = t41.mul_sub(t319, t319);
+        let t321: L = t80.mul_add(L::splat(96.0), L::splat(-6.0));
+        let t322: L = t211.mul_add(L::splat(96.0), t321);
+        let t323: L = t41.mul_add(t320, t322);
+        let t324: L = t166 * t323;
+        let t325: L = t164.mul_sub(t317, t324);
+        let t326: L = t79.mul_add(L::splat(420.0), L::splat(-30.0));
+        let t327: L = t210.mul_add(L::splat(420.0), t326);
+        let t328: L = t22 * t327;
+        let t329: L = t26.neg_mul_add(t328, t306);
+        let t330: L = t21 * t329;
+        let t331: L = t164 * t330;
+        let t332: L = t80.mul_add(L::splat(420.0), L::splat(-30.0));
+        let t333: L = t211.mul_add(L::splat(420.0), t332);
+        let t334: L = t37 * t333;
+        let t335: L = t41.mul_sub(t334, t308);
         let t336: L = t36 * t335;
-        let t337: L = t35 * t336;
-        let t338: L = t173.mul_add(t337, t333);
-        let t339: L = L::splat(0.5) * t338;
-        let t340: L = t83.mul_add(L::splat(-840.0), L::splat(60.0));
-        let t341: L = t224.mul_add(L::splat(-840.0), t340);
-        let t342: L = t83.mul_add(L::splat(840.0), L::splat(-60.0));
-        let t343: L = t224.mul_add(L::splat(840.0), t342);
-        let t344: L = t26.mul_add(t341, t343);
-        let t345: L = t83.mul_add(L::splat(-96.0), L::splat(6.0));
-        let t346: L = t224.mul_add(L::splat(-96.0), t345);
-        let t347: L = t26.mul_add(t344, t346);
-        let t348: L = t84.mul_add(L::splat(840.0), L::splat(-60.0));
-        let t349: L = t225.mul_add(L::splat(840.0), t348);
-        let t350: L = t84.mul_add(L::splat(-840.0), L::splat(60.0));
-        let t351: L = t225.mul_add(L::splat(-840.0), t350);
-        let t352: L = t40.mul_add(t349, t351);
-        let t353: L = t84.mul_add(L::splat(96.0), L::splat(-6.0));
-        let t354: L = t225.mul_add(L::splat(96.0), t353);
-        let t355: L = t40.mul_add(t352, t354);
-        let t356: L = t173 * t355;
-        let t357: L = t171.mul_add(t347, t356);
-        let t358: L = L::splat(0.5) * t357;
-        let t359: L = t83.mul_add(L::splat(420.0), L::splat(-30.0));
-        let t360: L = t224.mul_add(L::splat(420.0), t359);
-        let t361: L = t22 * t360;
-        let t362: L = t26.mul_add(t361, t331);
-        let t363: L = t21 * t362;
-        let t364: L = t171 * t363;
-        let t365: L = t84.mul_add(L::splat(420.0), L::splat(-30.0));
-        let t366: L = t225.mul_add(L::splat(420.0), t365);
-        let t367: L = t36 * t366;
-        let t368: L = t36 * t324;
-        let t369: L = t40.mul_add(t367, t368);
-        let t370: L = t35 * t369;
-        let t371: L = t173.mul_add(t370, t364);
-        let t372: L = L::splat(0.5) * t371;
-        let t373: L = t83.mul_add(L::splat(-1260.0), L::splat(90.0));
-        let t374: L = t224.mul_add(L::splat(-1260.0), t373);
-        let t375: L = t22 * t374;
-        let t376: L = t83.mul_add(L::splat(720.0), L::splat(-54.0));
-        let t377: L = t224.mul_add(L::splat(720.0), t376);
-        let t378: L = t22 * t377;
-        let t379: L = t26.mul_add(t375, t378);
-        let t380: L = t21 * t379;
-        let t381: L = t171 * t380;
-        let t382: L = t84.mul_add(L::splat(-1260.0), L::splat(90.0));
-        let t383: L = t225.mul_add(L::splat(-1260.0), t382);
-        let t384: L = t36 * t383;
-        let t385: L = t84.mul_add(L::splat(720.0), L::splat(-54.0));
-        let t386: L = t225.mul_add(L::splat(720.0), t385);
-        let t387: L = t36 * t386;
-        let t388: L = t40.mul_add(t384, t387);
-        let t389: L = t35 * t388;
-        let t390: L = t173.mul_add(t389, t381);
+        let t337: L = t166.neg_mul_add(t336, t331);
+        let t338: L = t79.mul_add(L::splat(1260.0), L::splat(-90.0));
+        let t339: L = t210.mul_add(L::splat(1260.0), t338);
+        let t340: L = t22 * t339;
+        let t341: L = t79.mul_add(L::splat(720.0), L::splat(-54.0));
+        let t342: L = t210.mul_add(L::splat(720.0), t341);
+        let t343: L = t22 * t342;
+        let t344: L = t26.mul_sub(t340, t343);
+        let t345: L = t21 * t344;
+        let t346: L = t80.mul_add(L::splat(1260.0), L::splat(-90.0));
+        let t347: L = t211.mul_add(L::splat(1260.0), t346);
+        let t348: L = t37 * t347;
+        let t349: L = t80.mul_add(L::splat(720.0), L::splat(-54.0));
+        let t350: L = t211.mul_add(L::splat(720.0), t349);
+        let t351: L = t37 * t350;
+        let t352: L = t41.mul_sub(t348, t351);
+        let t353: L = t36 * t352;
+        let t354: L = t166 * t353;
+        let t355: L = t164.mul_add(t345, t354);
+        let t356: L = L::splat(0.28867513459481287) * t355;
+        let t357: L = t164.mul_add(t307, t310);
+        let t358: L = t132.neg_mul_add(t295, t297);
+        let t359: L = t135.mul_sub(t300, t302);
+        let t360: L = t166 * t359;
+        let t361: L = t164.mul_add(t358, t360);
+        let t362: L = t41.neg_mul_add(t334, t308);
+        let t363: L = t36 * t362;
+        let t364: L = t166.neg_mul_add(t363, t331);
+        let t365: L = t79.mul_add(L::splat(210.0), L::splat(-15.0));
+        let t366: L = t210.mul_add(L::splat(210.0), t365);
+        let t367: L = t26.neg_mul_add(t366, t295);
+        let t368: L = t26.neg_mul_add(t367, t297);
+        let t369: L = t80.mul_add(L::splat(210.0), L::splat(-15.0));
+        let t370: L = t211.mul_add(L::splat(210.0), t369);
+        let t371: L = t41.neg_mul_add(t370, t300);
+        let t372: L = t41.neg_mul_add(t371, t302);
+        let t373: L = t166 * t372;
+        let t374: L = t164.mul_add(t368, t373);
+        let t375: L = t79.mul_add(L::splat(630.0), L::splat(-45.0));
+        let t376: L = t210.mul_add(L::splat(630.0), t375);
+        let t377: L = t79.mul_add(L::splat(540.0), L::splat(-36.0));
+        let t378: L = t210.mul_add(L::splat(540.0), t377);
+        let t379: L = t26.mul_sub(t376, t378);
+        let t380: L = t26 * t379;
+        let t381: L = t80.mul_add(L::splat(630.0), L::splat(-45.0));
+        let t382: L = t211.mul_add(L::splat(630.0), t381);
+        let t383: L = t80.mul_add(L::splat(540.0), L::splat(-36.0));
+        let t384: L = t211.mul_add(L::splat(540.0), t383);
+        let t385: L = t41.mul_sub(t382, t384);
+        let t386: L = t41 * t385;
+        let t387: L = t166 * t386;
+        let t388: L = t164.mul_add(t380, t387);
+        let t389: L = L::splat(0.28867513459481287) * t388;
+        let t390: L = t164.mul_sub(t345, t354);
         let t391: L = L::splat(0.28867513459481287) * t390;
-        let t392: L = t35 * t368;
-        let t393: L = t173.mul_add(t392, t333);
-        let t394: L = L::splat(0.5) * t393;
-        let t395: L = t138.mul_add(t319, t321);
-        let t396: L = t84 * L::splat(-24.0);
-        let t397: L = t225.mul_add(L::splat(-24.0), t396);
-        let t398: L = t141.mul_add(t335, t397);
-        let t399: L = t173 * t398;
-        let t400: L = t171.mul_add(t395, t399);
-        let t401: L = L::splat(0.5) * t400;
-        let t402: L = t84.mul_add(L::splat(-420.0), L::splat(30.0));
-        let t403: L = t225.mul_add(L::splat(-420.0), t402);
-        let t404: L = t36 * t403;
-        let t405: L = t40.mul_add(t404, t336);
-        let t406: L = t35 * t405;
-        let t407: L = t173.mul_add(t406, t364);
-        let t408: L = L::splat(0.5) * t407;
-        let t409: L = t83.mul_add(L::splat(210.0), L::splat(-15.0));
-        let t410: L = t224.mul_add(L::splat(210.0), t409);
-        let t411: L = t26.mul_add(t410, t319);
-        let t412: L = t26.mul_add(t411, t321);
-        let t413: L = t84.mul_add(L::splat(210.0), L::splat(-15.0));
-        let t414: L = t225.mul_add(L::splat(210.0), t413);
-        let t415: L = t40.mul_add(t414, t324);
-        let t416: L = t40.mul_add(t415, t326);
-        let t417: L = t173 * t416;
-        let t418: L = t171.mul_add(t412, t417);
-        let t419: L = L::splat(0.5) * t418;
-        let t420: L = t83.mul_add(L::splat(-630.0), L::splat(45.0));
-        let t421: L = t224.mul_add(L::splat(-630.0), t420);
-        let t422: L = t83.mul_add(L::splat(540.0), L::splat(-36.0));
-        let t423: L = t224.mul_add(L::splat(540.0), t422);
-        let t424: L = t26.mul_add(t421, t423);
-        let t425: L = t26 * t424;
-        let t426: L = t84.mul_add(L::splat(-630.0), L::splat(45.0));
-        let t427: L = t225.mul_add(L::splat(-630.0), t426);
-        let t428: L = t84.mul_add(L::splat(540.0), L::splat(-36.0));
-        let t429: L = t225.mul_add(L::splat(540.0), t428);
-        let t430: L = t40.mul_add(t427, t429);
-        let t431: L = t40 * t430;
-        let t432: L = t173 * t431;
-        let t433: L = t171.mul_add(t425, t432);
-        let t434: L = L::splat(0.28867513459481287) * t433;
-        let t435: L = t84.mul_add(L::splat(1260.0), L::splat(-90.0));
-        let t436: L = t225.mul_add(L::splat(1260.0), t435);
-        let t437: L = t36 * t436;
-        let t438: L = t84.mul_add(L::splat(-720.0), L::splat(54.0));
-        let t439: L = t225.mul_add(L::splat(-720.0), t438);
-        let t440: L = t36 * t439;
-        let t441: L = t40.mul_add(t437, t440);
-        let t442: L = t35 * t441;
-        let t443: L = t173.mul_add(t442, t381);
-        let t444: L = L::splat(0.28867513459481287) * t443;
-        let t445: L = t83.mul_add(L::splat(1890.0), L::splat(-135.0));
-        let t446: L = t224.mul_add(L::splat(1890.0), t445);
-        let t447: L = t83.mul_add(L::splat(-2160.0), L::splat(162.0));
-        let t448: L = t224.mul_add(L::splat(-2160.0), t447);
-        let t449: L = t26.mul_add(t446, t448);
-        let t450: L = t83.mul_add(L::splat(432.0), L::splat(-36.0));
-        let t451: L = t224.mul_add(L::splat(432.0), t450);
-        let t452: L = t26.mul_add(t449, t451);
-        let t453: L = t84.mul_add(L::splat(1890.0), L::splat(-135.0));
-        let t454: L = t225.mul_add(L::splat(1890.0), t453);
-        let t455: L = t84.mul_add(L::splat(-2160.0), L::splat(162.0));
-        let t456: L = t225.mul_add(L::splat(-2160.0), t455);
-        let t457: L = t40.mul_add(t454, t456);
-        let t458: L = t84.mul_add(L::splat(432.0), L::splat(-36.0));
-        let t459: L = t225.mul_add(L::splat(432.0), t458);
-        let t460: L = t40.mul_add(t457, t459);
-        let t461: L = t173 * t460;
-        let t462: L = t171.mul_add(t452, t461);
-        let t463: L = L::splat(0.16666666666666666) * t462;
-        let t464: L = t9 * t48;
-        let t465: L = t9 * t9;
-        let t466: L = t11 * t58;
-        let t467: L = t11 * t11;
-        let t468: L = t58 * t467;
-        let t469: L = t48.mul_add(t465, t468);
-        let t470: L = t11 * t48;
-        let t471: L = t9 * t58;
-        let t472: L = t11 * t471;
-        let t473: L = t9.mul_sub(t470, t472);
-        let t474: L = t9 * t56;
-        let t475: L = t9 * t466;
-        let t476: L = t11.mul_sub(t464, t475);
-        let t477: L = t58 * t465;
-        let t478: L = t48.mul_add(t467, t477);
-        let t479: L = t11 * t56;
-        let t480: L = t9 * t61;
-        let t481: L = t11 * t61;
-        let t482: L = t11 * t76;
-        let t483: L = t9 * t77;
+        let t392: L = t79.mul_add(L::splat(1890.0), L::splat(-135.0));
+        let t393: L = t210.mul_add(L::splat(1890.0), t392);
+        let t394: L = t79.mul_add(L::splat(2160.0), L::splat(-162.0));
+        let t395: L = t210.mul_add(L::splat(2160.0), t394);
+        let t396: L = t26.mul_sub(t393, t395);
+        let t397: L = t79.mul_add(L::splat(432.0), L::splat(-36.0));
+        let t398: L = t210.mul_add(L::splat(432.0), t397);
+        let t399: L = t26.mul_add(t396, t398);
+        let t400: L = t80.mul_add(L::splat(1890.0), L::splat(-135.0));
+        let t401: L = t211.mul_add(L::splat(1890.0), t400);
+        let t402: L = t80.mul_add(L::splat(2160.0), L::splat(-162.0));
+        let t403: L = t211.mul_add(L::splat(2160.0), t402);
+        let t404: L = t41.mul_sub(t401, t403);
+        let t405: L = t80.mul_add(L::splat(432.0), L::splat(-36.0));
+        let t406: L = t211.mul_add(L::splat(432.0), t405);
+        let t407: L = t41.mul_add(t404, t406);
+        let t408: L = t166 * t407;
+        let t409: L = t164.mul_add(t399, t408);
+        let t410: L = L::splat(0.16666666666666666) * t409;
+        let t411: L = t9 * t50;
+        let t412: L = t9 * t9;
+        let t413: L = t11 * t58;
+        let t414: L = t11 * t11;
+        let t415: L = t58 * t414;
+        let t416: L = L::splat(-2.0) * t415;
+        let t417: L = t50.neg_mul_sub(t412, t416);
+        let t418: L = t11 * t50;
+        let t419: L = t9 * t58;
+        let t420: L = t11 * t419;
+        let t421: L = L::splat(2.0) * t420;
+        let t422: L = t9.neg_mul_sub(t418, t421);
+        let t423: L = t9 * t56;
+        let t424: L = -t423;
+        let t425: L = t9 * t413;
+        let t426: L = L::splat(2.0) * t425;
+        let t427: L = t11.neg_mul_sub(t411, t426);
+        let t428: L = t58 * t412;
+        let t429: L = L::splat(-2.0) * t428;
+        let t430: L = t50.neg_mul_sub(t414, t429);
+        let t431: L = t11 * t56;
+        let t432: L = -t431;
+        let t433: L = t9 * t59;
+        let t434: L = -t433;
+        let t435: L = t11 * t59;
+        let t436: L = -t435;
+        let t437: L = t11 * t72;
+        let t438: L = t9 * t73;
+        let t439: L = t11 * t438;
+        let t440: L = t9.neg_mul_sub(t437, t439);
+        let t441: L = t9 * t72;
+        let t442: L = t11 * t73;
+        let t443: L = t73 * t414;
+        let t444: L = t72.mul_sub(t412, t443);
+        let t445: L = t11 * t76;
+        let t446: L = -t445;
+        let t447: L = t72 * t414;
+        let t448: L = t73.mul_sub(t412, t447);
+        let t449: L = t9 * t442;
+        let t450: L = t11.mul_add(t441, t449);
+        let t451: L = t9 * t76;
+        let t452: L = t11 * t77;
+        let t453: L = -t452;
+        let t454: L = t9 * t77;
+        let t455: L = t414 * L::splat(0.5000000000000001);
+        let t456: L = t412.mul_sub(L::splat(0.5000000000000001), t455);
+        let t457: L = t456 - t455;
+        let t458: L = t412.mul_add(L::splat(0.5000000000000001), t457);
+        let t459: L = t9 * t11;
+        let t460: L = t459 * L::splat(1.5000000000000004);
+        let t461: L = L::splat(0.5000000000000001).mul_add(t459, t460);
+        let t462: L = t9 * L::splat(0.5000000000000001);
+        let t463: L = t11 * L::splat(0.5000000000000001);
+        let t464: L = t455 - t456;
+        let t465: L = t412.mul_sub(L::splat(0.5000000000000001), t464);
+        let t466: L = t414 * L::splat(0.2886751345948129);
+        let t467: L = t412.mul_add(L::splat(0.2886751345948129), t466);
+        let t468: L = t467 - t466;
+        let t469: L = t412.neg_mul_add(L::splat(0.2886751345948129), t468);
+        let t470: L = t412.mul_sub(L::splat(0.2886751345948129), t466);
+        let t471: L = t466 + t470;
+        let t472: L = t412.mul_sub(L::splat(0.2886751345948129), t471);
+        let t473: L = L::splat(0.16666666666666666) * t414;
+        let t474: L = L::splat(0.16666666666666666).mul_add(t412, t473);
+        let t475: L = t473 + t474;
+        let t476: L = L::splat(0.16666666666666666).mul_add(t412, t475);
+        let t477: L = t476 + L::splat(0.6666666666666666);
+        let t478: L = t108 * t461;
+        let t479: L = t128 * t458;
+        let t480: L = t11 * t479;
+        let t481: L = t9.mul_sub(t478, t480);
+        let t482: L = t97 * t462;
+        let t483: L = t131 * t463;
         let t484: L = t11 * t483;
-        let t485: L = t9.mul_add(t482, t484);
-        let t486: L = -t485;
-        let t487: L = t9 * t76;
-        let t488: L = t11 * t77;
-        let t489: L = t77 * t467;
-        let t490: L = t76.mul_sub(t465, t489);
-        let t491: L = t11 * t80;
-        let t492: L = -t491;
-        let t493: L = t76 * t467;
-        let t494: L = t77.mul_sub(t465, t493);
-        let t495: L = t9 * t488;
-        let t496: L = t11.mul_add(t487, t495);
-        let t497: L = t9 * t80;
-        let t498: L = t11 * t81;
-        let t499: L = -t498;
-        let t500: L = t9 * t81;
-        let t501: L = t467 * L::splat(0.5000000000000001);
-        let t502: L = t465.mul_sub(L::splat(0.5000000000000001), t501);
-        let t503: L = t502 - t501;
-        let t504: L = t465.mul_add(L::splat(0.5000000000000001), t503);
-        let t505: L = t9 * t11;
-        let t506: L = L::splat(0.5000000000000001) * t505;
-        let t507: L = t505 * L::splat(-0.5000000000000001);
-        let t508: L = t506 - t507;
-        let t509: L = t506 + t508;
-        let t510: L = t509 - t507;
-        let t511: L = t505 * L::splat(-0.2886751345948129);
-        let t512: L = t9 * L::splat(0.5000000000000001);
-        let t513: L = t512 + t512;
-        let t514: L = t11 * L::splat(0.5000000000000001);
-        let t515: L = t514 + t514;
-        let t516: L = t506 + t506;
-        let t517: L = t507 - t516;
-        let t518: L = t507 + t517;
-        let t519: L = t467 * L::splat(-0.5000000000000001);
-        let t520: L = t465.mul_add(L::splat(0.5000000000000001), t519);
-        let t521: L = t519 + t520;
-        let t522: L = t465.mul_add(L::splat(0.5000000000000001), t521);
-        let t523: L = t467 * L::splat(-0.2886751345948129);
-        let t524: L = t465.mul_add(L::splat(-0.2886751345948129), t523);
-        let t525: L = t467 * L::splat(0.2886751345948129);
-        let t526: L = t524 + t525;
-        let t527: L = t465.mul_add(L::splat(0.2886751345948129), t526);
-        let t528: L = t511 + t511;
-        let t529: L = t511 - t528;
-        let t530: L = t511 + t529;
-        let t531: L = t465.mul_add(L::splat(-0.2886751345948129), t525);
-        let t532: L = t523 + t531;
-        let t533: L = t465.mul_add(L::splat(0.2886751345948129), t532);
-        let t534: L = L::splat(0.16666666666666666) * t467;
-        let t535: L = L::splat(0.16666666666666666).mul_add(t465, t534);
-        let t536: L = t534 + t535;
-        let t537: L = L::splat(0.16666666666666666).mul_add(t465, t536);
-        let t538: L = t537 + L::splat(0.6666666666666666);
-        let t539: L = t114 * t510;
-        let t540: L = t134 * t504;
-        let t541: L = t11 * t540;
-        let t542: L = t9.mul_sub(t539, t541);
-        let t543: L = t101 * t513;
-        let t544: L = t137 * t515;
-        let t545: L = t11 * t544;
-        let t546: L = t9.mul_add(t543, t545);
-        let t547: L = t101 * t515;
-        let t548: L = t137 * t513;
-        let t549: L = t11 * t548;
-        let t550: L = t9.mul_sub(t547, t549);
-        let t551: L = t129 * t527;
-        let t552: L = t114.mul_add(t522, t551);
-        let t553: L = t134 * t518;
+        let t485: L = t9.mul_sub(t482, t484);
+        let t486: L = L::splat(-2.0) * t485;
+        let t487: L = t97 * t463;
+        let t488: L = t131 * t462;
+        let t489: L = t11 * t488;
+        let t490: L = t9.mul_add(t487, t489);
+        let t491: L = L::splat(-2.0) * t490;
+        let t492: L = t123 * t469;
+        let t493: L = t108.mul_sub(t465, t492);
+        let t494: L = t128 * t461;
+        let t495: L = t11 * t494;
+        let t496: L = t9.mul_add(t493, t495);
+        let t497: L = t123 * t477;
+        let t498: L = t108.mul_add(t472, t497);
+        let t499: L = t9 * t498;
+        let t500: L = t9 * t479;
+        let t501: L = t11.mul_add(t478, t500);
+        let t502: L = t9 * t483;
+        let t503: L = t11.mul_add(t482, t502);
+        let t504: L = L::splat(-2.0) * t503;
+        let t505: L = t9 * t488;
+        let t506: L = t11.mul_sub(t487, t505);
+        let t507: L = L::splat(-2.0) * t506;
+        let t508: L = t9 * t494;
+        let t509: L = t11.mul_sub(t493, t508);
+        let t510: L = t11 * t498;
+        let t511: L = t147 * t461;
+        let t512: L = -t511;
+        let t513: L = t140 * t462;
+        let t514: L = L::splat(2.0) * t513;
+        let t515: L = t140 * t463;
+        let t516: L = L::splat(2.0) * t515;
+        let t517: L = t160 * t469;
+        let t518: L = t147.neg_mul_sub(t465, t517);
+        let t519: L = t147 * t472;
+        let t520: L = t160.mul_sub(t477, t519);
+        let t521: L = t11 * t161;
+        let t522: L = t9 * t521;
+        let t523: L = t9 * t161;
+        let t524: L = t11.mul_sub(t523, t522);
+        let t525: L = t161 * t414;
+        let t526: L = t161.mul_add(t412, t525);
+        let t527: L = t11 * t162;
+        let t528: L = -t527;
+        let t529: L = -t526;
+        let t530: L = t9 * t162;
+        let t531: L = -t451;
+        let t532: L = t9 * t168;
+        let t533: L = t11 * t175;
+        let t534: L = t175 * t414;
+        let t535: L = L::splat(-0.5) * t534;
+        let t536: L = t168.mul_add(t412, t535);
+        let t537: L = t11 * t168;
+        let t538: L = t9 * t175;
+        let t539: L = t11 * t538;
+        let t540: L = L::splat(0.5) * t539;
+        let t541: L = t9.mul_add(t537, t540);
+        let t542: L = t9 * t174;
+        let t543: L = t9 * t533;
+        let t544: L = L::splat(0.5) * t543;
+        let t545: L = t11.mul_add(t532, t544);
+        let t546: L = t175 * t412;
+        let t547: L = L::splat(-0.5) * t546;
+        let t548: L = t168.mul_add(t414, t547);
+        let t549: L = t11 * t174;
+        let t550: L = t9 * t176;
+        let t551: L = t11 * t176;
+        let t552: L = t186 * t458;
+        let t553: L = t186 * t461;
         let t554: L = t11 * t553;
-        let t555: L = t9.mul_sub(t552, t554);
-        let t556: L = t129 * t538;
-        let t557: L = t114.mul_add(t533, t556);
-        let t558: L = t134 * t530;
-        let t559: L = t11 * t558;
-        let t560: L = t9.mul_sub(t557, t559);
-        let t561: L = t9 * t540;
-        let t562: L = t11.mul_add(t539, t561);
-        let t563: L = t9 * t544;
-        let t564: L = t11.mul_sub(t543, t563);
-        let t565: L = t9 * t548;
-        let t566: L = t11.mul_add(t547, t565);
-        let t567: L = t9 * t553;
-        let t568: L = t11.mul_add(t552, t567);
-        let t569: L = t9 * t558;
-        let t570: L = t11.mul_add(t557, t569);
-        let t571: L = t154 * t510;
-        let t572: L = t147 * t513;
-        let t573: L = t147 * t515;
-        let t574: L = t167 * t527;
-        let t575: L = t154.mul_add(t522, t574);
-        let t576: L = t167 * t538;
-        let t577: L = t154.mul_add(t533, t576);
-        let t578: L = t11 * t168;
-        let t579: L = t9 * t578;
-        let t580: L = t9 * t168;
-        let t581: L = t11.mul_sub(t580, t579);
-        let t582: L = t168 * t467;
-        let t583: L = t168.mul_add(t465, t582);
-        let t584: L = t11 * t169;
-        let t585: L = -t584;
-        let t586: L = -t583;
-        let t587: L = t9 * t169;
-        let t588: L = -t497;
-        let t589: L = t9 * t175;
-        let t590: L = t11 * t183;
-        let t591: L = t183 * t467;
-        let t592: L = t175.mul_add(t465, t591);
-        let t593: L = t11 * t175;
-        let t594: L = t9 * t183;
-        let t595: L = t11 * t594;
-        let t596: L = t9.mul_sub(t593, t595);
-        let t597: L = t9 * t181;
-        let t598: L = t9 * t590;
-        let t599: L = t11.mul_sub(t589, t598);
-        let t600: L = t183 * t465;
-        let t601: L = t175.mul_add(t467, t600);
-        let t602: L = t11 * t181;
-        let t603: L = t9 * t185;
-        let t604: L = t11 * t185;
-        let t605: L = t194 * t504;
-        let t606: L = t210 * t510;
-        let t607: L = t11 * t606;
-        let t608: L = t9.mul_sub(t605, t607);
-        let t609: L = t199 * t515;
-        let t610: L = t204 * t513;
-        let t611: L = t11 * t610;
-        let t612: L = t9.mul_add(t609, t611);
-        let t613: L = -t612;
-        let t614: L = t199 * t513;
-        let t615: L = t204 * t515;
-        let t616: L = t11 * t615;
-        let t617: L = t9.mul_sub(t614, t616);
-        let t618: L = t194 * t518;
-        let t619: L = t215 * t527;
-        let t620: L = t210.mul_add(t522, t619);
-        let t621: L = t11 * t620;
-        let t622: L = t9.mul_sub(t618, t621);
-        let t623: L = t194 * t530;
-        let t624: L = t215 * t538;
-        let t625: L = t210.mul_add(t533, t624);
-        let t626: L = t11 * t625;
-        let t627: L = t9.mul_sub(t623, t626);
-        let t628: L = t9 * t606;
-        let t629: L = t11.mul_add(t605, t628);
-        let t630: L = t11 * t609;
-        let t631: L = t9.mul_sub(t610, t630);
-        let t632: L = t9 * t615;
-        let t633: L = t11.mul_add(t614, t632);
-        let t634: L = t9 * t620;
-        let t635: L = t11.mul_add(t618, t634);
-        let t636: L = t9 * t625;
-        let t637: L = t11.mul_add(t623, t636);
-        let t638: L = t220 * t504;
-        let t639: L = t222 * t515;
-        let t640: L = -t639;
-        let t641: L = t222 * t513;
-        let t642: L = t220 * t518;
-        let t643: L = t220 * t530;
-        let t644: L = t11 * t234;
-        let t645: L = t504 * t644;
-        let t646: L = t9 * t273;
-        let t647: L = t510.mul_sub(t646, t645);
-        let t648: L = t9 * t234;
-        let t649: L = t11 * t273;
-        let t650: L = t510 * t649;
-        let t651: L = t504.mul_add(t648, t650);
-        let t652: L = t282 * t510;
-        let t653: L = t9 * t247;
-        let t654: L = t11 * t262;
-        let t655: L = t515 * t654;
-        let t656: L = t513.mul_add(t653, t655);
-        let t657: L = t11 * t247;
-        let t658: L = t9 * t262;
-        let t659: L = t515 * t658;
-        let t660: L = t513.mul_sub(t657, t659);
-        let t661: L = t259 * t513;
-        let t662: L = t513 * t654;
-        let t663: L = t515.mul_sub(t653, t662);
-        let t664: L = t513 * t658;
-        let t665: L = t515.mul_add(t657, t664);
-        let t666: L = t259 * t515;
-        let t667: L = t518 * t644;
-        let t668: L = t522.mul_sub(t646, t667);
-        let t669: L = t9 * t297;
-        let t670: L = t527.mul_add(t669, t668);
-        let t671: L = t522 * t649;
-        let t672: L = t518.mul_add(t648, t671);
-        let t673: L = t11 * t297;
-        let t674: L = t527.mul_add(t673, t672);
-        let t675: L = t312 * t527;
-        let t676: L = t282.mul_add(t522, t675);
-        let t677: L = t530 * t644;
-        let t678: L = t533.mul_sub(t646, t677);
-        let t679: L = t538.mul_add(t669, t678);
-        let t680: L = t533 * t649;
-        let t681: L = t530.mul_add(t648, t680);
-        let t682: L = t538.mul_add(t673, t681);
-        let t683: L = t312 * t538;
-        let t684: L = t282.mul_add(t533, t683);
-        let t685: L = t9 * t314;
-        let t686: L = t11 * t222;
-        let t687: L = t510 * t686;
-        let t688: L = t504.mul_sub(t685, t687);
-        let t689: L = t11 * t314;
-        let t690: L = t9 * t222;
-        let t691: L = t510 * t690;
-        let t692: L = t504.mul_add(t689, t691);
-        let t693: L = t11 * t204;
-        let t694: L = t9 * t199;
-        let t695: L = t515 * t694;
-        let t696: L = t513.mul_add(t693, t695);
-        let t697: L = -t696;
-        let t698: L = t9 * t204;
-        let t699: L = t11 * t199;
-        let t700: L = t515 * t699;
-        let t701: L = t513.mul_sub(t698, t700);
-        let t702: L = t210 * t515;
-        let t703: L = -t702;
-        let t704: L = t515 * t693;
-        let t705: L = t513.mul_sub(t694, t704);
-        let t706: L = t513 * t699;
-        let t707: L = t515.mul_add(t698, t706);
-        let t708: L = t210 * t513;
-        let t709: L = t522 * t686;
-        let t710: L = t518.mul_sub(t685, t709);
-        let t711: L = t11 * t317;
-        let t712: L = t527.neg_mul_add(t711, t710);
-        let t713: L = t522 * t690;
-        let t714: L = t518.mul_add(t689, t713);
-        let t715: L = t9 * t317;
-        let t716: L = t527.mul_add(t715, t714);
-        let t717: L = t533 * t686;
-        let t718: L = t530.mul_sub(t685, t717);
-        let t719: L = t538.neg_mul_add(t711, t718);
-        let t720: L = t533 * t690;
-        let t721: L = t530.mul_add(t689, t720);
-        let t722: L = t538.mul_add(t715, t721);
-        let t723: L = t330 * t504;
-        let t724: L = t419 * t510;
-        let t725: L = t510 * t724;
-        let t726: L = t504.mul_add(t723, t725);
-        let t727: L = t339 * t515;
-        let t728: L = t504 * t727;
-        let t729: L = t408 * t513;
-        let t730: L = t510.mul_sub(t729, t728);
-        let t731: L = t339 * t513;
-        let t732: L = t408 * t515;
-        let t733: L = t510 * t732;
-        let t734: L = t504.mul_add(t731, t733);
-        let t735: L = t330 * t518;
-        let t736: L = t434 * t527;
-        let t737: L = t419.mul_add(t522, t736);
-        let t738: L = t510 * t737;
-        let t739: L = t504.mul_add(t735, t738);
-        let t740: L = t330 * t530;
-        let t741: L = t434 * t538;
-        let t742: L = t419.mul_add(t533, t741);
-        let t743: L = t510 * t742;
-        let t744: L = t504.mul_add(t740, t743);
-        let t745: L = t372 * t510;
-        let t746: L = t394 * t504;
-        let t747: L = t515 * t746;
-        let t748: L = t513.mul_sub(t745, t747);
-        let t749: L = t358 * t513;
-        let t750: L = t401 * t515;
-        let t751: L = t515 * t750;
-        let t752: L = t513.mul_add(t749, t751);
-        let t753: L = t358 * t515;
-        let t754: L = t401 * t513;
-        let t755: L = t515 * t754;
-        let t756: L = t513.mul_sub(t753, t755);
-        let t757: L = t391 * t527;
-        let t758: L = t372.mul_add(t522, t757);
-        let t759: L = t394 * t518;
-        let t760: L = t515 * t759;
-        let t761: L = t513.mul_sub(t758, t760);
-        let t762: L = t391 * t538;
-        let t763: L = t372.mul_add(t533, t762);
-        let t764: L = t394 * t530;
-        let t765: L = t515 * t764;
-        let t766: L = t513.mul_sub(t763, t765);
-        let t767: L = t513 * t746;
-        let t768: L = t515.mul_add(t745, t767);
-        let t769: L = t513 * t750;
-        let t770: L = t515.mul_sub(t749, t769);
-        let t771: L = t513 * t754;
-        let t772: L = t515.mul_add(t753, t771);
-        let t773: L = t513 * t759;
-        let t774: L = t515.mul_add(t758, t773);
-        let t775: L = t513 * t764;
-        let t776: L = t515.mul_add(t763, t775);
-        let t777: L = t522 * t724;
-        let t778: L = t518.mul_add(t723, t777);
-        let t779: L = t434 * t510;
-        let t780: L = t527.mul_add(t779, t778);
-        let t781: L = t518 * t727;
-        let t782: L = t522.mul_sub(t729, t781);
-        let t783: L = t444 * t513;
-        let t784: L = t527.mul_add(t783, t782);
-        let t785: L = t522 * t732;
-        let t786: L = t518.mul_add(t731, t785);
-        let t787: L = t444 * t515;
-        let t788: L = t527.mul_add(t787, t786);
-        let t789: L = t522 * t737;
-        let t790: L = t518.mul_add(t735, t789);
-        let t791: L = t463 * t527;
-        let t792: L = t434.mul_add(t522, t791);
-        let t793: L = t527.mul_add(t792, t790);
-        let t794: L = t522 * t742;
-        let t795: L = t518.mul_add(t740, t794);
-        let t796: L = t463 * t538;
-        let t797: L = t434.mul_add(t533, t796);
-        let t798: L = t527.mul_add(t797, t795);
-        let t799: L = t533 * t724;
-        let t800: L = t530.mul_add(t723, t799);
-        let t801: L = t538.mul_add(t779, t800);
-        let t802: L = t530 * t727;
-        let t803: L = t533.mul_sub(t729, t802);
-        let t804: L = t538.mul_add(t783, t803);
-        let t805: L = t533 * t732;
-        let t806: L = t530.mul_add(t731, t805);
-        let t807: L = t538.mul_add(t787, t806);
-        let t808: L = t533 * t737;
-        let t809: L = t530.mul_add(t735, t808);
-        let t810: L = t538.mul_add(t792, t809);
-        let t811: L = t533 * t742;
-        let t812: L = t530.mul_add(t740, t811);
-        let t813: L = t538.mul_add(t797, t812);
+        let t555: L = t9.mul_add(t552, t554);
+        let t556: L = t191 * t463;
+        let t557: L = t196 * t462;
+        let t558: L = t11 * t557;
+        let t559: L = t9.mul_add(t556, t558);
+        let t560: L = L::splat(-2.0) * t559;
+        let t561: L = t191 * t462;
+        let t562: L = t196 * t463;
+        let t563: L = t11 * t562;
+        let t564: L = t9.mul_sub(t561, t563);
+        let t565: L = L::splat(2.0) * t564;
+        let t566: L = t9 * t553;
+        let t567: L = t201 * t469;
+        let t568: L = t186.mul_add(t465, t567);
+        let t569: L = t11.mul_sub(t568, t566);
+        let t570: L = t201 * t477;
+        let t571: L = t186.mul_sub(t472, t570);
+        let t572: L = t11 * t571;
+        let t573: L = t11.mul_sub(t552, t566);
+        let t574: L = t11 * t556;
+        let t575: L = t9.mul_sub(t557, t574);
+        let t576: L = L::splat(2.0) * t575;
+        let t577: L = t9 * t562;
+        let t578: L = t11.mul_add(t561, t577);
+        let t579: L = L::splat(2.0) * t578;
+        let t580: L = t9.neg_mul_sub(t568, t554);
+        let t581: L = t9 * t571;
+        let t582: L = -t581;
+        let t583: L = t206 * t458;
+        let t584: L = -t583;
+        let t585: L = t208 * t463;
+        let t586: L = L::splat(-2.0) * t585;
+        let t587: L = t208 * t462;
+        let t588: L = L::splat(2.0) * t587;
+        let t589: L = t206 * t461;
+        let t590: L = t11 * t220;
+        let t591: L = t9 * t254;
+        let t592: L = t461 * t591;
+        let t593: L = t458.mul_sub(t590, t592);
+        let t594: L = t9 * t220;
+        let t595: L = t11 * t254;
+        let t596: L = t461 * t595;
+        let t597: L = t458.neg_mul_sub(t594, t596);
+        let t598: L = t261 * t461;
+        let t599: L = t9 * t233;
+        let t600: L = t11 * t243;
+        let t601: L = t463 * t600;
+        let t602: L = t462.mul_sub(t599, t601);
+        let t603: L = L::splat(2.0) * t602;
+        let t604: L = t11 * t233;
+        let t605: L = t9 * t243;
+        let t606: L = t463 * t605;
+        let t607: L = t462.mul_add(t604, t606);
+        let t608: L = L::splat(2.0) * t607;
+        let t609: L = t240 * t462;
+        let t610: L = L::splat(-2.0) * t609;
+        let t611: L = t462 * t600;
+        let t612: L = t463.mul_add(t599, t611);
+        let t613: L = L::splat(2.0) * t612;
+        let t614: L = t462 * t605;
+        let t615: L = t463.mul_sub(t604, t614);
+        let t616: L = L::splat(2.0) * t615;
+        let t617: L = t240 * t463;
+        let t618: L = L::splat(-2.0) * t617;
+        let t619: L = t465 * t591;
+        let t620: L = t461.mul_add(t590, t619);
+        let t621: L = t9 * t276;
+        let t622: L = t469.mul_sub(t621, t620);
+        let t623: L = t465 * t595;
+        let t624: L = t461.mul_sub(t594, t623);
+        let t625: L = t11 * t276;
+        let t626: L = t469.mul_add(t625, t624);
+        let t627: L = t289 * t469;
+        let t628: L = t261.mul_add(t465, t627);
+        let t629: L = t477 * t621;
+        let t630: L = t472.neg_mul_sub(t591, t629);
+        let t631: L = t477 * t625;
+        let t632: L = t472.neg_mul_sub(t595, t631);
+        let t633: L = t289 * t477;
+        let t634: L = t261.mul_sub(t472, t633);
+        let t635: L = t9 * t291;
+        let t636: L = t11 * t208;
+        let t637: L = t461 * t636;
+        let t638: L = t458.mul_sub(t635, t637);
+        let t639: L = t11 * t291;
+        let t640: L = t9 * t208;
+        let t641: L = t461 * t640;
+        let t642: L = t458.mul_add(t639, t641);
+        let t643: L = t11 * t196;
+        let t644: L = t9 * t191;
+        let t645: L = t463 * t644;
+        let t646: L = t462.mul_add(t643, t645);
+        let t647: L = L::splat(-2.0) * t646;
+        let t648: L = t9 * t196;
+        let t649: L = t11 * t191;
+        let t650: L = t463 * t649;
+        let t651: L = t462.mul_sub(t648, t650);
+        let t652: L = L::splat(2.0) * t651;
+        let t653: L = t186 * t463;
+        let t654: L = L::splat(2.0) * t653;
+        let t655: L = t463 * t643;
+        let t656: L = t462.mul_sub(t644, t655);
+        let t657: L = L::splat(2.0) * t656;
+        let t658: L = t462 * t649;
+        let t659: L = t463.mul_add(t648, t658);
+        let t660: L = L::splat(2.0) * t659;
+        let t661: L = t186 * t462;
+        let t662: L = L::splat(-2.0) * t661;
+        let t663: L = t465 * t636;
+        let t664: L = t461.mul_add(t635, t663);
+        let t665: L = t11 * t293;
+        let t666: L = t469.mul_sub(t665, t664);
+        let t667: L = t465 * t640;
+        let t668: L = t461.mul_sub(t639, t667);
+        let t669: L = t9 * t293;
+        let t670: L = t469.neg_mul_sub(t669, t668);
+        let t671: L = t477 * t665;
+        let t672: L = t472.neg_mul_sub(t636, t671);
+        let t673: L = t477 * t669;
+        let t674: L = t472.mul_add(t640, t673);
+        let t675: L = t305 * t458;
+        let t676: L = t374 * t461;
+        let t677: L = t461 * t676;
+        let t678: L = t458.mul_sub(t675, t677);
+        let t679: L = L::splat(-0.5) * t678;
+        let t680: L = t311 * t463;
+        let t681: L = t364 * t462;
+        let t682: L = t461 * t681;
+        let t683: L = t458.mul_sub(t680, t682);
+        let t684: L = t311 * t462;
+        let t685: L = t364 * t463;
+        let t686: L = t461 * t685;
+        let t687: L = t458.neg_mul_sub(t684, t686);
+        let t688: L = t305 * t461;
+        let t689: L = t458 * t688;
+        let t690: L = t374 * t465;
+        let t691: L = t389 * t469;
+        let t692: L = L::splat(0.5).mul_add(t690, t691);
+        let t693: L = t461 * t692;
+        let t694: L = L::splat(0.5).mul_add(t689, t693);
+        let t695: L = t374 * t472;
+        let t696: L = L::splat(-0.5) * t695;
+        let t697: L = t389.mul_add(t477, t696);
+        let t698: L = t461 * t697;
+        let t699: L = -t698;
+        let t700: L = t337 * t461;
+        let t701: L = t462 * t700;
+        let t702: L = t357 * t458;
+        let t703: L = t463.mul_sub(t702, t701);
+        let t704: L = t325 * t462;
+        let t705: L = t361 * t463;
+        let t706: L = t463 * t705;
+        let t707: L = t462.mul_sub(t704, t706);
+        let t708: L = L::splat(-2.0) * t707;
+        let t709: L = t325 * t463;
+        let t710: L = t361 * t462;
+        let t711: L = t463 * t710;
+        let t712: L = t462.mul_add(t709, t711);
+        let t713: L = L::splat(-2.0) * t712;
+        let t714: L = t337 * t465;
+        let t715: L = t356 * t469;
+        let t716: L = L::splat(-0.5).mul_add(t714, t715);
+        let t717: L = t462 * t716;
+        let t718: L = t357 * t461;
+        let t719: L = L::splat(-2.0) * t717;
+        let t720: L = t463.neg_mul_sub(t718, t719);
+        let t721: L = t337 * t472;
+        let t722: L = L::splat(0.5) * t721;
+        let t723: L = t356.mul_add(t477, t722);
+        let t724: L = t462 * t723;
+        let t725: L = L::splat(-2.0) * t724;
+        let t726: L = t462 * t702;
+        let t727: L = t463.neg_mul_sub(t700, t726);
+        let t728: L = t462 * t705;
+        let t729: L = t463.mul_add(t704, t728);
+        let t730: L = L::splat(-2.0) * t729;
+        let t731: L = t462 * t710;
+        let t732: L = t463.mul_sub(t709, t731);
+        let t733: L = L::splat(-2.0) * t732;
+        let t734: L = t463 * t716;
+        let t735: L = t462 * t718;
+        let t736: L = L::splat(2.0).mul_add(t734, t735);
+        let t737: L = t463 * t723;
+        let t738: L = L::splat(-2.0) * t737;
+        let t739: L = t465 * t676;
+        let t740: L = t461.mul_add(t675, t739);
+        let t741: L = t389 * t461;
+        let t742: L = t469 * t741;
+        let t743: L = L::splat(0.5).mul_add(t740, t742);
+        let t744: L = t465 * t681;
+        let t745: L = t461.mul_add(t680, t744);
+        let t746: L = t391 * t462;
+        let t747: L = t469 * t746;
+        let t748: L = L::splat(-2.0).neg_mul_sub(t747, t745);
+        let t749: L = t465 * t685;
+        let t750: L = t461.mul_sub(t684, t749);
+        let t751: L = t391 * t463;
+        let t752: L = t469 * t751;
+        let t753: L = L::splat(2.0).mul_add(t752, t750);
+        let t754: L = t461 * t688;
+        let t755: L = t465 * t692;
+        let t756: L = L::splat(-0.5).mul_add(t754, t755);
+        let t757: L = t410 * t469;
+        let t758: L = t389.mul_add(t465, t757);
+        let t759: L = t469.mul_add(t758, t756);
+        let t760: L = t465 * t697;
+        let t761: L = t410 * t477;
+        let t762: L = t389.mul_sub(t472, t761);
+        let t763: L = t469.mul_sub(t762, t760);
+        let t764: L = t472 * t676;
+        let t765: L = L::splat(-0.5) * t764;
+        let t766: L = t477.neg_mul_sub(t741, t765);
+        let t767: L = t477 * t746;
+        let t768: L = L::splat(2.0) * t767;
+        let t769: L = t472.neg_mul_sub(t681, t768);
+        let t770: L = t477 * t751;
+        let t771: L = L::splat(2.0) * t770;
+        let t772: L = t472.neg_mul_sub(t685, t771);
+        let t773: L = t477 * t758;
+        let t774: L = t472.mul_sub(t692, t773);
+        let t775: L = t477 * t762;
+        let t776: L = t472.neg_mul_sub(t697, t775);
         [
-            t469,
-            t473,
-            t474,
-            t476,
-            t478,
-            t479,
-            t480,
-            t481,
-            t71,
-            t486,
-            t490,
-            t492,
-            t494,
-            t496,
-            t497,
-            t499,
-            t500,
+            t417,
+            t422,
+            t424,
+            t427,
+            t430,
+            t432,
+            t434,
+            t436,
+            t67,
+            t440,
+            t444,
+            t446,
+            t448,
+            t450,
+            t451,
+            t453,
+            t454,
             L::splat(0.0),
+            t481,
+            t486,
+            t491,
+            t496,
+            t499,
+            t501,
+            t504,
+            t507,
+            t509,
+            t510,
+            t512,
+            t514,
+            t516,
+            t518,
+            t520,
+            t524,
+            t526,
+            t528,
+            t529,
+            t524,
+            t530,
+            t445,
+            t531,
+            L::splat(0.0),
+            t536,
+            t541,
             t542,
-            t546,
+            t545,
+            t548,
+            t549,
             t550,
+            t551,
+            t180,
             t555,
             t560,
-            t562,
-            t564,
-            t566,
-            t568,
-            t570,
-            t571,
+            t565,
+            t569,
             t572,
             t573,
-            t575,
-            t577,
-            t581,
-            t583,
-            t585,
+            t576,
+            t579,
+            t580,
+            t582,
+            t584,
             t586,
-            t581,
-            t587,
-            t491,
             t588,
+            t589,
             L::splat(0.0),
-            t592,
-            t596,
+            t593,
             t597,
-            t599,
-            t601,
-            t602,
+            t598,
             t603,
-            t604,
-            t189,
             t608,
+            t610,
             t613,
-            t617,
+            t616,
+            t618,
             t622,
-            t627,
-            t629,
-            t631,
-            t633,
-            t635,
-            t637,
+            t626,
+            t628,
+            t630,
+            t632,
+            t634,
             t638,
-            t640,
-            t641,
             t642,
-            t643,
+            t584,
             t647,
-            t651,
             t652,
-            t656,
+            t654,
+            t657,
             t660,
-            t661,
-            t663,
-            t665,
+            t662,
             t666,
             t670,
+            t589,
+            t672,
             t674,
-            t676,
+            L::splat(0.0),
             t679,
-            t682,
-            t684,
-            t688,
-            t692,
-            t638,
-            t697,
-            t701,
+            t683,
+            t687,
+            t694,
+            t699,
             t703,
-            t705,
-            t707,
             t708,
-            t712,
-            t716,
-            t642,
-            t719,
-            t722,
-            t643,
-            t726,
+            t713,
+            t720,
+            t725,
+            t727,
             t730,
-            t734,
-            t739,
-            t744,
+            t733,
+            t736,
+            t738,
+            t743,
             t748,
-            t752,
-            t756,
-            t761,
+            t753,
+            t759,
+            t763,
             t766,
-            t768,
-            t770,
+            t769,
             t772,
             t774,
             t776,
-            t780,
-            t784,
-            t788,
-            t793,
-            t798,
-            t801,
-            t804,
-            t807,
-            t810,
-            t813,
         ]
     };
     out
@@ -3619,11 +3582,11 @@ pub fn free_surface_self_divergence(
     let t18: f64 = t14 * t15;
     let t19: f64 = t12 * t17;
     let t20: f64 = t18 + t19;
-    let t21: f64 = t14 * (-2.0);
-    let t22: f64 = 4.0 * t20;
-    let t23: f64 = t4 * t22;
-    let t24: f64 = t21 + t23;
-    let t25: f64 = t23 + t24;
+    let t21: f64 = t4 + t4;
+    let t22: f64 = t14 * (-2.0);
+    let t23: f64 = 4.0 * t20;
+    let t24: f64 = t21 * t23;
+    let t25: f64 = t22 + t24;
     let t26: f64 = t0 * t25;
     let t27: f64 = -t26;
     Drift::<6> {
@@ -4391,7 +4354,7 @@ pub fn free_surface_pair_divergence(
 /// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).
 /// Strain and stresslet in the 5-component orthonormal basis (kernels::STRAIN_BASIS).
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_pair_divergence`'s fields. Operation count with fused multiply-adds: 542 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_pair_divergence`'s fields. Operation count with fused multiply-adds: 521 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_surface_pair_divergence_lanes<L: lanes::Lane>(
@@ -4480,38 +4443,38 @@ pub fn free_surface_pair_divergence_lanes<L: lanes::Lane>(
         let t74: L = t17 * t17;
         let t75: L = t17 * t36;
         let t76: L = t17 * t39;
-        let t77: L = t67.mul_add(L::splat(-6.0), L::splat(1.0));
-        let t78: L = t61 * L::splat(-12.0);
-        let t79: L = t62 * L::splat(-12.0);
-        let t80: L = t63 * L::splat(-12.0);
-        let t81: L = t64 * L::splat(-12.0);
-        let t82: L = t65 * L::splat(-12.0);
-        let t83: L = t66 * L::splat(-12.0);
-        let t84: L = t60.mul_add(L::splat(-6.0), t77);
-        let t85: L = t68.mul_add(L::splat(-12.0), t78);
-        let t86: L = t69.mul_add(L::splat(-12.0), t79);
-        let t87: L = t70.mul_add(L::splat(-12.0), t80);
-        let t88: L = t71.mul_add(L::splat(-12.0), t81);
-        let t89: L = t72.mul_add(L::splat(-12.0), t82);
-        let t90: L = t73.mul_add(L::splat(-12.0), t83);
+        let t77: L = t67.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t78: L = t61 * L::splat(12.0);
+        let t79: L = t62 * L::splat(12.0);
+        let t80: L = t63 * L::splat(12.0);
+        let t81: L = t64 * L::splat(12.0);
+        let t82: L = t65 * L::splat(12.0);
+        let t83: L = t66 * L::splat(12.0);
+        let t84: L = t60.mul_add(L::splat(6.0), t77);
+        let t85: L = t68.mul_add(L::splat(12.0), t78);
+        let t86: L = t69.mul_add(L::splat(12.0), t79);
+        let t87: L = t70.mul_add(L::splat(12.0), t80);
+        let t88: L = t71.mul_add(L::splat(12.0), t81);
+        let t89: L = t72.mul_add(L::splat(12.0), t82);
+        let t90: L = t73.mul_add(L::splat(12.0), t83);
         let t91: L = t75 * t84;
-        let t92: L = L::splat(-2.0) * t91;
-        let t93: L = t74.mul_add(t85, t92);
+        let t92: L = t74 * t85;
+        let t93: L = L::splat(-2.0).mul_add(t91, t92);
         let t94: L = t76 * t84;
         let t95: L = t74 * t88;
         let t96: L = L::splat(2.0).mul_add(t94, t95);
         let t97: L = L::splat(0.5) + t67;
         let t98: L = t60 + t97;
-        let t99: L = L::splat(2.0) * t98;
-        let t100: L = t61 + t68;
-        let t101: L = t62 + t69;
-        let t102: L = t63 + t70;
-        let t103: L = t64 + t71;
-        let t104: L = t65 + t72;
-        let t105: L = t66 + t73;
-        let t106: L = t74.mul_add(t84, t99);
-        let t107: L = L::splat(4.0).mul_add(t100, t93);
-        let t108: L = L::splat(4.0).mul_add(t103, t96);
+        let t99: L = t61 + t68;
+        let t100: L = t62 + t69;
+        let t101: L = t63 + t70;
+        let t102: L = t64 + t71;
+        let t103: L = t65 + t72;
+        let t104: L = t66 + t73;
+        let t105: L = L::splat(-2.0) * t98;
+        let t106: L = t74.mul_add(t84, t105);
+        let t107: L = L::splat(-4.0).mul_add(t99, t93);
+        let t108: L = L::splat(-4.0).mul_add(t102, t96);
         let t109: L = t25 * t106;
         let t110: L = t16.mul_add(t107, t109);
         let t111: L = t31 * t106;
@@ -4569,35 +4532,35 @@ pub fn free_surface_pair_divergence_lanes<L: lanes::Lane>(
         let t163: L = t115 * t115;
         let t164: L = t115 * t131;
         let t165: L = t115 * t134;
-        let t166: L = L::splat(-6.0).mul_add(t157, L::splat(1.0));
-        let t167: L = L::splat(-12.0) * t152;
-        let t168: L = L::splat(-12.0) * t153;
-        let t169: L = L::splat(-12.0) * t154;
-        let t170: L = L::splat(-12.0) * t155;
-        let t171: L = L::splat(-12.0) * t156;
-        let t172: L = L::splat(-6.0).mul_add(t151, t166);
-        let t173: L = L::splat(-12.0).mul_add(t158, t167);
-        let t174: L = L::splat(-12.0).mul_add(t159, t168);
-        let t175: L = L::splat(-12.0).mul_add(t160, t169);
-        let t176: L = L::splat(-12.0).mul_add(t161, t170);
-        let t177: L = L::splat(-12.0).mul_add(t162, t171);
+        let t166: L = L::splat(6.0).mul_add(t157, L::splat(-1.0));
+        let t167: L = L::splat(12.0) * t152;
+        let t168: L = L::splat(12.0) * t153;
+        let t169: L = L::splat(12.0) * t154;
+        let t170: L = L::splat(12.0) * t155;
+        let t171: L = L::splat(12.0) * t156;
+        let t172: L = L::splat(6.0).mul_add(t151, t166);
+        let t173: L = L::splat(12.0).mul_add(t158, t167);
+        let t174: L = L::splat(12.0).mul_add(t159, t168);
+        let t175: L = L::splat(12.0).mul_add(t160, t169);
+        let t176: L = L::splat(12.0).mul_add(t161, t170);
+        let t177: L = L::splat(12.0).mul_add(t162, t171);
         let t178: L = t164 * t172;
-        let t179: L = L::splat(-2.0) * t178;
-        let t180: L = t163.mul_add(t173, t179);
+        let t179: L = t163 * t173;
+        let t180: L = L::splat(-2.0).mul_add(t178, t179);
         let t181: L = t165 * t172;
         let t182: L = t163 * t176;
         let t183: L = L::splat(2.0).mul_add(t181, t182);
         let t184: L = L::splat(0.5) + t157;
         let t185: L = t151 + t184;
-        let t186: L = L::splat(2.0) * t185;
-        let t187: L = t152 + t158;
-        let t188: L = t153 + t159;
-        let t189: L = t154 + t160;
-        let t190: L = t155 + t161;
-        let t191: L = t156 + t162;
-        let t192: L = t163.mul_add(t172, t186);
-        let t193: L = L::splat(4.0).mul_add(t187, t180);
-        let t194: L = L::splat(4.0).mul_add(t190, t183);
+        let t186: L = t152 + t158;
+        let t187: L = t153 + t159;
+        let t188: L = t154 + t160;
+        let t189: L = t155 + t161;
+        let t190: L = t156 + t162;
+        let t191: L = L::splat(-2.0) * t185;
+        let t192: L = t163.mul_add(t172, t191);
+        let t193: L = L::splat(-4.0).mul_add(t186, t180);
+        let t194: L = L::splat(-4.0).mul_add(t189, t183);
         let t195: L = t122 * t192;
         let t196: L = t114.mul_add(t193, t195);
         let t197: L = t128 * t192;
@@ -4690,44 +4653,44 @@ pub fn free_surface_pair_divergence_lanes<L: lanes::Lane>(
         let t284: L = t16.mul_add(t276, t283);
         let t285: L = t35 * t270;
         let t286: L = t16.mul_add(t278, t285);
-        let t287: L = t157.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t288: L = t152 * L::splat(12.0);
-        let t289: L = t153 * L::splat(12.0);
-        let t290: L = t154 * L::splat(12.0);
-        let t291: L = t151.mul_add(L::splat(6.0), t287);
-        let t292: L = t158.mul_add(L::splat(12.0), t288);
-        let t293: L = t159.mul_add(L::splat(12.0), t289);
-        let t294: L = t160.mul_add(L::splat(12.0), t290);
-        let t295: L = t117 * t291;
-        let t296: L = t117 * t292;
-        let t297: L = t141.mul_add(t291, t296);
-        let t298: L = t117 * t293;
-        let t299: L = t142.mul_add(t291, t298);
-        let t300: L = t117 * t294;
-        let t301: L = t143.mul_sub(t291, t300);
-        let t302: L = t115 * t295;
-        let t303: L = t115 * t297;
-        let t304: L = t131.mul_sub(t295, t303);
-        let t305: L = t133 * t295;
-        let t306: L = t115.mul_sub(t301, t305);
-        let t307: L = t122 * t302;
-        let t308: L = t114.mul_sub(t304, t307);
-        let t309: L = t126 * t302;
-        let t310: L = t114.mul_sub(t306, t309);
-        let t311: L = t280 + t308;
-        let t312: L = t310 - t286;
+        let t287: L = t117 * t172;
+        let t288: L = t117 * t173;
+        let t289: L = t141.mul_add(t172, t288);
+        let t290: L = t117 * t174;
+        let t291: L = t142.mul_add(t172, t290);
+        let t292: L = t117 * t175;
+        let t293: L = t143.mul_sub(t172, t292);
+        let t294: L = t117 * t176;
+        let t295: L = t144.mul_add(t172, t294);
+        let t296: L = t117 * t177;
+        let t297: L = t145.mul_add(t172, t296);
+        let t298: L = t115 * t287;
+        let t299: L = t115 * t289;
+        let t300: L = t131.mul_sub(t287, t299);
+        let t301: L = t133 * t287;
+        let t302: L = t115.mul_sub(t293, t301);
+        let t303: L = t115 * t295;
+        let t304: L = t134.mul_add(t287, t303);
+        let t305: L = t122 * t298;
+        let t306: L = t114.mul_sub(t300, t305);
+        let t307: L = t126 * t298;
+        let t308: L = t114.mul_sub(t302, t307);
+        let t309: L = t128 * t298;
+        let t310: L = t114.mul_add(t304, t309);
+        let t311: L = t280 - t306;
+        let t312: L = t286 + t308;
         let t313: L = t18 * t18;
         let t314: L = t18 * t43;
         let t315: L = t18 * t46;
         let t316: L = t84 * t314;
-        let t317: L = L::splat(-2.0) * t316;
-        let t318: L = t86.mul_add(t313, t317);
+        let t317: L = t86 * t313;
+        let t318: L = L::splat(-2.0).mul_add(t316, t317);
         let t319: L = t84 * t315;
         let t320: L = t89 * t313;
         let t321: L = L::splat(2.0).mul_add(t319, t320);
-        let t322: L = t84.mul_add(t313, t99);
-        let t323: L = L::splat(4.0).mul_add(t101, t318);
-        let t324: L = L::splat(4.0).mul_add(t104, t321);
+        let t322: L = t84.mul_add(t313, t105);
+        let t323: L = L::splat(-4.0).mul_add(t100, t318);
+        let t324: L = L::splat(-4.0).mul_add(t103, t321);
         let t325: L = t27 * t322;
         let t326: L = t16.mul_add(t323, t325);
         let t327: L = t33 * t322;
@@ -4736,14 +4699,14 @@ pub fn free_surface_pair_divergence_lanes<L: lanes::Lane>(
         let t330: L = t116 * t137;
         let t331: L = t116 * t140;
         let t332: L = t172 * t330;
-        let t333: L = L::splat(-2.0) * t332;
-        let t334: L = t174.mul_add(t329, t333);
+        let t333: L = t174 * t329;
+        let t334: L = L::splat(-2.0).mul_add(t332, t333);
         let t335: L = t172 * t331;
         let t336: L = t177 * t329;
         let t337: L = L::splat(2.0).mul_add(t335, t336);
-        let t338: L = t172.mul_add(t329, t186);
-        let t339: L = L::splat(4.0).mul_add(t188, t334);
-        let t340: L = L::splat(4.0).mul_add(t191, t337);
+        let t338: L = t172.mul_add(t329, t191);
+        let t339: L = L::splat(-4.0).mul_add(t187, t334);
+        let t340: L = L::splat(-4.0).mul_add(t190, t337);
         let t341: L = t124 * t338;
         let t342: L = t114.mul_add(t339, t341);
         let t343: L = t130 * t338;
@@ -4767,185 +4730,164 @@ pub fn free_surface_pair_divergence_lanes<L: lanes::Lane>(
         let t361: L = t16.mul_add(t353, t360);
         let t362: L = t35 * t347;
         let t363: L = t16.mul_add(t355, t362);
-        let t364: L = t116 * t295;
-        let t365: L = t116 * t299;
-        let t366: L = t137.mul_sub(t295, t365);
-        let t367: L = t138 * t295;
-        let t368: L = t116.mul_sub(t301, t367);
-        let t369: L = t124 * t364;
-        let t370: L = t114.mul_sub(t366, t369);
-        let t371: L = t126 * t364;
-        let t372: L = t114.mul_sub(t368, t371);
-        let t373: L = t357 + t370;
-        let t374: L = t372 - t363;
-        let t375: L = t117 * t172;
-        let t376: L = t117 * t175;
-        let t377: L = t143.mul_sub(t172, t376);
-        let t378: L = t117 * t176;
-        let t379: L = t144.mul_add(t172, t378);
-        let t380: L = t117 * t177;
-        let t381: L = t145.mul_add(t172, t380);
-        let t382: L = t115 * t375;
-        let t383: L = t133 * t375;
-        let t384: L = t115.mul_sub(t377, t383);
-        let t385: L = t115 * t379;
-        let t386: L = t134.mul_add(t375, t385);
-        let t387: L = t126 * t382;
-        let t388: L = t114.mul_sub(t384, t387);
-        let t389: L = t128 * t382;
-        let t390: L = t114.mul_add(t386, t389);
-        let t391: L = t282 + t388;
-        let t392: L = t284 + t390;
-        let t393: L = t116 * t375;
-        let t394: L = t138 * t375;
-        let t395: L = t116.mul_sub(t377, t394);
-        let t396: L = t116 * t381;
-        let t397: L = t140.mul_add(t375, t396);
-        let t398: L = t126 * t393;
-        let t399: L = t114.mul_sub(t395, t398);
-        let t400: L = t130 * t393;
-        let t401: L = t114.mul_add(t397, t400);
-        let t402: L = t359 + t399;
-        let t403: L = t361 + t401;
-        let t404: L = t19 * t19;
-        let t405: L = t19 * t50;
-        let t406: L = t19 * t53;
-        let t407: L = t84 * t405;
-        let t408: L = L::splat(-2.0) * t407;
-        let t409: L = t87.mul_add(t404, t408);
-        let t410: L = t84 * t406;
-        let t411: L = t90 * t404;
-        let t412: L = L::splat(2.0).mul_add(t410, t411);
-        let t413: L = t84.mul_add(t404, t99);
-        let t414: L = L::splat(4.0).mul_add(t102, t409);
-        let t415: L = L::splat(4.0).mul_add(t105, t412);
-        let t416: L = t29 * t413;
-        let t417: L = t16.mul_add(t414, t416);
-        let t418: L = t35 * t413;
-        let t419: L = t16.mul_add(t415, t418);
-        let t420: L = t117 * t117;
-        let t421: L = t117 * t143;
-        let t422: L = t291 * t421;
-        let t423: L = L::splat(-2.0) * t422;
-        let t424: L = t294.mul_add(t420, t423);
-        let t425: L = L::splat(-2.0) * t185;
-        let t426: L = t291.mul_add(t420, t425);
-        let t427: L = L::splat(-4.0).mul_add(t189, t424);
-        let t428: L = t126 * t426;
-        let t429: L = t114.mul_add(t427, t428);
-        let t430: L = t417 + t429;
-        let t431: L = t419 + t429;
-        let t432: L = t19 * t54;
-        let t433: L = L::splat(2.0) * t432;
-        let t434: L = t24.mul_add(t48, t433);
-        let t435: L = t19 * t55;
+        let t364: L = t116 * t287;
+        let t365: L = t116 * t291;
+        let t366: L = t137.mul_sub(t287, t365);
+        let t367: L = t138 * t287;
+        let t368: L = t116.mul_sub(t293, t367);
+        let t369: L = t116 * t297;
+        let t370: L = t140.mul_add(t287, t369);
+        let t371: L = t124 * t364;
+        let t372: L = t114.mul_sub(t366, t371);
+        let t373: L = t126 * t364;
+        let t374: L = t114.mul_sub(t368, t373);
+        let t375: L = t130 * t364;
+        let t376: L = t114.mul_add(t370, t375);
+        let t377: L = t357 - t372;
+        let t378: L = t363 + t374;
+        let t379: L = t282 + t308;
+        let t380: L = t284 + t310;
+        let t381: L = t359 + t374;
+        let t382: L = t361 + t376;
+        let t383: L = t19 * t19;
+        let t384: L = t19 * t50;
+        let t385: L = t19 * t53;
+        let t386: L = t84 * t384;
+        let t387: L = t87 * t383;
+        let t388: L = L::splat(-2.0).mul_add(t386, t387);
+        let t389: L = t84 * t385;
+        let t390: L = t90 * t383;
+        let t391: L = L::splat(2.0).mul_add(t389, t390);
+        let t392: L = t84.mul_add(t383, t105);
+        let t393: L = L::splat(-4.0).mul_add(t101, t388);
+        let t394: L = L::splat(-4.0).mul_add(t104, t391);
+        let t395: L = t29 * t392;
+        let t396: L = t16.mul_add(t393, t395);
+        let t397: L = t35 * t392;
+        let t398: L = t16.mul_add(t394, t397);
+        let t399: L = t117 * t117;
+        let t400: L = t117 * t143;
+        let t401: L = t172 * t400;
+        let t402: L = L::splat(-2.0) * t401;
+        let t403: L = t175.mul_add(t399, t402);
+        let t404: L = t172.mul_add(t399, t191);
+        let t405: L = L::splat(-4.0).mul_add(t188, t403);
+        let t406: L = t126 * t404;
+        let t407: L = t114.mul_add(t405, t406);
+        let t408: L = t396 - t407;
+        let t409: L = t407 - t398;
+        let t410: L = t19 * t54;
+        let t411: L = L::splat(2.0) * t410;
+        let t412: L = t24.mul_add(t48, t411);
+        let t413: L = t19 * t55;
+        let t414: L = L::splat(2.0) * t413;
+        let t415: L = t24.mul_add(t49, t414);
+        let t416: L = t19 * t57;
+        let t417: L = L::splat(2.0) * t416;
+        let t418: L = t24.mul_add(t51, t417);
+        let t419: L = t19 * t58;
+        let t420: L = L::splat(2.0) * t419;
+        let t421: L = t24.mul_add(t52, t420);
+        let t422: L = t117 * t146;
+        let t423: L = L::splat(2.0) * t422;
+        let t424: L = t121.mul_add(t141, t423);
+        let t425: L = t117 * t147;
+        let t426: L = L::splat(2.0) * t425;
+        let t427: L = t121.mul_add(t142, t426);
+        let t428: L = t117 * t149;
+        let t429: L = L::splat(2.0) * t428;
+        let t430: L = t121.mul_add(t144, t429);
+        let t431: L = t117 * t150;
+        let t432: L = L::splat(2.0) * t431;
+        let t433: L = t121.mul_add(t145, t432);
+        let t434: L = t424 - t412;
+        let t435: L = t18 * t54;
         let t436: L = L::splat(2.0) * t435;
-        let t437: L = t24.mul_add(t49, t436);
-        let t438: L = t19 * t57;
+        let t437: L = t24.mul_add(t42, t436);
+        let t438: L = t18 * t56;
         let t439: L = L::splat(2.0) * t438;
-        let t440: L = t24.mul_add(t51, t439);
-        let t441: L = t19 * t58;
+        let t440: L = t24.mul_add(t44, t439);
+        let t441: L = t18 * t57;
         let t442: L = L::splat(2.0) * t441;
-        let t443: L = t24.mul_add(t52, t442);
-        let t444: L = t117 * t146;
+        let t443: L = t24.mul_add(t45, t442);
+        let t444: L = t18 * t59;
         let t445: L = L::splat(2.0) * t444;
-        let t446: L = t121.mul_add(t141, t445);
-        let t447: L = t117 * t147;
+        let t446: L = t24.mul_add(t47, t445);
+        let t447: L = t116 * t146;
         let t448: L = L::splat(2.0) * t447;
-        let t449: L = t121.mul_add(t142, t448);
-        let t450: L = t117 * t149;
+        let t449: L = t121.mul_add(t136, t448);
+        let t450: L = t116 * t148;
         let t451: L = L::splat(2.0) * t450;
-        let t452: L = t121.mul_add(t144, t451);
-        let t453: L = t117 * t150;
+        let t452: L = t121.mul_add(t138, t451);
+        let t453: L = t116 * t149;
         let t454: L = L::splat(2.0) * t453;
-        let t455: L = t121.mul_add(t145, t454);
-        let t456: L = t446 - t434;
-        let t457: L = t18 * t54;
-        let t458: L = L::splat(2.0) * t457;
-        let t459: L = t24.mul_add(t42, t458);
-        let t460: L = t18 * t56;
-        let t461: L = L::splat(2.0) * t460;
-        let t462: L = t24.mul_add(t44, t461);
-        let t463: L = t18 * t57;
-        let t464: L = L::splat(2.0) * t463;
-        let t465: L = t24.mul_add(t45, t464);
-        let t466: L = t18 * t59;
-        let t467: L = L::splat(2.0) * t466;
-        let t468: L = t24.mul_add(t47, t467);
-        let t469: L = t116 * t146;
-        let t470: L = L::splat(2.0) * t469;
-        let t471: L = t121.mul_add(t136, t470);
-        let t472: L = t116 * t148;
-        let t473: L = L::splat(2.0) * t472;
-        let t474: L = t121.mul_add(t138, t473);
-        let t475: L = t116 * t149;
-        let t476: L = L::splat(2.0) * t475;
-        let t477: L = t121.mul_add(t139, t476);
-        let t478: L = t459 + t471;
-        let t479: L = t465 + t477;
-        let t480: L = t437 - t449;
-        let t481: L = t17 * t55;
-        let t482: L = L::splat(2.0) * t481;
-        let t483: L = t24.mul_add(t37, t482);
-        let t484: L = t17 * t56;
-        let t485: L = L::splat(2.0) * t484;
-        let t486: L = t24.mul_add(t38, t485);
-        let t487: L = t17 * t58;
-        let t488: L = L::splat(2.0) * t487;
-        let t489: L = t24.mul_add(t40, t488);
-        let t490: L = t17 * t59;
-        let t491: L = L::splat(2.0) * t490;
-        let t492: L = t24.mul_add(t41, t491);
-        let t493: L = t115 * t147;
-        let t494: L = L::splat(2.0) * t493;
-        let t495: L = t121.mul_add(t132, t494);
-        let t496: L = t115 * t148;
-        let t497: L = L::splat(2.0) * t496;
-        let t498: L = t121.mul_add(t133, t497);
-        let t499: L = t115 * t150;
-        let t500: L = L::splat(2.0) * t499;
-        let t501: L = t121.mul_add(t135, t500);
-        let t502: L = t483 + t495;
-        let t503: L = t489 + t501;
-        let t504: L = t474 - t462;
-        let t505: L = t486 - t498;
-        let t506: L = t440 + t452;
-        let t507: L = t443 + t455;
-        let t508: L = t468 - t474;
-        let t509: L = t498 - t492;
-        let t510: L = t200 + t256;
-        let t511: L = t312 - t510;
-        let t512: L = t255 + t346;
-        let t513: L = t374 - t512;
-        let t514: L = t392 + t403;
-        let t515: L = t431 + t514;
-        let t516: L = t508 - t507;
-        let t517: L = t506 + t509;
-        let t518: L = t503 - t479;
+        let t455: L = t121.mul_add(t139, t454);
+        let t456: L = t437 + t449;
+        let t457: L = t443 + t455;
+        let t458: L = t415 - t427;
+        let t459: L = t17 * t55;
+        let t460: L = L::splat(2.0) * t459;
+        let t461: L = t24.mul_add(t37, t460);
+        let t462: L = t17 * t56;
+        let t463: L = L::splat(2.0) * t462;
+        let t464: L = t24.mul_add(t38, t463);
+        let t465: L = t17 * t58;
+        let t466: L = L::splat(2.0) * t465;
+        let t467: L = t24.mul_add(t40, t466);
+        let t468: L = t17 * t59;
+        let t469: L = L::splat(2.0) * t468;
+        let t470: L = t24.mul_add(t41, t469);
+        let t471: L = t115 * t147;
+        let t472: L = L::splat(2.0) * t471;
+        let t473: L = t121.mul_add(t132, t472);
+        let t474: L = t115 * t148;
+        let t475: L = L::splat(2.0) * t474;
+        let t476: L = t121.mul_add(t133, t475);
+        let t477: L = t115 * t150;
+        let t478: L = L::splat(2.0) * t477;
+        let t479: L = t121.mul_add(t135, t478);
+        let t480: L = t461 + t473;
+        let t481: L = t467 + t479;
+        let t482: L = t452 - t440;
+        let t483: L = t464 - t476;
+        let t484: L = t418 + t430;
+        let t485: L = t421 + t433;
+        let t486: L = t446 - t452;
+        let t487: L = t476 - t470;
+        let t488: L = t200 + t256;
+        let t489: L = t312 + t488;
+        let t490: L = t255 + t346;
+        let t491: L = t378 + t490;
+        let t492: L = t380 + t382;
+        let t493: L = t409 - t492;
+        let t494: L = t486 - t485;
+        let t495: L = t484 + t487;
+        let t496: L = t481 - t457;
+        let t497: L = t0 * t489;
+        let t498: L = t0 * t491;
+        let t499: L = t0 * t493;
+        let t500: L = -t499;
+        let t501: L = t0 * t494;
+        let t502: L = t0 * t495;
+        let t503: L = t0 * t496;
+        let t504: L = t199 - t254;
+        let t505: L = t379 - t504;
+        let t506: L = t253 - t345;
+        let t507: L = t381 + t506;
+        let t508: L = t311 + t377;
+        let t509: L = t408 - t508;
+        let t510: L = t458 + t482;
+        let t511: L = t434 + t483;
+        let t512: L = t456 - t480;
+        let t513: L = t0 * t505;
+        let t514: L = -t513;
+        let t515: L = t0 * t507;
+        let t516: L = -t515;
+        let t517: L = t0 * t509;
+        let t518: L = t0 * t510;
         let t519: L = t0 * t511;
-        let t520: L = t0 * t513;
-        let t521: L = t0 * t515;
-        let t522: L = -t521;
-        let t523: L = t0 * t516;
-        let t524: L = t0 * t517;
-        let t525: L = t0 * t518;
-        let t526: L = t199 - t254;
-        let t527: L = t391 - t526;
-        let t528: L = t253 - t345;
-        let t529: L = t402 + t528;
-        let t530: L = t311 + t373;
-        let t531: L = t430 - t530;
-        let t532: L = t480 + t504;
-        let t533: L = t456 + t505;
-        let t534: L = t478 - t502;
-        let t535: L = t0 * t527;
-        let t536: L = t0 * t529;
-        let t537: L = t0 * t531;
-        let t538: L = -t537;
-        let t539: L = t0 * t532;
-        let t540: L = t0 * t533;
-        let t541: L = t0 * t534;
-        [t519, t520, t522, t523, t524, t525, t535, t536, t538, t539, t540, t541]
+        let t520: L = t0 * t512;
+        [t497, t498, t500, t501, t502, t503, t514, t516, t517, t518, t519, t520]
     };
     out
 }

@@ -516,7 +516,7 @@ pub fn free_surface_ft_pair(
 /// Pruned to what the scene needs.
 /// Jets truncated at derivative order 4 of G.
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_ft_pair`'s fields. Operation count with fused multiply-adds: 166 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_ft_pair`'s fields. Operation count with fused multiply-adds: 164 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_surface_ft_pair_lanes<L: lanes::Lane>(
@@ -555,8 +555,8 @@ pub fn free_surface_ft_pair_lanes<L: lanes::Lane>(
         let t24: L = t17 * t23;
         let t25: L = t18 * t23;
         let t26: L = t21 * t21;
-        let t27: L = t25.mul_add(L::splat(-6.0), L::splat(1.0));
-        let t28: L = t24.mul_add(L::splat(-6.0), t27);
+        let t27: L = t25.neg_mul_add(L::splat(6.0), L::splat(1.0));
+        let t28: L = t24.neg_mul_add(L::splat(6.0), t27);
         let t29: L = L::splat(2.0).mul_add(t25, L::splat(1.0));
         let t30: L = L::splat(2.0).mul_add(t24, t29);
         let t31: L = t26.mul_add(t28, t30);
@@ -569,8 +569,8 @@ pub fn free_surface_ft_pair_lanes<L: lanes::Lane>(
         let t38: L = t17 * t37;
         let t39: L = t18 * t37;
         let t40: L = t35 * t35;
-        let t41: L = L::splat(-6.0).mul_add(t39, L::splat(1.0));
-        let t42: L = L::splat(-6.0).mul_add(t38, t41);
+        let t41: L = L::splat(6.0).neg_mul_add(t39, L::splat(1.0));
+        let t42: L = L::splat(6.0).neg_mul_add(t38, t41);
         let t43: L = L::splat(2.0).mul_add(t39, L::splat(1.0));
         let t44: L = L::splat(2.0).mul_add(t38, t43);
         let t45: L = t40.mul_add(t42, t44);
@@ -580,8 +580,8 @@ pub fn free_surface_ft_pair_lanes<L: lanes::Lane>(
         let t49: L = t22 * t28;
         let t50: L = t21 * t49;
         let t51: L = t32 * t50;
-        let t52: L = t39.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t53: L = t38.mul_add(L::splat(6.0), t52);
+        let t52: L = L::splat(6.0).mul_add(t39, L::splat(-1.0));
+        let t53: L = L::splat(6.0).mul_add(t38, t52);
         let t54: L = t36 * t53;
         let t55: L = t35 * t54;
         let t56: L = t46.mul_add(t55, t51);
@@ -614,123 +614,121 @@ pub fn free_surface_ft_pair_lanes<L: lanes::Lane>(
         let t83: L = t78 - t79;
         let t84: L = t26.mul_add(L::splat(1.5), L::splat(-0.5));
         let t85: L = t23 * t32;
-        let t86: L = t40.mul_add(L::splat(-1.5), L::splat(0.5));
+        let t86: L = t40.neg_mul_add(L::splat(1.5), L::splat(0.5));
         let t87: L = t37 * t46;
         let t88: L = t86 * t87;
         let t89: L = t84.mul_add(t85, t88);
         let t90: L = t21 * t22;
         let t91: L = L::splat(1.5) * t90;
-        let t92: L = t85 * t91;
-        let t93: L = t35 * t36;
-        let t94: L = L::splat(1.5) * t93;
-        let t95: L = t87.mul_add(t94, t92);
+        let t92: L = t35 * t36;
+        let t93: L = L::splat(1.5) * t92;
+        let t94: L = t87 * t93;
+        let t95: L = t85.mul_add(t91, t94);
         let t96: L = L::splat(0.5) * t87;
         let t97: L = L::splat(-0.5).mul_add(t85, t96);
-        let t98: L = L::splat(-1.5) * t93;
-        let t99: L = t87.mul_add(t98, t92);
-        let t100: L = t26.mul_add(L::splat(-1.5), L::splat(1.0));
-        let t101: L = t40.mul_add(L::splat(-1.5), L::splat(1.0));
-        let t102: L = t87 * t101;
-        let t103: L = t85.mul_add(t100, t102);
-        let t104: L = t9 * t48;
-        let t105: L = t11 * t58;
-        let t106: L = t11 * t105;
-        let t107: L = t9.mul_add(t104, t106);
-        let t108: L = t11 * t48;
-        let t109: L = t9 * t58;
-        let t110: L = t11 * t109;
-        let t111: L = t9.mul_sub(t108, t110);
-        let t112: L = t9 * t56;
-        let t113: L = t9 * t105;
-        let t114: L = t11.mul_sub(t104, t113);
-        let t115: L = t9 * t109;
-        let t116: L = t11.mul_add(t108, t115);
-        let t117: L = t11 * t56;
-        let t118: L = t9 * t61;
-        let t119: L = t11 * t61;
-        let t120: L = t11 * t76;
-        let t121: L = t9 * t77;
-        let t122: L = t11 * t121;
-        let t123: L = t9.mul_add(t120, t122);
-        let t124: L = -t123;
-        let t125: L = t9 * t76;
-        let t126: L = t11 * t77;
-        let t127: L = t11 * t126;
-        let t128: L = t9.mul_sub(t125, t127);
-        let t129: L = t11 * t80;
-        let t130: L = -t129;
-        let t131: L = t11 * t120;
-        let t132: L = t9.mul_sub(t121, t131);
-        let t133: L = t9 * t126;
-        let t134: L = t11.mul_add(t125, t133);
-        let t135: L = t9 * t80;
-        let t136: L = t11 * t81;
-        let t137: L = -t136;
-        let t138: L = t9 * t81;
-        let t139: L = t11 * t82;
-        let t140: L = t9 * t139;
-        let t141: L = t9 * t82;
-        let t142: L = t11.mul_sub(t141, t140);
-        let t143: L = t11 * t139;
-        let t144: L = t9.mul_add(t141, t143);
-        let t145: L = t11 * t83;
-        let t146: L = -t145;
-        let t147: L = -t144;
-        let t148: L = t9 * t83;
-        let t149: L = -t135;
-        let t150: L = t9 * t89;
-        let t151: L = t11 * t97;
-        let t152: L = t11 * t151;
-        let t153: L = t9.mul_add(t150, t152);
-        let t154: L = t11 * t89;
-        let t155: L = t9 * t97;
-        let t156: L = t11 * t155;
-        let t157: L = t9.mul_sub(t154, t156);
-        let t158: L = t9 * t95;
-        let t159: L = t9 * t151;
-        let t160: L = t11.mul_sub(t150, t159);
-        let t161: L = t9 * t155;
-        let t162: L = t11.mul_add(t154, t161);
-        let t163: L = t11 * t95;
-        let t164: L = t9 * t99;
-        let t165: L = t11 * t99;
+        let t98: L = t85.mul_sub(t91, t94);
+        let t99: L = t26.neg_mul_add(L::splat(1.5), L::splat(1.0));
+        let t100: L = t40.neg_mul_add(L::splat(1.5), L::splat(1.0));
+        let t101: L = t87 * t100;
+        let t102: L = t85.mul_add(t99, t101);
+        let t103: L = t9 * t48;
+        let t104: L = t11 * t58;
+        let t105: L = t11 * t104;
+        let t106: L = t9.mul_add(t103, t105);
+        let t107: L = t11 * t48;
+        let t108: L = t9 * t58;
+        let t109: L = t11 * t108;
+        let t110: L = t9.mul_sub(t107, t109);
+        let t111: L = t9 * t56;
+        let t112: L = t9 * t104;
+        let t113: L = t11.mul_sub(t103, t112);
+        let t114: L = t9 * t108;
+        let t115: L = t11.mul_add(t107, t114);
+        let t116: L = t11 * t56;
+        let t117: L = t9 * t61;
+        let t118: L = t11 * t61;
+        let t119: L = t11 * t76;
+        let t120: L = t9 * t77;
+        let t121: L = t11 * t120;
+        let t122: L = t9.neg_mul_sub(t119, t121);
+        let t123: L = t9 * t76;
+        let t124: L = t11 * t77;
+        let t125: L = t11 * t124;
+        let t126: L = t9.mul_sub(t123, t125);
+        let t127: L = t11 * t80;
+        let t128: L = -t127;
+        let t129: L = t11 * t119;
+        let t130: L = t9.mul_sub(t120, t129);
+        let t131: L = t9 * t124;
+        let t132: L = t11.mul_add(t123, t131);
+        let t133: L = t9 * t80;
+        let t134: L = t11 * t81;
+        let t135: L = -t134;
+        let t136: L = t9 * t81;
+        let t137: L = t11 * t82;
+        let t138: L = t9 * t137;
+        let t139: L = t9 * t82;
+        let t140: L = t11.mul_sub(t139, t138);
+        let t141: L = t11 * t137;
+        let t142: L = t9.mul_add(t139, t141);
+        let t143: L = t11 * t83;
+        let t144: L = -t143;
+        let t145: L = -t142;
+        let t146: L = t9 * t83;
+        let t147: L = -t133;
+        let t148: L = t9 * t89;
+        let t149: L = t11 * t97;
+        let t150: L = t11 * t149;
+        let t151: L = t9.mul_add(t148, t150);
+        let t152: L = t11 * t89;
+        let t153: L = t9 * t97;
+        let t154: L = t11 * t153;
+        let t155: L = t9.mul_sub(t152, t154);
+        let t156: L = t9 * t95;
+        let t157: L = t9 * t149;
+        let t158: L = t11.mul_sub(t148, t157);
+        let t159: L = t9 * t153;
+        let t160: L = t11.mul_add(t152, t159);
+        let t161: L = t11 * t95;
+        let t162: L = t9 * t98;
+        let t163: L = t11 * t98;
         [
-            t107,
+            t106,
+            t110,
             t111,
-            t112,
-            t114,
+            t113,
+            t115,
             t116,
             t117,
             t118,
-            t119,
             t71,
-            t124,
+            t122,
+            t126,
             t128,
             t130,
             t132,
-            t134,
+            t133,
             t135,
-            t137,
-            t138,
+            t136,
             L::splat(0.0),
+            t140,
             t142,
             t144,
+            t145,
+            t140,
             t146,
+            t127,
             t147,
-            t142,
-            t148,
-            t129,
-            t149,
             L::splat(0.0),
-            t153,
-            t157,
+            t151,
+            t155,
+            t156,
             t158,
             t160,
+            t161,
             t162,
             t163,
-            t164,
-            t165,
-            t103,
+            t102,
         ]
     };
     out
@@ -1257,7 +1255,7 @@ pub fn free_surface_ft_pair_product(
 /// Pruned to what the scene needs.
 /// Jets truncated at derivative order 4 of G.
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_ft_pair_product`'s fields. Operation count with fused multiply-adds: 172 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `free_surface_ft_pair_product`'s fields. Operation count with fused multiply-adds: 170 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn free_surface_ft_pair_product_lanes<L: lanes::Lane>(
@@ -1298,152 +1296,150 @@ pub fn free_surface_ft_pair_product_lanes<L: lanes::Lane>(
         let t24: L = t17 * t23;
         let t25: L = t18 * t23;
         let t26: L = t21 * t21;
-        let t27: L = t25.mul_add(L::splat(-6.0), L::splat(1.0));
-        let t28: L = t24.mul_add(L::splat(-6.0), t27);
-        let t29: L = L::splat(2.0).mul_add(t25, L::splat(1.0));
-        let t30: L = L::splat(2.0).mul_add(t24, t29);
-        let t31: L = t26.mul_add(t28, t30);
-        let t32: L = t0 * t20;
-        let t33: L = t14.mul_add(t14, t4);
-        let t34: L = t33.rsqrt();
-        let t35: L = t6 * t34;
-        let t36: L = t14 * t34;
-        let t37: L = t34 * t34;
-        let t38: L = t17 * t37;
-        let t39: L = t18 * t37;
-        let t40: L = t35 * t35;
-        let t41: L = L::splat(-6.0).mul_add(t39, L::splat(1.0));
-        let t42: L = L::splat(-6.0).mul_add(t38, t41);
-        let t43: L = L::splat(2.0).mul_add(t39, L::splat(1.0));
-        let t44: L = L::splat(2.0).mul_add(t38, t43);
-        let t45: L = t40.mul_add(t42, t44);
-        let t46: L = t0 * t34;
-        let t47: L = t45 * t46;
-        let t48: L = t31.mul_add(t32, t47);
-        let t49: L = t22 * t28;
-        let t50: L = t21 * t49;
-        let t51: L = t32 * t50;
-        let t52: L = t39.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t53: L = t38.mul_add(L::splat(6.0), t52);
+        let t27: L = t25.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t28: L = t24.mul_add(L::splat(6.0), t27);
+        let t29: L = t26 * t28;
+        let t30: L = t25 + L::splat(0.5);
+        let t31: L = t24 + t30;
+        let t32: L = t31.mul_add(L::splat(-2.0), t29);
+        let t33: L = t0 * t20;
+        let t34: L = t14.mul_add(t14, t4);
+        let t35: L = t34.rsqrt();
+        let t36: L = t6 * t35;
+        let t37: L = t14 * t35;
+        let t38: L = t35 * t35;
+        let t39: L = t17 * t38;
+        let t40: L = t18 * t38;
+        let t41: L = t36 * t36;
+        let t42: L = L::splat(6.0).mul_add(t40, L::splat(-1.0));
+        let t43: L = L::splat(6.0).mul_add(t39, t42);
+        let t44: L = t41 * t43;
+        let t45: L = L::splat(0.5) + t40;
+        let t46: L = t39 + t45;
+        let t47: L = L::splat(-2.0).mul_add(t46, t44);
+        let t48: L = t0 * t35;
+        let t49: L = t47 * t48;
+        let t50: L = t32.mul_add(t33, t49);
+        let t51: L = t22 * t28;
+        let t52: L = t21 * t51;
+        let t53: L = t37 * t43;
         let t54: L = t36 * t53;
-        let t55: L = t35 * t54;
-        let t56: L = t46.mul_add(t55, t51);
-        let t57: L = t44 * t46;
-        let t58: L = t30.mul_add(t32, t57);
-        let t59: L = t36 * t42;
-        let t60: L = t35 * t59;
-        let t61: L = t46.mul_add(t60, t51);
-        let t62: L = t25.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t63: L = t24.mul_add(L::splat(6.0), t62);
-        let t64: L = t25.mul_add(L::splat(-4.0), L::splat(2.0));
-        let t65: L = t24.mul_add(L::splat(-4.0), t64);
-        let t66: L = t26.mul_add(t63, t65);
-        let t67: L = t39.mul_add(L::splat(4.0), L::splat(-2.0));
-        let t68: L = t38.mul_add(L::splat(4.0), t67);
-        let t69: L = t40.mul_add(t42, t68);
-        let t70: L = t46 * t69;
-        let t71: L = t32.mul_add(t66, t70);
-        let t72: L = t0 * t23;
-        let t73: L = t22 * t72;
-        let t74: L = t0 * t37;
-        let t75: L = t36 * t74;
-        let t76: L = t73 - t75;
-        let t77: L = t75 - t73;
-        let t78: L = t21 * t72;
-        let t79: L = t35 * t74;
-        let t80: L = t78 + t79;
-        let t81: L = t79 - t78;
-        let t82: L = t73 + t75;
-        let t83: L = t78 - t79;
-        let t84: L = t26.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t85: L = t23 * t32;
-        let t86: L = t40.mul_add(L::splat(-1.5), L::splat(0.5));
-        let t87: L = t37 * t46;
-        let t88: L = t86 * t87;
-        let t89: L = t84.mul_add(t85, t88);
-        let t90: L = t21 * t22;
-        let t91: L = L::splat(1.5) * t90;
-        let t92: L = t85 * t91;
-        let t93: L = t35 * t36;
-        let t94: L = L::splat(1.5) * t93;
-        let t95: L = t87.mul_add(t94, t92);
-        let t96: L = L::splat(0.5) * t87;
-        let t97: L = L::splat(-0.5).mul_add(t85, t96);
-        let t98: L = L::splat(-1.5) * t93;
-        let t99: L = t87.mul_add(t98, t92);
-        let t100: L = t26.mul_add(L::splat(-1.5), L::splat(1.0));
-        let t101: L = t40.mul_add(L::splat(-1.5), L::splat(1.0));
-        let t102: L = t87 * t101;
-        let t103: L = t85.mul_add(t100, t102);
-        let t104: L = va[1] * t11;
-        let t105: L = va[0].mul_add(t9, t104);
-        let t106: L = va[0] * t11;
-        let t107: L = va[1].mul_sub(t9, t106);
-        let t108: L = va[4] * t11;
-        let t109: L = va[3].mul_add(t9, t108);
-        let t110: L = va[3] * t11;
-        let t111: L = va[4].mul_sub(t9, t110);
-        let t112: L = vb[1] * t11;
-        let t113: L = vb[0].mul_add(t9, t112);
-        let t114: L = vb[0] * t11;
-        let t115: L = vb[1].mul_sub(t9, t114);
-        let t116: L = vb[4] * t11;
-        let t117: L = vb[3].mul_add(t9, t116);
-        let t118: L = vb[3] * t11;
-        let t119: L = vb[4].mul_sub(t9, t118);
-        let t120: L = vb[2] * t56;
-        let t121: L = t48.mul_add(t113, t120);
-        let t122: L = va[2] * t61;
-        let t123: L = t48.mul_add(t105, t122);
-        let t124: L = vb[2] * t71;
-        let t125: L = t61.mul_add(t113, t124);
-        let t126: L = va[2] * t71;
-        let t127: L = t56.mul_add(t105, t126);
-        let t128: L = t76.mul_add(t119, t121);
-        let t129: L = t77 * t117;
-        let t130: L = t58.mul_add(t115, t129);
-        let t131: L = vb[5].mul_add(t80, t130);
-        let t132: L = t81.mul_add(t119, t125);
-        let t133: L = va[2] * t81;
-        let t134: L = t76.mul_add(t105, t133);
-        let t135: L = t82 * t109;
-        let t136: L = t58.mul_add(t107, t135);
-        let t137: L = t82 * t113;
-        let t138: L = t82.neg_mul_add(t111, t123);
-        let t139: L = vb[2].mul_sub(t83, t137);
-        let t140: L = t83.mul_add(t111, t127);
-        let t141: L = t80 * t115;
-        let t142: L = va[5].neg_mul_add(t80, t136);
-        let t143: L = t89 * t117;
-        let t144: L = t82.mul_add(t115, t143);
-        let t145: L = t89 * t109;
-        let t146: L = t77.mul_add(t107, t145);
-        let t147: L = vb[5].mul_add(t95, t144);
-        let t148: L = t95 * t109;
-        let t149: L = t80.mul_add(t107, t148);
-        let t150: L = t97.mul_add(t119, t139);
-        let t151: L = t97.mul_add(t111, t134);
-        let t152: L = t99.mul_sub(t117, t141);
-        let t153: L = va[5].mul_add(t99, t146);
-        let t154: L = vb[5].mul_add(t103, t152);
-        let t155: L = va[5].mul_add(t103, t149);
-        let t156: L = t11 * t131;
-        let t157: L = t9.mul_sub(t128, t156);
-        let t158: L = t9 * t131;
-        let t159: L = t11.mul_add(t128, t158);
-        let t160: L = t11 * t150;
-        let t161: L = t9.mul_sub(t147, t160);
-        let t162: L = t9 * t150;
-        let t163: L = t11.mul_add(t147, t162);
-        let t164: L = t11 * t142;
+        let t55: L = t48 * t54;
+        let t56: L = t33.mul_sub(t52, t55);
+        let t57: L = t46 * t48;
+        let t58: L = t31.mul_add(t33, t57);
+        let t59: L = t33.mul_add(t52, t55);
+        let t60: L = t25 + L::splat(-0.5);
+        let t61: L = t24 + t60;
+        let t62: L = L::splat(-4.0).mul_add(t61, t29);
+        let t63: L = t40 + L::splat(-0.5);
+        let t64: L = t39 + t63;
+        let t65: L = L::splat(-4.0).mul_add(t64, t44);
+        let t66: L = t48 * t65;
+        let t67: L = t33.mul_sub(t62, t66);
+        let t68: L = t0 * t23;
+        let t69: L = t22 * t68;
+        let t70: L = t0 * t38;
+        let t71: L = t37 * t70;
+        let t72: L = t69 - t71;
+        let t73: L = t71 - t69;
+        let t74: L = t21 * t68;
+        let t75: L = t36 * t70;
+        let t76: L = t74 + t75;
+        let t77: L = t75 - t74;
+        let t78: L = t69 + t71;
+        let t79: L = t74 - t75;
+        let t80: L = t26.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t81: L = t23 * t33;
+        let t82: L = t41.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t83: L = t38 * t48;
+        let t84: L = t82 * t83;
+        let t85: L = t80.mul_sub(t81, t84);
+        let t86: L = t21 * t22;
+        let t87: L = L::splat(1.5) * t86;
+        let t88: L = t36 * t37;
+        let t89: L = L::splat(1.5) * t88;
+        let t90: L = t83 * t89;
+        let t91: L = t81.mul_add(t87, t90);
+        let t92: L = t81 - t83;
+        let t93: L = t81.mul_sub(t87, t90);
+        let t94: L = t26.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t95: L = t41.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t96: L = t83 * t95;
+        let t97: L = t81.mul_add(t94, t96);
+        let t98: L = va[1] * t11;
+        let t99: L = va[0].mul_add(t9, t98);
+        let t100: L = va[0] * t11;
+        let t101: L = va[1].mul_sub(t9, t100);
+        let t102: L = va[4] * t11;
+        let t103: L = va[3].mul_add(t9, t102);
+        let t104: L = va[3] * t11;
+        let t105: L = va[4].mul_sub(t9, t104);
+        let t106: L = vb[1] * t11;
+        let t107: L = vb[0].mul_add(t9, t106);
+        let t108: L = vb[0] * t11;
+        let t109: L = vb[1].mul_sub(t9, t108);
+        let t110: L = vb[4] * t11;
+        let t111: L = vb[3].mul_add(t9, t110);
+        let t112: L = vb[3] * t11;
+        let t113: L = vb[4].mul_sub(t9, t112);
+        let t114: L = vb[2] * t56;
+        let t115: L = t50.mul_add(t107, t114);
+        let t116: L = t58 * t109;
+        let t117: L = t58 * t101;
+        let t118: L = va[2] * t59;
+        let t119: L = t50.mul_add(t99, t118);
+        let t120: L = vb[2] * t67;
+        let t121: L = t59.mul_sub(t107, t120);
+        let t122: L = va[2] * t67;
+        let t123: L = t56.mul_sub(t99, t122);
+        let t124: L = t72.neg_mul_add(t113, t115);
+        let t125: L = t73 * t111;
+        let t126: L = L::splat(2.0).mul_add(t116, t125);
+        let t127: L = vb[5].mul_add(t76, t126);
+        let t128: L = t77.mul_sub(t113, t121);
+        let t129: L = va[2] * t77;
+        let t130: L = t72.mul_add(t99, t129);
+        let t131: L = t78 * t103;
+        let t132: L = L::splat(2.0).mul_add(t117, t131);
+        let t133: L = t78 * t107;
+        let t134: L = t78.mul_add(t105, t119);
+        let t135: L = vb[2].mul_sub(t79, t133);
+        let t136: L = t79.mul_sub(t105, t123);
+        let t137: L = t76 * t109;
+        let t138: L = va[5].neg_mul_add(t76, t132);
+        let t139: L = t85 * t111;
+        let t140: L = t78.mul_add(t109, t139);
+        let t141: L = t85 * t103;
+        let t142: L = t73.mul_add(t101, t141);
+        let t143: L = vb[5].mul_add(t91, t140);
+        let t144: L = t91 * t103;
+        let t145: L = t76.mul_add(t101, t144);
+        let t146: L = t92 * t113;
+        let t147: L = L::splat(-0.5).mul_add(t146, t135);
+        let t148: L = t92 * t105;
+        let t149: L = L::splat(-0.5).mul_add(t148, t130);
+        let t150: L = t93.mul_sub(t111, t137);
+        let t151: L = va[5].mul_add(t93, t142);
+        let t152: L = vb[5].neg_mul_add(t97, t150);
+        let t153: L = va[5].neg_mul_add(t97, t145);
+        let t154: L = t11 * t127;
+        let t155: L = t9.neg_mul_sub(t124, t154);
+        let t156: L = t11 * t124;
+        let t157: L = t9.mul_sub(t127, t156);
+        let t158: L = t11 * t147;
+        let t159: L = t9.mul_sub(t143, t158);
+        let t160: L = t9 * t147;
+        let t161: L = t11.mul_add(t143, t160);
+        let t162: L = t11 * t138;
+        let t163: L = t9.neg_mul_sub(t134, t162);
+        let t164: L = t11 * t134;
         let t165: L = t9.mul_sub(t138, t164);
-        let t166: L = t9 * t142;
-        let t167: L = t11.mul_add(t138, t166);
-        let t168: L = t11 * t151;
-        let t169: L = t9.mul_sub(t153, t168);
-        let t170: L = t9 * t151;
-        let t171: L = t11.mul_add(t153, t170);
-        [t157, t159, t132, t161, t163, t154, t165, t167, t140, t169, t171, t155]
+        let t166: L = t11 * t149;
+        let t167: L = t9.mul_sub(t151, t166);
+        let t168: L = t9 * t149;
+        let t169: L = t11.mul_add(t151, t168);
+        [t155, t157, t128, t159, t161, t152, t163, t165, t136, t167, t169, t153]
     };
     out
 }

@@ -260,7 +260,7 @@ pub fn slit_ft_self(x: [f64; 3], a: f64, eta: f64, height: f64, gap: f64) -> Blo
 /// Pruned to what the scene needs.
 /// Jets truncated at derivative order 4 of G.
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `slit_ft_self`'s fields. Operation count with fused multiply-adds: 100 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `slit_ft_self`'s fields. Operation count with fused multiply-adds: 94 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn slit_ft_self_lanes<L: lanes::Lane>(
@@ -278,241 +278,229 @@ pub fn slit_ft_self_lanes<L: lanes::Lane>(
         [L::splat(0.0); 36usize]
     } else {
         let t3: L = L::splat(0.039788735772973836) / eta;
-        let t4: L = t1 * L::splat(2.0);
-        let t5: L = x[2] - t0;
-        let t6: L = L::splat(2.0) * t5;
-        let t7: L = a * a;
-        let t8: L = a.recip();
-        let t9: L = t8 * t8;
-        let t10: L = t8 * t9;
-        let t11: L = t8 * L::splat(1.3333333333333333);
-        let t12: L = t7 * L::splat(0.16666666666666666);
-        let t13: L = t4 * t4;
-        let t14: L = t13.rsqrt();
-        let t15: L = t4 * t14;
-        let t16: L = t14 * t14;
-        let t17: L = t1 * t14;
-        let t18: L = t12 * t16;
-        let t19: L = t18.mul_add(L::splat(-12.0), L::splat(-2.0));
-        let t20: L = t18.mul_add(L::splat(12.0), t19);
-        let t21: L = L::splat(2.0) * t17;
-        let t22: L = t15.mul_add(t20, t21);
-        let t23: L = t18.mul_add(L::splat(-96.0), L::splat(-2.0));
-        let t24: L = t18.mul_add(L::splat(10.0), L::splat(-1.0));
-        let t25: L = t18.mul_add(t23, t24);
-        let t26: L = t17.mul_add(t22, t25);
-        let t27: L = t3 * t14;
-        let t28: L = t6 * t6;
-        let t29: L = t28.rsqrt();
-        let t30: L = t6 * t29;
-        let t31: L = t29 * t29;
-        let t32: L = t5 * t29;
-        let t33: L = t12 * t31;
-        let t34: L = L::splat(-12.0).mul_add(t33, L::splat(-2.0));
-        let t35: L = L::splat(12.0).mul_add(t33, t34);
-        let t36: L = L::splat(2.0) * t32;
-        let t37: L = t30.mul_add(t35, t36);
-        let t38: L = L::splat(-96.0).mul_add(t33, L::splat(-2.0));
-        let t39: L = L::splat(10.0).mul_add(t33, L::splat(-1.0));
-        let t40: L = t33.mul_add(t38, t39);
-        let t41: L = t32.mul_add(t37, t40);
-        let t42: L = t3 * t29;
-        let t43: L = t41 * t42;
-        let t44: L = t26.mul_add(t27, t43);
-        let t45: L = t3.mul_add(t11, t44);
-        let t46: L = t18.mul_add(L::splat(-24.0), L::splat(-4.0));
-        let t47: L = t18.mul_add(L::splat(24.0), t46);
-        let t48: L = t17 * L::splat(4.0);
-        let t49: L = t15.mul_add(t47, t48);
-        let t50: L = t18.mul_add(L::splat(-192.0), L::splat(4.0));
-        let t51: L = t18.mul_add(L::splat(28.0), L::splat(-2.0));
-        let t52: L = t18.mul_add(t50, t51);
-        let t53: L = t17.mul_add(t49, t52);
-        let t54: L = t33.mul_add(L::splat(-24.0), L::splat(-4.0));
-        let t55: L = t33.mul_add(L::splat(24.0), t54);
-        let t56: L = t32 * L::splat(4.0);
-        let t57: L = t30.mul_add(t55, t56);
-        let t58: L = t33.mul_add(L::splat(-192.0), L::splat(4.0));
-        let t59: L = t33.mul_add(L::splat(28.0), L::splat(-2.0));
-        let t60: L = t33.mul_add(t58, t59);
-        let t61: L = t32.mul_add(t57, t60);
-        let t62: L = t42 * t61;
-        let t63: L = t27.mul_add(t53, t62);
-        let t64: L = t3.mul_add(t11, t63);
-        let t65: L = t18.mul_add(L::splat(12.0), L::splat(-1.0));
-        let t66: L = t15.mul_add(t65, t21);
-        let t67: L = t14 * t27;
-        let t68: L = L::splat(12.0).mul_add(t33, L::splat(-1.0));
-        let t69: L = t30.mul_add(t68, t36);
-        let t70: L = t29 * t42;
-        let t71: L = t69 * t70;
-        let t72: L = t66.mul_add(t67, t71);
-        let t73: L = t18.mul_add(L::splat(-12.0), L::splat(1.0));
-        let t74: L = t17 * L::splat(-2.0);
-        let t75: L = t15.mul_add(t73, t74);
-        let t76: L = L::splat(-12.0).mul_add(t33, L::splat(1.0));
-        let t77: L = L::splat(-2.0) * t32;
-        let t78: L = t30.mul_add(t76, t77);
-        let t79: L = t70 * t78;
-        let t80: L = t67.mul_add(t75, t79);
-        let t81: L = t18.mul_add(L::splat(-12.0), L::splat(-1.0));
-        let t82: L = t15.mul_add(t81, t21);
-        let t83: L = L::splat(-12.0).mul_add(t33, L::splat(-1.0));
-        let t84: L = t30.mul_add(t83, t36);
-        let t85: L = t70 * t84;
-        let t86: L = t67.mul_add(t82, t85);
-        let t87: L = t18.mul_add(L::splat(12.0), L::splat(1.0));
-        let t88: L = t15.mul_add(t87, t74);
-        let t89: L = L::splat(12.0).mul_add(t33, L::splat(1.0));
-        let t90: L = t30.mul_add(t89, t77);
-        let t91: L = t70 * t90;
-        let t92: L = t67.mul_add(t88, t91);
-        let t93: L = t14 * t67;
-        let t94: L = t29 * t70;
-        let t95: L = L::splat(-2.5) * t94;
-        let t96: L = L::splat(-2.5).mul_add(t93, t95);
-        let t97: L = t3.mul_add(t10, t96);
-        let t98: L = t93 + t94;
-        let t99: L = t3.mul_sub(t10, t98);
+        let t4: L = x[2] - t0;
+        let t5: L = a * a;
+        let t6: L = a.recip();
+        let t7: L = t6 * t6;
+        let t8: L = t6 * t7;
+        let t9: L = t6 * L::splat(1.3333333333333333);
+        let t10: L = t5 * L::splat(0.16666666666666666);
+        let t11: L = t1 * t1;
+        let t12: L = t11.rsqrt();
+        let t13: L = t1 * t12;
+        let t14: L = t12 * t12;
+        let t15: L = t10 * t14;
+        let t16: L = t15.mul_add(L::splat(3.0), L::splat(2.0));
+        let t17: L = t15.neg_mul_add(L::splat(3.0), t16);
+        let t18: L = t13.mul_sub(t17, t13);
+        let t19: L = t13 * t18;
+        let t20: L = t15.mul_add(L::splat(24.0), L::splat(2.0));
+        let t21: L = t15 * t20;
+        let t22: L = t15.mul_add(L::splat(2.5), L::splat(-1.0));
+        let t23: L = t21.mul_add(L::splat(-0.25), t22);
+        let t24: L = t19.mul_add(L::splat(-0.5), t23);
+        let t25: L = t3 * t12;
+        let t26: L = t4 * t4;
+        let t27: L = t26.rsqrt();
+        let t28: L = t4 * t27;
+        let t29: L = t27 * t27;
+        let t30: L = t10 * t29;
+        let t31: L = L::splat(3.0).mul_add(t30, L::splat(2.0));
+        let t32: L = L::splat(3.0).neg_mul_add(t30, t31);
+        let t33: L = t28.mul_sub(t32, t28);
+        let t34: L = t28 * t33;
+        let t35: L = L::splat(24.0).mul_add(t30, L::splat(2.0));
+        let t36: L = t30 * t35;
+        let t37: L = L::splat(2.5).mul_add(t30, L::splat(-1.0));
+        let t38: L = L::splat(-0.25).mul_add(t36, t37);
+        let t39: L = L::splat(-0.5).mul_add(t34, t38);
+        let t40: L = t3 * t27;
+        let t41: L = t39 * t40;
+        let t42: L = t24.mul_add(t25, t41);
+        let t43: L = t3 * t9;
+        let t44: L = L::splat(0.5).mul_add(t42, t43);
+        let t45: L = t15.mul_add(L::splat(6.0), L::splat(4.0));
+        let t46: L = t15.neg_mul_add(L::splat(6.0), t45);
+        let t47: L = t13 * L::splat(-2.0);
+        let t48: L = t13.mul_add(t46, t47);
+        let t49: L = t13 * t48;
+        let t50: L = t15.mul_add(L::splat(48.0), L::splat(-4.0));
+        let t51: L = t15 * t50;
+        let t52: L = t15.mul_add(L::splat(7.0), L::splat(-2.0));
+        let t53: L = L::splat(-0.25).mul_add(t51, t52);
+        let t54: L = L::splat(-0.5).mul_add(t49, t53);
+        let t55: L = t30.mul_add(L::splat(6.0), L::splat(4.0));
+        let t56: L = t30.neg_mul_add(L::splat(6.0), t55);
+        let t57: L = L::splat(-2.0) * t28;
+        let t58: L = t28.mul_add(t56, t57);
+        let t59: L = t28 * t58;
+        let t60: L = t30.mul_add(L::splat(48.0), L::splat(-4.0));
+        let t61: L = t30 * t60;
+        let t62: L = t30.mul_add(L::splat(7.0), L::splat(-2.0));
+        let t63: L = L::splat(-0.25).mul_add(t61, t62);
+        let t64: L = L::splat(-0.5).mul_add(t59, t63);
+        let t65: L = t40 * t64;
+        let t66: L = t25.mul_add(t54, t65);
+        let t67: L = L::splat(0.5).mul_add(t66, t43);
+        let t68: L = t15.mul_add(L::splat(3.0), L::splat(-1.0));
+        let t69: L = t13.mul_add(t68, t13);
+        let t70: L = t12 * t25;
+        let t71: L = L::splat(3.0).mul_add(t30, L::splat(-1.0));
+        let t72: L = t28.mul_add(t71, t28);
+        let t73: L = t27 * t40;
+        let t74: L = t72 * t73;
+        let t75: L = t69.mul_add(t70, t74);
+        let t76: L = L::splat(0.25) * t75;
+        let t77: L = L::splat(-0.25) * t75;
+        let t78: L = t15.mul_add(L::splat(3.0), L::splat(1.0));
+        let t79: L = t13.neg_mul_add(t78, t13);
+        let t80: L = L::splat(3.0).mul_add(t30, L::splat(1.0));
+        let t81: L = t28.neg_mul_add(t80, t28);
+        let t82: L = t73 * t81;
+        let t83: L = t70.mul_add(t79, t82);
+        let t84: L = L::splat(0.25) * t83;
+        let t85: L = L::splat(-0.25) * t83;
+        let t86: L = t12 * t70;
+        let t87: L = t27 * t73;
+        let t88: L = L::splat(0.3125) * t87;
+        let t89: L = t86.mul_add(L::splat(0.3125), t88);
+        let t90: L = t3 * t8;
+        let t91: L = t90 - t89;
+        let t92: L = t86 + t87;
+        let t93: L = L::splat(-0.125).mul_add(t92, t90);
         [
-            t45,
+            t44,
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
-            t45,
+            t44,
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
-            t64,
+            t67,
             L::splat(0.0),
-            t72,
+            t76,
             L::splat(0.0),
-            t80,
-            L::splat(0.0),
-            L::splat(0.0),
-            L::splat(0.0),
-            L::splat(0.0),
-            L::splat(0.0),
-            L::splat(0.0),
-            t86,
-            L::splat(0.0),
-            t92,
+            t77,
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
-            t97,
+            L::splat(0.0),
+            t84,
+            L::splat(0.0),
+            t85,
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
-            t97,
+            L::splat(0.0),
+            L::splat(0.0),
+            t91,
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
-            t99,
+            t91,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t93,
         ]
     };
     let farv: [L; 36usize] = if L::any(far) {
-        let t100: L = L::splat(0.039788735772973836) / eta;
-        let t101: L = a * a;
-        let t102: L = a * t1;
-        let t103: L = t102 * t2;
-        let t104: L = t103.recip();
-        let t105: L = t104 * t102;
-        let t106: L = t104 * t2;
-        let t107: L = t106 * a;
-        let t108: L = t106 * t1;
-        let t109: L = t108 * t108;
-        let t110: L = t108 * t109;
-        let t111: L = t108 * L::splat(1.3333333333333333);
-        let t112: L = t107 * t107;
-        let t113: L = t107 * t112;
+        let t94: L = L::splat(0.039788735772973836) / eta;
+        let t95: L = a * a;
+        let t96: L = a * t1;
+        let t97: L = t96 * t2;
+        let t98: L = t97.recip();
+        let t99: L = t98 * t96;
+        let t100: L = t98 * t2;
+        let t101: L = t100 * a;
+        let t102: L = t100 * t1;
+        let t103: L = t102 * t102;
+        let t104: L = t102 * t103;
+        let t105: L = t102 * L::splat(1.3333333333333333);
+        let t106: L = t101 * t101;
+        let t107: L = t101 * t106;
+        let t108: L = t101 * t107;
+        let t109: L = t101 * t108;
+        let t110: L = t99 * L::splat(0.75);
+        let t111: L = t101.mul_add(L::splat(0.75), t110);
+        let t112: L = t99 * t99;
+        let t113: L = t99 * t112;
         let t114: L = L::splat(0.08333333333333333) * t113;
-        let t115: L = t114 + t114;
-        let t116: L = t107 * t113;
-        let t117: L = t107 * t116;
-        let t118: L = t105 * L::splat(-0.75);
-        let t119: L = t107.mul_add(L::splat(-0.75), t118);
-        let t120: L = t105 * t105;
-        let t121: L = t105 * t120;
-        let t122: L = L::splat(0.08333333333333333).mul_add(t121, t115);
-        let t123: L = L::splat(0.08333333333333333).mul_add(t121, t122);
-        let t124: L = t105 * t121;
-        let t125: L = t105 * t124;
-        let t126: L = L::splat(-0.08333333333333333) * t125;
-        let t127: L = L::splat(-0.08333333333333333).mul_add(t117, t126);
-        let t128: L = t111 + t119;
-        let t129: L = t101.mul_add(t123, t128);
-        let t130: L = t101 * t127;
-        let t131: L = t101.mul_add(t130, t129);
-        let t132: L = t113 * L::splat(0.3333333333333333);
-        let t133: L = t132 + t132;
-        let t134: L = t105 * L::splat(-1.5);
-        let t135: L = t107.mul_add(L::splat(-1.5), t134);
-        let t136: L = t121.mul_add(L::splat(0.3333333333333333), t133);
-        let t137: L = t121.mul_add(L::splat(0.3333333333333333), t136);
-        let t138: L = t125 * L::splat(-0.16666666666666666);
-        let t139: L = t117.mul_add(L::splat(-0.16666666666666666), t138);
-        let t140: L = t111 + t135;
-        let t141: L = t101.mul_add(t137, t140);
-        let t142: L = t101 * t139;
-        let t143: L = t101.mul_add(t142, t141);
-        let t144: L = t124 * L::splat(-0.125);
-        let t145: L = t116.mul_add(L::splat(0.125), t144);
-        let t146: L = t101 * t145;
-        let t147: L = t124 * L::splat(0.125);
-        let t148: L = t116.mul_add(L::splat(-0.125), t147);
-        let t149: L = t101 * t148;
-        let t150: L = t121 * L::splat(-0.3125);
-        let t151: L = t113.mul_add(L::splat(-0.3125), t150);
-        let t152: L = t110 + t151;
-        let t153: L = t121 * L::splat(-0.125);
-        let t154: L = t113.mul_add(L::splat(-0.125), t153);
-        let t155: L = t110 + t154;
-        let t156: L = t100 * t131;
-        let t157: L = t100 * t143;
-        let t158: L = t100 * t146;
-        let t159: L = t100 * t149;
-        let t160: L = t100 * t152;
-        let t161: L = t100 * t155;
+        let t115: L = L::splat(0.16666666666666666).mul_add(t107, t114);
+        let t116: L = t114 + t115;
+        let t117: L = t99 * t113;
+        let t118: L = t99 * t117;
+        let t119: L = L::splat(0.08333333333333333) * t118;
+        let t120: L = L::splat(0.08333333333333333).mul_add(t109, t119);
+        let t121: L = t105 - t111;
+        let t122: L = t95.mul_add(t116, t121);
+        let t123: L = t95 * t120;
+        let t124: L = t95.neg_mul_add(t123, t122);
+        let t125: L = t99 * L::splat(1.5);
+        let t126: L = t101.mul_add(L::splat(1.5), t125);
+        let t127: L = t113 * L::splat(0.3333333333333333);
+        let t128: L = t107.mul_add(L::splat(0.6666666666666666), t127);
+        let t129: L = t127 + t128;
+        let t130: L = L::splat(0.16666666666666666) * t118;
+        let t131: L = L::splat(0.16666666666666666).mul_add(t109, t130);
+        let t132: L = t105 - t126;
+        let t133: L = t95.mul_add(t129, t132);
+        let t134: L = t95 * t131;
+        let t135: L = t95.neg_mul_add(t134, t133);
+        let t136: L = t108 - t117;
+        let t137: L = t95 * t136;
+        let t138: L = L::splat(0.3125) * t113;
+        let t139: L = L::splat(0.3125).mul_add(t107, t138);
+        let t140: L = t104 - t139;
+        let t141: L = t107 + t113;
+        let t142: L = L::splat(-0.125).mul_add(t141, t104);
+        let t143: L = t94 * t124;
+        let t144: L = t94 * t135;
+        let t145: L = t94 * t137;
+        let t146: L = L::splat(0.125) * t145;
+        let t147: L = L::splat(-0.125) * t145;
+        let t148: L = t94 * t140;
+        let t149: L = t94 * t142;
         [
-            t156,
+            t143,
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
-            t156,
+            t143,
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
-            t157,
+            t144,
             L::splat(0.0),
-            t158,
+            t146,
             L::splat(0.0),
-            t159,
-            L::splat(0.0),
-            L::splat(0.0),
-            L::splat(0.0),
-            L::splat(0.0),
-            L::splat(0.0),
-            L::splat(0.0),
-            t159,
-            L::splat(0.0),
-            t158,
+            t147,
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
-            t160,
+            L::splat(0.0),
+            t147,
+            L::splat(0.0),
+            t146,
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
-            t160,
+            L::splat(0.0),
+            L::splat(0.0),
+            t148,
             L::splat(0.0),
             L::splat(0.0),
             L::splat(0.0),
-            t161,
+            t148,
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            t149,
         ]
     } else {
         [L::splat(0.0); 36usize]
@@ -1140,7 +1128,7 @@ pub fn slit_ft_pair(
 /// Pruned to what the scene needs.
 /// Jets truncated at derivative order 4 of G.
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `slit_ft_pair`'s fields. Operation count with fused multiply-adds: 388 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `slit_ft_pair`'s fields. Operation count with fused multiply-adds: 364 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn slit_ft_pair_lanes<L: lanes::Lane>(
@@ -1183,401 +1171,377 @@ pub fn slit_ft_pair_lanes<L: lanes::Lane>(
         let t27: L = t20 * t26;
         let t28: L = t21 * t26;
         let t29: L = t24 * t24;
-        let t30: L = t28.mul_add(L::splat(-6.0), L::splat(1.0));
-        let t31: L = t27.mul_add(L::splat(-6.0), t30);
-        let t32: L = L::splat(2.0).mul_add(t28, L::splat(1.0));
-        let t33: L = L::splat(2.0).mul_add(t27, t32);
-        let t34: L = t29.mul_add(t31, t33);
-        let t35: L = t0 * t23;
-        let t36: L = t15.mul_add(t15, t4);
-        let t37: L = t36.rsqrt();
-        let t38: L = t6 * t37;
-        let t39: L = t15 * t37;
-        let t40: L = t37 * t37;
-        let t41: L = t14 * t37;
-        let t42: L = t20 * t40;
-        let t43: L = t21 * t40;
-        let t44: L = t38 * t38;
-        let t45: L = t42 * t43;
-        let t46: L = t43 * L::splat(60.0);
-        let t47: L = t45.mul_add(L::splat(-840.0), t46);
-        let t48: L = t46 + L::splat(6.0);
-        let t49: L = t42.mul_add(L::splat(-60.0), t48);
-        let t50: L = L::splat(-6.0) * t41;
-        let t51: L = t39.mul_add(t49, t50);
-        let t52: L = t43.mul_add(L::splat(840.0), L::splat(6.0));
-        let t53: L = t43.mul_add(L::splat(-66.0), L::splat(-1.0));
-        let t54: L = t42.mul_add(t52, t53);
-        let t55: L = t41.mul_add(t51, t54);
-        let t56: L = t44.mul_add(t47, t55);
-        let t57: L = t43 * L::splat(-12.0);
-        let t58: L = t57 + L::splat(-2.0);
-        let t59: L = t42.mul_add(L::splat(12.0), t58);
-        let t60: L = L::splat(2.0) * t41;
-        let t61: L = t39.mul_add(t59, t60);
-        let t62: L = t43.mul_add(L::splat(-96.0), L::splat(-2.0));
-        let t63: L = t43.mul_add(L::splat(10.0), L::splat(-1.0));
-        let t64: L = t42.mul_add(t62, t63);
-        let t65: L = t41.mul_add(t61, t64);
-        let t66: L = t44.mul_add(t56, t65);
-        let t67: L = t0 * t37;
-        let t68: L = t66 * t67;
-        let t69: L = t34.mul_add(t35, t68);
-        let t70: L = t17.mul_add(t17, t4);
-        let t71: L = t70.rsqrt();
-        let t72: L = t6 * t71;
-        let t73: L = t17 * t71;
-        let t74: L = t71 * t71;
-        let t75: L = t16 * t71;
-        let t76: L = t20 * t74;
-        let t77: L = t21 * t74;
-        let t78: L = t72 * t72;
-        let t79: L = t76 * t77;
-        let t80: L = L::splat(60.0) * t77;
-        let t81: L = L::splat(-840.0).mul_add(t79, t80);
-        let t82: L = L::splat(6.0) + t80;
-        let t83: L = L::splat(-60.0).mul_add(t76, t82);
-        let t84: L = L::splat(-6.0) * t75;
-        let t85: L = t73.mul_add(t83, t84);
-        let t86: L = L::splat(840.0).mul_add(t77, L::splat(6.0));
-        let t87: L = L::splat(-66.0).mul_add(t77, L::splat(-1.0));
-        let t88: L = t76.mul_add(t86, t87);
-        let t89: L = t75.mul_add(t85, t88);
-        let t90: L = t78.mul_add(t81, t89);
-        let t91: L = L::splat(-12.0) * t77;
-        let t92: L = L::splat(-2.0) + t91;
-        let t93: L = L::splat(12.0).mul_add(t76, t92);
-        let t94: L = L::splat(2.0) * t75;
-        let t95: L = t73.mul_add(t93, t94);
-        let t96: L = L::splat(-96.0).mul_add(t77, L::splat(-2.0));
-        let t97: L = L::splat(10.0).mul_add(t77, L::splat(-1.0));
-        let t98: L = t76.mul_add(t96, t97);
-        let t99: L = t75.mul_add(t95, t98);
-        let t100: L = t78.mul_add(t90, t99);
-        let t101: L = t0 * t71;
-        let t102: L = t100.mul_add(t101, t69);
-        let t103: L = t25 * t31;
-        let t104: L = t24 * t103;
-        let t105: L = t35 * t104;
-        let t106: L = t43 * L::splat(-60.0);
-        let t107: L = t45.mul_add(L::splat(840.0), t106);
-        let t108: L = t41 * t49;
-        let t109: L = t39.mul_add(t107, t108);
-        let t110: L = t39 * t41;
-        let t111: L = t43.mul_add(L::splat(-48.0), L::splat(-4.0));
-        let t112: L = t42.mul_add(L::splat(48.0), t111);
-        let t113: L = L::splat(6.0).mul_add(t110, t112);
-        let t114: L = t43.mul_add(L::splat(-480.0), L::splat(6.0));
-        let t115: L = t43.mul_add(L::splat(42.0), L::splat(-1.0));
-        let t116: L = t42.mul_add(t114, t115);
-        let t117: L = t39 * t116;
-        let t118: L = t41.mul_add(t113, t117);
-        let t119: L = t44.mul_add(t109, t118);
-        let t120: L = t38 * t119;
-        let t121: L = t67.mul_add(t120, t105);
-        let t122: L = L::splat(-60.0) * t77;
-        let t123: L = L::splat(840.0).mul_add(t79, t122);
-        let t124: L = t75 * t83;
-        let t125: L = t73.mul_add(t123, t124);
-        let t126: L = t73 * t75;
-        let t127: L = t77.mul_add(L::splat(-48.0), L::splat(-4.0));
-        let t128: L = t76.mul_add(L::splat(48.0), t127);
-        let t129: L = L::splat(6.0).mul_add(t126, t128);
-        let t130: L = t77.mul_add(L::splat(-480.0), L::splat(6.0));
-        let t131: L = t77.mul_add(L::splat(42.0), L::splat(-1.0));
-        let t132: L = t76.mul_add(t130, t131);
+        let t30: L = t28.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t31: L = t27.mul_add(L::splat(6.0), t30);
+        let t32: L = t29 * t31;
+        let t33: L = t28 + L::splat(0.5);
+        let t34: L = t27 + t33;
+        let t35: L = t34.mul_add(L::splat(-2.0), t32);
+        let t36: L = t0 * t23;
+        let t37: L = t15.mul_add(t15, t4);
+        let t38: L = t37.rsqrt();
+        let t39: L = t6 * t38;
+        let t40: L = t15 * t38;
+        let t41: L = t38 * t38;
+        let t42: L = t14 * t38;
+        let t43: L = t20 * t41;
+        let t44: L = t21 * t41;
+        let t45: L = t39 * t39;
+        let t46: L = t43 * t44;
+        let t47: L = t44 * L::splat(60.0);
+        let t48: L = t46.mul_sub(L::splat(840.0), t47);
+        let t49: L = L::splat(6.0) + t47;
+        let t50: L = t43.neg_mul_add(L::splat(60.0), t49);
+        let t51: L = L::splat(6.0) * t42;
+        let t52: L = t40.mul_sub(t50, t51);
+        let t53: L = t44.mul_add(L::splat(840.0), L::splat(6.0));
+        let t54: L = t44.mul_add(L::splat(66.0), L::splat(1.0));
+        let t55: L = t43.mul_sub(t53, t54);
+        let t56: L = t42.mul_add(t52, t55);
+        let t57: L = t45.mul_sub(t48, t56);
+        let t58: L = t44 * L::splat(12.0);
+        let t59: L = L::splat(2.0) + t58;
+        let t60: L = t43.neg_mul_add(L::splat(12.0), t59);
+        let t61: L = L::splat(-2.0) * t42;
+        let t62: L = t40.mul_add(t60, t61);
+        let t63: L = t44.mul_add(L::splat(96.0), L::splat(2.0));
+        let t64: L = t44.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t65: L = t43.mul_sub(t63, t64);
+        let t66: L = t42.mul_add(t62, t65);
+        let t67: L = t45.mul_add(t57, t66);
+        let t68: L = t0 * t38;
+        let t69: L = t67 * t68;
+        let t70: L = t35.mul_add(t36, t69);
+        let t71: L = t17.mul_add(t17, t4);
+        let t72: L = t71.rsqrt();
+        let t73: L = t6 * t72;
+        let t74: L = t17 * t72;
+        let t75: L = t72 * t72;
+        let t76: L = t16 * t72;
+        let t77: L = t20 * t75;
+        let t78: L = t21 * t75;
+        let t79: L = t73 * t73;
+        let t80: L = t77 * t78;
+        let t81: L = L::splat(60.0) * t78;
+        let t82: L = L::splat(840.0).mul_sub(t80, t81);
+        let t83: L = L::splat(6.0) + t81;
+        let t84: L = L::splat(60.0).neg_mul_add(t77, t83);
+        let t85: L = L::splat(6.0) * t76;
+        let t86: L = t74.mul_sub(t84, t85);
+        let t87: L = L::splat(840.0).mul_add(t78, L::splat(6.0));
+        let t88: L = L::splat(66.0).mul_add(t78, L::splat(1.0));
+        let t89: L = t77.mul_sub(t87, t88);
+        let t90: L = t76.mul_add(t86, t89);
+        let t91: L = t79.mul_sub(t82, t90);
+        let t92: L = L::splat(12.0) * t78;
+        let t93: L = L::splat(2.0) + t92;
+        let t94: L = L::splat(12.0).neg_mul_add(t77, t93);
+        let t95: L = L::splat(-2.0) * t76;
+        let t96: L = t74.mul_add(t94, t95);
+        let t97: L = L::splat(96.0).mul_add(t78, L::splat(2.0));
+        let t98: L = L::splat(10.0).mul_add(t78, L::splat(-1.0));
+        let t99: L = t77.mul_sub(t97, t98);
+        let t100: L = t76.mul_add(t96, t99);
+        let t101: L = t79.mul_add(t91, t100);
+        let t102: L = t0 * t72;
+        let t103: L = t101.mul_add(t102, t70);
+        let t104: L = t25 * t31;
+        let t105: L = t24 * t104;
+        let t106: L = t36 * t105;
+        let t107: L = t42 * t50;
+        let t108: L = t40.mul_add(t48, t107);
+        let t109: L = t40 * t42;
+        let t110: L = t44.mul_add(L::splat(48.0), L::splat(4.0));
+        let t111: L = t43.neg_mul_add(L::splat(48.0), t110);
+        let t112: L = L::splat(6.0).neg_mul_add(t109, t111);
+        let t113: L = t44.mul_add(L::splat(480.0), L::splat(-6.0));
+        let t114: L = t44.mul_add(L::splat(42.0), L::splat(-1.0));
+        let t115: L = t43.mul_sub(t113, t114);
+        let t116: L = t40 * t115;
+        let t117: L = t42.mul_add(t112, t116);
+        let t118: L = t45.mul_sub(t108, t117);
+        let t119: L = t39 * t118;
+        let t120: L = t68.neg_mul_add(t119, t106);
+        let t121: L = t76 * t84;
+        let t122: L = t74.mul_add(t82, t121);
+        let t123: L = t74 * t76;
+        let t124: L = t78.mul_add(L::splat(48.0), L::splat(4.0));
+        let t125: L = t77.neg_mul_add(L::splat(48.0), t124);
+        let t126: L = L::splat(6.0).neg_mul_add(t123, t125);
+        let t127: L = t78.mul_add(L::splat(480.0), L::splat(-6.0));
+        let t128: L = t78.mul_add(L::splat(42.0), L::splat(-1.0));
+        let t129: L = t77.mul_sub(t127, t128);
+        let t130: L = t74 * t129;
+        let t131: L = t76.mul_add(t126, t130);
+        let t132: L = t79.mul_sub(t122, t131);
         let t133: L = t73 * t132;
-        let t134: L = t75.mul_add(t129, t133);
-        let t135: L = t78.mul_add(t125, t134);
-        let t136: L = t72 * t135;
-        let t137: L = t101.mul_add(t136, t121);
-        let t138: L = t45.mul_add(L::splat(120.0), t57);
-        let t139: L = t44.mul_add(t138, t65);
-        let t140: L = t67 * t139;
-        let t141: L = t33.mul_add(t35, t140);
-        let t142: L = t79.mul_add(L::splat(120.0), t91);
-        let t143: L = t78.mul_add(t142, t99);
-        let t144: L = t101.mul_add(t143, t141);
-        let t145: L = L::splat(-6.0) + t106;
-        let t146: L = t42.mul_add(L::splat(60.0), t145);
-        let t147: L = t41 * t146;
-        let t148: L = t39.mul_add(t47, t147);
-        let t149: L = t43.mul_add(L::splat(48.0), L::splat(8.0));
-        let t150: L = t42.mul_add(L::splat(-48.0), t149);
-        let t151: L = L::splat(-6.0).mul_add(t110, t150);
-        let t152: L = t43.mul_add(L::splat(480.0), L::splat(6.0));
-        let t153: L = t43.mul_add(L::splat(-54.0), L::splat(-1.0));
-        let t154: L = t42.mul_add(t152, t153);
-        let t155: L = t39 * t154;
-        let t156: L = t41.mul_add(t151, t155);
-        let t157: L = t44.mul_add(t148, t156);
-        let t158: L = t38 * t157;
-        let t159: L = t67.mul_add(t158, t105);
-        let t160: L = L::splat(-6.0) + t122;
-        let t161: L = L::splat(60.0).mul_add(t76, t160);
-        let t162: L = t75 * t161;
-        let t163: L = t73.mul_add(t81, t162);
-        let t164: L = t77.mul_add(L::splat(48.0), L::splat(8.0));
-        let t165: L = t76.mul_add(L::splat(-48.0), t164);
-        let t166: L = L::splat(-6.0).mul_add(t126, t165);
-        let t167: L = t77.mul_add(L::splat(480.0), L::splat(6.0));
-        let t168: L = t77.mul_add(L::splat(-54.0), L::splat(-1.0));
-        let t169: L = t76.mul_add(t167, t168);
-        let t170: L = t73 * t169;
-        let t171: L = t75.mul_add(t166, t170);
-        let t172: L = t78.mul_add(t163, t171);
-        let t173: L = t72 * t172;
-        let t174: L = t101.mul_add(t173, t159);
-        let t175: L = t28.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t176: L = t27.mul_add(L::splat(6.0), t175);
-        let t177: L = t28.mul_add(L::splat(-4.0), L::splat(2.0));
-        let t178: L = t27.mul_add(L::splat(-4.0), t177);
-        let t179: L = t29.mul_add(t176, t178);
-        let t180: L = t43.mul_add(L::splat(960.0), L::splat(-6.0));
-        let t181: L = t43.mul_add(L::splat(-90.0), L::splat(1.0));
-        let t182: L = t42.mul_add(t180, t181);
-        let t183: L = t41.mul_add(t51, t182);
-        let t184: L = t44.mul_add(t47, t183);
-        let t185: L = t43.mul_add(L::splat(-24.0), L::splat(-4.0));
-        let t186: L = t42.mul_add(L::splat(24.0), t185);
-        let t187: L = t41 * L::splat(4.0);
-        let t188: L = t39.mul_add(t186, t187);
-        let t189: L = t43.mul_add(L::splat(-192.0), L::splat(4.0));
-        let t190: L = t43.mul_add(L::splat(28.0), L::splat(-2.0));
-        let t191: L = t42.mul_add(t189, t190);
-        let t192: L = t41.mul_add(t188, t191);
-        let t193: L = t44.mul_add(t184, t192);
-        let t194: L = t67 * t193;
-        let t195: L = t35.mul_add(t179, t194);
-        let t196: L = t77.mul_add(L::splat(960.0), L::splat(-6.0));
-        let t197: L = t77.mul_add(L::splat(-90.0), L::splat(1.0));
-        let t198: L = t76.mul_add(t196, t197);
-        let t199: L = t75.mul_add(t85, t198);
-        let t200: L = t78.mul_add(t81, t199);
-        let t201: L = t77.mul_add(L::splat(-24.0), L::splat(-4.0));
-        let t202: L = t76.mul_add(L::splat(24.0), t201);
-        let t203: L = t75 * L::splat(4.0);
-        let t204: L = t73.mul_add(t202, t203);
-        let t205: L = t77.mul_add(L::splat(-192.0), L::splat(4.0));
-        let t206: L = t77.mul_add(L::splat(28.0), L::splat(-2.0));
-        let t207: L = t76.mul_add(t205, t206);
-        let t208: L = t75.mul_add(t204, t207);
-        let t209: L = t78.mul_add(t200, t208);
-        let t210: L = t101.mul_add(t209, t195);
-        let t211: L = t0 * t26;
-        let t212: L = t25 * t211;
-        let t213: L = t42.mul_add(L::splat(-60.0), L::splat(6.0));
-        let t214: L = t39.mul_add(t213, t50);
-        let t215: L = t42.mul_add(L::splat(12.0), L::splat(-1.0));
-        let t216: L = t39.mul_add(t215, t60);
-        let t217: L = t44.mul_add(t214, t216);
-        let t218: L = t0 * t40;
-        let t219: L = t217.mul_add(t218, t212);
-        let t220: L = L::splat(-60.0).mul_add(t76, L::splat(6.0));
-        let t221: L = t73.mul_add(t220, t84);
-        let t222: L = L::splat(12.0).mul_add(t76, L::splat(-1.0));
-        let t223: L = t73.mul_add(t222, t94);
-        let t224: L = t78.mul_add(t221, t223);
-        let t225: L = t0 * t74;
-        let t226: L = t224.mul_add(t225, t219);
-        let t227: L = t42.mul_add(L::splat(-12.0), L::splat(1.0));
-        let t228: L = t41 * L::splat(-2.0);
-        let t229: L = t39.mul_add(t227, t228);
-        let t230: L = t218.mul_sub(t229, t212);
-        let t231: L = L::splat(-12.0).mul_add(t76, L::splat(1.0));
-        let t232: L = L::splat(-2.0) * t75;
-        let t233: L = t73.mul_add(t231, t232);
-        let t234: L = t225.mul_add(t233, t230);
-        let t235: L = t24 * t211;
-        let t236: L = t38 * t218;
-        let t237: L = t235 - t236;
-        let t238: L = t72.neg_mul_add(t225, t237);
-        let t239: L = t42.mul_add(L::splat(60.0), L::splat(-6.0));
-        let t240: L = t42.mul_add(L::splat(-48.0), L::splat(7.0));
-        let t241: L = L::splat(-6.0).mul_add(t110, t240);
-        let t242: L = t44.mul_add(t239, t241);
-        let t243: L = t38 * t242;
-        let t244: L = t218.mul_sub(t243, t235);
-        let t245: L = L::splat(60.0).mul_add(t76, L::splat(-6.0));
-        let t246: L = t76.mul_add(L::splat(-48.0), L::splat(7.0));
-        let t247: L = L::splat(-6.0).mul_add(t126, t246);
-        let t248: L = t78.mul_add(t245, t247);
-        let t249: L = t72 * t248;
-        let t250: L = t225.mul_add(t249, t244);
-        let t251: L = L::splat(-1.0) + t57;
-        let t252: L = t39.mul_add(t251, t60);
-        let t253: L = t218.mul_add(t252, t212);
-        let t254: L = L::splat(-1.0) + t91;
-        let t255: L = t73.mul_add(t254, t94);
-        let t256: L = t225.mul_add(t255, t253);
-        let t257: L = t39 * t43;
-        let t258: L = t41 * L::splat(6.0);
-        let t259: L = L::splat(-60.0).mul_add(t257, t258);
-        let t260: L = t43.mul_add(L::splat(12.0), L::splat(1.0));
-        let t261: L = t39.mul_add(t260, t228);
-        let t262: L = t44.mul_add(t259, t261);
-        let t263: L = t218.mul_sub(t262, t212);
-        let t264: L = t73 * t77;
-        let t265: L = L::splat(6.0) * t75;
-        let t266: L = L::splat(-60.0).mul_add(t264, t265);
-        let t267: L = L::splat(12.0).mul_add(t77, L::splat(1.0));
-        let t268: L = t73.mul_add(t267, t232);
-        let t269: L = t78.mul_add(t266, t268);
-        let t270: L = t225.mul_add(t269, t263);
-        let t271: L = t43 * t44;
-        let t272: L = t43.mul_add(L::splat(48.0), L::splat(-1.0));
-        let t273: L = L::splat(-6.0).mul_add(t110, t272);
-        let t274: L = L::splat(-60.0).mul_add(t271, t273);
-        let t275: L = t38 * t274;
-        let t276: L = t218.mul_add(t275, t235);
-        let t277: L = t77 * t78;
-        let t278: L = t77.mul_add(L::splat(48.0), L::splat(-1.0));
-        let t279: L = L::splat(-6.0).mul_add(t126, t278);
-        let t280: L = L::splat(-60.0).mul_add(t277, t279);
-        let t281: L = t72 * t280;
-        let t282: L = t225.mul_add(t281, t276);
-        let t283: L = t236 - t235;
-        let t284: L = t72.mul_add(t225, t283);
-        let t285: L = t29.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t286: L = t26 * t35;
-        let t287: L = t44.mul_add(L::splat(1.5), L::splat(-2.5));
-        let t288: L = t40 * t67;
-        let t289: L = t287 * t288;
-        let t290: L = t285.mul_add(t286, t289);
-        let t291: L = t78.mul_add(L::splat(1.5), L::splat(-2.5));
-        let t292: L = t74 * t101;
-        let t293: L = t291.mul_add(t292, t290);
-        let t294: L = t24 * t25;
-        let t295: L = L::splat(1.5) * t294;
-        let t296: L = t286 * t295;
-        let t297: L = t38 * t39;
-        let t298: L = t297 * L::splat(-1.5);
-        let t299: L = t288.mul_add(t298, t296);
-        let t300: L = t72 * t73;
-        let t301: L = L::splat(-1.5) * t300;
-        let t302: L = t292.mul_add(t301, t299);
-        let t303: L = t44.mul_add(L::splat(6.0), L::splat(-2.5));
-        let t304: L = t288 * t303;
-        let t305: L = L::splat(-0.5).mul_add(t286, t304);
-        let t306: L = L::splat(6.0).mul_add(t78, L::splat(-2.5));
-        let t307: L = t292.mul_add(t306, t305);
-        let t308: L = L::splat(1.5) * t297;
-        let t309: L = t288.mul_add(t308, t296);
-        let t310: L = L::splat(1.5) * t300;
-        let t311: L = t292.mul_add(t310, t309);
-        let t312: L = t29.mul_add(L::splat(-1.5), L::splat(1.0));
-        let t313: L = t44.mul_add(L::splat(1.5), L::splat(-1.0));
-        let t314: L = t288 * t313;
-        let t315: L = t286.mul_add(t312, t314);
-        let t316: L = t78.mul_add(L::splat(1.5), L::splat(-1.0));
-        let t317: L = t292.mul_add(t316, t315);
-        let t318: L = t9 * t102;
-        let t319: L = t11 * t144;
-        let t320: L = t11 * t319;
-        let t321: L = t9.mul_add(t318, t320);
-        let t322: L = t11 * t102;
-        let t323: L = t9 * t144;
-        let t324: L = t11 * t323;
-        let t325: L = t9.mul_sub(t322, t324);
-        let t326: L = t9 * t137;
-        let t327: L = t9 * t319;
-        let t328: L = t11.mul_sub(t318, t327);
-        let t329: L = t9 * t323;
-        let t330: L = t11.mul_add(t322, t329);
-        let t331: L = t11 * t137;
-        let t332: L = t9 * t174;
-        let t333: L = t11 * t174;
-        let t334: L = t11 * t226;
-        let t335: L = t9 * t234;
+        let t134: L = t102.neg_mul_add(t133, t120);
+        let t135: L = t34 * t36;
+        let t136: L = t46.neg_mul_add(L::splat(120.0), t58);
+        let t137: L = t45.mul_add(t136, t66);
+        let t138: L = L::splat(-2.0) * t135;
+        let t139: L = t68.mul_add(t137, t138);
+        let t140: L = t80.neg_mul_add(L::splat(120.0), t92);
+        let t141: L = t79.mul_add(t140, t100);
+        let t142: L = t102.mul_add(t141, t139);
+        let t143: L = t44.mul_add(L::splat(48.0), L::splat(8.0));
+        let t144: L = t43.neg_mul_add(L::splat(48.0), t143);
+        let t145: L = L::splat(6.0).neg_mul_add(t109, t144);
+        let t146: L = t44.mul_add(L::splat(480.0), L::splat(6.0));
+        let t147: L = t44.mul_add(L::splat(54.0), L::splat(1.0));
+        let t148: L = t43.mul_sub(t146, t147);
+        let t149: L = t40 * t148;
+        let t150: L = t42.mul_add(t145, t149);
+        let t151: L = t45.mul_sub(t108, t150);
+        let t152: L = t39 * t151;
+        let t153: L = t68.mul_add(t152, t106);
+        let t154: L = t78.mul_add(L::splat(48.0), L::splat(8.0));
+        let t155: L = t77.neg_mul_add(L::splat(48.0), t154);
+        let t156: L = L::splat(6.0).neg_mul_add(t123, t155);
+        let t157: L = t78.mul_add(L::splat(480.0), L::splat(6.0));
+        let t158: L = t78.mul_add(L::splat(54.0), L::splat(1.0));
+        let t159: L = t77.mul_sub(t157, t158);
+        let t160: L = t74 * t159;
+        let t161: L = t76.mul_add(t156, t160);
+        let t162: L = t79.mul_sub(t122, t161);
+        let t163: L = t73 * t162;
+        let t164: L = t102.mul_add(t163, t153);
+        let t165: L = t28 + L::splat(-0.5);
+        let t166: L = t27 + t165;
+        let t167: L = L::splat(-4.0).mul_add(t166, t32);
+        let t168: L = t44.mul_add(L::splat(960.0), L::splat(-6.0));
+        let t169: L = t44.mul_add(L::splat(90.0), L::splat(-1.0));
+        let t170: L = t43.mul_sub(t168, t169);
+        let t171: L = t42.mul_add(t52, t170);
+        let t172: L = t45.mul_sub(t48, t171);
+        let t173: L = t44.mul_add(L::splat(24.0), L::splat(4.0));
+        let t174: L = t43.neg_mul_add(L::splat(24.0), t173);
+        let t175: L = t42 * L::splat(-4.0);
+        let t176: L = t40.mul_add(t174, t175);
+        let t177: L = t44.mul_add(L::splat(192.0), L::splat(-4.0));
+        let t178: L = t44.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t179: L = t43.mul_sub(t177, t178);
+        let t180: L = t42.mul_add(t176, t179);
+        let t181: L = t45.mul_add(t172, t180);
+        let t182: L = t68 * t181;
+        let t183: L = t36.mul_sub(t167, t182);
+        let t184: L = t78.mul_add(L::splat(960.0), L::splat(-6.0));
+        let t185: L = t78.mul_add(L::splat(90.0), L::splat(-1.0));
+        let t186: L = t77.mul_sub(t184, t185);
+        let t187: L = t76.mul_add(t86, t186);
+        let t188: L = t79.mul_sub(t82, t187);
+        let t189: L = t78.mul_add(L::splat(24.0), L::splat(4.0));
+        let t190: L = t77.neg_mul_add(L::splat(24.0), t189);
+        let t191: L = t76 * L::splat(-4.0);
+        let t192: L = t74.mul_add(t190, t191);
+        let t193: L = t78.mul_add(L::splat(192.0), L::splat(-4.0));
+        let t194: L = t78.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t195: L = t77.mul_sub(t193, t194);
+        let t196: L = t76.mul_add(t192, t195);
+        let t197: L = t79.mul_add(t188, t196);
+        let t198: L = t102.neg_mul_add(t197, t183);
+        let t199: L = t0 * t26;
+        let t200: L = t25 * t199;
+        let t201: L = t43.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t202: L = t40.mul_add(t201, t51);
+        let t203: L = t43.mul_add(L::splat(12.0), L::splat(-1.0));
+        let t204: L = t40 * t203;
+        let t205: L = L::splat(2.0).mul_add(t42, t204);
+        let t206: L = t45.mul_sub(t202, t205);
+        let t207: L = t0 * t41;
+        let t208: L = t206.neg_mul_add(t207, t200);
+        let t209: L = L::splat(60.0).mul_add(t77, L::splat(-6.0));
+        let t210: L = t74.mul_add(t209, t85);
+        let t211: L = L::splat(12.0).mul_add(t77, L::splat(-1.0));
+        let t212: L = t74 * t211;
+        let t213: L = L::splat(2.0).mul_add(t76, t212);
+        let t214: L = t79.mul_sub(t210, t213);
+        let t215: L = t0 * t75;
+        let t216: L = t214.neg_mul_add(t215, t208);
+        let t217: L = t205.mul_add(t207, t200);
+        let t218: L = t213.mul_add(t215, t217);
+        let t219: L = t24 * t199;
+        let t220: L = t39 * t207;
+        let t221: L = t219 - t220;
+        let t222: L = t73.neg_mul_add(t215, t221);
+        let t223: L = t43.mul_add(L::splat(48.0), L::splat(-7.0));
+        let t224: L = L::splat(6.0).mul_add(t109, t223);
+        let t225: L = t45.mul_sub(t201, t224);
+        let t226: L = t39 * t225;
+        let t227: L = t207.mul_sub(t226, t219);
+        let t228: L = t77.mul_add(L::splat(48.0), L::splat(-7.0));
+        let t229: L = L::splat(6.0).mul_add(t123, t228);
+        let t230: L = t79.mul_sub(t209, t229);
+        let t231: L = t73 * t230;
+        let t232: L = t215.mul_add(t231, t227);
+        let t233: L = L::splat(1.0) + t58;
+        let t234: L = t40.mul_add(t233, t61);
+        let t235: L = t207.neg_mul_add(t234, t200);
+        let t236: L = L::splat(1.0) + t92;
+        let t237: L = t74.mul_add(t236, t95);
+        let t238: L = t215.neg_mul_add(t237, t235);
+        let t239: L = t40 * t44;
+        let t240: L = L::splat(60.0).mul_sub(t239, t51);
+        let t241: L = t45.mul_sub(t240, t234);
+        let t242: L = t207.mul_add(t241, t200);
+        let t243: L = t74 * t78;
+        let t244: L = L::splat(60.0).mul_sub(t243, t85);
+        let t245: L = t79.mul_sub(t244, t237);
+        let t246: L = t215.mul_add(t245, t242);
+        let t247: L = t44 * t45;
+        let t248: L = t44.mul_add(L::splat(48.0), L::splat(-1.0));
+        let t249: L = L::splat(6.0).mul_sub(t109, t248);
+        let t250: L = L::splat(60.0).mul_add(t247, t249);
+        let t251: L = t39 * t250;
+        let t252: L = t207.neg_mul_add(t251, t219);
+        let t253: L = t78 * t79;
+        let t254: L = t78.mul_add(L::splat(48.0), L::splat(-1.0));
+        let t255: L = L::splat(6.0).mul_sub(t123, t254);
+        let t256: L = L::splat(60.0).mul_add(t253, t255);
+        let t257: L = t73 * t256;
+        let t258: L = t215.neg_mul_add(t257, t252);
+        let t259: L = t220 - t219;
+        let t260: L = t73.mul_add(t215, t259);
+        let t261: L = t29.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t262: L = t26 * t36;
+        let t263: L = t45.mul_add(L::splat(1.5), L::splat(-2.5));
+        let t264: L = t41 * t68;
+        let t265: L = t263 * t264;
+        let t266: L = t261.mul_add(t262, t265);
+        let t267: L = t79.mul_add(L::splat(1.5), L::splat(-2.5));
+        let t268: L = t75 * t102;
+        let t269: L = t267.mul_add(t268, t266);
+        let t270: L = t24 * t25;
+        let t271: L = L::splat(1.5) * t270;
+        let t272: L = t39 * t40;
+        let t273: L = L::splat(1.5) * t272;
+        let t274: L = t264 * t273;
+        let t275: L = t262.mul_sub(t271, t274);
+        let t276: L = t73 * t74;
+        let t277: L = L::splat(1.5) * t276;
+        let t278: L = t268.neg_mul_add(t277, t275);
+        let t279: L = L::splat(6.0).mul_add(t45, L::splat(-2.5));
+        let t280: L = t264 * t279;
+        let t281: L = L::splat(-0.5).mul_add(t262, t280);
+        let t282: L = L::splat(6.0).mul_add(t79, L::splat(-2.5));
+        let t283: L = t268.mul_add(t282, t281);
+        let t284: L = t262.mul_add(t271, t274);
+        let t285: L = t268.mul_add(t277, t284);
+        let t286: L = t29.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t287: L = t45.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t288: L = t264 * t287;
+        let t289: L = t262.mul_sub(t286, t288);
+        let t290: L = t79.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t291: L = t268.mul_sub(t290, t289);
+        let t292: L = t9 * t103;
+        let t293: L = t11 * t142;
+        let t294: L = t11 * t293;
+        let t295: L = t9.neg_mul_sub(t292, t294);
+        let t296: L = t11 * t103;
+        let t297: L = t9 * t296;
+        let t298: L = t9 * t142;
+        let t299: L = t11.mul_sub(t298, t297);
+        let t300: L = t9 * t134;
+        let t301: L = -t300;
+        let t302: L = t11 * t292;
+        let t303: L = t9.mul_sub(t293, t302);
+        let t304: L = t9 * t298;
+        let t305: L = t11.neg_mul_sub(t296, t304);
+        let t306: L = t11 * t134;
+        let t307: L = -t306;
+        let t308: L = t9 * t164;
+        let t309: L = -t308;
+        let t310: L = t11 * t164;
+        let t311: L = -t310;
+        let t312: L = t11 * t216;
+        let t313: L = t9 * t312;
+        let t314: L = t9 * t218;
+        let t315: L = t11.mul_sub(t314, t313);
+        let t316: L = t9 * t216;
+        let t317: L = t11 * t218;
+        let t318: L = t11 * t317;
+        let t319: L = t9.mul_add(t316, t318);
+        let t320: L = t11 * t222;
+        let t321: L = -t320;
+        let t322: L = t9 * t314;
+        let t323: L = t11.neg_mul_sub(t312, t322);
+        let t324: L = t9 * t317;
+        let t325: L = t11.mul_sub(t316, t324);
+        let t326: L = t9 * t222;
+        let t327: L = t11 * t232;
+        let t328: L = -t327;
+        let t329: L = t9 * t232;
+        let t330: L = t11 * t238;
+        let t331: L = t9 * t330;
+        let t332: L = t9 * t246;
+        let t333: L = t11.mul_sub(t332, t331);
+        let t334: L = t9 * t238;
+        let t335: L = t11 * t246;
         let t336: L = t11 * t335;
         let t337: L = t9.mul_add(t334, t336);
-        let t338: L = -t337;
-        let t339: L = t9 * t226;
-        let t340: L = t11 * t234;
-        let t341: L = t11 * t340;
-        let t342: L = t9.mul_sub(t339, t341);
-        let t343: L = t11 * t238;
-        let t344: L = -t343;
-        let t345: L = t11 * t334;
-        let t346: L = t9.mul_sub(t335, t345);
-        let t347: L = t9 * t340;
-        let t348: L = t11.mul_add(t339, t347);
-        let t349: L = t9 * t238;
-        let t350: L = t11 * t250;
-        let t351: L = -t350;
-        let t352: L = t9 * t250;
-        let t353: L = t11 * t256;
-        let t354: L = t9 * t270;
-        let t355: L = t11 * t354;
-        let t356: L = t9.mul_add(t353, t355);
-        let t357: L = -t356;
-        let t358: L = t9 * t256;
-        let t359: L = t11 * t270;
-        let t360: L = t11 * t359;
-        let t361: L = t9.mul_sub(t358, t360);
-        let t362: L = t11 * t282;
-        let t363: L = -t362;
-        let t364: L = t11 * t353;
-        let t365: L = t9.mul_sub(t354, t364);
-        let t366: L = t9 * t359;
-        let t367: L = t11.mul_add(t358, t366);
-        let t368: L = t9 * t282;
-        let t369: L = t11 * t284;
-        let t370: L = -t369;
-        let t371: L = t9 * t284;
-        let t372: L = t9 * t293;
-        let t373: L = t11 * t307;
-        let t374: L = t11 * t373;
-        let t375: L = t9.mul_add(t372, t374);
-        let t376: L = t11 * t293;
-        let t377: L = t9 * t307;
-        let t378: L = t11 * t377;
-        let t379: L = t9.mul_sub(t376, t378);
-        let t380: L = t9 * t302;
-        let t381: L = t9 * t373;
-        let t382: L = t11.mul_sub(t372, t381);
-        let t383: L = t9 * t377;
-        let t384: L = t11.mul_add(t376, t383);
-        let t385: L = t11 * t302;
-        let t386: L = t9 * t311;
-        let t387: L = t11 * t311;
+        let t338: L = t11 * t258;
+        let t339: L = -t338;
+        let t340: L = t9 * t332;
+        let t341: L = t11.neg_mul_sub(t330, t340);
+        let t342: L = t9 * t335;
+        let t343: L = t11.mul_sub(t334, t342);
+        let t344: L = t9 * t258;
+        let t345: L = t11 * t260;
+        let t346: L = -t345;
+        let t347: L = t9 * t260;
+        let t348: L = t9 * t269;
+        let t349: L = t11 * t283;
+        let t350: L = t11 * t349;
+        let t351: L = t9.mul_add(t348, t350);
+        let t352: L = t11 * t269;
+        let t353: L = t9 * t283;
+        let t354: L = t11 * t353;
+        let t355: L = t9.mul_sub(t352, t354);
+        let t356: L = t9 * t278;
+        let t357: L = t9 * t349;
+        let t358: L = t11.mul_sub(t348, t357);
+        let t359: L = t9 * t353;
+        let t360: L = t11.mul_add(t352, t359);
+        let t361: L = t11 * t278;
+        let t362: L = t9 * t285;
+        let t363: L = t11 * t285;
         [
+            t295,
+            t299,
+            t301,
+            t303,
+            t305,
+            t307,
+            t309,
+            t311,
+            t198,
+            t315,
+            t319,
             t321,
+            t323,
             t325,
             t326,
             t328,
-            t330,
-            t331,
-            t332,
+            t329,
+            L::splat(0.0),
             t333,
-            t210,
-            t338,
-            t342,
+            t337,
+            t339,
+            t341,
+            t343,
             t344,
             t346,
-            t348,
-            t349,
+            t347,
+            L::splat(0.0),
             t351,
-            t352,
-            L::splat(0.0),
-            t357,
+            t355,
+            t356,
+            t358,
+            t360,
             t361,
+            t362,
             t363,
-            t365,
-            t367,
-            t368,
-            t370,
-            t371,
-            L::splat(0.0),
-            t375,
-            t379,
-            t380,
-            t382,
-            t384,
-            t385,
-            t386,
-            t387,
-            t317,
+            t291,
         ]
     };
     out
@@ -2817,7 +2781,7 @@ pub fn slit_ft_pair_product(
 /// Pruned to what the scene needs.
 /// Jets truncated at derivative order 4 of G.
 ///
-/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `slit_ft_pair_product`'s fields. Operation count with fused multiply-adds: 386 (direct sum).
+/// Lanes: `L::WIDTH` pairs at once (crate `lanes`), outputs flattened in the order of `slit_ft_pair_product`'s fields. Operation count with fused multiply-adds: 360 (direct sum).
 #[inline(always)]
 #[allow(unused_variables)]
 pub fn slit_ft_pair_product_lanes<L: lanes::Lane>(
@@ -2862,363 +2826,337 @@ pub fn slit_ft_pair_product_lanes<L: lanes::Lane>(
         let t27: L = t20 * t26;
         let t28: L = t21 * t26;
         let t29: L = t24 * t24;
-        let t30: L = t28.mul_add(L::splat(-6.0), L::splat(1.0));
-        let t31: L = t27.mul_add(L::splat(-6.0), t30);
-        let t32: L = L::splat(2.0).mul_add(t28, L::splat(1.0));
-        let t33: L = L::splat(2.0).mul_add(t27, t32);
-        let t34: L = t29.mul_add(t31, t33);
-        let t35: L = t0 * t23;
-        let t36: L = t15.mul_add(t15, t4);
-        let t37: L = t36.rsqrt();
-        let t38: L = t6 * t37;
-        let t39: L = t15 * t37;
-        let t40: L = t37 * t37;
-        let t41: L = t14 * t37;
-        let t42: L = t20 * t40;
-        let t43: L = t21 * t40;
-        let t44: L = t38 * t38;
-        let t45: L = t42 * t43;
-        let t46: L = t43 * L::splat(60.0);
-        let t47: L = t45.mul_add(L::splat(-840.0), t46);
-        let t48: L = t46 + L::splat(6.0);
-        let t49: L = t42.mul_add(L::splat(-60.0), t48);
-        let t50: L = L::splat(-6.0) * t41;
-        let t51: L = t39.mul_add(t49, t50);
-        let t52: L = t43.mul_add(L::splat(840.0), L::splat(6.0));
-        let t53: L = t43.mul_add(L::splat(-66.0), L::splat(-1.0));
-        let t54: L = t42.mul_add(t52, t53);
-        let t55: L = t41.mul_add(t51, t54);
-        let t56: L = t44.mul_add(t47, t55);
-        let t57: L = t43 * L::splat(-12.0);
-        let t58: L = t57 + L::splat(-2.0);
-        let t59: L = t42.mul_add(L::splat(12.0), t58);
-        let t60: L = L::splat(2.0) * t41;
-        let t61: L = t39.mul_add(t59, t60);
-        let t62: L = t43.mul_add(L::splat(-96.0), L::splat(-2.0));
-        let t63: L = t43.mul_add(L::splat(10.0), L::splat(-1.0));
-        let t64: L = t42.mul_add(t62, t63);
-        let t65: L = t41.mul_add(t61, t64);
-        let t66: L = t44.mul_add(t56, t65);
-        let t67: L = t0 * t37;
-        let t68: L = t66 * t67;
-        let t69: L = t34.mul_add(t35, t68);
-        let t70: L = t17.mul_add(t17, t4);
-        let t71: L = t70.rsqrt();
-        let t72: L = t6 * t71;
-        let t73: L = t17 * t71;
-        let t74: L = t71 * t71;
-        let t75: L = t16 * t71;
-        let t76: L = t20 * t74;
-        let t77: L = t21 * t74;
-        let t78: L = t72 * t72;
-        let t79: L = t76 * t77;
-        let t80: L = L::splat(60.0) * t77;
-        let t81: L = L::splat(-840.0).mul_add(t79, t80);
-        let t82: L = L::splat(6.0) + t80;
-        let t83: L = L::splat(-60.0).mul_add(t76, t82);
-        let t84: L = L::splat(-6.0) * t75;
-        let t85: L = t73.mul_add(t83, t84);
-        let t86: L = L::splat(840.0).mul_add(t77, L::splat(6.0));
-        let t87: L = L::splat(-66.0).mul_add(t77, L::splat(-1.0));
-        let t88: L = t76.mul_add(t86, t87);
-        let t89: L = t75.mul_add(t85, t88);
-        let t90: L = t78.mul_add(t81, t89);
-        let t91: L = L::splat(-12.0) * t77;
-        let t92: L = L::splat(-2.0) + t91;
-        let t93: L = L::splat(12.0).mul_add(t76, t92);
-        let t94: L = L::splat(2.0) * t75;
-        let t95: L = t73.mul_add(t93, t94);
-        let t96: L = L::splat(-96.0).mul_add(t77, L::splat(-2.0));
-        let t97: L = L::splat(10.0).mul_add(t77, L::splat(-1.0));
-        let t98: L = t76.mul_add(t96, t97);
-        let t99: L = t75.mul_add(t95, t98);
-        let t100: L = t78.mul_add(t90, t99);
-        let t101: L = t0 * t71;
-        let t102: L = t100.mul_add(t101, t69);
-        let t103: L = t25 * t31;
-        let t104: L = t24 * t103;
-        let t105: L = t35 * t104;
-        let t106: L = t43 * L::splat(-60.0);
-        let t107: L = t45.mul_add(L::splat(840.0), t106);
-        let t108: L = t41 * t49;
-        let t109: L = t39.mul_add(t107, t108);
-        let t110: L = t39 * t41;
-        let t111: L = t43.mul_add(L::splat(-48.0), L::splat(-4.0));
-        let t112: L = t42.mul_add(L::splat(48.0), t111);
-        let t113: L = L::splat(6.0).mul_add(t110, t112);
-        let t114: L = t43.mul_add(L::splat(-480.0), L::splat(6.0));
-        let t115: L = t43.mul_add(L::splat(42.0), L::splat(-1.0));
-        let t116: L = t42.mul_add(t114, t115);
-        let t117: L = t39 * t116;
-        let t118: L = t41.mul_add(t113, t117);
-        let t119: L = t44.mul_add(t109, t118);
-        let t120: L = t38 * t119;
-        let t121: L = t67.mul_add(t120, t105);
-        let t122: L = L::splat(-60.0) * t77;
-        let t123: L = L::splat(840.0).mul_add(t79, t122);
-        let t124: L = t75 * t83;
-        let t125: L = t73.mul_add(t123, t124);
-        let t126: L = t73 * t75;
-        let t127: L = t77.mul_add(L::splat(-48.0), L::splat(-4.0));
-        let t128: L = t76.mul_add(L::splat(48.0), t127);
-        let t129: L = L::splat(6.0).mul_add(t126, t128);
-        let t130: L = t77.mul_add(L::splat(-480.0), L::splat(6.0));
-        let t131: L = t77.mul_add(L::splat(42.0), L::splat(-1.0));
-        let t132: L = t76.mul_add(t130, t131);
+        let t30: L = t28.mul_add(L::splat(6.0), L::splat(-1.0));
+        let t31: L = t27.mul_add(L::splat(6.0), t30);
+        let t32: L = t29 * t31;
+        let t33: L = t28 + L::splat(0.5);
+        let t34: L = t27 + t33;
+        let t35: L = t34.mul_add(L::splat(-2.0), t32);
+        let t36: L = t0 * t23;
+        let t37: L = t15.mul_add(t15, t4);
+        let t38: L = t37.rsqrt();
+        let t39: L = t6 * t38;
+        let t40: L = t15 * t38;
+        let t41: L = t38 * t38;
+        let t42: L = t14 * t38;
+        let t43: L = t20 * t41;
+        let t44: L = t21 * t41;
+        let t45: L = t39 * t39;
+        let t46: L = t43 * t44;
+        let t47: L = t44 * L::splat(60.0);
+        let t48: L = t46.mul_sub(L::splat(840.0), t47);
+        let t49: L = L::splat(6.0) + t47;
+        let t50: L = t43.neg_mul_add(L::splat(60.0), t49);
+        let t51: L = L::splat(6.0) * t42;
+        let t52: L = t40.mul_sub(t50, t51);
+        let t53: L = t44.mul_add(L::splat(840.0), L::splat(6.0));
+        let t54: L = t44.mul_add(L::splat(66.0), L::splat(1.0));
+        let t55: L = t43.mul_sub(t53, t54);
+        let t56: L = t42.mul_add(t52, t55);
+        let t57: L = t45.mul_sub(t48, t56);
+        let t58: L = t44 * L::splat(12.0);
+        let t59: L = L::splat(2.0) + t58;
+        let t60: L = t43.neg_mul_add(L::splat(12.0), t59);
+        let t61: L = L::splat(-2.0) * t42;
+        let t62: L = t40.mul_add(t60, t61);
+        let t63: L = t44.mul_add(L::splat(96.0), L::splat(2.0));
+        let t64: L = t44.mul_add(L::splat(10.0), L::splat(-1.0));
+        let t65: L = t43.mul_sub(t63, t64);
+        let t66: L = t42.mul_add(t62, t65);
+        let t67: L = t45.mul_add(t57, t66);
+        let t68: L = t0 * t38;
+        let t69: L = t67 * t68;
+        let t70: L = t35.mul_add(t36, t69);
+        let t71: L = t17.mul_add(t17, t4);
+        let t72: L = t71.rsqrt();
+        let t73: L = t6 * t72;
+        let t74: L = t17 * t72;
+        let t75: L = t72 * t72;
+        let t76: L = t16 * t72;
+        let t77: L = t20 * t75;
+        let t78: L = t21 * t75;
+        let t79: L = t73 * t73;
+        let t80: L = t77 * t78;
+        let t81: L = L::splat(60.0) * t78;
+        let t82: L = L::splat(840.0).mul_sub(t80, t81);
+        let t83: L = L::splat(6.0) + t81;
+        let t84: L = L::splat(60.0).neg_mul_add(t77, t83);
+        let t85: L = L::splat(6.0) * t76;
+        let t86: L = t74.mul_sub(t84, t85);
+        let t87: L = L::splat(840.0).mul_add(t78, L::splat(6.0));
+        let t88: L = L::splat(66.0).mul_add(t78, L::splat(1.0));
+        let t89: L = t77.mul_sub(t87, t88);
+        let t90: L = t76.mul_add(t86, t89);
+        let t91: L = t79.mul_sub(t82, t90);
+        let t92: L = L::splat(12.0) * t78;
+        let t93: L = L::splat(2.0) + t92;
+        let t94: L = L::splat(12.0).neg_mul_add(t77, t93);
+        let t95: L = L::splat(-2.0) * t76;
+        let t96: L = t74.mul_add(t94, t95);
+        let t97: L = L::splat(96.0).mul_add(t78, L::splat(2.0));
+        let t98: L = L::splat(10.0).mul_add(t78, L::splat(-1.0));
+        let t99: L = t77.mul_sub(t97, t98);
+        let t100: L = t76.mul_add(t96, t99);
+        let t101: L = t79.mul_add(t91, t100);
+        let t102: L = t0 * t72;
+        let t103: L = t101.mul_add(t102, t70);
+        let t104: L = t25 * t31;
+        let t105: L = t24 * t104;
+        let t106: L = t36 * t105;
+        let t107: L = t42 * t50;
+        let t108: L = t40.mul_add(t48, t107);
+        let t109: L = t40 * t42;
+        let t110: L = t44.mul_add(L::splat(48.0), L::splat(4.0));
+        let t111: L = t43.neg_mul_add(L::splat(48.0), t110);
+        let t112: L = L::splat(6.0).neg_mul_add(t109, t111);
+        let t113: L = t44.mul_add(L::splat(480.0), L::splat(-6.0));
+        let t114: L = t44.mul_add(L::splat(42.0), L::splat(-1.0));
+        let t115: L = t43.mul_sub(t113, t114);
+        let t116: L = t40 * t115;
+        let t117: L = t42.mul_add(t112, t116);
+        let t118: L = t45.mul_sub(t108, t117);
+        let t119: L = t39 * t118;
+        let t120: L = t68.neg_mul_add(t119, t106);
+        let t121: L = t76 * t84;
+        let t122: L = t74.mul_add(t82, t121);
+        let t123: L = t74 * t76;
+        let t124: L = t78.mul_add(L::splat(48.0), L::splat(4.0));
+        let t125: L = t77.neg_mul_add(L::splat(48.0), t124);
+        let t126: L = L::splat(6.0).neg_mul_add(t123, t125);
+        let t127: L = t78.mul_add(L::splat(480.0), L::splat(-6.0));
+        let t128: L = t78.mul_add(L::splat(42.0), L::splat(-1.0));
+        let t129: L = t77.mul_sub(t127, t128);
+        let t130: L = t74 * t129;
+        let t131: L = t76.mul_add(t126, t130);
+        let t132: L = t79.mul_sub(t122, t131);
         let t133: L = t73 * t132;
-        let t134: L = t75.mul_add(t129, t133);
-        let t135: L = t78.mul_add(t125, t134);
-        let t136: L = t72 * t135;
-        let t137: L = t101.mul_add(t136, t121);
-        let t138: L = t45.mul_add(L::splat(120.0), t57);
-        let t139: L = t44.mul_add(t138, t65);
-        let t140: L = t67 * t139;
-        let t141: L = t33.mul_add(t35, t140);
-        let t142: L = t79.mul_add(L::splat(120.0), t91);
-        let t143: L = t78.mul_add(t142, t99);
-        let t144: L = t101.mul_add(t143, t141);
-        let t145: L = L::splat(-6.0) + t106;
-        let t146: L = t42.mul_add(L::splat(60.0), t145);
-        let t147: L = t41 * t146;
-        let t148: L = t39.mul_add(t47, t147);
-        let t149: L = t43.mul_add(L::splat(48.0), L::splat(8.0));
-        let t150: L = t42.mul_add(L::splat(-48.0), t149);
-        let t151: L = L::splat(-6.0).mul_add(t110, t150);
-        let t152: L = t43.mul_add(L::splat(480.0), L::splat(6.0));
-        let t153: L = t43.mul_add(L::splat(-54.0), L::splat(-1.0));
-        let t154: L = t42.mul_add(t152, t153);
-        let t155: L = t39 * t154;
-        let t156: L = t41.mul_add(t151, t155);
-        let t157: L = t44.mul_add(t148, t156);
-        let t158: L = t38 * t157;
-        let t159: L = t67.mul_add(t158, t105);
-        let t160: L = L::splat(-6.0) + t122;
-        let t161: L = L::splat(60.0).mul_add(t76, t160);
-        let t162: L = t75 * t161;
-        let t163: L = t73.mul_add(t81, t162);
-        let t164: L = t77.mul_add(L::splat(48.0), L::splat(8.0));
-        let t165: L = t76.mul_add(L::splat(-48.0), t164);
-        let t166: L = L::splat(-6.0).mul_add(t126, t165);
-        let t167: L = t77.mul_add(L::splat(480.0), L::splat(6.0));
-        let t168: L = t77.mul_add(L::splat(-54.0), L::splat(-1.0));
-        let t169: L = t76.mul_add(t167, t168);
-        let t170: L = t73 * t169;
-        let t171: L = t75.mul_add(t166, t170);
-        let t172: L = t78.mul_add(t163, t171);
-        let t173: L = t72 * t172;
-        let t174: L = t101.mul_add(t173, t159);
-        let t175: L = t28.mul_add(L::splat(6.0), L::splat(-1.0));
-        let t176: L = t27.mul_add(L::splat(6.0), t175);
-        let t177: L = t28.mul_add(L::splat(-4.0), L::splat(2.0));
-        let t178: L = t27.mul_add(L::splat(-4.0), t177);
-        let t179: L = t29.mul_add(t176, t178);
-        let t180: L = t43.mul_add(L::splat(960.0), L::splat(-6.0));
-        let t181: L = t43.mul_add(L::splat(-90.0), L::splat(1.0));
-        let t182: L = t42.mul_add(t180, t181);
-        let t183: L = t41.mul_add(t51, t182);
-        let t184: L = t44.mul_add(t47, t183);
-        let t185: L = t43.mul_add(L::splat(-24.0), L::splat(-4.0));
-        let t186: L = t42.mul_add(L::splat(24.0), t185);
-        let t187: L = t41 * L::splat(4.0);
-        let t188: L = t39.mul_add(t186, t187);
-        let t189: L = t43.mul_add(L::splat(-192.0), L::splat(4.0));
-        let t190: L = t43.mul_add(L::splat(28.0), L::splat(-2.0));
-        let t191: L = t42.mul_add(t189, t190);
-        let t192: L = t41.mul_add(t188, t191);
-        let t193: L = t44.mul_add(t184, t192);
-        let t194: L = t67 * t193;
-        let t195: L = t35.mul_add(t179, t194);
-        let t196: L = t77.mul_add(L::splat(960.0), L::splat(-6.0));
-        let t197: L = t77.mul_add(L::splat(-90.0), L::splat(1.0));
-        let t198: L = t76.mul_add(t196, t197);
-        let t199: L = t75.mul_add(t85, t198);
-        let t200: L = t78.mul_add(t81, t199);
-        let t201: L = t77.mul_add(L::splat(-24.0), L::splat(-4.0));
-        let t202: L = t76.mul_add(L::splat(24.0), t201);
-        let t203: L = t75 * L::splat(4.0);
-        let t204: L = t73.mul_add(t202, t203);
-        let t205: L = t77.mul_add(L::splat(-192.0), L::splat(4.0));
-        let t206: L = t77.mul_add(L::splat(28.0), L::splat(-2.0));
-        let t207: L = t76.mul_add(t205, t206);
-        let t208: L = t75.mul_add(t204, t207);
-        let t209: L = t78.mul_add(t200, t208);
-        let t210: L = t101.mul_add(t209, t195);
-        let t211: L = t0 * t26;
-        let t212: L = t25 * t211;
-        let t213: L = t42.mul_add(L::splat(-60.0), L::splat(6.0));
-        let t214: L = t39.mul_add(t213, t50);
-        let t215: L = t42.mul_add(L::splat(12.0), L::splat(-1.0));
-        let t216: L = t39.mul_add(t215, t60);
-        let t217: L = t44.mul_add(t214, t216);
-        let t218: L = t0 * t40;
-        let t219: L = t217.mul_add(t218, t212);
-        let t220: L = L::splat(-60.0).mul_add(t76, L::splat(6.0));
-        let t221: L = t73.mul_add(t220, t84);
-        let t222: L = L::splat(12.0).mul_add(t76, L::splat(-1.0));
-        let t223: L = t73.mul_add(t222, t94);
-        let t224: L = t78.mul_add(t221, t223);
-        let t225: L = t0 * t74;
-        let t226: L = t224.mul_add(t225, t219);
-        let t227: L = t42.mul_add(L::splat(-12.0), L::splat(1.0));
-        let t228: L = t41 * L::splat(-2.0);
-        let t229: L = t39.mul_add(t227, t228);
-        let t230: L = t218.mul_sub(t229, t212);
-        let t231: L = L::splat(-12.0).mul_add(t76, L::splat(1.0));
-        let t232: L = L::splat(-2.0) * t75;
-        let t233: L = t73.mul_add(t231, t232);
-        let t234: L = t225.mul_add(t233, t230);
-        let t235: L = t24 * t211;
-        let t236: L = t38 * t218;
-        let t237: L = t235 - t236;
-        let t238: L = t72.neg_mul_add(t225, t237);
-        let t239: L = t42.mul_add(L::splat(60.0), L::splat(-6.0));
-        let t240: L = t42.mul_add(L::splat(-48.0), L::splat(7.0));
-        let t241: L = L::splat(-6.0).mul_add(t110, t240);
-        let t242: L = t44.mul_add(t239, t241);
-        let t243: L = t38 * t242;
-        let t244: L = t218.mul_sub(t243, t235);
-        let t245: L = L::splat(60.0).mul_add(t76, L::splat(-6.0));
-        let t246: L = t76.mul_add(L::splat(-48.0), L::splat(7.0));
-        let t247: L = L::splat(-6.0).mul_add(t126, t246);
-        let t248: L = t78.mul_add(t245, t247);
-        let t249: L = t72 * t248;
-        let t250: L = t225.mul_add(t249, t244);
-        let t251: L = L::splat(-1.0) + t57;
-        let t252: L = t39.mul_add(t251, t60);
-        let t253: L = t218.mul_add(t252, t212);
-        let t254: L = L::splat(-1.0) + t91;
-        let t255: L = t73.mul_add(t254, t94);
-        let t256: L = t225.mul_add(t255, t253);
-        let t257: L = t39 * t43;
-        let t258: L = t41 * L::splat(6.0);
-        let t259: L = L::splat(-60.0).mul_add(t257, t258);
-        let t260: L = t43.mul_add(L::splat(12.0), L::splat(1.0));
-        let t261: L = t39.mul_add(t260, t228);
-        let t262: L = t44.mul_add(t259, t261);
-        let t263: L = t218.mul_sub(t262, t212);
-        let t264: L = t73 * t77;
-        let t265: L = L::splat(6.0) * t75;
-        let t266: L = L::splat(-60.0).mul_add(t264, t265);
-        let t267: L = L::splat(12.0).mul_add(t77, L::splat(1.0));
-        let t268: L = t73.mul_add(t267, t232);
-        let t269: L = t78.mul_add(t266, t268);
-        let t270: L = t225.mul_add(t269, t263);
-        let t271: L = t43 * t44;
-        let t272: L = t43.mul_add(L::splat(48.0), L::splat(-1.0));
-        let t273: L = L::splat(-6.0).mul_add(t110, t272);
-        let t274: L = L::splat(-60.0).mul_add(t271, t273);
-        let t275: L = t38 * t274;
-        let t276: L = t218.mul_add(t275, t235);
-        let t277: L = t77 * t78;
-        let t278: L = t77.mul_add(L::splat(48.0), L::splat(-1.0));
-        let t279: L = L::splat(-6.0).mul_add(t126, t278);
-        let t280: L = L::splat(-60.0).mul_add(t277, t279);
-        let t281: L = t72 * t280;
-        let t282: L = t225.mul_add(t281, t276);
-        let t283: L = t236 - t235;
-        let t284: L = t72.mul_add(t225, t283);
-        let t285: L = t29.mul_add(L::splat(1.5), L::splat(-0.5));
-        let t286: L = t26 * t35;
-        let t287: L = t44.mul_add(L::splat(1.5), L::splat(-2.5));
-        let t288: L = t40 * t67;
-        let t289: L = t287 * t288;
-        let t290: L = t285.mul_add(t286, t289);
-        let t291: L = t78.mul_add(L::splat(1.5), L::splat(-2.5));
-        let t292: L = t74 * t101;
-        let t293: L = t291.mul_add(t292, t290);
-        let t294: L = t24 * t25;
-        let t295: L = L::splat(1.5) * t294;
-        let t296: L = t286 * t295;
-        let t297: L = t38 * t39;
-        let t298: L = t297 * L::splat(-1.5);
-        let t299: L = t288.mul_add(t298, t296);
-        let t300: L = t72 * t73;
-        let t301: L = L::splat(-1.5) * t300;
-        let t302: L = t292.mul_add(t301, t299);
-        let t303: L = t44.mul_add(L::splat(6.0), L::splat(-2.5));
-        let t304: L = t288 * t303;
-        let t305: L = L::splat(-0.5).mul_add(t286, t304);
-        let t306: L = L::splat(6.0).mul_add(t78, L::splat(-2.5));
-        let t307: L = t292.mul_add(t306, t305);
-        let t308: L = L::splat(1.5) * t297;
-        let t309: L = t288.mul_add(t308, t296);
-        let t310: L = L::splat(1.5) * t300;
-        let t311: L = t292.mul_add(t310, t309);
-        let t312: L = t29.mul_add(L::splat(-1.5), L::splat(1.0));
-        let t313: L = t44.mul_add(L::splat(1.5), L::splat(-1.0));
-        let t314: L = t288 * t313;
-        let t315: L = t286.mul_add(t312, t314);
-        let t316: L = t78.mul_add(L::splat(1.5), L::splat(-1.0));
-        let t317: L = t292.mul_add(t316, t315);
-        let t318: L = va[1] * t11;
-        let t319: L = va[0].mul_add(t9, t318);
-        let t320: L = va[0] * t11;
-        let t321: L = va[1].mul_sub(t9, t320);
-        let t322: L = va[4] * t11;
-        let t323: L = va[3].mul_add(t9, t322);
-        let t324: L = va[3] * t11;
-        let t325: L = va[4].mul_sub(t9, t324);
-        let t326: L = vb[1] * t11;
-        let t327: L = vb[0].mul_add(t9, t326);
-        let t328: L = vb[0] * t11;
-        let t329: L = vb[1].mul_sub(t9, t328);
-        let t330: L = vb[4] * t11;
-        let t331: L = vb[3].mul_add(t9, t330);
-        let t332: L = vb[3] * t11;
-        let t333: L = vb[4].mul_sub(t9, t332);
-        let t334: L = vb[2] * t137;
-        let t335: L = t102.mul_add(t327, t334);
-        let t336: L = va[2] * t174;
-        let t337: L = t102.mul_add(t319, t336);
-        let t338: L = vb[2] * t210;
-        let t339: L = t174.mul_add(t327, t338);
-        let t340: L = va[2] * t210;
-        let t341: L = t137.mul_add(t319, t340);
-        let t342: L = t226.mul_add(t333, t335);
-        let t343: L = t234 * t331;
-        let t344: L = t144.mul_add(t329, t343);
-        let t345: L = vb[5].mul_add(t238, t344);
-        let t346: L = t250.mul_add(t333, t339);
-        let t347: L = va[2] * t250;
-        let t348: L = t226.mul_add(t319, t347);
-        let t349: L = t256 * t323;
-        let t350: L = t144.mul_add(t321, t349);
-        let t351: L = t270.mul_add(t325, t337);
-        let t352: L = vb[2] * t282;
-        let t353: L = t270.mul_add(t327, t352);
-        let t354: L = t282.mul_add(t325, t341);
-        let t355: L = va[5].mul_add(t284, t350);
-        let t356: L = t293 * t331;
-        let t357: L = t256.mul_add(t329, t356);
-        let t358: L = t293 * t323;
-        let t359: L = t234.mul_add(t321, t358);
-        let t360: L = vb[5].mul_add(t302, t357);
-        let t361: L = t302 * t323;
-        let t362: L = t238.mul_add(t321, t361);
-        let t363: L = t307.mul_add(t333, t353);
-        let t364: L = t307.mul_add(t325, t348);
-        let t365: L = t311 * t331;
-        let t366: L = t284.mul_add(t329, t365);
-        let t367: L = va[5].mul_add(t311, t359);
-        let t368: L = vb[5].mul_add(t317, t366);
-        let t369: L = va[5].mul_add(t317, t362);
-        let t370: L = t11 * t345;
-        let t371: L = t9.mul_sub(t342, t370);
-        let t372: L = t9 * t345;
-        let t373: L = t11.mul_add(t342, t372);
-        let t374: L = t11 * t363;
-        let t375: L = t9.mul_sub(t360, t374);
-        let t376: L = t9 * t363;
-        let t377: L = t11.mul_add(t360, t376);
-        let t378: L = t11 * t355;
-        let t379: L = t9.mul_sub(t351, t378);
-        let t380: L = t9 * t355;
-        let t381: L = t11.mul_add(t351, t380);
-        let t382: L = t11 * t364;
-        let t383: L = t9.mul_sub(t367, t382);
-        let t384: L = t9 * t364;
-        let t385: L = t11.mul_add(t367, t384);
-        [t371, t373, t346, t375, t377, t368, t379, t381, t354, t383, t385, t369]
+        let t134: L = t102.neg_mul_add(t133, t120);
+        let t135: L = t34 * t36;
+        let t136: L = t46.neg_mul_add(L::splat(120.0), t58);
+        let t137: L = t45.mul_add(t136, t66);
+        let t138: L = L::splat(-2.0) * t135;
+        let t139: L = t68.mul_add(t137, t138);
+        let t140: L = t80.neg_mul_add(L::splat(120.0), t92);
+        let t141: L = t79.mul_add(t140, t100);
+        let t142: L = t102.mul_add(t141, t139);
+        let t143: L = t44.mul_add(L::splat(48.0), L::splat(8.0));
+        let t144: L = t43.neg_mul_add(L::splat(48.0), t143);
+        let t145: L = L::splat(6.0).neg_mul_add(t109, t144);
+        let t146: L = t44.mul_add(L::splat(480.0), L::splat(6.0));
+        let t147: L = t44.mul_add(L::splat(54.0), L::splat(1.0));
+        let t148: L = t43.mul_sub(t146, t147);
+        let t149: L = t40 * t148;
+        let t150: L = t42.mul_add(t145, t149);
+        let t151: L = t45.mul_sub(t108, t150);
+        let t152: L = t39 * t151;
+        let t153: L = t68.mul_add(t152, t106);
+        let t154: L = t78.mul_add(L::splat(48.0), L::splat(8.0));
+        let t155: L = t77.neg_mul_add(L::splat(48.0), t154);
+        let t156: L = L::splat(6.0).neg_mul_add(t123, t155);
+        let t157: L = t78.mul_add(L::splat(480.0), L::splat(6.0));
+        let t158: L = t78.mul_add(L::splat(54.0), L::splat(1.0));
+        let t159: L = t77.mul_sub(t157, t158);
+        let t160: L = t74 * t159;
+        let t161: L = t76.mul_add(t156, t160);
+        let t162: L = t79.mul_sub(t122, t161);
+        let t163: L = t73 * t162;
+        let t164: L = t102.mul_add(t163, t153);
+        let t165: L = t28 + L::splat(-0.5);
+        let t166: L = t27 + t165;
+        let t167: L = L::splat(-4.0).mul_add(t166, t32);
+        let t168: L = t44.mul_add(L::splat(960.0), L::splat(-6.0));
+        let t169: L = t44.mul_add(L::splat(90.0), L::splat(-1.0));
+        let t170: L = t43.mul_sub(t168, t169);
+        let t171: L = t42.mul_add(t52, t170);
+        let t172: L = t45.mul_sub(t48, t171);
+        let t173: L = t44.mul_add(L::splat(24.0), L::splat(4.0));
+        let t174: L = t43.neg_mul_add(L::splat(24.0), t173);
+        let t175: L = t42 * L::splat(-4.0);
+        let t176: L = t40.mul_add(t174, t175);
+        let t177: L = t44.mul_add(L::splat(192.0), L::splat(-4.0));
+        let t178: L = t44.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t179: L = t43.mul_sub(t177, t178);
+        let t180: L = t42.mul_add(t176, t179);
+        let t181: L = t45.mul_add(t172, t180);
+        let t182: L = t68 * t181;
+        let t183: L = t36.mul_sub(t167, t182);
+        let t184: L = t78.mul_add(L::splat(960.0), L::splat(-6.0));
+        let t185: L = t78.mul_add(L::splat(90.0), L::splat(-1.0));
+        let t186: L = t77.mul_sub(t184, t185);
+        let t187: L = t76.mul_add(t86, t186);
+        let t188: L = t79.mul_sub(t82, t187);
+        let t189: L = t78.mul_add(L::splat(24.0), L::splat(4.0));
+        let t190: L = t77.neg_mul_add(L::splat(24.0), t189);
+        let t191: L = t76 * L::splat(-4.0);
+        let t192: L = t74.mul_add(t190, t191);
+        let t193: L = t78.mul_add(L::splat(192.0), L::splat(-4.0));
+        let t194: L = t78.mul_add(L::splat(28.0), L::splat(-2.0));
+        let t195: L = t77.mul_sub(t193, t194);
+        let t196: L = t76.mul_add(t192, t195);
+        let t197: L = t79.mul_add(t188, t196);
+        let t198: L = t102.neg_mul_add(t197, t183);
+        let t199: L = t0 * t26;
+        let t200: L = t25 * t199;
+        let t201: L = t43.mul_add(L::splat(60.0), L::splat(-6.0));
+        let t202: L = t40.mul_add(t201, t51);
+        let t203: L = t43.mul_add(L::splat(12.0), L::splat(-1.0));
+        let t204: L = t40 * t203;
+        let t205: L = L::splat(2.0).mul_add(t42, t204);
+        let t206: L = t45.mul_sub(t202, t205);
+        let t207: L = t0 * t41;
+        let t208: L = t206.neg_mul_add(t207, t200);
+        let t209: L = L::splat(60.0).mul_add(t77, L::splat(-6.0));
+        let t210: L = t74.mul_add(t209, t85);
+        let t211: L = L::splat(12.0).mul_add(t77, L::splat(-1.0));
+        let t212: L = t74 * t211;
+        let t213: L = L::splat(2.0).mul_add(t76, t212);
+        let t214: L = t79.mul_sub(t210, t213);
+        let t215: L = t0 * t75;
+        let t216: L = t214.neg_mul_add(t215, t208);
+        let t217: L = t205.mul_add(t207, t200);
+        let t218: L = t213.mul_add(t215, t217);
+        let t219: L = t24 * t199;
+        let t220: L = t39 * t207;
+        let t221: L = t219 - t220;
+        let t222: L = t73.neg_mul_add(t215, t221);
+        let t223: L = t43.mul_add(L::splat(48.0), L::splat(-7.0));
+        let t224: L = L::splat(6.0).mul_add(t109, t223);
+        let t225: L = t45.mul_sub(t201, t224);
+        let t226: L = t39 * t225;
+        let t227: L = t207.mul_sub(t226, t219);
+        let t228: L = t77.mul_add(L::splat(48.0), L::splat(-7.0));
+        let t229: L = L::splat(6.0).mul_add(t123, t228);
+        let t230: L = t79.mul_sub(t209, t229);
+        let t231: L = t73 * t230;
+        let t232: L = t215.mul_add(t231, t227);
+        let t233: L = L::splat(1.0) + t58;
+        let t234: L = t40.mul_add(t233, t61);
+        let t235: L = t207.neg_mul_add(t234, t200);
+        let t236: L = L::splat(1.0) + t92;
+        let t237: L = t74.mul_add(t236, t95);
+        let t238: L = t215.neg_mul_add(t237, t235);
+        let t239: L = t40 * t44;
+        let t240: L = L::splat(60.0).mul_sub(t239, t51);
+        let t241: L = t45.mul_sub(t240, t234);
+        let t242: L = t207.mul_add(t241, t200);
+        let t243: L = t74 * t78;
+        let t244: L = L::splat(60.0).mul_sub(t243, t85);
+        let t245: L = t79.mul_sub(t244, t237);
+        let t246: L = t215.mul_add(t245, t242);
+        let t247: L = t44 * t45;
+        let t248: L = t44.mul_add(L::splat(48.0), L::splat(-1.0));
+        let t249: L = L::splat(6.0).mul_sub(t109, t248);
+        let t250: L = L::splat(60.0).mul_add(t247, t249);
+        let t251: L = t39 * t250;
+        let t252: L = t207.neg_mul_add(t251, t219);
+        let t253: L = t78 * t79;
+        let t254: L = t78.mul_add(L::splat(48.0), L::splat(-1.0));
+        let t255: L = L::splat(6.0).mul_sub(t123, t254);
+        let t256: L = L::splat(60.0).mul_add(t253, t255);
+        let t257: L = t73 * t256;
+        let t258: L = t215.neg_mul_add(t257, t252);
+        let t259: L = t220 - t219;
+        let t260: L = t73.mul_add(t215, t259);
+        let t261: L = t29.mul_add(L::splat(1.5), L::splat(-0.5));
+        let t262: L = t26 * t36;
+        let t263: L = t45.mul_add(L::splat(1.5), L::splat(-2.5));
+        let t264: L = t41 * t68;
+        let t265: L = t263 * t264;
+        let t266: L = t261.mul_add(t262, t265);
+        let t267: L = t79.mul_add(L::splat(1.5), L::splat(-2.5));
+        let t268: L = t75 * t102;
+        let t269: L = t267.mul_add(t268, t266);
+        let t270: L = t24 * t25;
+        let t271: L = L::splat(1.5) * t270;
+        let t272: L = t39 * t40;
+        let t273: L = L::splat(1.5) * t272;
+        let t274: L = t264 * t273;
+        let t275: L = t262.mul_sub(t271, t274);
+        let t276: L = t73 * t74;
+        let t277: L = L::splat(1.5) * t276;
+        let t278: L = t268.neg_mul_add(t277, t275);
+        let t279: L = L::splat(6.0).mul_add(t45, L::splat(-2.5));
+        let t280: L = t264 * t279;
+        let t281: L = L::splat(-0.5).mul_add(t262, t280);
+        let t282: L = L::splat(6.0).mul_add(t79, L::splat(-2.5));
+        let t283: L = t268.mul_add(t282, t281);
+        let t284: L = t262.mul_add(t271, t274);
+        let t285: L = t268.mul_add(t277, t284);
+        let t286: L = t29.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t287: L = t45.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t288: L = t264 * t287;
+        let t289: L = t262.mul_sub(t286, t288);
+        let t290: L = t79.mul_add(L::splat(1.5), L::splat(-1.0));
+        let t291: L = t268.neg_mul_add(t290, t289);
+        let t292: L = va[1] * t11;
+        let t293: L = va[0].mul_add(t9, t292);
+        let t294: L = va[0] * t11;
+        let t295: L = va[1].mul_sub(t9, t294);
+        let t296: L = va[4] * t11;
+        let t297: L = va[3].mul_add(t9, t296);
+        let t298: L = va[3] * t11;
+        let t299: L = va[4].mul_sub(t9, t298);
+        let t300: L = vb[1] * t11;
+        let t301: L = vb[0].mul_add(t9, t300);
+        let t302: L = vb[0] * t11;
+        let t303: L = vb[1].mul_sub(t9, t302);
+        let t304: L = vb[4] * t11;
+        let t305: L = vb[3].mul_add(t9, t304);
+        let t306: L = vb[3] * t11;
+        let t307: L = vb[4].mul_sub(t9, t306);
+        let t308: L = vb[2] * t134;
+        let t309: L = t103.mul_add(t301, t308);
+        let t310: L = va[2] * t164;
+        let t311: L = t103.mul_add(t293, t310);
+        let t312: L = vb[2] * t198;
+        let t313: L = t164.mul_sub(t301, t312);
+        let t314: L = va[2] * t198;
+        let t315: L = t134.mul_sub(t293, t314);
+        let t316: L = t216.neg_mul_add(t307, t309);
+        let t317: L = t218 * t305;
+        let t318: L = t142.mul_add(t303, t317);
+        let t319: L = vb[5].neg_mul_add(t222, t318);
+        let t320: L = t232.mul_sub(t307, t313);
+        let t321: L = va[2] * t232;
+        let t322: L = t216.mul_add(t293, t321);
+        let t323: L = t238 * t297;
+        let t324: L = t142.mul_sub(t295, t323);
+        let t325: L = t246.mul_add(t299, t311);
+        let t326: L = vb[2] * t258;
+        let t327: L = t246.mul_sub(t301, t326);
+        let t328: L = t258.mul_sub(t299, t315);
+        let t329: L = va[5].neg_mul_add(t260, t324);
+        let t330: L = t269 * t305;
+        let t331: L = t238.mul_add(t303, t330);
+        let t332: L = t269 * t297;
+        let t333: L = t218.mul_sub(t295, t332);
+        let t334: L = vb[5].mul_add(t278, t331);
+        let t335: L = t278 * t297;
+        let t336: L = t222.mul_add(t295, t335);
+        let t337: L = t283.neg_mul_add(t307, t327);
+        let t338: L = t283.mul_add(t299, t322);
+        let t339: L = t285 * t305;
+        let t340: L = t260.mul_add(t303, t339);
+        let t341: L = va[5].neg_mul_add(t285, t333);
+        let t342: L = vb[5].neg_mul_add(t291, t340);
+        let t343: L = va[5].neg_mul_add(t291, t336);
+        let t344: L = t9 * t316;
+        let t345: L = t11.mul_sub(t319, t344);
+        let t346: L = t9 * t319;
+        let t347: L = t11.neg_mul_sub(t316, t346);
+        let t348: L = t11 * t337;
+        let t349: L = t9.mul_add(t334, t348);
+        let t350: L = t9 * t337;
+        let t351: L = t11.mul_sub(t334, t350);
+        let t352: L = t9 * t325;
+        let t353: L = t11.mul_sub(t329, t352);
+        let t354: L = t9 * t329;
+        let t355: L = t11.neg_mul_sub(t325, t354);
+        let t356: L = t11 * t338;
+        let t357: L = t9.neg_mul_sub(t341, t356);
+        let t358: L = t11 * t341;
+        let t359: L = t9.mul_sub(t338, t358);
+        [t345, t347, t320, t349, t351, t342, t353, t355, t328, t357, t359, t343]
     };
     out
 }
