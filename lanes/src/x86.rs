@@ -581,3 +581,32 @@ impl Lane for F32x16 {
         m == 0xFFFF
     }
 }
+
+/// `dst = src` with non-temporal stores (SSE2, part of every x86-64) for the 16-byte
+/// aligned pairs of `dst`, ordinary stores for an unaligned first or last value. The
+/// caller fences ([`fence`]) before another thread may read `dst`.
+#[inline(always)]
+pub(crate) fn stream_copy(dst: &mut [f64], src: &[f64]) {
+    assert_eq!(dst.len(), src.len(), "stream_copy of unequal lengths");
+    // the aligned middle: `dst[head..head + 2 m]` starts on a 16-byte boundary
+    let head = dst.as_ptr().align_offset(16).min(dst.len());
+    let pairs = (dst.len() - head) / 2;
+    dst[..head].copy_from_slice(&src[..head]);
+    for p in 0..pairs {
+        let k = head + 2 * p;
+        let (d, s) = (&mut dst[k..k + 2], &src[k..k + 2]);
+        // SAFETY: SSE2 is part of the x86-64 baseline; `d` is two writable `f64` at a
+        // 16-byte boundary (`align_offset` above) and `s` two readable ones
+        // (`loadu` needs no alignment), both bounds-checked by the slicing above.
+        unsafe { _mm_stream_pd(d.as_mut_ptr(), _mm_loadu_pd(s.as_ptr())) }
+    }
+    let tail = head + 2 * pairs;
+    dst[tail..].copy_from_slice(&src[tail..]);
+}
+
+/// Orders every earlier non-temporal store before the stores after it (`sfence`).
+#[inline(always)]
+pub(crate) fn fence() {
+    // SAFETY: SSE (part of the x86-64 baseline) has `sfence`; it has no operands.
+    unsafe { _mm_sfence() }
+}

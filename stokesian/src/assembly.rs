@@ -272,44 +272,47 @@ impl System {
                 self.pair_blocks_into(moments, a, rb.start + from..rb.end, out);
             }
             // the tiles of a round touch disjoint groups: these locks never wait
-            let mut cols_a = columns[ga].lock().expect("no tile panics");
-            {
-                let mut cols_b = (ga != gb).then(|| columns[gb].lock().expect("no tile panics"));
-                let out = match cols_b.as_mut() {
-                    Some(g) => &mut g[..],
-                    None => &mut cols_a[..],
-                };
-                // the columns of b: M^{ab} for every a of the first group, a column of
-                // each block (on the diagonal tile below the diagonal, a row of M^{ba})
-                for (ib, out) in out.chunks_exact_mut(k).enumerate() {
-                    for (j, col) in out.iter_mut().enumerate() {
-                        for (&(o, d), &f) in parts.iter().zip(&first) {
-                            let run = &mut col[f + ra.start * d..f + ra.end * d];
-                            let diagonal = if ga == gb { (ib + 1) * d } else { run.len() };
-                            let (upper, lower) = run.split_at_mut(diagonal);
-                            copy_runs(upper, d, k, |ia| {
-                                &rows[(ia * DENSE_GROUP + ib) * kk + o * k + j..]
-                            });
-                            copy_runs(lower, d, 1, |x| {
-                                &rows[(ib * DENSE_GROUP + ib + 1 + x) * kk + j * k + o..]
-                            });
+            kernels::lanes::streaming(|stream| {
+                let mut cols_a = columns[ga].lock().expect("no tile panics");
+                {
+                    let mut cols_b =
+                        (ga != gb).then(|| columns[gb].lock().expect("no tile panics"));
+                    let out = match cols_b.as_mut() {
+                        Some(g) => &mut g[..],
+                        None => &mut cols_a[..],
+                    };
+                    // the columns of b: M^{ab} for every a of the first group, a column of
+                    // each block (on the diagonal tile below the diagonal, a row of M^{ba})
+                    for (ib, out) in out.chunks_exact_mut(k).enumerate() {
+                        for (j, col) in out.iter_mut().enumerate() {
+                            for (&(o, d), &f) in parts.iter().zip(&first) {
+                                let run = &mut col[f + ra.start * d..f + ra.end * d];
+                                let diagonal = if ga == gb { (ib + 1) * d } else { run.len() };
+                                let (upper, lower) = run.split_at_mut(diagonal);
+                                copy_runs(stream, upper, d, k, |ia| {
+                                    &rows[(ia * DENSE_GROUP + ib) * kk + o * k + j..]
+                                });
+                                copy_runs(stream, lower, d, 1, |x| {
+                                    &rows[(ib * DENSE_GROUP + ib + 1 + x) * kk + j * k + o..]
+                                });
+                            }
                         }
                     }
                 }
-            }
-            if ga != gb {
-                // the columns of a: M^{ba} = (M^{ab})^T for every b of the second group
-                for (ia, out) in cols_a.chunks_exact_mut(k).enumerate() {
-                    for (i, col) in out.iter_mut().enumerate() {
-                        for (&(o, d), &f) in parts.iter().zip(&first) {
-                            let run = &mut col[f + rb.start * d..f + rb.end * d];
-                            copy_runs(run, d, 1, |ib| {
-                                &rows[(ia * DENSE_GROUP + ib) * kk + i * k + o..]
-                            });
+                if ga != gb {
+                    // the columns of a: M^{ba} = (M^{ab})^T for every b of the second group
+                    for (ia, out) in cols_a.chunks_exact_mut(k).enumerate() {
+                        for (i, col) in out.iter_mut().enumerate() {
+                            for (&(o, d), &f) in parts.iter().zip(&first) {
+                                let run = &mut col[f + rb.start * d..f + rb.end * d];
+                                copy_runs(stream, run, d, 1, |ib| {
+                                    &rows[(ia * DENSE_GROUP + ib) * kk + i * k + o..]
+                                });
+                            }
                         }
                     }
                 }
-            }
+            });
         };
         // each thread's buffer, kept from tile to tile and call to call (a tile writes
         // every value it reads, so it is never cleared)
@@ -395,10 +398,24 @@ impl System {
 /// at compile time (a copy of a length known only at run time is a loop or a call to
 /// `memcpy`, slow for 3 values).
 #[inline(always)]
-fn copy_runs<'s>(run: &mut [f64], d: usize, stride: usize, src: impl Fn(usize) -> &'s [f64]) {
+fn copy_runs<'s>(
+    out: &mut kernels::lanes::Streaming,
+    run: &mut [f64],
+    d: usize,
+    stride: usize,
+    src: impl Fn(usize) -> &'s [f64],
+) {
     #[inline(always)]
-    fn fixed<'s, const D: usize>(run: &mut [f64], stride: usize, src: impl Fn(usize) -> &'s [f64]) {
-        let chunks = run.chunks_exact_mut(D).enumerate();
+    fn fixed<'s, const D: usize>(
+        out: &mut kernels::lanes::Streaming,
+        run: &mut [f64],
+        stride: usize,
+        src: impl Fn(usize) -> &'s [f64],
+    ) {
+        // gathered on the stack, then streamed into the matrix
+        let mut buf = [0.0; DENSE_GROUP * 5];
+        let gathered = &mut buf[..run.len()];
+        let chunks = gathered.chunks_exact_mut(D).enumerate();
         if stride == 1 {
             for (i, dst) in chunks {
                 dst.copy_from_slice(&src(i)[..D]);
@@ -411,10 +428,11 @@ fn copy_runs<'s>(run: &mut [f64], d: usize, stride: usize, src: impl Fn(usize) -
                 }
             }
         }
+        out.copy(run, gathered);
     }
     match d {
-        3 => fixed::<3>(run, stride, src),
-        5 => fixed::<5>(run, stride, src),
+        3 => fixed::<3>(out, run, stride, src),
+        5 => fixed::<5>(out, run, stride, src),
         _ => unreachable!("a moment has 3 or 5 components"),
     }
 }
