@@ -4,7 +4,9 @@
 //! Soundness rests on one fact: a value of these private types exists only inside
 //! [`WithLanes::run`] as called by the `run_*` functions below, which check with
 //! `is_x86_feature_detected!` that this processor has the instructions first. Every
-//! intrinsic below is therefore executed on a processor that has it.
+//! intrinsic below is therefore executed on a processor that has it. The streaming
+//! stores at the end ([`stream_copy`], [`fence`]) use SSE2 only, which every x86-64
+//! processor has.
 #![allow(unsafe_code)]
 
 use crate::{Lane, WithLanes};
