@@ -659,7 +659,9 @@ impl<S: Scalar> Structured<S> {
     /// one polynomial `sum c e^m t^q alpha^pa beta^pb` with `t = h |R|^-1`, `alpha =
     /// a_a^2 |R|^-2`, `beta = a_b^2 |R|^-2`, times `|R|^-k` (one `k` per entry by
     /// dimension; kept apart should another occur); the atoms of difference centres go
-    /// through [`Structured::evaluate`].
+    /// through [`Structured::evaluate`], and so, near a cancelling image, do the
+    /// free-space terms with Faxen factors that [`Differences::Leading`] leaves at `r`,
+    /// whose `alpha L + beta L` is then taken once (wall FTS pair lanes 1534 -> 1459).
     fn evaluate_entries(
         &mut self,
         groups: BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>>,
@@ -673,7 +675,9 @@ impl<S: Scalar> Structured<S> {
                 if c == 0.0 {
                     continue;
                 }
-                if self.difference_plane(a.centre).is_some() {
+                if self.difference_plane(a.centre).is_some()
+                    || (f == Factor::Free && (pa, pb) != (0, 0) && self.cancel.is_some())
+                {
                     rest.entry((pa, pb, f)).or_default().insert(a, c);
                     continue;
                 }
