@@ -248,12 +248,6 @@ impl<S: Scalar> Structured<S> {
         self
     }
 
-    /// Turn atoms into arithmetic as `c` says (default [`Collection::Centres`]).
-    pub fn collecting(mut self, c: Collection) -> Self {
-        self.collect = c;
-        self
-    }
-
     /// Build the arithmetic in form `f` (collection and differences; default
     /// [`Collection::Centres`], [`Differences::All`]).
     pub fn in_form(mut self, f: Form) -> Self {

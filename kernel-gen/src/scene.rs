@@ -322,7 +322,10 @@ fn shape(r: Response, m: Moment, b: Basis) -> Vec<usize> {
 /// pair lanes 565 -> 390. The per-centre collection
 /// ([`Collection::Centres`]) is not traced: it collects a subset of what `Entries`
 /// collects and cost more in every shipped kernel (measured when `Entries` came,
-/// 2026-12-02).
+/// 2026-12-02). Near a cancelling image (the wall) the winner is traced once more with
+/// the exact difference for the leading terms only ([`Differences::Leading`]) and the
+/// cheaper kept: the F kernels and the divergence take it, the FT kernels do not
+/// (sixth session of 2026-12-03).
 pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
     let first = trace_with(g, spec, Form::collecting(Collection::Entries), true);
     if g.image_terms().is_none() || spec.path == Path::Generic {
