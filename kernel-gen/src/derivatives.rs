@@ -615,30 +615,22 @@ impl<S: Scalar> Structured<S> {
             if f != Factor::Free {
                 v = self.factor_value(&f) * v;
             }
-            let list = &monomials[&(f, key)];
-            if list[..] == [(0, 0)] {
-                out = Some(match out {
-                    None => v,
-                    Some(o) => o + v,
-                });
-                continue;
-            }
-            let mut weight: Option<S> = None;
-            for &(pa, pb) in list {
-                let mut m: Option<S> = None;
-                for _ in 0..pa {
-                    m = Some(m.map_or_else(|| aa2.clone(), |m| aa2.clone() * m));
-                }
-                for _ in 0..pb {
-                    m = Some(m.map_or_else(|| ab2.clone(), |m| ab2.clone() * m));
-                }
-                let m = m.unwrap_or_else(|| S::cst(1.0));
-                weight = Some(match weight {
-                    None => m,
-                    Some(w) => w + m,
-                });
-            }
-            v = weight.expect("every key has a group") * v;
+            // the sum of the groups' `aa2^pa ab2^pb` (a product by 1 folds away)
+            let weight = monomials[&(f, key)]
+                .iter()
+                .map(|&(pa, pb)| {
+                    let mut m = S::cst(1.0);
+                    for _ in 0..pa {
+                        m = aa2.clone() * m;
+                    }
+                    for _ in 0..pb {
+                        m = ab2.clone() * m;
+                    }
+                    m
+                })
+                .reduce(|w, m| w + m)
+                .expect("every key has a group");
+            v = weight * v;
             out = Some(match out {
                 None => v,
                 Some(o) => o + v,
