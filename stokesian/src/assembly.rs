@@ -252,6 +252,50 @@ impl System {
             .map(|g| Mutex::new(g.into_iter().map(|c| c.expect("every column")).collect()))
             .collect();
         let kk = k * k;
+        // a tile's blocks from `rows` into the matrix's columns (streamed: each column's
+        // run is written once and not read again here)
+        let write = |stream: &mut kernels::lanes::Streaming, rows: &[f64], ga: usize, gb: usize| {
+            let (ra, rb) = (members(ga), members(gb));
+            // the tiles of a round touch disjoint groups: these locks never wait
+            let mut cols_a = columns[ga].lock().expect("no tile panics");
+            {
+                let mut cols_b = (ga != gb).then(|| columns[gb].lock().expect("no tile panics"));
+                let out = match cols_b.as_mut() {
+                    Some(g) => &mut g[..],
+                    None => &mut cols_a[..],
+                };
+                // the columns of b: M^{ab} for every a of the first group, a column of
+                // each block (on the diagonal tile below the diagonal, a row of M^{ba})
+                for (ib, out) in out.chunks_exact_mut(k).enumerate() {
+                    for (j, col) in out.iter_mut().enumerate() {
+                        for (&(o, d), &f) in parts.iter().zip(&first) {
+                            let run = &mut col[f + ra.start * d..f + ra.end * d];
+                            let diagonal = if ga == gb { (ib + 1) * d } else { run.len() };
+                            let (upper, lower) = run.split_at_mut(diagonal);
+                            copy_runs(stream, upper, d, k, |ia| {
+                                &rows[(ia * DENSE_GROUP + ib) * kk + o * k + j..]
+                            });
+                            copy_runs(stream, lower, d, 1, |x| {
+                                &rows[(ib * DENSE_GROUP + ib + 1 + x) * kk + j * k + o..]
+                            });
+                        }
+                    }
+                }
+            }
+            if ga != gb {
+                // the columns of a: M^{ba} = (M^{ab})^T for every b of the second group
+                for (ia, out) in cols_a.chunks_exact_mut(k).enumerate() {
+                    for (i, col) in out.iter_mut().enumerate() {
+                        for (&(o, d), &f) in parts.iter().zip(&first) {
+                            let run = &mut col[f + rb.start * d..f + rb.end * d];
+                            copy_runs(stream, run, d, 1, |ib| {
+                                &rows[(ia * DENSE_GROUP + ib) * kk + i * k + o..]
+                            });
+                        }
+                    }
+                }
+            }
+        };
         // the tile's blocks M^{ab} at ((a in its group) DENSE_GROUP + b in its group) k^2,
         // row-major in `rows`, written into the matrix afterwards as contiguous runs of
         // rows, column by column
@@ -271,48 +315,7 @@ impl System {
                 let out = &mut rows[(row + from) * kk..(row + rb.len()) * kk];
                 self.pair_blocks_into(moments, a, rb.start + from..rb.end, out);
             }
-            // the tiles of a round touch disjoint groups: these locks never wait
-            kernels::lanes::streaming(|stream| {
-                let mut cols_a = columns[ga].lock().expect("no tile panics");
-                {
-                    let mut cols_b =
-                        (ga != gb).then(|| columns[gb].lock().expect("no tile panics"));
-                    let out = match cols_b.as_mut() {
-                        Some(g) => &mut g[..],
-                        None => &mut cols_a[..],
-                    };
-                    // the columns of b: M^{ab} for every a of the first group, a column of
-                    // each block (on the diagonal tile below the diagonal, a row of M^{ba})
-                    for (ib, out) in out.chunks_exact_mut(k).enumerate() {
-                        for (j, col) in out.iter_mut().enumerate() {
-                            for (&(o, d), &f) in parts.iter().zip(&first) {
-                                let run = &mut col[f + ra.start * d..f + ra.end * d];
-                                let diagonal = if ga == gb { (ib + 1) * d } else { run.len() };
-                                let (upper, lower) = run.split_at_mut(diagonal);
-                                copy_runs(stream, upper, d, k, |ia| {
-                                    &rows[(ia * DENSE_GROUP + ib) * kk + o * k + j..]
-                                });
-                                copy_runs(stream, lower, d, 1, |x| {
-                                    &rows[(ib * DENSE_GROUP + ib + 1 + x) * kk + j * k + o..]
-                                });
-                            }
-                        }
-                    }
-                }
-                if ga != gb {
-                    // the columns of a: M^{ba} = (M^{ab})^T for every b of the second group
-                    for (ia, out) in cols_a.chunks_exact_mut(k).enumerate() {
-                        for (i, col) in out.iter_mut().enumerate() {
-                            for (&(o, d), &f) in parts.iter().zip(&first) {
-                                let run = &mut col[f + rb.start * d..f + rb.end * d];
-                                copy_runs(stream, run, d, 1, |ib| {
-                                    &rows[(ia * DENSE_GROUP + ib) * kk + i * k + o..]
-                                });
-                            }
-                        }
-                    }
-                }
-            });
+            kernels::lanes::streaming(|stream| write(stream, rows, ga, gb));
         };
         // each thread's buffer, kept from tile to tile and call to call (a tile writes
         // every value it reads, so it is never cleared)
