@@ -2,11 +2,11 @@
 //! quiescent fluid or a uniform strain: matrix-free at F and FT, the stresslets solved
 //! for at FTS, or from the resistance with lubrication.
 
-use super::error::CliError;
-use super::options::{lubrication, parse_components, PairToleranceArg};
-use super::output::{self, check_out, write_atomically};
-use super::system::{particle_error, MomentsArg, Setup, SystemArgs};
-use super::table::{self, Columns};
+use crate::error::CliError;
+use crate::options::{lubrication, parse_components, PairToleranceArg};
+use crate::output::{self, check_out, write_atomically};
+use crate::system::{particle_error, MomentsArg, Setup, SystemArgs};
+use crate::table::{self, Columns};
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use std::io::Write;

@@ -7,7 +7,7 @@ use plotters::prelude::*;
 use std::path::Path;
 
 /// Embedded font for the bitmap backend.
-const FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+const FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
 /// A scalar field on a tensor grid `x[i]`, `y[j]`, `z[i][j]`.
 pub struct Field<'a> {

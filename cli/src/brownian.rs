@@ -2,10 +2,10 @@
 //! Euler-Maruyama or Fixman's midpoint; Cholesky or Lanczos noise; optionally with
 //! lubrication), written frame by frame as CSV or `.npy`.
 
-use super::error::CliError;
-use super::options::{finite, parse_components, positive, PairToleranceArg};
-use super::output::{self, check_out, has_extension, write_atomically, write_npy_header};
-use super::system::{ConfinementArg, MomentsArg, SystemArgs};
+use crate::error::CliError;
+use crate::options::{finite, parse_components, positive, PairToleranceArg};
+use crate::output::{self, check_out, has_extension, write_atomically, write_npy_header};
+use crate::system::{ConfinementArg, MomentsArg, SystemArgs};
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use std::io::{self, Write};
@@ -264,7 +264,7 @@ pub fn run(args: &BrownianArgs) -> Result<(), CliError> {
             "the random finite difference's step",
         )?;
         Some(stokesian::LubricatedDynamics {
-            lubrication: super::options::lubrication(args.pair_tolerance.pair_tolerance)?,
+            lubrication: crate::options::lubrication(args.pair_tolerance.pair_tolerance)?,
             rfd_step: args.rfd_step,
         })
     } else {

@@ -2,10 +2,10 @@
 //! on a grid of separations and heights, its maximum rotation rate, and the contour
 //! plot.
 
-use super::error::CliError;
-use super::options::finite;
-use super::output::{self, check_out, temporary, write_atomically};
-use super::plot;
+use crate::error::CliError;
+use crate::options::finite;
+use crate::output::{self, check_out, temporary, write_atomically};
+use crate::plot;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget};
 use std::fs;

@@ -3,9 +3,9 @@
 //! mapping of the library's [`InputError`] to files, lines and options; and the cause
 //! named when a result is not finite.
 
-use super::error::CliError;
-use super::options::{num, positive};
-use super::table::{self, Columns, Table};
+use crate::error::CliError;
+use crate::options::{num, positive};
+use crate::table::{self, Columns, Table};
 use clap::{Args, ValueEnum};
 use std::fs;
 use std::path::PathBuf;

@@ -3,7 +3,7 @@
 //! never copied or transposed), JSON, CSV; every output through a temporary file renamed when complete;
 //! the progress bars and the closing report on stderr.
 
-use super::error::CliError;
+use crate::error::CliError;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use nalgebra::DMatrixView;
 use npyz::{NpyWriter, Order, WriteOptions, WriterBuilder};

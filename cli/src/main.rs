@@ -1,17 +1,32 @@
-//! The `stokesian` command: argument parsing (clap) and dispatch to one module per
-//! subcommand.
+//! `stokesian`: the grand mobility of spheres in Stokes flow near a wall, a free
+//! surface, a liquid-liquid interface or in a slit, and the velocities of force- and
+//! torque-given spheres, from the command line: argument parsing (clap) and dispatch to
+//! one module per subcommand.
+//!
+//! The subcommands share the description of the system (`--confinement` and
+//! `--moments` or `--scene`, `--particles`, `--viscosity`, `--boundary-height`,
+//! `--lambda`, `--gap`, `--allow-overlap`):
+//!
+//! - `stokesian mobility ... --out M.npy|M.json` writes the dense grand mobility, and
+//!   `stokesian resistance` the resistance with lubrication;
+//! - `stokesian velocity ... --forces forces.csv --out U.csv|U.npy` writes velocities (and
+//!   rotation rates) of force- and torque-given spheres;
+//! - `stokesian brownian ... --steps N --dt DT --out traj.csv|traj.npy` integrates
+//!   overdamped Brownian dynamics with hydrodynamic interactions;
+//! - `stokesian doublet --out doublet.csv` studies the co-rotating doublet.
 //!
 //! | module | owns |
 //! |---|---|
 //! | `system` | the shared system arguments, their validation, the causes of non-finite results |
 //! | `options` | checks of single option values, numbers in messages |
 //! | `table` | input formats: CSV with named columns, `.npy` |
-//! | `output` | output formats (`.npy`, JSON, CSV), atomic writes, progress on stderr |
+//! | `output` | output formats (`.npy`, JSON, CSV) chosen by the extension, atomic writes, progress on stderr |
 //! | `error` | [`CliError`](error::CliError), every failure with its message |
 //! | `matrix` | `mobility` and `resistance` |
 //! | `velocity` | `velocity` |
 //! | `brownian` | `brownian` |
-//! | `doublet` | `doublet` (and `plot`, its contour plot) |
+//! | `doublet` | `doublet` |
+//! | `plot` | the doublet's contour plot (plotters) |
 //!
 //! Every input error names the file, the line (or row) and the particle; output is
 //! written to a temporary file in the output's directory and renamed on success, so no
@@ -155,7 +170,7 @@ enum Command {
 }
 
 /// Parse the command line, run the subcommand, and report an error on stderr.
-pub fn main() -> ExitCode {
+fn main() -> ExitCode {
     let result = match Cli::parse().command {
         Command::Mobility(mut args) => args
             .system

@@ -4,7 +4,7 @@
 //! accepted) or from NumPy `.npy` through `npyz` (a 2-D float64 or float32 array, C or
 //! Fortran order, either byte order).
 
-use super::error::CliError;
+use crate::error::CliError;
 use npyz::{DType, NpyFile, NpyHeader, Order, TypeChar};
 use std::fs;
 use std::path::Path;

@@ -2,10 +2,10 @@
 //! resistance with lubrication (Eq. 19), optionally check it, and write it as `.npy` or
 //! JSON.
 
-use super::error::CliError;
-use super::options::{lubrication, PAIR_TOLERANCE_HELP};
-use super::output::{self, check_out, has_extension, write_atomically};
-use super::system::SystemArgs;
+use crate::error::CliError;
+use crate::options::{lubrication, PAIR_TOLERANCE_HELP};
+use crate::output::{self, check_out, has_extension, write_atomically};
+use crate::system::SystemArgs;
 use clap::Args;
 use nalgebra::DMatrixView;
 use std::path::PathBuf;
