@@ -7,13 +7,17 @@
 //! `--moments` or `--scene`, `--particles`, `--viscosity`, `--boundary-height`,
 //! `--lambda`, `--gap`, `--allow-overlap`):
 //!
-//! - `stokesian mobility ... --out M.npy|M.json` writes the dense grand mobility, and
+//! - `stokesian mobility ... --out M.npy|M.csv|M.json` writes the dense grand mobility, and
 //!   `stokesian resistance` the resistance with lubrication;
 //! - `stokesian velocity ... --forces forces.csv --out U.csv|U.npy` writes velocities (and
 //!   rotation rates) of force- and torque-given spheres;
 //! - `stokesian brownian ... --steps N --dt DT --out traj.csv|traj.npy` integrates
 //!   overdamped Brownian dynamics with hydrodynamic interactions;
-//! - `stokesian doublet --out doublet.csv` studies the co-rotating doublet.
+//! - `stokesian doublet --out doublet.csv|doublet.npy` studies the co-rotating doublet.
+//!
+//! Every output's format is chosen by the extension of `--out` among those the
+//! subcommand writes (`output::check_out`); any other extension is refused before any
+//! work.
 //!
 //! | module | owns |
 //! |---|---|
@@ -125,10 +129,11 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Write the dense grand mobility matrix (.npy or .json).
+    /// Write the dense grand mobility matrix (.npy, .csv or .json).
     #[command(
         long_about = "Write the dense grand mobility matrix of the spheres in --particles.\n\n\
-        .npy: a float64 2-D array in Fortran order (numpy.load). .json: {\"layout\": ..., \
+        .npy: a float64 2-D array in Fortran order (numpy.load). .csv: one matrix row \
+        per line, no header, every number printed to full round-trip precision. .json: {\"layout\": ..., \
         \"moments\": ..., \"n\": number of particles, \"dimension\": rows, \"matrix\": \
         [[row 0], [row 1], ...]}, every number printed to full round-trip precision.",
         after_long_help = LONG_HELP
@@ -138,7 +143,8 @@ enum Command {
     #[command(
         long_about = "Velocities (and rotation rates) of force- and torque-given spheres \
         in a quiescent fluid, written to --out as CSV with columns ux,uy,uz (F) or \
-        ux,uy,uz,wx,wy,wz (FT, FTS), one line per particle.\n\n\
+        ux,uy,uz,wx,wy,wz (FT, FTS), one line per particle, or as .npy, a float64 array \
+        of shape (N, 3) or (N, 6) with the same columns.\n\n\
         F and FT: U = M F without forming M (matrix-free). FTS: the stresslets S are \
         solved for so that the strain rate imposed on the spheres is zero, or --strain: \
         from the strain rows of the grand mobility, -E_inf = M_EF F + M_EL L + M_ES S.",

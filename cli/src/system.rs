@@ -104,6 +104,15 @@ impl MomentsArg {
     }
 }
 
+/// `--moments` made optional with the default F (`velocity`, `brownian`), with the
+/// subcommand's own `help`; applied by `#[command(mut_arg("moments", ...))]`.
+pub fn moments_default_f(arg: clap::Arg, help: &'static str) -> clap::Arg {
+    arg.required(false)
+        .required_unless_present(clap::builder::Resettable::Reset)
+        .default_value("F")
+        .help(help)
+}
+
 /// The particles file's columns, with and without `--radius`.
 const PARTICLES: Columns = Columns {
     what: "particles",

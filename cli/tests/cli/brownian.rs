@@ -315,6 +315,30 @@ fn brownian_npy_has_shape_frames_n_3_and_equals_the_csv() {
     }
 }
 
+/// An output that is neither `.csv` nor `.npy` (JSON is the matrices') is refused before
+/// any work, the accepted extensions listed; the extension chooses in any case.
+#[test]
+fn brownian_refuses_other_extensions() {
+    let dir = Dir::new("bd-out");
+    let p = dir.file("particles.csv", BD_PARTICLES);
+    for name in ["traj.json", "traj"] {
+        let out = dir.path(name);
+        assert_fails(
+            &run(&bd_args(s(&p), "7", s(&out))),
+            &[&format!(
+                "--out {}: the file name must end in .csv or .npy",
+                s(&out)
+            )],
+            &dir,
+            &["particles.csv"],
+        );
+    }
+    let (upper, lower) = (dir.path("a.NPY"), dir.path("b.npy"));
+    assert_ok(&run(&bd_args(s(&p), "7", s(&upper))));
+    assert_ok(&run(&bd_args(s(&p), "7", s(&lower))));
+    assert_eq!(fs::read(&upper).unwrap(), fs::read(&lower).unwrap());
+}
+
 #[test]
 fn brownian_same_seed_same_file_different_seed_different_file() {
     let dir = Dir::new("bd-seed");

@@ -174,6 +174,18 @@ pub fn read_npy(path: &Path) -> DMatrix<f64> {
     }
 }
 
+/// A matrix written as CSV: one row per line, no header.
+pub fn read_csv_matrix(path: &Path) -> DMatrix<f64> {
+    let text = fs::read_to_string(path).expect("read csv");
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .map(|l| l.split(',').map(|f| f.parse().expect("number")).collect())
+        .collect();
+    let c = rows[0].len();
+    assert!(rows.iter().all(|r| r.len() == c), "rows of one length");
+    DMatrix::from_row_iterator(rows.len(), c, rows.into_iter().flatten())
+}
+
 pub fn read_json(path: &Path) -> (serde_json::Value, DMatrix<f64>) {
     let text = fs::read_to_string(path).expect("read json");
     let v: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");

@@ -1,4 +1,4 @@
-//! `stokesian doublet`: the CSV, the contour plots and the maximum rate.
+//! `stokesian doublet`: the CSV or `.npy`, the contour plots and the maximum rate.
 
 use crate::common::*;
 use std::fs;
@@ -70,4 +70,49 @@ fn doublet_writes_csv_and_plots_and_rejects_bad_grids() {
         let o = run(&["doublet", "--out", s(&bad), option, value]);
         assert_fails(&o, &[option, needle], &dir, &["d.csv", "d.png", "d.svg"]);
     }
+}
+
+/// `.npy`: a float64 array of shape (points, 6), the CSV's columns and numbers bit for
+/// bit, the plots beside it; another extension is refused before any work.
+#[test]
+fn doublet_npy_has_the_csv_columns_bit_for_bit() {
+    let dir = Dir::new("doublet-npy");
+    let grid = [
+        "--r-points",
+        "3",
+        "--h-points",
+        "2",
+        "--r-max",
+        "3",
+        "--h-max",
+        "2",
+    ];
+    let doublet = |out: &str| {
+        let mut args = vec!["doublet", "--out", out];
+        args.extend(grid);
+        run(&args)
+    };
+    let (csv, npy) = (dir.path("d.csv"), dir.path("e.npy"));
+    assert_ok(&doublet(s(&csv)));
+    assert_ok(&doublet(s(&npy)));
+    let want = read_csv(
+        &csv,
+        "r,h,rate_resistance,rate_farfield,tension_resistance,tension_farfield",
+    );
+    let got = read_npy(&npy);
+    assert_eq!(got.shape(), (6, 6));
+    for (i, row) in want.iter().enumerate() {
+        for (j, w) in row.iter().enumerate() {
+            assert_eq!(got[(i, j)].to_bits(), w.to_bits(), "({i}, {j})");
+        }
+    }
+    let written = ["d.csv", "d.png", "d.svg", "e.npy", "e.png", "e.svg"];
+    assert_eq!(dir.listing(), written);
+    let bad = dir.path("f.txt");
+    assert_fails(
+        &doublet(s(&bad)),
+        &["f.txt: the file name must end in .csv or .npy"],
+        &dir,
+        &written,
+    );
 }

@@ -1,7 +1,9 @@
-//! `stokesian mobility`: the dense grand mobility as `.npy` and JSON equals the
-//! library's bit for bit in every confinement; `--check`; the output's name.
+//! `stokesian mobility`: the dense grand mobility as `.npy`, CSV and JSON equals the
+//! library's bit for bit in every confinement; `--check`; the output's name and format.
 
 use crate::common::*;
+use std::fs;
+use std::path::Path;
 use stokesian::{Confinement, Moments};
 
 #[test]
@@ -113,7 +115,7 @@ fn bad_output_name_is_rejected_before_any_work() {
     };
     assert_fails(
         &o,
-        &["M.txt: the file name must end in .npy or .json"],
+        &["M.txt: the file name must end in .npy, .csv or .json"],
         &dir,
         &["particles.csv"],
     );
@@ -164,4 +166,51 @@ fn check_flag_reports_and_refuses_indefinite_matrices() {
     );
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `.csv` writes the matrix one row per line (no header), the `.npy`'s numbers bit for
+/// bit; the extension chooses the format in any case; no extension, or another one, is
+/// refused before any work (here before the missing particles file is noticed).
+#[test]
+fn mobility_csv_equals_the_npy_and_other_extensions_are_refused() {
+    let dir = Dir::new("mobility-formats");
+    let p = dir.file("particles.csv", PARTICLES);
+    let args = |particles: &Path, out: &Path| {
+        let mut a = vec!["mobility"];
+        a.extend(SYSTEM_ARGS);
+        a.extend([
+            "--moments",
+            "FTS",
+            "--particles",
+            s(particles),
+            "--out",
+            s(out),
+        ]);
+        run(&a)
+    };
+    let want = system(WALL).mobility(Moments::FTS);
+    for name in ["M.npy", "M.csv", "M2.CSV"] {
+        assert_ok(&args(&p, &dir.path(name)));
+    }
+    let npy = read_npy(&dir.path("M.npy"));
+    assert_bit_equal(&npy, &want, "npy");
+    assert_bit_equal(&read_csv_matrix(&dir.path("M.csv")), &want, "csv");
+    assert_eq!(
+        fs::read(dir.path("M.csv")).unwrap(),
+        fs::read(dir.path("M2.CSV")).unwrap()
+    );
+    for name in ["M.npy", "M.csv", "M2.CSV"] {
+        fs::remove_file(dir.path(name)).unwrap();
+    }
+    for name in ["M.txt", "M", "M.npz"] {
+        assert_fails(
+            &args(&dir.path("nowhere.csv"), &dir.path(name)),
+            &[&format!(
+                "--out {}: the file name must end in .npy, .csv or .json",
+                s(&dir.path(name))
+            )],
+            &dir,
+            &["particles.csv"],
+        );
+    }
 }

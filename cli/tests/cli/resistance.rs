@@ -176,3 +176,36 @@ fn pair_tolerance_option() {
         &["forces.csv", "particles.csv"],
     );
 }
+
+/// `resistance` writes `.npy`, `.csv` (one row per line, no header) and `.json` with the
+/// same numbers, bit for bit; another extension is refused before any work.
+#[test]
+fn resistance_in_every_format() {
+    use stokesian::Lubrication;
+    let dir = Dir::new("resistance-formats");
+    let p = dir.file("particles.csv", PARTICLES);
+    let resistance = |out: &Path| {
+        let mut args = vec!["resistance"];
+        args.extend(SYSTEM_ARGS);
+        args.extend(["--moments", "FT", "--particles", s(&p), "--out", s(out)]);
+        run(&args)
+    };
+    let want = system(WALL)
+        .resistance(Moments::FT, &Lubrication::default())
+        .unwrap();
+    for name in ["R.npy", "R.csv", "R.json"] {
+        assert_ok(&resistance(&dir.path(name)));
+    }
+    assert_bit_equal(&read_npy(&dir.path("R.npy")), &want, "npy");
+    assert_bit_equal(&read_csv_matrix(&dir.path("R.csv")), &want, "csv");
+    assert_bit_equal(&read_json(&dir.path("R.json")).1, &want, "json");
+    for name in ["R.npy", "R.csv", "R.json"] {
+        fs::remove_file(dir.path(name)).unwrap();
+    }
+    assert_fails(
+        &resistance(&dir.path("R.txt")),
+        &["R.txt: the file name must end in .npy, .csv or .json"],
+        &dir,
+        &["particles.csv"],
+    );
+}

@@ -1,9 +1,12 @@
 //! `stokesian velocity`: velocities equal the library's mobility times the forces (F,
 //! FT, both precisions) and the Schur complement at FTS (with an imposed strain); the
-//! forces file's errors.
+//! forces file's errors; `.npy` output with the CSV's columns; `--moments` defaults to F.
 
 use crate::common::*;
 use nalgebra::DVector;
+use std::fs;
+use std::path::Path;
+use std::process::Output;
 use stokesian::Moments;
 
 #[test]
@@ -238,4 +241,88 @@ fn forces_non_finite_and_bad_strain() {
         &dir,
         &["forces.csv", "particles.csv"],
     );
+}
+
+/// Run `velocity` on the three spheres and `forces` with `extra` options, writing `out`.
+fn velocity(dir: &Dir, forces: &str, out: &Path, extra: &[&str]) -> Output {
+    let p = dir.file("particles.csv", PARTICLES);
+    let f = dir.file("forces.csv", forces);
+    let mut args = vec!["velocity"];
+    args.extend(SYSTEM_ARGS);
+    args.extend(["--particles", s(&p), "--forces", s(&f), "--out", s(out)]);
+    args.extend(extra);
+    run(&args)
+}
+
+/// `.npy`: a float64 array of shape (N, 3) at F, (N, 6) at FT and FTS, in C order, the
+/// CSV's columns and numbers bit for bit; the extension chooses the format in any case.
+#[test]
+fn velocity_npy_has_the_csv_columns_bit_for_bit() {
+    let dir = Dir::new("velocity-npy");
+    let f3 = "fx,fy,fz\n1,0.5,-0.25\n0,1,0.3\n-0.4,0,-1\n";
+    for (moments, forces, header, extension) in [
+        ("F", f3, "ux,uy,uz", "npy"),
+        ("FT", FORCES, "ux,uy,uz,wx,wy,wz", "NPY"),
+        ("FTS", FORCES, "ux,uy,uz,wx,wy,wz", "npy"),
+    ] {
+        let (csv, npy) = (dir.path("U.csv"), dir.path(&format!("U.{extension}")));
+        assert_ok(&velocity(&dir, forces, &csv, &["--moments", moments]));
+        assert_ok(&velocity(&dir, forces, &npy, &["--moments", moments]));
+        let want = read_csv(&csv, header);
+        let got = read_npy(&npy);
+        assert_eq!(got.shape(), (3, header.split(',').count()), "{moments}");
+        let bytes = fs::read(&npy).unwrap();
+        assert!(
+            String::from_utf8_lossy(&bytes[..128]).contains("'fortran_order': False"),
+            "{moments}: C order"
+        );
+        for (a, row) in want.iter().enumerate() {
+            for (k, w) in row.iter().enumerate() {
+                assert_eq!(got[(a, k)].to_bits(), w.to_bits(), "{moments} ({a}, {k})");
+            }
+        }
+        fs::remove_file(&csv).unwrap();
+        fs::remove_file(&npy).unwrap();
+    }
+}
+
+/// Without `--moments` the truncation is F (as for `brownian`): the same bytes as
+/// `--moments F`.
+#[test]
+fn velocity_moments_defaults_to_f() {
+    let dir = Dir::new("velocity-default");
+    let f3 = "fx,fy,fz\n1,0.5,-0.25\n0,1,0.3\n-0.4,0,-1\n";
+    let (default, f) = (dir.path("U-default.csv"), dir.path("U-F.csv"));
+    assert_ok(&velocity(&dir, f3, &default, &[]));
+    assert_ok(&velocity(&dir, f3, &f, &["--moments", "F"]));
+    assert_eq!(fs::read(&default).unwrap(), fs::read(&f).unwrap());
+    read_csv(&default, "ux,uy,uz");
+    // torques need FT or FTS, named as such
+    fs::remove_file(&default).unwrap();
+    fs::remove_file(&f).unwrap();
+    assert_fails(
+        &velocity(&dir, FORCES, &default, &[]),
+        &["tx, ty, tz", "--moments FT or FTS"],
+        &dir,
+        &["forces.csv", "particles.csv"],
+    );
+}
+
+/// An output that is neither `.csv` nor `.npy` (JSON is the matrices') is refused before
+/// any work, the accepted extensions listed, and nothing is written.
+#[test]
+fn velocity_refuses_other_extensions() {
+    let dir = Dir::new("velocity-out");
+    for name in ["U.txt", "U.json", "U"] {
+        let out = dir.path(name);
+        assert_fails(
+            &velocity(&dir, FORCES, &out, &["--moments", "FT"]),
+            &[&format!(
+                "--out {}: the file name must end in .csv or .npy",
+                s(&out)
+            )],
+            &dir,
+            &["forces.csv", "particles.csv"],
+        );
+    }
 }
