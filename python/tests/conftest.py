@@ -13,10 +13,10 @@ ROOT = Path(__file__).resolve().parents[2]
 @pytest.fixture(scope="session")
 def cli():
     """Run ``stokesian`` (``$STOKESIAN_CLI``, default target/release/stokesian, built by
-    ``cargo test --workspace --release`` or ``cargo build --release -p stokesian``).
+    ``cargo test --workspace --release`` or ``cargo build --release -p stokesian-cli``).
     Missing is a failure, not a skip: these tests are the comparison with the CLI."""
     path = Path(os.environ.get("STOKESIAN_CLI", ROOT / "target" / "release" / "stokesian"))
-    assert path.exists(), f"{path} not found: build it with cargo build --release -p stokesian"
+    assert path.exists(), f"{path} not found: build it with cargo build --release -p stokesian-cli"
 
     def run(*args, ok=True):
         p = subprocess.run([str(path), *map(str, args)], capture_output=True, text=True)

@@ -1,7 +1,7 @@
 //! Log-log scatter plots of the report (plotters), each written as PNG and SVG. Colour
 //! names a series (e.g. a kernel variant), marker shape a group (e.g. a family), and a
 //! filled or hollow marker a two-way split (e.g. self or pair). PNG text uses the
-//! embedded DejaVu Sans of `stokesian/assets/` (Bitstream Vera licence), so no system
+//! embedded DejaVu Sans of `cli/assets/` (Bitstream Vera licence), so no system
 //! font is needed.
 
 use anyhow::{anyhow, Result};
@@ -10,7 +10,7 @@ use plotters::prelude::*;
 use std::path::Path;
 
 /// Embedded font for the bitmap backend.
-const FONT: &[u8] = include_bytes!("../../../stokesian/assets/DejaVuSans.ttf");
+const FONT: &[u8] = include_bytes!("../../../cli/assets/DejaVuSans.ttf");
 
 /// One point.
 #[derive(Clone, Debug)]

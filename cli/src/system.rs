@@ -3,9 +3,9 @@
 //! mapping of the library's [`InputError`] to files, lines and options; and the cause
 //! named when a result is not finite.
 
-use super::error::CliError;
-use super::options::{num, positive};
-use super::table::{self, Columns, Table};
+use crate::error::CliError;
+use crate::options::{num, positive};
+use crate::table::{self, Columns, Table};
 use clap::{Args, ValueEnum};
 use std::fs;
 use std::path::PathBuf;
@@ -102,6 +102,15 @@ impl MomentsArg {
             MomentsArg::Fts => "FTS",
         }
     }
+}
+
+/// `--moments` made optional with the default F (`velocity`, `brownian`), with the
+/// subcommand's own `help`; applied by `#[command(mut_arg("moments", ...))]`.
+pub fn moments_default_f(arg: clap::Arg, help: &'static str) -> clap::Arg {
+    arg.required(false)
+        .required_unless_present(clap::builder::Resettable::Reset)
+        .default_value("F")
+        .help(help)
 }
 
 /// The particles file's columns, with and without `--radius`.

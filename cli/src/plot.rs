@@ -2,12 +2,13 @@
 //! PNG and SVG. Text uses the embedded DejaVu Sans (assets/, Bitstream Vera licence),
 //! so no system font is needed.
 
+use crate::output::has_extension;
 use plotters::coord::combinators::IntoLogRange;
 use plotters::prelude::*;
 use std::path::Path;
 
 /// Embedded font for the bitmap backend.
-const FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+const FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 
 /// A scalar field on a tensor grid `x[i]`, `y[j]`, `z[i][j]`.
 pub struct Field<'a> {
@@ -25,9 +26,7 @@ pub struct Field<'a> {
 /// (all coordinates must be positive), with a labelled colour bar; written to `path`
 /// as PNG or SVG by its extension.
 pub fn filled_contours(path: &Path, f: &Field, levels: usize) -> Result<(), String> {
-    let is_svg = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    let is_svg = has_extension(path, "svg");
     let size = (900, 700);
     if is_svg {
         draw(SVGBackend::new(path, size).into_drawing_area(), f, levels)

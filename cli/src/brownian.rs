@@ -2,10 +2,10 @@
 //! Euler-Maruyama or Fixman's midpoint; Cholesky or Lanczos noise; optionally with
 //! lubrication), written frame by frame as CSV or `.npy`.
 
-use super::error::CliError;
-use super::options::{finite, parse_components, positive, PairToleranceArg};
-use super::output::{self, check_out, has_extension, write_atomically, write_npy_header};
-use super::system::{ConfinementArg, MomentsArg, SystemArgs};
+use crate::error::CliError;
+use crate::options::{finite, parse_components, positive, PairToleranceArg};
+use crate::output::{self, check_out, write_atomically, write_npy_header, Format};
+use crate::system::{moments_default_f, ConfinementArg, MomentsArg, SystemArgs};
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use std::io::{self, Write};
@@ -69,13 +69,9 @@ OUTPUT
 /// `brownian`: the system (`--moments` defaults to F), the integration and the external
 /// forces.
 #[derive(Args, Debug)]
-#[command(mut_arg("moments", |a| a
-    .required(false)
-    .required_unless_present(clap::builder::Resettable::Reset)
-    .default_value("F")
-    .help("Truncation: F (positions of torque-free spheres) or FT (positions and \
-           orientations; external torques allowed); FTS is not implemented for \
-           Brownian dynamics")))]
+#[command(mut_arg("moments", |a| moments_default_f(a, "Truncation: F (positions of \
+    torque-free spheres) or FT (positions and orientations; external torques allowed); FTS \
+    is not implemented for Brownian dynamics")))]
 pub struct BrownianArgs {
     #[command(flatten)]
     pub system: SystemArgs,
@@ -192,8 +188,7 @@ pub enum SchemeArg {
 }
 
 pub fn run(args: &BrownianArgs) -> Result<(), CliError> {
-    check_out(&args.out, &["csv", "npy"])?;
-    let npy = has_extension(&args.out, "npy");
+    let npy = check_out(&args.out, &[Format::Csv, Format::Npy])? == Format::Npy;
     let moments = args.system.truncation();
     if moments == MomentsArg::Fts {
         return Err(CliError::BadOption {
@@ -264,7 +259,7 @@ pub fn run(args: &BrownianArgs) -> Result<(), CliError> {
             "the random finite difference's step",
         )?;
         Some(stokesian::LubricatedDynamics {
-            lubrication: super::options::lubrication(args.pair_tolerance.pair_tolerance)?,
+            lubrication: crate::options::lubrication(args.pair_tolerance.pair_tolerance)?,
             rfd_step: args.rfd_step,
         })
     } else {

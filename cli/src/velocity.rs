@@ -1,20 +1,23 @@
 //! `velocity`: velocities (and rotation rates) of force- and torque-given spheres in a
 //! quiescent fluid or a uniform strain: matrix-free at F and FT, the stresslets solved
-//! for at FTS, or from the resistance with lubrication.
+//! for at FTS, or from the resistance with lubrication; written as CSV or `.npy`.
 
-use super::error::CliError;
-use super::options::{lubrication, parse_components, PairToleranceArg};
-use super::output::{self, check_out, write_atomically};
-use super::system::{particle_error, MomentsArg, Setup, SystemArgs};
-use super::table::{self, Columns};
+use crate::error::CliError;
+use crate::options::{lubrication, parse_components, PairToleranceArg};
+use crate::output::{self, check_out, write_atomically, Format};
+use crate::system::{moments_default_f, particle_error, MomentsArg, Setup, SystemArgs};
+use crate::table::{self, Columns};
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
-use std::io::Write;
 use std::path::PathBuf;
 use stokesian::{strain_components, Precision, VelocityError};
 
-/// `velocity`: the system, the forces and the output.
+/// `velocity`: the system (`--moments` defaults to F, as for `brownian`), the forces and
+/// the output.
 #[derive(Args, Debug)]
+#[command(mut_arg("moments", |a| moments_default_f(a, "Truncation of the multipole \
+    expansion: F (velocities of the centres), FT (and rotation rates) or FTS (the \
+    stresslets solved for)")))]
 pub struct VelocityArgs {
     #[command(flatten)]
     pub system: SystemArgs,
@@ -41,8 +44,10 @@ pub struct VelocityArgs {
     /// instruction, about 1e-7 relative to the largest velocity; any units of input).
     #[arg(long, value_enum, default_value = "double")]
     pub precision: PrecisionArg,
-    /// Output CSV file: ux,uy,uz (F) or ux,uy,uz,wx,wy,wz (FT, FTS).
-    #[arg(long, value_name = "U.csv")]
+    /// Output file, its format by the extension: .csv with columns ux,uy,uz (F) or
+    /// ux,uy,uz,wx,wy,wz (FT, FTS), one line per particle, or .npy (a float64 array of
+    /// shape (N, 3) or (N, 6), the same columns).
+    #[arg(long, value_name = "U.csv|U.npy")]
     pub out: PathBuf,
 }
 
@@ -73,7 +78,7 @@ const FORCES_TORQUES: Columns = Columns {
 
 /// Check the options, compute and write the velocities.
 pub fn run(args: &VelocityArgs) -> Result<(), CliError> {
-    check_out(&args.out, &[])?;
+    let format = check_out(&args.out, &[Format::Csv, Format::Npy])?;
     let moments = args.system.truncation();
     let strain = match (&args.strain, moments) {
         (None, _) => [0.0; 5],
@@ -106,7 +111,7 @@ pub fn run(args: &VelocityArgs) -> Result<(), CliError> {
     }
     let pb = output::spinner();
     pb.set_message("reading input");
-    let result = velocity(args, moments, strain, &pb);
+    let result = velocity(args, format, moments, strain, &pb);
     pb.finish_and_clear();
     let (n, what) = result?;
     output::report(format!(
@@ -156,9 +161,11 @@ fn read_forces(args: &VelocityArgs, setup: &Setup, torques: bool) -> Result<Vec<
     Ok(x)
 }
 
-/// The work of [`run`]; returns the number of spheres and what was written.
+/// The work of [`run`], written in `format`; returns the number of spheres and what was
+/// written.
 fn velocity(
     args: &VelocityArgs,
+    format: Format,
     moments: MomentsArg,
     strain: [f64; 5],
     pb: &ProgressBar,
@@ -218,22 +225,21 @@ fn velocity(
     }
     let u = v.u;
     pb.set_message(format!("writing {}", args.out.display()));
+    let columns: &[&str] = if torques {
+        &["ux", "uy", "uz", "wx", "wy", "wz"]
+    } else {
+        &["ux", "uy", "uz"]
+    };
     write_atomically(&args.out, |w| {
-        let header = if torques {
-            "ux,uy,uz,wx,wy,wz"
-        } else {
-            "ux,uy,uz"
-        };
-        writeln!(w, "{header}")?;
-        for a in 0..n {
+        let rows = (0..n).map(|a| {
             let rotation = if torques {
                 3 * n + 3 * a..3 * n + 3 * a + 3
             } else {
                 0..0
             };
-            output::write_csv_row(w, u[3 * a..3 * a + 3].iter().chain(&u[rotation]).copied())?;
-        }
-        Ok(())
+            u[3 * a..3 * a + 3].iter().chain(&u[rotation]).copied()
+        });
+        output::write_table(w, format, columns, n, rows)
     })?;
     Ok((
         n,

@@ -1,9 +1,11 @@
-//! Output formats and how they are written: `.npy` (the preamble by `npyz`, then the
-//! data streamed; a matrix in Fortran order column by column as nalgebra stores it,
-//! never copied or transposed), JSON, CSV; every output through a temporary file renamed when complete;
-//! the progress bars and the closing report on stderr.
+//! Output formats and how they are written: the format of `--out` chosen by its
+//! extension among those the subcommand declares ([`check_out`]); `.npy` (the preamble
+//! by `npyz`, then the data streamed; a matrix in Fortran order column by column as
+//! nalgebra stores it, never copied or transposed), JSON, CSV; every output through a
+//! temporary file renamed when complete; the progress bars and the closing report on
+//! stderr.
 
-use super::error::CliError;
+use crate::error::CliError;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use nalgebra::DMatrixView;
 use npyz::{NpyWriter, Order, WriteOptions, WriterBuilder};
@@ -16,9 +18,33 @@ use std::time::Duration;
 pub const LAYOUT: &str = "moment-major: U(3N), Omega(3N), E(5N, orthonormal basis B1..B5); \
                           particle-major within a moment";
 
-/// Check the output path before any work: a file name in an existing directory, with
-/// one of `extensions` (any, if empty).
-pub fn check_out(out: &Path, extensions: &[&str]) -> Result<(), CliError> {
+/// The formats of `--out`, each named by its file extension: a subcommand declares the
+/// ones it writes and [`check_out`] chooses among them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// NumPy `.npy`: little-endian float64, the shape in the header.
+    Npy,
+    /// CSV text, every number in shortest round-trip form.
+    Csv,
+    /// JSON (the matrices only).
+    Json,
+}
+
+impl Format {
+    /// The file extension that names the format.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Npy => "npy",
+            Format::Csv => "csv",
+            Format::Json => "json",
+        }
+    }
+}
+
+/// Check the output path before any work, a file name in an existing directory, and
+/// choose its format by its extension (any case) among `accepted`; any other extension
+/// is refused with the list of the accepted ones, in their order.
+pub fn check_out(out: &Path, accepted: &[Format]) -> Result<Format, CliError> {
     let shown = out.display().to_string();
     let bad = |reason: String| CliError::BadOut {
         path: shown.clone(),
@@ -37,14 +63,18 @@ pub fn check_out(out: &Path, extensions: &[&str]) -> Result<(), CliError> {
             dir.display()
         )));
     }
-    if !extensions.is_empty() && !extensions.iter().any(|e| has_extension(out, e)) {
-        let list: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
-        return Err(bad(format!(
-            "the file name must end in {}",
-            list.join(" or ")
-        )));
+    if let Some(&format) = accepted.iter().find(|f| has_extension(out, f.extension())) {
+        return Ok(format);
     }
-    Ok(())
+    let list: Vec<String> = accepted
+        .iter()
+        .map(|f| format!(".{}", f.extension()))
+        .collect();
+    let list = match list.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        _ => list.concat(),
+    };
+    Err(bad(format!("the file name must end in {list}")))
 }
 
 /// Whether `path` ends in `.ext` (any case).
@@ -168,6 +198,46 @@ pub fn write_json(
     }
     writeln!(w, "  ]")?;
     writeln!(w, "}}")
+}
+
+/// A matrix as CSV: one matrix row per line, no header.
+pub fn write_csv_matrix(
+    w: &mut impl Write,
+    m: DMatrixView<f64>,
+    pb: &ProgressBar,
+) -> io::Result<()> {
+    for row in m.row_iter() {
+        write_csv_row(w, row.iter().copied())?;
+        pb.inc(1);
+    }
+    Ok(())
+}
+
+/// A table of `rows` rows under the named `columns`, as CSV (the header, then one line
+/// per row) or as `.npy` (a 2-D float64 array of shape (rows, columns) in C order: the
+/// CSV's numbers in the CSV's order). `values` yields each row's numbers.
+pub fn write_table<R: IntoIterator<Item = f64>>(
+    w: &mut impl Write,
+    format: Format,
+    columns: &[&str],
+    rows: usize,
+    values: impl IntoIterator<Item = R>,
+) -> io::Result<()> {
+    match format {
+        Format::Npy => {
+            write_npy_header(w, &[rows, columns.len()], Order::C)?;
+            values.into_iter().try_for_each(|row| write_f64s(w, row))
+        }
+        Format::Csv => {
+            writeln!(w, "{}", columns.join(","))?;
+            values.into_iter().try_for_each(|row| write_csv_row(w, row))
+        }
+        // the subcommands writing tables do not accept .json (`check_out`)
+        Format::Json => Err(io::Error::new(
+            io::ErrorKind::Unsupported,
+            "a table has no JSON form",
+        )),
+    }
 }
 
 /// One CSV line of numbers in shortest round-trip form.

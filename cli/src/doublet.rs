@@ -2,14 +2,13 @@
 //! on a grid of separations and heights, its maximum rotation rate, and the contour
 //! plot.
 
-use super::error::CliError;
-use super::options::finite;
-use super::output::{self, check_out, temporary, write_atomically};
-use super::plot;
+use crate::error::CliError;
+use crate::options::finite;
+use crate::output::{self, check_out, temporary, write_atomically, Format};
+use crate::plot;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget};
 use std::fs;
-use std::io::Write;
 use std::path::PathBuf;
 
 pub const ABOUT: &str = "\
@@ -24,15 +23,17 @@ about its centre. On a grid of r in [--r-min, --r-max] and h in [--h-min, --h-ma
 to keep r fixed (positive: pulling them together).
 
 Writes --out (CSV: r,h,rate_resistance,rate_farfield,tension_resistance,
-tension_farfield; r and h over a) and, beside it with the same stem, a filled contour
-plot of the rate with lubrication (.png and .svg); prints the maximum rate and where it
-is (the grid maximum refined by a pattern search).";
+tension_farfield, r and h over a; or .npy, a float64 array of shape (points, 6) with the
+same columns) and, beside it with the same stem, a filled contour plot of the rate with
+lubrication (.png and .svg); prints the maximum rate and where it is (the grid maximum
+refined by a pattern search).";
 
 /// `doublet`: the grid and the output.
 #[derive(Args, Debug)]
 pub struct DoubletArgs {
-    /// Output CSV; the contour plot is written beside it as .png and .svg.
-    #[arg(long, value_name = "doublet.csv")]
+    /// Output file, its format by the extension: .csv or .npy (shape (points, 6)); the
+    /// contour plot is written beside it as .png and .svg.
+    #[arg(long, value_name = "doublet.csv|doublet.npy")]
     out: PathBuf,
     /// Smallest separation r/a (> 2).
     #[arg(long, default_value_t = 2.0001)]
@@ -64,7 +65,7 @@ fn geometric(lo: f64, hi: f64, n: usize) -> Vec<f64> {
 pub fn run(args: &DoubletArgs) -> Result<(), CliError> {
     use rayon::prelude::*;
     use stokesian::doublet::{doublet, DoubletPoint};
-    check_out(&args.out, &["csv"])?;
+    let format = check_out(&args.out, &[Format::Csv, Format::Npy])?;
     for (option, value, floor) in [
         ("--r-min", args.r_min, 2.0),
         ("--r-max", args.r_max, 2.0),
@@ -162,23 +163,25 @@ pub fn run(args: &DoubletArgs) -> Result<(), CliError> {
     }
     let (r_top, h_top) = (2.0 + u.exp(), 1.0 + v.exp());
     write_atomically(&args.out, |w| {
-        writeln!(
-            w,
-            "r,h,rate_resistance,rate_farfield,tension_resistance,tension_farfield"
-        )?;
-        for p in &points {
-            writeln!(
-                w,
-                "{:?},{:?},{:?},{:?},{:?},{:?}",
+        let columns = [
+            "r",
+            "h",
+            "rate_resistance",
+            "rate_farfield",
+            "tension_resistance",
+            "tension_farfield",
+        ];
+        let rows = points.iter().map(|p| {
+            [
                 p.r,
                 p.h,
                 p.rate_resistance,
                 p.rate_farfield,
                 p.tension_resistance,
-                p.tension_farfield
-            )?;
-        }
-        Ok(())
+                p.tension_farfield,
+            ]
+        });
+        output::write_table(w, format, &columns, points.len(), rows)
     })?;
     let rates: Vec<Vec<f64>> = points
         .chunks(gaps_h.len())

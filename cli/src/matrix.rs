@@ -1,11 +1,11 @@
 //! `mobility` and `resistance`: assemble the dense grand mobility, or the grand
-//! resistance with lubrication (Eq. 19), optionally check it, and write it as `.npy` or
-//! JSON.
+//! resistance with lubrication (Eq. 19), optionally check it, and write it as `.npy`,
+//! CSV or JSON.
 
-use super::error::CliError;
-use super::options::{lubrication, PAIR_TOLERANCE_HELP};
-use super::output::{self, check_out, has_extension, write_atomically};
-use super::system::SystemArgs;
+use crate::error::CliError;
+use crate::options::{lubrication, PAIR_TOLERANCE_HELP};
+use crate::output::{self, check_out, write_atomically, Format};
+use crate::system::SystemArgs;
 use clap::Args;
 use nalgebra::DMatrixView;
 use std::path::PathBuf;
@@ -16,8 +16,9 @@ use stokesian::dense::LargeMatrix;
 pub struct MatrixArgs {
     #[command(flatten)]
     pub system: SystemArgs,
-    /// Output file: .npy (NumPy float64 array) or .json.
-    #[arg(long, value_name = "M.npy|M.json")]
+    /// Output file, its format by the extension: .npy (NumPy float64 array), .csv (one
+    /// matrix row per line, no header) or .json.
+    #[arg(long, value_name = "M.npy|M.csv|M.json")]
     pub out: PathBuf,
     /// Check that the matrix is symmetric and positive definite (Cholesky) before
     /// writing it; report on stderr, and fail without writing if it is not.
@@ -29,7 +30,7 @@ pub struct MatrixArgs {
 
 /// Assemble (the resistance if `resistance`), optionally check, and write the matrix.
 pub fn run(args: &MatrixArgs, resistance: bool) -> Result<(), CliError> {
-    check_out(&args.out, &["npy", "json"])?;
+    let format = check_out(&args.out, &[Format::Npy, Format::Csv, Format::Json])?;
     if !resistance && args.pair_tolerance.is_some() {
         return Err(CliError::Inapplicable {
             option: "--pair-tolerance",
@@ -39,7 +40,7 @@ pub fn run(args: &MatrixArgs, resistance: bool) -> Result<(), CliError> {
     let lub = lubrication(args.pair_tolerance)?;
     let pb = &output::spinner();
     pb.set_message("reading particles");
-    let result = assemble_and_write(args, resistance.then_some(&lub), pb);
+    let result = assemble_and_write(args, format, resistance.then_some(&lub), pb);
     pb.finish_and_clear();
     let (dim, n, moments) = result?;
     let what = if resistance { "resistance" } else { "mobility" };
@@ -50,10 +51,11 @@ pub fn run(args: &MatrixArgs, resistance: bool) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The work of [`run`] (the resistance with `lubrication` if given, else the mobility);
-/// returns the dimension, the number of spheres and the truncation.
+/// The work of [`run`] (the resistance with `lubrication` if given, else the mobility),
+/// written in `format`; returns the dimension, the number of spheres and the truncation.
 fn assemble_and_write(
     args: &MatrixArgs,
+    format: Format,
     lubrication: Option<&stokesian::Lubrication>,
     pb: &indicatif::ProgressBar,
 ) -> Result<(usize, usize, &'static str), CliError> {
@@ -121,13 +123,10 @@ fn assemble_and_write(
         false,
         format!("writing {}", args.out.display()),
     );
-    let json = has_extension(&args.out, "json");
-    write_atomically(&args.out, |w| {
-        if json {
-            output::write_json(w, m, n, moments.name(), pb)
-        } else {
-            output::write_npy(w, m, pb)
-        }
+    write_atomically(&args.out, |w| match format {
+        Format::Npy => output::write_npy(w, m, pb),
+        Format::Csv => output::write_csv_matrix(w, m, pb),
+        Format::Json => output::write_json(w, m, n, moments.name(), pb),
     })?;
     Ok((dim, n, moments.name()))
 }

@@ -1,17 +1,36 @@
-//! The `stokesian` command: argument parsing (clap) and dispatch to one module per
-//! subcommand.
+//! `stokesian`: the grand mobility of spheres in Stokes flow near a wall, a free
+//! surface, a liquid-liquid interface or in a slit, and the velocities of force- and
+//! torque-given spheres, from the command line: argument parsing (clap) and dispatch to
+//! one module per subcommand.
+//!
+//! The subcommands share the description of the system (`--confinement` and
+//! `--moments` or `--scene`, `--particles`, `--viscosity`, `--boundary-height`,
+//! `--lambda`, `--gap`, `--allow-overlap`):
+//!
+//! - `stokesian mobility ... --out M.npy|M.csv|M.json` writes the dense grand mobility, and
+//!   `stokesian resistance` the resistance with lubrication;
+//! - `stokesian velocity ... --forces forces.csv --out U.csv|U.npy` writes velocities (and
+//!   rotation rates) of force- and torque-given spheres;
+//! - `stokesian brownian ... --steps N --dt DT --out traj.csv|traj.npy` integrates
+//!   overdamped Brownian dynamics with hydrodynamic interactions;
+//! - `stokesian doublet --out doublet.csv|doublet.npy` studies the co-rotating doublet.
+//!
+//! Every output's format is chosen by the extension of `--out` among those the
+//! subcommand writes (`output::check_out`); any other extension is refused before any
+//! work.
 //!
 //! | module | owns |
 //! |---|---|
 //! | `system` | the shared system arguments, their validation, the causes of non-finite results |
 //! | `options` | checks of single option values, numbers in messages |
 //! | `table` | input formats: CSV with named columns, `.npy` |
-//! | `output` | output formats (`.npy`, JSON, CSV), atomic writes, progress on stderr |
+//! | `output` | output formats (`.npy`, JSON, CSV) chosen by the extension, atomic writes, progress on stderr |
 //! | `error` | [`CliError`](error::CliError), every failure with its message |
 //! | `matrix` | `mobility` and `resistance` |
 //! | `velocity` | `velocity` |
 //! | `brownian` | `brownian` |
-//! | `doublet` | `doublet` (and `plot`, its contour plot) |
+//! | `doublet` | `doublet` |
+//! | `plot` | the doublet's contour plot (plotters) |
 //!
 //! Every input error names the file, the line (or row) and the particle; output is
 //! written to a temporary file in the output's directory and renamed on success, so no
@@ -110,10 +129,11 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Write the dense grand mobility matrix (.npy or .json).
+    /// Write the dense grand mobility matrix (.npy, .csv or .json).
     #[command(
         long_about = "Write the dense grand mobility matrix of the spheres in --particles.\n\n\
-        .npy: a float64 2-D array in Fortran order (numpy.load). .json: {\"layout\": ..., \
+        .npy: a float64 2-D array in Fortran order (numpy.load). .csv: one matrix row \
+        per line, no header, every number printed to full round-trip precision. .json: {\"layout\": ..., \
         \"moments\": ..., \"n\": number of particles, \"dimension\": rows, \"matrix\": \
         [[row 0], [row 1], ...]}, every number printed to full round-trip precision.",
         after_long_help = LONG_HELP
@@ -123,7 +143,8 @@ enum Command {
     #[command(
         long_about = "Velocities (and rotation rates) of force- and torque-given spheres \
         in a quiescent fluid, written to --out as CSV with columns ux,uy,uz (F) or \
-        ux,uy,uz,wx,wy,wz (FT, FTS), one line per particle.\n\n\
+        ux,uy,uz,wx,wy,wz (FT, FTS), one line per particle, or as .npy, a float64 array \
+        of shape (N, 3) or (N, 6) with the same columns.\n\n\
         F and FT: U = M F without forming M (matrix-free). FTS: the stresslets S are \
         solved for so that the strain rate imposed on the spheres is zero, or --strain: \
         from the strain rows of the grand mobility, -E_inf = M_EF F + M_EL L + M_ES S.",
@@ -155,7 +176,7 @@ enum Command {
 }
 
 /// Parse the command line, run the subcommand, and report an error on stderr.
-pub fn main() -> ExitCode {
+fn main() -> ExitCode {
     let result = match Cli::parse().command {
         Command::Mobility(mut args) => args
             .system

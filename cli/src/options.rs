@@ -1,7 +1,7 @@
 //! Checks of single option values (finite, positive, comma-separated components) and
 //! how numbers are shown in messages.
 
-use super::error::CliError;
+use crate::error::CliError;
 
 /// A number as Rust prints it (shortest round trip), in exponent form when it is very
 /// large or very small (`1e-301`, not three hundred zeros).

@@ -4,7 +4,8 @@
 //! accepted) or from NumPy `.npy` through `npyz` (a 2-D float64 or float32 array, C or
 //! Fortran order, either byte order).
 
-use super::error::CliError;
+use crate::error::CliError;
+use crate::output::has_extension;
 use npyz::{DType, NpyFile, NpyHeader, Order, TypeChar};
 use std::fs;
 use std::path::Path;
@@ -78,10 +79,7 @@ pub fn read(path: &Path, columns: &Columns) -> Result<Table, CliError> {
         path: shown.clone(),
         source,
     })?;
-    let npy = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("npy"))
-        || bytes.starts_with(NPY_MAGIC);
+    let npy = has_extension(path, "npy") || bytes.starts_with(NPY_MAGIC);
     if npy {
         read_npy(shown, &bytes, columns)
     } else {
