@@ -21,7 +21,7 @@
 //!   inverse of our own free-surface self mobility.
 //!
 //! Coefficients are those collected, with their sources and a second check, in
-//! `shared/reference/lubrication.md` (sections 1.5 and 2.2); each is annotated below.
+//! `docs/lubrication.md` ("Reference formulas"); each is annotated below.
 //! Sign: the resistance maps `(U, Omega)` to the force and torque the particles exert
 //! on the fluid (the inverse of the mobility's convention), so every lubrication block
 //! enters with the sign of a positive-definite resistance.
