@@ -227,7 +227,15 @@ fn table(
             time(&single)?
         ));
     }
-    s.push_str("\n| operation (unit spheres, 5% volume fraction, 2 threads) | time |\n|---|---|\n");
+    // rayon's pool: RAYON_NUM_THREADS, else one thread per logical processor
+    let threads = std::env::var("RAYON_NUM_THREADS")
+        .ok()
+        .and_then(|t| t.parse::<usize>().ok())
+        .filter(|&t| t > 0)
+        .unwrap_or_else(crate::report::logical_cpus);
+    s.push_str(&format!(
+        "\n| operation (unit spheres, 5% volume fraction, {threads} threads) | time |\n|---|---|\n"
+    ));
     for &(label, id) in &OPERATION_ROWS {
         s.push_str(&format!("| {label} | {} |\n", time(id)?));
     }
