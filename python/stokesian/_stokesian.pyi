@@ -10,7 +10,7 @@ with no particle inertia equal the external force and torque acting on each part
 ``fz = -(buoyant weight) < 0`` and moves along ``-z``. This is libMobility's convention
 too (``M F`` with ``F`` the force on the particle).
 
-Layout (DESIGN.md, Swan & Brady Eq. 1): vectors and matrices are moment-major, particle-
+Layout (docs/conventions.md, Swan & Brady Eq. 1): vectors and matrices are moment-major, particle-
 major within a moment: all U (3N: U1x, U1y, U1z, U2x, ...), then all Omega (3N), then
 all E (5N, in the orthonormal strain basis B1..B5 of the command line's help); the
 mobility maps (F, L, S) to (U - U_inf, Omega - Omega_inf, -E_inf).

@@ -286,7 +286,7 @@ def test_bad_calls_raise_value_error():
 
 def test_not_positive_definite_raises_value_error():
     # a sphere near a wall of a narrow slit: the superposed images are not positive
-    # definite (README), so the far-field mobility cannot be inverted
+    # definite (docs/verification.md), so the far-field mobility cannot be inverted
     s = stokesian.System(np.array([[0.0, 0.0, 1.05]]), 1.0, confinement="slit", gap=3.0)
     assert np.linalg.eigvalsh(s.mobility("FT")).min() < 0
     with pytest.raises(ValueError, match="not positive definite"):

@@ -130,7 +130,7 @@ impl Cholesky {
 /// large matrices the command line assembles and writes ([`crate::System::mobility_into`]).
 /// A fresh `Vec` is mapped 4 KiB at a time where it is first written: at FTS, N = 1000
 /// (968 MB) mapping and clearing its pages and the TLB misses of the column-wise writes
-/// cost more than the kernels (README, "Dense assembly": 0.82 s into a `Vec`, 0.35 s
+/// cost more than the kernels (bench "wall dense FTS assembly": 0.82 s into a `Vec`, 0.35 s
 /// here; for a 10 MB matrix the huge pages cost 2 ms more). Elsewhere than Linux, or where the kernel
 /// declines the advice, the same matrix in ordinary pages.
 pub struct LargeMatrix {

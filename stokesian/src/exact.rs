@@ -4,8 +4,8 @@
 //! 1e-3 a up to the wall cutoff; all of them are the references of the tests.
 //!
 //! Everything here is `std` only, double precision, and written from the published
-//! formulas (sources below, as collected in `/work/shared/reference/wall-exact-series.md`
-//! and `lubrication.md`). Each series is rewritten so that no step cancels
+//! formulas (sources below, as collected in `docs/lubrication.md`, "Reference
+//! formulas"). Each series is rewritten so that no step cancels
 //! catastrophically (see "Numerics"), and every function is checked against an
 //! independent 40-digit `mpmath` evaluation of the formulas as printed
 //! (`tests/derivations/exact_check.py`) in `tests/tests/exact_references.rs`.

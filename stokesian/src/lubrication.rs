@@ -21,7 +21,7 @@
 //!   inverse of our own free-surface self mobility.
 //!
 //! Coefficients are those collected, with their sources and a second check, in
-//! `shared/reference/lubrication.md` (sections 1.5 and 2.2); each is annotated below.
+//! `docs/lubrication.md` ("Reference formulas"); each is annotated below.
 //! Sign: the resistance maps `(U, Omega)` to the force and torque the particles exert
 //! on the fluid (the inverse of the mobility's convention), so every lubrication block
 //! enters with the sign of a positive-definite resistance.
@@ -60,7 +60,7 @@ impl Default for Lubrication {
     /// `s' = 17.6` at FTS, `s' = 2r/(a1 + a2)`), so that two spheres get the exact
     /// functions to 1e-6 of the smaller sphere's drag at every separation; 1e-3 (out to
     /// `s' = 9.3` and 5.6) costs a quarter to a third less in a dense suspension and
-    /// drops corrections that add up to 0.6% of a diagonal entry there (README). Wall: no
+    /// drops corrections that add up to 0.6% of a diagonal entry there (docs/lubrication.md). Wall: no
     /// cutoff (`INFINITY`):
     /// the exact sphere-wall functions from the tables wherever they differ from the far
     /// field by more than 1e-12, so that the resistance is continuous and smooth in the

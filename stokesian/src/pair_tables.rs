@@ -39,7 +39,7 @@
 //! third.
 //!
 //! Accuracy against the series between the nodes (`tests/tests/two_sphere_tables.rs`):
-//! see README ("Resistance with lubrication").
+//! see docs/lubrication.md.
 
 use crate::tables::{chebyshev_coefficients, chebyshev_nodes};
 use crate::two_sphere::{PairScalars, PairSeries, SingularForms, LAMBDA_MIN};

@@ -7,12 +7,12 @@ Run:   python3 tests/derivations/appendix_check.py [--dump FILE] [--coefficients
 
   --dump FILE      also write the derived blocks at every configuration to FILE (plain
                    text, one block per line) so that tests/src/paper.rs can be checked
-                   against the same numbers (see ERRATA.md).
+                   against the same numbers (see docs/errata.md).
   --coefficients   also extract, exactly (rational arithmetic), the derived coefficient of
                    every printed tensor structure of C5, C6 and C7 and print them all, for
                    term-by-term comparison with the paper (about 20 s more).
 
-Conventions (tests/ERRATA.md, shared/DESIGN.md): wall x3 = 0, fluid x3 > 0, Levi-Civita
+Conventions (docs/errata.md, docs/conventions.md): wall x3 = 0, fluid x3 > 0, Levi-Civita
 right-handed, the mobility maps the force/torque/stresslet exerted ON THE FLUID to
 (U, Omega, -E_inf).  Only the image part Jw enters (the paper's hat-M).  Blocks are
 normalised by 6 pi eta a^n (n = 1 UF; 2 OF, EF; 3 OL, EL, ES), lengths by a.
@@ -42,7 +42,7 @@ Comparison
 For each equation: max over the configurations of |printed - derived|_F / |derived|_F
 (Frobenius norm over the whole block), and the same for the corrected form.  EF, EL,
 ES are compared in full Cartesian form AND after projecting the strain pair (pq) and the
-stresslet pair (kl) onto the 5 symmetric traceless basis tensors of DESIGN.md (the
+stresslet pair (kl) onto the 5 symmetric traceless basis tensors of docs/conventions.md (the
 trace parts cannot matter: E_inf and S are traceless).  The derived tensors are exactly
 traceless in pq and in kl; the printed C5/C7 carry delta_ij / delta_kl terms but, once
 corrected, agree in full Cartesian form too, so no projection is needed for the verdict.
@@ -494,7 +494,7 @@ def pair_configs():
 
 
 # ----------------------------------------------------------------------------------
-# 4. Projection onto the symmetric traceless basis of DESIGN.md
+# 4. Projection onto the symmetric traceless basis of docs/conventions.md
 # ----------------------------------------------------------------------------------
 S2, S6 = 1 / math.sqrt(2), 1 / math.sqrt(6)
 BASIS = np.zeros((5, 3, 3))

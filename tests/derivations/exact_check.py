@@ -19,7 +19,7 @@ alpha = arccosh(h/a); two spheres: gap xi = r/a - 2, KK normalisation).
 Independent checks done here (not by the Rust code):
   * the free-surface Brenner series and the Stimson-Jeffery series against the
     far-field two-sphere series of Jeffrey & Onishi (1984) (P, V recurrence for X^A,
-    as quoted in /work/shared/reference/lubrication.md sec. 1.4), exact rationals;
+    docs/lubrication.md, "The twin-multipole series"), exact rationals;
   * the rigid-wall and free-surface Jeffery rotation sums against an explicit
     image construction (azimuthal Stokes flow v(rho, z) e_phi: v cos(phi) is
     harmonic, so a rotating sphere is an x-dipole and Kelvin inversion gives the

@@ -171,7 +171,7 @@ pub fn random_spheres(
 /// x, wall at 0, eta = 1, from wall kernels traced with `path` and interpreted (not the
 /// emitted kernels: `Path::Generic` gives an independent derivation, and
 /// `Path::StructuredNoExplicitHeight` the asymmetric x - y' variant); per-particle
-/// blocks of 11 `[U, Omega, E]` (a permutation of DESIGN.md's moment-major layout).
+/// blocks of 11 `[U, Omega, E]` (a permutation of the moment-major layout of docs/conventions.md).
 pub fn two_sphere_mobility(
     path: kernel_gen::scene::Path,
     h: f64,

@@ -2,14 +2,14 @@
 //! no-slip boundary", Phys. Fluids 19, 113306: the closed forms of Appendix B (one sphere
 //! and the wall, B1-B6) and Appendix C (two equal spheres and the wall, C2-C7).
 //!
-//! Transcribed from the OCR text `shared/reference/seed-paper.md`, one function per
-//! equation, terms in the printed order.
+//! Transcribed from an OCR text of the journal article, one function per equation, terms
+//! in the printed order.
 //!
 //! * [`printed`] is each formula exactly as printed, errors included.
 //! * [`corrected`] differs from [`printed`] only by the smallest change that makes it
 //!   agree with the derivation of `tests/derivations/appendix_check.py` (sympy, from
 //!   Blake's image, Eq. 5, and the block definitions, Eqs. 8, 12-15, A1-A9). Each
-//!   correction is documented where it is made and listed in `tests/ERRATA.md`.
+//!   correction is documented where it is made and listed in `docs/errata.md`.
 //!
 //! Both give the paper's hat-M: the contribution of the wall image `Jw` only, no
 //! free-space Stokeslet and no isolated-sphere term, normalised by `6 pi eta a^n`

@@ -159,7 +159,7 @@ fn far_from_the_boundary_every_block_tends_to_free_space() {
     assert_eq!(v.checked, 4);
 }
 
-/// Physical signs, wall below the sphere (DESIGN.md). A force +x parallel to the wall
+/// Physical signs, wall below the sphere (docs/conventions.md). A force +x parallel to the wall
 /// makes the sphere rotate in the rolling sense, Omega_y > 0 (the image flow is slower
 /// nearer the wall, so its vorticity at the sphere is +y); a torque +y makes it
 /// translate +x (reciprocity of the same coupling).

@@ -1,7 +1,7 @@
 //! Validation of the exact sphere-wall and two-sphere resistance functions of
 //! `integration_tests::exact` against (i) an independent 40-digit evaluation of the printed
 //! formulas (`tests/derivations/exact_check.py`), (ii) the near-contact (lubrication) forms
-//! of `/work/shared/reference/lubrication.md` 1.5 and 2.2, (iii) far-field reflection
+//! of `docs/lubrication.md` ("Reference formulas"), (iii) far-field reflection
 //! series, (iv) the published fits of Chaoui & Feuillebois (2003), (v) the reciprocity
 //! `F^r* = (4/3) T^t*` between two independent solutions, (vi) convergence in the
 //! truncation. Every tolerance is stated next to the measured error it covers.

@@ -5,14 +5,14 @@
 //! free-surface series; Jeffery 1915). The table of relative errors prints with
 //! `cargo test --release -p integration-tests --test lubrication_vs_exact -- --nocapture`.
 //!
-//! What is asserted is the accuracy claimed in README. Wall: for one sphere Eq. 19
+//! What is asserted is the accuracy claimed in docs/lubrication.md. Wall: for one sphere Eq. 19
 //! reduces to R^W at every height (no cutoff), the generated tables of the series in
 //! `stokesian::exact` (made from the series called with the gap), here checked against
 //! the series called with `h/a` (the series themselves are checked against published
 //! tables and 50-digit values in `exact_references.rs`). Pairs (xi < 0.1): the
 //! near-contact two-sphere forms, whose neglected terms are O(xi^2 ln xi). Beyond the
 //! pair cutoff Eq. 19 falls back on the far-field FT mobility; those errors are printed
-//! and stated in README.
+//! and stated in docs/lubrication.md.
 
 use integration_tests::configurations::{
     equal_pair, pair_functions_of, sphere_above_wall, wall_functions_of,

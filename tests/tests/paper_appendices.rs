@@ -2,7 +2,7 @@
 //! (self, B1-B6) and Appendix C (equal-sphere pairs, C2-C7), in the paper's
 //! normalisation: the image contribution hat-M times 6 pi eta a^n (n = 1 for UF, 2 for
 //! OmegaF and EF, 3 for OmegaL, EL, ES). Printed and corrected forms sit side by side
-//! in `integration_tests::paper`; every erratum is stated there and in README.
+//! in `integration_tests::paper`; every erratum is stated there and in docs/errata.md.
 //!
 //! Three things are checked: (1) the kernels equal the corrected forms to 1e-12 at
 //! heights 1.0001..20 a and lateral separations 0..50 a (pairs: plus the round-off
@@ -214,7 +214,7 @@ fn appendix_c_pair_terms_match_corrected_forms() {
 }
 
 /// The printed forms with an erratum disagree with the kernels by O(1) somewhere; the
-/// others agree to 1e-12 everywhere. Errata (see README): B2, B4, B5, C3, C5, C6, C7.
+/// others agree to 1e-12 everywhere. Errata (see docs/errata.md): B2, B4, B5, C3, C5, C6, C7.
 #[test]
 fn printed_forms_disagree_exactly_where_errata_are_stated() {
     let erratum_b = [false, true, false, true, true, false];

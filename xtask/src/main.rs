@@ -3,7 +3,8 @@
 //! `--check`) fail when they are stale. `cargo xtask gen --scene FILE [--out PATH]`:
 //! generate one scene as a standalone module. `cargo xtask report`: check that the
 //! committed kernels are up to date, then measure and write `report/` ([`report`]).
-//! `cargo xtask test`: every test, Rust and Python ([`test`]).
+//! `cargo xtask test`: every test, Rust and Python ([`test`]). `cargo xtask bench`: the
+//! performance table of README.md and docs/performance.md ([`bench`]).
 
 use anyhow::{bail, Context, Result};
 use kernel_gen::catalog::GeneratedFile;
@@ -13,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
+mod bench;
 mod report;
 mod wall_limit;
 
@@ -25,7 +27,7 @@ fn root() -> PathBuf {
 
 fn usage() -> &'static str {
     "usage: cargo xtask gen [--check] | cargo xtask gen --scene FILE [--out PATH] | cargo xtask report [--quick]\n\
-     | cargo xtask test | cargo xtask wall-limit [--truncation N]\n\
+     | cargo xtask test | cargo xtask bench [--quick] | cargo xtask wall-limit [--truncation N]\n\
      \n\
      gen                       regenerate kernels/src/generated/ from kernel-gen and scenes/*.toml\n\
      gen --check               exit non-zero if the committed kernels differ from what the generator produces\n\
@@ -35,6 +37,8 @@ fn usage() -> &'static str {
                                write report/REPORT.md with its plots (deleted and recreated); --quick: a reduced sample\n\
      test                      every test: cargo test --workspace --release, then the Python module built into\n\
                                target/python-venv (maturin, numpy, pytest from PyPI) and its pytest tests\n\
+     bench                     run the benchmarks of the performance table (cargo bench -p stokesian) and rewrite\n\
+                               that table in README.md and docs/performance.md; --quick: short, provisional runs\n\
      wall-limit [--truncation N]  the sphere-plane functions as the two-sphere limit of a large second sphere\n\
                                (coefficients built to N terms, default 400; a table in Markdown on stdout)"
 }
@@ -351,6 +355,8 @@ fn main() -> Result<()> {
         ["report"] => run_report(false),
         ["report", "--quick"] => run_report(true),
         ["test"] => test(),
+        ["bench"] => bench::run(&root(), false),
+        ["bench", "--quick"] => bench::run(&root(), true),
         ["wall-limit", rest @ ..] => wall_limit::run(rest),
         ["help"] | ["--help"] | ["-h"] | [] => {
             println!("{}", usage());

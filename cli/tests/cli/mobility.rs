@@ -122,7 +122,7 @@ fn bad_output_name_is_rejected_before_any_work() {
 }
 
 /// `--check` passes for valid input and refuses (no output) an overlapping pair whose
-/// FTS matrix is indefinite (r = 1.0 a, see README).
+/// FTS matrix is indefinite (r = 1.0 a, see docs/verification.md).
 #[test]
 fn check_flag_reports_and_refuses_indefinite_matrices() {
     let dir = std::env::temp_dir().join(format!("stokesian-check-{}", std::process::id()));

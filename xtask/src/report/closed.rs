@@ -3,7 +3,7 @@
 //! assembled in the kernels' layout (orthonormal strain basis, dimensional) from
 //!
 //! - the wall image: `integration_tests::paper::corrected` (the printed formulas with the
-//!   errata of `tests/ERRATA.md` corrected), which give `6 pi eta a^n` times the image
+//!   errata of `docs/errata.md` corrected), which give `6 pi eta a^n` times the image
 //!   part in the paper's Cartesian indices;
 //! - the free-space part: `integration_tests::closed_forms` (Rotne-Prager-Yamakawa and
 //!   the Durlofsky-Brady-Bossis / Kim-Karrila couplings) for pairs, and the isolated

@@ -193,7 +193,7 @@ fn document(sections: &[Section], elapsed: Duration) -> Result<String> {
 }
 
 /// The CPU model from `/proc/cpuinfo`.
-fn cpu_model() -> String {
+pub(crate) fn cpu_model() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|t| {
@@ -206,13 +206,14 @@ fn cpu_model() -> String {
 }
 
 /// Logical CPUs listed in `/proc/cpuinfo`.
-fn logical_cpus() -> usize {
+pub(crate) fn logical_cpus() -> usize {
     std::fs::read_to_string("/proc/cpuinfo")
         .map(|t| t.lines().filter(|l| l.starts_with("processor")).count())
         .unwrap_or(0)
 }
 
-fn rustc_version() -> String {
+/// `rustc --version`, as the report and the benchmark table name the compiler.
+pub(crate) fn rustc_version() -> String {
     std::process::Command::new("rustc")
         .arg("--version")
         .output()
@@ -223,7 +224,7 @@ fn rustc_version() -> String {
 }
 
 /// Today's date (UTC), `YYYY-MM-DD`, from the system clock (civil-from-days).
-fn today() -> String {
+pub(crate) fn today() -> String {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs()) as i64;
