@@ -28,7 +28,8 @@ impl System {
     /// dense matrix holds it ([`System::mobility`]): the self blocks for `a == b`
     /// (Eq. 17), else the lane twin of the pair kernel of that truncation on the widest
     /// instruction set of this processor (the same blocks as [`kernels::pair_f`],
-    /// [`kernels::pair_ft`] and [`kernels::pair`] to a few ulps: the integration tests of the lanes).
+    /// [`kernels::pair_ft`] and [`kernels::pair`] to a few ulps: the integration tests of
+    /// the lanes).
     pub fn block(&self, moments: Moments, a: usize, b: usize) -> DMatrix<f64> {
         let k = moments.per_particle();
         let mut out = vec![0.0; k * k];

@@ -7,7 +7,8 @@
 //! formulas (sources below). Each series is rewritten so that no step cancels
 //! catastrophically (see "Numerics"), and every function is checked against an
 //! independent 40-digit `mpmath` evaluation of the formulas as printed
-//! (`tests/derivations/exact_check.py`) in the integration tests of the exact references.
+//! (`tests/derivations/exact_check.py`) in the integration tests of the exact
+//! references.
 //!
 //! # Conventions
 //!

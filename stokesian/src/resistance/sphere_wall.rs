@@ -9,8 +9,8 @@ use super::wall_tables::{tabulated, EPS_MAX, EPS_MIN};
 
 /// Sphere-wall resistance functions at `eps = (h - a)/a`, exact: the generated tables
 /// of [`crate::resistance::wall_tables`] (piecewise Chebyshev in `ln eps`, within 1e-10 of the series,
-/// the integration tests of the wall tables) for `eps` up to 1e3, the near-contact forms continued
-/// from them below `1e-7`, and the series beyond `1e3`.
+/// the integration tests of the wall tables) for `eps` up to 1e3, the near-contact forms
+/// continued from them below `1e-7`, and the series beyond `1e3`.
 pub fn wall_functions(eps: f64) -> WallFunctions {
     if eps > EPS_MAX {
         return wall_series(eps);

@@ -38,8 +38,8 @@
 //! the many pairs of a suspension that share it: their functions then cost about a
 //! third.
 //!
-//! Accuracy against the series between the nodes (the integration tests of the two-sphere tables):
-//! see README ("Resistance with lubrication").
+//! Accuracy against the series between the nodes (the integration tests of the
+//! two-sphere tables): see README ("Resistance with lubrication").
 
 mod sums;
 
@@ -128,8 +128,8 @@ pub(crate) struct Table {
 
 /// A table's file as read, packed for sums with the functions in lanes: for each patch
 /// (separation, then ratio), the terms `(i, j)` (separation, ratio) that any function
-/// keeps (the generator zeroes the others, [`trim_patch`]), and for each such term the
-/// 22 functions' coefficients side by side ([`PADDED`] numbers), in double precision or,
+/// keeps (the generator, [`crate::generate`], zeroes the others), and for each such term
+/// the 22 functions' coefficients side by side ([`PADDED`] numbers), in double precision or,
 /// where the rounding costs no function more than [`NARROW`] on the patch, in single
 /// precision (half the memory to read); the sums read nothing else.
 struct Read {
@@ -170,8 +170,9 @@ impl<T> Terms<T> {
 
 /// The most that rounding a patch's terms to single precision may change a function
 /// there (each `|T_i T_j| <= 1`; a coefficient `c` rounds by at most `2^-24 |c|`), in Kim
-/// & Karrila's normalisation, as [`TRIM`]: 80% of the kept terms are then read in single
-/// precision (51.5 of 64.6 on an average near patch, 38.3 of 48.3 far), and the tables'
+/// & Karrila's normalisation, as the generator's trimming: 80% of the kept terms are
+/// then read in single precision (51.5 of 64.6 on an average near patch, 38.3 of 48.3
+/// far), and the tables'
 /// errors against the series are unchanged to two digits (6.6e-10 near, 3.8e-11 far).
 const NARROW: f64 = 5e-12;
 

@@ -30,7 +30,7 @@ pub(super) const FT_SOURCES: usize = 5;
 
 impl Function {
     /// `a_m` for this `lambda` (the factor included) from the sum of its triangle's row
-    /// `m` by [`super::series`]'s `row_sums` and `power`: `nu^m sum R_q lambda^q` for `lambda <= 1`, and
+    /// `m` by the series' `row_sums` and `power`: `nu^m sum R_q lambda^q` for `lambda <= 1`, and
     /// `mu^m sum R_q lambda^{q-m}` otherwise, `mu = lambda/(1+lambda)`, `nu = 1/(1+lambda)`
     /// (`power` is `nu^m` or `mu^m`).
     #[inline]

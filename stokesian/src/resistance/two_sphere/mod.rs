@@ -7,7 +7,7 @@
 //! regular remainder is summed as a power series.
 //!
 //! This module owns the 22 scalar functions, the JO84/J92 recurrence coefficients (made
-//! by `cargo xtask gen` from [`generate_coefficients`] and committed in
+//! by `cargo xtask gen` from [`crate::generate::two_sphere_coefficients`] and committed in
 //! `src/generated/two_sphere_coefficients.bin`), and the near-contact constants
 //! `K(lambda)` derived from them.
 //!

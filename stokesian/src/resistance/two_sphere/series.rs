@@ -370,7 +370,7 @@ fn row_sums<const N: usize>(rows: &[[f64; SOURCES]], powers: &[f64]) -> [f64; N]
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::resistance::two_sphere::NAMES;
+    use crate::resistance::two_sphere::{LAMBDA_MIN, NAMES};
 
     #[test]
     fn bad_input_is_a_typed_error() {
