@@ -10,11 +10,11 @@
 //! for the Boltzmann distribution to be stationary); or Fixman's midpoint scheme, which
 //! produces the drift from a midpoint evaluation of `M` instead. At the FT level the
 //! rotational rows give each sphere's rotation vector over the step (orientations do
-//! not change the mobility of spheres; [`rotate`](brownian::rotate) updates a unit quaternion). External
+//! not change the mobility of spheres; [`rotate`] updates a unit quaternion). External
 //! forces: a uniform weight along `-z`, an exponential (screened-electrostatic)
 //! repulsion from each boundary plane, a lateral harmonic trap, and a uniform torque.
 //!
-//! With lubrication (Brownian Stokesian dynamics, [`LubricatedDynamics`](settings::LubricatedDynamics)) the mobility is
+//! With lubrication (Brownian Stokesian dynamics, [`LubricatedDynamics`]) the mobility is
 //! the inverse of the resistance of Eq. 19, `R = M^-1 + R_lub - R_lub^inf` (FT level;
 //! the F level is the same with torque-free spheres), and
 //!

@@ -2,7 +2,7 @@
 //! kernel, `M^{ab} x_b` and `M^{ba} x_a` accumulated together, with a result that does
 //! not depend on the number of threads.
 //!
-//! The particles are cut into blocks of [`BLOCK`] (positions, radii and moments as
+//! The particles are cut into blocks of `BLOCK` (positions, radii and moments as
 //! structure of arrays, padded to whole blocks). A tile is a pair of blocks `(I, J)`,
 //! `I <= J`: particle `i` of `I` against the particles of `J` in lanes
 //! (`lanes::Lane::WIDTH` at a time; `j > i` on the diagonal; lanes past the last particle
@@ -15,7 +15,7 @@
 //! output is accumulated in an order fixed by the schedule alone: the same bits with
 //! 1, 2 or 3 threads, on any machine with the same instruction set. No allocation per
 //! pair or per tile. The Brownian drift (the generated divergence kernels summed over
-//! pairs) runs through the same tiles ([`Divergence`]).
+//! pairs) runs through the same tiles (`Divergence`).
 //!
 //! Near a no-slip wall the kernels evaluate `M^{ab}` with the lower particle as the
 //! source (`Confinement::exchanges_by_height`). The particles are therefore ordered by

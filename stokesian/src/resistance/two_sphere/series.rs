@@ -155,7 +155,7 @@ impl PairSeries {
     /// truncation` (at most `coefficients.truncation()`), from coefficients built at run
     /// time: for studies of the truncation and of large size ratios (the limit of a
     /// sphere beside a plane). The committed coefficients reach `m = 200`, enough for
-    /// [`LAMBDA_MIN`] `<= lambda <= 1/LAMBDA_MIN` at the accuracy of the module docs;
+    /// [`super::LAMBDA_MIN`] `<= lambda <= 1/LAMBDA_MIN` at the accuracy of the module docs;
     /// larger ratios need more terms, the more the closer the spheres.
     pub fn from_coefficients(
         coefficients: &Coefficients,
