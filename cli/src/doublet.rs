@@ -64,7 +64,7 @@ fn geometric(lo: f64, hi: f64, n: usize) -> Vec<f64> {
 
 pub fn run(args: &DoubletArgs) -> Result<(), CliError> {
     use rayon::prelude::*;
-    use stokesian::doublet::{doublet, DoubletPoint};
+    use stokesian::studies::doublet::{doublet, DoubletPoint};
     let format = check_out(&args.out, &[Format::Csv, Format::Npy])?;
     for (option, value, floor) in [
         ("--r-min", args.r_min, 2.0),

@@ -144,7 +144,7 @@ pub enum CliError {
     Scene { path: String, reason: String },
     /// The doublet study failed.
     #[error("{0}; nothing written")]
-    Doublet(#[from] stokesian::doublet::DoubletError),
+    Doublet(#[from] stokesian::studies::doublet::DoubletError),
     /// A plot could not be drawn.
     #[error("cannot draw {path}: {reason}")]
     Plot { path: String, reason: String },

@@ -9,7 +9,7 @@ use crate::system::SystemArgs;
 use clap::Args;
 use nalgebra::DMatrixView;
 use std::path::PathBuf;
-use stokesian::dense::LargeMatrix;
+use stokesian::linalg::LargeMatrix;
 
 /// `mobility` and `resistance`.
 #[derive(Args, Debug)]

@@ -281,7 +281,7 @@ impl PySystem {
         let s = &self.system;
         // assembled straight into NumPy's array (column-major: Fortran order), whose
         // allocator asks for transparent huge pages for large arrays, as
-        // `stokesian::dense::LargeMatrix` does for the command line
+        // `stokesian::linalg::LargeMatrix` does for the command line
         let dim = m.per_particle() * s.len();
         let out = PyArray2::<f64>::zeros(py, [dim, dim], true);
         {

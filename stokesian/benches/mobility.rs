@@ -16,7 +16,7 @@ use kernels::{
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Duration;
-use stokesian::dense::LargeMatrix;
+use stokesian::linalg::LargeMatrix;
 use stokesian::{Moments, Particle, Precision, System};
 
 /// `n` unit spheres at random in a box above a wall at z = 0, volume fraction about 5%
@@ -395,7 +395,7 @@ fn dense(c: &mut Criterion) {
     g.finish();
 }
 
-/// The dense Cholesky factorisation (faer, `stokesian::dense`) of the wall mobility of
+/// The dense Cholesky factorisation (faer, `stokesian::linalg`) of the wall mobility of
 /// N = 1000 spheres at F (3000 rows), FT (6000) and FTS (11000); the flop count
 /// `n^3 / 3` is printed alongside, so that GFLOP/s = flops / time.
 fn cholesky(c: &mut Criterion) {
@@ -417,7 +417,7 @@ fn cholesky(c: &mut Criterion) {
             n * n * n / 3.0
         );
         g.bench_function(BenchmarkId::new(format!("{moments:?}"), 1000), |b| {
-            b.iter(|| stokesian::dense::Cholesky::new(&m).unwrap())
+            b.iter(|| stokesian::linalg::Cholesky::new(&m).unwrap())
         });
     }
     g.finish();
@@ -539,7 +539,7 @@ fn lubricated_resistance(c: &mut Criterion) {
 }
 
 /// All 22 two-sphere resistance functions of a pair, seen from each sphere
-/// (`stokesian::pair_tables::pair_scalars`), every pair its own size ratio (1024 pairs,
+/// (`stokesian::resistance::pair_tables::pair_scalars`), every pair its own size ratio (1024 pairs,
 /// ratios spread over `[1e-2, 1e2]`): near contact (`s' - 2` from 1e-6 to 1, evenly in
 /// its logarithm) and far (`s'` in `[3, 23]`). Criterion reports time per pair.
 fn pair_functions(c: &mut Criterion) {
@@ -564,7 +564,9 @@ fn pair_functions(c: &mut Criterion) {
         g.bench_function(name, |b| {
             b.iter(|| {
                 for &(s, lambdas) in &inputs {
-                    black_box(stokesian::pair_tables::pair_scalars(s, lambdas, 22));
+                    black_box(stokesian::resistance::pair_tables::pair_scalars(
+                        s, lambdas, 22,
+                    ));
                 }
             })
         });

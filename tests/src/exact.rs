@@ -1,9 +1,9 @@
 //! Exact reference solutions for the tests: the series live in the solver
-//! (`stokesian::exact`, used for the sphere-wall resistance of Eq. 19) and are re-exported
+//! (`stokesian::resistance::exact`, used for the sphere-wall resistance of Eq. 19) and are re-exported
 //! here; the published tables they are checked against (Chaoui & Feuillebois 2003) are
 //! test data and live here.
 
-pub use stokesian::exact::*;
+pub use stokesian::resistance::exact::*;
 
 /// Published high-accuracy fits of the exact parallel-motion functions: M. Chaoui & F.
 /// Feuillebois, "Creeping flow around a sphere in a shear flow close to a wall", Q. J.

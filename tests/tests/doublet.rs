@@ -1,4 +1,4 @@
-//! The co-rotating doublet (Swan & Brady Sec. III B, Figs. 2-3), `stokesian::doublet`.
+//! The co-rotating doublet (Swan & Brady Sec. III B, Figs. 2-3), `stokesian::studies::doublet`.
 //!
 //! - The far-field rotation rate at one grid point against an independent computation:
 //!   the 22 x 22 FTS mobility from the generator's six-variable generic jets (traced and
@@ -17,7 +17,7 @@ use integration_tests::two_sphere_mobility;
 use kernel_gen::scene::Path;
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::PI;
-use stokesian::doublet::{doublet, farfield_rate_and_tension};
+use stokesian::studies::doublet::{doublet, farfield_rate_and_tension};
 use stokesian::Lubrication;
 
 /// Per-particle layout (11 per sphere) to the moment-major layout of `System::mobility`.
@@ -113,10 +113,10 @@ fn tension_vanishes_by_mirror_symmetry_and_the_asymmetric_variant_changes_the_ra
 
 /// The rate with lubrication at r = 2.05 a, h = 1.01 a (near the maximum, where every
 /// correction is active) against Eq. 19 assembled here independently of
-/// `stokesian::lubrication`: with `E_inf = 0` only the force-torque block of R matters,
+/// `stokesian::resistance::lubrication`: with `E_inf = 0` only the force-torque block of R matters,
 /// `R_FT = (M_FTS^-1)_FT + sum [exact - (far-field inverse)_FT]`, with the sphere-wall
 /// functions from the bispherical series (`integration_tests::exact`) and the two-sphere
-/// functions (`stokesian::two_sphere`, checked in two_sphere_exact.rs) written out for
+/// functions (`stokesian::resistance::two_sphere`, checked in two_sphere_exact.rs) written out for
 /// the line of centres along x and the wall normal along z, and one augmented solve for
 /// the motion and the tension. Tolerance 1e-9 relative: both sides invert matrices with
 /// condition ~1e3 and subtract far-field inverses of size ~1e2 from ~1e2.
@@ -175,7 +175,7 @@ fn resistance_rate_at_one_point_against_an_independent_assembly() {
     // the pair, d = e_x from sphere 0 to 1: A = 6 pi diag(X^A, Y^A, Y^A), C likewise,
     // B_ij = 4 pi Y^B eps_ijk d_k (B_yz = 4 pi Y^B d_x, B_zy = -4 pi Y^B d_x), R_LU = B,
     // R_FO^{ab} = (B^{ba})^T
-    let f = stokesian::two_sphere::resistance_scalars(r, 1.0).unwrap();
+    let f = stokesian::resistance::two_sphere::resistance_scalars(r, 1.0).unwrap();
     let mut exact = DMatrix::<f64>::zeros(12, 12);
     let b = |same: bool, dx: f64| {
         let yb = if same { f.y11b } else { f.y12b };

@@ -2,11 +2,11 @@
 //! plane): by symmetry the sphere and its mirror image are two equal spheres, so every
 //! block is exact, stresslets included. Checked against series derived independently of
 //! the two-sphere twin-multipole code (Brenner 1961 for the normal translation, Jeffery's
-//! image sum for the rotation about the normal, `stokesian::exact`), and every block
+//! image sum for the rotation about the normal, `stokesian::resistance::exact`), and every block
 //! against the inverse of our own far-field free-surface mobility far from the surface.
 
 use std::f64::consts::PI;
-use stokesian::exact::{brenner_xa_free_surface, jeffery_xc_free_surface};
+use stokesian::resistance::exact::{brenner_xa_free_surface, jeffery_xc_free_surface};
 use stokesian::{Confinement, Lubrication, Moments, Particle, System};
 
 const SURFACE: Confinement = Confinement::FreeSurface { height: 0.5 };

@@ -5,7 +5,7 @@
 //! the same in both layouts.
 
 use std::f64::consts::PI;
-use stokesian::two_sphere::resistance_scalars;
+use stokesian::resistance::two_sphere::resistance_scalars;
 use stokesian::{wall_functions, Confinement, Lubrication, Moments, Particle, System};
 
 fn sphere(x: [f64; 3]) -> Particle {
@@ -25,7 +25,7 @@ fn ix(n: usize, a: usize, k: usize) -> usize {
 /// collapses at every separation (inside and far beyond the old cutoff `xi = 2`) to the exact
 /// two-sphere resistance (M^-1 and R^{P,inf} are the same matrix), so the assembled R
 /// must show the Kim & Karrila tensor forms with the functions of
-/// `stokesian::two_sphere`. Tolerance 1e-9 relative: M^-1 - R^{P,inf} cancels to
+/// `stokesian::resistance::two_sphere`. Tolerance 1e-9 relative: M^-1 - R^{P,inf} cancels to
 /// round-off of an inverse with condition ~1/xi.
 #[test]
 fn isolated_pair_resistance_is_the_two_sphere_tensor() {

@@ -7,7 +7,7 @@
 //!
 //! What is asserted is the accuracy claimed in docs/lubrication.md. Wall: for one sphere Eq. 19
 //! reduces to R^W at every height (no cutoff), the generated tables of the series in
-//! `stokesian::exact` (made from the series called with the gap), here checked against
+//! `stokesian::resistance::exact` (made from the series called with the gap), here checked against
 //! the series called with `h/a` (the series themselves are checked against published
 //! tables and 50-digit values in `exact_references.rs`). Pairs (xi < 0.1): the
 //! near-contact two-sphere forms, whose neglected terms are O(xi^2 ln xi). Beyond the
@@ -94,7 +94,7 @@ fn pair_functions(xi: f64) -> [f64; 10] {
 /// Along and about the line of centres, against the exact bispherical solutions
 /// (Stimson & Jeffery 1926 with Brenner's free-surface series; Jeffery 1915), gaps 1e-4
 /// to 1 a. Inside the pair cutoff (xi < 2) Eq. 19 for an isolated pair is the exact
-/// two-sphere series of `stokesian::two_sphere` (truncated at (2/s')^200): X^A within
+/// two-sphere series of `stokesian::resistance::two_sphere` (truncated at (2/s')^200): X^A within
 /// 1e-6 (measured 5.7e-8), X^C within 5e-4 (the X^C series converges slowest at contact:
 /// measured 9.5e-5 for X12C at xi = 1e-4).
 #[test]

@@ -65,7 +65,7 @@ fn pair_correction_is_below_the_tolerance_outside_its_window() {
 
 /// The resistance is continuous with a continuous first derivative in the separation at
 /// both ends of the window, at the old cutoff `s' = 4` and where the far-pair tables take
-/// over from the series (`s' = 3`, `stokesian::pair_tables`; their difference there,
+/// over from the series (`s' = 3`, `stokesian::resistance::pair_tables`; their difference there,
 /// below 1e-12 of the functions, is far below what this resolves): the one-sided differences
 /// `D+ = (R(s+h) - R(s))/h` and `D- = (R(s) - R(s-h))/h` may differ only by about
 /// `h |R''|` (bounded by a central second difference over `H = 20 h`, doubled for its own
@@ -78,7 +78,13 @@ fn pair_correction_is_below_the_tolerance_outside_its_window() {
 fn resistance_is_smooth_across_the_window_the_old_cutoff_and_the_tables() {
     for moments in [Moments::FT, Moments::FTS] {
         let (s0, s1) = Lubrication::default().pair_window(moments);
-        for s in [s0, s1, 0.5 * (s0 + s1), 4.0, stokesian::pair_tables::S_MIN] {
+        for s in [
+            s0,
+            s1,
+            0.5 * (s0 + s1),
+            4.0,
+            stokesian::resistance::pair_tables::S_MIN,
+        ] {
             let h = 1e-4 * s;
             let big_h = 20.0 * h;
             let r = |s_dash: f64| {

@@ -58,7 +58,7 @@ fn dense_assembly_places_every_block_exactly() {
             let m = s.mobility(moments);
             // the same matrix assembled into memory of the caller's, over NaN: every
             // entry is written
-            let mut large = stokesian::dense::LargeMatrix::zeros(k * n, k * n).unwrap();
+            let mut large = stokesian::linalg::LargeMatrix::zeros(k * n, k * n).unwrap();
             large.as_mut_slice().fill(f64::NAN);
             s.mobility_into(moments, large.as_mut_slice());
             assert!(

@@ -1,9 +1,9 @@
-//! The exact two-sphere resistance functions of `stokesian::two_sphere` (Jeffrey & Onishi
+//! The exact two-sphere resistance functions of `stokesian::resistance::two_sphere` (Jeffrey & Onishi
 //! 1984 and Jeffrey 1992 twin-multipole series, summed in the all-separations form) against
 //! independent references:
 //!
 //! 1. `X^A` and `X^C` of equal spheres against the bispherical-coordinate solutions in
-//!    `stokesian::exact` (Stimson & Jeffery 1926 with Brenner's free-surface series; Jeffery
+//!    `stokesian::resistance::exact` (Stimson & Jeffery 1926 with Brenner's free-surface series; Jeffery
 //!    1915), gaps `1e-4 <= xi <= 10`.
 //! 2. All 22 functions against Wilson's (2013) Lamb's-method computation as tabulated by
 //!    Townsend (`tests/data/wilson_lamb_two_sphere.txt`, lambda = 0.01, 0.1, 1, 10).
@@ -17,8 +17,8 @@
 //! `cargo test --release -p integration-tests --test two_sphere_exact -- --nocapture`.
 
 use std::f64::consts::PI;
-use stokesian::exact::{two_sphere_xa, two_sphere_xc, ZETA3};
-use stokesian::two_sphere::{resistance_scalars, PairSeries, NAMES, TRUNCATION};
+use stokesian::resistance::exact::{two_sphere_xa, two_sphere_xc, ZETA3};
+use stokesian::resistance::two_sphere::{resistance_scalars, PairSeries, NAMES, TRUNCATION};
 
 /// Relative error, with the denominator floored at `scale` (for functions that pass
 /// through zero or are tiny compared with the others of their family).
@@ -394,7 +394,7 @@ fn cost_of_tables_and_calls() {
     // (xi = s' - 2 from 1e-6 to 1, evenly in ln xi), both in a cache-warm loop, after
     // the files are read
     for s_dash in [2.5, 4.0] {
-        acc += stokesian::pair_tables::scalars(s_dash, 1.0, 22)
+        acc += stokesian::resistance::pair_tables::scalars(s_dash, 1.0, 22)
             .unwrap()
             .x11a;
     }
@@ -420,7 +420,7 @@ fn cost_of_tables_and_calls() {
     };
     let tables = time_calls(&mut |i, s_dash, count| {
         let lambda = 0.011 + 0.049 * f64::from(i);
-        stokesian::pair_tables::scalars(s_dash, lambda, count)
+        stokesian::resistance::pair_tables::scalars(s_dash, lambda, count)
             .unwrap()
             .x11a
     });
@@ -430,7 +430,7 @@ fn cost_of_tables_and_calls() {
     let t0 = std::time::Instant::now();
     let at: Vec<_> = [0.6, 1.0, 1.0 / 0.6]
         .iter()
-        .map(|&l| stokesian::pair_tables::AtRatio::new(l).unwrap())
+        .map(|&l| stokesian::resistance::pair_tables::AtRatio::new(l).unwrap())
         .collect();
     let build = t0.elapsed() / 3;
     let at_ratio =

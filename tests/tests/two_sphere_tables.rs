@@ -1,8 +1,8 @@
-//! The generated tables of the two-sphere functions (`stokesian::pair_tables`, far and
+//! The generated tables of the two-sphere functions (`stokesian::resistance::pair_tables`, far and
 //! near) against the twin-multipole series they are made from, between the tables' nodes.
 
-use stokesian::pair_tables::{far_scalars, near_scalars, scalars, S_MIN, U_MIN};
-use stokesian::two_sphere::PairSeries;
+use stokesian::resistance::pair_tables::{far_scalars, near_scalars, scalars, S_MIN, U_MIN};
+use stokesian::resistance::two_sphere::PairSeries;
 
 const NAMES: [&str; 22] = [
     "x11a", "x12a", "y11a", "y12a", "y11b", "y12b", "x11c", "x12c", "y11c", "y12c", "x11g", "x12g",

@@ -1,7 +1,7 @@
-//! The generated sphere-wall tables (`stokesian::tables`) against the bispherical
+//! The generated sphere-wall tables (`stokesian::resistance::wall_tables`) against the bispherical
 //! series they were made from, between the nodes, and their continuity.
 
-use stokesian::tables::{intervals, EPS_MAX, EPS_MIN};
+use stokesian::resistance::wall_tables::{intervals, EPS_MAX, EPS_MIN};
 use stokesian::{wall_functions, wall_series, WallFunctions};
 
 fn values(w: &WallFunctions) -> [f64; 5] {

@@ -137,10 +137,10 @@ fn gen(check: bool) -> Result<()> {
         (far, t_far),
         (near, t_near),
     ) = std::thread::scope(|scope| {
-        let wall = scope.spawn(|| timed(|| stokesian::tables::generate().into_bytes()));
-        let pair = scope.spawn(|| timed(stokesian::two_sphere::generate_coefficients));
-        let far = scope.spawn(|| timed(stokesian::pair_tables::generate));
-        let near = scope.spawn(|| timed(stokesian::pair_tables::generate_near));
+        let wall = scope.spawn(|| timed(|| stokesian::generate::wall_tables().into_bytes()));
+        let pair = scope.spawn(|| timed(stokesian::generate::two_sphere_coefficients));
+        let far = scope.spawn(|| timed(stokesian::generate::two_sphere_far));
+        let near = scope.spawn(|| timed(stokesian::generate::two_sphere_near));
         let t = Instant::now();
         let files = kernel_gen::catalog::generate(&scenes);
         let kernels = (files, t.elapsed());

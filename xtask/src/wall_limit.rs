@@ -4,7 +4,7 @@
 //! the route issue 13 proposed for the stresslet rows of the wall (`X^G, Y^G, Y^H, X^M,
 //! Y^M, Z^M`), for which no exact sphere-plane series is at hand.
 //!
-//! At each gap the series (`stokesian::two_sphere`, coefficients built here to `N`
+//! At each gap the series (`stokesian::resistance::two_sphere`, coefficients built here to `N`
 //! terms) is evaluated on a ladder of `lambda`; a `lambda` is kept where the sums to `N`
 //! and to `3N/4` terms agree to a tolerance (the series converges slowly as `s' -> 2`,
 //! and `s' = 2 + 2 eps/(1 + lambda)`), and the values at the five largest kept `lambda`
@@ -12,10 +12,10 @@
 //! converge in whole powers of `u`; a `u ln u` term only made the fits worse, tried).
 //! The estimate of the error is the largest of the changes to a cubic, to a quintic, to
 //! the quartic without the two largest `lambda`, and the tolerance. The force-torque
-//! functions, whose exact sphere-plane values `stokesian::exact` has, calibrate it.
+//! functions, whose exact sphere-plane values `stokesian::resistance::exact` has, calibrate it.
 
 use anyhow::{bail, Result};
-use stokesian::two_sphere::{Coefficients, PairSeries, NAMES};
+use stokesian::resistance::two_sphere::{Coefficients, PairSeries, NAMES};
 
 /// The eleven "11" functions, as indices into [`NAMES`].
 const ELEVEN: [usize; 11] = [0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20];
@@ -27,7 +27,7 @@ const GAPS: [f64; 9] = [1e-3, 1e-2, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0];
 /// normalisation (Kim & Karrila, `d` from the sphere to the plane), in the order of
 /// [`ELEVEN`]'s first five: `X^A, Y^A, -(3/2) F^r, X^C, Y^C` (`lubrication.md` 2.1).
 fn exact_wall(eps: f64) -> [f64; 5] {
-    let [xa, ya, fr, yc, xc] = stokesian::exact::wall_functions_at_gap(eps);
+    let [xa, ya, fr, yc, xc] = stokesian::resistance::exact::wall_functions_at_gap(eps);
     [xa, ya, -1.5 * fr, xc, yc]
 }
 
@@ -79,7 +79,7 @@ pub fn run(args: &[&str]) -> Result<()> {
          six or more); value: quartic in `u = 1/(1 + lambda + eps)` through the five \
          largest kept, extrapolated to `u = 0`; `est`: the error estimate (module \
          docs of `xtask/src/wall_limit.rs`) and `error`: the error against `exact`, the \
-         sphere-plane series (`stokesian::exact`, force-torque functions only), both \
+         sphere-plane series (`stokesian::resistance::exact`, force-torque functions only), both \
          relative to `max(|value|, 1)`. Kim & Karrila \
          normalisation, lengths in the sphere's radius, `d` from the sphere to the plane.\n",
         t0.elapsed().as_secs_f64()

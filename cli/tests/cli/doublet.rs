@@ -39,7 +39,7 @@ fn doublet_writes_csv_and_plots_and_rejects_bad_grids() {
     assert_eq!(rows.len(), 12);
     let lub = stokesian::Lubrication::default();
     for row in &rows {
-        let p = stokesian::doublet::doublet(row[0], row[1], &lub).expect("doublet");
+        let p = stokesian::studies::doublet::doublet(row[0], row[1], &lub).expect("doublet");
         let want = [
             p.r,
             p.h,

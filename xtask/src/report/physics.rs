@@ -2,10 +2,10 @@
 //! equal spheres in unbounded fluid, from the solver at the truncation levels F, FT and
 //! FTS, far field only (the inverse of `stokesian::System::mobility`) and with
 //! lubrication (`stokesian::System::resistance` with `stokesian::Lubrication::default()`),
-//! against exact results: the bispherical series of `stokesian::exact` (Brenner,
+//! against exact results: the bispherical series of `stokesian::resistance::exact` (Brenner,
 //! O'Neill, Dean & O'Neill / Goldman-Cox-Brenner, Jeffery; Stimson & Jeffery for the
 //! pair along the line of centres) and the two-sphere twin-multipole series of
-//! `stokesian::two_sphere` (across the line of centres); and the run time per particle.
+//! `stokesian::resistance::two_sphere` (across the line of centres); and the run time per particle.
 
 use super::table::{self, Table};
 use super::timing::ns_per_eval;
@@ -18,7 +18,7 @@ use integration_tests::configurations::{
 use nalgebra::DMatrix;
 use std::fmt::Write as _;
 use std::hint::black_box;
-use stokesian::exact::{
+use stokesian::resistance::exact::{
     brenner_xa_free_surface, brenner_xa_wall, jeffery_xc_free_surface, jeffery_xc_wall,
     oneill_parallel, rotation_parallel, two_sphere_xa, two_sphere_xc,
 };
@@ -135,7 +135,7 @@ fn sphere_wall(sweep: usize) -> Result<Case> {
             h - 1.0
                 < Lubrication::default()
                     .wall_cutoff
-                    .min(stokesian::tables::EPS_MAX)
+                    .min(stokesian::resistance::wall_tables::EPS_MAX)
         },
         read: |r| wall_functions_of(r).to_vec(),
     })
@@ -173,7 +173,7 @@ fn two_spheres(sweep: usize) -> Result<Case> {
         exact: |xi| {
             let (xa11, xa12) = two_sphere_xa(xi);
             let (xc11, xc12) = two_sphere_xc(xi);
-            let s = stokesian::two_sphere::resistance_scalars(2.0 + xi, 1.0)
+            let s = stokesian::resistance::two_sphere::resistance_scalars(2.0 + xi, 1.0)
                 .with_context(|| format!("two-sphere series at xi = {xi}"))?;
             Ok(vec![
                 xa11, xa12, xc11, xc12, s.y11a, s.y12a, s.y11b, s.y12b, s.y11c, s.y12c,
@@ -270,14 +270,14 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
          - One sphere of radius a above a no-slip wall, {} heights h/a = {} (geometric in the gap): X^A_w normal translation \
          (Brenner 1961), Y^A_w parallel translation (O'Neill 1964), F^r the translation-rotation coupling and Y^C_w rotation \
          parallel to the wall (Dean & O'Neill 1963 as corrected by Goldman, Cox & Brenner 1967), X^C_w rotation about the \
-         normal (Jeffery 1915), all from `stokesian::exact` (bispherical series to convergence).\n\
+         normal (Jeffery 1915), all from `stokesian::resistance::exact` (bispherical series to convergence).\n\
          - Two equal spheres in unbounded fluid, {} gaps xi = r/a - 2 = {}: along and about the line of centres X11A, X12A \
-         (Stimson & Jeffery 1926 with Brenner's series, `stokesian::exact::two_sphere_xa`) and X11C, X12C (Jeffery 1915, \
-         `two_sphere_xc`); across it Y11A ... Y12C from the twin-multipole series `stokesian::two_sphere::resistance_scalars` \
+         (Stimson & Jeffery 1926 with Brenner's series, `stokesian::resistance::exact::two_sphere_xa`) and X11C, X12C (Jeffery 1915, \
+         `two_sphere_xc`); across it Y11A ... Y12C from the twin-multipole series `stokesian::resistance::two_sphere::resistance_scalars` \
          (Jeffrey & Onishi 1984, corrected by Townsend 2023). Eq. 19 for an isolated pair uses that same series, so with \
          lubrication the Y errors check the assembly, not the series.\n\
          - One sphere of radius a above a flat free surface, the same heights: X^A_fs normal translation (Brenner 1961, \
-         `stokesian::exact::brenner_xa_free_surface`) and X^C_fs rotation about the normal (Jeffery's image sum, \
+         `stokesian::resistance::exact::brenner_xa_free_surface`) and X^C_fs rotation about the normal (Jeffery's image sum, \
          `jeffery_xc_free_surface`), both independent of the two-sphere series that Eq. 19 uses here.\n\n\
          Time per particle: forming the resistance (assembly of the mobility, Cholesky inverse, lubrication where used) for \
          every configuration of the sweep, divided by the number of configurations and of spheres (the two-sphere \

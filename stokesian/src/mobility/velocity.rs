@@ -2,8 +2,9 @@
 //! problem at F, FT or FTS, far field or with lubrication (what `stokesian velocity`
 //! computes, as a library call).
 
-use crate::assembly::{solve_fts, Moments, SingularStressletBlock, System};
-use crate::lubrication::{solve_resistance, solve_resistance_fts, Lubrication, ResistanceError};
+use crate::resistance::{solve_resistance, solve_resistance_fts, Lubrication, ResistanceError};
+use crate::system::{Moments, System};
+use nalgebra::DMatrix;
 use thiserror::Error;
 
 /// Above this condition estimate of the lubricated resistance the velocities are refused.
@@ -103,6 +104,43 @@ pub fn strain_components(e: &[[f64; 3]; 3]) -> Result<[f64; 5], VelocityError> {
     }
     Ok(out)
 }
+
+/// The FTS mobility problem of rigid spheres: given forces and torques `x` (`6N`,
+/// moment-major) and a uniform imposed strain `e_inf` (5 components in the orthonormal
+/// basis), the strain rows of the FTS mobility `m` (`11N x 11N`) give
+/// `-E_inf = M_EF F + M_EL L + M_ES S`, solved for the stresslets `S` by Cholesky of
+/// `M_ES` (LU if it is not positive definite, which valid input never gives); then
+/// `(U, Omega) = M_(U,Omega)(F, L, S)`. Returns the `6N` velocities (moment-major,
+/// relative to the ambient flow) and whether Cholesky succeeded.
+pub fn solve_fts(
+    m: &DMatrix<f64>,
+    x: &[f64],
+    e_inf: &[f64; 5],
+) -> Result<(Vec<f64>, bool), SingularStressletBlock> {
+    let n = m.nrows() / 11;
+    let fl = nalgebra::DVector::from_column_slice(x);
+    let m_e_fl = m.view((6 * n, 0), (5 * n, 6 * n));
+    let m_es = m.view((6 * n, 6 * n), (5 * n, 5 * n)).into_owned();
+    let mut rhs = -(m_e_fl * &fl);
+    for a in 0..n {
+        for c in 0..5 {
+            rhs[5 * a + c] -= e_inf[c];
+        }
+    }
+    let (s, cholesky) = match crate::linalg::Cholesky::new(&m_es) {
+        Some(ch) => (nalgebra::DVector::from_vec(ch.solve(rhs.as_slice())), true),
+        None => (m_es.lu().solve(&rhs).ok_or(SingularStressletBlock)?, false),
+    };
+    let m_ufl = m.view((0, 0), (6 * n, 6 * n));
+    let m_us = m.view((0, 6 * n), (6 * n, 5 * n));
+    let u = m_ufl * &fl + m_us * &s;
+    Ok((u.as_slice().to_vec(), cholesky))
+}
+
+/// The stresslet block `M_ES` of an FTS mobility is singular.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[error("the stresslet block M_ES is singular")]
+pub struct SingularStressletBlock;
 
 impl System {
     /// The velocities of the spheres under forces and torques `x` (`3N` at F, `6N` at FT

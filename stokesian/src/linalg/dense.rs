@@ -2,11 +2,12 @@
 //! factorisation, its triangular solves and products, and matrix-vector products, on the
 //! nalgebra matrices the rest of the crate holds. nalgebra keeps the fixed-size blocks
 //! and small systems; a `DMatrix` is column-major like faer's matrices and is viewed by
-//! faer in place, never copied on the way in. (nalgebra's unblocked Cholesky of the
-//! 3000 x 3000 F mobility of 1000 spheres took 2.3 s on this machine, faer's 0.22 s.)
+//! faer in place, never copied on the way in. (nalgebra's Cholesky is unblocked and runs
+//! on one thread: an order of magnitude slower than faer's at thousands of rows.)
 //! Below [`SMALL`] rows the factorisation is nalgebra's: faer hands every call to the
-//! thread pool and allocates its workspace, which cost 12 us for a 6 x 6 matrix (the FT
-//! resistance of one sphere, factored three times per lubricated Brownian step).
+//! thread pool and allocates its workspace, which costs more than the factorisation of a
+//! 6 x 6 matrix (the FT resistance of one sphere, factored three times per lubricated
+//! Brownian step).
 
 use faer::linalg::solvers::{DenseSolveCore, Llt, Solve};
 use faer::{Mat, MatRef, Side};
@@ -130,9 +131,9 @@ impl Cholesky {
 /// large matrices the command line assembles and writes ([`crate::System::mobility_into`]).
 /// A fresh `Vec` is mapped 4 KiB at a time where it is first written: at FTS, N = 1000
 /// (968 MB) mapping and clearing its pages and the TLB misses of the column-wise writes
-/// cost more than the kernels (bench "wall dense FTS assembly": 0.82 s into a `Vec`, 0.35 s
-/// here; for a 10 MB matrix the huge pages cost 2 ms more). Elsewhere than Linux, or where the kernel
-/// declines the advice, the same matrix in ordinary pages.
+/// cost more than the kernels (more than twice the time of the whole assembly into huge
+/// pages). Elsewhere than Linux, or where the kernel declines the advice, the same matrix
+/// in ordinary pages.
 pub struct LargeMatrix {
     map: memmap2::MmapMut,
     rows: usize,
@@ -201,6 +202,40 @@ fn small_inverse(l: &DMatrix<f64>) -> DMatrix<f64> {
         }
     }
     inv
+}
+
+/// The outcome of [`check_spd`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpdCheck {
+    /// `||M - M^T||_F / ||M||_F`.
+    pub asymmetry: f64,
+    /// Whether the Cholesky factorisation of the symmetric part succeeded.
+    pub positive_definite: bool,
+}
+
+impl SpdCheck {
+    /// Symmetric to `1e-12` relative and positive definite. (The assembled matrix is
+    /// symmetric by construction up to the round-off of the self blocks, ~1e-16.)
+    pub fn passed(&self) -> bool {
+        self.asymmetry <= 1e-12 && self.positive_definite
+    }
+}
+
+/// Symmetry and positive-definiteness (Cholesky) of a mobility or resistance matrix
+/// (`&DMatrix` or a view, such as [`LargeMatrix::view`]).
+pub fn check_spd<'a>(m: impl Into<DMatrixView<'a, f64>>) -> SpdCheck {
+    let m: DMatrixView<f64> = m.into();
+    let norm = m.norm();
+    let asymmetry = if norm > 0.0 {
+        (m - m.transpose()).norm() / norm
+    } else {
+        0.0
+    };
+    let sym = (m + m.transpose()) * 0.5;
+    SpdCheck {
+        asymmetry,
+        positive_definite: Cholesky::new(&sym).is_some(),
+    }
 }
 
 #[cfg(test)]

@@ -4,11 +4,12 @@
 //! 1e-3 a up to the wall cutoff; all of them are the references of the tests.
 //!
 //! Everything here is `std` only, double precision, and written from the published
-//! formulas (sources below, as collected in `docs/lubrication.md`, "Reference
-//! formulas"). Each series is rewritten so that no step cancels
+//! formulas (sources below; collected with a second check in `docs/lubrication.md`,
+//! "Reference formulas"). Each series is rewritten so that no step cancels
 //! catastrophically (see "Numerics"), and every function is checked against an
 //! independent 40-digit `mpmath` evaluation of the formulas as printed
-//! (`tests/derivations/exact_check.py`) in `tests/tests/exact_references.rs`.
+//! (`tests/derivations/exact_check.py`) in the integration tests of the exact
+//! references.
 //!
 //! # Conventions
 //!
@@ -33,7 +34,7 @@
 //! `T^t*` = his `G*`; `X^C_w` = Jeffery's (1915) couple coefficient.
 //!
 //! Two equal spheres (radius `a`, centres `r` apart, `xi = r/a - 2`), Kim & Karrila
-//! normalisation (`lubrication.md` 1.2-1.3; `d` the unit vector from sphere 1 to sphere 2):
+//! normalisation (Kim & Karrila 1991, sec. 7.2; `d` the unit vector from sphere 1 to sphere 2):
 //! `F_1 = -6 pi mu a [X11A d d . U_1 + X12A d d . U_2] + ...`, `L_1 = -8 pi mu a^3 [X11C d d
 //! . Omega_1 + X12C d d . Omega_2] + ...`. For equal spheres each function splits into a
 //! symmetric and an antisymmetric motion (`cosh alpha = r/(2a)`, i.e. `h = r/2`):
@@ -55,11 +56,10 @@
 //! * Brenner, Chem. Eng. Sci. 16, 242 (1961), eq. 2.19 (rigid wall) and the free-surface
 //!   case of the same paper ([`brenner_xa_wall`], [`brenner_xa_free_surface`]; the
 //!   free-surface series is written from memory of that paper and *validated* against the
-//!   independent far-field series of Jeffrey & Onishi 1984 and the near-contact constants
-//!   of `lubrication.md` 1.5, see its docs).
+//!   independent far-field series of Jeffrey & Onishi 1984 and the near-contact forms
+//!   of two equal spheres of Jeffrey & Onishi 1984, see its docs).
 //! * Stimson & Jeffery, Proc. R. Soc. A 111, 110 (1926) ([`stimson_jeffery`]).
-//! * O'Neill, Mathematika 11, 67 (1964), eqs. 23, 26, 27 ([`oneill_parallel`]), in the form
-//!   of `wall-exact-series.md`.
+//! * O'Neill, Mathematika 11, 67 (1964), eqs. 23, 26, 27 ([`oneill_parallel`]).
 //! * Dean & O'Neill, Mathematika 10, 13 (1963), as corrected by GCB (Chem. Eng. Sci. 22,
 //!   637, 1967) ([`rotation_parallel`]): the same matrix as O'Neill's, another right-hand
 //!   side and inhomogeneous terms in `C_n`, `E_n`. The formulation was taken from two
@@ -255,8 +255,7 @@ fn brenner_d_wall(g: Geom, n: usize) -> f64 {
 }
 
 /// Brenner's (1961) normal-approach coefficient for a rigid wall, eq. 2.19, with the
-/// number of terms summed (relative accuracy 2e-15; about 0.1 ms at `h/a = 1.0001`, 0.6 us
-/// at `h/a = 10`):
+/// number of terms summed (relative accuracy 2e-15):
 ///
 /// ```text
 /// X^A_w = (4/3) sinh a sum_{n>=1} n(n+1)/((2n-1)(2n+3)) { [2 sinh((2n+1)a) + (2n+1) sinh 2a]
@@ -290,7 +289,7 @@ pub fn brenner_xa_wall(h_over_a: f64) -> f64 {
 /// Same evaluation and truncation as [`brenner_xa_wall`]. Checked against the far-field
 /// series of Jeffrey & Onishi (1984) for two spheres (`exact_check.py`, agreement to all
 /// 17 printed digits at `h/a = 4`), and its near-contact form `1/(4 eps) + (9/40) ln(1/eps) +
-/// ...` against `lubrication.md` 1.5 (tests).
+/// ...` against the equal-sphere forms of Jeffrey & Onishi (1984) (tests).
 pub fn brenner_xa_free_surface(h_over_a: f64) -> f64 {
     axisym(geom_h(h_over_a), Kind::Free).0
 }
@@ -305,7 +304,7 @@ pub fn brenner_xa_free_surface(h_over_a: f64) -> f64 {
 /// ```
 ///
 /// Evaluated as `P/N` with the positive `P` of [`brenner_xa_wall`]; same truncation.
-/// Limit at contact 0.6451414 (`lubrication.md` 1.5; measured 0.645141483632 at `xi =
+/// Limit at contact 0.6451414 (Jeffrey & Onishi 1984; measured 0.645141483632 at `xi =
 /// 1e-6` by `exact_check.py`).
 pub fn stimson_jeffery(h_over_a: f64) -> f64 {
     axisym(geom_h(h_over_a), Kind::Together).0
@@ -397,7 +396,7 @@ pub fn jeffery_xc_free_surface(h_over_a: f64) -> f64 {
 /// X11A + X12A = stimson_jeffery(1 + xi/2),    X11A - X12A = brenner_xa_free_surface(1 + xi/2).
 /// ```
 ///
-/// Near contact (`lubrication.md` 1.5) `X11A = 1/(4 xi) + (9/40) ln(1/xi) + 0.99536 + (3/112)
+/// Near contact (Jeffrey & Onishi 1984, equal spheres) `X11A = 1/(4 xi) + (9/40) ln(1/xi) + 0.99536 + (3/112)
 /// xi ln(1/xi)`, `X12A = -X11A + 0.64514...`; far away `X11A -> 1`, `X12A -> -3/(2 rho)`.
 pub fn two_sphere_xa(xi: f64) -> (f64, f64) {
     assert!(xi.is_finite() && xi > 0.0, "gap xi must be > 0, got {xi}");
@@ -599,7 +598,7 @@ fn translation(g: Geom, nmax: usize) -> (f64, f64) {
 ///
 /// O'Neill's eq. 23 (tridiagonal in `A_n`, right-hand side `sqrt2 [2 coth((n+1/2)a) -
 /// coth((n-1/2)a) - coth((n+3/2)a)]`), then `B_n .. E_n` and the force and torque sums
-/// (eqs. 26, 27), exactly as in `wall-exact-series.md`:
+/// (eqs. 26, 27):
 ///
 /// ```text
 /// Y^A_w = (sqrt2/6) sinh a sum_n [E_n + n(n+1) C_n],
@@ -612,8 +611,8 @@ fn translation(g: Geom, nmax: usize) -> (f64, f64) {
 /// evaluation: `Y^A_w` 8e-15 relative; `T^t*` 4e-14 relative up to `h/a = 2`, then
 /// `~1e-16 (2h/a)^5` relative (cancellation; 1.8e-10 at `h/a = 10`), absolute error below
 /// 4e-14 everywhere (module docs). Validated against Chaoui & Feuillebois (2003) Tables
-/// 9-11 (module `chaoui_feuillebois`). Cost: about 0.4 ms at `h/a = 1.0001` (N = 2132),
-/// 4 us at `h/a = 10` (release build, measured by the `timing` test).
+/// 9-11 (module `chaoui_feuillebois`). Cost: `O(N)` (the system is tridiagonal), N = 2132
+/// at `h/a = 1.0001`.
 pub fn oneill_parallel(h_over_a: f64) -> (f64, f64) {
     oneill_parallel_truncated(h_over_a, oneill_terms(h_over_a))
 }

@@ -1,18 +1,18 @@
 //! Generated tables of the 22 two-sphere resistance functions at every separation `s' =
 //! 2r/(a1 + a2) > 2` and size ratio `lambda = a2/a1` in `[1e-2, 1e2]`: 2-D Chebyshev
 //! fits made by `cargo xtask gen` from the twin-multipole series of
-//! [`crate::two_sphere`] and committed in `src/generated/two_sphere_far.bin` and
+//! [`crate::resistance::two_sphere`] and committed in `src/generated/two_sphere_far.bin` and
 //! `src/generated/two_sphere_near.bin`. No series is built at run time.
 //!
 //! - **Far** (`s' >= S_MIN = 3`): each function is a power series in `t = 2/s'` with
-//!   coefficients that are polynomials in `mu = lambda/(1 + lambda)` ([`crate::two_sphere`],
+//!   coefficients that are polynomials in `mu = lambda/(1 + lambda)` ([`crate::resistance::two_sphere`],
 //!   module docs): analytic on `t < 1`, so on `t <= 2/3` a few terms in `t` and `mu`
 //!   fit it to 4e-11 with no singular part to take out (the lubrication singularities
 //!   sit at contact, `t = 1`).
 //! - **Near** (`2 < s' < 3`, gap `xi = s' - 2` in `(0, 1)`): the series' closed forms
 //!   carry the singular terms `1/xi`, `ln(1/xi)` and `xi ln(1/xi)` exactly
-//!   ([`crate::two_sphere::SingularForms`], evaluated at run time); the tables fit only
-//!   the regular remainder ([`crate::two_sphere::PairSeries::regular`]), continuous up to
+//!   ([`crate::resistance::two_sphere::SingularForms`], evaluated at run time); the tables fit only
+//!   the regular remainder ([`crate::resistance::two_sphere::PairSeries::regular`]), continuous up to
 //!   contact, in `u = ln xi` and `ln lambda`. In `u` the remainder's first non-analytic
 //!   term, `xi^2 ln xi`, is smooth, and the remainder tends to its contact value
 //!   exponentially as `u -> -infinity`. The table reaches `xi = exp(U_MIN)` (2.3e-16),
@@ -27,7 +27,7 @@
 //!
 //! Each table file holds, patch by patch (separation variable, then ratio variable),
 //! every function's `terms` x `terms` coefficients (separation x ratio), the terms that
-//! no function needs zeroed by the generator (`TRIM`, `trim_patch`: 64 of 160 terms kept
+//! no function needs zeroed by the generator ([`crate::generate`]: 64 of 160 terms kept
 //! on an average near patch, 48 of 80 far). Read once, each patch is packed with the
 //! functions in lanes: per kept term `(i, j)` one weight `T_i T_j` and one multiply-add
 //! per vector of functions, from two contiguous blocks (the terms kept in double
@@ -38,13 +38,15 @@
 //! the many pairs of a suspension that share it: their functions then cost about a
 //! third.
 //!
-//! Accuracy against the series between the nodes (`tests/tests/two_sphere_tables.rs`):
-//! see docs/lubrication.md.
+//! Accuracy against the series between the nodes (the integration tests of the
+//! two-sphere tables): see docs/lubrication.md.
 
-use crate::tables::{chebyshev_coefficients, chebyshev_nodes};
-use crate::two_sphere::{PairScalars, PairSeries, SingularForms, LAMBDA_MIN};
-use kernels::lanes::{dispatch_with, Isa, Lane, WithLanes};
+mod sums;
+
+use super::two_sphere::{PairScalars, SingularForms, LAMBDA_MIN};
+use kernels::lanes::{dispatch_with, Isa};
 use std::sync::OnceLock;
+use sums::{chebyshev_values, RowSums, TermSums};
 
 /// The smallest separation `s'` of the far table, the largest (excluded) of the near one.
 pub const S_MIN: f64 = 3.0;
@@ -52,9 +54,9 @@ pub const S_MIN: f64 = 3.0;
 /// separation `s' > 2` in `f64`; a smaller `ln xi` would be taken as `U_MIN`).
 pub const U_MIN: f64 = -36.0;
 /// The functions, in the order of [`PairScalars::to_array`].
-const FUNCTIONS: usize = 22;
+pub(crate) const FUNCTIONS: usize = 22;
 /// The most Chebyshev coefficients in a separation or ratio variable.
-const MAX_TERMS: usize = 20;
+pub(crate) const MAX_TERMS: usize = 20;
 const _: () = assert!(
     FAR.separation.terms <= MAX_TERMS
         && NEAR.separation.terms <= MAX_TERMS
@@ -66,12 +68,12 @@ const _: () = assert!(
 /// lo) g(1 - (k + 1)/patches)` with `g` of the [`Grading`], and `terms` Chebyshev
 /// coefficients on each.
 #[derive(Clone, Copy, Debug)]
-struct Axis {
+pub(crate) struct Axis {
     lo: f64,
     hi: f64,
-    patches: usize,
+    pub(crate) patches: usize,
     grading: Grading,
-    terms: usize,
+    pub(crate) terms: usize,
 }
 
 /// How the parts of an [`Axis`] are spaced.
@@ -87,7 +89,7 @@ enum Grading {
 
 impl Axis {
     /// The left end of part `k` (`k = patches`: `hi`).
-    fn bound(&self, k: usize) -> f64 {
+    pub(crate) fn bound(&self, k: usize) -> f64 {
         if k == 0 {
             return self.lo;
         }
@@ -104,13 +106,6 @@ impl Axis {
     fn bounds(&self) -> Vec<f64> {
         (0..=self.patches).map(|k| self.bound(k)).collect()
     }
-
-    /// The Chebyshev points of every part.
-    fn nodes(&self) -> Vec<Vec<f64>> {
-        (0..self.patches)
-            .map(|p| chebyshev_nodes(self.bound(p), self.bound(p + 1), self.terms))
-            .collect()
-    }
 }
 
 /// The part of an axis with ends `bounds` ([`Axis::bounds`]) holding `x` (clamped to
@@ -124,17 +119,17 @@ fn locate(bounds: &[f64], x: f64) -> (usize, f64) {
 }
 
 /// A table: its file, its two variables (separation, ratio) and the coefficients, read once.
-struct Table {
+pub(crate) struct Table {
     file: &'static [u8],
-    separation: Axis,
-    ratio: Axis,
+    pub(crate) separation: Axis,
+    pub(crate) ratio: Axis,
     read: &'static OnceLock<Option<Read>>,
 }
 
 /// A table's file as read, packed for sums with the functions in lanes: for each patch
 /// (separation, then ratio), the terms `(i, j)` (separation, ratio) that any function
-/// keeps (the generator zeroes the others, [`trim_patch`]), and for each such term the
-/// 22 functions' coefficients side by side ([`PADDED`] numbers), in double precision or,
+/// keeps (the generator, [`crate::generate`], zeroes the others), and for each such term
+/// the 22 functions' coefficients side by side ([`PADDED`] numbers), in double precision or,
 /// where the rounding costs no function more than [`NARROW`] on the patch, in single
 /// precision (half the memory to read); the sums read nothing else.
 struct Read {
@@ -175,51 +170,11 @@ impl<T> Terms<T> {
 
 /// The most that rounding a patch's terms to single precision may change a function
 /// there (each `|T_i T_j| <= 1`; a coefficient `c` rounds by at most `2^-24 |c|`), in Kim
-/// & Karrila's normalisation, as [`TRIM`]: 80% of the kept terms are then read in single
-/// precision (51.5 of 64.6 on an average near patch, 38.3 of 48.3 far), and the tables'
+/// & Karrila's normalisation, as the generator's trimming: 80% of the kept terms are
+/// then read in single precision (51.5 of 64.6 on an average near patch, 38.3 of 48.3
+/// far), and the tables'
 /// errors against the series are unchanged to two digits (6.6e-10 near, 3.8e-11 far).
 const NARROW: f64 = 5e-12;
-
-/// The most the terms a table drops may add to a function on a patch (each
-/// `|T_i T_j| <= 1`), in Kim & Karrila's normalisation: absolute, so that it stays below
-/// the tables' errors against the series relative to `max(|F|, 1)` (6.6e-10 near,
-/// 3.8e-11 far, both unchanged by the trimming to two digits) and below the step where they meet
-/// (2.9e-11 at `s' = 3` with the terms trimmed).
-const TRIM: f64 = 1e-11;
-
-/// Zero the terms of a patch that no function needs: the patch's 22 functions'
-/// `rows x terms` coefficients (function after function) lose the last kept term of a
-/// row (separation term `i`, ratio terms `j` from 0), the one whose largest coefficient
-/// over the functions is least first, while what each function loses in absolute sum
-/// stays within `budget`; row 0 keeps its first term, and no row keeps more terms than
-/// the row before it.
-fn trim_patch(patch: &mut [f64], rows: usize, terms: usize, budget: f64) {
-    let size = rows * terms;
-    let mut kept = vec![terms; rows];
-    let mut lost = [0.0; FUNCTIONS];
-    let cell = |i: usize, j: usize| (0..FUNCTIONS).map(move |k| k * size + i * terms + j);
-    loop {
-        let cheapest = (0..rows)
-            .filter(|&i| kept[i] > usize::from(i == 0))
-            .filter(|&i| kept.get(i + 1).is_none_or(|&n| n < kept[i]))
-            .filter(|&i| {
-                cell(i, kept[i] - 1)
-                    .zip(&lost)
-                    .all(|(c, lost)| lost + patch[c].abs() <= budget)
-            })
-            .map(|i| {
-                let largest = cell(i, kept[i] - 1).fold(0.0, |m: f64, c| m.max(patch[c].abs()));
-                (largest, i)
-            })
-            .min_by(|a, b| a.0.total_cmp(&b.0));
-        let Some((_, i)) = cheapest else { break };
-        kept[i] -= 1;
-        for (c, lost) in cell(i, kept[i]).zip(&mut lost) {
-            *lost += patch[c].abs();
-            patch[c] = 0.0;
-        }
-    }
-}
 
 /// `mu = lambda/(1 + lambda)`, the far table's ratio variable.
 const fn mu(lambda: f64) -> f64 {
@@ -232,8 +187,8 @@ const fn mu(lambda: f64) -> f64 {
 /// patches of 16 x 16 terms (3.1e-12, but a call for all 22 functions took twice as
 /// long: it reads the coefficients from beyond the first-level cache); 3 x 4 patches of
 /// 12 x 16 (5.9e-12); 8 equal `mu` patches of 8 terms (5.1e-9 at `lambda = 100`).
-static FAR: Table = Table {
-    file: include_bytes!("generated/two_sphere_far.bin"),
+pub(crate) static FAR: Table = Table {
+    file: include_bytes!("../../generated/two_sphere_far.bin"),
     separation: Axis {
         lo: 0.0,
         hi: 2.0 / S_MIN,
@@ -256,11 +211,10 @@ static FAR_READ: OnceLock<Option<Read>> = OnceLock::new();
 /// (ends -36, -33.06, ..., -1, -0.563, -0.25, -0.063, 0), 10 terms; `ln lambda` on
 /// eight equal patches of `[ln 1e-2, ln 1e2]`, 16 terms: 160 coefficients per function,
 /// 6.6e-10 off the series. Tried: six patches of 20 terms in `u` (1.1e-9, but twice the
-/// coefficients per call: a call for all 22 functions took 0.83-1.02 us against
-/// 0.52-0.73 us); 12, 16 and 20 patches of 10 terms (1.1e-6, 1.5e-8 and 2.3e-9 at
+/// coefficients per call, and a call for all 22 functions took half as long again); 12, 16 and 20 patches of 10 terms (1.1e-6, 1.5e-8 and 2.3e-9 at
 /// `lambda = 100`); 16 patches of 8 terms in `ln lambda` (3.4e-6).
-static NEAR: Table = Table {
-    file: include_bytes!("generated/two_sphere_near.bin"),
+pub(crate) static NEAR: Table = Table {
+    file: include_bytes!("../../generated/two_sphere_near.bin"),
     separation: Axis {
         lo: U_MIN,
         hi: 0.0,
@@ -283,12 +237,12 @@ static NEAR_READ: OnceLock<Option<Read>> = OnceLock::new();
 
 impl Table {
     /// Numbers in the table.
-    fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.separation.patches * self.ratio.patches * FUNCTIONS * self.patch()
     }
 
     /// Coefficients of one function on one patch.
-    fn patch(&self) -> usize {
+    pub(crate) fn patch(&self) -> usize {
         self.separation.terms * self.ratio.terms
     }
 
@@ -442,126 +396,10 @@ impl Table {
             rows,
         })
     }
-
-    /// The table's contents: every function's coefficients on every patch, from
-    /// `values(ratio node) -> (separation node -> the 22 values)` at the Chebyshev points
-    /// of the first kind (each ratio node's series built once, in parallel).
-    fn generate<F>(&self, values: F) -> Vec<u8>
-    where
-        F: Fn(f64, &[f64]) -> Vec<[f64; FUNCTIONS]> + Sync,
-    {
-        use rayon::prelude::*;
-        let (sx, sy) = (self.separation.nodes(), self.ratio.nodes());
-        let flat: Vec<f64> = sx.concat();
-        // at[py][j][px * terms + i]: the functions at ratio node j of patch py and
-        // separation node i of patch px
-        let at: Vec<Vec<Vec<[f64; FUNCTIONS]>>> = sy
-            .iter()
-            .map(|nodes| nodes.par_iter().map(|&y| values(y, &flat)).collect())
-            .collect();
-        let (nx, ny) = (self.separation.terms, self.ratio.terms);
-        let mut out = Vec::with_capacity(self.len() * 8);
-        for px in 0..self.separation.patches {
-            for at_y in &at {
-                let mut patch = vec![0.0; FUNCTIONS * nx * ny];
-                for (k, patch) in patch.chunks_exact_mut(nx * ny).enumerate() {
-                    // along the ratio for each separation node, then along the
-                    // separation for each ratio term
-                    let rows: Vec<Vec<f64>> = (0..nx)
-                        .map(|i| {
-                            let v: Vec<f64> = at_y.iter().map(|v| v[px * nx + i][k]).collect();
-                            chebyshev_coefficients(&v)
-                        })
-                        .collect();
-                    for j in 0..ny {
-                        let c =
-                            chebyshev_coefficients(&rows.iter().map(|r| r[j]).collect::<Vec<_>>());
-                        for (i, ci) in c.into_iter().enumerate() {
-                            patch[i * ny + j] = ci;
-                        }
-                    }
-                }
-                trim_patch(&mut patch, nx, ny, TRIM);
-                out.extend(patch.iter().flat_map(|v| v.to_le_bytes()));
-            }
-        }
-        out
-    }
-}
-
-/// `sum_ij T_i(x) T_j(y) c_ij` of the first `N` functions of one patch ([`Read`]'s
-/// packing), the functions in lanes ([`kernels::lanes`]): one weight `T_i(x) T_j(y)` per
-/// kept term and one multiply-add per vector of functions (independent chains side by
-/// side); no sum across lanes.
-struct TermSums<'a, const N: usize> {
-    /// The patch's terms kept in double precision: coefficients and `(i, j)`.
-    wide: (&'a [[f64; PADDED]], &'a [[u8; 2]]),
-    /// Those kept in single precision.
-    narrow: (&'a [[f32; PADDED]], &'a [[u8; 2]]),
-    /// `T_i(x)`.
-    cx: &'a [f64; MAX_TERMS],
-    /// `T_j(y)`.
-    cy: &'a [f64; MAX_TERMS],
-    /// The sums, the first `N` set.
-    out: &'a mut [f64; PADDED],
-}
-
-impl<'a, const N: usize> TermSums<'a, N> {
-    /// The sums of the patch's `(wide, narrow)` terms at `(T_i(x), T_j(y))` into `out`
-    /// on the lanes of `isa`; false if this processor lacks it.
-    fn run_on(
-        isa: Isa,
-        (wide, narrow): TermsOf<'a>,
-        (cx, cy): (&'a [f64; MAX_TERMS], &'a [f64; MAX_TERMS]),
-        out: &'a mut [f64; PADDED],
-    ) -> bool {
-        let sums = TermSums::<N> {
-            wide,
-            narrow,
-            cx,
-            cy,
-            out,
-        };
-        dispatch_with(isa, sums).is_ok()
-    }
-}
-
-/// A patch's kept terms, double and single precision: coefficients and `(i, j)`.
-type TermsOf<'a> = (
-    (&'a [[f64; PADDED]], &'a [[u8; 2]]),
-    (&'a [[f32; PADDED]], &'a [[u8; 2]]),
-);
-
-impl<const N: usize> WithLanes for TermSums<'_, N> {
-    type Elem = f64;
-    type Output = ();
-
-    #[inline(always)]
-    fn run<L: Lane<Elem = f64>>(self) {
-        let vectors = N / L::WIDTH;
-        let mut acc = [L::splat(0.0); PADDED];
-        // (no closure: closures do not inherit the target features, ARCHITECTURE.md)
-        let (cx, cy) = (self.cx, self.cy);
-        for (c, &[i, j]) in self.wide.0.iter().zip(self.wide.1) {
-            let w = L::splat(cx[usize::from(i)] * cy[usize::from(j)]);
-            for (v, a) in acc.iter_mut().take(vectors).enumerate() {
-                *a = L::load(&c[v * L::WIDTH..]).mul_add(w, *a);
-            }
-        }
-        for (c, &[i, j]) in self.narrow.0.iter().zip(self.narrow.1) {
-            let w = L::splat(cx[usize::from(i)] * cy[usize::from(j)]);
-            for (v, a) in acc.iter_mut().take(vectors).enumerate() {
-                *a = L::load_f32(&c[v * L::WIDTH..]).mul_add(w, *a);
-            }
-        }
-        for (v, a) in acc.iter().take(vectors).enumerate() {
-            a.store(&mut self.out[v * L::WIDTH..]);
-        }
-    }
 }
 
 /// The functions padded to a multiple of every lane width (the widest: 8 `f64`).
-const PADDED: usize = 24;
+pub(crate) const PADDED: usize = 24;
 /// The force-torque functions (the first ten) padded the same way.
 const FT_LANES: usize = 16;
 const _: () = assert!(
@@ -599,44 +437,13 @@ impl Column {
     }
 }
 
-/// `sum_i T_i(x) c_ik` of every function `k` of a [`Column`] patch: the functions in
-/// lanes, one multiply-add per row and vector (independent chains side by side).
-struct RowSums<'a> {
-    /// The patch's rows, [`PADDED`] numbers each.
-    block: &'a [f64],
-    /// `T_i(x)` of the rows.
-    cx: &'a [f64],
-    out: &'a mut [f64; PADDED],
-}
-
-impl WithLanes for RowSums<'_> {
-    type Elem = f64;
-    type Output = ();
-
-    #[inline(always)]
-    fn run<L: Lane<Elem = f64>>(self) {
-        let vectors = PADDED / L::WIDTH;
-        let mut acc = [L::splat(0.0); PADDED];
-        for (row, &x) in self.block.chunks_exact(PADDED).zip(self.cx) {
-            let x = L::splat(x);
-            for (v, a) in acc.iter_mut().take(vectors).enumerate() {
-                *a = L::load(&row[v * L::WIDTH..]).mul_add(x, *a);
-            }
-        }
-        for (v, a) in acc.iter().take(vectors).enumerate() {
-            a.store(&mut self.out[v * L::WIDTH..]);
-        }
-    }
-}
-
 /// The far and near tables contracted at one size ratio `lambda` (the sums over the
 /// ratio terms done once), with the near-contact coefficients of the singular closed
 /// forms at that ratio: the functions of a pair at this ratio then cost one row of
-/// multiply-adds per separation term for all 22 together (0.06-0.21 us, against
-/// 0.14-0.64 us for [`scalars`]: the cost test of `tests/tests/two_sphere_exact.rs`, two
-/// runs). Building one reads both tables' column at `lambda` once (0.09-0.17 ms): worth
-/// it for a ratio that
-/// many pairs share, as in [`crate::assembly::System::resistance`]. The same functions
+/// multiply-adds per separation term for all 22 together (about a third of the cost of
+/// [`scalars`]: the cost test of the two-sphere integration tests). Building one reads
+/// both tables' column at `lambda` once (as much as some hundreds of calls of
+/// [`scalars`]): worth it for a ratio that many pairs share, as in [`crate::System::resistance`]. The same functions
 /// as [`scalars`] to rounding (the two sums in the other order).
 pub struct AtRatio {
     far: Column,
@@ -654,7 +461,7 @@ impl AtRatio {
         Some(AtRatio {
             far: FAR.column(mu(lambda))?,
             near: NEAR.column(lambda.ln())?,
-            singular: crate::two_sphere::singular_coefficients(lambda).ok()?,
+            singular: super::two_sphere::singular_coefficients(lambda).ok()?,
         })
     }
 
@@ -675,22 +482,6 @@ impl AtRatio {
         out[count..].fill(0.0);
         Some(PairScalars::from_array(out))
     }
-}
-
-/// `T_0(x) ... T_(terms-1)(x)` (the rest zero; at least four are computed): beyond
-/// `T_3` by `T_j = 2 T_2 T_(j-2) - T_(j-4)` (from `2 T_m T_n = T_(m+n) + T_(m-n)`), the
-/// even and odd terms two independent chains, half the latency of the usual recurrence.
-fn chebyshev_values(x: f64, terms: usize) -> [f64; MAX_TERMS] {
-    let mut t = [0.0; MAX_TERMS];
-    t[0] = 1.0;
-    t[1] = x;
-    t[2] = 2.0 * x * x - 1.0;
-    t[3] = 2.0 * x * t[2] - x;
-    let two_t2 = 2.0 * t[2];
-    for j in 4..terms.min(MAX_TERMS) {
-        t[j] = two_t2 * t[j - 2] - t[j - 4];
-    }
-    t
 }
 
 /// Whether `lambda` is in the tables' range.
@@ -772,33 +563,6 @@ fn near_view(
     let regular = NEAR.evaluate_at(isa, at, lambda.ln(), count)?;
     let singular = forms.parts(lambda, count).ok()?;
     Some(std::array::from_fn(|k| singular[k] + regular[k]))
-}
-
-/// The contents of `src/generated/two_sphere_far.bin`: the functions from the series at
-/// the far table's nodes.
-pub fn generate() -> Vec<u8> {
-    FAR.generate(|m, ts| {
-        let series = PairSeries::new(m / (1.0 - m)).expect("lambda in range");
-        ts.iter()
-            .map(|t| {
-                series
-                    .scalars(2.0 / t)
-                    .expect("separation in range")
-                    .to_array()
-            })
-            .collect()
-    })
-}
-
-/// The contents of `src/generated/two_sphere_near.bin`: the regular remainders from the
-/// series at the near table's nodes.
-pub fn generate_near() -> Vec<u8> {
-    NEAR.generate(|ln_lambda, us| {
-        let series = PairSeries::new(ln_lambda.exp()).expect("lambda in range");
-        us.iter()
-            .map(|u| series.regular(2.0 + u.exp()).expect("separation in range"))
-            .collect()
-    })
 }
 
 #[cfg(test)]

@@ -1,150 +1,18 @@
-//! Overdamped Brownian dynamics with hydrodynamic interactions, at the F level
-//! (positions of torque-free spheres) or the FT level (positions and orientations,
-//! external torques allowed). Euler-Maruyama:
-//!
-//! `x(t + dt) = x + (M F + kT div M) dt + sqrt(2 kT dt) B W`,
-//!
-//! with `M = B B^T` the grand mobility truncated to F or FT (Cholesky, or `M^{1/2} W`
-//! by Lanczos from matrix-free products), `W` standard normal, and `div M` the
-//! generated divergence kernels (the drift that position-dependent mobility requires
-//! for the Boltzmann distribution to be stationary); or Fixman's midpoint scheme, which
-//! produces the drift from a midpoint evaluation of `M` instead. At the FT level the
-//! rotational rows give each sphere's rotation vector over the step (orientations do
-//! not change the mobility of spheres; [`rotate`] updates a unit quaternion). External
-//! forces: a uniform weight along `-z`, an exponential (screened-electrostatic)
-//! repulsion from each boundary plane, a lateral harmonic trap, and a uniform torque.
-//!
-//! With lubrication (Brownian Stokesian dynamics, [`LubricatedDynamics`]) the mobility is
-//! the inverse of the resistance of Eq. 19, `R = M^-1 + R_lub - R_lub^inf` (FT level;
-//! the F level is the same with torque-free spheres), and
-//!
-//! `x(t + dt) = x + (R^-1 F + kT div R^-1) dt + sqrt(2 kT dt) L^-T W`, `R = L L^T`,
-//!
-//! the noise `L^-T W` having covariance `R^-1`; the drift `kT div R^-1` by a random
-//! finite difference (Delong, Balboa Usabiaga & Donev 2014; Sprinkle et al. 2017):
-//! `(1/delta) [R^-1(q + delta/2 D W~) - R^-1(q - delta/2 D W~)] D^-1 W~`, `W~` standard
-//! normal on the translations, `D` the radii, whose mean is `div R^-1 + O(delta^2)`.
+//! The steps of Brownian dynamics as methods of [`System`] (module docs of
+//! [`crate::dynamics`]): whole runs, one step, its increment for given random numbers,
+//! the drift `div M` from the generated divergence kernels, and the lubricated step with
+//! its random finite difference.
 
-use crate::assembly::{Moments, Precision, System};
-use crate::dense::{mul_vec, Cholesky};
-use crate::input::{InputError, Particle};
+use super::settings::{
+    Brownian, BrownianError, ExternalForces, LubricatedDynamics, Noise, Run, RunTally, Scheme, Step,
+};
+use crate::linalg::{lanczos_sqrt, mul_vec, Cholesky};
+use crate::system::input::Particle;
+use crate::system::{Moments, Precision, System, PARALLEL_MIN};
 use kernels::lanes::Isa;
 use rand::Rng;
 use rand_distr::StandardNormal;
 use std::f64::consts::PI;
-use thiserror::Error;
-
-/// External forces on every sphere (force exerted on the fluid = external force on the
-/// particle, in the mobility's convention).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ExternalForces {
-    /// Buoyant weight: force `-weight e_z`.
-    pub weight: f64,
-    /// Repulsion from each boundary, `F = strength * exp(-(d - a) / debye)` along the
-    /// boundary's normal into the fluid, `d` the centre-to-boundary distance; potential
-    /// `strength * debye * exp(-(d - a) / debye)`.
-    pub strength: f64,
-    /// Screening length of the repulsion.
-    pub debye: f64,
-    /// Stiffness of a harmonic trap pulling each sphere towards the axis `x = y = 0`
-    /// (force `-trap (x, y, 0)`; potential `trap (x^2 + y^2) / 2`); 0 for none.
-    pub trap: f64,
-    /// A torque on every sphere (FT level only; e.g. a rotating magnetic field driving
-    /// colloidal rollers).
-    pub torque: [f64; 3],
-}
-
-impl ExternalForces {
-    /// The potential energy of one sphere of radius `a` at centre height `z` above a
-    /// single lower boundary at `z0` (for tests and for the Boltzmann distribution).
-    pub fn potential_above(&self, z: f64, a: f64, z0: f64) -> f64 {
-        self.weight * z + self.strength * self.debye * (-((z - z0) - a) / self.debye).exp()
-    }
-
-    /// Whether any force is applied.
-    fn any(&self) -> bool {
-        self.weight != 0.0 || self.strength != 0.0 || self.trap != 0.0
-    }
-}
-
-/// Integration settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Brownian {
-    /// Thermal energy `kT`.
-    pub kt: f64,
-    /// Time step.
-    pub dt: f64,
-    /// Include the drift `kT div M` (switching it off is wrong near a boundary; the
-    /// option exists to show that it matters).
-    pub drift: bool,
-    /// External forces.
-    pub forces: ExternalForces,
-    /// How the Brownian displacement `M^{1/2} W` is formed.
-    pub noise: Noise,
-    /// With `false`, no hydrodynamic interactions: each sphere has the isolated Stokes
-    /// mobility `1/(6 pi eta a)` (no wall or pair coupling, hence no drift). For
-    /// comparison: the equilibrium distribution must not depend on it.
-    pub hydrodynamics: bool,
-    /// F (positions) or FT (positions and rotations).
-    pub moments: Moments,
-    /// The time integrator.
-    pub scheme: Scheme,
-    /// Lubricated dynamics (Brownian Stokesian dynamics): the resistance of Eq. 19 in
-    /// place of the far-field mobility. `None`: the far-field mobility.
-    pub lubrication: Option<LubricatedDynamics>,
-}
-
-/// Brownian Stokesian dynamics: velocities, noise and drift from the lubricated
-/// resistance (module docs). Needs hydrodynamic interactions, Cholesky noise and the
-/// Euler-Maruyama scheme.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LubricatedDynamics {
-    /// Where the lubrication corrections of Eq. 19 are switched on.
-    pub lubrication: crate::Lubrication,
-    /// The random finite difference's step `delta`, in units of each sphere's radius
-    /// (e.g. `1e-3`: truncation error `O(delta^2)`, round-off `O(eps / delta)`, both far
-    /// below the statistical error of any run). Where a gap (to a boundary or between
-    /// two spheres, over the smaller radius) is below `10 delta`, the step of that
-    /// configuration is a tenth of the gap instead, so that the displaced
-    /// configurations never touch (a step that depends on the configuration and not on
-    /// `W~` keeps the estimate unbiased).
-    pub rfd_step: f64,
-}
-
-impl Brownian {
-    /// Standard normal numbers one step of `n` spheres takes: `3N` at the F level, `6N`
-    /// at FT; with lubrication `6N` for the noise (the resistance is FT even for
-    /// torque-free spheres) and `3N` for the random finite difference.
-    pub fn random_numbers(&self, n: usize) -> usize {
-        match self.lubrication {
-            Some(_) => 9 * n,
-            None => self.moments.per_particle() * n,
-        }
-    }
-}
-
-/// The time integrator.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Scheme {
-    /// Euler-Maruyama with the generated drift `kT div M`: one mobility per step.
-    EulerMaruyama,
-    /// Fixman's midpoint: the drift from a second mobility at a random midpoint, no
-    /// divergence kernels; the deterministic part is second order (midpoint rule).
-    /// Needs the Cholesky factor.
-    FixmanMidpoint,
-}
-
-/// The result of one step.
-#[derive(Clone, Debug)]
-pub struct Step {
-    /// The system at the new positions.
-    pub system: System,
-    /// Each sphere's rotation vector over the step (angle times axis); zero at the F
-    /// level.
-    pub rotation: Vec<[f64; 3]>,
-    /// With Lanczos noise, the iterations the square root took.
-    pub lanczos_iterations: Option<usize>,
-}
 
 /// The rotation vectors (`Omega` rows of an FT increment), or zeros at the F level.
 fn rotations(increment: &[f64], moments: Moments, n: usize) -> Vec<[f64; 3]> {
@@ -181,183 +49,6 @@ pub fn rotate(q: [f64; 4], theta: [f64; 3]) -> [f64; 4] {
     ];
     let norm = p.iter().map(|v| v * v).sum::<f64>().sqrt();
     p.map(|v| v / norm)
-}
-
-/// The square root of the mobility applied to the random vector.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Noise {
-    /// Cholesky factor `L` of the dense `M` (`L W` has covariance `M`): N up to a few
-    /// thousand.
-    Cholesky,
-    /// Lanczos `M^{1/2} W` from matrix-free products, to a relative tolerance.
-    Lanczos {
-        /// Relative change at which the iteration stops.
-        tol: f64,
-    },
-}
-
-/// Why a step cannot be taken.
-#[derive(Debug, Error, PartialEq)]
-pub enum BrownianError {
-    /// The new configuration is invalid (a sphere crossed a boundary or another
-    /// sphere): the time step is too large for the forces.
-    #[error("step {step}: {source}; reduce the time step")]
-    Invalid {
-        /// Step number.
-        step: usize,
-        /// What is wrong with the new configuration.
-        source: InputError,
-    },
-    /// The mobility lost positive definiteness (cannot happen for valid input).
-    #[error("step {0}: the mobility is not positive definite")]
-    NotPositiveDefinite(usize),
-    /// The lubricated resistance cannot be formed.
-    #[error("step {step}: {source}")]
-    Resistance {
-        /// Step number.
-        step: usize,
-        /// Why.
-        source: crate::ResistanceError,
-    },
-    /// The random numbers given to [`System::brownian_increment`] do not match the system.
-    #[error("{found} random numbers for a system with {expected} degrees of freedom")]
-    RandomNumbers {
-        /// Numbers a step takes ([`Brownian::random_numbers`]).
-        expected: usize,
-        /// Numbers given.
-        found: usize,
-    },
-    /// The combination asked for is not implemented.
-    #[error("{0} is not implemented")]
-    Unsupported(&'static str),
-    /// The Lanczos square root failed.
-    #[error("step {step}: {source}")]
-    Lanczos {
-        /// Step number.
-        step: usize,
-        /// Why.
-        source: LanczosError,
-    },
-    /// A setting is out of range ([`Brownian::check`], [`Run`]).
-    #[error("{name} = {value}: {why}")]
-    BadSetting {
-        /// The setting's name.
-        name: &'static str,
-        /// Its value.
-        value: f64,
-        /// What it must be.
-        why: &'static str,
-    },
-    /// A run redrew more steps than it allows ([`Run::max_rejections`]).
-    #[error("{rejections} rejected steps, more than max_rejections = {max}: the last, at step {step}, {source}. The time step is too large for the forces and distances near contact: use a smaller dt (or raise max_rejections)")]
-    TooManyRejections {
-        /// Steps redrawn so far.
-        rejections: usize,
-        /// The limit.
-        max: usize,
-        /// The step of the last rejection.
-        step: usize,
-        /// Why the last one was rejected.
-        source: InputError,
-    },
-}
-
-/// A trajectory: how many steps, which of them to keep, the random numbers, and how many
-/// invalid steps (a sphere through a boundary or another sphere) may be redrawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Run {
-    /// Number of time steps.
-    pub steps: usize,
-    /// Keep every `every`-th step (step 0 always); at least 1.
-    pub every: usize,
-    /// Seed of the standard normal numbers (ChaCha8): the same seed, the same trajectory.
-    pub seed: u64,
-    /// Fail after more than this many redrawn steps in total.
-    pub max_rejections: usize,
-}
-
-/// What a [`System::brownian_run`] counted.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct RunTally {
-    /// Steps rejected (invalid new configuration) and redrawn.
-    pub rejections: usize,
-    /// Lanczos iterations summed over the steps (Lanczos noise).
-    pub lanczos_sum: usize,
-    /// The most Lanczos iterations one step took.
-    pub lanczos_max: usize,
-}
-
-impl Brownian {
-    /// Every number in range: `dt`, `kt` and the repulsion's `debye` positive and finite,
-    /// the weight, repulsion strength and torque finite, the trap stiffness finite and
-    /// non-negative, the Lanczos tolerance and the random finite difference's step
-    /// positive; and no drift switched off under Fixman's scheme (its drift comes from
-    /// the midpoint). The other unsupported combinations are reported by the step itself.
-    pub fn check(&self) -> Result<(), BrownianError> {
-        let bad = |name, value, why| Err(BrownianError::BadSetting { name, value, why });
-        let positive = "must be a positive finite number";
-        let finite = "must be a finite number";
-        if !(self.dt > 0.0 && self.dt.is_finite()) {
-            return bad(
-                "dt",
-                self.dt,
-                "the time step must be a positive finite number",
-            );
-        }
-        if !(self.kt > 0.0 && self.kt.is_finite()) {
-            return bad(
-                "kt",
-                self.kt,
-                "the thermal energy must be a positive finite number",
-            );
-        }
-        let f = &self.forces;
-        if !(f.debye > 0.0 && f.debye.is_finite()) {
-            return bad("debye_length", f.debye, positive);
-        }
-        if !f.weight.is_finite() {
-            return bad("weight", f.weight, finite);
-        }
-        if !f.strength.is_finite() {
-            return bad("repulsion_strength", f.strength, finite);
-        }
-        if !(f.trap >= 0.0 && f.trap.is_finite()) {
-            return bad(
-                "trap",
-                f.trap,
-                "the trap stiffness must be a finite number >= 0",
-            );
-        }
-        if let Some(&t) = f.torque.iter().find(|t| !t.is_finite()) {
-            return bad("torque", t, finite);
-        }
-        if let Noise::Lanczos { tol } = self.noise {
-            if !(tol > 0.0 && tol.is_finite()) {
-                return bad(
-                    "lanczos",
-                    tol,
-                    "the relative tolerance must be a positive finite number",
-                );
-            }
-        }
-        if let Some(lub) = &self.lubrication {
-            if !(lub.rfd_step > 0.0 && lub.rfd_step.is_finite()) {
-                return bad("rfd_step", lub.rfd_step, positive);
-            }
-            if let Err(crate::ResistanceError::Setting { what, value, need }) =
-                lub.lubrication.check()
-            {
-                return bad(what, value, need);
-            }
-        }
-        if self.scheme == Scheme::FixmanMidpoint && !self.drift {
-            return Err(BrownianError::Unsupported(
-                "switching the drift off with Fixman's scheme (its drift comes from the \
-                 midpoint)",
-            ));
-        }
-        Ok(())
-    }
 }
 
 impl System {
@@ -455,17 +146,17 @@ impl System {
     fn divergence_ft(&self) -> Vec<f64> {
         let n = self.len();
         let ps: Vec<([f64; 3], f64)> = self.particles().iter().map(|p| (p.x, p.a)).collect();
-        let div = crate::tiled::Divergence {
+        let div = crate::mobility::tiled::Divergence {
             conf: self.confinement(),
             eta: self.viscosity(),
         };
         // each unordered pair once, in tiles: the same bits with any number of threads
-        let acc = crate::tiled::apply::<_, f64, 6>(
+        let acc = crate::mobility::tiled::apply::<_, f64, 6>(
             &div,
             &ps,
             &vec![[0.0; 6]; n],
             kernels::lanes::Isa::best(),
-            n >= crate::assembly::PARALLEL_MIN,
+            n >= PARALLEL_MIN,
         );
         let mut out = vec![0.0; 6 * n];
         for (a, v) in acc.iter().enumerate() {
@@ -649,7 +340,7 @@ impl System {
         Ok(mul_vec(&m_mid, &rhs))
     }
 
-    /// Brownian Stokesian dynamics (module docs): `w` is `6N` numbers for the noise,
+    /// Brownian Stokesian dynamics ([`crate::dynamics`]): `w` is `6N` numbers for the noise,
     /// then `3N` for the random finite difference.
     fn lubricated_step(
         &self,
@@ -698,7 +389,7 @@ impl System {
 
     /// `div R^-1` of the lubricated FT resistance (`6N`, moment-major: the translational
     /// and rotational rows, the divergence over the positions) by one random finite
-    /// difference with the `3N` standard normal numbers `w` (module docs): an unbiased
+    /// difference with the `3N` standard normal numbers `w` ([`crate::dynamics`]): an unbiased
     /// estimate up to `O(delta^2)`, `delta = lub.rfd_step` in units of each radius.
     /// Two resistances and their Cholesky factors at configurations displaced by
     /// `+-delta a W~ / 2`.
@@ -814,126 +505,6 @@ impl System {
             _ => d[..3 * n].to_vec(),
         }
     }
-}
-
-/// Why a Krylov square root failed.
-#[derive(Debug, Error, PartialEq)]
-pub enum LanczosError {
-    /// The Lanczos matrix has a non-positive eigenvalue: the operator is not positive
-    /// definite.
-    #[error("the operator is not positive definite (Lanczos eigenvalue {0:e})")]
-    NotPositiveDefinite(f64),
-    /// No convergence within the iteration limit.
-    #[error(
-        "Lanczos did not converge to {tol:e} in {iterations} iterations (last change {change:e})"
-    )]
-    NotConverged {
-        /// Requested relative tolerance.
-        tol: f64,
-        /// Iterations done.
-        iterations: usize,
-        /// Relative change of the last iteration.
-        change: f64,
-    },
-}
-
-/// `M^{1/2} w` for a symmetric positive definite `M` known only through products
-/// `apply(x) = M x`, by the Lanczos process (Chow & Saad 2014; Ando, Chow, Saad &
-/// Skolnick 2012 for Brownian dynamics): with `V_k` the orthonormal Krylov basis
-/// (fully reorthogonalised) and `T_k` the tridiagonal Lanczos matrix,
-/// `M^{1/2} w ~ |w| V_k T_k^{1/2} e_1`. Stops when successive approximations differ
-/// by less than `tol` relative; returns the result and the number of iterations.
-pub fn lanczos_sqrt(
-    apply: impl Fn(&[f64]) -> Vec<f64>,
-    w: &[f64],
-    tol: f64,
-    max_iter: usize,
-) -> Result<(Vec<f64>, usize), LanczosError> {
-    let n = w.len();
-    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-    let beta0 = dot(w, w).sqrt();
-    if beta0 == 0.0 {
-        return Ok((vec![0.0; n], 0));
-    }
-    let mut basis: Vec<Vec<f64>> = vec![w.iter().map(|x| x / beta0).collect()];
-    let (mut alpha, mut beta): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
-    let mut previous: Option<Vec<f64>> = None;
-    let mut change = f64::INFINITY;
-    for k in 0..max_iter.min(n) {
-        let mut z = apply(&basis[k]);
-        let a = dot(&basis[k], &z);
-        alpha.push(a);
-        // full reorthogonalisation against the whole basis (twice is enough)
-        for _ in 0..2 {
-            for v in &basis {
-                let c = dot(v, &z);
-                for (zi, vi) in z.iter_mut().zip(v) {
-                    *zi -= c * vi;
-                }
-            }
-        }
-        let b = dot(&z, &z).sqrt();
-        // y = beta0 V T^{1/2} e1 from the eigen-decomposition of the k+1 x k+1 T
-        let m = alpha.len();
-        let t = nalgebra::DMatrix::from_fn(m, m, |i, j| {
-            if i == j {
-                alpha[i]
-            } else if i + 1 == j {
-                beta[i]
-            } else if j + 1 == i {
-                beta[j]
-            } else {
-                0.0
-            }
-        });
-        let eig = t.symmetric_eigen();
-        let lmin = eig.eigenvalues.min();
-        if lmin <= 0.0 {
-            return Err(LanczosError::NotPositiveDefinite(lmin));
-        }
-        let coef: Vec<f64> = (0..m)
-            .map(|i| {
-                (0..m)
-                    .map(|j| {
-                        eig.eigenvectors[(i, j)]
-                            * eig.eigenvalues[j].sqrt()
-                            * eig.eigenvectors[(0, j)]
-                    })
-                    .sum::<f64>()
-                    * beta0
-            })
-            .collect();
-        let mut y = vec![0.0; n];
-        for (c, v) in coef.iter().zip(&basis) {
-            for (yi, vi) in y.iter_mut().zip(v) {
-                *yi += c * vi;
-            }
-        }
-        if let Some(prev) = &previous {
-            let d: f64 = y
-                .iter()
-                .zip(prev)
-                .map(|(a, b)| (a - b).powi(2))
-                .sum::<f64>()
-                .sqrt();
-            change = d / dot(&y, &y).sqrt();
-            if change < tol {
-                return Ok((y, m));
-            }
-        }
-        // an invariant subspace: the result is exact
-        if b <= 1e-14 * beta0 || m == n {
-            return Ok((y, m));
-        }
-        beta.push(b);
-        basis.push(z.iter().map(|x| x / b).collect());
-        previous = Some(y);
-    }
-    Err(LanczosError::NotConverged {
-        tol,
-        iterations: alpha.len(),
-        change,
-    })
 }
 
 #[cfg(test)]

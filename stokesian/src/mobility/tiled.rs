@@ -2,7 +2,7 @@
 //! kernel, `M^{ab} x_b` and `M^{ba} x_a` accumulated together, with a result that does
 //! not depend on the number of threads.
 //!
-//! The particles are cut into blocks of [`BLOCK`] (positions, radii and moments as
+//! The particles are cut into blocks of `BLOCK` (positions, radii and moments as
 //! structure of arrays, padded to whole blocks). A tile is a pair of blocks `(I, J)`,
 //! `I <= J`: particle `i` of `I` against the particles of `J` in lanes
 //! (`lanes::Lane::WIDTH` at a time; `j > i` on the diagonal; lanes past the last particle
@@ -15,7 +15,7 @@
 //! output is accumulated in an order fixed by the schedule alone: the same bits with
 //! 1, 2 or 3 threads, on any machine with the same instruction set. No allocation per
 //! pair or per tile. The Brownian drift (the generated divergence kernels summed over
-//! pairs) runs through the same tiles ([`Divergence`]).
+//! pairs) runs through the same tiles (`Divergence`).
 //!
 //! Near a no-slip wall the kernels evaluate `M^{ab}` with the lower particle as the
 //! source (`Confinement::exchanges_by_height`). The particles are therefore ordered by
@@ -29,8 +29,8 @@
 //! overflows or underflows `f32` whatever the user's units; each tile's sums are
 //! carried in `f32` and every total in `f64`.
 
-use crate::assembly::{Moments, Precision};
-use crate::input::Particle;
+use crate::system::input::Particle;
+use crate::system::{global, Moments, Precision, System, PARALLEL_MIN};
 use kernels::lanes::{self, Element, Isa, Lane, WithLanes};
 use kernels::Confinement;
 use rayon::prelude::*;
@@ -620,6 +620,60 @@ pub(crate) fn apply_moments(
         .enumerate()
         .map(|(i, y)| y * units.response(i % k, eta))
         .collect()
+}
+
+impl System {
+    /// `M x` without forming `M`: `x` and the result in the layout of
+    /// [`System::mobility`]. Each unordered pair is evaluated once, `M^{ab} x_b` and
+    /// `M^{ba} x_a` together, by the lane kernels on the widest instruction set this
+    /// processor has, in tiles whose schedule alone fixes the order of every sum: the
+    /// result does not depend on the number of threads (module docs).
+    /// In the system's precision ([`System::with_precision`]; double by default).
+    pub fn apply(&self, moments: Moments, x: &[f64]) -> Vec<f64> {
+        self.apply_with(moments, x, Isa::best(), self.precision())
+    }
+
+    /// [`System::apply`] on the lanes of `isa` (`Isa::all_available()` lists this
+    /// processor's) in `precision`; panics if this processor lacks `isa`.
+    pub fn apply_with(
+        &self,
+        moments: Moments,
+        x: &[f64],
+        isa: Isa,
+        precision: Precision,
+    ) -> Vec<f64> {
+        let n = self.len();
+        let k = moments.per_particle();
+        let parts = moments.parts();
+        assert_eq!(
+            x.len(),
+            k * n,
+            "vector length must be {} for {n} particles",
+            k * n
+        );
+        let xs: Vec<f64> = (0..n)
+            .flat_map(|a| (0..k).map(move |i| (a, i)))
+            .map(|(a, i)| x[global(parts, n, a, i)])
+            .collect();
+        let ps: Vec<([f64; 3], f64)> = self.particles().iter().map(|p| (p.x, p.a)).collect();
+        let acc = apply_moments(
+            self.confinement(),
+            self.viscosity(),
+            moments,
+            &ps,
+            &xs,
+            isa,
+            precision,
+            n >= PARALLEL_MIN,
+        );
+        let mut out = vec![0.0; k * n];
+        for a in 0..n {
+            for i in 0..k {
+                out[global(parts, n, a, i)] = acc[a * k + i];
+            }
+        }
+        out
+    }
 }
 
 /// The units of the single-precision product: lengths in units of the largest radius,

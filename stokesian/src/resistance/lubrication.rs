@@ -1,16 +1,16 @@
 //! The resistance with lubrication, Swan & Brady Eq. 19:
 //! `R = M^-1 + R^P + R^W - (R^{P,inf} + R^{W,inf})`, at the FT and FTS levels.
 //!
-//! - `R^P`: the exact two-sphere resistance ([`crate::two_sphere`]: Jeffrey & Onishi
+//! - `R^P`: the exact two-sphere resistance ([`crate::resistance::two_sphere`]: Jeffrey & Onishi
 //!   1984 and Jeffrey 1992 as corrected by Townsend 2023, any size ratio, Kim & Karrila
 //!   normalisation; all 22 functions at FTS; from the generated tables of
-//!   [`crate::pair_tables`], no series built at run time), for every pair whose correction may
+//!   [`crate::resistance::pair_tables`], no series built at run time), for every pair whose correction may
 //!   exceed a stated tolerance, switched off smoothly beyond ([`Lubrication::pair_window`]:
 //!   no step, no kink); `R^{P,inf}` the inverse of the FT or FTS mobility of the
 //!   isolated pair in unbounded fluid, from our own kernels.
 //! - `R^W`: the exact sphere-wall resistance (Brenner 1961; O'Neill 1964; Dean & O'Neill
 //!   1963 with Goldman, Cox & Brenner 1967; Jeffery 1915), from the generated tables of
-//!   [`crate::tables`], for every sphere with `eps = (h - a)/a < wall_cutoff` (by default
+//!   [`crate::resistance::wall_tables`], for every sphere with `eps = (h - a)/a < wall_cutoff` (by default
 //!   every sphere closer than 1000 radii, beyond which `R^W` equals `R^{W,inf}` to 1e-12:
 //!   no switch, the correction is continuous and smooth in the height);
 //!   `R^{W,inf}` the inverse of the FT self mobility of the sphere with that wall alone,
@@ -20,25 +20,26 @@
 //!   each other's reflection; switched off like a pair correction; `R^{W,inf}` the
 //!   inverse of our own free-surface self mobility.
 //!
-//! Coefficients are those collected, with their sources and a second check, in
-//! `docs/lubrication.md` ("Reference formulas"); each is annotated below.
+//! The near-contact coefficients are those of the literature cited where they are used
+//! (two spheres: Jeffrey & Onishi 1984, Jeffrey 1992, as corrected by Townsend 2023; a
+//! sphere and a wall: Brenner 1961, Cox & Brenner 1967, Goldman, Cox & Brenner 1967),
+//! each checked against the exact series (`docs/lubrication.md`, "Reference formulas").
+//!
 //! Sign: the resistance maps `(U, Omega)` to the force and torque the particles exert
 //! on the fluid (the inverse of the mobility's convention), so every lubrication block
 //! enters with the sign of a positive-definite resistance.
 
-use crate::assembly::{Moments, System};
-use crate::dense::Cholesky;
-use crate::pair_tables::AtRatio;
-use crate::two_sphere::{PairScalars, PairSeries};
-use kernels::{basis_both, basis_rows, pair, pair_ft, self_ft, self_mobility, Confinement};
-use nalgebra::{DMatrix, SMatrix};
+use super::pair_tables::{self, AtRatio};
+use super::tensors::{mirror, pair_block, wall_block};
+use super::two_sphere::{PairScalars, PairSeries, TwoSphereError};
+use super::wall_tables::EPS_MAX;
+use crate::linalg::Cholesky;
+use crate::system::{global, Moments, System};
+use kernels::{pair, pair_ft, self_ft, self_mobility, Confinement};
+use nalgebra::DMatrix;
 use rayon::prelude::*;
 use std::collections::HashMap;
-use std::f64::consts::PI;
 use thiserror::Error;
-
-/// Apery's constant zeta(3) (Jeffery 1915; Cox & Brenner 1967 eq. 3.5).
-const ZETA3: f64 = 1.202_056_903_159_594_3;
 
 /// Where lubrication is switched on.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,7 +51,7 @@ pub struct Lubrication {
     /// every separation, `INFINITY` drops it everywhere.
     pub pair_tolerance: f64,
     /// Spheres with gap over radius `eps < wall_cutoff` from a no-slip wall get
-    /// `R^W - R^{W,inf}` (never beyond [`crate::tables::EPS_MAX`], where it is below
+    /// `R^W - R^{W,inf}` (never beyond [`EPS_MAX`], where it is below
     /// 1e-12 of the far field).
     pub wall_cutoff: f64,
 }
@@ -173,257 +174,13 @@ pub enum ResistanceError {
     Unsupported(Moments),
     /// The two-sphere functions cannot be evaluated (size ratio beyond 1e2).
     #[error("pair lubrication: {0}")]
-    TwoSphere(crate::two_sphere::TwoSphereError),
+    TwoSphere(TwoSphereError),
     /// The far-field mobility is not positive definite (overlaps, narrow slit).
     #[error("the far-field mobility is not positive definite, so it cannot be inverted (overlapping spheres or a slit too narrow for the superposition)")]
     MobilityNotPositiveDefinite,
     /// The corrected resistance is not positive definite.
     #[error("the resistance with lubrication is not positive definite")]
     ResistanceNotPositiveDefinite,
-}
-
-/// Sphere-wall resistance functions at `eps = (h - a)/a`, exact: the generated tables
-/// of [`crate::tables`] (piecewise Chebyshev in `ln eps`, within 1e-10 of the series,
-/// `tests/tests/wall_tables.rs`) for `eps` up to 1e3, the near-contact forms continued
-/// from them below `1e-7`, and the series beyond `1e3`.
-pub fn wall_functions(eps: f64) -> WallFunctions {
-    crate::tables::wall_functions(eps).unwrap_or_else(|| wall_series(eps))
-}
-
-/// The exact bispherical series at `eps = (h - a)/a` ([`crate::exact`]: Brenner 1961,
-/// O'Neill 1964, Dean & O'Neill 1963 as corrected by Goldman, Cox & Brenner 1967,
-/// Jeffery 1915; [`crate::exact::wall_functions_at_gap`]): what the tables are made
-/// from. Converged to round-off at every `eps >= 1e-7` (thousands of terms at the
-/// smallest gaps: 34 ms for the five functions at `eps = 1e-7`).
-pub fn wall_series(eps: f64) -> WallFunctions {
-    let [xa, ya, fr, yc, xc] = crate::exact::wall_functions_at_gap(eps);
-    WallFunctions { xa, ya, fr, yc, xc }
-}
-
-/// Near-contact sphere-wall resistance functions at `eps = (h - a)/a`, normalised as
-/// `R_FU = 6 pi eta a [X^A nn + Y^A (I - nn)]`, `R_LO = 8 pi eta a^3 [X^C nn + Y^C (I - nn)]`,
-/// `(R_FO)_ij = -6 pi eta a^2 F^r eps_ijk n_k`, `R_LU = R_FO^T`; `n` the wall normal
-/// into the fluid. Singular and `eps ln eps` terms: Brenner 1961, Cox & Brenner 1967
-/// eq. 2.49 (X^A); Goldman, Cox & Brenner 1967 eqs. 2.59, 2.65, 3.6-3.13 (Y^A, F^r,
-/// Y^C); Jeffery 1915 / Cox & Brenner 1967 eq. 3.5 (X^C); checked against the
-/// lambda -> infinity limits of the two-sphere functions. O(1) constants and O(eps)
-/// terms: fits to the exact bispherical series (lubrication.md 2.2), which GCB's
-/// constants (0.9588, -0.2526, 0.3817) approximate at their last tabulated gap.
-pub fn wall_near_contact(eps: f64) -> WallFunctions {
-    let l = (1.0 / eps).ln();
-    WallFunctions {
-        xa: 1.0 / eps + l / 5.0 + 0.971_279_9 + eps * l / 21.0 + 0.167_02 * eps,
-        ya: 8.0 / 15.0 * l + 0.954_293_7 + 64.0 / 375.0 * eps * l + 0.429_45 * eps,
-        fr: 2.0 / 15.0 * l - 0.257_270_3 + 86.0 / 375.0 * eps * l + 0.134_11 * eps,
-        yc: 2.0 / 5.0 * l + 0.370_892_6 + 66.0 / 125.0 * eps * l + 0.340_09 * eps,
-        xc: ZETA3 - 0.5 * eps * l + 0.444_93 * eps,
-    }
-}
-
-/// The five sphere-wall resistance functions (see [`wall_functions`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WallFunctions {
-    /// Translation normal to the wall.
-    pub xa: f64,
-    /// Translation parallel to the wall.
-    pub ya: f64,
-    /// Translation-rotation coupling.
-    pub fr: f64,
-    /// Rotation about an axis parallel to the wall.
-    pub yc: f64,
-    /// Rotation about the wall normal.
-    pub xc: f64,
-}
-
-type M6 = SMatrix<f64, 6, 6>;
-
-fn eps3(i: usize, j: usize, k: usize) -> f64 {
-    ((i as i64 - j as i64) * (j as i64 - k as i64) * (k as i64 - i as i64)) as f64 / 2.0
-}
-
-fn delta(i: usize, j: usize) -> f64 {
-    if i == j {
-        1.0
-    } else {
-        0.0
-    }
-}
-
-/// `R^W` of a sphere of radius `a` at gap `eps` from a wall with normal `n` (into the
-/// fluid), 6x6 in the order `[U, Omega]`.
-fn wall_block(eta: f64, a: f64, eps: f64, n: [f64; 3]) -> M6 {
-    let w = wall_functions(eps);
-    let mut r = M6::zeros();
-    for i in 0..3 {
-        for j in 0..3 {
-            let nn = n[i] * n[j];
-            r[(i, j)] = 6.0 * PI * eta * a * (w.xa * nn + w.ya * (delta(i, j) - nn));
-            r[(i + 3, j + 3)] =
-                8.0 * PI * eta * a.powi(3) * (w.xc * nn + w.yc * (delta(i, j) - nn));
-            let fo: f64 = (0..3)
-                .map(|k| -6.0 * PI * eta * a * a * w.fr * eps3(i, j, k) * n[k])
-                .sum();
-            r[(i, j + 3)] = fo; // R_FO
-            r[(j + 3, i)] = fo; // R_LU = R_FO^T
-        }
-    }
-    r
-}
-
-type M3 = SMatrix<f64, 3, 3>;
-
-/// The force-torque-stresslet resistance tensors of the ordered pair `(alpha, beta)`
-/// from the two-sphere functions `f` seen from `alpha` (`f` at `lambda = a_beta/a_alpha`,
-/// Kim & Karrila normalisation with `a_alpha`), `d` the unit vector from `alpha` to
-/// the other sphere, `same` for the "11" functions: `A, B (= R_LU), C` (3x3) and the
-/// stresslet rows `S-U` (`G`), `S-Omega` (`H`), `S-E` (`M`) contracted with the
-/// orthonormal strain basis (5x3, 5x3, 5x5). Tensor forms: lubrication.md 1.2 (Kim &
-/// Karrila sec. 7.2). Without `stresslets` (FT) the stresslet rows are left zero.
-struct OrderedPair {
-    a: M3,
-    b: M3,
-    c: M3,
-    g: SMatrix<f64, 5, 3>,
-    h: SMatrix<f64, 5, 3>,
-    m: SMatrix<f64, 5, 5>,
-}
-
-fn ordered_pair(
-    eta: f64,
-    radius: f64,
-    f: &PairScalars,
-    same: bool,
-    d: [f64; 3],
-    stresslets: bool,
-) -> OrderedPair {
-    let pick = |one: f64, two: f64| if same { one } else { two };
-    let (xa, ya) = (pick(f.x11a, f.x12a), pick(f.y11a, f.y12a));
-    let yb = pick(f.y11b, f.y12b);
-    let (xc, yc) = (pick(f.x11c, f.x12c), pick(f.y11c, f.y12c));
-    let (xg, yg, yh) = (
-        pick(f.x11g, f.x12g),
-        pick(f.y11g, f.y12g),
-        pick(f.y11h, f.y12h),
-    );
-    let (xm, ym, zm) = (
-        pick(f.x11m, f.x12m),
-        pick(f.y11m, f.y12m),
-        pick(f.z11m, f.z12m),
-    );
-    let (sa, sb, sc) = (
-        6.0 * PI * eta * radius,
-        4.0 * PI * eta * radius * radius,
-        8.0 * PI * eta * radius.powi(3),
-    );
-    let (sg, sh, sm) = (sb, sc, 20.0 / 3.0 * PI * eta * radius.powi(3));
-    let dl = delta;
-    let a = M3::from_fn(|i, j| sa * (xa * d[i] * d[j] + ya * (dl(i, j) - d[i] * d[j])));
-    let c = M3::from_fn(|i, j| sc * (xc * d[i] * d[j] + yc * (dl(i, j) - d[i] * d[j])));
-    let b = M3::from_fn(|i, j| sb * yb * (0..3).map(|k| eps3(i, j, k) * d[k]).sum::<f64>());
-    if !stresslets {
-        return OrderedPair {
-            a,
-            b,
-            c,
-            g: SMatrix::zeros(),
-            h: SMatrix::zeros(),
-            m: SMatrix::zeros(),
-        };
-    }
-    let g3 = |i: usize, j: usize, k: usize| {
-        sg * (xg * (d[i] * d[j] - dl(i, j) / 3.0) * d[k]
-            + yg * (d[i] * dl(j, k) + d[j] * dl(i, k) - 2.0 * d[i] * d[j] * d[k]))
-    };
-    let h3 = |i: usize, j: usize, k: usize| {
-        sh * yh
-            * (0..3)
-                .map(|l| eps3(i, k, l) * d[l] * d[j] + eps3(j, k, l) * d[l] * d[i])
-                .sum::<f64>()
-    };
-    let m4 = |i: usize, j: usize, k: usize, l: usize| {
-        let (di, dj, dk, dd) = (d[i], d[j], d[k], d[l]);
-        sm * (xm * 1.5 * (di * dj - dl(i, j) / 3.0) * (dk * dd - dl(k, l) / 3.0)
-            + ym * 0.5
-                * (di * dl(j, l) * dk
-                    + dj * dl(i, l) * dk
-                    + di * dl(j, k) * dd
-                    + dj * dl(i, k) * dd
-                    - 4.0 * di * dj * dk * dd)
-            + zm * 0.5
-                * (dl(i, k) * dl(j, l) + dl(j, k) * dl(i, l) - dl(i, j) * dl(k, l)
-                    + di * dj * dl(k, l)
-                    + dl(i, j) * dk * dd
-                    - di * dl(j, l) * dk
-                    - dj * dl(i, l) * dk
-                    - di * dl(j, k) * dd
-                    - dj * dl(i, k) * dd
-                    + di * dj * dk * dd))
-    };
-    let g: [[[f64; 3]; 3]; 3] =
-        std::array::from_fn(|i| std::array::from_fn(|j| std::array::from_fn(|k| g3(i, j, k))));
-    let h: [[[f64; 3]; 3]; 3] =
-        std::array::from_fn(|i| std::array::from_fn(|j| std::array::from_fn(|k| h3(i, j, k))));
-    let m: [[[[f64; 3]; 3]; 3]; 3] = std::array::from_fn(|i| {
-        std::array::from_fn(|j| std::array::from_fn(|k| std::array::from_fn(|l| m4(i, j, k, l))))
-    });
-    let (g, h, m) = (basis_rows(&g), basis_rows(&h), basis_both(&m));
-    OrderedPair {
-        a,
-        b,
-        c,
-        g: SMatrix::from_fn(|r, k| g[r][k]),
-        h: SMatrix::from_fn(|r, k| h[r][k]),
-        m: SMatrix::from_fn(|r, n| m[r][n]),
-    }
-}
-
-/// `R^P` of two spheres (exact two-sphere resistance, [`crate::two_sphere`]), per-particle
-/// layout `[U_1, Omega_1, E_1, U_2, Omega_2, E_2]` truncated to `k` = 6 or 11 components
-/// each. Each ordered block `(alpha, beta)` takes the "11" or "12" functions seen from
-/// `alpha` (`lambda = a_beta/a_alpha`, scaled with `a_alpha`, `d` from `alpha` to the
-/// other sphere; JO84 eq. 1.9, lubrication.md 1.3); the force rows' rotation and strain
-/// columns are the transposes of the other ordered pair's torque and stresslet rows
-/// (`B~^{ab} = (B^{ba})^T`, `G~^{ab} = (G^{ba})^T`, `H~^{ab} = (H^{ba})^T`, JO84 eq. 1.4).
-/// `spheres` holds each sphere's radius and the functions seen from it ([`PairFunctions`]).
-fn pair_block(eta: f64, spheres: [(f64, PairScalars); 2], d: [f64; 3], k: usize) -> DMatrix<f64> {
-    let mut blocks = Vec::with_capacity(4);
-    for al in 0..2 {
-        let (radius, f) = spheres[al];
-        let dd = if al == 0 { d } else { d.map(|v| -v) };
-        for be in 0..2 {
-            blocks.push(ordered_pair(eta, radius, &f, al == be, dd, k == 11));
-        }
-    }
-    let blk = |al: usize, be: usize| &blocks[2 * al + be];
-    let mut r = DMatrix::zeros(2 * k, 2 * k);
-    for al in 0..2 {
-        for be in 0..2 {
-            let (p, q) = (blk(al, be), blk(be, al));
-            let (r0, c0) = (k * al, k * be);
-            for i in 0..3 {
-                for j in 0..3 {
-                    r[(r0 + i, c0 + j)] = p.a[(i, j)];
-                    r[(r0 + 3 + i, c0 + j)] = p.b[(i, j)];
-                    r[(r0 + i, c0 + 3 + j)] = q.b[(j, i)];
-                    r[(r0 + 3 + i, c0 + 3 + j)] = p.c[(i, j)];
-                }
-            }
-            if k == 11 {
-                for m in 0..5 {
-                    for j in 0..3 {
-                        r[(r0 + 6 + m, c0 + j)] = p.g[(m, j)];
-                        r[(r0 + 6 + m, c0 + 3 + j)] = p.h[(m, j)];
-                        r[(r0 + j, c0 + 6 + m)] = q.g[(m, j)];
-                        r[(r0 + 3 + j, c0 + 6 + m)] = q.h[(m, j)];
-                    }
-                    for n in 0..5 {
-                        r[(r0 + 6 + m, c0 + 6 + n)] = p.m[(m, n)];
-                    }
-                }
-            }
-        }
-    }
-    r
 }
 
 /// The self mobility (per-particle layout `[U, Omega, E]`, truncated to `k` = 6 or 11
@@ -438,26 +195,6 @@ fn single_boundary_self(
 ) -> DMatrix<f64> {
     let m = self_mobility(boundary, eta, x, a).matrix();
     DMatrix::from_fn(k, k, |i, j| m[(i, j)])
-}
-
-/// The mirror image in a horizontal plane on the per-particle components `[U, Omega,
-/// E]` (`k` = 6 or 11): `U -> P U`, `Omega -> -P Omega` (an axial vector),
-/// `E -> P E P` in the orthonormal strain basis, `P = diag(1, 1, -1)`.
-fn mirror(k: usize) -> DMatrix<f64> {
-    let p = |i: usize| if i == 2 { -1.0 } else { 1.0 };
-    let mut t = [[[[0.0; 3]; 3]; 3]; 3];
-    for (i, ti) in t.iter_mut().enumerate() {
-        for (j, tij) in ti.iter_mut().enumerate() {
-            tij[i][j] = p(i) * p(j);
-        }
-    }
-    let strain = basis_both(&t);
-    DMatrix::from_fn(k, k, |i, j| match (i, j) {
-        (0..=2, 0..=2) if i == j => p(i),
-        (3..=5, 3..=5) if i == j => -p(i - 3),
-        (6.., 6..) => strain[i - 6][j - 6],
-        _ => 0.0,
-    })
 }
 
 /// `R^W` of a sphere of radius `a` at height `h` above a flat free surface (`k` = 6 or
@@ -481,16 +218,15 @@ fn free_surface_block(
 }
 
 /// Occurrences of a size ratio among the close pairs from which the tables contracted at
-/// it ([`AtRatio`]) pay: building one costs 0.09-0.17 ms, as much as 300 (near contact)
-/// to 700 (far) calls of [`crate::pair_tables::scalars`] (0.14-0.64 us), and each of its
-/// calls then costs 0.06 to 0.21 us (`cargo test --release -p integration-tests --test
-/// two_sphere_exact cost -- --nocapture`, two runs, 2026-12-03); at 64 shared calls a
-/// build costs at most about 0.15 ms more than it saves, and a ratio shared by fewer
-/// stays on the two-dimensional tables.
+/// it ([`AtRatio`]) pay: building one costs as much as 300 (near contact) to 700 (far)
+/// calls of [`pair_tables::scalars`], and each of its calls then costs about a third of
+/// one (the cost test of the two-sphere integration tests); at 64 shared calls a build
+/// costs at most about as much as 300 calls more than it saves, and a ratio shared by
+/// fewer stays on the two-dimensional tables.
 const SHARED_RATIO: usize = 64;
 
 /// The two-sphere functions of the pairs of one resistance, from the generated tables
-/// ([`crate::pair_tables`], far and near, within 6.6e-10 (near) and 3.8e-11 (far) of the
+/// ([`crate::resistance::pair_tables`], far and near, within 6.6e-10 (near) and 3.8e-11 (far) of the
 /// series): contracted once at each size ratio that at least [`SHARED_RATIO`] of the
 /// calls need ([`AtRatio`]), evaluated in two dimensions at the others (the same
 /// functions to rounding); only if a committed table file does not have its table's
@@ -527,7 +263,7 @@ impl PairFunctions {
         let count = if ft_only { 10 } else { 22 };
         let tables = match self.at.get(&lambda.to_bits()) {
             Some(at) => at.scalars(s_dash, count),
-            None => crate::pair_tables::scalars(s_dash, lambda, count),
+            None => pair_tables::scalars(s_dash, lambda, count),
         };
         tables.map_or_else(|| Self::series(s_dash, lambda, ft_only), Ok)
     }
@@ -549,7 +285,7 @@ impl PairFunctions {
                 .scalars(s_dash, count)
                 .zip(second.scalars(s_dash, count))
                 .map(<[PairScalars; 2]>::from),
-            _ => crate::pair_tables::pair_scalars(s_dash, lambdas, count),
+            _ => pair_tables::pair_scalars(s_dash, lambdas, count),
         };
         match tables {
             Some(views) => Ok(views),
@@ -599,16 +335,6 @@ fn free_pair_mobility(
         let s2 = self_mobility(free, eta, x2, a2).matrix();
         let p = pair(free, eta, x1, a1, x2, a2).matrix();
         assemble(&|i, j| s1[(i, j)], &|i, j| s2[(i, j)], &|i, j| p[(i, j)])
-    }
-}
-
-/// Global index (moment-major layout of [`System::mobility`]) of component `c` of
-/// `[U, Omega, E]` (0..3, 3..6, 6..11) of particle `a` among `n`.
-fn global_index(n: usize, a: usize, c: usize) -> usize {
-    match c {
-        0..=2 => 3 * a + c,
-        3..=5 => 3 * n + 3 * a + (c - 3),
-        _ => 6 * n + 5 * a + (c - 6),
     }
 }
 
@@ -688,6 +414,7 @@ impl System {
             Moments::F => return Err(ResistanceError::Unsupported(moments)),
         };
         lub.check()?;
+        let parts = moments.parts();
         let n = self.len();
         let eta = self.viscosity();
         let ps = self.particles();
@@ -709,13 +436,13 @@ impl System {
                     plane - p.x[2]
                 };
                 let eps = (h - p.a) / p.a;
-                if eps >= lub.wall_cutoff || eps > crate::tables::EPS_MAX {
+                if eps >= lub.wall_cutoff || eps > EPS_MAX {
                     continue;
                 }
                 let nrm = [0.0, 0.0, if above { 1.0 } else { -1.0 }];
                 let block = wall_block(eta, p.a, eps, nrm);
                 let exact = DMatrix::from_fn(6, 6, |i, j| block[(i, j)]);
-                let idx: Vec<usize> = (0..k).map(|c| global_index(n, a, c)).collect();
+                let idx: Vec<usize> = (0..k).map(|c| global(parts, n, a, c)).collect();
                 let wall = Confinement::Wall { height: plane };
                 let far = single_boundary_self(&wall, eta, p.x, p.a, k);
                 add_correction(&mut r, &idx, &exact, far, k, 6, 1.0)?;
@@ -758,7 +485,7 @@ impl System {
         for &(a, s_dash, weight) in &surface {
             let p = &ps[a];
             let exact = free_surface_block(&functions, eta, p.a, s_dash, k)?;
-            let idx: Vec<usize> = (0..k).map(|c| global_index(n, a, c)).collect();
+            let idx: Vec<usize> = (0..k).map(|c| global(parts, n, a, c)).collect();
             let far = single_boundary_self(self.confinement(), eta, p.x, p.a, k);
             add_correction(&mut r, &idx, &exact, far, k, k, weight)?;
         }
@@ -778,7 +505,7 @@ impl System {
                 .collect::<Result<_, _>>()?;
             for (&(a, b, _, _), c) in chunk.iter().zip(&corrections) {
                 let idx: Vec<usize> = (0..2 * k)
-                    .map(|i| global_index(n, if i < k { a } else { b }, i % k))
+                    .map(|i| global(parts, n, if i < k { a } else { b }, i % k))
                     .collect();
                 scatter(&mut r, &idx, c, k, k);
             }
@@ -819,40 +546,4 @@ pub fn solve_resistance_fts(
     let rhs = nalgebra::DVector::from_column_slice(fl) - r.view((0, 6 * n), (6 * n, 5 * n)) * y_e;
     let block = r.view((0, 0), (6 * n, 6 * n)).into_owned();
     solve_resistance(&block, rhs.as_slice())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn singular_terms_match_the_wall_limit_of_the_pair_functions() {
-        // lubrication.md 2.2: the wall's eps ln eps coefficients are the lambda -> infinity
-        // limits of the pair g3's; here a spot check of the wall functions' slopes.
-        let (e1, e2) = (1e-6, 1e-7);
-        let (w1, w2) = (wall_near_contact(e1), wall_near_contact(e2));
-        let dl = (1.0f64 / e2).ln() - (1.0f64 / e1).ln();
-        assert!(((w2.ya - w1.ya) / dl - 8.0 / 15.0).abs() < 1e-5);
-        assert!(((w2.yc - w1.yc) / dl - 2.0 / 5.0).abs() < 1e-5);
-        assert!(((w2.fr - w1.fr) / dl - 2.0 / 15.0).abs() < 1e-5);
-    }
-
-    /// The assembled exact pair block is symmetric (reciprocity, JO84 eq. 1.4/1.9) for
-    /// unequal spheres at FTS, which checks the lambda -> 1/lambda rule and the
-    /// transposed force rows; 1e-12 relative: the series satisfy reciprocity to
-    /// 7e-14 (two_sphere_exact).
-    #[test]
-    fn pair_block_is_symmetric() {
-        let (a1, a2) = (1.0, 2.5);
-        let (s1, s2) = (
-            PairSeries::new(a2 / a1).unwrap(),
-            PairSeries::new(a1 / a2).unwrap(),
-        );
-        let d = [0.6, 0.0, 0.8];
-        let (f1, f2) = (s1.scalars(2.2).unwrap(), s2.scalars(2.2).unwrap());
-        let r = pair_block(1.3, [(a1, f1), (a2, f2)], d, 11);
-        assert!((&r - r.transpose()).norm() < 1e-12 * r.norm());
-        let w = wall_block(1.0, 1.0, 1e-3, [0.0, 0.0, 1.0]);
-        assert!((w - w.transpose()).norm() < 1e-14 * w.norm());
-    }
 }

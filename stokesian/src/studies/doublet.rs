@@ -10,16 +10,17 @@
 //! wire, the wire would carry the tension `tau` (external force `+tau e_x` on sphere 1,
 //! `-tau e_x` on sphere 2; positive = pulling them together) that keeps `r` fixed:
 //! `(U_2 - U_1)_x = 0`. Both are computed for any linear solver `(F, L) -> (U, Omega)`:
-//! the far-field FTS mobility (stresslets solved for zero strain, [`crate::solve_fts`])
+//! the far-field FTS mobility (stresslets solved for zero strain, [`solve_fts`])
 //! and the resistance with lubrication (Eq. 19: `(F, L) = R_{FL,U Omega} (U, Omega)`
 //! since `E_inf = 0`).
 //!
 //! Units: `a = 1`, `eta = 1`, `T = 1`; the rate is reported as `8 pi eta a^3 Omega / T`
 //! (the paper's normalisation) and the tension as `tau a / T`.
 
-use crate::assembly::{solve_fts, Moments, System};
-use crate::input::{InputError, Particle};
-use crate::lubrication::{Lubrication, ResistanceError};
+use crate::mobility::solve_fts;
+use crate::resistance::{Lubrication, ResistanceError};
+use crate::system::input::{InputError, Particle};
+use crate::system::{Moments, System};
 use kernels::Confinement;
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::PI;
