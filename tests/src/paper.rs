@@ -2,8 +2,8 @@
 //! no-slip boundary", Phys. Fluids 19, 113306: the closed forms of Appendix B (one sphere
 //! and the wall, B1-B6) and Appendix C (two equal spheres and the wall, C2-C7).
 //!
-//! Transcribed from the OCR text `shared/reference/seed-paper.md`, one function per
-//! equation, terms in the printed order.
+//! Transcribed from an OCR text of the paper, one function per equation, terms in the
+//! printed order.
 //!
 //! * [`printed`] is each formula exactly as printed, errors included.
 //! * [`corrected`] differs from [`printed`] only by the smallest change that makes it
