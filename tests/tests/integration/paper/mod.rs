@@ -3,4 +3,5 @@
 
 mod appendices;
 mod bossis_asymmetry;
+mod corrected;
 mod doublet;
