@@ -1,6 +1,7 @@
 //! The configurations the exact results describe, as solver systems (unit spheres,
 //! viscosity 1), and the resistance functions read off their resistance matrices (Kim &
-//! Karrila normalisation: A by 6 pi, B by 4 pi, C by 8 pi; lubrication.md 1.3, 2.1).
+//! Karrila normalisation: A by 6 pi, B by 4 pi, C by 8 pi, the wall's functions as those of a
+//! sphere and a second one of infinite radius).
 //! Shared by the tests against exact results and the report.
 
 use nalgebra::DMatrix;
@@ -10,7 +11,7 @@ use stokesian::{Confinement, Particle, System};
 /// One unit sphere with its centre at height `h` above a no-slip wall at 0.
 pub fn sphere_above_wall(h: f64) -> System {
     System::new(
-        Confinement::Wall { height: 0.0 },
+        crate::WALL,
         1.0,
         vec![Particle {
             x: [0.0, 0.0, h],

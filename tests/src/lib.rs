@@ -15,6 +15,18 @@ pub mod stiff;
 use kernels::{Confinement, Grand};
 use rand::Rng;
 
+/// A no-slip wall at `x3 = 0`, the fluid above it: the paper's geometry.
+pub const WALL: Confinement = Confinement::Wall { height: 0.0 };
+
+/// No external force, torque or trap (Brownian motion alone).
+pub const NO_FORCES: stokesian::ExternalForces = stokesian::ExternalForces {
+    weight: 0.0,
+    strength: 0.0,
+    debye: 1.0,
+    trap: 0.0,
+    torque: [0.0; 3],
+};
+
 /// The confinement a generated family stands for, with parameters `p` in the
 /// generator's order (`height`, then `lambda` or `gap`).
 pub fn confinement(name: &str, p: &[f64]) -> Confinement {
@@ -84,6 +96,21 @@ pub fn flat(g: &Grand) -> Vec<f64> {
     push(&g.el.iter().map(|r| &r[..]).collect::<Vec<_>>());
     push(&g.es.iter().map(|r| &r[..]).collect::<Vec<_>>());
     v
+}
+
+/// The entries of a matrix, row-major.
+pub fn flat2<const N: usize, const M: usize>(m: &[[f64; N]; M]) -> Vec<f64> {
+    m.iter().flatten().copied().collect()
+}
+
+/// The entries of a Cartesian tensor of rank 3, the last index fastest.
+pub fn flat3(m: &[[[f64; 3]; 3]; 3]) -> Vec<f64> {
+    m.iter().flatten().flatten().copied().collect()
+}
+
+/// The entries of a Cartesian tensor of rank 4, the last index fastest.
+pub fn flat4(m: &[[[[f64; 3]; 3]; 3]; 3]) -> Vec<f64> {
+    m.iter().flatten().flatten().flatten().copied().collect()
 }
 
 /// The nine blocks as (name, entries), so that each block can be compared on its own

@@ -1,12 +1,13 @@
 //! Validation of the exact sphere-wall and two-sphere resistance functions of
 //! `integration_tests::exact` against (i) an independent 40-digit evaluation of the printed
 //! formulas (`tests/derivations/exact_check.py`), (ii) the near-contact (lubrication) forms
-//! of `docs/lubrication.md` ("Reference formulas"), (iii) far-field reflection
-//! series, (iv) the published fits of Chaoui & Feuillebois (2003), (v) the reciprocity
-//! `F^r* = (4/3) T^t*` between two independent solutions, (vi) convergence in the
-//! truncation. Every tolerance is stated next to the measured error it covers.
+//! of two equal spheres (Jeffrey & Onishi 1984, as corrected by Townsend 2023) and of a
+//! sphere and a wall (Cox & Brenner 1967; Goldman, Cox & Brenner 1967), (iii) far-field
+//! reflection series, (iv) the published fits of Chaoui & Feuillebois (2003), (v) the
+//! reciprocity `F^r* = (4/3) T^t*` between two independent solutions, (vi) convergence in
+//! the truncation. Every tolerance is stated next to the measured error it covers.
 //!
-//! Run with `cargo test --release -p integration-tests --test exact_references -- --nocapture`
+//! Run with `cargo test --release -p integration-tests -- references::exact --nocapture`
 //! to see the measured errors and timings.
 
 use integration_tests::exact::{self, chaoui_feuillebois as cf};
@@ -298,7 +299,8 @@ fn documented_term_counts() {
     assert_eq!(counts, [1164, 7, 686, 2132, 21]);
 }
 
-/// lubrication.md 2.2, X^A_w = 1/eps + (1/5) L + 0.9712799 + (1/21) eps L + 0.16702 eps + ...
+/// Sphere-wall near-contact form (Cox & Brenner 1967; constants fitted to the exact series),
+/// X^A_w = 1/eps + (1/5) L + 0.9712799 + (1/21) eps L + 0.16702 eps + ...
 /// (L = ln(1/eps)). Measured (printed) 3e-8 at eps = 1e-4 and 1e-5, i.e. the rounding of
 /// the 7-digit constant (the O(eps^2 L^2) remainder is smaller);
 /// tolerance 1e-6 at eps = 1e-4, 1e-7 at eps = 1e-5. Also the O(1) constant alone against
@@ -325,9 +327,9 @@ fn normal_translation_near_contact() {
     assert!((c - 0.97128).abs() < 2e-5 && (c - 0.971264).abs() < 3e-5);
 }
 
-/// lubrication.md 2.2, parallel motions and rotation about the normal, at eps = 1e-4 and
-/// 1e-3 (remainders O(eps^2 L^2); measured and printed; tolerances 1e-6 at 1e-4, 3e-5 at
-/// 1e-3):
+/// Sphere-wall near-contact forms (Goldman, Cox & Brenner 1967), parallel motions and
+/// rotation about the normal, at eps = 1e-4 and 1e-3 (remainders O(eps^2 L^2); measured
+/// and printed; tolerances 1e-6 at 1e-4, 3e-5 at 1e-3):
 /// Y^A_w = (8/15) L + 0.9542937 + (64/375) eps L + 0.42945 eps,
 /// F^r* = (2/15) L - 0.2572703 + (86/375) eps L + 0.13411 eps,
 /// Y^C_w = (2/5) L + 0.3708926 + (66/125) eps L + 0.34009 eps,
@@ -427,7 +429,8 @@ fn chaoui_feuillebois_tables() {
     println!("Chaoui & Feuillebois: worst near-wall |diff| (YA, T, YC) = {}; worst Pade |diff| = {worst_pade:.1e}", e3(&worst_near));
 }
 
-/// lubrication.md 1.5, equal spheres along the line of centres (KK): X11A = 1/(4 xi) +
+/// Near-contact forms of equal spheres (Jeffrey & Onishi 1984, as corrected by Townsend
+/// 2023) along the line of centres (KK): X11A = 1/(4 xi) +
 /// (9/40) L + AX11 + (3/112) xi L, with AX11 = 0.9953608 (exact-series value; JO84 0.99538,
 /// Cooley & O'Neill 0.99536), AX11 + AX12 = 0.6451414 (Stimson-Jeffery at contact),
 /// AX11 - AX12 = 1.3455802 with xi L coefficient 3/56. Remainders are O(xi): measured at
@@ -499,7 +502,7 @@ fn two_sphere_xa_far_field_jeffrey_onishi() {
 }
 
 /// Jeffery (1915) two-sphere couples: contact values X11C -> (7/8) zeta(3), X12C -> -(1/8)
-/// zeta(3) with the xi L terms of lubrication.md 1.5 (-1/8, +1/8); remainder O(xi),
+/// zeta(3) with the xi L terms of the near-contact forms (-1/8, +1/8); remainder O(xi),
 /// measured (printed) below 1e-7 at xi = 1e-6; tolerance 2e-6. Far field (rho = r/a, from the
 /// image sums: the n = 2, 3 terms): X11C = 1 + rho^-6 + ..., X12C = -rho^-3 + o(rho^-6);
 /// measured (X11C - 1) rho^6 = 1.031 at rho = 10 and (X12C + rho^-3) rho^6 = -0.001;

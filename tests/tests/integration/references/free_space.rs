@@ -3,20 +3,10 @@
 //! couplings of Durlofsky, Brady & Bossis 1987 / Kim & Karrila 1991), for equal radii
 //! and radius ratios up to 10, at random separations 2.01 <= r/a <= 1e3.
 
-use integration_tests::{closed_forms as cf, norm, rel_diff};
+use integration_tests::{closed_forms as cf, flat2, flat3, flat4, norm, rel_diff};
 use kernels::{pair, pair_equal, Confinement};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-
-fn flat2<const N: usize>(m: &[[f64; N]; 3]) -> Vec<f64> {
-    m.iter().flatten().copied().collect()
-}
-fn flat3(m: &[[[f64; 3]; 3]; 3]) -> Vec<f64> {
-    m.iter().flatten().flatten().copied().collect()
-}
-fn flat4(m: &[[[[f64; 3]; 3]; 3]; 3]) -> Vec<f64> {
-    m.iter().flatten().flatten().flatten().copied().collect()
-}
 
 /// Tolerance: 1e-12 relative in the Frobenius norm of each block. Both sides are
 /// exact formulas evaluated in f64; the closed forms carry ~2e-15 (measured by the

@@ -2,11 +2,10 @@
 //! levels stated per test).
 
 use integration_tests::statistics::{boltzmann_height_cdf, ks, ks2, sample, separation_and_height};
+use integration_tests::{NO_FORCES, WALL};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use stokesian::{Brownian, Confinement, ExternalForces, Moments, Noise, Particle, Scheme, System};
-
-const WALL: Confinement = Confinement::Wall { height: 0.0 };
+use stokesian::{Brownian, ExternalForces, Moments, Noise, Particle, Scheme, System};
 
 /// A sedimented colloid: unit sphere, kT = 1, eta = 1, buoyant weight 1 kT/a (the
 /// gravitational length is a), repulsion 50 kT/a with screening length 0.1 a. Chosen so
@@ -117,13 +116,7 @@ fn force_free(moments: Moments, scheme: Scheme, noise: Noise) -> Brownian {
         kt: 1.0,
         dt: 1e-3,
         drift: true,
-        forces: ExternalForces {
-            weight: 0.0,
-            strength: 0.0,
-            debye: 1.0,
-            trap: 0.0,
-            torque: [0.0; 3],
-        },
+        forces: NO_FORCES,
     }
 }
 

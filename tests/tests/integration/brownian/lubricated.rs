@@ -4,16 +4,15 @@
 //! distribution of a sedimented sphere against Boltzmann's.
 
 use integration_tests::statistics::{boltzmann_height_cdf, ks, sample};
+use integration_tests::{norm, NO_FORCES, WALL};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use std::f64::consts::PI;
 use stokesian::{
-    wall_functions, Brownian, BrownianError, Confinement, ExternalForces, LubricatedDynamics,
-    Lubrication, Moments, Noise, Particle, ResistanceError, Scheme, System,
+    wall_functions, Brownian, BrownianError, ExternalForces, LubricatedDynamics, Lubrication,
+    Moments, Noise, Particle, ResistanceError, Scheme, System,
 };
-
-const WALL: Confinement = Confinement::Wall { height: 0.0 };
 
 /// No lubrication correction anywhere: the resistance is the inverse of the far-field
 /// FT mobility, so `div R^-1` is the divergence the generated kernels compute.
@@ -35,10 +34,6 @@ fn three_spheres() -> System {
         },
     ];
     System::new(WALL, 0.7, ps, false).unwrap()
-}
-
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
 /// The random finite difference with the `3N` unit vectors in turn is the central
@@ -128,14 +123,6 @@ fn lubricated(moments: Moments, dt: f64, drift: bool, forces: ExternalForces) ->
         }),
     }
 }
-
-const NO_FORCES: ExternalForces = ExternalForces {
-    weight: 0.0,
-    strength: 0.0,
-    debye: 1.0,
-    trap: 0.0,
-    torque: [0.0; 3],
-};
 
 /// One unit sphere at gap 0.1 a from the wall: the variances of one-step displacements
 /// are 2 kT dt times the exact sphere-wall mobility of a torque-free sphere, normal

@@ -116,7 +116,7 @@ fn tension_vanishes_by_mirror_symmetry_and_the_asymmetric_variant_changes_the_ra
 /// `stokesian::resistance::lubrication`: with `E_inf = 0` only the force-torque block of R matters,
 /// `R_FT = (M_FTS^-1)_FT + sum [exact - (far-field inverse)_FT]`, with the sphere-wall
 /// functions from the bispherical series (`integration_tests::exact`) and the two-sphere
-/// functions (`stokesian::resistance::two_sphere`, checked in two_sphere_exact.rs) written out for
+/// functions (`stokesian::resistance::two_sphere`, checked in `two_sphere::exact`) written out for
 /// the line of centres along x and the wall normal along z, and one augmented solve for
 /// the motion and the tension. Tolerance 1e-9 relative: both sides invert matrices with
 /// condition ~1e3 and subtract far-field inverses of size ~1e2 from ~1e2.

@@ -1,26 +1,12 @@
 //! Scene kernels are the full kernels pruned: the F and FT blocks and the fused pair
 //! products of every confinement equal the corresponding parts of the FTS kernels.
 
-use integration_tests::{all_confinements, random_spheres};
+use integration_tests::{all_confinements, flat2, random_spheres, rel_diff};
 use kernels::{
     pair, pair_f, pair_ft, product_f, product_ft, self_f, self_ft, self_mobility, BlocksFT,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-
-fn rel(a: &[f64], b: &[f64]) -> f64 {
-    let d: f64 = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    d / b.iter().map(|y| y * y).sum::<f64>().sqrt()
-}
-
-fn flat<const N: usize>(m: &[[f64; N]; N]) -> Vec<f64> {
-    m.iter().flatten().copied().collect()
-}
 
 /// Tolerance 1e-13: the pruned and full kernels sum the same terms, possibly grouped
 /// differently after dead-code elimination.
@@ -35,20 +21,26 @@ fn scene_kernels_equal_the_full_kernels_pruned() {
             let full = pair(&conf, 1.2, p.x, p.a, q.x, q.a);
             let ft = BlocksFT::from(&full);
             let f = pair_f(&conf, 1.2, p.x, p.a, q.x, q.a);
-            assert!(rel(&flat(&f.uf), &flat(&full.uf)) < 1e-13, "{name}: pair_f");
+            assert!(
+                rel_diff(&flat2(&f.uf), &flat2(&full.uf)) < 1e-13,
+                "{name}: pair_f"
+            );
             let g = pair_ft(&conf, 1.2, p.x, p.a, q.x, q.a);
             assert!(
-                rel(&flat(&g.matrix()), &flat(&ft.matrix())) < 1e-13,
+                rel_diff(&flat2(&g.matrix()), &flat2(&ft.matrix())) < 1e-13,
                 "{name}: pair_ft"
             );
             let s = self_mobility(&conf, 1.2, p.x, p.a);
             assert!(
-                rel(&flat(&self_f(&conf, 1.2, p.x, p.a).uf), &flat(&s.uf)) < 1e-13,
+                rel_diff(&flat2(&self_f(&conf, 1.2, p.x, p.a).uf), &flat2(&s.uf)) < 1e-13,
                 "{name}: self_f"
             );
             let sft = BlocksFT::from(&s).matrix();
             assert!(
-                rel(&flat(&self_ft(&conf, 1.2, p.x, p.a).matrix()), &flat(&sft)) < 1e-13,
+                rel_diff(
+                    &flat2(&self_ft(&conf, 1.2, p.x, p.a).matrix()),
+                    &flat2(&sft)
+                ) < 1e-13,
                 "{name}: self_ft"
             );
             let (va, vb) = (
@@ -58,12 +50,12 @@ fn scene_kernels_equal_the_full_kernels_pruned() {
             let (fa, fb) = ([va[0], va[1], va[2]], [vb[0], vb[1], vb[2]]);
             let pf = product_f(&conf, 1.2, p.x, p.a, q.x, q.a, fa, fb);
             let want_f = kernels::BlocksF::from(&full).product(fa, fb);
-            assert!(rel(&pf.a, &want_f.a) < 1e-13, "{name}: product_f a");
-            assert!(rel(&pf.b, &want_f.b) < 1e-13, "{name}: product_f b");
+            assert!(rel_diff(&pf.a, &want_f.a) < 1e-13, "{name}: product_f a");
+            assert!(rel_diff(&pf.b, &want_f.b) < 1e-13, "{name}: product_f b");
             let want = ft.product(va, vb);
             let pft = product_ft(&conf, 1.2, p.x, p.a, q.x, q.a, va, vb);
-            assert!(rel(&pft.a, &want.a) < 1e-13, "{name}: product_ft a");
-            assert!(rel(&pft.b, &want.b) < 1e-13, "{name}: product_ft b");
+            assert!(rel_diff(&pft.a, &want.a) < 1e-13, "{name}: product_ft a");
+            assert!(rel_diff(&pft.b, &want.b) < 1e-13, "{name}: product_ft b");
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Bad input gets a typed error with a clear message, never a panic and never a
 //! partial result.
 
+use integration_tests::WALL;
 use stokesian::{Confinement, InputError, Moments, Particle, System};
 
 fn p(x: [f64; 3], a: f64) -> Particle {
@@ -10,8 +11,6 @@ fn p(x: [f64; 3], a: f64) -> Particle {
 fn err(conf: Confinement, eta: f64, ps: &[Particle]) -> InputError {
     System::new(conf, eta, ps.to_vec(), false).expect_err("input must be rejected")
 }
-
-const WALL: Confinement = Confinement::Wall { height: 0.0 };
 
 #[test]
 fn each_bad_input_is_named() {

@@ -12,29 +12,13 @@
 //! central finite differences of Blake's image in double-double.
 
 use integration_tests::paper::{corrected, printed};
-use integration_tests::rel_diff;
+use integration_tests::{flat2, flat3, flat4, rel_diff, WALL};
 use kernel_gen::derivatives::Part;
 use kernel_gen::fd::FiniteDifferences;
 use kernel_gen::green::wall::Wall;
 use kernel_gen::operators::{self, Basis, Moment, Response};
 use kernels::{pair_equal, self_mobility, Confinement};
 use std::f64::consts::PI;
-
-type T2 = [[f64; 3]; 3];
-type T3 = [[[f64; 3]; 3]; 3];
-type T4 = [[[[f64; 3]; 3]; 3]; 3];
-
-fn f2(m: &T2) -> Vec<f64> {
-    m.iter().flatten().copied().collect()
-}
-fn f3(m: &T3) -> Vec<f64> {
-    m.iter().flatten().flatten().copied().collect()
-}
-fn f4(m: &T4) -> Vec<f64> {
-    m.iter().flatten().flatten().flatten().copied().collect()
-}
-
-const WALL: Confinement = Confinement::Wall { height: 0.0 };
 
 /// The six printed blocks (UF, OF, OL, EF, EL, ES) of the self term in the paper's
 /// normalisation, whole: the isolated sphere plus the image. The kernel returns this
@@ -84,12 +68,12 @@ fn normalised(w: &kernels::GrandCartesian, f: &kernels::GrandCartesian) -> [Vec<
             .collect()
     };
     [
-        d(f2(&w.uf), f2(&f.uf), 1.0),
-        d(f2(&w.of), f2(&f.of), 1.0),
-        d(f2(&w.ol), f2(&f.ol), 1.0),
-        d(f3(&w.ef), f3(&f.ef), 1.0),
-        d(f3(&w.el), f3(&f.el), 1.0),
-        d(f4(&w.es), f4(&f.es), 1.0),
+        d(flat2(&w.uf), flat2(&f.uf), 1.0),
+        d(flat2(&w.of), flat2(&f.of), 1.0),
+        d(flat2(&w.ol), flat2(&f.ol), 1.0),
+        d(flat3(&w.ef), flat3(&f.ef), 1.0),
+        d(flat3(&w.el), flat3(&f.el), 1.0),
+        d(flat4(&w.es), flat4(&f.es), 1.0),
     ]
 }
 
@@ -97,22 +81,22 @@ fn self_forms(h: f64, printed_forms: bool) -> [Vec<f64>; 6] {
     if printed_forms {
         use printed::*;
         [
-            f2(&b1_uf(h)),
-            f2(&b2_of(h)),
-            f2(&b3_ol(h)),
-            f3(&b4_ef(h)),
-            f3(&b5_el(h)),
-            f4(&b6_es(h)),
+            flat2(&b1_uf(h)),
+            flat2(&b2_of(h)),
+            flat2(&b3_ol(h)),
+            flat3(&b4_ef(h)),
+            flat3(&b5_el(h)),
+            flat4(&b6_es(h)),
         ]
     } else {
         use corrected::*;
         [
-            f2(&b1_uf(h)),
-            f2(&b2_of(h)),
-            f2(&b3_ol(h)),
-            f3(&b4_ef(h)),
-            f3(&b5_el(h)),
-            f4(&b6_es(h)),
+            flat2(&b1_uf(h)),
+            flat2(&b2_of(h)),
+            flat2(&b3_ol(h)),
+            flat3(&b4_ef(h)),
+            flat3(&b5_el(h)),
+            flat4(&b6_es(h)),
         ]
     }
 }
@@ -121,22 +105,22 @@ fn pair_forms(xa: [f64; 3], xb: [f64; 3], printed_forms: bool) -> [Vec<f64>; 6] 
     if printed_forms {
         use printed::*;
         [
-            f2(&c2_uf(xa, xb)),
-            f2(&c3_of(xa, xb)),
-            f2(&c4_ol(xa, xb)),
-            f3(&c5_ef(xa, xb)),
-            f3(&c6_el(xa, xb)),
-            f4(&c7_es(xa, xb)),
+            flat2(&c2_uf(xa, xb)),
+            flat2(&c3_of(xa, xb)),
+            flat2(&c4_ol(xa, xb)),
+            flat3(&c5_ef(xa, xb)),
+            flat3(&c6_el(xa, xb)),
+            flat4(&c7_es(xa, xb)),
         ]
     } else {
         use corrected::*;
         [
-            f2(&c2_uf(xa, xb)),
-            f2(&c3_of(xa, xb)),
-            f2(&c4_ol(xa, xb)),
-            f3(&c5_ef(xa, xb)),
-            f3(&c6_el(xa, xb)),
-            f4(&c7_es(xa, xb)),
+            flat2(&c2_uf(xa, xb)),
+            flat2(&c3_of(xa, xb)),
+            flat2(&c4_ol(xa, xb)),
+            flat3(&c5_ef(xa, xb)),
+            flat3(&c6_el(xa, xb)),
+            flat4(&c7_es(xa, xb)),
         ]
     }
 }

@@ -8,13 +8,14 @@
 //! 2. All 22 functions against Wilson's (2013) Lamb's-method computation as tabulated by
 //!    Townsend (`tests/data/wilson_lamb_two_sphere.txt`, lambda = 0.01, 0.1, 1, 10).
 //! 3. Near contact (lambda = 1, `1e-6 <= xi <= 1e-3`) against the near-contact forms of
-//!    `lubrication.md` 1.5 (published singular coefficients, constants rounded to 4-5 digits).
+//!    Jeffrey & Onishi 1984, as corrected by Townsend 2023 (published singular
+//!    coefficients, constants rounded to 4-5 digits).
 //! 4. Reciprocity (JO84 eq. 1.9) between lambda and 1/lambda, the contact values of `X^C`
 //!    (Hurwitz zeta), and the far field: the "11" functions of A, C, M tend to 1 and the
 //!    leading "12" terms are those of the point-force / point-torque fields derived below.
 //!
 //! The tables of largest errors print with
-//! `cargo test --release -p integration-tests --test two_sphere_exact -- --nocapture`.
+//! `cargo test --release -p integration-tests -- two_sphere::exact --nocapture`.
 
 use std::f64::consts::PI;
 use stokesian::resistance::exact::{two_sphere_xa, two_sphere_xc, ZETA3};
@@ -67,11 +68,11 @@ fn equal_spheres_xa_xc_against_bispherical_series() {
     // Tolerances: the series are summed to m = TRUNCATION = 200 and the neglected remainder
     // is largest at contact, where it is the error of the constant K: for X^A the remainders
     // oscillate in sign (~20/m^3) and the constants are within 5e-6 (absolute) of the
-    // exact ones (lubrication.md 1.5: AX11 = 0.9953608, AX12 = -0.3502194), i.e. below
+    // exact ones (near-contact forms: AX11 = 0.9953608, AX12 = -0.3502194), i.e. below
     // 5e-7 relative once X^A >= 10 and 2e-6 where |X12A| ~ 3 (xi ~ 0.1). The X^C remainders
     // decay monotonically like 2.3/m^3, so the truncated tail is ~2.3/(4 M^2) = 1.5e-5
     // absolute at contact: 1.5e-5 relative to X11C ~ 1.05, 1e-4 relative to X12C ~ -0.15.
-    // The bispherical references are accurate to 3e-15 (exact_references.rs).
+    // The bispherical references are accurate to 3e-15 (references::exact).
     assert!(worst[0].0 < 2e-7, "X11A {:?}", worst[0]);
     assert!(worst[1].0 < 2e-7, "X12A {:?}", worst[1]);
     assert!(worst[2].0 < 2e-5, "X11C {:?}", worst[2]);
@@ -179,7 +180,8 @@ fn all_functions_against_wilson_lamb_method() {
 
 #[test]
 fn near_contact_forms_of_lubrication_md() {
-    // lubrication.md 1.5, lambda = 1, L = ln(1/xi): [1/xi, L, constant, xi L]
+    // Near-contact forms (Jeffrey & Onishi 1984, as corrected by Townsend 2023), lambda = 1,
+    // L = ln(1/xi): [1/xi, L, constant, xi L]
     let z3 = ZETA3;
     let table: [[f64; 4]; 22] = [
         [0.25, 9.0 / 40.0, 0.99536, 3.0 / 112.0],
@@ -207,7 +209,7 @@ fn near_contact_forms_of_lubrication_md() {
     ];
     let series = PairSeries::new(1.0).unwrap();
     let k = series.contact_constants().to_array();
-    println!("\nlambda = 1: near-contact constants K, ours vs lubrication.md 1.5");
+    println!("\nlambda = 1: near-contact constants K, ours vs the published near-contact forms");
     for j in 0..22 {
         println!(
             "{:>5} {:>12.7} {:>10.5} {:>9.1e}",

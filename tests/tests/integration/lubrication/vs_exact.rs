@@ -3,13 +3,13 @@
 //! Brenner 1967; Jeffery 1915), evaluated to convergence in `integration_tests::exact`,
 //! and two equal spheres in unbounded fluid (Stimson & Jeffery 1926 with Brenner's
 //! free-surface series; Jeffery 1915). The table of relative errors prints with
-//! `cargo test --release -p integration-tests --test lubrication_vs_exact -- --nocapture`.
+//! `cargo test --release -p integration-tests -- lubrication::vs_exact --nocapture`.
 //!
 //! What is asserted is the accuracy claimed in docs/lubrication.md. Wall: for one sphere Eq. 19
 //! reduces to R^W at every height (no cutoff), the generated tables of the series in
 //! `stokesian::resistance::exact` (made from the series called with the gap), here checked against
 //! the series called with `h/a` (the series themselves are checked against published
-//! tables and 50-digit values in `exact_references.rs`). Pairs (xi < 0.1): the
+//! tables and 50-digit values in `references::exact`). Pairs (xi < 0.1): the
 //! near-contact two-sphere forms, whose neglected terms are O(xi^2 ln xi). Beyond the
 //! pair cutoff Eq. 19 falls back on the far-field FT mobility; those errors are printed
 //! and stated in docs/lubrication.md.
@@ -130,7 +130,7 @@ fn two_equal_spheres_along_the_line_of_centres() {
 /// Across the line of centres (translation and rotation perpendicular to it, and their
 /// coupling: Y^A, Y^B, Y^C, "11" and "12"), where no bispherical series is at hand:
 /// near contact (xi = 1e-4, 1e-3) against Jeffrey & Onishi's near-contact forms
-/// (lubrication.md 1.5: singular terms and their tabulated constants, given to 4
+/// (as corrected by Townsend 2023: singular terms and their tabulated constants, given to 4
 /// decimals, neglected terms O(xi) with coefficients of order one): tolerance
 /// 5e-5 + xi absolute, the constants' rounding plus the O(xi) terms; in the mid-field (s' = 2.025 to 4.5) against Wilson's (2013)
 /// Lamb's-method computation as tabulated by Townsend (an independent method; its own

@@ -19,8 +19,8 @@
 //! `kernel_gen::scene::evaluate_direct` all agree that the kernel was right there).
 //!
 //! Measured before and after the exact operator coefficients and the closed-form self
-//! term (this machine, `cargo test --release -p integration-tests --test stiff_cases
-//! -- --nocapture`):
+//! term (`cargo test --release -p integration-tests -- generated::stiff_cases
+//! --nocapture`):
 //!
 //! - lateral (wall FTS pair, blocks other than `uf`, `rho/h = 1e8`): 9.8e-9 before,
 //!   the operators' `f64` coefficients (`1/sqrt 6`, `1/6`, the jet rules' weights)
@@ -92,7 +92,7 @@ fn generated_kernels_keep_1e_10_in_the_stiff_cases() {
 /// Both branches of every kernel with a second branch, evaluated by the interpreter,
 /// agree with the double-double direct sum, and the emitted kernel is the branch its
 /// condition selects (same operations in the same order: equal up to 4 ulps, as in
-/// `engine.rs`):
+/// `generated::engine`):
 ///
 /// - the lateral far field (wall pairs), on both sides of the switch
 ///   (`rho^2 = 2 SWITCH^2 (h_a^2 + h_b^2)`, from 0.3 to 3 times it): to 1e-10, so

@@ -1,0 +1,9 @@
+//! The resistance with lubrication (Eq. 19): its assembly and positive definiteness,
+//! its accuracy against exact results at a wall, a free surface and between two spheres,
+//! the window that switches the pair correction off, and the sphere-wall tables.
+
+mod free_surface;
+mod pair_window;
+mod resistance;
+mod vs_exact;
+mod wall_tables;

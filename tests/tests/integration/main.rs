@@ -1,0 +1,19 @@
+//! The integration tests, one binary with a module per theme: each theme checks one part
+//! of the solver or the generator against an independent reference. The shared helpers
+//! and the references themselves (configurations, closed forms, the paper's appendices,
+//! exact series, statistics, the stiff cases) live in the `integration_tests` library
+//! (`tests/src`).
+//!
+//! One binary links once where one per file linked 24 times. Run one theme, one file or
+//! one test by its path, e.g.
+//! `cargo test --release -p integration-tests -- two_sphere::exact::cost --nocapture`.
+
+mod bad_input;
+mod brownian;
+mod generated;
+mod lanes;
+mod lubrication;
+mod paper;
+mod physics;
+mod references;
+mod two_sphere;
