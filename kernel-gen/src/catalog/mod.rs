@@ -8,9 +8,9 @@
 //! writes them, `--check` compares.
 //!
 //! - `scene`: [`Scene`], a scene file of `scenes/` ([`Moments`], [`Radii`]);
-//! - `family`: the kernels of one Green's function ([`variants`], [`family`]) and their
+//! - `family`: the kernels of one Green's function ([`variants`], [`family()`]) and their
 //!   single-precision twins;
-//! - `scene_file`: the kernels of one scene ([`scene_file`]);
+//! - `scene_file`: the kernels of one scene ([`scene_file()`]);
 //! - `dispatch`: the generated `mod.rs`, the `Confinement` enum and its entry points.
 
 mod dispatch;

@@ -10,11 +10,11 @@ use crate::kernel::{ArgKind, Traced};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::quote;
 
-/// Statements of a lane kernel (generic lane type `L`, crate `lanes`) for the nodes
-/// `want` not yet named: as [`statements`], with constants broadcast, comparisons as
-/// per-lane blends, the products of [`Fusion`] fused into their sums, and the
-/// reciprocals of [`reciprocal_groups`] sharing one division. Emitted depth first
-/// (a group of reciprocals after the arguments of all its members).
+/// Statements of a lane kernel (generic lane type `L`, crate `lanes`) for the nodes `want`
+/// not yet named: as the scalar kernel's statements, with constants broadcast, comparisons
+/// as per-lane blends, the products of [`Fusion`] fused into their sums, and the
+/// reciprocals of [`reciprocal_groups`] sharing one division. Emitted depth first (a group
+/// of reciprocals after the arguments of all its members).
 fn lane_statements(
     g: &Graph,
     want: &[bool],
@@ -230,14 +230,15 @@ impl LaneEmitter<'_> {
     }
 }
 
-/// The lane twin of a kernel: the same trace evaluated on `L::WIDTH` pairs at once
-/// (generic over `lanes::Lane`), branch-free per lane. The exchange of roles
+/// The lane twin of a kernel: the same trace evaluated on `L::WIDTH` pairs at once (generic
+/// over `lanes::Lane`), branch-free per lane. The exchange of roles
 /// ([`crate::kernel::Swap`]) becomes a per-lane exchange of the arguments and of the
-/// outputs; the far branch is computed where any lane needs it and blended per lane
-/// (the direct sum likewise where any lane needs it); multiply-adds are fused
-/// ([`Fusion`]) and reciprocals share divisions ([`reciprocal_groups`]). Arguments are arrays of lanes in the scalar kernel's order; the
-/// outputs come back flattened, in the order of the scalar kernel's fields.
-/// Returns the function and its operation count (a fused multiply-add counts once).
+/// outputs; the far branch is computed where any lane needs it and blended per lane (the
+/// direct sum likewise where any lane needs it); multiply-adds are fused ([`Fusion`]) and
+/// reciprocals share divisions (`reciprocal_groups`). Arguments are arrays of lanes in the
+/// scalar kernel's order; the outputs come back flattened, in the order of the scalar
+/// kernel's fields. Returns the function and its operation count (a fused multiply-add
+/// counts once).
 pub fn lane_function(k: &KernelFn) -> (TokenStream, usize) {
     let t = k.traced;
     // the lane form: reciprocal square roots in place of square roots then divisions;

@@ -5,7 +5,7 @@
 //!
 //! - `tokens`: literals, names, parameters, documentation, nested arrays, and the
 //!   generated file with its header;
-//! - `function`: the scalar kernel ([`function`]), in `f64` or `f32`;
+//! - `function`: the scalar kernel ([`function()`]), in `f64` or `f32`;
 //! - `lanes`: its lane twin ([`lane_function`]), generic over `lanes::Lane`;
 //! - `fusion`: the fused multiply-adds of the lane kernels ([`Fusion`]);
 //! - `reciprocals`: the reciprocals of a lane kernel that share one division.

@@ -84,8 +84,9 @@ impl Op {
 #[derive(Clone, Debug, Default)]
 pub struct Graph {
     nodes: Vec<Op>,
-    /// Hash-consing: the id of every node by its operation (Fx hashing: the graph is
-    /// built from the generator's own operations, and SipHash took 6% of `cargo xtask gen`).
+    /// Hash-consing: the id of every node by its operation (Fx hashing: the keys are the
+    /// generator's own operations, so SipHash's resistance to chosen keys buys nothing and
+    /// its cost is a visible share of the generation time).
     index: FxHashMap<Op, Id>,
     inputs: Vec<String>,
 }

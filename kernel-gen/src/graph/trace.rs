@@ -77,7 +77,7 @@ impl Ex {
 }
 
 impl Ex {
-    /// `if l > r { a } else { b }` ([`Op::Select`]).
+    /// `if l > r { a } else { b }` ([`Op::Select`](crate::graph::Op::Select)).
     pub fn select_gt(l: Ex, r: Ex, a: Ex, b: Ex) -> Ex {
         Ex(with_graph(|g| g.select_gt(l.0, r.0, a.0, b.0)))
     }

@@ -9,11 +9,11 @@ use crate::physics::green::Green;
 
 /// The direct sum of kernel `spec` evaluated straight in the scalar `S`, without an
 /// expression graph: `inputs` as the traced graph's, outputs flattened as
-/// [`Traced::outputs`] (blocks, or the fused products; not the divergences). In
-/// double-double this is the stiff cases' reference: the graph's constants are `f64`
-/// (a jet rule's weight such as 1/3 rounded, constants folded in `f64`), which leaves
-/// about 1e-17 of the terms wherever they cancel, while here every rational weight is
-/// exact ([`Scalar::ratio`]).
+/// [`Traced::outputs`](super::Traced::outputs) (blocks, or the fused products; not the
+/// divergences). In double-double this is the stiff cases' reference: the graph's constants
+/// are `f64` (a jet rule's weight such as 1/3 rounded, constants folded in `f64`), which
+/// leaves about 1e-17 of the terms wherever they cancel, while here every rational weight
+/// is exact ([`Scalar::ratio`]).
 pub fn evaluate_direct<G: Green, S: Scalar>(g: &G, spec: &KernelSpec, inputs: &[S]) -> Vec<S> {
     assert!(!spec.divergence, "the divergences are traced only");
     let mut rest = inputs;

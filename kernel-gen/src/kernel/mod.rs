@@ -1,6 +1,6 @@
 //! One kernel: what it computes ([`KernelSpec`]: which blocks, self or pair, in which
 //! strain basis, for equal or unequal radii, by which derivative path; or the fused pair
-//! product, or the divergence) and its tracing ([`trace`]) into an expression graph
+//! product, or the divergence) and its tracing ([`trace()`]) into an expression graph
 //! with named inputs and block-shaped outputs ([`Traced`]).
 //!
 //! Pair kernels (particles `a != b`) are `M^{ab}` from `G = J + J^w` (Eq. 16); self
@@ -14,7 +14,7 @@
 //!   direct evaluation);
 //! - `product`: the fused pair product `a = M^{ab} vb`, `b = M^{ba} va`;
 //! - `divergence`: the divergence of the blocks over the positions (Brownian drift);
-//! - `trace`: [`trace`], the kernel traced in every form and the cheapest kept, with its
+//! - `trace`: [`trace()`], the kernel traced in every form and the cheapest kept, with its
 //!   far-field or closed-form branch and the exchange of roles;
 //! - `traced`: [`Traced`], its arguments, outputs and branches, and its evaluation by
 //!   the interpreter as the emitted code evaluates it;

@@ -19,6 +19,8 @@ pub enum Path {
     /// The same, but the Stokeslet and its image summed directly, without the exactly
     /// evaluated difference ([`Structured::direct_sum`]) and without the generator's
     /// other branches: the reference of the stiff cases, and their "before".
+    ///
+    /// [`Structured::direct_sum`]: crate::physics::derivatives::Structured::direct_sum
     StructuredDirectSum,
     /// The same, but the image is differentiated as a function of `x - y'` only
     /// (Bossis et al.; wrong, asymmetric: Sec. III A).

@@ -10,6 +10,7 @@
 
 use crate::number::dd::Dd;
 use crate::number::scalar::Scalar;
+use crate::physics::derivatives::Part;
 use crate::physics::green::{self, Green, Mat3};
 use crate::physics::operators::{Deriv, Derivatives};
 use std::collections::HashMap;
@@ -36,9 +37,6 @@ pub fn stencil(n: u8) -> Vec<(i32, f64)> {
     }
     s
 }
-
-/// Which part of `G` to difference.
-pub use crate::physics::derivatives::Part;
 
 /// Finite-difference derivatives of a Green's function about `(x, y)` in double-double.
 pub struct FiniteDifferences<'g, G: Green> {
