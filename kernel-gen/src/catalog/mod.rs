@@ -40,6 +40,48 @@ pub struct GeneratedFile {
     pub op_counts: Vec<(String, usize)>,
 }
 
+/// Every generated file, including `mod.rs`.
+pub fn generate(scenes: &[Scene]) -> Vec<GeneratedFile> {
+    let mut c = Collect {
+        families: Vec::new(),
+        scenes,
+    };
+    green::for_each(&mut c);
+    let mut mods: Vec<TokenStream> = Vec::new();
+    for f in &c.families {
+        let n = ident(f.name);
+        let d = format!(" Kernels of the `{}` family.", f.name);
+        mods.push(quote!(#[doc = #d] pub mod #n;));
+        for sf in &f.scene_files {
+            let m = ident(sf.name.trim_end_matches(".rs"));
+            let d = format!(
+                " Kernels of the scene `{}` (`scenes/`).",
+                sf.name.trim_start_matches("scene_").trim_end_matches(".rs")
+            );
+            mods.push(quote!(#[doc = #d] pub mod #m;));
+        }
+    }
+    let dispatch = dispatch(&c.families);
+    let module_doc = vec![
+        "Generated kernels, one module per Green's function.".to_string(),
+        String::new(),
+        "Regenerate with `cargo xtask gen`.".to_string(),
+    ];
+    let mut files = vec![GeneratedFile {
+        name: "mod.rs".into(),
+        contents: emit::file(&module_doc, quote!(#(#mods)* #dispatch)),
+        op_counts: Vec::new(),
+    }];
+    let mut single = Vec::new();
+    for f in c.families {
+        files.push(f.file);
+        files.extend(f.scene_files);
+        single.push(f.single);
+    }
+    files.push(single_file(single));
+    files
+}
+
 struct Family {
     name: &'static str,
     title: &'static str,
@@ -107,48 +149,6 @@ impl Visitor for Collect<'_> {
             scene_files: mine.iter().map(|s| scene_file(g, s, false)).collect(),
         });
     }
-}
-
-/// Every generated file, including `mod.rs`.
-pub fn generate(scenes: &[Scene]) -> Vec<GeneratedFile> {
-    let mut c = Collect {
-        families: Vec::new(),
-        scenes,
-    };
-    green::for_each(&mut c);
-    let mut mods: Vec<TokenStream> = Vec::new();
-    for f in &c.families {
-        let n = ident(f.name);
-        let d = format!(" Kernels of the `{}` family.", f.name);
-        mods.push(quote!(#[doc = #d] pub mod #n;));
-        for sf in &f.scene_files {
-            let m = ident(sf.name.trim_end_matches(".rs"));
-            let d = format!(
-                " Kernels of the scene `{}` (`scenes/`).",
-                sf.name.trim_start_matches("scene_").trim_end_matches(".rs")
-            );
-            mods.push(quote!(#[doc = #d] pub mod #m;));
-        }
-    }
-    let dispatch = dispatch(&c.families);
-    let module_doc = vec![
-        "Generated kernels, one module per Green's function.".to_string(),
-        String::new(),
-        "Regenerate with `cargo xtask gen`.".to_string(),
-    ];
-    let mut files = vec![GeneratedFile {
-        name: "mod.rs".into(),
-        contents: emit::file(&module_doc, quote!(#(#mods)* #dispatch)),
-        op_counts: Vec::new(),
-    }];
-    let mut single = Vec::new();
-    for f in c.families {
-        files.push(f.file);
-        files.extend(f.scene_files);
-        single.push(f.single);
-    }
-    files.push(single_file(single));
-    files
 }
 
 /// The kernels' return type for a truncation.
