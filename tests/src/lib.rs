@@ -47,15 +47,15 @@ pub fn sample_value(param: &str) -> f64 {
 /// Sample parameters of a registered family, in the generator's order.
 pub fn sample_params(name: &str) -> Vec<f64> {
     struct Find<'a>(&'a str, Option<Vec<f64>>);
-    impl kernel_gen::green::Visitor for Find<'_> {
-        fn visit<G: kernel_gen::green::Green>(&mut self, g: &G) {
+    impl kernel_gen::physics::green::Visitor for Find<'_> {
+        fn visit<G: kernel_gen::physics::green::Green>(&mut self, g: &G) {
             if g.name() == self.0 {
                 self.1 = Some(g.params().iter().map(|p| sample_value(p)).collect());
             }
         }
     }
     let mut f = Find(name, None);
-    kernel_gen::green::for_each(&mut f);
+    kernel_gen::physics::green::for_each(&mut f);
     f.1.unwrap_or_else(|| panic!("no registered Green's function {name}"))
 }
 
@@ -200,13 +200,13 @@ pub fn random_spheres(
 /// `Path::StructuredNoExplicitHeight` the asymmetric x - y' variant); per-particle
 /// blocks of 11 `[U, Omega, E]` (a permutation of the moment-major layout of docs/conventions.md).
 pub fn two_sphere_mobility(
-    path: kernel_gen::scene::Path,
+    path: kernel_gen::kernel::Path,
     h: f64,
     s: f64,
 ) -> nalgebra::DMatrix<f64> {
-    use kernel_gen::green::wall::Wall;
-    use kernel_gen::operators::{Basis, BLOCKS};
-    use kernel_gen::scene::{trace, Interaction, KernelSpec};
+    use kernel_gen::kernel::{trace, Interaction, KernelSpec};
+    use kernel_gen::physics::green::wall::Wall;
+    use kernel_gen::physics::operators::{Basis, BLOCKS};
     let spec = |interaction| KernelSpec {
         interaction,
         basis: Basis::Orthonormal,

@@ -15,13 +15,13 @@
 //!   are at a = 1, eta = 1).
 //!
 //! The reference is the direct sum of the same kernel, evaluated straight in
-//! double-double from the Green's function (`kernel_gen::scene::evaluate_direct`, every
+//! double-double from the Green's function (`kernel_gen::kernel::evaluate_direct`, every
 //! rational weight exact; not the expression graph, whose constants are `f64`): about
 //! 32 significant digits, so even where the direct formula loses 16 digits to
 //! cancellation (rho/h = 1e8) it keeps 16. It never uses the branches the generator
-//! switches to (the lateral far field, `kernel_gen::farfield`; the closed-form self
-//! term, `kernel_gen::self_image`) nor the exactly evaluated Stokeslet-minus-image
-//! difference of the wall's direct branch (`kernel_gen::derivatives::Structured`):
+//! switches to (the lateral far field, `kernel_gen::physics::farfield`; the closed-form self
+//! term, `kernel_gen::physics::self_image`) nor the exactly evaluated Stokeslet-minus-image
+//! difference of the wall's direct branch (`kernel_gen::physics::derivatives::Structured`):
 //! it is the plain sum ([`Kind::reference`]), so it is independent of them.
 //!
 //! Errors are norm-wise per block, `||K - K_ref||_F / ||K_ref||_F`: entries that
@@ -30,11 +30,12 @@
 //! entrywise relative error would be meaningless for them.
 
 use crate::{confinement, norm};
-use kernel_gen::dd::Dd;
-use kernel_gen::farfield::SWITCH;
-use kernel_gen::green::{Green, Visitor};
-use kernel_gen::operators::BLOCKS;
-use kernel_gen::scene::{evaluate_direct, trace, Interaction, KernelSpec, Moments, Path, Traced};
+use kernel_gen::catalog::Moments;
+use kernel_gen::kernel::{evaluate_direct, trace, Interaction, KernelSpec, Path, Traced};
+use kernel_gen::number::dd::Dd;
+use kernel_gen::physics::farfield::SWITCH;
+use kernel_gen::physics::green::{Green, Visitor};
+use kernel_gen::physics::operators::BLOCKS;
 use kernels::{BlocksF, BlocksFT, Grand};
 
 /// Required accuracy, norm-wise per block.
@@ -165,7 +166,7 @@ impl Kind {
         };
         KernelSpec {
             interaction,
-            basis: kernel_gen::operators::Basis::Orthonormal,
+            basis: kernel_gen::physics::operators::Basis::Orthonormal,
             equal_radii: false,
             blocks: if moments == Moments::FTS {
                 BLOCKS.to_vec()
@@ -601,6 +602,6 @@ pub fn stiff_cases() -> Vec<StiffRow> {
         cases: cases(),
         rows: Vec::new(),
     };
-    kernel_gen::green::for_each(&mut m);
+    kernel_gen::physics::green::for_each(&mut m);
     m.rows
 }

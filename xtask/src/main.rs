@@ -8,7 +8,7 @@
 
 use anyhow::{bail, Context, Result};
 use kernel_gen::catalog::GeneratedFile;
-use kernel_gen::scene::Scene;
+use kernel_gen::catalog::Scene;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -46,13 +46,13 @@ fn usage() -> &'static str {
 /// Names of the registered Green's functions.
 fn registered() -> Vec<&'static str> {
     struct Names(Vec<&'static str>);
-    impl kernel_gen::green::Visitor for Names {
-        fn visit<G: kernel_gen::green::Green>(&mut self, g: &G) {
+    impl kernel_gen::physics::green::Visitor for Names {
+        fn visit<G: kernel_gen::physics::green::Green>(&mut self, g: &G) {
             self.0.push(g.name());
         }
     }
     let mut n = Names(Vec::new());
-    kernel_gen::green::for_each(&mut n);
+    kernel_gen::physics::green::for_each(&mut n);
     n.0
 }
 
@@ -93,8 +93,8 @@ fn gen_scene(file: &Path, out: Option<&Path>) -> Result<()> {
         scene: &'a Scene,
         file: Option<GeneratedFile>,
     }
-    impl kernel_gen::green::Visitor for One<'_> {
-        fn visit<G: kernel_gen::green::Green>(&mut self, g: &G) {
+    impl kernel_gen::physics::green::Visitor for One<'_> {
+        fn visit<G: kernel_gen::physics::green::Green>(&mut self, g: &G) {
             if g.name() == self.scene.confinement {
                 self.file = Some(kernel_gen::catalog::scene_file(g, self.scene, true));
             }
@@ -104,7 +104,7 @@ fn gen_scene(file: &Path, out: Option<&Path>) -> Result<()> {
         scene: &scene,
         file: None,
     };
-    kernel_gen::green::for_each(&mut one);
+    kernel_gen::physics::green::for_each(&mut one);
     let f = one
         .file
         .expect("the scene's confinement is registered (checked on parse)");

@@ -8,14 +8,14 @@
 //! - the free-space part: `integration_tests::closed_forms` (Rotne-Prager-Yamakawa and
 //!   the Durlofsky-Brady-Bossis / Kim-Karrila couplings) for pairs, and the isolated
 //!   sphere (Eq. 17: `1/(6 pi eta a)`, `1/(8 pi eta a^3)`, `(6/5)/(8 pi eta a^3)`) for
-//!   self terms, through `kernel_gen::operators::isolated`.
+//!   self terms, through `kernel_gen::physics::operators::isolated`.
 //!
 //! The appendices give UF, OF, OL, EF, EL, ES; UL, US and OS follow by reciprocity
 //! (`M_UL^{ab} = (M_OF^{ba})^T`, `M_US^{ab} = (M_EF^{ba})^T`, `M_OS^{ab} = (M_EL^{ba})^T`).
 
 use integration_tests::closed_forms as cf;
 use integration_tests::paper::corrected as paper;
-use kernel_gen::operators::{isolated, Basis, BLOCKS};
+use kernel_gen::physics::operators::{isolated, Basis, BLOCKS};
 use kernels::{basis_both, basis_cols, basis_rows};
 use std::f64::consts::PI;
 

@@ -7,20 +7,20 @@
 //!
 //! The reference is the traced expression graph of the kernel (the graph the emitter
 //! prints, direct sum, no far-field branch) evaluated by the interpreter in
-//! double-double (`kernel_gen::dd::Dd`).
+//! double-double (`kernel_gen::number::dd::Dd`).
 
 use super::sample::{self, Case, Kind};
 use super::table::{self, Table};
 use super::timing::ns_per_eval;
 use super::{closed, plot, Ctx, Section};
 use anyhow::Result;
-use kernel_gen::dd::Dd;
-use kernel_gen::derivatives::{GenericJets, Part, Structured};
-use kernel_gen::green::{self, Green, Mat3, Visitor};
-use kernel_gen::operators::{
+use kernel_gen::kernel::{trace, Interaction, KernelSpec, Traced};
+use kernel_gen::number::dd::Dd;
+use kernel_gen::physics::derivatives::{GenericJets, Part, Structured};
+use kernel_gen::physics::green::{self, Green, Mat3, Visitor};
+use kernel_gen::physics::operators::{
     self, block_name, isolated, moment_dim, response_dim, Basis, Deriv, Derivatives, Term, BLOCKS,
 };
-use kernel_gen::scene::{trace, Interaction, KernelSpec, Traced};
 use kernels::single::{self, Grand32};
 use kernels::Confinement;
 use std::collections::HashMap;
@@ -245,7 +245,7 @@ fn single_pair(
 }
 
 /// Central finite differences of `G` (or its reflected part) in `f64`: the stencils of
-/// `kernel_gen::fd` (second order, tensor products), evaluated in double precision.
+/// `kernel_gen::physics::fd` (second order, tensor products), evaluated in double precision.
 struct Fd64<'g, G: Green> {
     g: &'g G,
     part: Part,
@@ -266,7 +266,7 @@ impl<'g, G: Green> Fd64<'g, G> {
             y,
             p: p.to_vec(),
             h,
-            stencils: (0..=order).map(kernel_gen::fd::stencil).collect(),
+            stencils: (0..=order).map(kernel_gen::physics::fd::stencil).collect(),
             cache: HashMap::new(),
         }
     }
@@ -601,7 +601,7 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
          the relative error of each block, **norm-wise per block**: `||B - B_ref||_F / ||B_ref||_F`, the difference taken \
          in double-double; blocks whose reference is exactly zero (e.g. UL of a free-space self term) are left out. \
          The reference is the kernel's traced expression graph (the graph the emitter prints; direct sum, \
-         the lateral far-field branch is not taken in this sample) interpreted in double-double (`kernel_gen::dd::Dd`). \
+         the lateral far-field branch is not taken in this sample) interpreted in double-double (`kernel_gen::number::dd::Dd`). \
          Sample: {} configurations per family and term for the generated kernels and the closed forms, the first {} of them \
          for the run-time jets, the finite differences and the timing of the reference. {}\n",
         cfg.cases,
@@ -616,7 +616,7 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
          plus the isolated sphere or the free-space closed forms of `integration_tests::closed_forms`; UL, US, OS by reciprocity); \
          **run-time jets** (the generator's structured path, Eq. 10, evaluated on `f64` Taylor jets at run time, the operators' \
          term tables precomputed; the generic six-variable jets for Green's functions without image structure); \
-         **finite differences** (the second-order central stencils of `kernel_gen::fd`, tensor products, evaluated in `f64` with \
+         **finite differences** (the second-order central stencils of `kernel_gen::physics::fd`, tensor products, evaluated in `f64` with \
          step h = {FD_STEP} d, d the distance from the source point to the nearest singularity of the differenced part: \
          the field point for pairs, the source's image for the reflected field; G evaluations cached per configuration). \
          Time per evaluation is single-threaded and includes, for the run-time variants, building the jets or the stencil cache.\n"

@@ -10,8 +10,8 @@ use super::table::{self, Table};
 use super::timing::ns_per_eval;
 use super::{Ctx, Section};
 use anyhow::Result;
-use kernel_gen::green::{Green, Visitor};
-use kernel_gen::scene::{Moments, Radii, Scene};
+use kernel_gen::catalog::{Moments, Radii, Scene};
+use kernel_gen::physics::green::{Green, Visitor};
 use kernels::generated::scene_wall_f_monolayer as monolayer;
 use kernels::Confinement;
 use std::fmt::Write as _;
@@ -40,7 +40,7 @@ fn op_counts(scene: &Scene) -> Vec<(String, usize, Option<usize>)> {
         scene,
         counts: Vec::new(),
     };
-    kernel_gen::green::for_each(&mut one);
+    kernel_gen::physics::green::for_each(&mut one);
     let mut out: Vec<(String, usize, Option<usize>)> = Vec::new();
     for (name, n) in one.counts {
         match name.strip_suffix(" (far field)") {
@@ -386,7 +386,7 @@ fn family_lanes(ctx: &Ctx) -> Result<String> {
         }
     }
     let mut counts = Counts(Vec::new());
-    kernel_gen::green::for_each(&mut counts);
+    kernel_gen::physics::green::for_each(&mut counts);
     let mut t = Table::new(&["family", "kernel", "flops", "time per pair"]);
     for (k, (family, flops)) in counts.0.iter().enumerate() {
         let params = kernel_params(family);
@@ -441,6 +441,6 @@ fn kernel_params(name: &str) -> Vec<&'static str> {
         }
     }
     let mut f = Find(name, Vec::new());
-    kernel_gen::green::for_each(&mut f);
+    kernel_gen::physics::green::for_each(&mut f);
     f.1
 }

@@ -1,6 +1,6 @@
 //! Section c, stiff and extreme cases: the norm-wise relative error per block of every
 //! generated kernel of every confinement against a double-double evaluation of the
-//! plain direct sum (`kernel_gen::scene::evaluate_direct`), for lateral separations up to 1e8 heights, gaps down to 1e-12 a, radius
+//! plain direct sum (`kernel_gen::kernel::evaluate_direct`), for lateral separations up to 1e8 heights, gaps down to 1e-12 a, radius
 //! ratios up to 1e3, heights up to 1e8 a and nanometre and unit scales. The measurement
 //! is `integration_tests::stiff::stiff_cases`, the same function whose rows
 //! `tests/tests/stiff_cases.rs` asserts; this section prints the worst of each case and
@@ -64,7 +64,7 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
         body,
         "Every generated kernel of every confinement (self, pair, equal-radius pair, fused \
          products; F, FT and FTS) against the same kernel's plain direct sum evaluated straight \
-         in double-double with exact rational weights (`kernel_gen::scene::evaluate_direct`), \
+         in double-double with exact rational weights (`kernel_gen::kernel::evaluate_direct`), \
          error norm-wise per block (`||B - B_ref|| / ||B_ref||`), over the \
          configurations of `integration_tests::stiff::stiff_cases` ({} block measurements): \
          lateral separation over height rho/h from 1e2 to 1e8 (the Stokeslet and its image \
@@ -93,11 +93,11 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
         body,
         "\nThe stable forms: the exactly evaluated difference of the Stokeslet and its wall \
          image (`|R|^2 - |r|^2 = 4 h_a h_b` carried through the jets, \
-         `kernel_gen::derivatives`), the exchange of roles that makes the lower particle the \
-         source (`kernel_gen::scene::Swap`), the lateral far-field expansion \
-         (`kernel_gen::farfield`), the closed-form reflected self term \
-         (`kernel_gen::self_image`), and exact operator coefficients \
-         (`kernel_gen::operators::exact_block`)."
+         `kernel_gen::physics::derivatives`), the exchange of roles that makes the lower particle the \
+         source (`kernel_gen::kernel::Swap`), the lateral far-field expansion \
+         (`kernel_gen::physics::farfield`), the closed-form reflected self term \
+         (`kernel_gen::physics::self_image`), and exact operator coefficients \
+         (`kernel_gen::physics::operators::exact_block`)."
     )?;
     Ok(Section {
         title: "c. Stiff and extreme cases".to_string(),

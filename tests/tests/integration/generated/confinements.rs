@@ -1,10 +1,10 @@
 //! Checks written once and run on every registered confinement (the registry in
-//! `kernel_gen::green::for_each`): a new Green's function gets them without new code.
+//! `kernel_gen::physics::green::for_each`): a new Green's function gets them without new code.
 
 use integration_tests::{blocks, confinement, norm, rel_diff, sample_params};
-use kernel_gen::derivatives::Structured;
-use kernel_gen::green::{Boundary, Green, Visitor};
-use kernel_gen::operators::{Deriv, Derivatives};
+use kernel_gen::physics::derivatives::Structured;
+use kernel_gen::physics::green::{Boundary, Green, Visitor};
+use kernel_gen::physics::operators::{Deriv, Derivatives};
 use kernels::{pair, self_mobility, Confinement};
 
 /// All multi-indices of total order <= n in three variables.
@@ -43,8 +43,15 @@ impl Visitor for BoundaryConditions {
             ([4.0, 2.5, wall], [-0.6, 0.2, wall + 0.4]),
         ] {
             let mut full = Structured::new(g, &x, &y, &p, 4, true, true);
-            let mut free =
-                Structured::new(&kernel_gen::green::free::Free, &x, &y, &[], 4, true, true);
+            let mut free = Structured::new(
+                &kernel_gen::physics::green::free::Free,
+                &x,
+                &y,
+                &[],
+                4,
+                true,
+                true,
+            );
             for n in 0..=3u8 {
                 let betas: Vec<[u8; 3]> = multi_indices(n)
                     .into_iter()
@@ -86,7 +93,7 @@ impl Visitor for BoundaryConditions {
 #[test]
 fn boundary_conditions_hold_for_the_image_and_its_source_derivatives() {
     let mut v = BoundaryConditions { checked: vec![] };
-    kernel_gen::green::for_each(&mut v);
+    kernel_gen::physics::green::for_each(&mut v);
     assert_eq!(v.checked, ["wall", "free_surface"]);
 }
 
@@ -155,7 +162,7 @@ impl Visitor for FarField {
 #[test]
 fn far_from_the_boundary_every_block_tends_to_free_space() {
     let mut v = FarField { checked: 0 };
-    kernel_gen::green::for_each(&mut v);
+    kernel_gen::physics::green::for_each(&mut v);
     assert_eq!(v.checked, 4);
 }
 

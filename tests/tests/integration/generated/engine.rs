@@ -3,13 +3,13 @@
 
 use integration_tests::{confinement, flat, sample_params};
 use kernel_gen::catalog::variants;
-use kernel_gen::dd::Dd;
-use kernel_gen::derivatives::{GenericJets, Part, Structured};
-use kernel_gen::fd::FiniteDifferences;
-use kernel_gen::green::{free::Free, wall::Wall, Green, Visitor};
-use kernel_gen::jet::Layout;
-use kernel_gen::operators::{Deriv, Derivatives};
-use kernel_gen::scene::{trace, Interaction};
+use kernel_gen::kernel::{trace, Interaction};
+use kernel_gen::number::dd::Dd;
+use kernel_gen::number::jet::Layout;
+use kernel_gen::physics::derivatives::{GenericJets, Part, Structured};
+use kernel_gen::physics::fd::FiniteDifferences;
+use kernel_gen::physics::green::{free::Free, wall::Wall, Green, Visitor};
+use kernel_gen::physics::operators::{Deriv, Derivatives};
 use kernels::{pair, pair_divergence, pair_equal, self_divergence, self_mobility};
 
 fn all_derivs(order: usize) -> Vec<Deriv> {
@@ -169,7 +169,7 @@ impl Visitor for EmittedVsInterpreted {
 #[test]
 fn emitted_kernels_equal_the_interpreted_graph() {
     let mut v = EmittedVsInterpreted { checked: 0 };
-    kernel_gen::green::for_each(&mut v);
+    kernel_gen::physics::green::for_each(&mut v);
     assert_eq!(v.checked, 5 * variants().len());
 }
 

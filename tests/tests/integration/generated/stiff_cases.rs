@@ -7,8 +7,8 @@
 //! the generator's stable forms.
 //!
 //! Measured before and after the exactly evaluated Stokeslet-minus-image difference
-//! and the exchange of roles (`kernel_gen::derivatives::Structured`,
-//! `kernel_gen::scene::Swap`): a wall pair with very unequal heights just below the
+//! and the exchange of roles (`kernel_gen::physics::derivatives::Structured`,
+//! `kernel_gen::kernel::Swap`): a wall pair with very unequal heights just below the
 //! switch to the lateral far field lost `eps rho^2 / (h_a h_b)`, 2.8e-9 for
 //! `product_f` at heights 2 and 3000, `rho = 0.99 * switch` (the plain direct sum
 //! loses 0.75 at heights 1 and 1e6); after, 5.1e-14 at any ratio of the heights up to
@@ -16,7 +16,7 @@
 //! double-double carries its `f64` constants (the jet rules' weights such as 1/3),
 //! which left 3.3e-9 of the `us` block at heights 1 and 1e8 with the lower particle
 //! as the field particle (the generic six-variable path, reciprocity and
-//! `kernel_gen::scene::evaluate_direct` all agree that the kernel was right there).
+//! `kernel_gen::kernel::evaluate_direct` all agree that the kernel was right there).
 //!
 //! Measured before and after the exact operator coefficients and the closed-form self
 //! term (`cargo test --release -p integration-tests -- generated::stiff_cases
@@ -25,10 +25,10 @@
 //! - lateral (wall FTS pair, blocks other than `uf`, `rho/h = 1e8`): 9.8e-9 before,
 //!   the operators' `f64` coefficients (`1/sqrt 6`, `1/6`, the jet rules' weights)
 //!   leaving exact cancellations of the `1/rho^2` terms at 1e-17 of their size; about
-//!   1e-15 after (`kernel_gen::operators::exact_block`, `kernel_gen::farfield`).
+//!   1e-15 after (`kernel_gen::physics::operators::exact_block`, `kernel_gen::physics::farfield`).
 //! - height (self `ul`/`of`, wall 3.8e-8 at `h/a = 1e4`, slit 0.66 at `h/a = 1e8`):
 //!   the reflected self term's `O(1/h^2)` terms cancelling to `O(a^2/h^4)`; about
-//!   1e-15 after (`kernel_gen::self_image`: the self term in closed form).
+//!   1e-15 after (`kernel_gen::physics::self_image`: the self term in closed form).
 //!
 //! Before the lateral far-field rule, wall pair kernels lost up to 0.75 (`product_f`,
 //! `rho/h = 1e8`, heights 2 and 30).
@@ -37,9 +37,9 @@ use integration_tests::confinement;
 use integration_tests::stiff::{
     block_errors, case, evaluate, params, stiff_cases, Kind, StiffRow, KINDS, TOL,
 };
-use kernel_gen::dd::Dd;
-use kernel_gen::green::{Green, Visitor};
-use kernel_gen::scene::{evaluate_direct, trace};
+use kernel_gen::kernel::{evaluate_direct, trace};
+use kernel_gen::number::dd::Dd;
+use kernel_gen::physics::green::{Green, Visitor};
 use std::collections::BTreeMap;
 
 #[test]
@@ -111,7 +111,7 @@ fn second_branches_are_accurate_and_continuous() {
     fn check<G: Green>(
         g: &G,
         kind: Kind,
-        traced: &kernel_gen::scene::Traced,
+        traced: &kernel_gen::kernel::Traced,
         c: &integration_tests::stiff::Case,
         far: bool,
         direct_tol: f64,
@@ -181,7 +181,7 @@ fn second_branches_are_accurate_and_continuous() {
                 }
                 for (ha, hb) in [(1.5, 1.5), (1.2, 4.0), (2.0, 30.0)] {
                     for f in [0.3, 0.9, 0.99, 1.01, 1.1, 3.0] {
-                        let (h2, s) = (ha * ha + hb * hb, kernel_gen::farfield::SWITCH);
+                        let (h2, s) = (ha * ha + hb * hb, kernel_gen::physics::farfield::SWITCH);
                         let rho = f * (2.0 * s * s * h2).sqrt();
                         let ab = if kind == Kind::PairEqualFts { 1.0 } else { 0.7 };
                         let c = case(
@@ -213,7 +213,7 @@ fn second_branches_are_accurate_and_continuous() {
         selfs: 0,
         worst: 0.0,
     };
-    kernel_gen::green::for_each(&mut s);
+    kernel_gen::physics::green::for_each(&mut s);
     println!(
         "switch: {} pair and {} self configurations, worst error of either branch {:.1e}",
         s.pairs, s.selfs, s.worst

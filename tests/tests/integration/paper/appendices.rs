@@ -13,10 +13,10 @@
 
 use integration_tests::paper::{corrected, printed};
 use integration_tests::{flat2, flat3, flat4, rel_diff, WALL};
-use kernel_gen::derivatives::Part;
-use kernel_gen::fd::FiniteDifferences;
-use kernel_gen::green::wall::Wall;
-use kernel_gen::operators::{self, Basis, Moment, Response};
+use kernel_gen::physics::derivatives::Part;
+use kernel_gen::physics::fd::FiniteDifferences;
+use kernel_gen::physics::green::wall::Wall;
+use kernel_gen::physics::operators::{self, Basis, Moment, Response};
 use kernels::{pair_equal, self_mobility, Confinement};
 use std::f64::consts::PI;
 
@@ -262,7 +262,7 @@ fn corrected_forms_agree_with_double_double_finite_differences() {
     ];
     let fd_blocks = |x: [f64; 3], y: [f64; 3]| -> Vec<Vec<f64>> {
         let mut fd = FiniteDifferences::new(&Wall, Part::Reflected, x, y, &[0.0], 1e-3);
-        let one = kernel_gen::dd::Dd::new(1.0);
+        let one = kernel_gen::number::dd::Dd::new(1.0);
         blocks
             .iter()
             .map(|&(r, m, _)| {

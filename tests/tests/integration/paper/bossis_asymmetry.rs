@@ -5,7 +5,7 @@
 //! `Path::StructuredNoExplicitHeight`; it is traced and interpreted here, never emitted.
 
 use integration_tests::two_sphere_mobility;
-use kernel_gen::scene::Path;
+use kernel_gen::kernel::Path;
 use nalgebra::DMatrix;
 
 fn asymmetry(m: &DMatrix<f64>) -> f64 {

@@ -14,7 +14,7 @@
 //!   the same mirror reason, but a different rotation rate.
 
 use integration_tests::two_sphere_mobility;
-use kernel_gen::scene::Path;
+use kernel_gen::kernel::Path;
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::PI;
 use stokesian::studies::doublet::{doublet, farfield_rate_and_tension};

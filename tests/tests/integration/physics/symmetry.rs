@@ -34,7 +34,7 @@ fn reciprocity_every_block_every_confinement() {
 }
 
 /// The wall's pair kernels exchange the particles where b is the higher one
-/// (`kernel_gen::scene::Swap`), which relies on reciprocity, so the test above holds
+/// (`kernel_gen::kernel::Swap`), which relies on reciprocity, so the test above holds
 /// for them by construction. The direct sum they evaluate must be reciprocal by
 /// itself: the traced FTS pair's direct branch (no exchange, no far field), evaluated
 /// both ways round by the interpreter, equals its transpose to 1e-12 of each block
@@ -43,9 +43,9 @@ fn reciprocity_every_block_every_confinement() {
 #[test]
 fn the_wall_direct_sum_is_reciprocal_without_the_exchange() {
     use integration_tests::stiff::Kind;
-    use kernel_gen::green::wall::Wall;
+    use kernel_gen::physics::green::wall::Wall;
     use nalgebra::SMatrix;
-    let traced = kernel_gen::scene::trace(&Wall, &Kind::PairFts.spec());
+    let traced = kernel_gen::kernel::trace(&Wall, &Kind::PairFts.spec());
     let ids = traced.output_ids();
     // the 11x11 grand block from the flattened outputs (BLOCKS order, row-major)
     let grand = |v: &[f64]| {

@@ -1,0 +1,411 @@
+//! The generated `mod.rs`: the `Confinement` enum, one variant per family with its
+//! run-time parameters, and the entry points that dispatch on it (a serving scene's
+//! kernels where one exists, the family's FTS kernels truncated otherwise).
+
+use super::{blocks_type, moments_label, Family, Moments};
+use crate::emit::ident;
+use crate::physics::green;
+use proc_macro2::TokenStream;
+use quote::quote;
+
+fn camel(snake: &str) -> String {
+    snake
+        .split('_')
+        .map(|w| {
+            let mut c = w.chars();
+            c.next()
+                .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
+                .unwrap_or_default()
+        })
+        .collect()
+}
+
+/// The `Confinement` enum, one variant per family with its run-time parameters as
+/// fields, and the dispatching entry points `pair`, `pair_equal`, `self_mobility`.
+pub(super) fn dispatch(families: &[Family]) -> TokenStream {
+    let mut variants = Vec::new();
+    let mut names = Vec::new();
+    let mut name_arms = Vec::new();
+    let mut from_arms = Vec::new();
+    let mut param_arms = Vec::new();
+    let mut bound_arms = Vec::new();
+    let mut unit_arms = Vec::new();
+    let mut pair_arms = Vec::new();
+    let mut equal_arms = Vec::new();
+    let mut self_arms = Vec::new();
+    let mut div_pair_arms = Vec::new();
+    let mut div_lane_arms = Vec::new();
+    let mut div_ordered_arms = Vec::new();
+    let mut pair_lane_arms = Vec::new();
+    let mut exchange_arms = Vec::new();
+    let mut div_self_arms = Vec::new();
+    let mut truncated: Vec<Vec<TokenStream>> = Vec::new();
+    for f in families {
+        let v = ident(&camel(f.name));
+        let m = ident(f.name);
+        let name = f.name;
+        let doc = format!(" {}", f.title);
+        let fields: Vec<proc_macro2::Ident> = f.params.iter().map(|p| ident(p)).collect();
+        let field_docs: Vec<String> = f
+            .params
+            .iter()
+            .map(|p| format!(" {}", green::param_doc(p)))
+            .collect();
+        let idx: Vec<usize> = (0..f.params.len()).collect();
+        let nparams = f.params.len();
+        let (fpair, fequal, fself) = (
+            ident(&format!("{}_pair", f.name)),
+            ident(&format!("{}_pair_equal", f.name)),
+            ident(&format!("{}_self", f.name)),
+        );
+        let pname: Vec<&str> = f.params.to_vec();
+        let bounds: Vec<TokenStream> = f
+            .boundaries
+            .iter()
+            .map(|(h, above)| quote!((#h, #above)))
+            .collect();
+        if fields.is_empty() {
+            variants.push(quote!(#[doc = #doc] #v));
+            name_arms.push(quote!(Confinement::#v => #name));
+            from_arms.push(quote!(#name if params.is_empty() => Some(Confinement::#v)));
+            param_arms.push(quote!(Confinement::#v => vec![]));
+            bound_arms.push(quote!(Confinement::#v => vec![#(#bounds),*]));
+            unit_arms.push(quote!(Confinement::#v => Confinement::#v));
+            pair_arms.push(quote!(Confinement::#v => #m::#fpair(xa, xb, aa, ab, eta)));
+            equal_arms.push(quote!(Confinement::#v => #m::#fequal(xa, xb, a, eta)));
+            self_arms.push(quote!(Confinement::#v => #m::#fself(x, a, eta)));
+        } else {
+            variants.push(quote!(#[doc = #doc] #v { #(#[doc = #field_docs] #fields: f64),* }));
+            name_arms.push(quote!(Confinement::#v { .. } => #name));
+            from_arms.push(quote!(#name if params.len() == #nparams => Some(Confinement::#v { #(#fields: params[#idx]),* })));
+            param_arms
+                .push(quote!(Confinement::#v { #(#fields),* } => vec![#((#pname, #fields)),*]));
+            bound_arms.push(quote!(Confinement::#v { #(#fields),* } => {
+                let _ = (#(#fields,)*);
+                vec![#(#bounds),*]
+            }));
+            let scaled: Vec<TokenStream> = fields
+                .iter()
+                .zip(&f.dimensions)
+                .map(|(p, d)| match d {
+                    green::Dimension::Height => quote!(#p: (#p - origin) / unit),
+                    green::Dimension::Length => quote!(#p: #p / unit),
+                    green::Dimension::Number => quote!(#p),
+                })
+                .collect();
+            unit_arms
+                .push(quote!(Confinement::#v { #(#fields),* } => Confinement::#v { #(#scaled),* }));
+            pair_arms.push(quote!(Confinement::#v { #(#fields),* } => #m::#fpair(xa, xb, aa, ab, eta, #(#fields),*)));
+            equal_arms.push(quote!(Confinement::#v { #(#fields),* } => #m::#fequal(xa, xb, a, eta, #(#fields),*)));
+            self_arms.push(
+                quote!(Confinement::#v { #(#fields),* } => #m::#fself(x, a, eta, #(#fields),*)),
+            );
+        }
+        names.push(name);
+        let pattern = if fields.is_empty() {
+            quote!(Confinement::#v)
+        } else {
+            quote!(Confinement::#v { #(#fields),* })
+        };
+        let (fdp, fds) = (
+            ident(&format!("{}_pair_divergence", f.name)),
+            ident(&format!("{}_self_divergence", f.name)),
+        );
+        div_pair_arms.push(quote!(#pattern => #m::#fdp(xa, xb, aa, ab, eta, #(#fields),*)));
+        let fdpl = ident(&format!("{}_pair_divergence_lanes", f.name));
+        div_lane_arms.push(
+            quote!(#pattern => #m::#fdpl(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)),
+        );
+        let fdpo = ident(&format!("{}_pair_divergence_lanes_ordered", f.name));
+        div_ordered_arms.push(
+            quote!(#pattern => #m::#fdpo(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)),
+        );
+        let fpo = ident(&format!("{}_pair_lanes_ordered", f.name));
+        pair_lane_arms.push(
+            quote!(#pattern => #m::#fpo(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)),
+        );
+        let exchanges = f.exchanges;
+        let any = if fields.is_empty() {
+            quote!(Confinement::#v)
+        } else {
+            quote!(Confinement::#v { .. })
+        };
+        exchange_arms.push(quote!(#any => #exchanges));
+        div_self_arms.push(quote!(#pattern => #m::#fds(x, a, eta, #(#fields),*)));
+        truncated.push(truncated_arms(f, &pattern, &m, &fields));
+    }
+    let mut truncated_fns = Vec::new();
+    for (k, moments) in [Moments::F, Moments::FT].into_iter().enumerate() {
+        let lo = moments.lower();
+        let ty = ident(blocks_type(moments));
+        let n = moments.per_particle();
+        let (fpair, fself, fprod) = (
+            ident(&format!("pair_{lo}")),
+            ident(&format!("self_{lo}")),
+            ident(&format!("product_{lo}")),
+        );
+        let arm = |i: usize| -> Vec<TokenStream> {
+            truncated.iter().map(|t| t[6 * k + i].clone()).collect()
+        };
+        let (arms_pair, arms_self, arms_prod) = (arm(0), arm(1), arm(2));
+        let (arms_lanes, arms_ordered, arms_blocks) = (arm(3), arm(4), arm(5));
+        let fblocks = ident(&format!("pair_{lo}_lanes_ordered"));
+        let nn = n * n;
+        let flat = format!("{}_FLAT", moments_label(moments));
+        let d_blocks = format!(
+            " The lane twin of [`pair_{lo}`] without the exchange of roles, for pairs in \
+             which `b` is no higher than `a` where [`Confinement::exchanges_by_height`] \
+             (elsewhere any order): `L::WIDTH` pairs at once (unequal-radius kernels at any \
+             radii), the {nn} entries of [`{ty}`]'s fields in their order \
+             ([`crate::blocks::{flat}`]); the scene's lane kernel, or the FTS lane kernel \
+             truncated for a confinement without one.",
+            ty = blocks_type(moments)
+        );
+        let flanes = ident(&format!("product_{lo}_lanes"));
+        let fordered = ident(&format!("product_{lo}_lanes_ordered"));
+        let n2 = 2 * n;
+        let d_lanes = format!(
+            " The lane twin of [`product_{lo}`]: `L::WIDTH` pairs at once, returning `a` then \
+             `b` (`{n2}` lanes); the scene's lane kernel, or the scalar product lane by lane for \
+             a confinement without one."
+        );
+        let d_ordered = format!(
+            " [`product_{lo}_lanes`] without the exchange of roles: for pairs in which `b` is \
+             no higher than `a` ([`Confinement::exchanges_by_height`]; there the same values as \
+             the exchanging kernel)."
+        );
+        let upper = moments_label(moments);
+        let d_pair =
+            format!(" The {upper} blocks of `M^{{ab}}` (equal-radius kernels when `aa == ab`).");
+        let d_self = format!(" The {upper} blocks of `M^{{aa}}` (Eq. 17).");
+        let d_prod =
+            format!(" The fused pair product for {upper}: `a = M^{{ab}} vb`, `b = M^{{ba}} va`.");
+        truncated_fns.push(quote! {
+            #[doc = #d_pair]
+            pub fn #fpair(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64) -> #ty {
+                match *conf { #(#arms_pair),* }
+            }
+            #[doc = #d_self]
+            pub fn #fself(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> #ty {
+                match *conf { #(#arms_self),* }
+            }
+            #[doc = #d_prod]
+            pub fn #fprod(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64, va: [f64; #n], vb: [f64; #n]) -> Product<#n> {
+                match *conf { #(#arms_prod),* }
+            }
+            #[doc = #d_lanes]
+            #[inline(always)]
+            pub fn #flanes<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L, va: [L; #n], vb: [L; #n]) -> [L; #n2] {
+                match *conf { #(#arms_lanes),* }
+            }
+            #[doc = #d_ordered]
+            #[inline(always)]
+            pub fn #fordered<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L, va: [L; #n], vb: [L; #n]) -> [L; #n2] {
+                match *conf { #(#arms_ordered),* }
+            }
+            #[doc = #d_blocks]
+            #[inline(always)]
+            pub fn #fblocks<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; #nn] {
+                match *conf { #(#arms_blocks),* }
+            }
+        });
+    }
+    quote! {
+        use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};
+
+        #(#truncated_fns)*
+
+        /// The Brownian drift of a pair: `a` = the divergence of `M^{ab}` over the
+        /// position of `b` (`sum_j d/dxb_j M_{ij}`, rows U then Omega, force columns),
+        /// `b` = that of `M^{ba}` over the position of `a`.
+        pub fn pair_divergence(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64) -> Product<6> {
+            match *conf { #(#div_pair_arms),* }
+        }
+
+        /// The lane twin of [`pair_divergence`]: `L::WIDTH` pairs at once, `a` then `b`.
+        #[inline(always)]
+        pub fn pair_divergence_lanes<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; 12] {
+            match *conf { #(#div_lane_arms),* }
+        }
+
+        /// [`pair_divergence_lanes`] without the exchange of roles: for pairs in which `b`
+        /// is no higher than `a` ([`Confinement::exchanges_by_height`]).
+        #[inline(always)]
+        pub fn pair_divergence_lanes_ordered<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; 12] {
+            match *conf { #(#div_ordered_arms),* }
+        }
+
+        /// The lane twin of [`pair`] without the exchange of roles: `L::WIDTH` pairs at
+        /// once, for pairs in which `b` is no higher than `a` where
+        /// [`Confinement::exchanges_by_height`] (elsewhere any order); the 121 entries of
+        /// [`Grand`]'s fields in their order (see [`crate::blocks::grand_lanes_product`]).
+        #[inline(always)]
+        pub fn pair_lanes_ordered<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; 121] {
+            match *conf { #(#pair_lane_arms),* }
+        }
+
+        /// The Brownian drift of one particle's self mobility: `sum_j d/dx_j M^{aa}_{ij}`,
+        /// rows U then Omega, force columns.
+        pub fn self_divergence(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Drift<6> {
+            match *conf { #(#div_self_arms),* }
+        }
+
+        /// The confinement and its run-time parameters, one variant per registered
+        /// Green's function. Boundaries are planes `x3 = const` ([`Confinement::boundaries`]).
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub enum Confinement {
+            #(#variants),*
+        }
+
+        impl Confinement {
+            /// Names of all confinements, as in [`Confinement::name`].
+            pub const NAMES: &'static [&'static str] = &[#(#names),*];
+
+            /// The family name (`wall`, `free_surface`, ...).
+            pub fn name(&self) -> &'static str {
+                match *self {
+                    #(#name_arms),*
+                }
+            }
+
+            /// The confinement called `name` with run-time parameters `params` in the
+            /// order of [`Confinement::params`]; `None` for an unknown name or the wrong
+            /// number of parameters.
+            pub fn from_name(name: &str, params: &[f64]) -> Option<Confinement> {
+                match name {
+                    #(#from_arms,)*
+                    _ => None,
+                }
+            }
+
+            /// The run-time parameters, named.
+            pub fn params(&self) -> Vec<(&'static str, f64)> {
+                match *self {
+                    #(#param_arms),*
+                }
+            }
+
+            /// Whether the pair kernels exchange the particles' roles where `b` is higher
+            /// (larger `x3`) than `a`, keeping the accuracy of the direct sum
+            /// (`M^{ab} = (M^{ba})^T`, evaluated with the lower particle as the source).
+            /// The `*_lanes_ordered` kernels skip that exchange: a caller that orders the
+            /// particles by `x3`, highest first, and passes the earlier one as `a` gets
+            /// the same values with fewer operations.
+            pub fn exchanges_by_height(&self) -> bool {
+                match *self {
+                    #(#exchange_arms),*
+                }
+            }
+
+            /// The boundary planes: `(height, fluid is above it)`.
+            pub fn boundaries(&self) -> Vec<(f64, bool)> {
+                match *self {
+                    #(#bound_arms),*
+                }
+            }
+
+            /// The same confinement with lengths measured in units of `unit` and
+            /// heights from `x3 = origin`: a height `h` becomes `(h - origin) / unit`, a
+            /// length `l / unit`; pure numbers stay. With the viscosity as the unit of
+            /// viscosity, a mobility block coupling a moment of length dimension `p`
+            /// (force 0; torque, stresslet 1) to a response of dimension `q` (velocity 0;
+            /// rotation, strain 1) becomes `eta unit^(1 + p + q)` times itself.
+            pub fn in_units(&self, origin: f64, unit: f64) -> Confinement {
+                let _ = (origin, unit);
+                match *self {
+                    #(#unit_arms),*
+                }
+            }
+        }
+
+        /// `M^{ab}` for two distinct particles: the response of particle `a` (centre
+        /// `xa`, radius `aa`) to the force, torque and stresslet of particle `b`.
+        pub fn pair(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64) -> Grand {
+            match *conf {
+                #(#pair_arms),*
+            }
+        }
+
+        /// `M^{ab}` for two distinct particles of the same radius `a`.
+        pub fn pair_equal(conf: &Confinement, eta: f64, xa: [f64; 3], xb: [f64; 3], a: f64) -> Grand {
+            match *conf {
+                #(#equal_arms),*
+            }
+        }
+
+        /// `M^{aa}`: the isolated sphere plus its reflected field (Eq. 17).
+        pub fn self_mobility(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Grand {
+            match *conf {
+                #(#self_arms),*
+            }
+        }
+    }
+}
+
+/// Match arms of the truncated entry points for one family, in the order
+/// `[pair_f, self_f, product_f, product_f_lanes, product_f_lanes_ordered,
+/// pair_f_lanes_ordered, pair_ft, ...]`: a serving scene's kernels when the family has
+/// one, else the family's FTS kernels, truncated (for the product's lanes, the scalar
+/// product lane by lane).
+fn truncated_arms(
+    f: &Family,
+    pattern: &TokenStream,
+    family_mod: &proc_macro2::Ident,
+    fields: &[proc_macro2::Ident],
+) -> Vec<TokenStream> {
+    let mut arms = Vec::new();
+    for moments in [Moments::F, Moments::FT] {
+        let ty = ident(blocks_type(moments));
+        let scene = f
+            .serving
+            .iter()
+            .find(|(m, _)| *m == moments)
+            .map(|(_, n)| n.clone());
+        match scene {
+            Some(name) => {
+                let m = ident(&format!("scene_{name}"));
+                let (p, pe, s, pp, ppe) = (
+                    ident(&format!("{name}_pair")),
+                    ident(&format!("{name}_pair_equal")),
+                    ident(&format!("{name}_self")),
+                    ident(&format!("{name}_pair_product")),
+                    ident(&format!("{name}_pair_equal_product")),
+                );
+                arms.push(quote!(#pattern => if aa == ab { #m::#pe(xa, xb, aa, eta, #(#fields),*) } else { #m::#p(xa, xb, aa, ab, eta, #(#fields),*) }));
+                arms.push(quote!(#pattern => #m::#s(x, a, eta, #(#fields),*)));
+                arms.push(quote!(#pattern => if aa == ab { #m::#ppe(xa, xb, aa, eta, #(#fields,)* va, vb) } else { #m::#pp(xa, xb, aa, ab, eta, #(#fields,)* va, vb) }));
+                for suffix in ["lanes", "lanes_ordered"] {
+                    let ppl = ident(&format!("{name}_pair_product_{suffix}"));
+                    arms.push(quote!(#pattern => #m::#ppl(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields),)* va, vb)));
+                }
+                let pl = ident(&format!("{name}_pair_lanes_ordered"));
+                arms.push(quote!(#pattern => #m::#pl(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)));
+            }
+            None => {
+                let (p, pe, s) = (
+                    ident(&format!("{}_pair", f.name)),
+                    ident(&format!("{}_pair_equal", f.name)),
+                    ident(&format!("{}_self", f.name)),
+                );
+                let fm = family_mod;
+                let pair = quote!(if aa == ab { #fm::#pe(xa, xb, aa, eta, #(#fields),*) } else { #fm::#p(xa, xb, aa, ab, eta, #(#fields),*) });
+                arms.push(quote!(#pattern => #ty::from(&#pair)));
+                arms.push(quote!(#pattern => #ty::from(&#fm::#s(x, a, eta, #(#fields),*))));
+                arms.push(quote!(#pattern => #ty::from(&#pair).product(va, vb)));
+                let fprod = ident(&format!("product_{}", moments.lower()));
+                let n = moments.per_particle();
+                let by_lane = quote!(#pattern => {
+                    let _ = (#(#fields,)*);
+                    let (a, b) = crate::blocks::lane_by_lane(|xa, aa, xb, ab, va, vb| #fprod(conf, eta, xa, aa, xb, ab, va, vb), xa, aa, xb, ab, va, vb);
+                    std::array::from_fn(|i| if i < #n { a[i] } else { b[i - #n] })
+                });
+                arms.push(by_lane.clone());
+                arms.push(by_lane);
+                let fpo = ident(&format!("{}_pair_lanes_ordered", f.name));
+                let at = ident(&format!("{}_FLAT", moments_label(moments)));
+                arms.push(quote!(#pattern => crate::blocks::truncate_lanes(#fm::#fpo(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*), &crate::blocks::#at)));
+            }
+        }
+    }
+    arms
+}

@@ -1,0 +1,169 @@
+//! The catalogue of generated kernels. For every registered Green's function: the self
+//! and pair kernels of all nine blocks (a family file). For every scene (`scenes/`):
+//! only the blocks its truncation needs, and, if asked, the fused pair products. In
+//! `mod.rs`: the `Confinement` enum and the entry points that dispatch on it, using a
+//! scene's kernels where one exists and the family's otherwise. In `single.rs`
+//! ([`SINGLE`]): the FTS self and pair kernels of every family in single precision, behind
+//! the `kernels` crate's feature `f32`. [`generate`] returns every file; `cargo xtask gen`
+//! writes them, `--check` compares.
+//!
+//! - `scene`: [`Scene`], a scene file of `scenes/` ([`Moments`], [`Radii`]);
+//! - `family`: the kernels of one Green's function ([`variants`], [`family()`]) and their
+//!   single-precision twins;
+//! - `scene_file`: the kernels of one scene ([`scene_file()`]);
+//! - `dispatch`: the generated `mod.rs`, the `Confinement` enum and its entry points.
+
+mod dispatch;
+mod family;
+mod scene;
+mod scene_file;
+
+pub use family::{family, variants, Variant, SINGLE};
+pub use scene::{Moments, Radii, Scene, SceneError};
+pub use scene_file::scene_file;
+
+use crate::emit::{self, ident};
+use crate::graph::{Ex, Id, Trace};
+use crate::physics::green::{self, Green, Visitor};
+use dispatch::dispatch;
+use family::{family_and_single, single_file};
+use proc_macro2::TokenStream;
+use quote::quote;
+
+/// One generated file: path relative to `kernels/src/generated/`, and contents.
+pub struct GeneratedFile {
+    /// File name, e.g. `wall.rs`.
+    pub name: String,
+    /// Contents.
+    pub contents: String,
+    /// Per-function operation counts, for the report: (function, total flops).
+    pub op_counts: Vec<(String, usize)>,
+}
+
+/// Every generated file, including `mod.rs`.
+pub fn generate(scenes: &[Scene]) -> Vec<GeneratedFile> {
+    let mut c = Collect {
+        families: Vec::new(),
+        scenes,
+    };
+    green::for_each(&mut c);
+    let mut mods: Vec<TokenStream> = Vec::new();
+    for f in &c.families {
+        let n = ident(f.name);
+        let d = format!(" Kernels of the `{}` family.", f.name);
+        mods.push(quote!(#[doc = #d] pub mod #n;));
+        for sf in &f.scene_files {
+            let m = ident(sf.name.trim_end_matches(".rs"));
+            let d = format!(
+                " Kernels of the scene `{}` (`scenes/`).",
+                sf.name.trim_start_matches("scene_").trim_end_matches(".rs")
+            );
+            mods.push(quote!(#[doc = #d] pub mod #m;));
+        }
+    }
+    let dispatch = dispatch(&c.families);
+    let module_doc = vec![
+        "Generated kernels, one module per Green's function.".to_string(),
+        String::new(),
+        "Regenerate with `cargo xtask gen`.".to_string(),
+    ];
+    let mut files = vec![GeneratedFile {
+        name: "mod.rs".into(),
+        contents: emit::file(&module_doc, quote!(#(#mods)* #dispatch)),
+        op_counts: Vec::new(),
+    }];
+    let mut single = Vec::new();
+    for f in c.families {
+        files.push(f.file);
+        files.extend(f.scene_files);
+        single.push(f.single);
+    }
+    files.push(single_file(single));
+    files
+}
+
+struct Family {
+    name: &'static str,
+    title: &'static str,
+    params: &'static [&'static str],
+    /// The dimension of each parameter.
+    dimensions: Vec<green::Dimension>,
+    /// `(height expression, fluid above)` of each boundary plane.
+    boundaries: Vec<(TokenStream, bool)>,
+    /// Whether its pair kernels exchange the particles' roles by height
+    /// ([`crate::kernel::Swap`], where the Green's function has a cancelling image).
+    exchanges: bool,
+    file: GeneratedFile,
+    /// Its single-precision self and pair kernels (items of [`SINGLE`]).
+    single: TokenStream,
+    /// Scenes of this confinement that serve the dispatch: `(moments, scene name)` of
+    /// those with unequal radii and both outputs.
+    serving: Vec<(Moments, String)>,
+    scene_files: Vec<GeneratedFile>,
+}
+
+struct Collect<'a> {
+    families: Vec<Family>,
+    scenes: &'a [Scene],
+}
+
+impl Visitor for Collect<'_> {
+    fn visit<G: Green>(&mut self, g: &G) {
+        // The boundary heights as expressions of the parameters, traced and inlined.
+        let t = Trace::begin();
+        let p: Vec<Ex> = g.params().iter().map(|n| t.input(n)).collect();
+        let b: Vec<(Id, bool)> = g
+            .boundaries(&p)
+            .into_iter()
+            .map(|(h, up)| (h.0, up))
+            .collect();
+        let graph = t.finish();
+        let boundaries = b
+            .into_iter()
+            .map(|(id, up)| (emit::inline(&graph, id), up))
+            .collect();
+        let mine: Vec<&Scene> = self
+            .scenes
+            .iter()
+            .filter(|s| s.confinement == g.name())
+            .collect();
+        let mut serving: Vec<(Moments, String)> = Vec::new();
+        for s in &mine {
+            let serves =
+                s.radii == Radii::Unequal && s.dense && s.product && s.moments != Moments::FTS;
+            if serves && !serving.iter().any(|(m, _)| *m == s.moments) {
+                serving.push((s.moments, s.name.clone()));
+            }
+        }
+        let (file, single) = family_and_single(g);
+        self.families.push(Family {
+            name: g.name(),
+            title: g.title(),
+            params: g.params(),
+            dimensions: g.params().iter().map(|p| g.dimension(p)).collect(),
+            exchanges: g.cancelling_image().is_some(),
+            boundaries,
+            file,
+            single,
+            serving,
+            scene_files: mine.iter().map(|s| scene_file(g, s, false)).collect(),
+        });
+    }
+}
+
+/// The kernels' return type for a truncation.
+fn blocks_type(m: Moments) -> &'static str {
+    match m {
+        Moments::F => "BlocksF",
+        Moments::FT => "BlocksFT",
+        Moments::FTS => "Grand",
+    }
+}
+
+fn moments_label(m: Moments) -> &'static str {
+    match m {
+        Moments::F => "F",
+        Moments::FT => "FT",
+        Moments::FTS => "FTS",
+    }
+}

@@ -1,0 +1,196 @@
+//! The kernels of one scene as one file.
+
+use super::family::counts;
+use super::{blocks_type, moments_label, GeneratedFile, Radii, Scene};
+use crate::emit::{self, ident, Float, KernelFn};
+use crate::kernel::{trace, Interaction, KernelSpec, Path, Traced};
+use crate::physics::green::Green;
+use crate::physics::operators::Basis;
+use proc_macro2::TokenStream;
+use quote::quote;
+
+/// The kernels of one scene as one file (`scene_<name>.rs`). With `standalone`, the
+/// return types are defined in the file (for `cargo xtask gen --scene FILE --out`),
+/// otherwise they come from the kernels crate.
+pub fn scene_file<G: Green>(g: &G, scene: &Scene, standalone: bool) -> GeneratedFile {
+    let mut items = TokenStream::new();
+    let mut op_counts = Vec::new();
+    let mut kinds: Vec<(&str, Interaction, bool, bool)> =
+        vec![("self", Interaction::SelfTerm, false, false)];
+    if scene.dense {
+        if scene.radii == Radii::Unequal {
+            kinds.push(("pair", Interaction::Pair, false, false));
+        }
+        kinds.push(("pair_equal", Interaction::Pair, true, false));
+    }
+    if scene.product {
+        if scene.radii == Radii::Unequal {
+            kinds.push(("pair_product", Interaction::Pair, false, true));
+        }
+        kinds.push(("pair_equal_product", Interaction::Pair, true, true));
+    }
+    let ty = blocks_type(scene.moments);
+    let n = scene.moments.per_particle();
+    // (type name, its fields with their shapes), for standalone definitions
+    type Fields = Vec<(String, Vec<usize>)>;
+    let mut types: Vec<(String, Fields)> = Vec::new();
+    for (suffix, interaction, equal, product) in kinds {
+        let spec = KernelSpec {
+            interaction,
+            basis: Basis::Orthonormal,
+            equal_radii: equal,
+            blocks: scene.moments.blocks(),
+            path: Path::Structured,
+            product,
+            divergence: false,
+        };
+        let traced: Traced = trace(g, &spec);
+        let name = format!("{}_{suffix}", scene.name);
+        let (ret, ctor) = if product {
+            (format!("Product<{n}>"), format!("Product::<{n}>"))
+        } else {
+            (ty.to_string(), ty.to_string())
+        };
+        let shape_fields = traced
+            .outputs
+            .iter()
+            .map(|b| (b.name.clone(), b.shape.clone()))
+            .collect();
+        let tyname = if product {
+            "Product".to_string()
+        } else {
+            ty.to_string()
+        };
+        if !types.iter().any(|(t, _)| *t == tyname) {
+            types.push((tyname, shape_fields));
+        }
+        let what = if product {
+            format!(
+                "the fused pair product a = M^{{ab}} vb, b = M^{{ba}} va, {} moments",
+                moments_label(scene.moments)
+            )
+        } else {
+            format!("the {} blocks", moments_label(scene.moments))
+        };
+        let doc = vec![
+            format!(
+                "Scene `{}` ({}): {what}, {}.",
+                scene.name,
+                g.title(),
+                suffix.replace('_', " ")
+            ),
+            String::new(),
+            if scene.description.is_empty() {
+                "Pruned to what the scene needs.".to_string()
+            } else {
+                scene.description.clone()
+            },
+            format!("Jets truncated at derivative order {} of G.", traced.order),
+        ];
+        op_counts.extend(counts(&name, &traced));
+        let kf = KernelFn {
+            name: name.clone(),
+            doc,
+            ret,
+            ctor,
+            traced: &traced,
+            float: Float::F64,
+        };
+        items.extend(emit::function(&kf));
+        // the lane twins of the unequal-radius product (the tiled products' kernel) and
+        // blocks (the dense assembly's)
+        if !equal && !standalone {
+            let (f, n) = emit::lane_function(&kf);
+            op_counts.push((format!("{name}_lanes (fma)"), n));
+            items.extend(f);
+        }
+    }
+    let header = if standalone {
+        let defs: Vec<TokenStream> = types
+            .iter()
+            .map(|(t, fields)| {
+                let (tname, generic) = if t == "Product" { (ident("Product"), quote!(<const K: usize>)) } else { (ident(t), quote!()) };
+                let fs: Vec<TokenStream> = fields
+                    .iter()
+                    .map(|(f, shape)| {
+                        let fi = ident(f);
+                        let mut ty = quote!(f64);
+                        for &d in shape.iter().rev() {
+                            ty = if t == "Product" { quote!([#ty; K]) } else { quote!([#ty; #d]) };
+                        }
+                        let d = format!(" Block `{f}`, row-major.");
+                        quote!(#[doc = #d] pub #fi: #ty)
+                    })
+                    .collect();
+                let d = format!(" Output of the scene's kernels ({t}).");
+                quote!(#[doc = #d] #[derive(Clone, Copy, Debug, PartialEq)] pub struct #tname #generic { #(#fs),* })
+            })
+            .collect();
+        quote!(#(#defs)*)
+    } else {
+        let used: Vec<proc_macro2::Ident> = types.iter().map(|(t, _)| ident(t)).collect();
+        quote!(use crate::blocks::{#(#used),*};)
+    };
+    let module_doc = vec![
+        format!(
+            "Kernels of scene `{}`: {}, {} moments, {} radii.",
+            scene.name,
+            g.title(),
+            moments_label(scene.moments),
+            match scene.radii {
+                Radii::Equal => "equal",
+                Radii::Unequal => "unequal",
+            }
+        ),
+        String::new(),
+        "Generated: see the header comment.".into(),
+    ];
+    GeneratedFile {
+        name: format!("scene_{}.rs", scene.name),
+        contents: emit::file(&module_doc, quote!(#header #items)),
+        op_counts,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::green::wall::Wall;
+
+    /// A standalone scene module defines its own return types and parses as Rust;
+    /// an F-only scene has no torque, rotation or stresslet code at all.
+    #[test]
+    fn standalone_scene_is_self_contained_and_pruned() {
+        let text = "name = \"w\"\nconfinement = \"wall\"\nmoments = \"F\"\nradii = \"equal\"\noutputs = [\"dense\", \"product\"]\n";
+        let scene = Scene::parse("w.toml", text, &["wall"]).unwrap();
+        let f = scene_file(&Wall, &scene, true);
+        let parsed: syn::File = syn::parse_str(&f.contents).expect("valid Rust");
+        let structs: Vec<String> = parsed
+            .items
+            .iter()
+            .filter_map(|i| match i {
+                syn::Item::Struct(s) => Some(s.ident.to_string()),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(structs, ["BlocksF", "Product"]);
+        assert!(!f.contents.contains("crate::"));
+        for absent in ["ul:", "of:", "os:", "es:"] {
+            assert!(!f.contents.contains(absent), "{absent} in an F-only scene");
+        }
+        let names: Vec<&str> = f.op_counts.iter().map(|(n, _)| n.as_str()).collect();
+        // the wall's pair kernels also have a lateral far-field branch (`farfield`),
+        // its self kernels a closed-form branch (`self_image`)
+        assert_eq!(
+            names,
+            [
+                "w_self",
+                "w_self (closed form)",
+                "w_pair_equal",
+                "w_pair_equal (far field)",
+                "w_pair_equal_product",
+                "w_pair_equal_product (far field)"
+            ]
+        );
+    }
+}

@@ -1,0 +1,456 @@
+//! The structured path: the Stokeslet in `r = x - y`, each image term in `R = x - y'`
+//! by the chain rules of Eq. 10, every derivative of `J` an [`Atom`] (a derivative of a
+//! potential at one centre), the potentials' jets about the unit vector of each
+//! centre, and, near a cancelling image, the exactly evaluated difference
+//! `phi(R) - phi(r)`.
+
+use super::atoms::{binomial, factorial, stokeslet_atoms, Atom, Factor, Potential};
+use super::{Collection, Differences, Form};
+use crate::number::jet::{Jet, Layout};
+use crate::number::poly::Poly;
+use crate::number::scalar::Scalar;
+use crate::physics::green::{Green, ImageTerm};
+use crate::physics::operators::{Deriv, Derivatives, Term};
+use std::collections::{BTreeMap, HashMap};
+
+/// The structured path: free-space Stokeslet in `r`, image terms by Eq. 10 in `R`,
+/// every derivative of `J` reduced to derivatives of the potentials `r` and `1/r`.
+///
+/// Each block entry is collected as a linear combination of [`Atom`]s with `f64`
+/// coefficients, grouped by radius factors and `weight * h^q`, before a single
+/// arithmetic node is built ([`Derivatives::combine`]); the jets of the potentials
+/// (power rule on `s = R.R`) supply the atoms.
+pub struct Structured<S> {
+    /// Expansion centres: `[r, R_0, R_1, ...]` (`r` only if the free part is included).
+    pub(super) centres: Vec<[S; 3]>,
+    pub(super) include_free: bool,
+    pub(super) terms: Vec<ImageTerm>,
+    pub(super) heights: Vec<S>,
+    /// `x3 - H` per plane.
+    pub(super) field_heights: Vec<S>,
+    /// The image `(plane, weight)` that absorbs the free-space atoms, with the
+    /// difference evaluated apart (see the module documentation).
+    pub(super) cancel: Option<(usize, usize)>,
+    pub(super) weights: Vec<S>,
+    pub(super) explicit_height: bool,
+    pub(super) degree: usize,
+    pub(super) jets: HashMap<(usize, Potential), Jet<S>>,
+    /// The jets of the potentials about a symbolic unit vector ([`Poly`]), per potential.
+    pub(super) poly_jets: HashMap<Potential, Jet<Poly>>,
+    /// How atoms become arithmetic.
+    pub(super) collect: Collection,
+    /// Which terms take the exact difference near a cancelling image.
+    pub(super) differences: Differences,
+    pub(super) units: HashMap<usize, (S, S, [S; 3])>,
+    /// A factor of every derivative ([`Structured::scaled`]).
+    pub(super) multiplier: Option<S>,
+}
+
+impl<S: Scalar> Structured<S> {
+    /// Derivatives up to total order `order` in `(x, y)` of `J + J^w` (pair,
+    /// `include_free`) or of `J^w` alone (self, Eq. 17), at field point `x` and source `y`.
+    pub fn new<G: Green>(
+        g: &G,
+        x: &[S; 3],
+        y: &[S; 3],
+        p: &[S],
+        order: usize,
+        include_free: bool,
+        explicit_height: bool,
+    ) -> Self {
+        let terms = g
+            .image_terms()
+            .expect("the structured path needs a Green's function with image terms");
+        let degree = order + g.image_extra_order() + 2;
+        let mut s = Self::with_terms(
+            terms,
+            x,
+            y,
+            g.planes(p),
+            g.weights(p),
+            degree,
+            include_free,
+            explicit_height,
+        );
+        if include_free {
+            s.cancel = g.cancelling_image();
+        }
+        s
+    }
+
+    /// The plain direct sum of the Stokeslet and its image, without the rewrite into
+    /// an exactly evaluated difference: the reference of the stiff cases.
+    pub fn direct_sum(mut self) -> Self {
+        self.cancel = None;
+        self
+    }
+
+    /// Every derivative times `m` (the kernels' `1/(8 pi eta)`): `m` multiplies the
+    /// powers of `1/|R|` (`Structured::inv_norm_pow`), one of which ends every term,
+    /// so that it enters once per centre and power (shared nodes) rather than once per
+    /// block entry.
+    pub fn scaled(mut self, m: S) -> Self {
+        self.multiplier = Some(m);
+        self
+    }
+
+    /// Build the arithmetic in form `f` (collection and differences; default
+    /// [`Collection::Centres`], [`Differences::All`]).
+    pub fn in_form(mut self, f: Form) -> Self {
+        self.collect = f.collect;
+        self.differences = f.differences;
+        self
+    }
+
+    /// As [`Structured::new`], from the image terms, the planes' heights and the
+    /// weights themselves (a subset of a Green's function's terms), with jets of
+    /// degree `degree`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_terms(
+        terms: Vec<ImageTerm>,
+        x: &[S; 3],
+        y: &[S; 3],
+        planes: Vec<S>,
+        weights: Vec<S>,
+        degree: usize,
+        include_free: bool,
+        explicit_height: bool,
+    ) -> Self {
+        let r: [S; 3] = std::array::from_fn(|k| x[k].clone() - y[k].clone());
+        let mut centres = vec![r];
+        let mut heights = Vec::new();
+        let mut field_heights = Vec::new();
+        for hp in planes {
+            field_heights.push(x[2].clone() - hp.clone());
+            let h = y[2].clone() - hp;
+            centres.push([
+                x[0].clone() - y[0].clone(),
+                x[1].clone() - y[1].clone(),
+                x[2].clone() - y[2].clone() + S::cst(2.0) * h.clone(),
+            ]);
+            heights.push(h);
+        }
+        Structured {
+            centres,
+            include_free,
+            terms,
+            heights,
+            field_heights,
+            cancel: None,
+            weights,
+            explicit_height,
+            degree,
+            jets: HashMap::new(),
+            poly_jets: HashMap::new(),
+            collect: Collection::Centres,
+            differences: Differences::All,
+            units: HashMap::new(),
+            multiplier: None,
+        }
+    }
+
+    /// `|c|`, `1/|c|` and the unit vector `e = c/|c|` of a centre.
+    pub(super) fn unit(&mut self, centre: usize) -> (S, S, [S; 3]) {
+        if let Some(u) = self.units.get(&centre) {
+            return u.clone();
+        }
+        let c = self.centres[centre].clone();
+        let s =
+            c[0].clone() * c[0].clone() + c[1].clone() * c[1].clone() + c[2].clone() * c[2].clone();
+        let norm = s.sqrt();
+        let inv = norm.recip();
+        let e: [S; 3] = std::array::from_fn(|k| c[k].clone() * inv.clone());
+        let u = (norm, inv, e);
+        self.units.insert(centre, u.clone());
+        u
+    }
+
+    /// Jet of a potential about the unit vector `e` of a centre, built on first use.
+    /// About `e` the expansion of `s = |e + d|^2 = 1 + 2 e.d + d.d` has the constant
+    /// term exactly 1, so the power rule never divides, and every coefficient is a
+    /// polynomial in `e`. Homogeneity scales it back: `d^nu phi(R) = |R|^(p - n)
+    /// d^nu phi(e)` for `phi = |R|^p`, `n = |nu|`.
+    pub(super) fn jet(&mut self, centre: usize, pot: Potential) -> &Jet<S> {
+        if let Some(t) = self.difference_plane(centre) {
+            if !self.jets.contains_key(&(centre, pot)) {
+                let d = self.difference_jet(t, pot);
+                self.jets.insert((centre, pot), d);
+            }
+            return &self.jets[&(centre, pot)];
+        }
+        let degree = self.degree;
+        let (_, _, e) = self.unit(centre);
+        self.jets.entry((centre, pot)).or_insert_with(|| {
+            let l = Layout::get(3, degree);
+            let d: [Jet<S>; 3] = std::array::from_fn(|k| Jet::variable(&l, k, S::cst(0.0)));
+            let mut s = Jet::cst(1.0);
+            for k in 0..3 {
+                s = s
+                    + Jet::constant(S::cst(2.0) * e[k].clone()) * d[k].clone()
+                    + d[k].clone() * d[k].clone();
+            }
+            match pot {
+                Potential::R => s.powf(0.5, S::cst(1.0)),
+                Potential::InvR => s.powf(-0.5, S::cst(1.0)),
+            }
+        })
+    }
+
+    /// The jet of a potential about the symbolic unit vector `e`: every coefficient a
+    /// polynomial in `e` ([`crate::number::poly`]), the same for every centre.
+    pub(super) fn poly_jet(&mut self, pot: Potential) -> &Jet<Poly> {
+        let degree = self.degree;
+        self.poly_jets.entry(pot).or_insert_with(|| {
+            let l = Layout::get(3, degree);
+            let d: [Jet<Poly>; 3] = std::array::from_fn(|k| Jet::variable(&l, k, Poly::cst(0.0)));
+            let mut s = Jet::cst(1.0);
+            for k in 0..3 {
+                s = s
+                    + Jet::constant(Poly::cst(2.0) * Poly::var(k)) * d[k].clone()
+                    + d[k].clone() * d[k].clone();
+            }
+            match pot {
+                Potential::R => s.powf(0.5, Poly::cst(1.0)),
+                Potential::InvR => s.powf(-0.5, Poly::cst(1.0)),
+            }
+        })
+    }
+
+    /// The plane `t` of a difference centre `1 + n + t`.
+    pub(super) fn difference_plane(&self, centre: usize) -> Option<usize> {
+        centre.checked_sub(self.centres.len())
+    }
+
+    /// The centre whose `|R|` scales an atom: a difference is scaled as its image.
+    pub(super) fn scaling_centre(&self, centre: usize) -> usize {
+        match self.difference_plane(centre) {
+            Some(t) => 1 + t,
+            None => centre,
+        }
+    }
+
+    /// Jet of `[phi(R + d) - phi(r + d)] / |R|^p` in `d / |R|` about 0, for plane `t`,
+    /// without cancellation. With `L = |R|`, `s_R = |e_R + d|^2` (the image's own jet)
+    /// and `s_r = |r/L + d|^2`, `s_R - s_r = 4 h f / L^2 + 4 (h / L) d_3` exactly, so
+    /// `sqrt(s_R) - sqrt(s_r) = (s_R - s_r) / (sqrt(s_R) + sqrt(s_r))` and
+    /// `1/sqrt(s_R) - 1/sqrt(s_r) = -(sqrt(s_R) - sqrt(s_r)) / (sqrt(s_R) sqrt(s_r))`.
+    pub(super) fn difference_jet(&mut self, t: usize, pot: Potential) -> Jet<S> {
+        let big = self.jet(1 + t, Potential::R).clone();
+        let (_, inv, _) = self.unit(1 + t);
+        let (small_norm, _, _) = self.unit(0);
+        let l = Layout::get(3, self.degree);
+        let d: [Jet<S>; 3] = std::array::from_fn(|k| Jet::variable(&l, k, S::cst(0.0)));
+        let q = small_norm * inv.clone();
+        let mut s = Jet::constant(q.clone() * q.clone());
+        for (k, dk) in d.iter().enumerate() {
+            let e = self.centres[0][k].clone() * inv.clone();
+            s = s + Jet::constant(S::cst(2.0) * e) * dk.clone() + dk.clone() * dk.clone();
+        }
+        let small = s.powf(0.5, q);
+        let h4 = S::cst(4.0) * self.heights[t].clone() * inv.clone();
+        let gap = Jet::constant(h4.clone() * self.field_heights[t].clone() * inv)
+            + Jet::constant(h4) * d[2].clone();
+        let dr = gap / (big.clone() + small.clone());
+        match pot {
+            Potential::R => dr,
+            Potential::InvR => -(dr / (big * small)),
+        }
+    }
+
+    /// Where the image cancels the Stokeslet, move every free-space atom (or those
+    /// without Faxen factors, [`Differences::Leading`]) to the image centre and its
+    /// difference: `c d^nu phi(r) = c d^nu phi(R) - c d^nu [phi(R) - phi(r)]`, into the
+    /// image's group of factor `weight * h^0` (weight exactly 1).
+    pub(super) fn absorb_free(&self, groups: &mut BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>>) {
+        let Some((plane, weight)) = self.cancel else {
+            return;
+        };
+        let every = self.differences == Differences::All;
+        let free: Vec<_> = groups
+            .keys()
+            .filter(|k| k.2 == Factor::Free && (every || (k.0 == 0 && k.1 == 0)))
+            .copied()
+            .collect();
+        for key in free {
+            let atoms = groups.remove(&key).expect("listed key");
+            let to = (
+                key.0,
+                key.1,
+                Factor::Image {
+                    plane,
+                    weight,
+                    q: 0,
+                },
+            );
+            let group = groups.entry(to).or_default();
+            for (a, c) in atoms {
+                debug_assert_eq!(a.centre, 0, "free-space atoms are at r");
+                let at = |centre| Atom { centre, ..a };
+                *group.entry(at(1 + plane)).or_insert(0.0) += c;
+                *group.entry(at(self.centres.len() + plane)).or_insert(0.0) -= c;
+            }
+        }
+    }
+
+    /// `d^nu phi(e)`: the atom without its factor `|R|^(p - n)`.
+    pub(super) fn atom_at_unit(&mut self, a: &Atom) -> S {
+        self.jet(a.centre, a.pot).derivative(&a.nu)
+    }
+
+    /// `|R|^(-k)` by repeated products of `1/|R|` (or of `|R|` for `k < 0`), shared;
+    /// times the multiplier ([`Structured::scaled`]), if any.
+    pub(super) fn inv_norm_pow(&mut self, centre: usize, k: i32) -> S {
+        let (norm, inv, _) = self.unit(centre);
+        let base = if k >= 0 { inv } else { norm };
+        let mut v = self.multiplier.clone().unwrap_or_else(|| S::cst(1.0));
+        for _ in 0..k.unsigned_abs() {
+            v = v * base.clone();
+        }
+        v
+    }
+
+    pub(super) fn factor_value(&self, f: &Factor) -> S {
+        match *f {
+            Factor::Free => S::cst(1.0),
+            Factor::Image { plane, weight, q } => {
+                let mut v = self.weights[weight].clone();
+                for _ in 0..q {
+                    v = v * self.heights[plane].clone();
+                }
+                v
+            }
+        }
+    }
+
+    /// `d` as `sum factor * coef * atom`.
+    pub(super) fn atoms(&self, d: &Deriv, out: &mut BTreeMap<(Factor, Atom), f64>, scale: f64) {
+        let mut push = |f: Factor, centre: usize, mu: [u8; 3], a: usize, b: usize, c: f64| {
+            for ((pot, nu), k) in stokeslet_atoms(a, b, mu, c) {
+                *out.entry((f, Atom { centre, pot, nu })).or_insert(0.0) += k;
+            }
+        };
+        if self.include_free {
+            // d_x = d_r, d_y = -d_r
+            let mu = [d.dx[0] + d.dy[0], d.dx[1] + d.dy[1], d.dx[2] + d.dy[2]];
+            let sign = if d.dy.iter().map(|&e| e as u32).sum::<u32>() % 2 == 1 {
+                -1.0
+            } else {
+                1.0
+            };
+            push(Factor::Free, 0, mu, d.i, d.j, scale * sign);
+        }
+        // Eq. 10: d_x = d_R; d_{y_k} = -P_kk d_{R_k} on g(R); Leibniz in y3 on h^p.
+        let sign_y = if (d.dy[0] + d.dy[1]) % 2 == 1 {
+            -1.0
+        } else {
+            1.0
+        };
+        let n3 = d.dy[2] as usize;
+        for t in self.terms.iter().filter(|t| t.out == (d.i, d.j)) {
+            let p = t.h_power as usize;
+            let smax = if self.explicit_height { n3.min(p) } else { 0 };
+            for s in 0..=smax {
+                let mut mu = [0u8; 3];
+                for k in 0..3 {
+                    mu[k] = t.d[k] + d.dx[k] + d.dy[k];
+                }
+                mu[2] -= s as u8;
+                let c = scale * sign_y * t.coef * binomial(n3, s) * factorial(p) / factorial(p - s);
+                let f = Factor::Image {
+                    plane: t.plane,
+                    weight: t.weight,
+                    q: (p - s) as u8,
+                };
+                push(f, 1 + t.plane, mu, t.j.0, t.j.1, c);
+            }
+        }
+    }
+}
+
+impl<S: Scalar> Derivatives<S> for Structured<S> {
+    fn get(&mut self, d: &Deriv) -> S {
+        let mut m = BTreeMap::new();
+        self.atoms(d, &mut m, 1.0);
+        let mut groups: BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>> = BTreeMap::new();
+        for ((f, a), c) in m {
+            *groups.entry((0, 0, f)).or_default().entry(a).or_insert(0.0) += c;
+        }
+        self.absorb_free(&mut groups);
+        let one = S::cst(1.0);
+        self.evaluate(groups, &one, &one)
+    }
+
+    fn combine(&mut self, terms: &[Term], aa2: &S, ab2: &S) -> S {
+        let mut groups: BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>> = BTreeMap::new();
+        for t in terms {
+            let mut m = BTreeMap::new();
+            self.atoms(&t.d, &mut m, t.coef);
+            for ((f, a), c) in m {
+                *groups
+                    .entry((t.pa, t.pb, f))
+                    .or_default()
+                    .entry(a)
+                    .or_insert(0.0) += c;
+            }
+        }
+        self.absorb_free(&mut groups);
+        if matches!(
+            self.collect,
+            Collection::Entries | Collection::EntriesOnSphere
+        ) {
+            self.evaluate_entries(groups, aa2, ab2)
+        } else {
+            self.evaluate(groups, aa2, ab2)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::number::dd::Dd;
+    use crate::physics::green::wall::Wall;
+
+    /// The wall's UF block with both Faxen Laplacians, at a lateral distance where the
+    /// Stokeslet and its image cancel to 4e-4 of either, in every form the generator
+    /// traces (three collections, the exact difference for every term or for the
+    /// leading ones only) against the plain direct sum in double-double: 1e-14 of the
+    /// block's largest entry covers the f64 rounding of every form (the plain sum in
+    /// f64 would lose about `eps rho^2/(h_a h_b)` = 1e-12 here).
+    #[test]
+    fn every_form_of_a_faxen_block_agrees() {
+        use crate::physics::operators::{block, max_order, Basis, Moment, Response};
+        let (x, y, p) = ([0.3, -0.7, 1.9], [60.1, 32.4, 1.4], [0.25]);
+        let (aa2, ab2) = (0.64, 1.21);
+        let order = max_order(Response::U, Moment::F);
+        let terms = block(Response::U, Moment::F, Basis::Cartesian);
+        let dd = |v: [f64; 3]| v.map(Dd::new);
+        let mut reference =
+            Structured::new(&Wall, &dd(x), &dd(y), &[Dd::new(p[0])], order, true, true)
+                .direct_sum();
+        let want: Vec<f64> = terms
+            .iter()
+            .flatten()
+            .map(|t| reference.combine(t, &Dd::new(aa2), &Dd::new(ab2)).to_f64())
+            .collect();
+        let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for collect in [
+            Collection::Atoms,
+            Collection::Centres,
+            Collection::Entries,
+            Collection::EntriesOnSphere,
+        ] {
+            for differences in [Differences::All, Differences::Leading] {
+                let form = Form {
+                    collect,
+                    differences,
+                };
+                let mut s = Structured::new(&Wall, &x, &y, &p, order, true, true).in_form(form);
+                for (t, w) in terms.iter().flatten().zip(&want) {
+                    let got = s.combine(t, &aa2, &ab2);
+                    assert!((got - w).abs() <= 1e-14 * scale, "{form:?}: {got:e} {w:e}");
+                }
+            }
+        }
+    }
+}

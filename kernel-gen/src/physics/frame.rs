@@ -1,0 +1,141 @@
+//! The canonical frame of a pair: rotated about `e3` so that the lateral separation
+//! lies along `+x1`.
+//!
+//! A Green's function whose boundaries are planes normal to `e3` (free space, the wall,
+//! the free surface, the interface, the slit) is invariant under rotations about `e3`
+//! and lateral translations, so `M^{ab}(x_a, x_b) = Q M^{ab}(x_a', x_b') Q^T` with
+//! `x_a' = (rho, 0, x_a3)`, `x_b' = (0, 0, x_b3)`, `rho = |(x_a - x_b)_{1,2}|` and `Q`
+//! the rotation by the angle of the lateral separation (`Q_3` on vectors and
+//! pseudovectors, its 5-dimensional representation `Q_5` on strains and stresslets
+//! in the orthonormal basis). Traced in that frame, every term odd in the second
+//! lateral coordinate is zero and folds away as the graph is built; the kernel
+//! rotates the moments into the frame and the responses back (products), or the
+//! blocks (`Q_r B' Q_m^T`, block kernels).
+//!
+//! With `rho = 0` every rotation is a symmetry; the frame is then the identity
+//! (`c = 1`, `s = 0`), chosen by a comparison node ([`Ex::select_gt`]), and the
+//! reciprocal is taken of `rho` where it is positive and of 1 elsewhere, so no kernel
+//! ever forms `1/0`.
+
+use crate::graph::Ex;
+use crate::number::scalar::Scalar;
+use crate::physics::operators::STRAIN_BASIS;
+
+/// The frame of a pair: `rho^2`, `1/rho` and the rotation's `(cos, sin)`.
+pub struct Frame {
+    /// `rho^2 = (x_a1 - x_b1)^2 + (x_a2 - x_b2)^2`.
+    pub rho2: Ex,
+    /// `rho`.
+    pub rho: Ex,
+    /// `cos` of the lateral separation's angle (1 where `rho = 0`).
+    pub c: Ex,
+    /// `sin` of the lateral separation's angle (0 where `rho = 0`).
+    pub s: Ex,
+}
+
+impl Frame {
+    /// The frame of field point `xa` and source `xb`, and the two points in it.
+    pub fn of(xa: &[Ex; 3], xb: &[Ex; 3]) -> (Frame, [Ex; 3], [Ex; 3]) {
+        let dx = xa[0] - xb[0];
+        let dy = xa[1] - xb[1];
+        let rho2 = dx * dx + dy * dy;
+        let rho = rho2.sqrt();
+        let zero = Ex::cst(0.0);
+        let one = Ex::cst(1.0);
+        // 1/rho of a safe rho: never infinite, so that a reciprocal sharing its division
+        // with others (the lane kernels) is never poisoned where rho = 0
+        let inv = Ex::select_gt(rho2, zero, rho, one).recip();
+        let c = Ex::select_gt(rho2, zero, dx * inv, one);
+        let s = Ex::select_gt(rho2, zero, dy * inv, zero);
+        let f = Frame { rho2, rho, c, s };
+        (f, [rho, zero, xa[2]], [zero, zero, xb[2]])
+    }
+
+    /// `Q_r B' Q_m^T`: a block (`nr x nm`, row-major) from the frame to the world.
+    pub fn block_to_world<S: Scalar>(vals: &[S], nr: usize, nm: usize, c: &S, s: &S) -> Vec<S> {
+        let qr = rotation(nr, c, s);
+        let qm = rotation(nm, c, s);
+        let mut out = Vec::with_capacity(nr * nm);
+        for i in 0..nr {
+            for j in 0..nm {
+                let mut acc = S::cst(0.0);
+                for a in 0..nr {
+                    if qr[i][a].is_known_zero() {
+                        continue;
+                    }
+                    let mut inner = S::cst(0.0);
+                    for b in 0..nm {
+                        let v = &vals[a * nm + b];
+                        if v.is_known_zero() || qm[j][b].is_known_zero() {
+                            continue;
+                        }
+                        inner = inner + v.clone() * qm[j][b].clone();
+                    }
+                    acc = acc + qr[i][a].clone() * inner;
+                }
+                out.push(acc);
+            }
+        }
+        out
+    }
+
+    /// A grand vector (`[3 | 3 | 5]` parts as kept, `parts` their lengths) rotated by
+    /// `Q^T` (into the frame, `transpose`) or by `Q` (back to the world).
+    pub fn vector(&self, v: &[Ex], parts: &[usize], transpose: bool) -> Vec<Ex> {
+        let mut out = Vec::with_capacity(v.len());
+        let mut at = 0;
+        for &n in parts {
+            let q = rotation(n, &self.c, &self.s);
+            for i in 0..n {
+                let mut acc = Ex::cst(0.0);
+                for k in 0..n {
+                    let w = if transpose { q[k][i] } else { q[i][k] };
+                    acc = acc + w * v[at + k];
+                }
+                out.push(acc);
+            }
+            at += n;
+        }
+        out
+    }
+}
+
+/// The rotation by `(c, s) = (cos, sin)` about `e3` on vectors (`dim = 3`) or on the
+/// orthonormal strain basis (`dim = 5`: `Q_5[p][q] = B_p : (Q B_q Q^T)`), zeros as
+/// exact constants.
+pub fn rotation<S: Scalar>(dim: usize, c: &S, s: &S) -> Vec<Vec<S>> {
+    let z = || S::cst(0.0);
+    let r = [
+        [c.clone(), -s.clone(), z()],
+        [s.clone(), c.clone(), z()],
+        [z(), z(), S::cst(1.0)],
+    ];
+    if dim == 3 {
+        return r.iter().map(|row| row.to_vec()).collect();
+    }
+    assert_eq!(dim, 5, "orthonormal strain basis");
+    let mut q = vec![vec![S::cst(0.0); 5]; 5];
+    for p in 0..5 {
+        for qq in 0..5 {
+            let mut acc = S::cst(0.0);
+            for i in 0..3 {
+                for j in 0..3 {
+                    if STRAIN_BASIS[p][i][j] == 0.0 {
+                        continue;
+                    }
+                    for k in 0..3 {
+                        for l in 0..3 {
+                            if STRAIN_BASIS[qq][k][l] == 0.0 {
+                                continue;
+                            }
+                            let w = STRAIN_BASIS[p][i][j] * STRAIN_BASIS[qq][k][l];
+                            acc = acc + S::cst(w) * (r[i][k].clone() * r[j][l].clone());
+                        }
+                    }
+                }
+            }
+            q[p][qq] = acc;
+        }
+    }
+    q
+}
