@@ -251,7 +251,7 @@ pub fn function(k: &KernelFn) -> TokenStream {
             "Where particle b is higher above the wall than particle a, the kernel is \
              evaluated with the particles exchanged and its result transposed (the \
              mobility is symmetric): the direct sum then keeps its accuracy at any ratio \
-             of the heights (kernel_gen::scene::Swap)."
+             of the heights (kernel_gen::kernel::Swap)."
                 .into(),
         );
     }

@@ -230,7 +230,7 @@ fn trace_with<G: Green>(g: &G, spec: &KernelSpec, form: Form, canonical: bool) -
                 &ab,
             );
             let doc = format!(
-                "Lateral far field (`rho > {} (|h_a| + |h_b|)`, kernel_gen::farfield)",
+                "Lateral far field (`rho > {} (|h_a| + |h_b|)`, kernel_gen::physics::farfield)",
                 crate::physics::farfield::SWITCH
             );
             far = Some(branch(vec![(lhs, rhs)], vals, doc, "far field"));
@@ -252,7 +252,7 @@ fn trace_with<G: Green>(g: &G, spec: &KernelSpec, form: Form, canonical: bool) -
                 &params,
             );
             let doc = "Closed-form reflected self term (centre on the fluid side of every \
-                       plane, kernel_gen::self_image)"
+                       plane, kernel_gen::physics::self_image)"
                 .to_string();
             far = Some(branch(conds, vals, doc, "closed form"));
         }

@@ -18,7 +18,7 @@ use crate::blocks::{Drift, Grand, Product};
 /// - `lambda`: viscosity ratio lambda of the liquid beyond the interface to this one
 ///
 /// Operation count (after dead-code elimination): 302 flops (118 add/sub, 179 mul, 4 div, 1 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 205 flops (55 add/sub, 146 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 205 flops (55 add/sub, 146 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn interface_self(x: [f64; 3], a: f64, eta: f64, height: f64, lambda: f64) -> Grand {
     let t0: f64 = x[2] - height;

@@ -17,7 +17,7 @@ use crate::blocks::{BlocksFT, Product};
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 35 flops (9 add/sub, 21 mul, 3 div, 1 sqrt, 0 powi, 1 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 33 flops (9 add/sub, 21 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 33 flops (9 add/sub, 21 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn free_surface_ft_self(x: [f64; 3], a: f64, eta: f64, height: f64) -> BlocksFT {
     let t0: f64 = x[2] - height;

@@ -18,7 +18,7 @@ use crate::blocks::{BlocksF, Product};
 /// - `lambda`: viscosity ratio lambda of the liquid beyond the interface to this one
 ///
 /// Operation count (after dead-code elimination): 67 flops (24 add/sub, 38 mul, 4 div, 1 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 53 flops (15 add/sub, 34 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 53 flops (15 add/sub, 34 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn interface_f_self(
     x: [f64; 3],

@@ -18,7 +18,7 @@ use crate::blocks::{BlocksFT, Product};
 /// - `lambda`: viscosity ratio lambda of the liquid beyond the interface to this one
 ///
 /// Operation count (after dead-code elimination): 109 flops (40 add/sub, 64 mul, 4 div, 1 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 83 flops (21 add/sub, 58 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 83 flops (21 add/sub, 58 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn interface_ft_self(
     x: [f64; 3],

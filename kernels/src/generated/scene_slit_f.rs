@@ -18,7 +18,7 @@ use crate::blocks::{BlocksF, Product};
 /// - `gap`: distance from the lower wall to the upper wall
 ///
 /// Operation count (after dead-code elimination): 96 flops (36 add/sub, 54 mul, 4 div, 2 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 53 flops (19 add/sub, 30 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 53 flops (19 add/sub, 30 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn slit_f_self(x: [f64; 3], a: f64, eta: f64, height: f64, gap: f64) -> BlocksF {
     let t0: f64 = height + gap;

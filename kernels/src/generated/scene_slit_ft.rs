@@ -18,7 +18,7 @@ use crate::blocks::{BlocksFT, Product};
 /// - `gap`: distance from the lower wall to the upper wall
 ///
 /// Operation count (after dead-code elimination): 147 flops (60 add/sub, 81 mul, 4 div, 2 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 75 flops (25 add/sub, 46 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 75 flops (25 add/sub, 46 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn slit_ft_self(x: [f64; 3], a: f64, eta: f64, height: f64, gap: f64) -> BlocksFT {
     let t0: f64 = height + gap;

@@ -17,7 +17,7 @@ use crate::blocks::{BlocksF, Product};
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 50 flops (17 add/sub, 29 mul, 3 div, 1 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 32 flops (9 add/sub, 20 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 32 flops (9 add/sub, 20 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn wall_f_monolayer_self(x: [f64; 3], a: f64, eta: f64, height: f64) -> BlocksF {
     let t0: f64 = x[2] - height;
@@ -234,8 +234,8 @@ pub use wall_f_monolayer_self_lanes as wall_f_monolayer_self_lanes_ordered;
 /// - `vb`: moments of particle b, same layout
 ///
 /// Operation count (after dead-code elimination): 288 flops (98 add/sub, 178 mul, 6 div, 3 sqrt, 0 powi, 0 neg, 3 select).
-/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::farfield): 921 flops (416 add/sub, 498 mul, 3 div, 1 sqrt, 0 powi, 0 neg, 3 select).
-/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::scene::Swap).
+/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::physics::farfield): 921 flops (416 add/sub, 498 mul, 3 div, 1 sqrt, 0 powi, 0 neg, 3 select).
+/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::kernel::Swap).
 #[inline]
 pub fn wall_f_monolayer_pair_equal_product(
     xa: [f64; 3],

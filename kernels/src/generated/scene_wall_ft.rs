@@ -17,7 +17,7 @@ use crate::blocks::{BlocksFT, Product};
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 75 flops (27 add/sub, 44 mul, 3 div, 1 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 46 flops (11 add/sub, 32 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 46 flops (11 add/sub, 32 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn wall_ft_self(x: [f64; 3], a: f64, eta: f64, height: f64) -> BlocksFT {
     let t0: f64 = x[2] - height;
@@ -364,8 +364,8 @@ pub use wall_ft_self_lanes as wall_ft_self_lanes_ordered;
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 422 flops (138 add/sub, 267 mul, 5 div, 3 sqrt, 0 powi, 6 neg, 3 select).
-/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::farfield): 1656 flops (750 add/sub, 893 mul, 3 div, 1 sqrt, 0 powi, 6 neg, 3 select).
-/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::scene::Swap).
+/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::physics::farfield): 1656 flops (750 add/sub, 893 mul, 3 div, 1 sqrt, 0 powi, 6 neg, 3 select).
+/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::kernel::Swap).
 #[inline]
 pub fn wall_ft_pair(
     xa: [f64; 3],
@@ -3809,8 +3809,8 @@ pub fn wall_ft_pair_lanes_ordered<L: lanes::Lane>(
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 410 flops (138 add/sub, 255 mul, 5 div, 3 sqrt, 0 powi, 6 neg, 3 select).
-/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::farfield): 1652 flops (750 add/sub, 889 mul, 3 div, 1 sqrt, 0 powi, 6 neg, 3 select).
-/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::scene::Swap).
+/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::physics::farfield): 1652 flops (750 add/sub, 889 mul, 3 div, 1 sqrt, 0 powi, 6 neg, 3 select).
+/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::kernel::Swap).
 #[inline]
 pub fn wall_ft_pair_equal(
     xa: [f64; 3],
@@ -5926,8 +5926,8 @@ pub fn wall_ft_pair_equal(
 /// - `vb`: moments of particle b, same layout
 ///
 /// Operation count (after dead-code elimination): 446 flops (162 add/sub, 273 mul, 5 div, 3 sqrt, 0 powi, 0 neg, 3 select).
-/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::farfield): 1678 flops (774 add/sub, 897 mul, 3 div, 1 sqrt, 0 powi, 0 neg, 3 select).
-/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::scene::Swap).
+/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::physics::farfield): 1678 flops (774 add/sub, 897 mul, 3 div, 1 sqrt, 0 powi, 0 neg, 3 select).
+/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::kernel::Swap).
 #[inline]
 pub fn wall_ft_pair_product(
     xa: [f64; 3],
@@ -9333,8 +9333,8 @@ pub fn wall_ft_pair_product_lanes_ordered<L: lanes::Lane>(
 /// - `vb`: moments of particle b, same layout
 ///
 /// Operation count (after dead-code elimination): 434 flops (162 add/sub, 261 mul, 5 div, 3 sqrt, 0 powi, 0 neg, 3 select).
-/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::farfield): 1674 flops (774 add/sub, 893 mul, 3 div, 1 sqrt, 0 powi, 0 neg, 3 select).
-/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::scene::Swap).
+/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::physics::farfield): 1674 flops (774 add/sub, 893 mul, 3 div, 1 sqrt, 0 powi, 0 neg, 3 select).
+/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::kernel::Swap).
 #[inline]
 pub fn wall_ft_pair_equal_product(
     xa: [f64; 3],

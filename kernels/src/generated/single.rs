@@ -650,7 +650,7 @@ pub fn free_pair(xa: [f32; 3], xb: [f32; 3], aa: f32, ab: f32, eta: f32) -> Gran
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 212 flops (84 add/sub, 124 mul, 3 div, 1 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 113 flops (31 add/sub, 79 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 113 flops (31 add/sub, 79 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn wall_self(x: [f32; 3], a: f32, eta: f32, height: f32) -> Grand32 {
     let t0: f32 = x[2] - height;
@@ -1068,8 +1068,8 @@ pub fn wall_self(x: [f32; 3], a: f32, eta: f32, height: f32) -> Grand32 {
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 2287 flops (868 add/sub, 1394 mul, 6 div, 3 sqrt, 0 powi, 13 neg, 3 select).
-/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::farfield): 8032 flops (3836 add/sub, 4179 mul, 3 div, 1 sqrt, 0 powi, 10 neg, 3 select).
-/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::scene::Swap).
+/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::physics::farfield): 8032 flops (3836 add/sub, 4179 mul, 3 div, 1 sqrt, 0 powi, 10 neg, 3 select).
+/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::kernel::Swap).
 #[inline]
 pub fn wall_pair(
     xa: [f32; 3],
@@ -11598,7 +11598,7 @@ pub fn wall_pair(
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 76 flops (22 add/sub, 49 mul, 3 div, 1 sqrt, 0 powi, 1 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 71 flops (20 add/sub, 48 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 71 flops (20 add/sub, 48 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn free_surface_self(x: [f32; 3], a: f32, eta: f32, height: f32) -> Grand32 {
     let t0: f32 = x[2] - height;
@@ -13060,7 +13060,7 @@ pub fn free_surface_pair(
 /// - `lambda`: viscosity ratio lambda of the liquid beyond the interface to this one
 ///
 /// Operation count (after dead-code elimination): 302 flops (118 add/sub, 179 mul, 4 div, 1 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 205 flops (55 add/sub, 146 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 205 flops (55 add/sub, 146 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn interface_self(
     x: [f32; 3],
@@ -16182,7 +16182,7 @@ pub fn interface_pair(
 /// - `gap`: distance from the lower wall to the upper wall
 ///
 /// Operation count (after dead-code elimination): 415 flops (182 add/sub, 227 mul, 4 div, 2 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 194 flops (73 add/sub, 117 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 194 flops (73 add/sub, 117 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn slit_self(x: [f32; 3], a: f32, eta: f32, height: f32, gap: f32) -> Grand32 {
     let t0: f32 = height + gap;

@@ -18,7 +18,7 @@ use crate::blocks::{Drift, Grand, Product};
 /// - `gap`: distance from the lower wall to the upper wall
 ///
 /// Operation count (after dead-code elimination): 415 flops (182 add/sub, 227 mul, 4 div, 2 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 194 flops (73 add/sub, 117 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 194 flops (73 add/sub, 117 mul, 4 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn slit_self(x: [f64; 3], a: f64, eta: f64, height: f64, gap: f64) -> Grand {
     let t0: f64 = height + gap;

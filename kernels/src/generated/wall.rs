@@ -17,7 +17,7 @@ use crate::blocks::{Drift, Grand, Product};
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 212 flops (84 add/sub, 124 mul, 3 div, 1 sqrt, 0 powi, 0 neg).
-/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::self_image): 113 flops (31 add/sub, 79 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
+/// Closed-form reflected self term (centre on the fluid side of every plane, kernel_gen::physics::self_image): 113 flops (31 add/sub, 79 mul, 3 div, 0 sqrt, 0 powi, 0 neg).
 #[inline]
 pub fn wall_self(x: [f64; 3], a: f64, eta: f64, height: f64) -> Grand {
     let t0: f64 = x[2] - height;
@@ -435,8 +435,8 @@ pub fn wall_self(x: [f64; 3], a: f64, eta: f64, height: f64) -> Grand {
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 2287 flops (868 add/sub, 1394 mul, 6 div, 3 sqrt, 0 powi, 13 neg, 3 select).
-/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::farfield): 8032 flops (3836 add/sub, 4179 mul, 3 div, 1 sqrt, 0 powi, 10 neg, 3 select).
-/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::scene::Swap).
+/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::physics::farfield): 8032 flops (3836 add/sub, 4179 mul, 3 div, 1 sqrt, 0 powi, 10 neg, 3 select).
+/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::kernel::Swap).
 #[inline]
 pub fn wall_pair(
     xa: [f64; 3],
@@ -16845,8 +16845,8 @@ pub fn wall_pair_lanes_ordered<L: lanes::Lane>(
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 2232 flops (867 add/sub, 1340 mul, 6 div, 3 sqrt, 0 powi, 13 neg, 3 select).
-/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::farfield): 8026 flops (3836 add/sub, 4173 mul, 3 div, 1 sqrt, 0 powi, 10 neg, 3 select).
-/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::scene::Swap).
+/// Lateral far field (`rho > 100 (|h_a| + |h_b|)`, kernel_gen::physics::farfield): 8026 flops (3836 add/sub, 4173 mul, 3 div, 1 sqrt, 0 powi, 10 neg, 3 select).
+/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::kernel::Swap).
 #[inline]
 pub fn wall_pair_equal(
     xa: [f64; 3],
@@ -27397,7 +27397,7 @@ pub fn wall_self_divergence(x: [f64; 3], a: f64, eta: f64, height: f64) -> Drift
 /// - `height`: height H of the boundary plane x3 = H (the fluid is x3 > H)
 ///
 /// Operation count (after dead-code elimination): 2986 flops (1159 add/sub, 1818 mul, 7 div, 2 sqrt, 0 powi, 0 neg).
-/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::scene::Swap).
+/// Where particle b is higher above the wall than particle a, the kernel is evaluated with the particles exchanged and its result transposed (the mobility is symmetric): the direct sum then keeps its accuracy at any ratio of the heights (kernel_gen::kernel::Swap).
 #[inline]
 pub fn wall_pair_divergence(
     xa: [f64; 3],
