@@ -62,7 +62,7 @@ def test_single_precision_apply_in_si_units(moments):
     x = np.random.default_rng(3).normal(size=6 * k) * 1e-12
     want = s.apply(moments, x)
     got = s.apply(moments, x, precision="single")
-    # f32 lanes: 2e-6 of the norm (tests/tests/single_precision.rs), per part since
+    # f32 lanes: 2e-6 of the norm (tests/tests/integration/lanes/single_precision.rs), per part since
     # velocities and rotation rates differ by 1e6 in these units
     for part in (slice(0, 18), slice(18, None)):
         if want[part].size:

@@ -5,14 +5,14 @@ two-sphere resistance series implemented in double precision in tests/src/exact.
 Run:   python3 tests/derivations/exact_check.py [--quick | --tables]
 
   --quick    skip the slowest heights (h/a = 1.001, 1.0001) of the parallel problems
-  --tables   print only the reference tables embedded in tests/tests/exact_references.rs
+  --tables   print only the reference tables embedded in tests/tests/integration/references/exact.rs
              (MP_WALL, MP_PAIR, the JO84 coefficients), at the exact binary values of the
              f64 inputs (about 30 s)
 
 Prints, for a set of heights / gaps, the values of every function of exact.rs computed
 here in 40-digit arithmetic straight from the published formulas (no rewriting for
 stability: the working precision absorbs the cancellations), so that the numbers
-quoted in exact.rs and the tolerances of tests/tests/exact_references.rs can be
+quoted in exact.rs and the tolerances of tests/tests/integration/references/exact.rs can be
 checked.  Conventions: tests/src/exact.rs (wall z = 0, radius a, centre height h,
 alpha = arccosh(h/a); two spheres: gap xi = r/a - 2, KK normalisation).
 
@@ -272,7 +272,7 @@ def jo84_xa_coeffs(kmax):
 
 
 def tables():
-    """The reference tables embedded in tests/tests/exact_references.rs, at the exact
+    """The reference tables embedded in tests/tests/integration/references/exact.rs, at the exact
     binary values of the f64 inputs (near contact the functions are ill-conditioned in h)."""
     mp.mp.dps = 50
     print("MP_WALL: (h/a, X^A_w, Y^A_w, T^t*, F^r*, Y^C_w, X^C_w)")

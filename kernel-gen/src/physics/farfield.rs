@@ -33,7 +33,7 @@
 //! side of the switch the direct sum loses at most about `eps rho^2 / (h_a h_b)`,
 //! `2e-16 * 2 SWITCH^2 (h_a^2 + h_b^2) / (h_a h_b)`: 1e-11 for equal heights. Both
 //! branches are tested against the double-double direct sum on both sides of the
-//! switch (`tests/tests/stiff_cases.rs`).
+//! switch (`tests/tests/integration/generated/stiff_cases.rs`).
 //!
 //! The rule applies where it is needed, decided from the coefficients: a Green's
 //! function with a single mirror plane and no run-time weights (its only parameter is

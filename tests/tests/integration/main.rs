@@ -6,7 +6,7 @@
 //!
 //! One binary links once where one per file linked 24 times. Run one theme, one file or
 //! one test by its path, e.g.
-//! `cargo test --release -p integration-tests -- two_sphere::exact::cost --nocapture`.
+//! `cargo test --workspace --release -- two_sphere::exact::cost --nocapture`.
 
 mod bad_input;
 mod brownian;

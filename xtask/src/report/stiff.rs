@@ -3,7 +3,7 @@
 //! plain direct sum (`kernel_gen::kernel::evaluate_direct`), for lateral separations up to 1e8 heights, gaps down to 1e-12 a, radius
 //! ratios up to 1e3, heights up to 1e8 a and nanometre and unit scales. The measurement
 //! is `integration_tests::stiff::stiff_cases`, the same function whose rows
-//! `tests/tests/stiff_cases.rs` asserts; this section prints the worst of each case and
+//! `tests/tests/integration/generated/stiff_cases.rs` asserts; this section prints the worst of each case and
 //! confinement, and where it is.
 
 use super::table::{err, Table};

@@ -24,7 +24,7 @@
 //!   `|R| - |r| = 4 h f / (|R| + |r|)`, `1/|R| - 1/|r| = -(|R| - |r|)/(|R| |r|)`, as jets
 //!   in `x`. The direct sum of `J(r)` and `-J(R)` instead loses `rho^2/(h f)` at lateral
 //!   distance `rho`; what the rewrite leaves is the cancellation between the image's
-//!   terms of order `h`, about `rho / f` (stiff cases: `tests/tests/stiff_cases.rs`).
+//!   terms of order `h`, about `rho / f` (stiff cases: `tests/tests/integration/generated/stiff_cases.rs`).
 //!   [`Structured::direct_sum`] keeps the plain sum (the stiff cases' reference).
 //!   With `explicit_height = false` the `s > 0` terms are dropped: the image is
 //!   differentiated as a function of `x - y'` only, the error the paper attributes to
@@ -85,7 +85,7 @@ pub enum Differences {
     /// and the plain sum of it and its image loses `eps rho^2/(h_a h_b)` of itself, so
     /// `eps a^2/(h_a h_b)` of the block: at most `eps a/h` of the other sphere, since
     /// every centre is at least a radius above the plane (measured in the stiff cases,
-    /// `tests/tests/stiff_cases.rs`).
+    /// `tests/tests/integration/generated/stiff_cases.rs`).
     Leading,
 }
 
