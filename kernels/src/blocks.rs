@@ -4,7 +4,7 @@
 use nalgebra::SMatrix;
 
 /// The orthonormal basis of symmetric traceless tensors in which strains and
-/// stresslets are stored (DESIGN.md): `B1 = (e1e2 + e2e1)/sqrt2`,
+/// stresslets are stored (docs/conventions.md): `B1 = (e1e2 + e2e1)/sqrt2`,
 /// `B2 = (e1e3 + e3e1)/sqrt2`, `B3 = (e2e3 + e3e2)/sqrt2`, `B4 = (e1e1 - e2e2)/sqrt2`,
 /// `B5 = (2e3e3 - e1e1 - e2e2)/sqrt6`. A symmetric traceless `E` has components
 /// `E_m = B_m : E`, and `E = sum_m E_m B_m`.

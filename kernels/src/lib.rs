@@ -16,6 +16,58 @@
 //! let m = pair(&wall, 1.0, [0.0, 0.0, 2.0], 1.0, [3.0, 0.0, 2.0], 1.0);
 //! assert!(m.uf[0][0] > 0.0);
 //! ```
+//!
+//! The truncated kernels ([`pair_f`], [`pair_ft`], [`self_f`], ...) return only the
+//! blocks a truncation keeps, and the fused products ([`product_f`], [`product_ft`])
+//! return a pair's contributions to both particles' velocities, `M^{ab} v_b` and
+//! `M^{ba} v_a`, without forming the blocks. Each has a lane twin (`*_lanes`) that
+//! evaluates [`lanes::Lane::WIDTH`] pairs at once, on the instruction set chosen at run
+//! time: the caller's code is generic over the lane type, implements
+//! [`lanes::WithLanes`] and runs through [`lanes::dispatch`]:
+//!
+//! ```
+//! use kernels::lanes::{dispatch, Lane, WithLanes};
+//! use kernels::{product_f, product_f_lanes, Confinement};
+//!
+//! /// The same pair in every lane; the first lane's result.
+//! struct OnePair<'a>(&'a Confinement);
+//!
+//! impl WithLanes for OnePair<'_> {
+//!     type Elem = f64;
+//!     type Output = [f64; 6];
+//!     #[inline(always)] // everything run with lanes inherits the target features
+//!     fn run<L: Lane<Elem = f64>>(self) -> [f64; 6] {
+//!         let s = L::splat;
+//!         let out = product_f_lanes(
+//!             self.0,
+//!             1.0,
+//!             [s(0.0), s(0.0), s(2.0)],
+//!             s(1.0),
+//!             [s(3.0), s(0.0), s(2.5)],
+//!             s(0.8),
+//!             [s(0.0), s(0.0), s(-1.0)],
+//!             [s(1.0), s(0.0), s(0.0)],
+//!         );
+//!         let mut lane = vec![0.0; L::WIDTH];
+//!         out.map(|v| {
+//!             v.store(&mut lane);
+//!             lane[0]
+//!         })
+//!     }
+//! }
+//!
+//! let wall = Confinement::Wall { height: 0.0 };
+//! let lanes = dispatch(OnePair(&wall));
+//! let scalar = product_f(&wall, 1.0, [0.0, 0.0, 2.0], 1.0, [3.0, 0.0, 2.5], 0.8,
+//!                        [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]);
+//! // The lane kernels round differently from the scalar ones (fused multiply-adds,
+//! // reciprocal square roots): they agree to a few ulps of the largest entry, and
+//! // 1e-13 of it bounds that with room on every instruction set.
+//! let scale = scalar.a.iter().chain(&scalar.b).fold(0.0f64, |m, v| m.max(v.abs()));
+//! for (l, s) in lanes.iter().zip(scalar.a.iter().chain(&scalar.b)) {
+//!     assert!((l - s).abs() <= 1e-13 * scale);
+//! }
+//! ```
 
 pub mod blocks;
 #[rustfmt::skip]

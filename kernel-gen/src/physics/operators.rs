@@ -29,7 +29,7 @@ const S2: f64 = std::f64::consts::FRAC_1_SQRT_2;
 const S6: f64 = 0.408_248_290_463_863_016_366_214_012_450_981_698_8;
 const S6X2: f64 = 0.816_496_580_927_726_032_732_428_024_901_963_797_3;
 
-/// The orthonormal basis of symmetric traceless 3x3 tensors (DESIGN.md):
+/// The orthonormal basis of symmetric traceless 3x3 tensors (docs/conventions.md):
 /// `B1 = (e1e2 + e2e1)/sqrt2`, `B2 = (e1e3 + e3e1)/sqrt2`, `B3 = (e2e3 + e3e2)/sqrt2`,
 /// `B4 = (e1e1 - e2e2)/sqrt2`, `B5 = (2e3e3 - e1e1 - e2e2)/sqrt6`.
 pub const STRAIN_BASIS: [[[f64; 3]; 3]; 5] = [
