@@ -1,8 +1,8 @@
 //! `stokesian._stokesian`: the solver of the `stokesian` crate as a Python module.
 //!
-//! Two classes: [`PySystem`] (`stokesian.System`, every confinement and truncation, the
+//! Two classes: `PySystem` (`stokesian.System`, every confinement and truncation, the
 //! dense mobility, matrix-free products, velocities, the resistance with lubrication,
-//! Brownian trajectories) and [`NBody`] (`stokesian.NBody`, libMobility's interface in
+//! Brownian trajectories) and `NBody` (`stokesian.NBody`, libMobility's interface in
 //! free space and above a wall). Every error of the library is raised as `ValueError`
 //! with the library's message; the arithmetic runs with the GIL released.
 //!

@@ -3,8 +3,8 @@
 //! `--check`) fail when they are stale. `cargo xtask gen --scene FILE [--out PATH]`:
 //! generate one scene as a standalone module. `cargo xtask report`: check that the
 //! committed kernels are up to date, then measure and write `report/` ([`report`]).
-//! `cargo xtask test`: every test, Rust and Python ([`test`]). `cargo xtask bench`: the
-//! performance table of README.md and docs/performance.md ([`bench`]).
+//! `cargo xtask test`: every test, Rust and Python ([`test`](fn@test)). `cargo xtask bench`: the
+//! performance table of README.md and docs/performance.md ([`bench`](mod@bench)).
 
 use anyhow::{bail, Context, Result};
 use kernel_gen::catalog::GeneratedFile;
