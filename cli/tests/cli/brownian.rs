@@ -130,36 +130,8 @@ fn read_trajectory_csv(path: &Path, n: usize, dt: f64) -> Vec<Vec<[f64; 3]>> {
 
 /// An NPY trajectory: its shape and values (C order).
 fn read_npy_3d(path: &Path) -> ([usize; 3], Vec<f64>) {
-    let bytes = fs::read(path).expect("read npy");
-    assert_eq!(&bytes[..8], b"\x93NUMPY\x01\x00", "magic and version 1.0");
-    let hlen = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
-    assert_eq!((10 + hlen) % 64, 0, "header padded to 64 bytes");
-    let header = std::str::from_utf8(&bytes[10..10 + hlen]).expect("ascii header");
-    assert!(header.ends_with('\n'));
-    assert!(header.contains("'descr': '<f8'"), "{header}");
-    let fortran = header.contains("'fortran_order': True");
-    assert!(
-        fortran || header.contains("'fortran_order': False"),
-        "{header}"
-    );
-    let shape = header
-        .split("'shape': (")
-        .nth(1)
-        .and_then(|t| t.split(')').next())
-        .expect("shape");
-    let dims: Vec<usize> = shape
-        .split(',')
-        .map(str::trim)
-        .filter(|t| !t.is_empty())
-        .map(|t| t.parse().expect("shape entry"))
-        .collect();
-    assert_eq!(dims.len(), 3, "3-D array: {header}");
-    let data = &bytes[10 + hlen..];
-    assert_eq!(data.len(), 8 * dims[0] * dims[1] * dims[2], "data length");
-    let values = data
-        .chunks_exact(8)
-        .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
-        .collect();
+    let (dims, _, values) = read_npy_values(path);
+    assert_eq!(dims.len(), 3, "3-D array: {dims:?}");
     ([dims[0], dims[1], dims[2]], values)
 }
 

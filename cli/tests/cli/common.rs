@@ -129,8 +129,9 @@ pub fn moments_name(m: Moments) -> &'static str {
     }
 }
 
-/// Parse an NPY v1.0 file of little-endian float64, C or Fortran order.
-pub fn read_npy(path: &Path) -> DMatrix<f64> {
+/// An NPY v1.0 file of little-endian float64, its header checked: the shape, whether
+/// it is in Fortran order, and the values as stored.
+pub fn read_npy_values(path: &Path) -> (Vec<usize>, bool, Vec<f64>) {
     let bytes = fs::read(path).expect("read npy");
     assert_eq!(&bytes[..6], b"\x93NUMPY", "magic");
     assert_eq!(&bytes[6..8], &[1, 0], "version 1.0");
@@ -159,14 +160,24 @@ pub fn read_npy(path: &Path) -> DMatrix<f64> {
         .filter(|t| !t.is_empty())
         .map(|t| t.parse().expect("shape entry"))
         .collect();
-    assert_eq!(dims.len(), 2, "2-D array");
-    let (r, c) = (dims[0], dims[1]);
     let data = &bytes[10 + hlen..];
-    assert_eq!(data.len(), 8 * r * c, "data length");
-    let values: Vec<f64> = data
+    assert_eq!(
+        data.len(),
+        8 * dims.iter().product::<usize>(),
+        "data length"
+    );
+    let values = data
         .chunks_exact(8)
         .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
         .collect();
+    (dims, fortran, values)
+}
+
+/// A matrix from an NPY file (2-D, C or Fortran order).
+pub fn read_npy(path: &Path) -> DMatrix<f64> {
+    let (dims, fortran, values) = read_npy_values(path);
+    assert_eq!(dims.len(), 2, "2-D array");
+    let (r, c) = (dims[0], dims[1]);
     if fortran {
         DMatrix::from_column_slice(r, c, &values)
     } else {
