@@ -21,7 +21,7 @@ fn main() -> Result<(), InputError> {
 
     // the matrix and the matrix-free product agree to round-off, and the matrix holds
     // the kernel's block (evaluated there by the lane kernels). Bounds: velocities here
-    // are about 0.02 (unit forces, eta = 1), so 1e-14 absolute is ~100 ulps of them; the
+    // are about 0.02 (unit forces, eta = 1), so 1e-14 absolute is 5e-13 of them; the
     // lane and scalar kernels round differently, so 1e-13 relative for one entry.
     let dense = &m * nalgebra::DVector::from_column_slice(&f);
     let diff = u.iter().zip(dense.iter()).map(|(x, y)| (x - y).abs());
