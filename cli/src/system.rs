@@ -363,8 +363,10 @@ impl Setup {
                     (l.min(p.x[k]), h.max(p.x[k]))
                 });
             hi = hi.max(max - min);
-            for (plane, _) in s.confinement().boundaries() {
-                hi = hi.max((max - plane).abs()).max((min - plane).abs());
+            for b in s.confinement().boundaries() {
+                for p in ps {
+                    hi = hi.max(b.distance(p.x).abs());
+                }
             }
         }
         format!(
@@ -440,13 +442,17 @@ fn input_error(e: InputError, table: &Table) -> CliError {
                 num(eta)
             ),
         ),
-        InputError::OutsideFluid { index, z, boundary } => particle_error(
+        InputError::OutsideFluid {
+            index,
+            distance,
+            boundary,
+        } => particle_error(
             table,
             index,
             format!(
-                "centre z = {} is not inside the fluid (boundary at z = {})",
-                num(z),
-                num(boundary)
+                "centre is not inside the fluid: signed distance {} from the boundary, {}",
+                num(distance),
+                boundary
             ),
         ),
         InputError::OverlapsBoundary {
@@ -458,10 +464,10 @@ fn input_error(e: InputError, table: &Table) -> CliError {
             table,
             index,
             format!(
-                "sphere of radius {} overlaps the boundary at z = {} \
+                "sphere of radius {} overlaps the boundary, {} \
                  (centre-to-boundary distance {} < radius; --allow-overlap accepts this)",
                 num(a),
-                num(boundary),
+                boundary,
                 num(distance)
             ),
         ),

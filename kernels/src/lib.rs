@@ -70,6 +70,7 @@
 //! ```
 
 pub mod blocks;
+pub mod declare;
 #[rustfmt::skip]
 #[allow(clippy::all, missing_docs)]
 pub mod generated;
@@ -85,10 +86,14 @@ pub use blocks::{
     basis_both, basis_cols, basis_rows, grand_lanes_product, lane_by_lane, BlocksF, BlocksFT,
     Drift, Grand, GrandCartesian, Product, STRAIN_BASIS,
 };
+pub use declare::{
+    along, declaration, Boundary, Condition, Declaration, Dimension, Param, ParamError,
+};
 pub use generated::{
     pair, pair_divergence, pair_divergence_lanes, pair_divergence_lanes_ordered, pair_equal,
     pair_f, pair_f_lanes_ordered, pair_ft, pair_ft_lanes_ordered, pair_lanes_ordered, product_f,
     product_f_lanes, product_f_lanes_ordered, product_ft, product_ft_lanes,
     product_ft_lanes_ordered, self_divergence, self_f, self_ft, self_mobility, Confinement,
+    DECLARATIONS,
 };
 pub use lanes;

@@ -33,24 +33,14 @@ pub fn confinement(name: &str, p: &[f64]) -> Confinement {
     Confinement::from_name(name, p).unwrap_or_else(|| panic!("no confinement {name} with {p:?}"))
 }
 
-/// A sample value of a run-time parameter: boundary at `x3 = 0.3`, `lambda = 2.5`,
-/// slit gap 12.
-pub fn sample_value(param: &str) -> f64 {
-    match param {
-        "height" => 0.3,
-        "lambda" => 2.5,
-        "gap" => 12.0,
-        other => panic!("no sample value for parameter {other}"),
-    }
-}
-
-/// Sample parameters of a registered family, in the generator's order.
+/// Sample parameters of a registered family, in the generator's order: each
+/// parameter's declared example value.
 pub fn sample_params(name: &str) -> Vec<f64> {
     struct Find<'a>(&'a str, Option<Vec<f64>>);
     impl kernel_gen::physics::green::Visitor for Find<'_> {
         fn visit<G: kernel_gen::physics::green::Green>(&mut self, g: &G) {
             if g.name() == self.0 {
-                self.1 = Some(g.params().iter().map(|p| sample_value(p)).collect());
+                self.1 = Some(kernel_gen::physics::green::examples(g));
             }
         }
     }
@@ -67,12 +57,13 @@ pub fn all_confinements() -> Vec<(&'static str, Confinement)> {
         .collect()
 }
 
-/// The lower and upper limits of the fluid in x3.
+/// The lower and upper limits of the fluid in x3 (its planes `x3 = const`).
 pub fn bounds(c: &Confinement) -> (f64, f64) {
     let mut lo = f64::NEG_INFINITY;
     let mut hi = f64::INFINITY;
-    for (h, above) in c.boundaries() {
-        if above {
+    for b in c.boundaries().iter().filter(|b| b.is_horizontal()) {
+        let h = b.offset * b.normal[2];
+        if b.normal[2] > 0.0 {
             lo = lo.max(h);
         } else {
             hi = hi.min(h);

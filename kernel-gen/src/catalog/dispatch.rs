@@ -8,6 +8,60 @@ use crate::physics::green;
 use proc_macro2::TokenStream;
 use quote::quote;
 
+/// An `f64` literal.
+fn lit(v: f64) -> proc_macro2::Literal {
+    proc_macro2::Literal::f64_suffixed(v)
+}
+
+/// `[n0, n1, n2]` as tokens.
+fn vector(n: [f64; 3]) -> TokenStream {
+    let [a, b, c] = n.map(lit);
+    quote!([#a, #b, #c])
+}
+
+/// `d . origin` as tokens, skipping zero components (`e3 . origin` is `origin[2]`).
+fn dot_origin(d: [f64; 3]) -> TokenStream {
+    let terms: Vec<TokenStream> = (0..3)
+        .filter(|&k| d[k] != 0.0)
+        .map(|k| {
+            if d[k] == 1.0 {
+                quote!(origin[#k])
+            } else if d[k] == -1.0 {
+                quote!((-origin[#k]))
+            } else {
+                let c = lit(d[k]);
+                quote!(#c * origin[#k])
+            }
+        })
+        .collect();
+    if terms.is_empty() {
+        quote!(0.0)
+    } else {
+        quote!(#(#terms)+*)
+    }
+}
+
+/// A parameter's declaration as a `kernels::declare::Param` literal.
+fn param_decl(p: &green::Param) -> TokenStream {
+    let (name, doc, example) = (p.name, p.doc, lit(p.example));
+    let dimension = match p.dimension {
+        green::Dimension::Position(d) => {
+            let d = vector(d);
+            quote!(crate::declare::Dimension::Position(#d))
+        }
+        green::Dimension::Length => quote!(crate::declare::Dimension::Length),
+        green::Dimension::Number => quote!(crate::declare::Dimension::Number),
+    };
+    let default = match p.default {
+        Some(v) => {
+            let v = lit(v);
+            quote!(Some(#v))
+        }
+        None => quote!(None),
+    };
+    quote!(crate::declare::Param { name: #name, doc: #doc, dimension: #dimension, default: #default, example: #example })
+}
+
 fn camel(snake: &str) -> String {
     snake
         .split('_')
@@ -38,6 +92,8 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
     let mut div_ordered_arms = Vec::new();
     let mut pair_lane_arms = Vec::new();
     let mut exchange_arms = Vec::new();
+    let mut normal_arms = Vec::new();
+    let mut declarations = Vec::new();
     let mut div_self_arms = Vec::new();
     let mut truncated: Vec<Vec<TokenStream>> = Vec::new();
     for f in families {
@@ -45,12 +101,11 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
         let m = ident(f.name);
         let name = f.name;
         let doc = format!(" {}", f.title);
-        let fields: Vec<proc_macro2::Ident> = f.params.iter().map(|p| ident(p)).collect();
-        let field_docs: Vec<String> = f
-            .params
-            .iter()
-            .map(|p| format!(" {}", green::param_doc(p)))
-            .collect();
+        let fields: Vec<proc_macro2::Ident> = f.params.iter().map(|p| ident(p.name)).collect();
+        let field_docs: Vec<String> = f.params.iter().map(|p| format!(" {}", p.doc)).collect();
+        let decls: Vec<TokenStream> = f.params.iter().map(param_decl).collect();
+        let title = f.title;
+        declarations.push(quote!(crate::declare::Declaration { name: #name, title: #title, params: &[#(#decls),*] }));
         let idx: Vec<usize> = (0..f.params.len()).collect();
         let nparams = f.params.len();
         let (fpair, fequal, fself) = (
@@ -58,11 +113,21 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
             ident(&format!("{}_pair_equal", f.name)),
             ident(&format!("{}_self", f.name)),
         );
-        let pname: Vec<&str> = f.params.to_vec();
+        let pname: Vec<&str> = f.params.iter().map(|p| p.name).collect();
         let bounds: Vec<TokenStream> = f
             .boundaries
             .iter()
-            .map(|(h, above)| quote!((#h, #above)))
+            .map(|b| {
+                let normal = vector(b.plane.normal);
+                let offset = &b.plane.offset;
+                let condition = ident(match b.condition {
+                    green::Condition::NoSlip => "NoSlip",
+                    green::Condition::FreeSurface => "FreeSurface",
+                    green::Condition::Interface => "Interface",
+                });
+                let exact = b.exact;
+                quote!(crate::declare::Boundary { normal: #normal, offset: #offset, condition: crate::declare::Condition::#condition, exact: #exact })
+            })
             .collect();
         if fields.is_empty() {
             variants.push(quote!(#[doc = #doc] #v));
@@ -86,9 +151,12 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
             }));
             let scaled: Vec<TokenStream> = fields
                 .iter()
-                .zip(&f.dimensions)
-                .map(|(p, d)| match d {
-                    green::Dimension::Height => quote!(#p: (#p - origin) / unit),
+                .zip(f.params)
+                .map(|(p, d)| match d.dimension {
+                    green::Dimension::Position(d) => {
+                        let o = dot_origin(d);
+                        quote!(#p: (#p - #o) / unit)
+                    }
                     green::Dimension::Length => quote!(#p: #p / unit),
                     green::Dimension::Number => quote!(#p),
                 })
@@ -124,13 +192,21 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
         pair_lane_arms.push(
             quote!(#pattern => #m::#fpo(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)),
         );
-        let exchanges = f.exchanges;
+        let exchanges = f.exchanges.is_some();
         let any = if fields.is_empty() {
             quote!(Confinement::#v)
         } else {
             quote!(Confinement::#v { .. })
         };
         exchange_arms.push(quote!(#any => #exchanges));
+        let normal = match f.exchanges {
+            Some(n) => {
+                let n = vector(n);
+                quote!(Some(#n))
+            }
+            None => quote!(None),
+        };
+        normal_arms.push(quote!(#any => #normal));
         div_self_arms.push(quote!(#pattern => #m::#fds(x, a, eta, #(#fields),*)));
         truncated.push(truncated_arms(f, &pattern, &m, &fields));
     }
@@ -250,8 +326,12 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
             match *conf { #(#div_self_arms),* }
         }
 
+        /// What every registered confinement declares: name, title, parameters, in the
+        /// order of [`Confinement::NAMES`].
+        pub static DECLARATIONS: &[crate::declare::Declaration] = &[#(#declarations),*];
+
         /// The confinement and its run-time parameters, one variant per registered
-        /// Green's function. Boundaries are planes `x3 = const` ([`Confinement::boundaries`]).
+        /// Green's function ([`DECLARATIONS`]); its planes are [`Confinement::boundaries`].
         #[derive(Clone, Copy, Debug, PartialEq)]
         pub enum Confinement {
             #(#variants),*
@@ -286,7 +366,8 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
             }
 
             /// Whether the pair kernels exchange the particles' roles where `b` is higher
-            /// (larger `x3`) than `a`, keeping the accuracy of the direct sum
+            /// (farther from the cancelling plane along [`Confinement::exchange_normal`],
+            /// `x3` for a wall) than `a`, keeping the accuracy of the direct sum
             /// (`M^{ab} = (M^{ba})^T`, evaluated with the lower particle as the source).
             /// The `*_lanes_ordered` kernels skip that exchange: a caller that orders the
             /// particles by `x3`, highest first, and passes the earlier one as `a` gets
@@ -297,20 +378,36 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
                 }
             }
 
-            /// The boundary planes: `(height, fluid is above it)`.
-            pub fn boundaries(&self) -> Vec<(f64, bool)> {
+            /// The direction along which [`Confinement::exchanges_by_height`] compares
+            /// the particles (the normal of the plane whose image cancels the
+            /// Stokeslet), if the pair kernels exchange roles.
+            pub fn exchange_normal(&self) -> Option<[f64; 3]> {
+                match *self {
+                    #(#normal_arms),*
+                }
+            }
+
+            /// Its parameters' declarations ([`DECLARATIONS`]).
+            pub fn declaration(&self) -> &'static crate::declare::Declaration {
+                let name = self.name();
+                DECLARATIONS.iter().find(|d| d.name == name).expect("every confinement is declared")
+            }
+
+            /// The planes that confine the fluid, each with its condition.
+            pub fn boundaries(&self) -> Vec<crate::declare::Boundary> {
                 match *self {
                     #(#bound_arms),*
                 }
             }
 
             /// The same confinement with lengths measured in units of `unit` and
-            /// heights from `x3 = origin`: a height `h` becomes `(h - origin) / unit`, a
-            /// length `l / unit`; pure numbers stay. With the viscosity as the unit of
-            /// viscosity, a mobility block coupling a moment of length dimension `p`
-            /// (force 0; torque, stresslet 1) to a response of dimension `q` (velocity 0;
-            /// rotation, strain 1) becomes `eta unit^(1 + p + q)` times itself.
-            pub fn in_units(&self, origin: f64, unit: f64) -> Confinement {
+            /// positions from `origin`: a position `p` along the direction `d`
+            /// becomes `(p - d . origin) / unit`, a length `l / unit`; pure numbers
+            /// stay. With the viscosity as the unit of viscosity, a mobility block
+            /// coupling a moment of length dimension `p` (force 0; torque, stresslet 1)
+            /// to a response of dimension `q` (velocity 0; rotation, strain 1) becomes
+            /// `eta unit^(1 + p + q)` times itself.
+            pub fn in_units(&self, origin: [f64; 3], unit: f64) -> Confinement {
                 let _ = (origin, unit);
                 match *self {
                     #(#unit_arms),*
@@ -338,6 +435,38 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
             match *conf {
                 #(#self_arms),*
             }
+        }
+    }
+}
+
+/// The single-precision entry points of `single.rs`, dispatching on the confinement
+/// (its parameters rounded to `f32`) like [`dispatch`]'s `self_mobility` and `pair`.
+pub(super) fn single_dispatch(families: &[Family]) -> TokenStream {
+    let mut self_arms = Vec::new();
+    let mut pair_arms = Vec::new();
+    for f in families {
+        let v = ident(&camel(f.name));
+        let fields: Vec<proc_macro2::Ident> = f.params.iter().map(|p| ident(p.name)).collect();
+        let (fself, fpair) = (
+            ident(&format!("{}_self", f.name)),
+            ident(&format!("{}_pair", f.name)),
+        );
+        let pattern = if fields.is_empty() {
+            quote!(crate::Confinement::#v)
+        } else {
+            quote!(crate::Confinement::#v { #(#fields),* })
+        };
+        self_arms.push(quote!(#pattern => #fself(x, a, eta, #(#fields as f32),*)));
+        pair_arms.push(quote!(#pattern => #fpair(xa, xb, aa, ab, eta, #(#fields as f32),*)));
+    }
+    quote! {
+        /// The single-precision self kernel of a confinement (its parameters rounded to `f32`).
+        pub fn self_mobility(conf: &crate::Confinement, x: [f32; 3], a: f32, eta: f32) -> Grand32 {
+            match *conf { #(#self_arms),* }
+        }
+        /// The single-precision pair kernel of a confinement (its parameters rounded to `f32`).
+        pub fn pair(conf: &crate::Confinement, xa: [f32; 3], xb: [f32; 3], aa: f32, ab: f32, eta: f32) -> Grand32 {
+            match *conf { #(#pair_arms),* }
         }
     }
 }

@@ -62,6 +62,7 @@ pub fn generate(scenes: &[Scene]) -> Vec<GeneratedFile> {
         }
     }
     let dispatch = dispatch(&c.families);
+    let single_entry = dispatch::single_dispatch(&c.families);
     let module_doc = vec![
         "Generated kernels, one module per Green's function.".to_string(),
         String::new(),
@@ -72,7 +73,7 @@ pub fn generate(scenes: &[Scene]) -> Vec<GeneratedFile> {
         contents: emit::file(&module_doc, quote!(#(#mods)* #dispatch)),
         op_counts: Vec::new(),
     }];
-    let mut single = Vec::new();
+    let mut single = vec![single_entry];
     for f in c.families {
         files.push(f.file);
         files.extend(f.scene_files);
@@ -85,14 +86,12 @@ pub fn generate(scenes: &[Scene]) -> Vec<GeneratedFile> {
 struct Family {
     name: &'static str,
     title: &'static str,
-    params: &'static [&'static str],
-    /// The dimension of each parameter.
-    dimensions: Vec<green::Dimension>,
-    /// `(height expression, fluid above)` of each boundary plane.
-    boundaries: Vec<(TokenStream, bool)>,
-    /// Whether its pair kernels exchange the particles' roles by height
-    /// ([`crate::kernel::Swap`], where the Green's function has a cancelling image).
-    exchanges: bool,
+    params: &'static [green::Param],
+    /// Each boundary plane, its offset an expression of the parameters.
+    boundaries: Vec<green::Boundary<TokenStream>>,
+    /// The normal of the cancelling image's plane, along which its pair kernels
+    /// exchange the particles' roles ([`crate::kernel::Swap`]), if it has one.
+    exchanges: Option<[f64; 3]>,
     file: GeneratedFile,
     /// Its single-precision self and pair kernels (items of [`SINGLE`]).
     single: TokenStream,
@@ -111,17 +110,35 @@ impl Visitor for Collect<'_> {
     fn visit<G: Green>(&mut self, g: &G) {
         // The boundary heights as expressions of the parameters, traced and inlined.
         let t = Trace::begin();
-        let p: Vec<Ex> = g.params().iter().map(|n| t.input(n)).collect();
-        let b: Vec<(Id, bool)> = g
+        let p: Vec<Ex> = g.params().iter().map(|n| t.input(n.name)).collect();
+        let b: Vec<green::Boundary<Id>> = g
             .boundaries(&p)
             .into_iter()
-            .map(|(h, up)| (h.0, up))
+            .map(|b| green::Boundary {
+                plane: green::Plane {
+                    normal: b.plane.normal,
+                    offset: b.plane.offset.0,
+                },
+                condition: b.condition,
+                exact: b.exact,
+            })
             .collect();
         let graph = t.finish();
         let boundaries = b
             .into_iter()
-            .map(|(id, up)| (emit::inline(&graph, id), up))
+            .map(|b| green::Boundary {
+                plane: green::Plane {
+                    normal: b.plane.normal,
+                    offset: emit::inline(&graph, b.plane.offset),
+                },
+                condition: b.condition,
+                exact: b.exact,
+            })
             .collect();
+        let zeros = vec![0.0f64; g.params().len()];
+        let exchanges = g
+            .cancelling_image()
+            .map(|(k, _)| g.mirrors(&zeros)[k].normal);
         let mine: Vec<&Scene> = self
             .scenes
             .iter()
@@ -140,8 +157,7 @@ impl Visitor for Collect<'_> {
             name: g.name(),
             title: g.title(),
             params: g.params(),
-            dimensions: g.params().iter().map(|p| g.dimension(p)).collect(),
-            exchanges: g.cancelling_image().is_some(),
+            exchanges,
             boundaries,
             file,
             single,

@@ -135,7 +135,7 @@ fn trace_with<G: Green>(g: &G, spec: &KernelSpec, form: Form, canonical: bool) -
     let params: Vec<Ex> = g
         .params()
         .iter()
-        .map(|p| scalar(&t, p, crate::physics::green::param_doc(p)))
+        .map(|p| scalar(&t, p.name, p.doc))
         .collect();
 
     let order = spec.order();
@@ -220,12 +220,12 @@ fn trace_with<G: Green>(g: &G, spec: &KernelSpec, form: Form, canonical: bool) -
             label,
         };
         if let (Some(lat), Some(f)) = (lateral, &frame) {
-            let height = params[0];
+            let m = &g.mirrors(&params)[0];
             let ((lhs, rhs), vals) = crate::physics::farfield::blocks(
                 &lat,
                 &spec.blocks,
                 (&f.rho2, &f.rho),
-                (&(xa[2] - height), &(xb[2] - height)),
+                (&m.distance(&xa), &m.distance(&xb)),
                 &aa,
                 &ab,
             );
@@ -291,8 +291,8 @@ fn trace_with<G: Green>(g: &G, spec: &KernelSpec, form: Form, canonical: bool) -
         g.cancelling_image(),
     ) {
         (Path::Structured, Interaction::Pair, Basis::Orthonormal, Some((plane, _))) => {
-            let h = &g.planes(&params)[plane];
-            let cond = ((xb[2] - *h).0, (xa[2] - *h).0);
+            let m = &g.mirrors(&params)[plane];
+            let cond = (m.distance(&xb).0, m.distance(&xa).0);
             Some(exchange(&args, &outputs, cond))
         }
         _ => None,

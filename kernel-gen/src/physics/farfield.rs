@@ -114,8 +114,10 @@ pub fn lateral<G: Green>(
     order: usize,
 ) -> Option<Rc<Lateral>> {
     if basis != Basis::Orthonormal
-        || g.params() != ["height"]
-        || g.planes(&[0.0f64]).len() != 1
+        || g.params().len() != 1
+        || g.mirrors(&[0.0f64]).len() != 1
+        || g.mirrors(&[0.0f64])[0].normal != crate::physics::green::E3
+        || !g.axisymmetric()
         || g.image_terms().is_none()
         || g.weights(&[0.0f64]).len() != 1
     {

@@ -31,7 +31,7 @@ use crate::number::dd::Dd;
 use crate::number::scalar::Scalar;
 use crate::physics::derivatives::Structured;
 use crate::physics::farfield::degree;
-use crate::physics::green::Green;
+use crate::physics::green::{Green, Plane};
 use crate::physics::operators::{self, isolated, Basis, Derivatives, Moment, Response, Term};
 use std::collections::BTreeMap;
 
@@ -80,15 +80,20 @@ pub fn expansion<G: Green>(
     let terms = g.image_terms()?;
     let zeros = vec![0.0f64; g.params().len()];
     let bounds = g.boundaries(&zeros);
-    let nplanes = g.planes(&zeros).len();
-    if terms.is_empty() || nplanes == 0 {
+    let mirrors = g.mirrors(&zeros);
+    let nplanes = mirrors.len();
+    if terms.is_empty() || nplanes == 0 || bounds.len() != nplanes {
         return None;
     }
-    assert_eq!(bounds.len(), nplanes, "one boundary per mirror plane");
-    let sides: Vec<f64> = bounds
-        .iter()
-        .map(|&(_, above)| if above { 1.0 } else { -1.0 })
-        .collect();
+    // the fluid's side of each mirror: that of the boundary it is, in order
+    let mut sides = Vec::new();
+    for (m, b) in mirrors.iter().zip(&bounds) {
+        let c: f64 = (0..3).map(|k| m.normal[k] * b.plane.normal[k]).sum();
+        if (c.abs() - 1.0).abs() > 1e-15 {
+            return None;
+        }
+        sides.push(c.signum());
+    }
     let nweights = g.weights(&zeros).len();
     let degree_jet = order + g.image_extra_order() + 2;
     let one = Dd::new(1.0);
@@ -110,12 +115,20 @@ pub fn expansion<G: Green>(
             if sub.is_empty() {
                 continue;
             }
-            let x = [Dd::new(0.0), Dd::new(0.0), Dd::new(sides[plane])];
+            // unit distance on the fluid's side of a mirror through the origin
+            let x = mirrors[plane].normal.map(|n| Dd::new(n * sides[plane]));
+            let through_origin = mirrors
+                .iter()
+                .map(|m| Plane {
+                    normal: m.normal,
+                    offset: Dd::new(0.0),
+                })
+                .collect();
             let mut src = Structured::with_terms(
                 sub,
                 &x,
                 &x,
-                vec![Dd::new(0.0); nplanes],
+                through_origin,
                 vec![one; nweights],
                 degree_jet,
                 false,
@@ -181,12 +194,12 @@ pub fn blocks<S: Scalar, G: Green>(
     a: &S,
     params: &[S],
 ) -> (Vec<(S, S)>, Vec<Vec<S>>) {
-    let planes = g.planes(params);
+    let planes = g.mirrors(params);
     let weights = g.weights(params);
     let mut conds = Vec::new();
     let mut inv = Vec::new();
-    for (k, hp) in planes.into_iter().enumerate() {
-        let h = x[2].clone() - hp;
+    for (k, plane) in planes.into_iter().enumerate() {
+        let h = plane.distance(x);
         let habs = if si.sides[k] > 0.0 { h } else { -h };
         conds.push((habs.clone(), S::cst(0.0)));
         inv.push(habs.recip());

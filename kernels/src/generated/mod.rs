@@ -36,6 +36,8 @@ pub mod slit;
 pub mod scene_slit_f;
 /// Kernels of the scene `slit_ft` (`scenes/`).
 pub mod scene_slit_ft;
+/// Kernels of the `side_wall` family.
+pub mod side_wall;
 use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};
 /// The F blocks of `M^{ab}` (equal-radius kernels when `aa == ab`).
 pub fn pair_f(
@@ -89,6 +91,15 @@ pub fn pair_f(
                 scene_slit_f::slit_f_pair(xa, xb, aa, ab, eta, height, gap)
             }
         }
+        Confinement::SideWall { side } => {
+            BlocksF::from(
+                &if aa == ab {
+                    side_wall::side_wall_pair_equal(xa, xb, aa, eta, side)
+                } else {
+                    side_wall::side_wall_pair(xa, xb, aa, ab, eta, side)
+                },
+            )
+        }
     }
 }
 /// The F blocks of `M^{aa}` (Eq. 17).
@@ -104,6 +115,9 @@ pub fn self_f(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> BlocksF {
         }
         Confinement::Slit { height, gap } => {
             scene_slit_f::slit_f_self(x, a, eta, height, gap)
+        }
+        Confinement::SideWall { side } => {
+            BlocksF::from(&side_wall::side_wall_self(x, a, eta, side))
         }
     }
 }
@@ -209,6 +223,16 @@ pub fn product_f(
                 )
             }
         }
+        Confinement::SideWall { side } => {
+            BlocksF::from(
+                    &if aa == ab {
+                        side_wall::side_wall_pair_equal(xa, xb, aa, eta, side)
+                    } else {
+                        side_wall::side_wall_pair(xa, xb, aa, ab, eta, side)
+                    },
+                )
+                .product(va, vb)
+        }
     }
 }
 /// The lane twin of [`product_f`]: `L::WIDTH` pairs at once, returning `a` then `b` (`6` lanes); the scene's lane kernel, or the scalar product lane by lane for a confinement without one.
@@ -284,6 +308,19 @@ pub fn product_f_lanes<L: lanes::Lane>(
                 va,
                 vb,
             )
+        }
+        Confinement::SideWall { side } => {
+            let _ = (side,);
+            let (a, b) = crate::blocks::lane_by_lane(
+                |xa, aa, xb, ab, va, vb| product_f(conf, eta, xa, aa, xb, ab, va, vb),
+                xa,
+                aa,
+                xb,
+                ab,
+                va,
+                vb,
+            );
+            std::array::from_fn(|i| if i < 3usize { a[i] } else { b[i - 3usize] })
         }
     }
 }
@@ -361,6 +398,19 @@ pub fn product_f_lanes_ordered<L: lanes::Lane>(
                 vb,
             )
         }
+        Confinement::SideWall { side } => {
+            let _ = (side,);
+            let (a, b) = crate::blocks::lane_by_lane(
+                |xa, aa, xb, ab, va, vb| product_f(conf, eta, xa, aa, xb, ab, va, vb),
+                xa,
+                aa,
+                xb,
+                ab,
+                va,
+                vb,
+            );
+            std::array::from_fn(|i| if i < 3usize { a[i] } else { b[i - 3usize] })
+        }
     }
 }
 /// The lane twin of [`pair_f`] without the exchange of roles, for pairs in which `b` is no higher than `a` where [`Confinement::exchanges_by_height`] (elsewhere any order): `L::WIDTH` pairs at once (unequal-radius kernels at any radii), the 9 entries of [`BlocksF`]'s fields in their order ([`crate::blocks::F_FLAT`]); the scene's lane kernel, or the FTS lane kernel truncated for a confinement without one.
@@ -417,6 +467,19 @@ pub fn pair_f_lanes_ordered<L: lanes::Lane>(
                 L::splat(eta),
                 L::splat(height),
                 L::splat(gap),
+            )
+        }
+        Confinement::SideWall { side } => {
+            crate::blocks::truncate_lanes(
+                side_wall::side_wall_pair_lanes_ordered(
+                    xa,
+                    xb,
+                    aa,
+                    ab,
+                    L::splat(eta),
+                    L::splat(side),
+                ),
+                &crate::blocks::F_FLAT,
             )
         }
     }
@@ -487,6 +550,15 @@ pub fn pair_ft(
                 scene_slit_ft::slit_ft_pair(xa, xb, aa, ab, eta, height, gap)
             }
         }
+        Confinement::SideWall { side } => {
+            BlocksFT::from(
+                &if aa == ab {
+                    side_wall::side_wall_pair_equal(xa, xb, aa, eta, side)
+                } else {
+                    side_wall::side_wall_pair(xa, xb, aa, ab, eta, side)
+                },
+            )
+        }
     }
 }
 /// The FT blocks of `M^{aa}` (Eq. 17).
@@ -502,6 +574,9 @@ pub fn self_ft(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> BlocksFT {
         }
         Confinement::Slit { height, gap } => {
             scene_slit_ft::slit_ft_self(x, a, eta, height, gap)
+        }
+        Confinement::SideWall { side } => {
+            BlocksFT::from(&side_wall::side_wall_self(x, a, eta, side))
         }
     }
 }
@@ -615,6 +690,16 @@ pub fn product_ft(
                 )
             }
         }
+        Confinement::SideWall { side } => {
+            BlocksFT::from(
+                    &if aa == ab {
+                        side_wall::side_wall_pair_equal(xa, xb, aa, eta, side)
+                    } else {
+                        side_wall::side_wall_pair(xa, xb, aa, ab, eta, side)
+                    },
+                )
+                .product(va, vb)
+        }
     }
 }
 /// The lane twin of [`product_ft`]: `L::WIDTH` pairs at once, returning `a` then `b` (`12` lanes); the scene's lane kernel, or the scalar product lane by lane for a confinement without one.
@@ -690,6 +775,19 @@ pub fn product_ft_lanes<L: lanes::Lane>(
                 va,
                 vb,
             )
+        }
+        Confinement::SideWall { side } => {
+            let _ = (side,);
+            let (a, b) = crate::blocks::lane_by_lane(
+                |xa, aa, xb, ab, va, vb| product_ft(conf, eta, xa, aa, xb, ab, va, vb),
+                xa,
+                aa,
+                xb,
+                ab,
+                va,
+                vb,
+            );
+            std::array::from_fn(|i| if i < 6usize { a[i] } else { b[i - 6usize] })
         }
     }
 }
@@ -767,6 +865,19 @@ pub fn product_ft_lanes_ordered<L: lanes::Lane>(
                 vb,
             )
         }
+        Confinement::SideWall { side } => {
+            let _ = (side,);
+            let (a, b) = crate::blocks::lane_by_lane(
+                |xa, aa, xb, ab, va, vb| product_ft(conf, eta, xa, aa, xb, ab, va, vb),
+                xa,
+                aa,
+                xb,
+                ab,
+                va,
+                vb,
+            );
+            std::array::from_fn(|i| if i < 6usize { a[i] } else { b[i - 6usize] })
+        }
     }
 }
 /// The lane twin of [`pair_ft`] without the exchange of roles, for pairs in which `b` is no higher than `a` where [`Confinement::exchanges_by_height`] (elsewhere any order): `L::WIDTH` pairs at once (unequal-radius kernels at any radii), the 36 entries of [`BlocksFT`]'s fields in their order ([`crate::blocks::FT_FLAT`]); the scene's lane kernel, or the FTS lane kernel truncated for a confinement without one.
@@ -825,6 +936,19 @@ pub fn pair_ft_lanes_ordered<L: lanes::Lane>(
                 L::splat(gap),
             )
         }
+        Confinement::SideWall { side } => {
+            crate::blocks::truncate_lanes(
+                side_wall::side_wall_pair_lanes_ordered(
+                    xa,
+                    xb,
+                    aa,
+                    ab,
+                    L::splat(eta),
+                    L::splat(side),
+                ),
+                &crate::blocks::FT_FLAT,
+            )
+        }
     }
 }
 /// The Brownian drift of a pair: `a` = the divergence of `M^{ab}` over the
@@ -851,6 +975,9 @@ pub fn pair_divergence(
         }
         Confinement::Slit { height, gap } => {
             slit::slit_pair_divergence(xa, xb, aa, ab, eta, height, gap)
+        }
+        Confinement::SideWall { side } => {
+            side_wall::side_wall_pair_divergence(xa, xb, aa, ab, eta, side)
         }
     }
 }
@@ -908,6 +1035,16 @@ pub fn pair_divergence_lanes<L: lanes::Lane>(
                 L::splat(eta),
                 L::splat(height),
                 L::splat(gap),
+            )
+        }
+        Confinement::SideWall { side } => {
+            side_wall::side_wall_pair_divergence_lanes(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(side),
             )
         }
     }
@@ -969,6 +1106,16 @@ pub fn pair_divergence_lanes_ordered<L: lanes::Lane>(
                 L::splat(gap),
             )
         }
+        Confinement::SideWall { side } => {
+            side_wall::side_wall_pair_divergence_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(side),
+            )
+        }
     }
 }
 /// The lane twin of [`pair`] without the exchange of roles: `L::WIDTH` pairs at
@@ -1028,6 +1175,16 @@ pub fn pair_lanes_ordered<L: lanes::Lane>(
                 L::splat(gap),
             )
         }
+        Confinement::SideWall { side } => {
+            side_wall::side_wall_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(side),
+            )
+        }
     }
 }
 /// The Brownian drift of one particle's self mobility: `sum_j d/dx_j M^{aa}_{ij}`,
@@ -1045,10 +1202,101 @@ pub fn self_divergence(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Dri
         Confinement::Slit { height, gap } => {
             slit::slit_self_divergence(x, a, eta, height, gap)
         }
+        Confinement::SideWall { side } => {
+            side_wall::side_wall_self_divergence(x, a, eta, side)
+        }
     }
 }
+/// What every registered confinement declares: name, title, parameters, in the
+/// order of [`Confinement::NAMES`].
+pub static DECLARATIONS: &[crate::declare::Declaration] = &[
+    crate::declare::Declaration {
+        name: "free",
+        title: "unbounded fluid: the Stokeslet J of Eq. 4",
+        params: &[],
+    },
+    crate::declare::Declaration {
+        name: "wall",
+        title: "plane no-slip wall at x3 = height: Stokeslet plus Blake's image (Eqs. 5, 7)",
+        params: &[
+            crate::declare::Param {
+                name: "height",
+                doc: "height H of the boundary plane x3 = H (the fluid is x3 > H)",
+                dimension: crate::declare::Dimension::Position([0f64, 0f64, 1f64]),
+                default: Some(0f64),
+                example: 0.3f64,
+            },
+        ],
+    },
+    crate::declare::Declaration {
+        name: "free_surface",
+        title: "flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)",
+        params: &[
+            crate::declare::Param {
+                name: "height",
+                doc: "height H of the boundary plane x3 = H (the fluid is x3 > H)",
+                dimension: crate::declare::Dimension::Position([0f64, 0f64, 1f64]),
+                default: Some(0f64),
+                example: 0.3f64,
+            },
+        ],
+    },
+    crate::declare::Declaration {
+        name: "interface",
+        title: "flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)",
+        params: &[
+            crate::declare::Param {
+                name: "height",
+                doc: "height H of the boundary plane x3 = H (the fluid is x3 > H)",
+                dimension: crate::declare::Dimension::Position([0f64, 0f64, 1f64]),
+                default: Some(0f64),
+                example: 0.3f64,
+            },
+            crate::declare::Param {
+                name: "lambda",
+                doc: "viscosity ratio lambda of the liquid beyond the interface to this one",
+                dimension: crate::declare::Dimension::Number,
+                default: None,
+                example: 2.5f64,
+            },
+        ],
+    },
+    crate::declare::Declaration {
+        name: "slit",
+        title: "slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)",
+        params: &[
+            crate::declare::Param {
+                name: "height",
+                doc: "height H of the boundary plane x3 = H (the fluid is x3 > H)",
+                dimension: crate::declare::Dimension::Position([0f64, 0f64, 1f64]),
+                default: Some(0f64),
+                example: 0.3f64,
+            },
+            crate::declare::Param {
+                name: "gap",
+                doc: "distance from the lower wall to the upper wall",
+                dimension: crate::declare::Dimension::Length,
+                default: None,
+                example: 12f64,
+            },
+        ],
+    },
+    crate::declare::Declaration {
+        name: "side_wall",
+        title: "plane no-slip side wall at x1 = side: Stokeslet plus Blake's image in the wall's frame",
+        params: &[
+            crate::declare::Param {
+                name: "side",
+                doc: "position s of the side wall x1 = s (the fluid is x1 > s)",
+                dimension: crate::declare::Dimension::Position([1f64, 0f64, 0f64]),
+                default: Some(0f64),
+                example: -0.4f64,
+            },
+        ],
+    },
+];
 /// The confinement and its run-time parameters, one variant per registered
-/// Green's function. Boundaries are planes `x3 = const` ([`Confinement::boundaries`]).
+/// Green's function ([`DECLARATIONS`]); its planes are [`Confinement::boundaries`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Confinement {
     /// unbounded fluid: the Stokeslet J of Eq. 4
@@ -1077,6 +1325,11 @@ pub enum Confinement {
         /// distance from the lower wall to the upper wall
         gap: f64,
     },
+    /// plane no-slip side wall at x1 = side: Stokeslet plus Blake's image in the wall's frame
+    SideWall {
+        /// position s of the side wall x1 = s (the fluid is x1 > s)
+        side: f64,
+    },
 }
 impl Confinement {
     /// Names of all confinements, as in [`Confinement::name`].
@@ -1086,6 +1339,7 @@ impl Confinement {
         "free_surface",
         "interface",
         "slit",
+        "side_wall",
     ];
     /// The family name (`wall`, `free_surface`, ...).
     pub fn name(&self) -> &'static str {
@@ -1095,6 +1349,7 @@ impl Confinement {
             Confinement::FreeSurface { .. } => "free_surface",
             Confinement::Interface { .. } => "interface",
             Confinement::Slit { .. } => "slit",
+            Confinement::SideWall { .. } => "side_wall",
         }
     }
     /// The confinement called `name` with run-time parameters `params` in the
@@ -1125,6 +1380,11 @@ impl Confinement {
                     gap: params[1usize],
                 })
             }
+            "side_wall" if params.len() == 1usize => {
+                Some(Confinement::SideWall {
+                    side: params[0usize],
+                })
+            }
             _ => None,
         }
     }
@@ -1138,10 +1398,12 @@ impl Confinement {
                 vec![("height", height), ("lambda", lambda)]
             }
             Confinement::Slit { height, gap } => vec![("height", height), ("gap", gap)],
+            Confinement::SideWall { side } => vec![("side", side)],
         }
     }
     /// Whether the pair kernels exchange the particles' roles where `b` is higher
-    /// (larger `x3`) than `a`, keeping the accuracy of the direct sum
+    /// (farther from the cancelling plane along [`Confinement::exchange_normal`],
+    /// `x3` for a wall) than `a`, keeping the accuracy of the direct sum
     /// (`M^{ab} = (M^{ba})^T`, evaluated with the lower particle as the source).
     /// The `*_lanes_ordered` kernels skip that exchange: a caller that orders the
     /// particles by `x3`, highest first, and passes the earlier one as `a` gets
@@ -1153,60 +1415,113 @@ impl Confinement {
             Confinement::FreeSurface { .. } => false,
             Confinement::Interface { .. } => false,
             Confinement::Slit { .. } => false,
+            Confinement::SideWall { .. } => true,
         }
     }
-    /// The boundary planes: `(height, fluid is above it)`.
-    pub fn boundaries(&self) -> Vec<(f64, bool)> {
+    /// The direction along which [`Confinement::exchanges_by_height`] compares
+    /// the particles (the normal of the plane whose image cancels the
+    /// Stokeslet), if the pair kernels exchange roles.
+    pub fn exchange_normal(&self) -> Option<[f64; 3]> {
+        match *self {
+            Confinement::Free => None,
+            Confinement::Wall { .. } => Some([0f64, 0f64, 1f64]),
+            Confinement::FreeSurface { .. } => None,
+            Confinement::Interface { .. } => None,
+            Confinement::Slit { .. } => None,
+            Confinement::SideWall { .. } => Some([1f64, 0f64, 0f64]),
+        }
+    }
+    /// Its parameters' declarations ([`DECLARATIONS`]).
+    pub fn declaration(&self) -> &'static crate::declare::Declaration {
+        let name = self.name();
+        DECLARATIONS
+            .iter()
+            .find(|d| d.name == name)
+            .expect("every confinement is declared")
+    }
+    /// The planes that confine the fluid, each with its condition.
+    pub fn boundaries(&self) -> Vec<crate::declare::Boundary> {
         match *self {
             Confinement::Free => vec![],
             Confinement::Wall { height } => {
                 let _ = (height,);
-                vec![(height, true)]
+                vec![
+                    crate ::declare::Boundary { normal : [0f64, 0f64, 1f64], offset :
+                    height, condition : crate ::declare::Condition::NoSlip, exact : true
+                    }
+                ]
             }
             Confinement::FreeSurface { height } => {
                 let _ = (height,);
-                vec![(height, true)]
+                vec![
+                    crate ::declare::Boundary { normal : [0f64, 0f64, 1f64], offset :
+                    height, condition : crate ::declare::Condition::FreeSurface, exact :
+                    true }
+                ]
             }
             Confinement::Interface { height, lambda } => {
                 let _ = (height, lambda);
-                vec![(height, true)]
+                vec![
+                    crate ::declare::Boundary { normal : [0f64, 0f64, 1f64], offset :
+                    height, condition : crate ::declare::Condition::Interface, exact :
+                    true }
+                ]
             }
             Confinement::Slit { height, gap } => {
                 let _ = (height, gap);
-                vec![(height, true), ((height + gap), false)]
+                vec![
+                    crate ::declare::Boundary { normal : [0f64, 0f64, 1f64], offset :
+                    height, condition : crate ::declare::Condition::NoSlip, exact : false
+                    }, crate ::declare::Boundary { normal : [0f64, 0f64, - 1f64], offset
+                    : (- (height + gap)), condition : crate ::declare::Condition::NoSlip,
+                    exact : false }
+                ]
+            }
+            Confinement::SideWall { side } => {
+                let _ = (side,);
+                vec![
+                    crate ::declare::Boundary { normal : [1f64, 0f64, 0f64], offset :
+                    side, condition : crate ::declare::Condition::NoSlip, exact : true }
+                ]
             }
         }
     }
     /// The same confinement with lengths measured in units of `unit` and
-    /// heights from `x3 = origin`: a height `h` becomes `(h - origin) / unit`, a
-    /// length `l / unit`; pure numbers stay. With the viscosity as the unit of
-    /// viscosity, a mobility block coupling a moment of length dimension `p`
-    /// (force 0; torque, stresslet 1) to a response of dimension `q` (velocity 0;
-    /// rotation, strain 1) becomes `eta unit^(1 + p + q)` times itself.
-    pub fn in_units(&self, origin: f64, unit: f64) -> Confinement {
+    /// positions from `origin`: a position `p` along the direction `d`
+    /// becomes `(p - d . origin) / unit`, a length `l / unit`; pure numbers
+    /// stay. With the viscosity as the unit of viscosity, a mobility block
+    /// coupling a moment of length dimension `p` (force 0; torque, stresslet 1)
+    /// to a response of dimension `q` (velocity 0; rotation, strain 1) becomes
+    /// `eta unit^(1 + p + q)` times itself.
+    pub fn in_units(&self, origin: [f64; 3], unit: f64) -> Confinement {
         let _ = (origin, unit);
         match *self {
             Confinement::Free => Confinement::Free,
             Confinement::Wall { height } => {
                 Confinement::Wall {
-                    height: (height - origin) / unit,
+                    height: (height - origin[2usize]) / unit,
                 }
             }
             Confinement::FreeSurface { height } => {
                 Confinement::FreeSurface {
-                    height: (height - origin) / unit,
+                    height: (height - origin[2usize]) / unit,
                 }
             }
             Confinement::Interface { height, lambda } => {
                 Confinement::Interface {
-                    height: (height - origin) / unit,
+                    height: (height - origin[2usize]) / unit,
                     lambda,
                 }
             }
             Confinement::Slit { height, gap } => {
                 Confinement::Slit {
-                    height: (height - origin) / unit,
+                    height: (height - origin[2usize]) / unit,
                     gap: gap / unit,
+                }
+            }
+            Confinement::SideWall { side } => {
+                Confinement::SideWall {
+                    side: (side - origin[0usize]) / unit,
                 }
             }
         }
@@ -1234,6 +1549,9 @@ pub fn pair(
         Confinement::Slit { height, gap } => {
             slit::slit_pair(xa, xb, aa, ab, eta, height, gap)
         }
+        Confinement::SideWall { side } => {
+            side_wall::side_wall_pair(xa, xb, aa, ab, eta, side)
+        }
     }
 }
 /// `M^{ab}` for two distinct particles of the same radius `a`.
@@ -1256,6 +1574,9 @@ pub fn pair_equal(
         Confinement::Slit { height, gap } => {
             slit::slit_pair_equal(xa, xb, a, eta, height, gap)
         }
+        Confinement::SideWall { side } => {
+            side_wall::side_wall_pair_equal(xa, xb, a, eta, side)
+        }
     }
 }
 /// `M^{aa}`: the isolated sphere plus its reflected field (Eq. 17).
@@ -1270,5 +1591,6 @@ pub fn self_mobility(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Grand
             interface::interface_self(x, a, eta, height, lambda)
         }
         Confinement::Slit { height, gap } => slit::slit_self(x, a, eta, height, gap),
+        Confinement::SideWall { side } => side_wall::side_wall_self(x, a, eta, side),
     }
 }

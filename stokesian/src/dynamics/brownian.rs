@@ -122,14 +122,15 @@ impl System {
             out[3 * a] -= f.trap * p.x[0];
             out[3 * a + 1] -= f.trap * p.x[1];
             out[3 * a + 2] -= f.weight;
-            for (plane, above) in self.confinement().boundaries() {
-                let d = if above {
-                    p.x[2] - plane
-                } else {
-                    plane - p.x[2]
-                };
+            for b in self.confinement().boundaries() {
+                let d = b.distance(p.x);
                 let push = f.strength * (-(d - p.a) / f.debye).exp();
-                out[3 * a + 2] += if above { push } else { -push };
+                // along the normal, into the fluid
+                for (k, &n) in b.normal.iter().enumerate() {
+                    if n != 0.0 {
+                        out[3 * a + k] += if n == 1.0 { push } else { n * push };
+                    }
+                }
             }
         }
         out
@@ -437,8 +438,8 @@ impl System {
         let ps = self.particles();
         let mut gap = f64::INFINITY;
         for (a, p) in ps.iter().enumerate() {
-            for (plane, _) in self.confinement().boundaries() {
-                gap = gap.min(((p.x[2] - plane).abs() - p.a) / p.a);
+            for b in self.confinement().boundaries() {
+                gap = gap.min((b.distance(p.x).abs() - p.a) / p.a);
             }
             for q in &ps[a + 1..] {
                 let r = (0..3)

@@ -44,10 +44,10 @@ const MAX_K: usize = 11;
 
 /// A pair product over lanes: `(M^{ab} vb, M^{ba} va)` for `L::WIDTH` pairs.
 pub(crate) trait LaneProduct<const K: usize>: Sync {
-    /// Whether [`LaneProduct::eval`] wants `a` no lower than `b` (its kernels skip the
-    /// exchange of roles, [`Confinement::exchanges_by_height`]): the particles are then
-    /// ordered by height, highest first.
-    fn by_height(&self) -> bool;
+    /// The direction along which [`LaneProduct::eval`] wants `a` no lower than `b`
+    /// (its kernels skip the exchange of roles, [`Confinement::exchange_normal`]), if
+    /// any: the particles are then ordered along it, highest first.
+    fn by_height(&self) -> Option<[f64; 3]>;
     /// The product of lanes of pairs.
     fn eval<L: Lane>(
         &self,
@@ -82,8 +82,8 @@ macro_rules! generated_lanes {
         }
 
         impl LaneProduct<$k> for $name<'_> {
-            fn by_height(&self) -> bool {
-                self.conf.exchanges_by_height()
+            fn by_height(&self) -> Option<[f64; 3]> {
+                self.conf.exchange_normal()
             }
             #[inline(always)]
             fn eval<L: Lane>(
@@ -127,8 +127,8 @@ pub(crate) struct ProductFTS<'a> {
 }
 
 impl LaneProduct<11> for ProductFTS<'_> {
-    fn by_height(&self) -> bool {
-        self.conf.exchanges_by_height()
+    fn by_height(&self) -> Option<[f64; 3]> {
+        self.conf.exchange_normal()
     }
     #[inline(always)]
     fn eval<L: Lane>(
@@ -256,14 +256,14 @@ impl<'a, T> PairBlocks<'a, T> {
         T: LaneBlocks<K, N>,
     {
         let w = L::WIDTH;
-        let exchanges = self.conf.exchanges_by_height();
+        let normal = self.conf.exchange_normal();
         for (chunk, out) in self.bs.chunks(w).zip(self.out.chunks_mut(N * w)) {
             // x_a (3), a_a, x_b (3), a_b per lane; the last pair repeated as padding
             let mut args = [[0.0; lanes::MAX_WIDTH]; 8];
             let mut swapped = [false; lanes::MAX_WIDTH];
             for (l, s) in swapped.iter_mut().enumerate().take(w) {
                 let b = &chunk[l.min(chunk.len() - 1)];
-                *s = exchanges && b.x[2] > self.a.x[2];
+                *s = normal.is_some_and(|n| kernels::along(n, b.x) > kernels::along(n, self.a.x));
                 let (p, q) = if *s { (b, self.a) } else { (self.a, b) };
                 for k in 0..3 {
                     args[k][l] = p.x[k];
@@ -329,8 +329,8 @@ pub(crate) struct Divergence<'a> {
 }
 
 impl LaneProduct<6> for Divergence<'_> {
-    fn by_height(&self) -> bool {
-        self.conf.exchanges_by_height()
+    fn by_height(&self) -> Option<[f64; 3]> {
+        self.conf.exchange_normal()
     }
     #[inline(always)]
     fn eval<L: Lane>(
@@ -489,8 +489,9 @@ pub(crate) fn apply<P: LaneProduct<K>, E: Element, const K: usize>(
     // the exchange of roles (a stable sort: the order and every sum are fixed by the
     // input alone); as given otherwise
     let mut order: Vec<usize> = (0..particles.len()).collect();
-    if product.by_height() {
-        order.sort_by(|&i, &j| particles[j].0[2].total_cmp(&particles[i].0[2]));
+    if let Some(n) = product.by_height() {
+        let h = |i: usize| kernels::along(n, particles[i].0);
+        order.sort_by(|&i, &j| h(j).total_cmp(&h(i)));
     }
     let particles: Vec<([f64; 3], f64)> = order.iter().map(|&i| particles[i]).collect();
     let xs: Vec<[f64; K]> = order.iter().map(|&i| xs[i]).collect();
@@ -614,7 +615,7 @@ pub(crate) fn apply_moments(
         .enumerate()
         .map(|(i, v)| v / units.moment(i % k))
         .collect();
-    let conf = conf.in_units(units.origin[2], units.length);
+    let conf = conf.in_units(units.origin, units.length);
     let out = by_moments::<f32>(&conf, 1.0, moments, &ps, &scaled, isa, parallel);
     out.iter()
         .enumerate()
@@ -691,8 +692,18 @@ impl Units {
         let n = particles.len() as f64;
         let centroid: [f64; 3] =
             std::array::from_fn(|c| particles.iter().map(|p| p.0[c]).sum::<f64>() / n);
-        let first = conf.boundaries().first().map(|b| b.0);
-        let origin = [centroid[0], centroid[1], first.unwrap_or(centroid[2])];
+        // the centroid moved onto the first boundary along its normal (exactly, for a
+        // plane normal to an axis), so that positions and the planes' offsets are small
+        let mut origin = centroid;
+        if let Some(b) = conf.boundaries().first() {
+            match (0..3).find(|&k| b.normal[k].abs() == 1.0) {
+                Some(k) => origin[k] = b.offset * b.normal[k],
+                None => {
+                    let d = b.distance(centroid);
+                    origin = std::array::from_fn(|k| centroid[k] - d * b.normal[k]);
+                }
+            }
+        }
         let length = particles.iter().map(|p| p.1).fold(0.0, f64::max);
         let mut u = Units {
             origin,

@@ -1,6 +1,6 @@
 //! Validation of particles, viscosity and confinement parameters.
 
-use kernels::Confinement;
+use kernels::{Boundary, Confinement, Dimension};
 use thiserror::Error;
 
 /// A sphere: centre and radius.
@@ -63,18 +63,18 @@ pub enum InputError {
     },
     /// The centre is at or beyond a boundary.
     #[error(
-        "particle {index}: centre z = {z} is not inside the fluid (boundary at z = {boundary})"
+        "particle {index}: centre is not inside the fluid: signed distance {distance} from the boundary, {boundary}"
     )]
     OutsideFluid {
         /// Particle index.
         index: usize,
-        /// Its height coordinate.
-        z: f64,
+        /// Its signed distance from the boundary (positive in the fluid).
+        distance: f64,
         /// The boundary it crosses.
-        boundary: f64,
+        boundary: Boundary,
     },
     /// The sphere cuts a boundary: distance from centre to boundary below its radius.
-    #[error("particle {index}: sphere of radius {a} overlaps the boundary at z = {boundary} (centre-to-boundary distance {distance})")]
+    #[error("particle {index}: sphere of radius {a} overlaps the boundary, {boundary} (centre-to-boundary distance {distance})")]
     OverlapsBoundary {
         /// Particle index.
         index: usize,
@@ -83,7 +83,7 @@ pub enum InputError {
         /// Distance from centre to boundary.
         distance: f64,
         /// The boundary.
-        boundary: f64,
+        boundary: Boundary,
     },
     /// Two spheres overlap.
     #[error(
@@ -110,19 +110,21 @@ pub enum InputError {
     },
 }
 
-/// The confinement's parameters checked, and its boundary planes `(z, fluid is above)`.
-fn planes(conf: &Confinement) -> Result<Vec<(f64, bool)>, InputError> {
-    for (name, value) in conf.params() {
-        let (ok, why) = match name {
-            "lambda" => (
+/// The confinement's parameters checked by their declared dimension (a length
+/// positive, a pure number, such as a viscosity ratio, non-negative, a position
+/// finite), and its boundary planes.
+fn planes(conf: &Confinement) -> Result<Vec<Boundary>, InputError> {
+    for (p, (name, value)) in conf.declaration().params.iter().zip(conf.params()) {
+        let (ok, why) = match p.dimension {
+            Dimension::Number => (
                 value >= 0.0 && value.is_finite(),
-                "the viscosity ratio must be a non-negative finite number",
+                "a ratio must be a non-negative finite number",
             ),
-            "gap" => (
+            Dimension::Length => (
                 value > 0.0 && value.is_finite(),
-                "the slit width must be a positive finite number",
+                "a length must be a positive finite number",
             ),
-            _ => (value.is_finite(), "must be a finite number"),
+            Dimension::Position(_) => (value.is_finite(), "must be a finite number"),
         };
         if !ok {
             return Err(InputError::BadParameter { name, value, why });
@@ -162,16 +164,12 @@ pub fn validate(
         if !(scale.is_normal() && scale.recip().is_normal()) {
             return Err(InputError::Unrepresentable { index, a: p.a, eta });
         }
-        for &(boundary, above) in &planes {
-            let distance = if above {
-                p.x[2] - boundary
-            } else {
-                boundary - p.x[2]
-            };
+        for &boundary in &planes {
+            let distance = boundary.distance(p.x);
             if distance <= 0.0 {
                 return Err(InputError::OutsideFluid {
                     index,
-                    z: p.x[2],
+                    distance,
                     boundary,
                 });
             }

@@ -34,15 +34,15 @@ fn each_bad_input_is_named() {
         (err(WALL, f64::NAN, &[good]), "viscosity NaN must be a positive finite number"),
         (
             err(WALL, 1.0, &[p([0.0, 0.0, -0.5], 0.2)]),
-            "particle 0: centre z = -0.5 is not inside the fluid (boundary at z = 0)",
+            "particle 0: centre is not inside the fluid: signed distance -0.5 from the boundary, no slip at x3 = 0 (fluid where x3 > 0)",
         ),
         (
             err(WALL, 1.0, &[p([0.0, 0.0, 0.0], 0.2)]),
-            "particle 0: centre z = 0 is not inside the fluid (boundary at z = 0)",
+            "particle 0: centre is not inside the fluid: signed distance 0 from the boundary, no slip at x3 = 0 (fluid where x3 > 0)",
         ),
         (
             err(WALL, 1.0, &[p([0.0, 0.0, 0.5], 1.0)]),
-            "particle 0: sphere of radius 1 overlaps the boundary at z = 0 (centre-to-boundary distance 0.5)",
+            "particle 0: sphere of radius 1 overlaps the boundary, no slip at x3 = 0 (fluid where x3 > 0) (centre-to-boundary distance 0.5)",
         ),
         (
             err(WALL, 1.0, &[good, p([1.5, 0.0, 2.0], 1.0)]),
@@ -50,15 +50,15 @@ fn each_bad_input_is_named() {
         ),
         (
             err(Confinement::Slit { height: 0.0, gap: 3.0 }, 1.0, &[p([0.0, 0.0, 2.5], 1.0)]),
-            "particle 0: sphere of radius 1 overlaps the boundary at z = 3 (centre-to-boundary distance 0.5)",
+            "particle 0: sphere of radius 1 overlaps the boundary, no slip at x3 = 3 (fluid where x3 < 3, approximately) (centre-to-boundary distance 0.5)",
         ),
         (
             err(Confinement::Slit { height: 0.0, gap: -3.0 }, 1.0, &[good]),
-            "gap = -3: the slit width must be a positive finite number",
+            "gap = -3: a length must be a positive finite number",
         ),
         (
             err(Confinement::Interface { height: 0.0, lambda: -1.0 }, 1.0, &[good]),
-            "lambda = -1: the viscosity ratio must be a non-negative finite number",
+            "lambda = -1: a ratio must be a non-negative finite number",
         ),
         (
             err(Confinement::Wall { height: f64::NAN }, 1.0, &[good]),

@@ -205,45 +205,6 @@ fn f32x3(x: [f64; 3]) -> [f32; 3] {
     x.map(|v| v as f32)
 }
 
-/// The single-precision self kernel of a confinement.
-fn single_self(conf: &Confinement, x: [f32; 3], a: f32, eta: f32) -> Grand32 {
-    match *conf {
-        Confinement::Free => single::free_self(x, a, eta),
-        Confinement::Wall { height } => single::wall_self(x, a, eta, height as f32),
-        Confinement::FreeSurface { height } => single::free_surface_self(x, a, eta, height as f32),
-        Confinement::Interface { height, lambda } => {
-            single::interface_self(x, a, eta, height as f32, lambda as f32)
-        }
-        Confinement::Slit { height, gap } => {
-            single::slit_self(x, a, eta, height as f32, gap as f32)
-        }
-    }
-}
-
-/// The single-precision pair kernel of a confinement.
-fn single_pair(
-    conf: &Confinement,
-    xa: [f32; 3],
-    xb: [f32; 3],
-    aa: f32,
-    ab: f32,
-    eta: f32,
-) -> Grand32 {
-    match *conf {
-        Confinement::Free => single::free_pair(xa, xb, aa, ab, eta),
-        Confinement::Wall { height } => single::wall_pair(xa, xb, aa, ab, eta, height as f32),
-        Confinement::FreeSurface { height } => {
-            single::free_surface_pair(xa, xb, aa, ab, eta, height as f32)
-        }
-        Confinement::Interface { height, lambda } => {
-            single::interface_pair(xa, xb, aa, ab, eta, height as f32, lambda as f32)
-        }
-        Confinement::Slit { height, gap } => {
-            single::slit_pair(xa, xb, aa, ab, eta, height as f32, gap as f32)
-        }
-    }
-}
-
 /// Central finite differences of `G` (or its reflected part) in `f64`: the stencils of
 /// `kernel_gen::physics::fd` (second order, tensor products), evaluated in double precision.
 struct Fd64<'g, G: Green> {
@@ -393,8 +354,8 @@ impl Operators {
             let r: f64 = (0..3).map(|k| (c.xa[k] - c.xb[k]).powi(2)).sum::<f64>();
             d = r.sqrt();
         }
-        for (h, _) in conf.boundaries() {
-            d = d.min(2.0 * (c.xb[2] - h).abs());
+        for b in conf.boundaries() {
+            d = d.min(2.0 * b.distance(c.xb).abs());
         }
         if !d.is_finite() {
             d = c.ab;
@@ -458,7 +419,8 @@ fn measure<G: Green>(ctx: &Ctx, g: &G, kind: Kind, seed: u64) -> Vec<Row> {
     let spec = catalog_spec(if kind == Kind::Single { "self" } else { "pair" });
     let traced = trace(g, &spec);
     let ops = Operators::new(&spec);
-    let params = g.params();
+    let names: Vec<&str> = g.params().iter().map(|p| p.name).collect();
+    let params = &names[..];
     let cases = sample::cases(g.name(), params, kind, cfg.cases, seed);
     let confs: Vec<Confinement> = cases
         .iter()
@@ -497,8 +459,10 @@ fn measure<G: Green>(ctx: &Ctx, g: &G, kind: Kind, seed: u64) -> Vec<Row> {
                     Kind::PairEqual => kernels::pair_equal(conf, ETA, c.xa, c.xb, c.aa),
                 }),
                 Variant::F32 => flat32(&match kind {
-                    Kind::Single => single_self(conf, f32x3(c.xa), c.aa as f32, ETA as f32),
-                    _ => single_pair(
+                    Kind::Single => {
+                        single::self_mobility(conf, f32x3(c.xa), c.aa as f32, ETA as f32)
+                    }
+                    _ => single::pair(
                         conf,
                         f32x3(c.xa),
                         f32x3(c.xb),
@@ -556,8 +520,8 @@ fn measure<G: Green>(ctx: &Ctx, g: &G, kind: Kind, seed: u64) -> Vec<Row> {
                     for (i, conf) in inputs.iter().zip(fs) {
                         let (xa, xb, aa, ab) = *black_box(i);
                         black_box(match kind {
-                            Kind::Single => single_self(conf, xa, aa, ETA as f32),
-                            _ => single_pair(conf, xa, xb, aa, ab, ETA as f32),
+                            Kind::Single => single::self_mobility(conf, xa, aa, ETA as f32),
+                            _ => single::pair(conf, xa, xb, aa, ab, ETA as f32),
                         });
                     }
                 })

@@ -175,17 +175,7 @@ fn lane_ns(
 ) -> f64 {
     use kernels::lanes::{dispatch, Lane, WithLanes};
     let conf = cases[0].0;
-    let inside = |x: &[f64; 3], a: f64| {
-        conf.boundaries().iter().all(
-            |&(h, above)| {
-                if above {
-                    x[2] - a > h
-                } else {
-                    x[2] + a < h
-                }
-            },
-        )
-    };
+    let inside = |x: &[f64; 3], a: f64| conf.boundaries().iter().all(|b| b.distance(*x) > a);
     let fit: Vec<&Case> = cases
         .iter()
         .map(|(_, c)| c)
@@ -436,7 +426,7 @@ fn kernel_params(name: &str) -> Vec<&'static str> {
     impl Visitor for Find<'_> {
         fn visit<G: Green>(&mut self, g: &G) {
             if g.name() == self.0 {
-                self.1 = g.params().to_vec();
+                self.1 = g.params().iter().map(|p| p.name).collect();
             }
         }
     }

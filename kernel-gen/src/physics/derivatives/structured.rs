@@ -9,7 +9,7 @@ use super::{Collection, Differences, Form};
 use crate::number::jet::{Jet, Layout};
 use crate::number::poly::Poly;
 use crate::number::scalar::Scalar;
-use crate::physics::green::{Green, ImageTerm};
+use crate::physics::green::{rotate, Green, ImageTerm, Mat3, Plane};
 use crate::physics::operators::{Deriv, Derivatives, Term};
 use std::collections::{BTreeMap, HashMap};
 
@@ -21,12 +21,17 @@ use std::collections::{BTreeMap, HashMap};
 /// arithmetic node is built ([`Derivatives::combine`]); the jets of the potentials
 /// (power rule on `s = R.R`) supply the atoms.
 pub struct Structured<S> {
-    /// Expansion centres: `[r, R_0, R_1, ...]` (`r` only if the free part is included).
+    /// Expansion centres: `[r, R_0, R_1, ...]` (`r` only if the free part is included),
+    /// each in its own frame ([`Structured::frames`]).
     pub(super) centres: Vec<[S; 3]>,
+    /// The frame of each centre (rows of a rotation `Q`, `None` for the identity): a
+    /// mirror's own frame ([`Plane::frame`]) for its image centre, the cancelling
+    /// mirror's for `r` (so that the two share their atoms), the identity otherwise.
+    pub(super) frames: Vec<Option<Mat3<f64>>>,
     pub(super) include_free: bool,
     pub(super) terms: Vec<ImageTerm>,
     pub(super) heights: Vec<S>,
-    /// `x3 - H` per plane.
+    /// `n . x - offset` per plane.
     pub(super) field_heights: Vec<S>,
     /// The image `(plane, weight)` that absorbs the free-space atoms, with the
     /// difference evaluated apart (see the module documentation).
@@ -62,19 +67,25 @@ impl<S: Scalar> Structured<S> {
             .image_terms()
             .expect("the structured path needs a Green's function with image terms");
         let degree = order + g.image_extra_order() + 2;
+        let mirrors = g.mirrors(p);
+        let cancel = g.cancelling_image().filter(|_| include_free);
+        let free_frame = cancel.map_or(crate::physics::green::E3, |(k, _)| mirrors[k].normal);
         let mut s = Self::with_terms(
             terms,
             x,
             y,
-            g.planes(p),
+            mirrors,
             g.weights(p),
             degree,
             include_free,
             explicit_height,
         );
-        if include_free {
-            s.cancel = g.cancelling_image();
+        s.frames[0] = frame_of(free_frame);
+        if let Some(q) = &s.frames[0] {
+            let r: [S; 3] = std::array::from_fn(|k| x[k].clone() - y[k].clone());
+            s.centres[0] = rotate(q, &r);
         }
+        s.cancel = cancel;
         s
     }
 
@@ -102,36 +113,42 @@ impl<S: Scalar> Structured<S> {
         self
     }
 
-    /// As [`Structured::new`], from the image terms, the planes' heights and the
+    /// As [`Structured::new`], from the image terms, the mirror planes and the
     /// weights themselves (a subset of a Green's function's terms), with jets of
-    /// degree `degree`.
+    /// degree `degree`; the free-space centre `r` in the world frame.
     #[allow(clippy::too_many_arguments)]
     pub fn with_terms(
         terms: Vec<ImageTerm>,
         x: &[S; 3],
         y: &[S; 3],
-        planes: Vec<S>,
+        planes: Vec<Plane<S>>,
         weights: Vec<S>,
         degree: usize,
         include_free: bool,
         explicit_height: bool,
     ) -> Self {
         let r: [S; 3] = std::array::from_fn(|k| x[k].clone() - y[k].clone());
-        let mut centres = vec![r];
+        let mut centres = vec![r.clone()];
+        let mut frames = vec![None];
         let mut heights = Vec::new();
         let mut field_heights = Vec::new();
-        for hp in planes {
-            field_heights.push(x[2].clone() - hp.clone());
-            let h = y[2].clone() - hp;
-            centres.push([
-                x[0].clone() - y[0].clone(),
-                x[1].clone() - y[1].clone(),
-                x[2].clone() - y[2].clone() + S::cst(2.0) * h.clone(),
-            ]);
+        for plane in planes {
+            // in the plane's frame the mirror is `x3' = offset` (Eq. 10 as written)
+            field_heights.push(plane.distance(x));
+            let h = plane.distance(y);
+            let q = frame_of(plane.normal);
+            let rq = match &q {
+                Some(q) => rotate(q, &r),
+                None => r.clone(),
+            };
+            let [r0, r1, r2] = rq;
+            centres.push([r0, r1, r2 + S::cst(2.0) * h.clone()]);
+            frames.push(q);
             heights.push(h);
         }
         Structured {
             centres,
+            frames,
             include_free,
             terms,
             heights,
@@ -322,7 +339,8 @@ impl<S: Scalar> Structured<S> {
         }
     }
 
-    /// `d` as `sum factor * coef * atom`.
+    /// `d` as `sum factor * coef * atom`: each centre's part in its own frame
+    /// ([`in_frame`]).
     pub(super) fn atoms(&self, d: &Deriv, out: &mut BTreeMap<(Factor, Atom), f64>, scale: f64) {
         let mut push = |f: Factor, centre: usize, mu: [u8; 3], a: usize, b: usize, c: f64| {
             for ((pot, nu), k) in stokeslet_atoms(a, b, mu, c) {
@@ -330,41 +348,114 @@ impl<S: Scalar> Structured<S> {
             }
         };
         if self.include_free {
-            // d_x = d_r, d_y = -d_r
-            let mu = [d.dx[0] + d.dy[0], d.dx[1] + d.dy[1], d.dx[2] + d.dy[2]];
-            let sign = if d.dy.iter().map(|&e| e as u32).sum::<u32>() % 2 == 1 {
-                -1.0
-            } else {
-                1.0
-            };
-            push(Factor::Free, 0, mu, d.i, d.j, scale * sign);
-        }
-        // Eq. 10: d_x = d_R; d_{y_k} = -P_kk d_{R_k} on g(R); Leibniz in y3 on h^p.
-        let sign_y = if (d.dy[0] + d.dy[1]) % 2 == 1 {
-            -1.0
-        } else {
-            1.0
-        };
-        let n3 = d.dy[2] as usize;
-        for t in self.terms.iter().filter(|t| t.out == (d.i, d.j)) {
-            let p = t.h_power as usize;
-            let smax = if self.explicit_height { n3.min(p) } else { 0 };
-            for s in 0..=smax {
-                let mut mu = [0u8; 3];
-                for k in 0..3 {
-                    mu[k] = t.d[k] + d.dx[k] + d.dy[k];
-                }
-                mu[2] -= s as u8;
-                let c = scale * sign_y * t.coef * binomial(n3, s) * factorial(p) / factorial(p - s);
-                let f = Factor::Image {
-                    plane: t.plane,
-                    weight: t.weight,
-                    q: (p - s) as u8,
+            for (c, d) in in_frame(&self.frames[0], d) {
+                // d_x = d_r, d_y = -d_r
+                let mu = [d.dx[0] + d.dy[0], d.dx[1] + d.dy[1], d.dx[2] + d.dy[2]];
+                let sign = if d.dy.iter().map(|&e| e as u32).sum::<u32>() % 2 == 1 {
+                    -1.0
+                } else {
+                    1.0
                 };
-                push(f, 1 + t.plane, mu, t.j.0, t.j.1, c);
+                push(Factor::Free, 0, mu, d.i, d.j, scale * c * sign);
+            }
+        }
+        // Eq. 10 in the plane's frame: d_x = d_R; d_{y_k} = -P_kk d_{R_k} on g(R);
+        // Leibniz in y3 on h^p.
+        for plane in 0..self.heights.len() {
+            for (c, d) in in_frame(&self.frames[1 + plane], d) {
+                let sign_y = if (d.dy[0] + d.dy[1]) % 2 == 1 {
+                    -1.0
+                } else {
+                    1.0
+                };
+                let n3 = d.dy[2] as usize;
+                for t in self
+                    .terms
+                    .iter()
+                    .filter(|t| t.plane == plane && t.out == (d.i, d.j))
+                {
+                    let p = t.h_power as usize;
+                    let smax = if self.explicit_height { n3.min(p) } else { 0 };
+                    for s in 0..=smax {
+                        let mut mu = [0u8; 3];
+                        for k in 0..3 {
+                            mu[k] = t.d[k] + d.dx[k] + d.dy[k];
+                        }
+                        mu[2] -= s as u8;
+                        let k = scale * c * sign_y * t.coef * binomial(n3, s) * factorial(p)
+                            / factorial(p - s);
+                        let f = Factor::Image {
+                            plane: t.plane,
+                            weight: t.weight,
+                            q: (p - s) as u8,
+                        };
+                        push(f, 1 + t.plane, mu, t.j.0, t.j.1, k);
+                    }
+                }
             }
         }
     }
+}
+
+/// The frame of a mirror of normal `n`, `None` for `e3` (the identity).
+fn frame_of(n: [f64; 3]) -> Option<Mat3<f64>> {
+    (n != crate::physics::green::E3).then(|| crate::physics::green::frame(n))
+}
+
+/// A derivative of `G` in the world frame as derivatives in the frame `q` (rows
+/// `t1, t2, n`): `G_ij = sum Q_i'i Q_j'j G'_i'j'` and `d_{x_k} = sum_m Q_mk d_{x'_m}`
+/// (likewise in `y`), multiplied out. The identity gives `d` itself, coefficient 1.
+fn in_frame(q: &Option<Mat3<f64>>, d: &Deriv) -> Vec<(f64, Deriv)> {
+    let Some(q) = q else {
+        return vec![(1.0, *d)];
+    };
+    // the monomials of prod_k (sum_m Q_mk d'_m)^alpha_k
+    let expand = |alpha: [u8; 3]| -> BTreeMap<[u8; 3], f64> {
+        let mut m = BTreeMap::from([([0u8; 3], 1.0)]);
+        for (k, &n) in alpha.iter().enumerate() {
+            for _ in 0..n {
+                let mut next = BTreeMap::new();
+                for (mono, c) in &m {
+                    for (axis, row) in q.iter().enumerate() {
+                        if row[k] != 0.0 {
+                            let mut e = *mono;
+                            e[axis] += 1;
+                            *next.entry(e).or_insert(0.0) += c * row[k];
+                        }
+                    }
+                }
+                m = next;
+            }
+        }
+        m
+    };
+    let (ex, ey) = (expand(d.dx), expand(d.dy));
+    let mut out = Vec::new();
+    for (i, qi) in q.iter().enumerate() {
+        for (j, qj) in q.iter().enumerate() {
+            let c = qi[d.i] * qj[d.j];
+            if c == 0.0 {
+                continue;
+            }
+            for (dx, cx) in &ex {
+                for (dy, cy) in &ey {
+                    let k = c * cx * cy;
+                    if k != 0.0 {
+                        out.push((
+                            k,
+                            Deriv {
+                                i,
+                                j,
+                                dx: *dx,
+                                dy: *dy,
+                            },
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    out
 }
 
 impl<S: Scalar> Derivatives<S> for Structured<S> {

@@ -1,6 +1,6 @@
 //! Unbounded fluid: the Stokeslet alone (Eq. 4); the reflected field is zero.
 
-use super::{Boundary, Green, Mat3};
+use super::{Green, Mat3, Param};
 use crate::number::scalar::Scalar;
 
 /// Free space: `G = J`.
@@ -13,7 +13,7 @@ impl Green for Free {
     fn title(&self) -> &'static str {
         "unbounded fluid: the Stokeslet J of Eq. 4"
     }
-    fn params(&self) -> &'static [&'static str] {
+    fn params(&self) -> &'static [Param] {
         &[]
     }
     fn reflected<S: Scalar>(&self, _x: &[S; 3], _y: &[S; 3], _p: &[S]) -> Mat3<S> {
@@ -21,9 +21,6 @@ impl Green for Free {
     }
     fn image_terms(&self) -> Option<Vec<super::ImageTerm>> {
         Some(Vec::new())
-    }
-    fn boundary(&self) -> Boundary {
-        Boundary::None
     }
     fn axisymmetric(&self) -> bool {
         true

@@ -3,7 +3,7 @@
 //! `J^w_il = P_ll J_il(R)`, `R = x - y'`.
 
 use super::wall::mirror;
-use super::{stokeslet, Boundary, Green, ImageTerm, Mat3};
+use super::{stokeslet, Boundary, Condition, Green, ImageTerm, Mat3, Param, Plane};
 use crate::number::scalar::Scalar;
 
 /// The free surface.
@@ -47,8 +47,8 @@ impl Green for FreeSurface {
     fn title(&self) -> &'static str {
         "flat free surface at x3 = height: Stokeslet plus mirrored Stokeslet (Eq. 21)"
     }
-    fn params(&self) -> &'static [&'static str] {
-        &["height"]
+    fn params(&self) -> &'static [Param] {
+        &[Param::HEIGHT]
     }
     fn reflected<S: Scalar>(&self, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S> {
         mirror_image(x, y, &p[0])
@@ -56,11 +56,15 @@ impl Green for FreeSurface {
     fn image_terms(&self) -> Option<Vec<ImageTerm>> {
         Some(mirror_terms(0, 0))
     }
-    fn planes<S: Scalar>(&self, p: &[S]) -> Vec<S> {
-        vec![p[0].clone()]
+    fn mirrors<S: Scalar>(&self, p: &[S]) -> Vec<Plane<S>> {
+        vec![Plane::horizontal(p[0].clone())]
     }
-    fn boundary(&self) -> Boundary {
-        Boundary::FreeSurface
+    fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<Boundary<S>> {
+        vec![Boundary {
+            plane: Plane::horizontal(p[0].clone()),
+            condition: Condition::FreeSurface,
+            exact: true,
+        }]
     }
     fn axisymmetric(&self) -> bool {
         true

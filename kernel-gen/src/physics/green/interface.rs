@@ -5,7 +5,7 @@
 
 use super::free_surface::{mirror_image, mirror_terms};
 use super::wall::{blake, blake_terms};
-use super::{Boundary, Green, ImageTerm, Mat3};
+use super::{Boundary, Condition, Dimension, Green, ImageTerm, Mat3, Param, Plane};
 use crate::number::scalar::Scalar;
 
 /// The liquid-liquid interface.
@@ -18,8 +18,17 @@ impl Green for Interface {
     fn title(&self) -> &'static str {
         "flat liquid-liquid interface at x3 = height, viscosity ratio lambda (Eq. 22)"
     }
-    fn params(&self) -> &'static [&'static str] {
-        &["height", "lambda"]
+    fn params(&self) -> &'static [Param] {
+        &[
+            Param::HEIGHT,
+            Param {
+                name: "lambda",
+                doc: "viscosity ratio lambda of the liquid beyond the interface to this one",
+                dimension: Dimension::Number,
+                default: None,
+                example: 2.5,
+            },
+        ]
     }
     fn reflected<S: Scalar>(&self, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S> {
         let w = self.weights(p);
@@ -34,16 +43,20 @@ impl Green for Interface {
         t.extend(blake_terms(0, 1));
         Some(t)
     }
-    fn planes<S: Scalar>(&self, p: &[S]) -> Vec<S> {
-        vec![p[0].clone()]
+    fn mirrors<S: Scalar>(&self, p: &[S]) -> Vec<Plane<S>> {
+        vec![Plane::horizontal(p[0].clone())]
+    }
+    fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<Boundary<S>> {
+        vec![Boundary {
+            plane: Plane::horizontal(p[0].clone()),
+            condition: Condition::Interface,
+            exact: true,
+        }]
     }
     /// `[1/(1 + lambda), lambda/(1 + lambda)]`.
     fn weights<S: Scalar>(&self, p: &[S]) -> Vec<S> {
         let inv = (S::cst(1.0) + p[1].clone()).recip();
         vec![inv.clone(), p[1].clone() * inv]
-    }
-    fn boundary(&self) -> Boundary {
-        Boundary::None
     }
     fn axisymmetric(&self) -> bool {
         true

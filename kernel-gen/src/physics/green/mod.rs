@@ -12,6 +12,7 @@
 pub mod free;
 pub mod free_surface;
 pub mod interface;
+pub mod side_wall;
 pub mod slit;
 pub mod wall;
 
@@ -73,38 +74,214 @@ pub fn stokeslet_laplacian<S: Scalar>(r: &[S; 3]) -> Mat3<S> {
     })
 }
 
-/// One term of a reflected field with image structure:
-/// `J^w_{out} += coef * weight[w] * (y3 - H_plane)^h_power * d^d J_{j}(R_plane)`,
-/// `R_plane = x - y'`, `y' = y - 2 (y3 - H_plane) e3`. Derivatives of such a term
-/// with respect to the source follow Eq. 10.
+/// One term of a reflected field with image structure, written in the own frame of
+/// its mirror plane ([`Plane::frame`]: rows `t1, t2, n`, so that the plane is
+/// `x3' = offset` there):
+/// `J^w'_{out} += coef * weight[w] * (y3' - offset)^h_power * d'^d J_{j}(R')`,
+/// `R' = x' - y*'`, `y*' = y' - 2 (y3' - offset) e3`. In the world frame that is the
+/// reflection `y* = y - 2 (n.y - offset) n` with weights in `n.y - offset` and
+/// `J^w = Q^T J^w' Q`. Derivatives of such a term with respect to the source follow
+/// Eq. 10 in the plane's frame; a mirror normal to `e3` has `Q = I`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ImageTerm {
-    /// Component `(i, l)` of `J^w` that this term adds to.
+    /// Component `(i, l)` of `J^w'` (the plane's frame) that this term adds to.
     pub out: (usize, usize),
     /// Numerical coefficient.
     pub coef: f64,
     /// Index into [`Green::weights`] (a run-time factor such as `lambda / (1 + lambda)`).
     pub weight: usize,
-    /// Index into [`Green::planes`] (the mirror plane).
+    /// Index into [`Green::mirrors`] (the mirror plane).
     pub plane: usize,
-    /// Power `p` of the explicit factor `(y3 - H)`.
+    /// Power `p` of the explicit factor `(y3' - offset) = n.y - offset`.
     pub h_power: u8,
-    /// Derivative multi-index `gamma` of the Stokeslet with respect to `R`.
+    /// Derivative multi-index `gamma` of the Stokeslet with respect to `R'`.
     pub d: [u8; 3],
-    /// Stokeslet component `(a, b)`.
+    /// Stokeslet component `(a, b)` (the plane's frame).
     pub j: (usize, usize),
 }
 
-/// What the boundary imposes, for the generic boundary-condition checks.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Boundary {
-    /// Unbounded fluid.
-    None,
-    /// No slip: `G(x, y) = 0` for `x` on the plane.
+/// A plane `n . x = offset`: the unit normal `n` is fixed when the kernels are
+/// generated, the offset is an expression of the run-time parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plane<S> {
+    /// Unit normal.
+    pub normal: [f64; 3],
+    /// `n . x` on the plane.
+    pub offset: S,
+}
+
+/// `e3`, the normal of the planes `x3 = const`.
+pub const E3: [f64; 3] = [0.0, 0.0, 1.0];
+
+impl<S: Scalar> Plane<S> {
+    /// The plane `x3 = offset`.
+    pub fn horizontal(offset: S) -> Plane<S> {
+        Plane { normal: E3, offset }
+    }
+
+    /// The signed distance `n . x - offset` of `x` from the plane.
+    pub fn distance(&self, x: &[S; 3]) -> S {
+        dot(&self.normal, x) - self.offset.clone()
+    }
+
+    /// The plane's own frame: the rows `t1, t2, n` of a rotation `Q` ([`frame`]).
+    pub fn frame(&self) -> Mat3<f64> {
+        frame(self.normal)
+    }
+}
+
+/// `n . x`, skipping the zero components of `n` and multiplying by none of `+-1`
+/// (so `e3 . x` is the node `x3` itself).
+pub fn dot<S: Scalar>(n: &[f64; 3], x: &[S; 3]) -> S {
+    let mut acc: Option<S> = None;
+    for (c, v) in n.iter().zip(x) {
+        let term = if *c == 0.0 {
+            continue;
+        } else if *c == 1.0 {
+            v.clone()
+        } else if *c == -1.0 {
+            -v.clone()
+        } else {
+            S::cst(*c) * v.clone()
+        };
+        acc = Some(match acc {
+            None => term,
+            Some(a) => a + term,
+        });
+    }
+    acc.unwrap_or_else(|| S::cst(0.0))
+}
+
+/// `Q v`: a vector in the frame whose rows are `q`.
+pub fn rotate<S: Scalar>(q: &Mat3<f64>, v: &[S; 3]) -> [S; 3] {
+    std::array::from_fn(|k| dot(&q[k], v))
+}
+
+/// The right-handed orthonormal frame with third axis `n`, as the rows `t1, t2, n`
+/// of a rotation: `t1` is the coordinate axis least aligned with `n` (the first of
+/// equals) made orthogonal to it, `t2 = n x t1`. For `n = e3` it is the identity; for
+/// `n = e1` the rows are `e2, e3, e1`.
+pub fn frame(n: [f64; 3]) -> Mat3<f64> {
+    let k = (0..3)
+        .min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
+        .expect("three axes");
+    let mut t1 = [0.0; 3];
+    t1[k] = 1.0;
+    let c = n[k];
+    for (t, m) in t1.iter_mut().zip(&n) {
+        *t -= c * m;
+    }
+    let norm = (t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]).sqrt();
+    let t1 = t1.map(|v| clean(v / norm));
+    let t2 = [
+        clean(n[1] * t1[2] - n[2] * t1[1]),
+        clean(n[2] * t1[0] - n[0] * t1[2]),
+        clean(n[0] * t1[1] - n[1] * t1[0]),
+    ];
+    [t1, t2, n]
+}
+
+/// `-0` and round-off below `1e-15` as `0`, so that an axis-aligned frame has exact
+/// entries.
+fn clean(v: f64) -> f64 {
+    if v.abs() < 1e-15 {
+        0.0
+    } else {
+        v
+    }
+}
+
+/// `Q^T f(Q x, Q y) Q`: a reflected field written in the frame `q` (rows `t1, t2, n`),
+/// in the world frame. With [`Plane::frame`], a reflection written for the plane
+/// `x3 = offset` (Blake's image, [`wall::blake`]) serves a plane of normal `n`.
+pub fn in_frame<S: Scalar>(
+    q: &Mat3<f64>,
+    x: &[S; 3],
+    y: &[S; 3],
+    f: impl Fn(&[S; 3], &[S; 3]) -> Mat3<S>,
+) -> Mat3<S> {
+    let m = f(&rotate(q, x), &rotate(q, y));
+    // (Q^T M Q)_ij = sum_ab Q_ai M_ab Q_bj
+    std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            let col: [S; 3] = std::array::from_fn(|a| {
+                let row: [S; 3] = std::array::from_fn(|b| m[a][b].clone());
+                dot(&[q[0][j], q[1][j], q[2][j]], &row)
+            });
+            dot(&[q[0][i], q[1][i], q[2][i]], &col)
+        })
+    })
+}
+
+/// What a boundary imposes on the flow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Condition {
+    /// No slip: `G(x, y) = 0` for `x` on the plane. Spheres near it take the
+    /// sphere-wall lubrication along its normal.
     NoSlip,
-    /// Flat free surface: no penetration `G_3j = 0` and no tangential stress
-    /// `d_3 G_1j = d_3 G_2j = 0` on the plane (Eq. 21).
+    /// A flat free surface: no penetration `n . G = 0` and no tangential stress
+    /// `d_n (t . G) = 0` on the plane (Eq. 21).
     FreeSurface,
+    /// A flat interface with a second liquid: no penetration `n . G = 0` on the plane
+    /// (the tangential conditions couple to the other liquid, Eq. 22).
+    Interface,
+}
+
+/// A plane that confines the fluid: the fluid is where `n . x > offset` (the normal
+/// points into the fluid).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Boundary<S> {
+    /// The plane, its normal into the fluid.
+    pub plane: Plane<S>,
+    /// What it imposes.
+    pub condition: Condition,
+    /// Whether the Green's function satisfies the condition exactly (the slit's
+    /// superposition of two walls satisfies neither wall's no slip exactly, and says
+    /// so); the checks demand an exact condition to round-off and measure the others.
+    pub exact: bool,
+}
+
+/// How a run-time parameter changes when lengths are measured in another unit from
+/// another origin of `x3` (`Confinement::in_units`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Dimension {
+    /// A position along the unit direction `d` (a plane's offset `d . x`):
+    /// `(p - d . (origin e3)) / unit`.
+    Position([f64; 3]),
+    /// A distance: `p / unit`.
+    Length,
+    /// A pure number (a viscosity ratio): unchanged.
+    Number,
+}
+
+/// A named run-time parameter of a Green's function, declared once: kernel argument,
+/// field of the `Confinement` variant, command-line `--param NAME=VALUE`, Python
+/// `params={NAME: VALUE}`, and the checks' sample value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Param {
+    /// Name (a Rust identifier: kernel argument and enum field).
+    pub name: &'static str,
+    /// What it is, one line (documentation everywhere it appears).
+    pub doc: &'static str,
+    /// How it scales with the unit of length.
+    pub dimension: Dimension,
+    /// The value a user gets without giving it (command line, Python); `None` for a
+    /// parameter that must be given.
+    pub default: Option<f64>,
+    /// A typical value away from the default, for the checks (a non-zero position,
+    /// a ratio other than 1), so that a parameter mixed up with another shows.
+    pub example: f64,
+}
+
+impl Param {
+    /// The position of the plane `x3 = height`.
+    pub const HEIGHT: Param = Param {
+        name: "height",
+        doc: "height H of the boundary plane x3 = H (the fluid is x3 > H)",
+        dimension: Dimension::Position(E3),
+        default: Some(0.0),
+        example: 0.3,
+    };
 }
 
 /// A Green's function of Stokes flow in a confinement: `G = J + J^w`.
@@ -113,33 +290,22 @@ pub trait Green {
     fn name(&self) -> &'static str;
     /// One line for the generated documentation.
     fn title(&self) -> &'static str;
-    /// Run-time parameters, in order, as kernel argument names (e.g. `["height"]`).
-    fn params(&self) -> &'static [&'static str];
-    /// The dimension of parameter `name`: by default that of the names in use
-    /// ([`param_dimension`]); a Green's function with a parameter of a new name states
-    /// it here (generation stops with a message otherwise).
-    fn dimension(&self, name: &str) -> Dimension {
-        param_dimension(name).unwrap_or_else(|| {
-            panic!(
-                "{}: state the dimension of the parameter `{name}` (Green::dimension)",
-                self.name()
-            )
-        })
-    }
+    /// Run-time parameters, in order (kernel arguments after the viscosity).
+    fn params(&self) -> &'static [Param];
     /// The reflected field `J^w(x, y)` in units of `1/(8 pi eta)`, as ordinary Rust.
     fn reflected<S: Scalar>(&self, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S>;
     /// The image structure of [`Green::reflected`] for the Eq. 10 path, if it has one.
     fn image_terms(&self) -> Option<Vec<ImageTerm>> {
         None
     }
-    /// Heights of the mirror planes, from the run-time parameters.
-    fn planes<S: Scalar>(&self, _p: &[S]) -> Vec<S> {
+    /// The mirror planes of the image terms, from the run-time parameters.
+    fn mirrors<S: Scalar>(&self, _p: &[S]) -> Vec<Plane<S>> {
         Vec::new()
     }
-    /// The boundary planes that confine the fluid: `(height, fluid is above)`. By
-    /// default the mirror planes, with the fluid above each.
-    fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<(S, bool)> {
-        self.planes(p).into_iter().map(|h| (h, true)).collect()
+    /// The planes that confine the fluid, each with its condition: overlap checks,
+    /// lubrication, Brownian dynamics and the boundary-condition checks use these.
+    fn boundaries<S: Scalar>(&self, _p: &[S]) -> Vec<Boundary<S>> {
+        Vec::new()
     }
     /// Run-time weights of image terms, from the run-time parameters.
     fn weights<S: Scalar>(&self, _p: &[S]) -> Vec<S> {
@@ -152,8 +318,6 @@ pub trait Green {
     fn cancelling_image(&self) -> Option<(usize, usize)> {
         None
     }
-    /// The boundary conditions on each mirror plane, for the generic checks.
-    fn boundary(&self) -> Boundary;
     /// Whether `G` is invariant under rotations about `e3` and lateral translations
     /// (all boundaries are planes normal to `e3`): pair kernels are then traced in the
     /// canonical frame of [`crate::physics::frame`], where the lateral separation lies along
@@ -175,37 +339,9 @@ pub trait Green {
     }
 }
 
-/// Documentation of a run-time parameter, by name.
-pub fn param_doc(name: &str) -> &'static str {
-    match name {
-        "height" => "height H of the boundary plane x3 = H (the fluid is x3 > H)",
-        "lambda" => "viscosity ratio lambda of the liquid beyond the interface to this one",
-        "gap" => "distance from the lower wall to the upper wall",
-        _ => "parameter of the Green's function",
-    }
-}
-
-/// How a run-time parameter changes when lengths are measured in another unit from
-/// another origin of `x3` (what [`Green::dimension`] states for each parameter).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Dimension {
-    /// A position on the `x3` axis: `(p - origin) / unit`.
-    Height,
-    /// A distance: `p / unit`.
-    Length,
-    /// A pure number (a viscosity ratio): unchanged.
-    Number,
-}
-
-/// The dimensions of the parameter names in use (the default of
-/// [`Green::dimension`]).
-pub fn param_dimension(name: &str) -> Option<Dimension> {
-    match name {
-        "height" => Some(Dimension::Height),
-        "gap" => Some(Dimension::Length),
-        "lambda" => Some(Dimension::Number),
-        _ => None,
-    }
+/// The example values of a Green's function's parameters ([`Param::example`]).
+pub fn examples<G: Green>(g: &G) -> Vec<f64> {
+    g.params().iter().map(|p| p.example).collect()
 }
 
 /// Something that is handed every registered Green's function in turn (the trait has
@@ -222,6 +358,7 @@ pub fn for_each<V: Visitor>(v: &mut V) {
     v.visit(&free_surface::FreeSurface);
     v.visit(&interface::Interface);
     v.visit(&slit::Slit);
+    v.visit(&side_wall::SideWall);
 }
 
 /// The full Green's function `J(x - y) + J^w(x, y)`, units of `1/(8 pi eta)`.

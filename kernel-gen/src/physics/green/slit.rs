@@ -5,7 +5,7 @@
 //! approximation: each wall's image violates no-slip on the other wall.
 
 use super::wall::{blake, blake_terms};
-use super::{Boundary, Green, ImageTerm, Mat3};
+use super::{Boundary, Condition, Dimension, Green, ImageTerm, Mat3, Param, Plane};
 use crate::number::scalar::Scalar;
 
 /// The two-wall superposition.
@@ -18,13 +18,22 @@ impl Green for Slit {
     fn title(&self) -> &'static str {
         "slit between walls at x3 = height and x3 = height + gap, superposed Blake images (Sec. IV)"
     }
-    fn params(&self) -> &'static [&'static str] {
-        &["height", "gap"]
+    fn params(&self) -> &'static [Param] {
+        &[
+            Param::HEIGHT,
+            Param {
+                name: "gap",
+                doc: "distance from the lower wall to the upper wall",
+                dimension: Dimension::Length,
+                default: None,
+                example: 12.0,
+            },
+        ]
     }
     fn reflected<S: Scalar>(&self, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S> {
-        let pl = self.planes(p);
-        let a = blake(x, y, &pl[0]);
-        let b = blake(x, y, &pl[1]);
+        let pl = self.mirrors(p);
+        let a = blake(x, y, &pl[0].offset);
+        let b = blake(x, y, &pl[1].offset);
         std::array::from_fn(|i| std::array::from_fn(|l| a[i][l].clone() + b[i][l].clone()))
     }
     fn image_terms(&self) -> Option<Vec<ImageTerm>> {
@@ -32,16 +41,31 @@ impl Green for Slit {
         t.extend(blake_terms(1, 0));
         Some(t)
     }
-    fn planes<S: Scalar>(&self, p: &[S]) -> Vec<S> {
-        vec![p[0].clone(), p[0].clone() + p[1].clone()]
+    fn mirrors<S: Scalar>(&self, p: &[S]) -> Vec<Plane<S>> {
+        vec![
+            Plane::horizontal(p[0].clone()),
+            Plane::horizontal(p[0].clone() + p[1].clone()),
+        ]
     }
-    /// The fluid is above the lower wall and below the upper one.
-    fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<(S, bool)> {
-        let pl = self.planes(p);
-        vec![(pl[0].clone(), true), (pl[1].clone(), false)]
-    }
-    fn boundary(&self) -> Boundary {
-        Boundary::None
+    /// The fluid is above the lower wall and below the upper one. Each wall's image
+    /// violates the other wall's no slip: neither condition holds exactly.
+    fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<Boundary<S>> {
+        let upper = p[0].clone() + p[1].clone();
+        vec![
+            Boundary {
+                plane: Plane::horizontal(p[0].clone()),
+                condition: Condition::NoSlip,
+                exact: false,
+            },
+            Boundary {
+                plane: Plane {
+                    normal: [0.0, 0.0, -1.0],
+                    offset: -upper,
+                },
+                condition: Condition::NoSlip,
+                exact: false,
+            },
+        ]
     }
     fn axisymmetric(&self) -> bool {
         true

@@ -7,7 +7,10 @@
 //! `grad_{y'} = -grad_R`:
 //! `J^w_il = -J_il(R) + h^2 P_ll lap J_il(R) - 2 h P_ll d_l J_i3(R)`, `h = y3 - H`.
 
-use super::{stokeslet, stokeslet_gradient, stokeslet_laplacian, Boundary, Green, ImageTerm, Mat3};
+use super::{
+    stokeslet, stokeslet_gradient, stokeslet_laplacian, Boundary, Condition, Green, ImageTerm,
+    Mat3, Param, Plane,
+};
 use crate::number::scalar::Scalar;
 
 /// The no-slip wall.
@@ -82,8 +85,8 @@ impl Green for Wall {
     fn title(&self) -> &'static str {
         "plane no-slip wall at x3 = height: Stokeslet plus Blake's image (Eqs. 5, 7)"
     }
-    fn params(&self) -> &'static [&'static str] {
-        &["height"]
+    fn params(&self) -> &'static [Param] {
+        &[Param::HEIGHT]
     }
     fn reflected<S: Scalar>(&self, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S> {
         blake(x, y, &p[0])
@@ -91,15 +94,19 @@ impl Green for Wall {
     fn image_terms(&self) -> Option<Vec<ImageTerm>> {
         Some(blake_terms(0, 0))
     }
-    fn planes<S: Scalar>(&self, p: &[S]) -> Vec<S> {
-        vec![p[0].clone()]
+    fn mirrors<S: Scalar>(&self, p: &[S]) -> Vec<Plane<S>> {
+        vec![Plane::horizontal(p[0].clone())]
+    }
+    fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<Boundary<S>> {
+        vec![Boundary {
+            plane: Plane::horizontal(p[0].clone()),
+            condition: Condition::NoSlip,
+            exact: true,
+        }]
     }
     /// A source on the wall has no effect: at `h = 0`, `R = r` and `J^w = -J(R)`.
     fn cancelling_image(&self) -> Option<(usize, usize)> {
         Some((0, 0))
-    }
-    fn boundary(&self) -> Boundary {
-        Boundary::NoSlip
     }
     fn axisymmetric(&self) -> bool {
         true

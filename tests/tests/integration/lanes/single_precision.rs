@@ -35,7 +35,7 @@ fn every_block_scales_with_the_units_of_length() {
         let ps = random_spheres(&mut rng, &conf, 2, (0.4, 1.2), 0.05, 6.0);
         let eta = 1.7;
         for (origin, unit) in [([0.5, -1.5, 0.3], 0.37), ([10.0, 3.0, -2.0], 2.5e-6)] {
-            let c = conf.in_units(origin[2], unit);
+            let c = conf.in_units(origin, unit);
             let to =
                 |x: [f64; 3]| -> [f64; 3] { std::array::from_fn(|k| (x[k] - origin[k]) / unit) };
             let (a, b) = (&ps[0], &ps[1]);
@@ -76,7 +76,7 @@ fn si_system(rng: &mut ChaCha8Rng, conf: &Confinement, n: usize) -> (System, Con
     let um = 1e-6;
     let offset = [3.0e-2, -1.0e-2, 5.0e-3];
     // the confinement moved with the particles: h -> h um + offset
-    let si = conf.in_units(-offset[2] / um, 1.0 / um);
+    let si = conf.in_units(offset.map(|o| -o / um), 1.0 / um);
     let ps: Vec<Particle> = random_spheres(rng, conf, n, (0.4, 1.2), 0.05, 40.0)
         .into_iter()
         .map(|p| Particle {
