@@ -272,6 +272,13 @@ pub fn rel_err(got: &[f64], want: &[f64]) -> f64 {
     d / want.iter().map(|w| w.abs()).fold(0.0, f64::max)
 }
 
+/// The options docs/cli.md names as aliases of `--param NAME=`: (option, parameter).
+pub const ALIASES: [(&str, &str); 3] = [
+    ("--boundary-height", "height"),
+    ("--lambda", "lambda"),
+    ("--gap", "gap"),
+];
+
 pub const SYSTEM_ARGS: [&str; 6] = [
     "--confinement",
     "wall",
