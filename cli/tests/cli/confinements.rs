@@ -133,21 +133,13 @@ fn side_wall_mobility_equals_the_library() {
     let want = side_system().mobility(Moments::FTS);
     for name in ["side_wall", "side-wall"] {
         let out = dir.path(&format!("M-{name}.npy"));
-        let o = run(&[
-            "mobility",
-            "--confinement",
+        let o = run_mobility(
             name,
-            "--param",
-            "side=-1",
-            "--viscosity",
-            "0.7",
-            "--moments",
             "FTS",
-            "--particles",
-            s(&p),
-            "--out",
-            s(&out),
-        ]);
+            &p,
+            &out,
+            &["--param", "side=-1", "--viscosity", "0.7"],
+        );
         assert_ok(&o);
         assert_bit_equal(&read_npy(&out), &want, name);
     }
@@ -209,21 +201,7 @@ fn side_wall_errors_name_the_side_wall() {
     let dir = Dir::new("side-errors");
     let p = dir.file("particles.csv", SIDE_PARTICLES);
     let out = dir.path("M.npy");
-    let with = |extra: &[&str]| {
-        let mut args = vec![
-            "mobility",
-            "--confinement",
-            "side_wall",
-            "--moments",
-            "F",
-            "--particles",
-            s(&p),
-            "--out",
-            s(&out),
-        ];
-        args.extend(extra);
-        run(&args)
-    };
+    let with = |extra: &[&str]| run_mobility("side_wall", "F", &p, &out, extra);
     assert_fails(
         &with(&["--boundary-height", "1"]),
         &["--boundary-height does not apply to --confinement side_wall (its parameters: side)"],

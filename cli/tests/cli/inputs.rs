@@ -14,17 +14,7 @@ fn missing_particles_file() {
     let dir = Dir::new("missing");
     let out = dir.path("M.npy");
     let p = dir.path("nowhere.csv");
-    let o = run(&[
-        "mobility",
-        "--confinement",
-        "wall",
-        "--moments",
-        "F",
-        "--particles",
-        s(&p),
-        "--out",
-        s(&out),
-    ]);
+    let o = run_mobility("wall", "F", &p, &out, &[]);
     assert_fails(
         &o,
         &["cannot read particles file", "nowhere.csv"],
@@ -195,17 +185,7 @@ fn missing_lambda_for_interface() {
     let dir = Dir::new("lambda");
     let p = dir.file("particles.csv", PARTICLES);
     let out = dir.path("M.json");
-    let o = run(&[
-        "mobility",
-        "--confinement",
-        "interface",
-        "--moments",
-        "F",
-        "--particles",
-        s(&p),
-        "--out",
-        s(&out),
-    ]);
+    let o = run_mobility("interface", "F", &p, &out, &[]);
     assert_fails(
         &o,
         &[
@@ -222,17 +202,7 @@ fn missing_gap_for_slit() {
     let dir = Dir::new("gap");
     let p = dir.file("particles.csv", PARTICLES);
     let out = dir.path("M.json");
-    let o = run(&[
-        "mobility",
-        "--confinement",
-        "slit",
-        "--moments",
-        "F",
-        "--particles",
-        s(&p),
-        "--out",
-        s(&out),
-    ]);
+    let o = run_mobility("slit", "F", &p, &out, &[]);
     assert_fails(
         &o,
         &[
@@ -447,21 +417,7 @@ fn bad_tables_and_npy_files_are_named() {
     // npy: a dtype, a shape, a row
     let p = dir.path("p.npy");
     let out = dir.path("M.npy");
-    let mobility = |extra: &[&str]| {
-        let mut args = vec![
-            "mobility",
-            "--confinement",
-            "wall",
-            "--moments",
-            "F",
-            "--particles",
-            s(&p),
-            "--out",
-            s(&out),
-        ];
-        args.extend(extra);
-        run(&args)
-    };
+    let mobility = |extra: &[&str]| run_mobility("wall", "F", &p, &out, extra);
     write_npy_rows(&p, &[vec![0.0, 0.0, 2.0]], false, false);
     assert_fails(&mobility(&[]), &["p.npy: shape (1, 3): expected a 2-D float64 or float32 array of shape (N, 4), columns x, y, z, radius"], &dir, &["forces.csv", "p.npy", "particles.csv"]);
     write_npy_rows(
@@ -546,19 +502,7 @@ fn params_by_name_equal_the_aliases() {
     let mut outputs = Vec::new();
     for (k, spelling) in spellings.iter().enumerate() {
         let out = dir.path(&format!("M{k}.npy"));
-        let mut args = vec![
-            "mobility",
-            "--confinement",
-            "slit",
-            "--moments",
-            "FT",
-            "--particles",
-            s(&p),
-            "--out",
-            s(&out),
-        ];
-        args.extend(*spelling);
-        assert_ok(&run(&args));
+        assert_ok(&run_mobility("slit", "FT", &p, &out, spelling));
         outputs.push(fs::read(&out).expect("read output"));
     }
     assert_eq!(outputs[0], outputs[1], "--param");
@@ -625,19 +569,8 @@ fn params_given_wrongly() {
         ),
     ];
     for (confinement, extra, message) in cases {
-        let mut args = vec![
-            "mobility",
-            "--confinement",
-            confinement,
-            "--moments",
-            "F",
-            "--particles",
-            s(&p),
-            "--out",
-            s(&out),
-        ];
-        args.extend(extra);
-        assert_fails(&run(&args), &[message], &dir, &["particles.csv"]);
+        let o = run_mobility(confinement, "F", &p, &out, extra);
+        assert_fails(&o, &[message], &dir, &["particles.csv"]);
     }
 }
 
@@ -663,17 +596,7 @@ fn causes_are_named_right() {
     let tiny = "x,y,z,radius\n0,0,2e-70,1e-70\n1e-60,0,2e-70,1e-70\n";
     let p = dir.file("particles.csv", tiny);
     let out = dir.path("M.npy");
-    let o = run(&[
-        "mobility",
-        "--confinement",
-        "wall",
-        "--moments",
-        "FTS",
-        "--particles",
-        s(&p),
-        "--out",
-        s(&out),
-    ]);
+    let o = run_mobility("wall", "FTS", &p, &out, &[]);
     assert_fails(
         &o,
         &[
@@ -685,18 +608,7 @@ fn causes_are_named_right() {
     );
     assert!(!stderr(&o).contains("allow-overlap"), "{}", stderr(&o));
     // accepted overlaps are suspected only where there are some
-    let o = run(&[
-        "mobility",
-        "--confinement",
-        "wall",
-        "--moments",
-        "FTS",
-        "--particles",
-        s(&p),
-        "--out",
-        s(&out),
-        "--allow-overlap",
-    ]);
+    let o = run_mobility("wall", "FTS", &p, &out, &["--allow-overlap"]);
     assert_fails(
         &o,
         &["not finite numbers: the lengths (from 1.000e-70"],

@@ -111,17 +111,7 @@ fn bad_output_name_is_rejected_before_any_work() {
     let o = {
         let p = dir.file("particles.csv", PARTICLES);
         let out = dir.path("M.txt");
-        run(&[
-            "mobility",
-            "--confinement",
-            "wall",
-            "--moments",
-            "F",
-            "--particles",
-            s(&p),
-            "--out",
-            s(&out),
-        ])
+        run_mobility("wall", "F", &p, &out, &[])
     };
     assert_fails(
         &o,
