@@ -423,15 +423,21 @@ impl Setup {
         })
     }
 
-    /// Why the stresslet block is not positive definite: accepted overlaps, a narrow
-    /// slit, or neither (unexpected).
+    /// Why the stresslet block is not positive definite: accepted overlaps, boundaries
+    /// that hold only approximately (the slit's superposed images, not positive definite
+    /// near a wall of a narrow slit), or neither (unexpected).
     pub fn indefinite(&self) -> String {
+        let conf = self.system.confinement();
         if let Some(overlap) = self.accepted_overlap() {
             overlap
-        } else if matches!(self.system.confinement(), Confinement::Slit { .. }) {
-            "the slit's superposed images are not positive definite near a wall of a \
-             narrow slit: widen the gap (--param gap=G or --gap G)"
-                .to_string()
+        } else if let Some(b) = conf.boundaries().iter().find(|b| !b.exact) {
+            format!(
+                "--confinement {} satisfies its boundary conditions only approximately \
+                 ({b}), and is not positive definite near such a boundary when the fluid \
+                 between its boundaries is narrow: widen it ({})",
+                conf.name(),
+                parameters_phrase(conf.declaration())
+            )
         } else {
             "unexpected for spheres clear of each other and of the boundaries; please \
              report it with the input"
