@@ -5,7 +5,8 @@
 //! `E -> R E R^T`, which in the orthonormal basis [`kernels::STRAIN_BASIS`] is the 5x5
 //! matrix `Q5_ab = B_a : (R B_b R^T)` (orthogonal: the basis is orthonormal and the map
 //! keeps `A : B`). So `Q = diag(R, R, Q5)` is orthogonal, and a confinement turned by `R`
-//! has the blocks `M'(x, y) = Q M(R^T x, R^T y) Q^T` and the resistance `Q R(..) Q^T`.
+//! has the blocks `M'(x, y) = Q M(R^T x, R^T y) Q^T` and the resistance `Q R(..) Q^T`
+//! ([`on_system`]: `Q` on every particle of a system).
 //!
 //! Any rotation taking `e3` to `n` serves a plane (its images are unchanged by turns about
 //! its normal); this one is the frame the generator writes a plane's image in (kernel-gen
@@ -13,6 +14,7 @@
 //! made orthogonal to it, `t2 = n x t1`), so that for a plane normal to an axis `R` is a
 //! signed permutation and turns positions exactly.
 
+use crate::system::{global, Moments};
 use kernels::basis_both;
 use nalgebra::DMatrix;
 
@@ -53,6 +55,24 @@ pub fn on_components(r: &[[f64; 3]; 3], k: usize) -> DMatrix<f64> {
         (6.., 6..) => strain[i - 6][j - 6],
         _ => 0.0,
     })
+}
+
+/// `Q` on each of `n` particles in the moment-major layout of `System::mobility` at
+/// `moments`: the spheres of a system turned by `r` have the mobility `Q M Q^T` and the
+/// resistance `Q R Q^T`.
+pub fn on_system(r: &[[f64; 3]; 3], moments: Moments, n: usize) -> DMatrix<f64> {
+    let k = moments.per_particle();
+    let q = on_components(r, k);
+    let parts = moments.parts();
+    let mut out = DMatrix::zeros(k * n, k * n);
+    for a in 0..n {
+        for i in 0..k {
+            for j in 0..k {
+                out[(global(parts, n, a, i), global(parts, n, a, j))] = q[(i, j)];
+            }
+        }
+    }
+    out
 }
 
 #[cfg(test)]
