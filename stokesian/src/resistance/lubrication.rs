@@ -191,16 +191,19 @@ pub enum ResistanceError {
 }
 
 /// The self mobility (per-particle layout `[U, Omega, E]`, truncated to `k` = 6 or 11
-/// components) of a sphere with one plane boundary (a no-slip wall or a free surface).
-fn single_boundary_self(
-    boundary: &Confinement,
-    eta: f64,
-    x: [f64; 3],
-    a: f64,
-    k: usize,
-) -> DMatrix<f64> {
-    let m = self_mobility(boundary, eta, x, a).matrix();
-    DMatrix::from_fn(k, k, |i, j| m[(i, j)])
+/// components) of a sphere at `x` with the boundary `b` alone (a no-slip wall or a free
+/// surface: Blake's image, or the mirror image), turned to `b`'s normal by
+/// [`about_boundary`].
+fn single_boundary_self(b: &Boundary, eta: f64, x: [f64; 3], a: f64, k: usize) -> DMatrix<f64> {
+    about_boundary(b, x, k, |height, y, _| {
+        let plane = match b.condition {
+            Condition::NoSlip => Confinement::Wall { height },
+            Condition::FreeSurface => Confinement::FreeSurface { height },
+            Condition::Interface => unreachable!("no lubrication at a liquid-liquid interface"),
+        };
+        let m = self_mobility(&plane, eta, y, a).matrix();
+        DMatrix::from_fn(k, k, |i, j| m[(i, j)])
+    })
 }
 
 /// A `k x k` quantity of a sphere at `x` and the plane boundary `b` alone, from
@@ -212,40 +215,33 @@ fn single_boundary_self(
 /// - any other normal: `Q f(0, [0, 0, d], 1) Q^T`, the sphere at its distance `d` above
 ///   the plane `x3 = 0`, turned by the rotation `R` taking `e3` to `n`
 ///   ([`crate::mobility::rotation`]: `Q = diag(R, R, Q5)`).
-fn about_boundary<E>(
+fn about_boundary(
     b: &Boundary,
     x: [f64; 3],
     k: usize,
-    f: impl FnOnce(f64, [f64; 3], f64) -> Result<DMatrix<f64>, E>,
-) -> Result<DMatrix<f64>, E> {
+    f: impl FnOnce(f64, [f64; 3], f64) -> DMatrix<f64>,
+) -> DMatrix<f64> {
     if b.is_horizontal() {
         return f(b.offset * b.normal[2], x, b.normal[2]);
     }
     let q = rotation::on_components(&rotation::taking_e3_to(b.normal), k);
-    let m = f(0.0, [0.0, 0.0, b.distance(x)], 1.0)?;
-    Ok(&q * m * q.transpose())
+    let m = f(0.0, [0.0, 0.0, b.distance(x)], 1.0);
+    &q * m * q.transpose()
 }
 
 /// `R^W` of a sphere of radius `a` at distance `h` from a flat free surface `x3 = const`
 /// whose normal into the fluid is `up e3` (`k` = 6 or 11 components, every block exact):
 /// by symmetry the sphere and its mirror image moving as its reflection, two equal
-/// spheres at `s' = 2h/a`, so `R^W = R_11 + R_12 Q` with the two-sphere blocks seen from
-/// the sphere (the image along `-up e3`) and `Q` the mirror map (Brenner 1961 for the
+/// spheres at `s' = 2h/a` (`f`, the two-sphere functions there at size ratio 1), so
+/// `R^W = R_11 + R_12 Q` with the two-sphere blocks seen from the sphere (the image along
+/// `-up e3`) and `Q` the mirror map (Brenner 1961 for the
 /// normal translation, `X11A - X12A`; Jeffery 1915 for the rotation about the normal,
 /// `X11C + X12C`; the others by the same reflection).
-fn free_surface_block(
-    functions: &PairFunctions,
-    eta: f64,
-    a: f64,
-    s_dash: f64,
-    up: f64,
-    k: usize,
-) -> Result<DMatrix<f64>, ResistanceError> {
-    let f = functions.scalars(s_dash, 1.0, k != 11)?;
+fn free_surface_block(f: PairScalars, eta: f64, a: f64, up: f64, k: usize) -> DMatrix<f64> {
     let pair = pair_block(eta, [(a, f), (a, f)], [0.0, 0.0, -up], k);
     let r11 = pair.view((0, 0), (k, k));
     let r12 = pair.view((0, k), (k, k));
-    Ok(r11 + r12 * mirror(k))
+    r11 + r12 * mirror(k)
 }
 
 /// Occurrences of a size ratio among the close pairs from which the tables contracted at
@@ -467,15 +463,7 @@ impl System {
                 let block = wall_block(eta, p.a, eps, b.normal);
                 let exact = DMatrix::from_fn(6, 6, |i, j| block[(i, j)]);
                 let idx: Vec<usize> = (0..k).map(|c| global(parts, n, a, c)).collect();
-                let far = about_boundary(b, p.x, k, |height, x, _| {
-                    Ok::<_, ResistanceError>(single_boundary_self(
-                        &Confinement::Wall { height },
-                        eta,
-                        x,
-                        p.a,
-                        k,
-                    ))
-                })?;
+                let far = single_boundary_self(b, eta, p.x, p.a, k);
                 add_correction(&mut r, &idx, &exact, far, k, 6, 1.0)?;
             }
         }
@@ -514,19 +502,11 @@ impl System {
         );
         for &(a, b, s_dash, weight) in &surface {
             let p = &ps[a];
-            let exact = about_boundary(b, p.x, k, |_, _, up| {
-                free_surface_block(&functions, eta, p.a, s_dash, up, k)
-            })?;
+            let f = functions.scalars(s_dash, 1.0, k != 11)?;
+            let exact =
+                about_boundary(b, p.x, k, |_, _, up| free_surface_block(f, eta, p.a, up, k));
             let idx: Vec<usize> = (0..k).map(|c| global(parts, n, a, c)).collect();
-            let far = about_boundary(b, p.x, k, |height, x, _| {
-                Ok::<_, ResistanceError>(single_boundary_self(
-                    &Confinement::FreeSurface { height },
-                    eta,
-                    x,
-                    p.a,
-                    k,
-                ))
-            })?;
+            let far = single_boundary_self(b, eta, p.x, p.a, k);
             add_correction(&mut r, &idx, &exact, far, k, k, weight)?;
         }
         // (in chunks, so that the corrections waiting to be added stay a few MB)
