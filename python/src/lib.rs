@@ -3,7 +3,8 @@
 //! Two classes: `PySystem` (`stokesian.System`, every confinement and truncation, the
 //! dense mobility, matrix-free products, velocities, the resistance with lubrication,
 //! Brownian trajectories) and `NBody` (`stokesian.NBody`, libMobility's interface in
-//! free space and above a wall). Every error of the library is raised as `ValueError`
+//! free space and above a wall); and `confinements()`, every confinement with its
+//! declared parameters, which `System(..., confinement=NAME, params={...})` takes. Every error of the library is raised as `ValueError`
 //! with the library's message; the arithmetic runs with the GIL released.
 //!
 //! The crate forbids `unsafe` in its own code; PyO3's and rust-numpy's macros expand to
@@ -23,12 +24,14 @@ use numpy::PyUntypedArrayMethods;
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLikeDyn, PyArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use stokesian::{
-    lanczos_sqrt, Brownian, Confinement, ExternalForces, Isa, LubricatedDynamics, Lubrication,
-    Moments, Noise, Particle, Precision, Run, Scheme, System,
+    declaration, lanczos_sqrt, Brownian, Confinement, Dimension, ExternalForces, Isa,
+    LubricatedDynamics, Lubrication, Moments, Noise, ParamError, Particle, Precision, Run, Scheme,
+    System, DECLARATIONS,
 };
 
 /// A library error as `ValueError` with its message.
@@ -198,10 +201,110 @@ fn strain_basis(s: &Floats) -> PyResult<[f64; 5]> {
     }
 }
 
+/// The keyword aliases of `System` (the keywords of the first confinements, kept
+/// beside `params`) and the declared parameter each stands for.
+const ALIASES: [(&str, &str); 3] = [
+    ("boundary_height", "height"),
+    ("lam", "lambda"),
+    ("gap", "gap"),
+];
+
+/// The confinement called `name` (`-` read as `_`) with the declared parameters of
+/// `params` (a dict of numbers by name) and of the keyword aliases given (`aliases`: the
+/// values of [`ALIASES`]' keywords, in order), the others at their defaults. Unknown,
+/// missing, repeated (an alias and its name in `params`) and non-finite parameters are
+/// `ValueError`s with the library's message (`ParamError`), naming the keyword where the
+/// parameter came from one.
+fn declared_confinement(
+    name: &str,
+    params: Option<&Bound<'_, PyDict>>,
+    aliases: [Option<f64>; 3],
+) -> PyResult<Confinement> {
+    let decl = declaration(&name.replace('-', "_")).map_err(value_error)?;
+    let mut values: Vec<(String, f64)> = Vec::new();
+    if let Some(d) = params {
+        for (k, v) in d.iter() {
+            let key: String = k.extract().map_err(|_| {
+                PyValueError::new_err(format!("params: the names must be strings, found {k}"))
+            })?;
+            let value: f64 = v.extract().map_err(|_| {
+                PyValueError::new_err(format!("params[{key:?}] must be a number, found {v}"))
+            })?;
+            values.push((key, value));
+        }
+    }
+    let keywords: Vec<(&str, &str, f64)> = ALIASES
+        .iter()
+        .zip(aliases)
+        .filter_map(|(&(keyword, param), v)| v.map(|v| (keyword, param, v)))
+        .collect();
+    for &(keyword, param, value) in &keywords {
+        if values.iter().any(|(k, _)| k == param) {
+            return Err(PyValueError::new_err(format!(
+                "{keyword} and params[{param:?}] both give the parameter `{param}` \
+                 ({keyword} is its other name): give it once"
+            )));
+        }
+        values.push((param.to_string(), value));
+    }
+    let given: Vec<(&str, f64)> = values.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+    decl.with(&given).map_err(|e| {
+        let via = |param: &str| keywords.iter().find(|(_, p, _)| *p == param);
+        let message = match &e {
+            ParamError::Unknown { param, .. } => match via(param) {
+                Some((keyword, ..)) => format!("{keyword}: {e}"),
+                None => e.to_string(),
+            },
+            ParamError::NotFinite { param, .. } => match via(param) {
+                Some((keyword, ..)) => format!("{keyword}: {e}"),
+                None => e.to_string(),
+            },
+            ParamError::Missing { param, .. } => match ALIASES.iter().find(|(_, p)| p == param) {
+                Some((keyword, _)) => format!("{e} (params={{{param:?}: ...}} or {keyword}=...)"),
+                None => format!("{e} (params={{{param:?}: ...}})"),
+            },
+            _ => e.to_string(),
+        };
+        PyValueError::new_err(message)
+    })
+}
+
+/// Every confinement with its declared parameters: a list of dicts `name`, `title`,
+/// `params` (each `name`, `doc`, `dimension` (`"position"`, `"length"` or `"number"`),
+/// `default` (None: must be given) and `example`).
+#[pyfunction]
+fn confinements(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
+    let out = PyList::empty(py);
+    for decl in DECLARATIONS {
+        let params = PyList::empty(py);
+        for p in decl.params {
+            let d = PyDict::new(py);
+            d.set_item("name", p.name)?;
+            d.set_item("doc", p.doc)?;
+            let dimension = match p.dimension {
+                Dimension::Position(_) => "position",
+                Dimension::Length => "length",
+                Dimension::Number => "number",
+            };
+            d.set_item("dimension", dimension)?;
+            d.set_item("default", p.default)?;
+            d.set_item("example", p.example)?;
+            params.append(d)?;
+        }
+        let d = PyDict::new(py);
+        d.set_item("name", decl.name)?;
+        d.set_item("title", decl.title)?;
+        d.set_item("params", params)?;
+        out.append(d)?;
+    }
+    Ok(out)
+}
+
 /// The module.
 #[pymodule]
 fn _stokesian(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySystem>()?;
     m.add_class::<NBody>()?;
+    m.add_function(wrap_pyfunction!(confinements, m)?)?;
     Ok(())
 }

@@ -19,60 +19,22 @@ pub(crate) struct PySystem {
 #[pymethods]
 impl PySystem {
     #[new]
-    #[pyo3(signature = (positions, radii, *, confinement = "wall", viscosity = 1.0, boundary_height = 0.0, lam = None, gap = None, allow_overlap = false))]
+    #[pyo3(signature = (positions, radii, *, confinement = "wall", params = None, viscosity = 1.0, boundary_height = None, lam = None, gap = None, allow_overlap = false))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         positions: Floats,
         radii: &Bound<'_, PyAny>,
         confinement: &str,
+        params: Option<&Bound<'_, PyDict>>,
         viscosity: f64,
-        boundary_height: f64,
+        boundary_height: Option<f64>,
         lam: Option<f64>,
         gap: Option<f64>,
         allow_overlap: bool,
     ) -> PyResult<Self> {
-        let name = confinement.replace('-', "_");
-        let inapplicable = |option: &str| {
-            PyValueError::new_err(format!(
-                "{option} does not apply to confinement {confinement:?}"
-            ))
-        };
-        if lam.is_some() && name != "interface" {
-            return Err(inapplicable("lam"));
-        }
-        if gap.is_some() && name != "slit" {
-            return Err(inapplicable("gap"));
-        }
-        let params: Vec<f64> = match name.as_str() {
-            "free" if boundary_height != 0.0 => return Err(inapplicable("boundary_height")),
-            "free" => vec![],
-            "interface" => vec![
-                boundary_height,
-                lam.ok_or_else(|| {
-                    PyValueError::new_err(
-                        "confinement \"interface\" needs lam (the viscosity ratio of the \
-                         liquid beyond the interface to the liquid holding the spheres)",
-                    )
-                })?,
-            ],
-            "slit" => vec![
-                boundary_height,
-                gap.ok_or_else(|| {
-                    PyValueError::new_err(
-                        "confinement \"slit\" needs gap (the distance from the lower wall \
-                         to the upper wall)",
-                    )
-                })?,
-            ],
-            _ => vec![boundary_height],
-        };
-        let conf = Confinement::from_name(&name, &params).ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "confinement {confinement:?}: must be one of {}",
-                Confinement::NAMES.join(", ")
-            ))
-        })?;
+        // in the order of ALIASES
+        let conf = declared_confinement(confinement, params, [boundary_height, lam, gap])?;
         let ps = particles(&positions, radii)?;
         let system = py
             .detach(|| System::new(conf, viscosity, ps, allow_overlap))
@@ -99,10 +61,20 @@ impl PySystem {
         PyArray1::from_vec(py, a)
     }
 
-    /// The confinement's name (`free`, `wall`, `free_surface`, `interface`, `slit`).
+    /// The confinement's name (one of `stokesian.confinements()`).
     #[getter]
     fn confinement(&self) -> &'static str {
         self.system.confinement().name()
+    }
+
+    /// The confinement's parameters by name, defaults filled in.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (name, value) in self.system.confinement().params() {
+            d.set_item(name, value)?;
+        }
+        Ok(d)
     }
 
     /// The viscosity.

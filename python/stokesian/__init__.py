@@ -1,10 +1,12 @@
 """stokesian: hydrodynamic interactions of spheres in Stokes flow, unbounded and near a
-plane wall, a free surface, a liquid-liquid interface or in a slit (Swan & Brady, Phys.
-Fluids 19, 113306, 2007), from generated kernels.
+plane wall, a free surface, a liquid-liquid interface, in a slit or beside a side wall
+(Swan & Brady, Phys. Fluids 19, 113306, 2007), from generated kernels.
 
 - :class:`System`: the whole solver (dense grand mobility F, FT, FTS; matrix-free
   products; velocities with or without lubrication; the resistance of Eq. 19; the
   Brownian drift; Brownian dynamics).
+- :func:`confinements`: every confinement and its declared parameters, which
+  ``System(..., confinement=NAME, params={...})`` takes by name.
 - :class:`NBody`: libMobility's interface (``NBody("open", "open", "open")`` or
   ``("open", "open", "single_wall")``), so that a libMobility script changes one import.
 
@@ -14,6 +16,6 @@ velocities are along the force (the mobility is positive definite). Every error 
 library raises ``ValueError`` with the library's message.
 """
 
-from ._stokesian import NBody, System
+from ._stokesian import NBody, System, confinements
 
-__all__ = ["NBody", "System"]
+__all__ = ["NBody", "System", "confinements"]

@@ -20,28 +20,60 @@ the wall, a matrix that is not positive definite, ...) raises ``ValueError`` wit
 library's message.
 """
 
-from typing import ClassVar, Literal, Optional, Sequence, Tuple, Union
+from typing import ClassVar, Dict, List, Literal, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
 
 ArrayLike = npt.ArrayLike
 Moments = Literal["F", "FT", "FTS"]
-Confinement = Literal["free", "wall", "free_surface", "interface", "slit"]
+Confinement = Literal["free", "wall", "free_surface", "interface", "slit", "side_wall"]
+
+
+class Param(TypedDict):
+    """A declared parameter of a confinement."""
+
+    name: str
+    doc: str
+    dimension: Literal["position", "length", "number"]
+    default: Optional[float]
+    example: float
+
+
+class Declaration(TypedDict):
+    """A confinement and its declared parameters."""
+
+    name: Confinement
+    title: str
+    params: List[Param]
+
+
+def confinements() -> List[Declaration]:
+    """Every confinement, with one line on what it is and its declared parameters in
+    order: name, one line of doc, dimension (``"position"`` of a plane along its normal,
+    ``"length"``, or ``"number"`` such as a viscosity ratio), default (None: the
+    parameter must be given) and a typical value. ``System(..., confinement=name,
+    params={...})`` takes them by name."""
 
 class System:
     """Spheres in Stokes flow in one confinement, validated once on construction.
 
-    ``System(positions, radii, *, confinement="wall", viscosity=1.0, boundary_height=0.0,
-    lam=None, gap=None, allow_overlap=False)``
+    ``System(positions, radii, *, confinement="wall", params=None, viscosity=1.0,
+    boundary_height=None, lam=None, gap=None, allow_overlap=False)``
 
     positions: centres, shape (N, 3) or (3N,), length units.
     radii: one radius for all spheres, or one per sphere (shape (N,)).
-    confinement: ``"free"`` (unbounded; boundary_height must stay 0), ``"wall"`` (no-slip
-        plane ``z = boundary_height``, fluid above), ``"free_surface"``, ``"interface"``
-        (needs ``lam``, the viscosity ratio of the liquid below to the liquid holding the
-        spheres, >= 0) or ``"slit"`` (walls at ``z = boundary_height`` and
-        ``boundary_height + gap``; needs ``gap`` > 0).
+    confinement: a name of :func:`confinements` (``-`` read as ``_``): ``"free"``
+        (unbounded), ``"wall"`` (no-slip plane ``z = height``, fluid above),
+        ``"free_surface"``, ``"interface"`` (needs ``lambda``, the viscosity ratio of the
+        liquid below to the liquid holding the spheres, >= 0), ``"slit"`` (walls at
+        ``z = height`` and ``height + gap``; needs ``gap`` > 0) or ``"side_wall"``
+        (no-slip plane ``x = side``, fluid at ``x > side``).
+    params: the confinement's declared parameters by name, e.g. ``{"side": 0.5}``; the
+        others take their defaults (:func:`confinements`). An unknown, missing or
+        non-finite parameter is a ValueError.
+    boundary_height, lam, gap: other names of the parameters ``height``, ``lambda`` and
+        ``gap`` (giving one both ways is a ValueError).
     viscosity: of the fluid holding the spheres (> 0).
     allow_overlap: accept spheres overlapping each other or cutting a boundary (otherwise
         a ValueError naming the particles).
@@ -53,8 +85,9 @@ class System:
         radii: Union[float, ArrayLike],
         *,
         confinement: Confinement = "wall",
+        params: Optional[Dict[str, float]] = None,
         viscosity: float = 1.0,
-        boundary_height: float = 0.0,
+        boundary_height: Optional[float] = None,
         lam: Optional[float] = None,
         gap: Optional[float] = None,
         allow_overlap: bool = False,
@@ -69,6 +102,9 @@ class System:
     @property
     def confinement(self) -> str:
         """The confinement's name."""
+    @property
+    def params(self) -> Dict[str, float]:
+        """The confinement's parameters by name, defaults filled in."""
     @property
     def viscosity(self) -> float:
         """The viscosity."""

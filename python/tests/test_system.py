@@ -214,15 +214,15 @@ def test_zero_copy_reads_of_contiguous_arrays_do_not_change_them():
 
 def test_bad_systems_raise_value_error(tmp_path, cli):
     ok = np.array([[0.0, 0.0, 2.0], [3.0, 0.0, 2.0]])
-    with pytest.raises(ValueError, match="confinement 'moon'|confinement \"moon\""):
+    with pytest.raises(ValueError, match="unknown confinement `moon`"):
         stokesian.System(ok, 1.0, confinement="moon")
-    with pytest.raises(ValueError, match="needs lam"):
+    with pytest.raises(ValueError, match="needs the parameter `lambda`.* or lam="):
         stokesian.System(ok, 1.0, confinement="interface")
-    with pytest.raises(ValueError, match="needs gap"):
+    with pytest.raises(ValueError, match="needs the parameter `gap`"):
         stokesian.System(ok, 1.0, confinement="slit")
-    with pytest.raises(ValueError, match="gap does not apply"):
+    with pytest.raises(ValueError, match="gap: `wall` has no parameter `gap`"):
         stokesian.System(ok, 1.0, confinement="wall", gap=3.0)
-    with pytest.raises(ValueError, match="boundary_height does not apply"):
+    with pytest.raises(ValueError, match="boundary_height: `free` has no parameters"):
         stokesian.System(ok, 1.0, confinement="free", boundary_height=1.0)
     with pytest.raises(ValueError, match="lambda = -1"):
         stokesian.System(ok, 1.0, confinement="interface", lam=-1.0)

@@ -128,7 +128,10 @@ pub use dynamics::{
     Scheme, Step,
 };
 pub use kernels::lanes::Isa;
-pub use kernels::Confinement;
+pub use kernels::{
+    declaration, Boundary, Condition, Confinement, Declaration, Dimension, Param, ParamError,
+    DECLARATIONS,
+};
 pub use linalg::{check_spd, lanczos_sqrt, LanczosError, SpdCheck};
 pub use mobility::{
     solve_fts, strain_components, SingularStressletBlock, Velocities, VelocityError, MAX_CONDITION,

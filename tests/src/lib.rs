@@ -142,7 +142,7 @@ pub fn rel_diff(a: &[f64], b: &[f64]) -> f64 {
 
 /// `n` non-overlapping spheres with radii in `[amin, amax]` and surface gaps at least
 /// `gap_min * a` from each other and from the boundaries, in a box of side `side`
-/// above the lower boundary (and below the upper one).
+/// above the lower boundary (and below the upper one) in x3, `[0, side)` in x1 and x2.
 pub fn random_spheres(
     rng: &mut impl Rng,
     conf: &Confinement,
@@ -174,10 +174,15 @@ pub fn random_spheres(
             rng.gen_range(0.0..side),
             rng.gen_range(z_lo..z_hi),
         ];
+        // clear of every other sphere, and of the planes not normal to x3 (a side wall)
         let clear = ps.iter().all(|q| {
             let d: f64 = (0..3).map(|k| (x[k] - q.x[k]).powi(2)).sum::<f64>().sqrt();
             d >= (a + q.a) * (1.0 + gap_min)
-        });
+        }) && conf
+            .boundaries()
+            .iter()
+            .filter(|b| !b.is_horizontal())
+            .all(|b| b.distance(x) >= a * (1.0 + gap_min));
         if clear {
             ps.push(stokesian::Particle { x, a });
         }

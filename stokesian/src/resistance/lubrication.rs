@@ -10,15 +10,21 @@
 //!   isolated pair in unbounded fluid, from our own kernels.
 //! - `R^W`: the exact sphere-wall resistance (Brenner 1961; O'Neill 1964; Dean & O'Neill
 //!   1963 with Goldman, Cox & Brenner 1967; Jeffery 1915), from the generated tables of
-//!   [`crate::resistance::wall_tables`], for every sphere with `eps = (h - a)/a < wall_cutoff` (by default
+//!   [`crate::resistance::wall_tables`], for every sphere and every boundary the
+//!   confinement declares no-slip (`Confinement::boundaries`, any unit normal `n`), with
+//!   `eps = (h - a)/a < wall_cutoff`, `h` the distance along `n` (by default
 //!   every sphere closer than 1000 radii, beyond which `R^W` equals `R^{W,inf}` to 1e-12:
 //!   no switch, the correction is continuous and smooth in the height);
-//!   `R^{W,inf}` the inverse of the FT self mobility of the sphere with that wall alone,
-//!   from our kernels. At FTS the wall's stresslet rows keep the far-field inverse.
-//! - `R^W` at a flat free surface: exact in every block, stresslets included, because
+//!   `R^{W,inf}` the inverse of the self mobility of the sphere with that wall alone,
+//!   from our kernels: for a plane `x3 = const` the wall's own, for any other normal the
+//!   wall `x3 = 0`'s at the same distance turned by the rotation taking `e3` to `n`
+//!   ([`crate::mobility::rotation`]), which is the single wall of that normal exactly. At
+//!   FTS the wall's stresslet rows keep the far-field inverse.
+//! - `R^W` at a flat free surface (every boundary declared a free surface, its image
+//!   along the normal): exact in every block, stresslets included, because
 //!   the sphere and its mirror image are two equal spheres (`s' = 2h/a`) moving as
 //!   each other's reflection; switched off like a pair correction; `R^{W,inf}` the
-//!   inverse of our own free-surface self mobility.
+//!   inverse of our own free-surface self mobility (turned like the wall's).
 //!
 //! The near-contact coefficients are those of the literature cited where they are used
 //! (two spheres: Jeffrey & Onishi 1984, Jeffrey 1992, as corrected by Townsend 2023; a
@@ -34,8 +40,9 @@ use super::tensors::{mirror, pair_block, wall_block};
 use super::two_sphere::{PairScalars, PairSeries, TwoSphereError};
 use super::wall_tables::EPS_MAX;
 use crate::linalg::Cholesky;
+use crate::mobility::rotation;
 use crate::system::{global, Moments, System};
-use kernels::{pair, pair_ft, self_ft, self_mobility, Confinement};
+use kernels::{pair, pair_ft, self_ft, self_mobility, Boundary, Condition, Confinement};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -184,37 +191,57 @@ pub enum ResistanceError {
 }
 
 /// The self mobility (per-particle layout `[U, Omega, E]`, truncated to `k` = 6 or 11
-/// components) of a sphere with one plane boundary (a no-slip wall: Blake's image holds
-/// on either side of its plane, see kernel-gen green::slit; or a free surface).
-fn single_boundary_self(
-    boundary: &Confinement,
-    eta: f64,
-    x: [f64; 3],
-    a: f64,
-    k: usize,
-) -> DMatrix<f64> {
-    let m = self_mobility(boundary, eta, x, a).matrix();
-    DMatrix::from_fn(k, k, |i, j| m[(i, j)])
+/// components) of a sphere at `x` with the boundary `b` alone (a no-slip wall or a free
+/// surface: Blake's image, or the mirror image), turned to `b`'s normal by
+/// [`about_boundary`].
+fn single_boundary_self(b: &Boundary, eta: f64, x: [f64; 3], a: f64, k: usize) -> DMatrix<f64> {
+    about_boundary(b, x, k, |height, y, _| {
+        let plane = match b.condition {
+            Condition::NoSlip => Confinement::Wall { height },
+            Condition::FreeSurface => Confinement::FreeSurface { height },
+            Condition::Interface => unreachable!("no lubrication at a liquid-liquid interface"),
+        };
+        let m = self_mobility(&plane, eta, y, a).matrix();
+        DMatrix::from_fn(k, k, |i, j| m[(i, j)])
+    })
 }
 
-/// `R^W` of a sphere of radius `a` at height `h` above a flat free surface (`k` = 6 or
-/// 11 components, every block exact): by symmetry the sphere and its mirror image moving
-/// as its reflection, two equal spheres at `s' = 2h/a`, so `R^W = R_11 + R_12 Q` with the
-/// two-sphere blocks seen from the sphere and `Q` the mirror map (Brenner 1961 for the
+/// A `k x k` quantity of a sphere at `x` and the plane boundary `b` alone, from
+/// `f(c, y, up)`, the same quantity of a sphere at `y` and a plane `x3 = c` whose normal
+/// into the fluid is `up e3` (`up = +-1`):
+/// - a plane normal to `e3` (`n = +-e3`): `f(n . e3 offset, x, n3)` in the world frame
+///   itself, the plane's own kernels (a horizontal plane's image holds on either side of
+///   it, as Blake's does for the slit's upper wall: kernel-gen `green::slit`);
+/// - any other normal: `Q f(0, [0, 0, d], 1) Q^T`, the sphere at its distance `d` above
+///   the plane `x3 = 0`, turned by the rotation `R` taking `e3` to `n`
+///   ([`crate::mobility::rotation`]: `Q = diag(R, R, Q5)`).
+fn about_boundary(
+    b: &Boundary,
+    x: [f64; 3],
+    k: usize,
+    f: impl FnOnce(f64, [f64; 3], f64) -> DMatrix<f64>,
+) -> DMatrix<f64> {
+    if b.is_horizontal() {
+        return f(b.offset * b.normal[2], x, b.normal[2]);
+    }
+    let q = rotation::on_components(&rotation::taking_e3_to(b.normal), k);
+    let m = f(0.0, [0.0, 0.0, b.distance(x)], 1.0);
+    &q * m * q.transpose()
+}
+
+/// `R^W` of a sphere of radius `a` at distance `h` from a flat free surface `x3 = const`
+/// whose normal into the fluid is `up e3` (`k` = 6 or 11 components, every block exact):
+/// by symmetry the sphere and its mirror image moving as its reflection, two equal
+/// spheres at `s' = 2h/a` (`f`, the two-sphere functions there at size ratio 1), so
+/// `R^W = R_11 + R_12 Q` with the two-sphere blocks seen from the sphere (the image along
+/// `-up e3`) and `Q` the mirror map (Brenner 1961 for the
 /// normal translation, `X11A - X12A`; Jeffery 1915 for the rotation about the normal,
 /// `X11C + X12C`; the others by the same reflection).
-fn free_surface_block(
-    functions: &PairFunctions,
-    eta: f64,
-    a: f64,
-    s_dash: f64,
-    k: usize,
-) -> Result<DMatrix<f64>, ResistanceError> {
-    let f = functions.scalars(s_dash, 1.0, k != 11)?;
-    let pair = pair_block(eta, [(a, f), (a, f)], [0.0, 0.0, -1.0], k);
+fn free_surface_block(f: PairScalars, eta: f64, a: f64, up: f64, k: usize) -> DMatrix<f64> {
+    let pair = pair_block(eta, [(a, f), (a, f)], [0.0, 0.0, -up], k);
     let r11 = pair.view((0, 0), (k, k));
     let r12 = pair.view((0, k), (k, k));
-    Ok(r11 + r12 * mirror(k))
+    r11 + r12 * mirror(k)
 }
 
 /// Occurrences of a size ratio among the close pairs from which the tables contracted at
@@ -422,29 +449,21 @@ impl System {
         let mut r = Cholesky::new(&m)
             .ok_or(ResistanceError::MobilityNotPositiveDefinite)?
             .inverse();
-        let no_slip: Vec<(f64, bool)> = match *self.confinement() {
-            Confinement::Wall { height } => vec![(height, true)],
-            Confinement::Slit { height, gap } => vec![(height, true), (height + gap, false)],
-            _ => vec![],
-        };
-        // R^W - R^{W,inf}, per sphere and no-slip wall.
+        let boundaries = self.confinement().boundaries();
+        // R^W - R^{W,inf}, per sphere and no-slip boundary (of any normal).
         for (a, p) in ps.iter().enumerate() {
-            for &(plane, above) in &no_slip {
-                let h = if above {
-                    p.x[2] - plane
-                } else {
-                    plane - p.x[2]
-                };
-                let eps = (h - p.a) / p.a;
+            for b in boundaries
+                .iter()
+                .filter(|b| b.condition == Condition::NoSlip)
+            {
+                let eps = (b.distance(p.x) - p.a) / p.a;
                 if eps >= lub.wall_cutoff || eps > EPS_MAX {
                     continue;
                 }
-                let nrm = [0.0, 0.0, if above { 1.0 } else { -1.0 }];
-                let block = wall_block(eta, p.a, eps, nrm);
+                let block = wall_block(eta, p.a, eps, b.normal);
                 let exact = DMatrix::from_fn(6, 6, |i, j| block[(i, j)]);
                 let idx: Vec<usize> = (0..k).map(|c| global(parts, n, a, c)).collect();
-                let wall = Confinement::Wall { height: plane };
-                let far = single_boundary_self(&wall, eta, p.x, p.a, k);
+                let far = single_boundary_self(b, eta, p.x, p.a, k);
                 add_correction(&mut r, &idx, &exact, far, k, 6, 1.0)?;
             }
         }
@@ -453,18 +472,17 @@ impl System {
         let window = lub.pair_window(moments);
         // R^W - R^{W,inf} at a free surface: a pair correction, sphere and image (equal
         // spheres), for the spheres within the window
-        let surface: Vec<(usize, f64, f64)> = match *self.confinement() {
-            Confinement::FreeSurface { height } => ps
-                .iter()
-                .enumerate()
-                .filter_map(|(a, p)| {
-                    let s_dash = 2.0 * (p.x[2] - height) / p.a;
+        let surface: Vec<(usize, &Boundary, f64, f64)> = boundaries
+            .iter()
+            .filter(|b| b.condition == Condition::FreeSurface)
+            .flat_map(|b| {
+                ps.iter().enumerate().filter_map(move |(a, p)| {
+                    let s_dash = 2.0 * b.distance(p.x) / p.a;
                     let weight = pair_weight(s_dash, window);
-                    (weight != 0.0).then_some((a, s_dash, weight))
+                    (weight != 0.0).then_some((a, b, s_dash, weight))
                 })
-                .collect(),
-            _ => vec![],
-        };
+            })
+            .collect();
         // the pairs within the window, in order; their corrections evaluated in parallel
         // and added in that order, so the sum does not depend on the threads
         let close: Vec<(usize, usize, f64, f64)> = (0..n)
@@ -482,11 +500,13 @@ impl System {
                     .flat_map(|&(a, b, _, _)| [ps[b].a / ps[a].a, ps[a].a / ps[b].a]),
             ),
         );
-        for &(a, s_dash, weight) in &surface {
+        for &(a, b, s_dash, weight) in &surface {
             let p = &ps[a];
-            let exact = free_surface_block(&functions, eta, p.a, s_dash, k)?;
+            let f = functions.scalars(s_dash, 1.0, k != 11)?;
+            let exact =
+                about_boundary(b, p.x, k, |_, _, up| free_surface_block(f, eta, p.a, up, k));
             let idx: Vec<usize> = (0..k).map(|c| global(parts, n, a, c)).collect();
-            let far = single_boundary_self(self.confinement(), eta, p.x, p.a, k);
+            let far = single_boundary_self(b, eta, p.x, p.a, k);
             add_correction(&mut r, &idx, &exact, far, k, k, weight)?;
         }
         // (in chunks, so that the corrections waiting to be added stay a few MB)
