@@ -57,19 +57,87 @@ pub fn all_confinements() -> Vec<(&'static str, Confinement)> {
         .collect()
 }
 
-/// The lower and upper limits of the fluid in x3 (its planes `x3 = const`).
-pub fn bounds(c: &Confinement) -> (f64, f64) {
-    let mut lo = f64::NEG_INFINITY;
-    let mut hi = f64::INFINITY;
-    for b in c.boundaries().iter().filter(|b| b.is_horizontal()) {
-        let h = b.offset * b.normal[2];
-        if b.normal[2] > 0.0 {
-            lo = lo.max(h);
-        } else {
-            hi = hi.min(h);
+/// The run-time parameters of the confinement `name`, in the generator's order, each
+/// `choose(param)` (by its declared dimension: the checks name no parameter), and the
+/// confinement they make.
+pub fn with_params(name: &str, choose: impl FnMut(&kernels::Param) -> f64) -> Confinement {
+    let decl = kernels::declaration(name).unwrap_or_else(|e| panic!("{e}"));
+    confinement(name, &decl.params.iter().map(choose).collect::<Vec<_>>())
+}
+
+/// The axes `t1, t2` along a plane of normal `n`: those of its own frame
+/// (`kernel_gen::physics::green::frame`) for the normal turned to its positive side, so
+/// that a plane's axes do not depend on which side the fluid is (the two walls of a
+/// slit share them).
+fn plane_axes(n: [f64; 3]) -> [[f64; 3]; 2] {
+    let k = (0..3)
+        .max_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs()))
+        .expect("three axes");
+    let [t1, t2, _] = kernel_gen::physics::green::frame(if n[k] < 0.0 { n.map(|v| -v) } else { n });
+    [t1, t2]
+}
+
+/// The frame the checks write configurations in: the rows `t1, t2, n` with `n` the
+/// normal of the confinement's first boundary (into the fluid) and `t1, t2` the axes
+/// along its plane ([`plane_axes`]), the identity in free space. A configuration
+/// written with `x3` along that normal (heights over the plane, lateral separations
+/// along `x1`, `x2`) is placed in the world by [`placed`]; for a plane `x3 = const`
+/// the frame is the identity, for a plane normal to another axis a permutation, so
+/// placing is exact.
+pub fn frame_of(c: &Confinement) -> [[f64; 3]; 3] {
+    match c.boundaries().first() {
+        Some(b) => {
+            let [t1, t2] = plane_axes(b.normal);
+            [t1, t2, b.normal]
+        }
+        None => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+    }
+}
+
+/// The point whose coordinates in [`frame_of`] are `local`: `Q^T local`.
+pub fn placed(c: &Confinement, local: [f64; 3]) -> [f64; 3] {
+    let q = frame_of(c);
+    std::array::from_fn(|i| kernels::along([q[0][i], q[1][i], q[2][i]], local))
+}
+
+/// The point at height `h` over the boundary `b` (along its normal, into the fluid),
+/// at `lateral` along its plane's axes ([`plane_axes`]); without a boundary, over the
+/// plane `x3 = 0`.
+pub fn over(b: Option<&kernels::Boundary>, lateral: [f64; 2], h: f64) -> [f64; 3] {
+    let Some(b) = b else {
+        return [lateral[0], lateral[1], h];
+    };
+    let (n, [t1, t2]) = (b.normal, plane_axes(b.normal));
+    std::array::from_fn(|i| b.offset * n[i] + lateral[0] * t1[i] + lateral[1] * t2[i] + h * n[i])
+}
+
+/// The point at height `h` over the confinement's first boundary ([`over`]).
+pub fn above(c: &Confinement, lateral: [f64; 2], h: f64) -> [f64; 3] {
+    over(c.boundaries().first(), lateral, h)
+}
+
+/// A boundary's normal in [`frame_of`] (`Q n`).
+fn local_normal(q: &[[f64; 3]; 3], b: &kernels::Boundary) -> [f64; 3] {
+    std::array::from_fn(|k| kernels::along(q[k], b.normal))
+}
+
+/// Per axis of [`frame_of`], the limits `(lo, hi)` of the fluid that the boundaries
+/// normal to that axis set (infinite where there is none): `(H, H + gap)` along the
+/// third axis of a slit, `(s, inf)` along the third axis of a side wall `x1 = s`.
+pub fn local_bounds(c: &Confinement) -> [(f64, f64); 3] {
+    let q = frame_of(c);
+    let mut out = [(f64::NEG_INFINITY, f64::INFINITY); 3];
+    for b in c.boundaries() {
+        let n = local_normal(&q, &b);
+        if let Some(k) = (0..3).find(|&k| n[k].abs() == 1.0) {
+            if n[k] > 0.0 {
+                out[k].0 = out[k].0.max(b.offset);
+            } else {
+                out[k].1 = out[k].1.min(-b.offset);
+            }
         }
     }
-    (lo, hi)
+    out
 }
 
 /// All entries of the nine blocks in the generator's output order (`BLOCKS`, each
@@ -141,8 +209,11 @@ pub fn rel_diff(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// `n` non-overlapping spheres with radii in `[amin, amax]` and surface gaps at least
-/// `gap_min * a` from each other and from the boundaries, in a box of side `side`
-/// above the lower boundary (and below the upper one) in x3, `[0, side)` in x1 and x2.
+/// `gap_min * a` from each other and from the boundaries, drawn uniformly in a box of
+/// [`frame_of`]: along each axis between the boundaries normal to it (less the gap),
+/// or from one of them to `side` beyond it, or where none is, `[0, side)` along the
+/// first two axes and `[-side, side)` along the third. A boundary normal to none of
+/// the axes is kept by redrawing.
 pub fn random_spheres(
     rng: &mut impl Rng,
     conf: &Confinement,
@@ -151,40 +222,46 @@ pub fn random_spheres(
     gap_min: f64,
     side: f64,
 ) -> Vec<stokesian::Particle> {
-    let (lo, hi) = bounds(conf);
-    let base = if lo.is_finite() { lo } else { 0.0 };
+    let q = frame_of(conf);
+    let bounds = local_bounds(conf);
+    let oblique: Vec<kernels::Boundary> = conf
+        .boundaries()
+        .into_iter()
+        .filter(|b| local_normal(&q, b).iter().all(|v| v.abs() != 1.0))
+        .collect();
     let mut ps: Vec<stokesian::Particle> = Vec::new();
+    let mut misses = 0usize;
     while ps.len() < n {
+        misses += 1;
+        assert!(
+            misses < 1_000_000,
+            "{conf:?}: no room for {n} spheres of radii {amin} to {amax} in a box of {side}"
+        );
         let a = rng.gen_range(amin..=amax);
-        let z_hi = if hi.is_finite() {
-            hi - a * (1.0 + gap_min)
-        } else {
-            base + side
+        let m = a * (1.0 + gap_min);
+        let range = |k: usize| match bounds[k] {
+            (lo, hi) if lo.is_finite() && hi.is_finite() => (lo + m, hi - m),
+            (lo, _) if lo.is_finite() => (lo + m, lo + side),
+            (_, hi) if hi.is_finite() => (hi - side, hi - m),
+            _ if k == 2 => (-side, side),
+            _ => (0.0, side),
         };
-        let z_lo = if lo.is_finite() {
-            lo + a * (1.0 + gap_min)
-        } else {
-            base - side
-        };
-        if z_hi <= z_lo {
+        let ranges = [range(0), range(1), range(2)];
+        if ranges.iter().any(|(lo, hi)| hi <= lo) {
             continue;
         }
-        let x = [
-            rng.gen_range(0.0..side),
-            rng.gen_range(0.0..side),
-            rng.gen_range(z_lo..z_hi),
-        ];
-        // clear of every other sphere, and of the planes not normal to x3 (a side wall)
+        let local = ranges.map(|(lo, hi)| rng.gen_range(lo..hi));
+        let x = placed(conf, local);
+        if oblique.iter().any(|b| b.distance(x) < m) {
+            continue;
+        }
         let clear = ps.iter().all(|q| {
             let d: f64 = (0..3).map(|k| (x[k] - q.x[k]).powi(2)).sum::<f64>().sqrt();
             d >= (a + q.a) * (1.0 + gap_min)
-        }) && conf
-            .boundaries()
-            .iter()
-            .filter(|b| !b.is_horizontal())
-            .all(|b| b.distance(x) >= a * (1.0 + gap_min));
+        });
         if clear {
             ps.push(stokesian::Particle { x, a });
+            misses = 0;
         }
     }
     ps

@@ -29,14 +29,14 @@
 //! beside the rest of their block carry no relative precision of their own, so an
 //! entrywise relative error would be meaningless for them.
 
-use crate::{confinement, norm};
+use crate::{norm, placed, with_params};
 use kernel_gen::catalog::Moments;
 use kernel_gen::kernel::{evaluate_direct, trace, Interaction, KernelSpec, Path, Traced};
 use kernel_gen::number::dd::Dd;
 use kernel_gen::physics::farfield::SWITCH;
 use kernel_gen::physics::green::{Green, Visitor};
 use kernel_gen::physics::operators::BLOCKS;
-use kernels::{BlocksF, BlocksFT, Grand};
+use kernels::{BlocksF, BlocksFT, Dimension, Grand};
 
 /// Required accuracy, norm-wise per block.
 pub const TOL: f64 = 1e-10;
@@ -180,8 +180,9 @@ impl Kind {
     }
 }
 
-/// One configuration: two spheres (or one, for self kernels) relative to the lower
-/// boundary plane.
+/// One configuration: two spheres (or one, for self kernels) relative to the first
+/// boundary plane, written in its frame (`crate::frame_of`: `x3` along its normal;
+/// [`Case::placed`] puts them in the world).
 #[derive(Clone, Debug)]
 pub struct Case {
     /// Which case: `lateral`, `gap`, `radius ratio`, `height` or `scale`.
@@ -190,19 +191,19 @@ pub struct Case {
     pub label: String,
     /// The case's parameter: `rho/h`, `gap/a`, radius ratio, `h/a` or `a`.
     pub parameter: f64,
-    /// Height of the lower plane.
+    /// Offset of the first plane along its normal (every position parameter).
     pub plane: f64,
-    /// Centre of particle a (the self kernels' particle).
+    /// Centre of particle a (the self kernels' particle), in the plane's frame.
     pub xa: [f64; 3],
     /// Radius of particle a.
     pub aa: f64,
-    /// Centre of particle b.
+    /// Centre of particle b, in the plane's frame.
     pub xb: [f64; 3],
     /// Radius of particle b.
     pub ab: f64,
     /// Viscosity.
     pub eta: f64,
-    /// Slit gap (distance between the walls) for this case.
+    /// Every length parameter (a slit's gap: the distance between the walls).
     pub gap: f64,
     /// Whether the self kernels are evaluated (at `xa`, radius `aa`).
     pub with_self: bool,
@@ -214,14 +215,22 @@ pub struct Case {
     pub h_over_a: f64,
 }
 
-/// The run-time parameters of a family for a case, in the generator's order.
-pub fn params(name: &str, c: &Case) -> Vec<f64> {
-    match name {
-        "free" => vec![],
-        "wall" | "free_surface" => vec![c.plane],
-        "interface" => vec![c.plane, 2.5],
-        "slit" => vec![c.plane, c.gap],
-        other => panic!("no parameters for {other}"),
+impl Case {
+    /// The confinement `name` for this case, its parameters by their declared
+    /// dimension: every position [`Case::plane`] (the first plane's offset), every
+    /// length [`Case::gap`], every pure number its example value.
+    pub fn confinement(&self, name: &str) -> kernels::Confinement {
+        with_params(name, |p| match p.dimension {
+            Dimension::Position(_) => self.plane,
+            Dimension::Length => self.gap,
+            Dimension::Number => p.example,
+        })
+    }
+
+    /// The centres `(xa, xb)` in the world, for the confinement `conf`
+    /// ([`crate::placed`]).
+    pub fn placed(&self, conf: &kernels::Confinement) -> ([f64; 3], [f64; 3]) {
+        (placed(conf, self.xa), placed(conf, self.xb))
     }
 }
 
@@ -248,25 +257,23 @@ fn moments(n: usize) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// The f64 kernel through the public API, flattened in the traced output order, and
-/// the graph inputs for the same call.
-pub fn evaluate(
-    kind: Kind,
-    conf: &kernels::Confinement,
-    p: &[f64],
-    c: &Case,
-) -> (Vec<f64>, Vec<f64>) {
-    let mut inputs: Vec<f64> = c.xa.to_vec();
+/// the graph inputs for the same call (the case placed for `conf`, and its run-time
+/// parameters).
+pub fn evaluate(kind: Kind, conf: &kernels::Confinement, c: &Case) -> (Vec<f64>, Vec<f64>) {
+    let p: Vec<f64> = conf.params().iter().map(|v| v.1).collect();
+    let (xa, xb) = c.placed(conf);
+    let mut inputs: Vec<f64> = xa.to_vec();
     let got = if kind.is_self() {
         inputs.extend([c.aa, c.eta]);
         match kind {
-            Kind::SelfFts => flat_grand(&kernels::self_mobility(conf, c.eta, c.xa, c.aa)),
-            Kind::SelfF => flat_f(&kernels::self_f(conf, c.eta, c.xa, c.aa)),
-            _ => flat_ft(&kernels::self_ft(conf, c.eta, c.xa, c.aa)),
+            Kind::SelfFts => flat_grand(&kernels::self_mobility(conf, c.eta, xa, c.aa)),
+            Kind::SelfF => flat_f(&kernels::self_f(conf, c.eta, xa, c.aa)),
+            _ => flat_ft(&kernels::self_ft(conf, c.eta, xa, c.aa)),
         }
     } else {
-        inputs.extend(c.xb);
+        inputs.extend(xb);
         inputs.extend([c.aa, c.ab, c.eta]);
-        let (xa, aa, xb, ab, eta) = (c.xa, c.aa, c.xb, c.ab, c.eta);
+        let (aa, ab, eta) = (c.aa, c.ab, c.eta);
         match kind {
             Kind::PairFts => flat_grand(&kernels::pair(conf, eta, xa, aa, xb, ab)),
             Kind::PairEqualFts => flat_grand(&kernels::pair_equal(conf, eta, xa, xb, aa)),
@@ -284,7 +291,7 @@ pub fn evaluate(
                     va.clone().try_into().unwrap(),
                     vb.clone().try_into().unwrap(),
                 );
-                inputs.extend(p);
+                inputs.extend(&p);
                 inputs.extend(va.iter().chain(&vb));
                 return (pr.a.iter().chain(&pr.b).copied().collect(), inputs);
             }
@@ -300,14 +307,14 @@ pub fn evaluate(
                     va.clone().try_into().unwrap(),
                     vb.clone().try_into().unwrap(),
                 );
-                inputs.extend(p);
+                inputs.extend(&p);
                 inputs.extend(va.iter().chain(&vb));
                 return (pr.a.iter().chain(&pr.b).copied().collect(), inputs);
             }
             _ => unreachable!(),
         }
     };
-    inputs.extend(p);
+    inputs.extend(&p);
     (got, inputs)
 }
 
@@ -338,8 +345,9 @@ pub fn block_errors(traced: &Traced, got: &[f64], want: &[Dd]) -> Vec<(String, f
     out
 }
 
-/// A case with the lower plane at `plane` and the slit gap wide enough for the
-/// spheres (at least 12 a, and three times the highest sphere top: off the mid-plane,
+/// A case with the first plane at offset `plane` and every length parameter (the slit's
+/// gap) wide enough for the spheres (at least 12 a, and three times the highest sphere
+/// top above the plane: off the slit's mid-plane,
 /// where the two walls' contributions to the coupling blocks cancel by symmetry and a
 /// norm-wise relative error would measure nothing but that cancellation).
 #[allow(clippy::too_many_arguments)]
@@ -574,9 +582,8 @@ pub fn stiff_cases() -> Vec<StiffRow> {
                     if kind == Kind::PairEqualFts && c.aa != c.ab {
                         continue;
                     }
-                    let p = params(g.name(), c);
-                    let conf = confinement(g.name(), &p);
-                    let (got, inputs) = evaluate(kind, &conf, &p, c);
+                    let conf = c.confinement(g.name());
+                    let (got, inputs) = evaluate(kind, &conf, c);
                     let dd_inputs: Vec<Dd> = inputs.iter().map(|&x| Dd::new(x)).collect();
                     let want: Vec<Dd> = evaluate_direct(g, &kind.reference(), &dd_inputs);
                     let plain: Vec<f64> = traced.graph.eval(&inputs, &ids);

@@ -1,7 +1,8 @@
 //! Bad input gets a typed error with a clear message, never a panic and never a
 //! partial result.
 
-use integration_tests::WALL;
+use integration_tests::{all_confinements, over, WALL};
+use kernels::Dimension;
 use stokesian::{Confinement, InputError, Moments, Particle, System};
 
 fn p(x: [f64; 3], a: f64) -> Particle {
@@ -52,22 +53,97 @@ fn each_bad_input_is_named() {
             err(Confinement::Slit { height: 0.0, gap: 3.0 }, 1.0, &[p([0.0, 0.0, 2.5], 1.0)]),
             "particle 0: sphere of radius 1 overlaps the boundary, no slip at x3 = 3 (fluid where x3 < 3, approximately) (centre-to-boundary distance 0.5)",
         ),
-        (
-            err(Confinement::Slit { height: 0.0, gap: -3.0 }, 1.0, &[good]),
-            "gap = -3: a length must be a positive finite number",
-        ),
-        (
-            err(Confinement::Interface { height: 0.0, lambda: -1.0 }, 1.0, &[good]),
-            "lambda = -1: a ratio must be a non-negative finite number",
-        ),
-        (
-            err(Confinement::Wall { height: f64::NAN }, 1.0, &[good]),
-            "height = NaN: must be a finite number",
-        ),
     ];
     for (e, msg) in cases {
         assert_eq!(e.to_string(), msg);
     }
+}
+
+/// Every declared parameter of every confinement is checked by its dimension, the
+/// others at their example values: a position must be finite, a length positive and
+/// finite, a pure number (a viscosity ratio) non-negative and finite; the error names
+/// the parameter.
+#[test]
+fn every_declared_parameter_is_checked_by_its_dimension() {
+    let good = p([0.0, 0.0, 2.0], 1.0);
+    let mut checked = 0;
+    for decl in kernels::DECLARATIONS {
+        for (k, param) in decl.params.iter().enumerate() {
+            let bad: &[(f64, &str)] = match param.dimension {
+                Dimension::Position(_) => &[
+                    (f64::NAN, "must be a finite number"),
+                    (f64::NEG_INFINITY, "must be a finite number"),
+                ],
+                Dimension::Length => &[
+                    (-3.0, "a length must be a positive finite number"),
+                    (0.0, "a length must be a positive finite number"),
+                    (f64::INFINITY, "a length must be a positive finite number"),
+                ],
+                Dimension::Number => &[
+                    (-1.0, "a ratio must be a non-negative finite number"),
+                    (f64::NAN, "a ratio must be a non-negative finite number"),
+                ],
+            };
+            for &(value, why) in bad {
+                let mut values: Vec<f64> = decl.params.iter().map(|q| q.example).collect();
+                values[k] = value;
+                let conf = Confinement::from_name(decl.name, &values).expect("declared");
+                assert_eq!(
+                    err(conf, 1.0, &[good]).to_string(),
+                    format!("{} = {value}: {why}", param.name),
+                    "{}",
+                    decl.name
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 0);
+}
+
+/// Every boundary of every confinement, whatever its normal, rejects a centre on or
+/// beyond its plane and a sphere that cuts it, naming that boundary, and accepts a
+/// sphere clear of it (spheres of radius 1 at heights -0.5, 0, 0.5 and 2 over the
+/// plane, along its normal; the example parameters keep the other planes away).
+#[test]
+fn every_boundary_rejects_centres_beyond_it_and_spheres_that_cut_it() {
+    let mut checked = 0;
+    for (name, conf) in all_confinements() {
+        for b in conf.boundaries() {
+            let at = |h: f64| [p(over(Some(&b), [0.3, -0.2], h), 1.0)];
+            for h in [-0.5, 0.0] {
+                match err(conf, 1.0, &at(h)) {
+                    InputError::OutsideFluid {
+                        index: 0, boundary, ..
+                    } => assert_eq!(boundary, b, "{name} at {h}"),
+                    e => panic!("{name}: a centre at {h} from {b}: {e}"),
+                }
+            }
+            match err(conf, 1.0, &at(0.5)) {
+                InputError::OverlapsBoundary {
+                    index: 0,
+                    boundary,
+                    distance,
+                    ..
+                } => {
+                    assert_eq!(boundary, b, "{name}");
+                    // the plane's offset and the height rounded in placing the centre
+                    assert!((distance - 0.5).abs() < 1e-12, "{name}: {distance}");
+                }
+                e => panic!("{name}: a sphere cutting {b}: {e}"),
+            }
+            System::new(conf, 1.0, at(2.0).to_vec(), false)
+                .unwrap_or_else(|e| panic!("{name}: a sphere clear of {b}: {e}"));
+            checked += 1;
+        }
+    }
+    // every boundary the dispatch declares
+    let declared: usize = all_confinements()
+        .iter()
+        .map(|(_, c)| c.boundaries().len())
+        .sum();
+    assert!(declared > 0);
+    assert_eq!(checked, declared);
 }
 
 #[test]
@@ -146,16 +222,13 @@ fn nasty() -> impl proptest::strategy::Strategy<Value = f64> {
     ]
 }
 
-/// Any confinement with any parameters.
+/// Any registered confinement with any parameters.
 fn confinement() -> impl proptest::strategy::Strategy<Value = Confinement> {
     use proptest::prelude::*;
-    prop_oneof![
-        Just(Confinement::Free),
-        nasty().prop_map(|height| Confinement::Wall { height }),
-        nasty().prop_map(|height| Confinement::FreeSurface { height }),
-        (nasty(), nasty()).prop_map(|(height, lambda)| Confinement::Interface { height, lambda }),
-        (nasty(), nasty()).prop_map(|(height, gap)| Confinement::Slit { height, gap }),
-    ]
+    proptest::sample::select(kernels::DECLARATIONS).prop_flat_map(|d| {
+        proptest::collection::vec(nasty(), d.params.len())
+            .prop_map(move |p| Confinement::from_name(d.name, &p).expect("declared"))
+    })
 }
 
 proptest::proptest! {

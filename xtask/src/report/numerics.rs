@@ -378,6 +378,20 @@ impl Operators {
     }
 }
 
+/// Whether the paper's closed forms ([`closed`]: one or two equal spheres above a
+/// no-slip wall at `x3 = 0`) describe the confinement `family` as sampled
+/// ([`sample::cases`]: every position 0): its only boundary is that wall, exactly.
+fn closed_forms_apply(family: &str) -> bool {
+    let conf = sample::cases(family, Kind::Single, 1, 0)[0].confinement(family);
+    conf.boundaries()
+        == [kernels::Boundary {
+            normal: [0.0, 0.0, 1.0],
+            offset: 0.0,
+            condition: kernels::Condition::NoSlip,
+            exact: true,
+        }]
+}
+
 /// The kernel spec of the catalog's family variant `suffix` (`self`, `pair`).
 fn catalog_spec(suffix: &str) -> KernelSpec {
     kernel_gen::catalog::variants()
@@ -397,7 +411,7 @@ impl Visitor for Measure<'_> {
     fn visit<G: Green>(&mut self, g: &G) {
         self.family_index += 1;
         let mut kinds = vec![Kind::Single, Kind::Pair];
-        if g.name() == "wall" {
+        if closed_forms_apply(g.name()) {
             kinds.push(Kind::PairEqual);
         }
         for (k, kind) in kinds.into_iter().enumerate() {
@@ -421,11 +435,8 @@ fn measure<G: Green>(ctx: &Ctx, g: &G, kind: Kind, seed: u64) -> Vec<Row> {
     let ops = Operators::new(&spec);
     let names: Vec<&str> = g.params().iter().map(|p| p.name).collect();
     let params = &names[..];
-    let cases = sample::cases(g.name(), params, kind, cfg.cases, seed);
-    let confs: Vec<Confinement> = cases
-        .iter()
-        .map(|c| Confinement::from_name(g.name(), &c.params).expect("registered family"))
-        .collect();
+    let cases = sample::cases(g.name(), kind, cfg.cases, seed);
+    let confs: Vec<Confinement> = cases.iter().map(|c| c.confinement(g.name())).collect();
     let refs: Vec<Vec<Dd>> = cases
         .iter()
         .map(|c| reference(&traced, params, c))
@@ -433,7 +444,7 @@ fn measure<G: Green>(ctx: &Ctx, g: &G, kind: Kind, seed: u64) -> Vec<Row> {
     let sizes = block_sizes();
     let slow = cfg.slow_cases.min(cases.len());
     let mut rows = Vec::new();
-    let closed_applies = g.name() == "wall" && kind != Kind::Pair;
+    let closed_applies = closed_forms_apply(g.name()) && kind != Kind::Pair;
     let variants = [
         Variant::F64,
         Variant::F32,

@@ -1,17 +1,20 @@
 //! Seeded random configurations of one or two spheres in each confinement, shared by
 //! the sections. The sampling is described by [`DESCRIPTION`] (quoted in the report).
 
+use kernels::{Boundary, Confinement, Dimension};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// How the configurations are drawn (for the report).
 pub const DESCRIPTION: &str = "Configurations are drawn from a ChaCha8 generator with a fixed seed per family. \
-Boundary plane at x3 = 0 (slit: lower wall at 0, upper wall at the width W); viscosity 1. \
+Parameters by their declared dimension: every position 0 (the boundary planes through the origin, e.g. the wall at x3 = 0), \
+every length W log-uniform in [3, 30] times the larger radius (the slit: lower wall at 0, upper wall at W), \
+every pure number log-uniform in [0.1, 10] (the interface's viscosity ratio lambda); viscosity 1. \
 Radii log-uniform in [0.5, 2] (pairs: independently, or one radius for the equal-radius rows). \
-Sphere a: lateral position uniform in [-1, 1]^2, gap to its nearest boundary (h - a)/a log-uniform in [1e-3, 10] \
-(slit: nearest wall chosen at random). Sphere b (pairs): surface gap to sphere a log-uniform in [1e-3, 30] times the mean radius, \
-in a uniformly random direction; configurations where b comes closer than 1e-3 b to a boundary are redrawn. \
-Interface: viscosity ratio lambda log-uniform in [0.1, 10]; slit: W log-uniform in [3, 30] times the larger radius.";
+Sphere a: at a gap (h - a)/a log-uniform in [1e-3, 10] from one boundary (chosen at random where there are several), \
+lateral position uniform in [-1, 1]^2 along that plane's axes; in free space x3 = h. \
+Sphere b (pairs): surface gap to sphere a log-uniform in [1e-3, 30] times the mean radius, \
+in a uniformly random direction; configurations where a sphere comes closer than 1e-3 of its radius to a boundary are redrawn.";
 
 /// One configuration: for self terms `xb == xa` and `ab == aa`.
 #[derive(Clone, Debug)]
@@ -26,6 +29,13 @@ pub struct Case {
     pub ab: f64,
     /// Run-time parameters of the Green's function, in the generator's order.
     pub params: Vec<f64>,
+}
+
+impl Case {
+    /// The confinement `family` with this case's parameters.
+    pub fn confinement(&self, family: &str) -> Confinement {
+        Confinement::from_name(family, &self.params).expect("a registered confinement")
+    }
 }
 
 /// What to draw.
@@ -43,23 +53,15 @@ fn log_uniform(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> f64 {
     (rng.gen_range(lo.ln()..hi.ln())).exp()
 }
 
-/// Is a sphere of radius `a` at height `x3` at least `1e-3 a` away from every plane?
-fn fits(x3: f64, a: f64, lower: Option<f64>, upper: Option<f64>) -> bool {
+/// Is a sphere of radius `a` at `x` at least `1e-3 a` away from every plane?
+fn fits(x: [f64; 3], a: f64, boundaries: &[Boundary]) -> bool {
     let min = a * (1.0 + 1e-3);
-    let above = match lower {
-        Some(h) => x3 - h >= min,
-        None => true,
-    };
-    let below = match upper {
-        Some(h) => h - x3 >= min,
-        None => true,
-    };
-    above && below
+    boundaries.iter().all(|b| b.distance(x) >= min)
 }
 
-/// `n` configurations for the family `family` with parameters named `params`
-/// (`height`, `lambda`, `gap`), seeded by `seed`.
-pub fn cases(family: &str, params: &[&str], kind: Kind, n: usize, seed: u64) -> Vec<Case> {
+/// `n` configurations of the registered confinement `family`, seeded by `seed`.
+pub fn cases(family: &str, kind: Kind, n: usize, seed: u64) -> Vec<Case> {
+    let decl = kernels::declaration(family).unwrap_or_else(|e| panic!("{e}"));
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut out = Vec::with_capacity(n);
     while out.len() < n {
@@ -69,30 +71,31 @@ pub fn cases(family: &str, params: &[&str], kind: Kind, n: usize, seed: u64) -> 
             Kind::Pair => log_uniform(&mut rng, 0.5, 2.0),
         };
         let width = log_uniform(&mut rng, 3.0, 30.0) * aa.max(ab);
-        let lambda = log_uniform(&mut rng, 0.1, 10.0);
-        let p: Vec<f64> = params
+        let ratio = log_uniform(&mut rng, 0.1, 10.0);
+        let p: Vec<f64> = decl
+            .params
             .iter()
-            .map(|&name| match name {
-                "height" => 0.0,
-                "lambda" => lambda,
-                "gap" => width,
-                other => panic!("no sampling rule for the parameter {other}"),
+            .map(|p| match p.dimension {
+                Dimension::Position(_) => 0.0,
+                Dimension::Length => width,
+                Dimension::Number => ratio,
             })
             .collect();
-        let (lower, upper) = match family {
-            "free" => (None, None),
-            _ if params.contains(&"gap") => (Some(0.0), Some(width)),
-            _ => (Some(0.0), None),
-        };
+        let boundaries = Confinement::from_name(family, &p)
+            .expect("a registered confinement")
+            .boundaries();
         let g = log_uniform(&mut rng, 1e-3, 10.0);
-        let from_upper = upper.is_some() && rng.gen_bool(0.5);
-        let h = if from_upper {
-            width - aa * (1.0 + g)
-        } else {
-            aa * (1.0 + g)
-        };
-        let xa = [rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), h];
-        if !fits(h, aa, lower, upper) {
+        // the boundary sphere a is measured from: uniformly at random (reservoir
+        // sampling, one draw per further boundary)
+        let mut from = 0;
+        for k in 1..boundaries.len() {
+            if rng.gen_bool(1.0 / (k as f64 + 1.0)) {
+                from = k;
+            }
+        }
+        let lateral = [rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0)];
+        let xa = integration_tests::over(boundaries.get(from), lateral, aa * (1.0 + g));
+        if !fits(xa, aa, &boundaries) {
             continue;
         }
         let xb = if kind == Kind::Single {
@@ -109,7 +112,7 @@ pub fn cases(family: &str, params: &[&str], kind: Kind, n: usize, seed: u64) -> 
                 xa[1] + d * s * phi.sin(),
                 xa[2] + d * z,
             ];
-            if !fits(xb[2], ab, lower, upper) {
+            if !fits(xb, ab, &boundaries) {
                 continue;
             }
             xb

@@ -272,7 +272,6 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
     for (k, scene) in scenes.iter().enumerate() {
         ctx.progress
             .set_message(format!("scene pruning: {}", scene.name));
-        let params = kernel_params(&scene.confinement);
         let serving = serves(scene, &scenes);
         for (name, flops, far) in op_counts(scene) {
             let suffix = name
@@ -286,22 +285,11 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
             } else {
                 Kind::Pair
             };
-            let cases: Vec<(Confinement, Case)> = sample::cases(
-                &scene.confinement,
-                &params,
-                kind,
-                ctx.cfg.cases,
-                7000 + k as u64,
-            )
-            .into_iter()
-            .map(|c| {
-                (
-                    Confinement::from_name(&scene.confinement, &c.params)
-                        .expect("scene confinement is registered"),
-                    c,
-                )
-            })
-            .collect();
+            let cases: Vec<(Confinement, Case)> =
+                sample::cases(&scene.confinement, kind, ctx.cfg.cases, 7000 + k as u64)
+                    .into_iter()
+                    .map(|c| (c.confinement(&scene.confinement), c))
+                    .collect();
             let ns = time_kernel(ctx, scene, serving, &suffix, &cases);
             if ns.is_none() {
                 untimed.push(name.clone());
@@ -379,15 +367,10 @@ fn family_lanes(ctx: &Ctx) -> Result<String> {
     kernel_gen::physics::green::for_each(&mut counts);
     let mut t = Table::new(&["family", "kernel", "flops", "time per pair"]);
     for (k, (family, flops)) in counts.0.iter().enumerate() {
-        let params = kernel_params(family);
         let cases: Vec<(Confinement, Case)> =
-            sample::cases(family, &params, Kind::Pair, ctx.cfg.cases, 7500 + k as u64)
+            sample::cases(family, Kind::Pair, ctx.cfg.cases, 7500 + k as u64)
                 .into_iter()
-                .map(|c| {
-                    let conf =
-                        Confinement::from_name(family, &c.params).expect("family is registered");
-                    (conf, c)
-                })
+                .map(|c| (c.confinement(family), c))
                 .collect();
         let ns = lane_ns(ctx, Moments::FTS, &cases, &VA, &VB);
         t.row(vec![
@@ -418,19 +401,4 @@ fn moments_fn(suffix: &str) -> &'static str {
     } else {
         "pair"
     }
-}
-
-/// The run-time parameter names of a registered family.
-fn kernel_params(name: &str) -> Vec<&'static str> {
-    struct Find<'a>(&'a str, Vec<&'static str>);
-    impl Visitor for Find<'_> {
-        fn visit<G: Green>(&mut self, g: &G) {
-            if g.name() == self.0 {
-                self.1 = g.params().iter().map(|p| p.name).collect();
-            }
-        }
-    }
-    let mut f = Find(name, Vec::new());
-    kernel_gen::physics::green::for_each(&mut f);
-    f.1
 }

@@ -1,7 +1,7 @@
 //! The generator's independent derivation paths agree, and the emitted kernels are the
 //! expression graph the generator traced.
 
-use integration_tests::{confinement, flat, sample_params};
+use integration_tests::{all_confinements, confinement, flat, placed, sample_params};
 use kernel_gen::catalog::variants;
 use kernel_gen::kernel::{trace, Interaction};
 use kernel_gen::number::dd::Dd;
@@ -60,56 +60,77 @@ fn stokeslet_jets_agree_with_double_double_finite_differences() {
     }
 }
 
-/// The structured path (jets of r and 1/r, Eq. 10 for the image) and the generic
-/// six-variable jets of the whole G(x, y) agree on every derivative up to order 6,
-/// for free space (pair) and the wall (pair and self). Both are exact up to
-/// round-off; 1e-11 relative to the largest derivative of the same order covers the
-/// round-off of sixth derivatives (a few hundred operations each).
+/// The structured path (jets of r and 1/r, Eq. 10 for the image, each image term in
+/// its mirror's frame) and the generic six-variable jets of the whole G(x, y) agree on
+/// every derivative up to order 6, for every registered Green's function (pair, and
+/// self for those with a reflected field), at its example parameters with the points
+/// placed relative to its first boundary. Both are exact up to round-off; 1e-11
+/// relative to the largest derivative of the same order covers the round-off of
+/// sixth derivatives (a few hundred operations each).
 #[test]
 fn structured_and_generic_six_variable_paths_agree() {
-    let x = [0.4, -0.3, 1.1];
-    let y = [-0.5, 0.6, 2.2];
-    let p = [0.1];
-    let order = 6;
-    type Pair = Box<dyn FnMut(&Deriv) -> (f64, f64)>;
-    let cases: Vec<(&str, Pair)> = vec![
-        ("free pair", {
-            let mut s = Structured::new(&Free, &x, &y, &[], order, true, true);
-            let mut g = GenericJets::new(&Free, Part::Full, &x, &y, &[], order);
-            Box::new(move |d| (s.get(d), g.get(d)))
-        }),
-        ("wall pair", {
-            let mut s = Structured::new(&Wall, &x, &y, &p, order, true, true);
-            let mut g = GenericJets::new(&Wall, Part::Full, &x, &y, &p, order);
-            Box::new(move |d| (s.get(d), g.get(d)))
-        }),
-        ("wall self", {
-            let mut s = Structured::new(&Wall, &y, &y, &p, order, false, true);
-            let mut g = GenericJets::new(&Wall, Part::Reflected, &y, &y, &p, order);
-            Box::new(move |d| (s.get(d), g.get(d)))
-        }),
-    ];
-    for (name, mut f) in cases {
-        for n in 0..=order {
-            let ds: Vec<Deriv> = all_derivs(order)
-                .into_iter()
-                .filter(|d| d.order() == n)
-                .collect();
-            let vals: Vec<(f64, f64)> = ds.iter().map(&mut f).collect();
-            let scale = vals.iter().map(|v| v.1.abs()).fold(0.0, f64::max);
-            for (d, (s, g)) in ds.iter().zip(&vals) {
-                assert!(
-                    (s - g).abs() <= 1e-11 * scale,
-                    "{name} {d:?}: structured {s:e} vs generic {g:e} (scale {scale:e})"
-                );
+    struct Paths {
+        checked: Vec<String>,
+    }
+    impl Visitor for Paths {
+        fn visit<G: Green>(&mut self, g: &G) {
+            let p = sample_params(g.name());
+            let conf = confinement(g.name(), &p);
+            let bounded = !conf.boundaries().is_empty();
+            // x3 = 1.1 and 2.2 along the first boundary's normal
+            let (x, y) = (
+                placed(&conf, [0.4, -0.3, 1.1]),
+                placed(&conf, [-0.5, 0.6, 2.2]),
+            );
+            let order = 6;
+            type Pair<'a> = Box<dyn FnMut(&Deriv) -> (f64, f64) + 'a>;
+            let mut cases: Vec<(&str, Pair)> = vec![("pair", {
+                let mut s = Structured::new(g, &x, &y, &p, order, true, true);
+                let mut j = GenericJets::new(g, Part::Full, &x, &y, &p, order);
+                Box::new(move |d| (s.get(d), j.get(d)))
+            })];
+            if bounded {
+                cases.push(("self", {
+                    let mut s = Structured::new(g, &y, &y, &p, order, false, true);
+                    let mut j = GenericJets::new(g, Part::Reflected, &y, &y, &p, order);
+                    Box::new(move |d| (s.get(d), j.get(d)))
+                }));
+            }
+            for (kind, mut f) in cases {
+                for n in 0..=order {
+                    let ds: Vec<Deriv> = all_derivs(order)
+                        .into_iter()
+                        .filter(|d| d.order() == n)
+                        .collect();
+                    let vals: Vec<(f64, f64)> = ds.iter().map(&mut f).collect();
+                    let scale = vals.iter().map(|v| v.1.abs()).fold(0.0, f64::max);
+                    for (d, (s, j)) in ds.iter().zip(&vals) {
+                        assert!(
+                            (s - j).abs() <= 1e-11 * scale,
+                            "{} {kind} {d:?}: structured {s:e} vs generic {j:e} (scale {scale:e})",
+                            g.name()
+                        );
+                    }
+                }
+                self.checked.push(format!("{} {kind}", g.name()));
             }
         }
     }
+    let mut v = Paths { checked: vec![] };
+    kernel_gen::physics::green::for_each(&mut v);
+    println!("structured = generic: {}", v.checked.join(", "));
+    // a pair for every confinement the dispatch lists, a self term for every bounded one
+    let confs = all_confinements();
+    let bounded = confs.iter().filter(|(_, c)| !c.boundaries().is_empty());
+    assert_eq!(v.checked.len(), confs.len() + bounded.count());
 }
 
 /// The emitted kernels and the graph interpreter agree to a few ulps (they perform the
 /// same operations in the same order; Rust does not contract to fused multiply-adds,
-/// so the expected difference is zero, and 4 ulps allows for `powi`).
+/// so the expected difference is zero, and 4 ulps allows for `powi`). The interpreter
+/// runs the kernel as emitted (`Traced::eval`: the exchange of roles, then the branch
+/// its condition selects, such as the closed-form self term wherever the centre is in
+/// the fluid), with either particle of the pair the higher one.
 struct EmittedVsInterpreted {
     checked: usize,
 }
@@ -118,48 +139,57 @@ impl Visitor for EmittedVsInterpreted {
     fn visit<G: Green>(&mut self, g: &G) {
         let p = sample_params(g.name());
         let conf = confinement(g.name(), &p);
-        let (xa, xb, aa, ab, eta) = ([0.7, -0.4, 2.3], [-1.1, 0.9, 1.6], 0.8, 0.55, 1.3);
+        // x3 = 2.3 and 1.6 along the first boundary's normal, in the fluid; either
+        // particle the higher one (the wall's pair kernels exchange roles where b is)
+        let (hi, lo) = (
+            placed(&conf, [0.7, -0.4, 2.3]),
+            placed(&conf, [-1.1, 0.9, 1.6]),
+        );
+        let (aa, ab, eta) = (0.8, 0.55, 1.3);
         for v in variants() {
             let traced = trace(g, &v.spec);
-            let mut inputs: Vec<f64> = xa.to_vec();
-            // the kernel the variant was emitted as, through the public dispatch
-            let got: Vec<f64> = match (v.spec.interaction, v.spec.equal_radii, v.spec.divergence) {
-                (Interaction::SelfTerm, _, false) => {
-                    inputs.extend([aa, eta]);
-                    flat(&self_mobility(&conf, eta, xa, aa))
+            for (xa, xb) in [(hi, lo), (lo, hi)] {
+                let mut inputs: Vec<f64> = xa.to_vec();
+                // the kernel the variant was emitted as, through the public dispatch
+                let got: Vec<f64> =
+                    match (v.spec.interaction, v.spec.equal_radii, v.spec.divergence) {
+                        (Interaction::SelfTerm, _, false) => {
+                            inputs.extend([aa, eta]);
+                            flat(&self_mobility(&conf, eta, xa, aa))
+                        }
+                        (Interaction::SelfTerm, _, true) => {
+                            inputs.extend([aa, eta]);
+                            self_divergence(&conf, eta, xa, aa).a.to_vec()
+                        }
+                        (Interaction::Pair, true, _) => {
+                            inputs.extend(xb);
+                            inputs.extend([aa, eta]);
+                            flat(&pair_equal(&conf, eta, xa, xb, aa))
+                        }
+                        (Interaction::Pair, false, false) => {
+                            inputs.extend(xb);
+                            inputs.extend([aa, ab, eta]);
+                            flat(&pair(&conf, eta, xa, aa, xb, ab))
+                        }
+                        (Interaction::Pair, false, true) => {
+                            inputs.extend(xb);
+                            inputs.extend([aa, ab, eta]);
+                            let d = pair_divergence(&conf, eta, xa, aa, xb, ab);
+                            d.a.iter().chain(&d.b).copied().collect()
+                        }
+                    };
+                inputs.extend(&p);
+                let want: Vec<f64> = traced.eval(&inputs);
+                assert_eq!(got.len(), want.len());
+                for (k, (a, b)) in got.iter().zip(&want).enumerate() {
+                    let ulps = (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs();
+                    assert!(
+                        ulps <= 4 || a == b,
+                        "{}_{} at {xa:?}, {xb:?}, output {k}: emitted {a:e} vs interpreted {b:e} ({ulps} ulps)",
+                        g.name(),
+                        v.suffix
+                    );
                 }
-                (Interaction::SelfTerm, _, true) => {
-                    inputs.extend([aa, eta]);
-                    self_divergence(&conf, eta, xa, aa).a.to_vec()
-                }
-                (Interaction::Pair, true, _) => {
-                    inputs.extend(xb);
-                    inputs.extend([aa, eta]);
-                    flat(&pair_equal(&conf, eta, xa, xb, aa))
-                }
-                (Interaction::Pair, false, false) => {
-                    inputs.extend(xb);
-                    inputs.extend([aa, ab, eta]);
-                    flat(&pair(&conf, eta, xa, aa, xb, ab))
-                }
-                (Interaction::Pair, false, true) => {
-                    inputs.extend(xb);
-                    inputs.extend([aa, ab, eta]);
-                    let d = pair_divergence(&conf, eta, xa, aa, xb, ab);
-                    d.a.iter().chain(&d.b).copied().collect()
-                }
-            };
-            inputs.extend(&p);
-            let want: Vec<f64> = traced.graph.eval(&inputs, &traced.output_ids());
-            assert_eq!(got.len(), want.len());
-            for (k, (a, b)) in got.iter().zip(&want).enumerate() {
-                let ulps = (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs();
-                assert!(
-                    ulps <= 4 || a == b,
-                    "{}_{} output {k}: emitted {a:e} vs interpreted {b:e} ({ulps} ulps)",
-                    g.name(),
-                    v.suffix
-                );
             }
             self.checked += 1;
         }
@@ -170,7 +200,7 @@ impl Visitor for EmittedVsInterpreted {
 fn emitted_kernels_equal_the_interpreted_graph() {
     let mut v = EmittedVsInterpreted { checked: 0 };
     kernel_gen::physics::green::for_each(&mut v);
-    assert_eq!(v.checked, 5 * variants().len());
+    assert_eq!(v.checked, all_confinements().len() * variants().len());
 }
 
 /// The interpreter in double-double on the same graph measures the f64 kernels'

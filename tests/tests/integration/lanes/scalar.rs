@@ -8,7 +8,8 @@
 //! The `*_lanes_ordered` kernels (no exchange of roles) equal the exchanging ones bit for
 //! bit on pairs ordered by height, as the tiled product passes them.
 
-use integration_tests::{all_confinements, bounds, norm, random_spheres};
+use integration_tests::{all_confinements, frame_of, local_bounds, norm, placed, random_spheres};
+use kernels::along;
 use kernels::blocks::{FT_FLAT, F_FLAT};
 use kernels::lanes::{dispatch_with, Element, Isa, Lane, WithLanes};
 use kernels::{
@@ -39,9 +40,18 @@ fn moments<const K: usize>(p: &Pair) -> ([f64; K], [f64; K]) {
     )
 }
 
-/// `p` with `a` and `b` exchanged where `b` is higher (the order of the tiled product).
-fn ordered(p: Pair) -> Pair {
-    if p.xb[2] > p.xa[2] {
+/// The direction the pairs are ordered along: the normal of the plane whose image
+/// cancels the Stokeslet, along which the kernels exchange roles
+/// (`Confinement::exchange_normal`), else the first boundary's.
+fn up(conf: &Confinement) -> [f64; 3] {
+    conf.exchange_normal().unwrap_or(frame_of(conf)[2])
+}
+
+/// `p` with `a` and `b` exchanged where `b` is higher along [`up`] (the order of the
+/// tiled product).
+fn ordered(conf: &Confinement, p: Pair) -> Pair {
+    let n = up(conf);
+    if along(n, p.xb) > along(n, p.xa) {
         let mut v = [0.0; 22];
         v[..11].copy_from_slice(&p.v[11..]);
         v[11..].copy_from_slice(&p.v[..11]);
@@ -201,7 +211,8 @@ fn pairs(conf: &Confinement, rng: &mut ChaCha8Rng) -> Vec<Pair> {
             v: v(rng),
         });
     }
-    let (lo, hi) = bounds(conf);
+    // heights over the first boundary's plane (or the origin), along its normal
+    let (lo, hi) = local_bounds(conf)[2];
     let base = if lo.is_finite() { lo } else { 0.0 };
     let top = if hi.is_finite() {
         hi - 2.0
@@ -226,9 +237,9 @@ fn pairs(conf: &Confinement, rng: &mut ChaCha8Rng) -> Vec<Pair> {
             }
             let phi: f64 = rng.gen_range(0.0..std::f64::consts::TAU);
             out.push(Pair {
-                xa: [rho * phi.cos() + 0.3, rho * phi.sin() - 0.2, za],
+                xa: placed(conf, [rho * phi.cos() + 0.3, rho * phi.sin() - 0.2, za]),
                 aa: 1.0,
-                xb: [0.3, -0.2, zb],
+                xb: placed(conf, [0.3, -0.2, zb]),
                 ab: 0.8,
                 v: v(rng),
             });
@@ -245,16 +256,22 @@ fn pairs(conf: &Confinement, rng: &mut ChaCha8Rng) -> Vec<Pair> {
     out
 }
 
-/// The wall's cancellation factor `rho^2 / (h_a h_b)` of a pair (0 elsewhere).
-fn cancellation(name: &str, conf: &Confinement, p: &Pair) -> f64 {
-    let (lo, _) = bounds(conf);
-    let lo = if lo.is_finite() { lo } else { 0.0 };
-    let rho2 = (p.xa[0] - p.xb[0]).powi(2) + (p.xa[1] - p.xb[1]).powi(2);
-    if name == "wall" {
-        rho2 / ((p.xa[2] - lo) * (p.xb[2] - lo))
-    } else {
-        0.0
-    }
+/// The direct sum's cancellation factor `rho^2 / (h_a h_b)` of a pair where an image
+/// cancels the Stokeslet (the wall's; heights over that plane, `rho` along it), 0
+/// elsewhere.
+fn cancellation(conf: &Confinement, p: &Pair) -> f64 {
+    let Some(n) = conf.exchange_normal() else {
+        return 0.0;
+    };
+    let plane = conf
+        .boundaries()
+        .into_iter()
+        .find(|b| b.normal == n)
+        .expect("the exchange is along a boundary's normal");
+    let [t1, t2, _] = kernel_gen::physics::green::frame(n);
+    let d: [f64; 3] = std::array::from_fn(|k| p.xa[k] - p.xb[k]);
+    let rho2 = along(t1, d).powi(2) + along(t2, d).powi(2);
+    rho2 / (plane.distance(p.xa) * plane.distance(p.xb))
 }
 
 /// Every confinement, the F and FT products and blocks and the FTS blocks, on every
@@ -279,7 +296,7 @@ fn lanes_against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64) {
             // blocks: the kernel without the exchange, on pairs in the tiled product's
             // order
             let list: Vec<Pair> = if blocks {
-                list.iter().copied().map(ordered).collect()
+                list.iter().map(|&p| ordered(&conf, p)).collect()
             } else {
                 list.clone()
             };
@@ -303,7 +320,7 @@ fn lanes_against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64) {
                     let half = e.len() / 2;
                     let scale = norm(&e[..half]).max(norm(&e[half..]));
                     let rel = norm(&d) / scale;
-                    let tol = tol(cancellation(name, &conf, &list[k]));
+                    let tol = tol(cancellation(&conf, &list[k]));
                     if rel > worst.0 {
                         worst = (rel, k);
                     }
@@ -362,9 +379,13 @@ fn ordered_lane_kernels_equal_the_exchanging_ones_on_ordered_pairs() {
     fn check<E: Element>(seed: u64) {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         for (name, conf) in all_confinements() {
-            let list: Vec<Pair> = pairs(&conf, &mut rng).into_iter().map(ordered).collect();
+            let list: Vec<Pair> = pairs(&conf, &mut rng)
+                .into_iter()
+                .map(|p| ordered(&conf, p))
+                .collect();
+            let n = up(&conf);
             assert!(
-                list.iter().any(|p| p.xa[2] == p.xb[2]),
+                list.iter().any(|p| along(n, p.xa) == along(n, p.xb)),
                 "equal heights are tested"
             );
             for level in [Moments::F, Moments::FT] {

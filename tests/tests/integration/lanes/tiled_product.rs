@@ -99,15 +99,23 @@ fn dense_assembly_places_every_block_exactly() {
     }
 }
 
+/// The first confinement whose tiles order the particles along a normal (the kernels
+/// without the exchange of roles, `Confinement::exchange_normal`): the most involved
+/// schedule.
+fn ordering() -> kernels::Confinement {
+    all_confinements()
+        .into_iter()
+        .map(|(_, c)| c)
+        .find(|c| c.exchange_normal().is_some())
+        .expect("a confinement whose kernels exchange roles")
+}
+
 /// Bit for bit the same with 1, 2 and 3 threads, on every instruction set, in double
 /// and single precision: the tiles' schedule fixes the order of every sum.
 #[test]
 fn tiled_product_does_not_depend_on_the_number_of_threads() {
     let mut rng = ChaCha8Rng::seed_from_u64(22);
-    let (_, conf) = all_confinements()
-        .into_iter()
-        .find(|(n, _)| *n == "wall")
-        .unwrap();
+    let conf = ordering();
     // 300 spheres: five blocks, rounds of two tiles
     let ps = random_spheres(&mut rng, &conf, 300, (0.4, 1.2), 0.05, 60.0);
     let s = System::new(conf, 1.0, ps, false).unwrap();
@@ -205,10 +213,7 @@ fn tiled_drift_equals_the_scalar_pair_sum_and_ignores_the_thread_count() {
 fn seeded_brownian_runs_do_not_depend_on_the_number_of_threads() {
     use stokesian::{Brownian, ExternalForces, Noise, Scheme};
     let mut rng = ChaCha8Rng::seed_from_u64(24);
-    let (_, conf) = all_confinements()
-        .into_iter()
-        .find(|(n, _)| *n == "wall")
-        .unwrap();
+    let conf = ordering();
     // 80 spheres: above the size from which the pair loops run in parallel
     let ps = random_spheres(&mut rng, &conf, 80, (0.5, 1.0), 0.2, 25.0);
     let s = System::new(conf, 1.0, ps, false).unwrap();
