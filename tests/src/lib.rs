@@ -1,6 +1,11 @@
 //! Shared helpers for the integration tests: configurations, norms, and the mapping
 //! between the generator's Green's functions and the kernels' confinements.
 //!
+//! The checks name no confinement and no parameter: they take the registered
+//! confinements ([`all_confinements`]), choose parameters by their declared dimension
+//! ([`with_params`]) and place spheres relative to the declared boundaries, whatever
+//! their normals ([`frame_of`], [`placed`], [`over`], [`random_spheres`]).
+//!
 //! The independent references live here too: [`closed_forms`] (free-space far-field
 //! couplings from the literature) and [`paper`] (Appendices B and C of Swan & Brady,
 //! as printed and as corrected).

@@ -347,9 +347,9 @@ pub fn block_errors(traced: &Traced, got: &[f64], want: &[Dd]) -> Vec<(String, f
 
 /// A case with the first plane at offset `plane` and every length parameter (the slit's
 /// gap) wide enough for the spheres (at least 12 a, and three times the highest sphere
-/// top above the plane: off the slit's mid-plane,
-/// where the two walls' contributions to the coupling blocks cancel by symmetry and a
-/// norm-wise relative error would measure nothing but that cancellation).
+/// top above the plane: off the slit's mid-plane, where the two walls' contributions
+/// to the coupling blocks cancel by symmetry and a norm-wise relative error would
+/// measure nothing but that cancellation). Positions in the plane's frame.
 #[allow(clippy::too_many_arguments)]
 pub fn case(
     case: &'static str,

@@ -2,7 +2,7 @@
 //! `kernel_gen::physics::green::for_each`): a new Green's function gets them without new code.
 
 use integration_tests::{
-    above, all_confinements, blocks, norm, rel_diff, sample_params, with_params,
+    above, all_confinements, blocks, frame_of, norm, rel_diff, sample_params, with_params,
 };
 use kernel_gen::physics::derivatives::Structured;
 use kernel_gen::physics::green::{frame, Condition, Green, Visitor};
@@ -310,4 +310,107 @@ fn interface_limits() {
             }
         }
     }
+}
+
+/// A plane with a given condition has one Green's function (no slip: Blake's image,
+/// Eq. 5; a free surface: the mirror image, Eq. 21), whatever its normal. So any two
+/// registered confinements bounded by one plane each, with the same condition
+/// satisfied exactly and no parameter but positions, are the same Green's function in
+/// two frames: the planes through the origin (every position 0), `R = Q_b^T Q_a` the
+/// map between their frames (`integration_tests::frame_of`) and `x_b = R x_a`,
+/// `M_b = T M_a T^T` with `T = diag(R, det(R) R, D(R))` on `(U, Omega, E)` and
+/// `(F, L, S)` alike (the angular velocity and torque are axial vectors) and
+/// `D_mn = B_m : (R B_n R^T)` the rotation of the orthonormal strain basis. Every block
+/// of the self and pair kernels (either particle the higher one) to 1e-13 of its
+/// norm: the same quantity evaluated in two frames, one of them possibly by another
+/// branch (the wall's lateral far field, its canonical frame), each to about 1e-15.
+#[test]
+fn one_plane_with_one_condition_is_one_green_function_in_any_frame() {
+    use kernels::STRAIN_BASIS as B;
+    use nalgebra::SMatrix;
+    let single: Vec<(&str, Confinement)> = all_confinements()
+        .into_iter()
+        .filter(|(_, c)| {
+            let params = c.declaration().params;
+            c.boundaries().len() == 1
+                && c.boundaries()[0].exact
+                && params
+                    .iter()
+                    .all(|p| matches!(p.dimension, Dimension::Position(_)))
+        })
+        .map(|(name, _)| {
+            let origin = with_params(name, |_| 0.0);
+            (name, origin)
+        })
+        .collect();
+    let mut checked = Vec::new();
+    for (i, (na, a)) in single.iter().enumerate() {
+        for (nb, b) in &single[i + 1..] {
+            if a.boundaries()[0].condition != b.boundaries()[0].condition {
+                continue;
+            }
+            let (qa, qb) = (frame_of(a), frame_of(b));
+            let r: [[f64; 3]; 3] = std::array::from_fn(|i| {
+                std::array::from_fn(|j| (0..3).map(|k| qb[k][i] * qa[k][j]).sum())
+            });
+            let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1])
+                - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
+                + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+            let mut t = SMatrix::<f64, 11, 11>::zeros();
+            for i in 0..3 {
+                for j in 0..3 {
+                    t[(i, j)] = r[i][j];
+                    t[(3 + i, 3 + j)] = det * r[i][j];
+                }
+            }
+            for m in 0..5 {
+                for n in 0..5 {
+                    // B_m : (R B_n R^T)
+                    let mut s = 0.0;
+                    for p in 0..3 {
+                        for q in 0..3 {
+                            let rbr: f64 = (0..3)
+                                .flat_map(|k| (0..3).map(move |l| (k, l)))
+                                .map(|(k, l)| r[p][k] * B[n][k][l] * r[q][l])
+                                .sum();
+                            s += B[m][p][q] * rbr;
+                        }
+                    }
+                    t[(6 + m, 6 + n)] = s;
+                }
+            }
+            let rotate = |x: [f64; 3]| -> [f64; 3] {
+                std::array::from_fn(|i| (0..3).map(|k| r[i][k] * x[k]).sum())
+            };
+            let (x1, x2) = (above(a, [0.3, -0.2], 1.7), above(a, [2.1, 1.4], 2.9));
+            let cases = [
+                (
+                    self_mobility(a, 1.3, x1, 0.8),
+                    self_mobility(b, 1.3, rotate(x1), 0.8),
+                ),
+                (
+                    pair(a, 1.3, x1, 0.8, x2, 1.1),
+                    pair(b, 1.3, rotate(x1), 0.8, rotate(x2), 1.1),
+                ),
+                (
+                    pair(a, 1.3, x2, 1.1, x1, 0.8),
+                    pair(b, 1.3, rotate(x2), 1.1, rotate(x1), 0.8),
+                ),
+            ];
+            let mut worst: f64 = 0.0;
+            for (k, (ma, mb)) in cases.into_iter().enumerate() {
+                let want = kernels::Grand::from_matrix(&(t * ma.matrix() * t.transpose()));
+                for ((block, x), (_, y)) in blocks(&mb).into_iter().zip(blocks(&want)) {
+                    let e = rel_diff(&x, &y);
+                    assert!(
+                        e < 1e-13,
+                        "{nb} against {na} rotated, case {k}, {block}: {e:e}"
+                    );
+                    worst = worst.max(e);
+                }
+            }
+            checked.push(format!("{nb} = {na} rotated (worst block {worst:.1e})"));
+        }
+    }
+    println!("{}", checked.join(", "));
 }
