@@ -54,6 +54,8 @@ pub struct StiffRow {
     pub block: String,
     /// `rho/h`, `gap/a`, radius ratio, `h/a` or `a`.
     pub parameter: f64,
+    /// Lateral distance over the smaller height of the configuration.
+    pub rho_over_h: f64,
     /// Norm-wise relative error against the double-double direct sum.
     pub error: f64,
     /// The same for the plain direct sum evaluated in `f64` (the reference's graph,
@@ -597,6 +599,7 @@ pub fn stiff_cases() -> Vec<StiffRow> {
                             kernel: format!("{} {}", kind.name(), c.label),
                             block,
                             parameter: c.parameter,
+                            rho_over_h: c.rho_over_h,
                             error,
                             direct_sum,
                         });
