@@ -15,6 +15,7 @@ use std::process::{Command, Stdio};
 use std::time::Instant;
 
 mod bench;
+mod budget;
 mod report;
 mod wall_limit;
 
@@ -78,17 +79,10 @@ pub(crate) fn scenes() -> Result<Vec<Scene>> {
     paths.iter().map(|p| read_scene(p)).collect()
 }
 
-fn print_counts(files: &[GeneratedFile]) {
-    for f in files {
-        for (name, n) in &f.op_counts {
-            println!("{name:<40} {n:>8} flops");
-        }
-    }
-}
-
 /// `cargo xtask gen --scene FILE [--out PATH]`.
 fn gen_scene(file: &Path, out: Option<&Path>) -> Result<()> {
     let scene = read_scene(file)?;
+    kernel_gen::physics::green::check_registry()?;
     struct One<'a> {
         scene: &'a Scene,
         file: Option<GeneratedFile>,
@@ -108,6 +102,8 @@ fn gen_scene(file: &Path, out: Option<&Path>) -> Result<()> {
     let f = one
         .file
         .expect("the scene's confinement is registered (checked on parse)");
+    print!("{}", budget::table(std::slice::from_ref(&f)));
+    budget::check(std::slice::from_ref(&f), budget::FILE_BUDGET)?;
     let path = match out {
         Some(p) => p.to_path_buf(),
         None => root().join("target/scenes").join(&f.name),
@@ -116,7 +112,6 @@ fn gen_scene(file: &Path, out: Option<&Path>) -> Result<()> {
         std::fs::create_dir_all(dir)?;
     }
     std::fs::write(&path, &f.contents).with_context(|| format!("writing {}", path.display()))?;
-    print_counts(std::slice::from_ref(&f));
     println!("wrote {}", path.display());
     Ok(())
 }
@@ -149,6 +144,9 @@ fn gen(check: bool) -> Result<()> {
         };
         (kernels, join(wall), join(pair), join(far), join(near))
     });
+    let files = files?;
+    print!("{}", budget::table(&files));
+    budget::check(&files, budget::FILE_BUDGET)?;
     let dir = root().join("kernels/src/generated");
     let mut stale = Vec::new();
     for f in &files {
@@ -194,7 +192,6 @@ fn gen(check: bool) -> Result<()> {
             }
         }
     }
-    print_counts(&files);
     println!(
         "generated {} files in {:.2} s, the sphere-wall tables in {:.2} s, the two-sphere \
          recurrence coefficients in {:.2} s and the two-sphere tables in {:.2} s (far) and \
