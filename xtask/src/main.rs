@@ -16,6 +16,7 @@ use std::time::Instant;
 
 mod bench;
 mod budget;
+mod check_green;
 mod report;
 mod wall_limit;
 
@@ -355,6 +356,7 @@ fn main() -> Result<()> {
         ["bench"] => bench::run(&root(), false),
         ["bench", "--quick"] => bench::run(&root(), true),
         ["wall-limit", rest @ ..] => wall_limit::run(rest),
+        ["check-green", rest @ ..] => check_green::run(&root(), rest),
         ["help"] | ["--help"] | ["-h"] | [] => {
             println!("{}", usage());
             Ok(())

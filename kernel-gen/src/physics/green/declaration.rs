@@ -76,8 +76,9 @@ pub enum DeclarationError {
     RepeatedName(&'static str),
 }
 
-/// A lower-case Rust identifier: a letter, then letters, digits and `_`.
-fn identifier(s: &str) -> bool {
+/// Whether `s` is a lower-case Rust identifier (a letter, then letters, digits and `_`):
+/// what names a Green's function, its module and its parameters.
+pub fn is_identifier(s: &str) -> bool {
     let mut c = s.chars();
     c.next().is_some_and(|f| f.is_ascii_lowercase())
         && c.all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
@@ -100,11 +101,11 @@ fn unit(green: &'static str, what: String, normal: [f64; 3]) -> Result<(), Decla
 /// Check one declaration, its planes evaluated at the parameters' example values.
 pub fn check<G: Green>(g: &G) -> Result<(), DeclarationError> {
     let green = g.name();
-    if !identifier(green) {
+    if !is_identifier(green) {
         return Err(DeclarationError::BadName(green));
     }
     for (k, p) in g.params().iter().enumerate() {
-        if !identifier(p.name) {
+        if !is_identifier(p.name) {
             return Err(DeclarationError::BadParamName {
                 green,
                 name: p.name,

@@ -19,7 +19,7 @@ pub mod wall;
 
 mod declaration;
 
-pub use declaration::{check, check_registry, DeclarationError, UNIT_TOLERANCE};
+pub use declaration::{check, check_registry, is_identifier, DeclarationError, UNIT_TOLERANCE};
 
 use crate::number::scalar::Scalar;
 
