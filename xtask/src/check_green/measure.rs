@@ -149,8 +149,10 @@ impl Measure {
             .map(|(d, v)| format!("{} = {v} ({:?})", d.name, d.dimension))
             .collect();
         self.lines.push(format!("`{}`: {}", g.name(), g.title()));
-        self.lines
-            .push(format!("at the example parameters: {}", params.join(", ")));
+        if !params.is_empty() {
+            self.lines
+                .push(format!("at the example parameters: {}", params.join(", ")));
+        }
         let boundaries = g.boundaries(&p);
         let mut rng = ChaCha8Rng::seed_from_u64(35);
         self.boundary_conditions(g, &p, &boundaries, &mut rng)?;
