@@ -1,7 +1,9 @@
 //! `cargo xtask gen [--check]`: regenerate the committed kernels in
 //! `kernels/src/generated/` from the registry and the scenes in `scenes/`, or (with
 //! `--check`) fail when they are stale. `cargo xtask gen --scene FILE [--out PATH]`:
-//! generate one scene as a standalone module. `cargo xtask report`: check that the
+//! generate one scene as a standalone module; every file within the size budget
+//! ([`budget`](mod@budget)). `cargo xtask check-green FILE.rs`: try a Green's function that
+//! is not registered, in a scratch copy ([`check_green`]). `cargo xtask report`: check that the
 //! committed kernels are up to date, then measure and write `report/` ([`report`]).
 //! `cargo xtask test`: every test, Rust and Python ([`test`](fn@test)). `cargo xtask bench`: the
 //! performance table of README.md and docs/performance.md ([`bench`](mod@bench)).
@@ -29,12 +31,19 @@ fn root() -> PathBuf {
 
 fn usage() -> &'static str {
     "usage: cargo xtask gen [--check] | cargo xtask gen --scene FILE [--out PATH] | cargo xtask report [--quick]\n\
+     | cargo xtask check-green FILE.rs [--name NAME] | cargo xtask check-green --registered NAME\n\
      | cargo xtask test | cargo xtask bench [--quick] | cargo xtask wall-limit [--truncation N]\n\
      \n\
-     gen                       regenerate kernels/src/generated/ from kernel-gen and scenes/*.toml\n\
+     gen                       regenerate kernels/src/generated/ from kernel-gen and scenes/*.toml; prints each\n\
+                               kernel's operations and bytes, and writes nothing if a file is over the size budget\n\
      gen --check               exit non-zero if the committed kernels differ from what the generator produces\n\
      gen --scene FILE          generate only what the scene FILE needs, as a standalone module\n\
                                (default output: target/scenes/<name>.rs)\n\
+     check-green FILE.rs       try a Green's function that is not registered (one `impl Green for T`, T a unit\n\
+                               struct) in a scratch copy under target/check-green/: registered as module NAME (default:\n\
+                               the file's stem), generated, built (time and peak memory), measured and tested\n\
+     check-green --registered NAME  measure a registered Green's function: boundary residuals, incompressibility,\n\
+                               structured against generic derivatives\n\
      report                    check the committed kernels (as gen --check), then measure them and the solver and\n\
                                write report/REPORT.md with its plots (deleted and recreated); --quick: a reduced sample\n\
      test                      every test: cargo test --workspace --release, then the Python module built into\n\
