@@ -5,7 +5,7 @@
 use crate::error::CliError;
 use crate::options::{finite, parse_components, positive, PairToleranceArg};
 use crate::output::{self, check_out, write_atomically, write_npy_header, Format};
-use crate::system::{moments_default_f, ConfinementArg, MomentsArg, SystemArgs};
+use crate::system::{moments_default_f, MomentsArg, SystemArgs};
 use clap::{Args, ValueEnum};
 use indicatif::ProgressBar;
 use std::io::{self, Write};
@@ -292,10 +292,13 @@ pub fn run(args: &BrownianArgs) -> Result<(), CliError> {
             reason: "must be at least 1 (write every K-th step)".to_string(),
         });
     }
-    if args.repulsion_strength != 0.0 && args.system.kind() == ConfinementArg::Free {
+    if args.repulsion_strength != 0.0 && args.system.confinement()?.boundaries().is_empty() {
         return Err(CliError::Inapplicable {
             option: "--repulsion-strength",
-            context: "--confinement free (there is no boundary to repel from)".to_string(),
+            context: format!(
+                "--confinement {} (there is no boundary to repel from)",
+                args.system.declaration().name
+            ),
         });
     }
     let pb = &output::spinner();

@@ -93,12 +93,13 @@ pub enum CliError {
         value: String,
         reason: String,
     },
-    /// A confinement needs an option that was not given.
-    #[error("--confinement {confinement} needs {option} ({what})")]
-    MissingOption {
-        confinement: &'static str,
-        option: &'static str,
-        what: &'static str,
+    /// A confinement parameter given wrongly: unknown, missing, given twice, not
+    /// finite (`place`: how it was given, where that helps; `hint`: what to do).
+    #[error("{place}{source}{hint}")]
+    Param {
+        place: String,
+        source: kernels::ParamError,
+        hint: String,
     },
     /// An option was given that the confinement or truncation does not use.
     #[error("{option} does not apply to {context}")]

@@ -4,8 +4,8 @@
 //! one module per subcommand.
 //!
 //! The subcommands share the description of the system (`--confinement` and
-//! `--moments` or `--scene`, `--particles`, `--viscosity`, `--boundary-height`,
-//! `--lambda`, `--gap`, `--allow-overlap`):
+//! `--moments` or `--scene`, `--param NAME=VALUE` and its aliases `--boundary-height`,
+//! `--lambda`, `--gap`, `--particles`, `--viscosity`, `--allow-overlap`):
 //!
 //! - `stokesian mobility ... --out M.npy|M.csv|M.json` writes the dense grand mobility, and
 //!   `stokesian resistance` the resistance with lubrication;
@@ -13,7 +13,9 @@
 //!   rotation rates) of force- and torque-given spheres;
 //! - `stokesian brownian ... --steps N --dt DT --out traj.csv|traj.npy` integrates
 //!   overdamped Brownian dynamics with hydrodynamic interactions;
-//! - `stokesian doublet --out doublet.csv|doublet.npy` studies the co-rotating doublet.
+//! - `stokesian doublet --out doublet.csv|doublet.npy` studies the co-rotating doublet;
+//! - `stokesian confinements` lists the confinements the kernels declare, their
+//!   parameters and boundaries.
 //!
 //! Every output's format is chosen by the extension of `--out` among those the
 //! subcommand writes (`output::check_out`); any other extension is refused before any
@@ -30,6 +32,7 @@
 //! | `velocity` | `velocity` |
 //! | `brownian` | `brownian` |
 //! | `doublet` | `doublet` |
+//! | `confinements` | `confinements`: the declared confinements listed |
 //! | `plot` | the doublet's contour plot (plotters) |
 //!
 //! Every input error names the file, the line (or row) and the particle; output is
@@ -37,6 +40,7 @@
 //! partial output file is ever left behind.
 
 mod brownian;
+mod confinements;
 mod doublet;
 mod error;
 mod matrix;
@@ -70,20 +74,17 @@ SIGN CONVENTION
     near a wall of a narrow slit, below).
 
 GEOMETRY AND CONFINEMENTS
-    The boundary is the plane z = --boundary-height (default 0) and the fluid that holds
-    the spheres is above it (z > boundary-height).
-      free           unbounded fluid; no boundary (do not give --boundary-height).
-      wall           rigid no-slip plane wall (Blake's image system).
-      free-surface   flat, undeformable free surface (e.g. a flat air-water interface):
-                     no flow through it and no shear stress on it.
-      interface      flat, undeformable liquid-liquid interface; --lambda is the
-                     viscosity of the liquid below the interface divided by the viscosity
-                     of the liquid that holds the spheres (0: free surface; large: wall).
-      slit           two parallel no-slip walls at z = boundary-height and
-                     z = boundary-height + --gap, by superposing the single-wall images.
-                     An approximation: accurate for wide slits, and not positive definite
-                     near a wall of a narrow slit (use gap >= ~12 radii for a single sphere,
-                     ~50 radii for touching pairs near a wall).
+    --confinement NAME chooses the Green's function (--help lists the names; a hyphen
+    may stand for each underscore, as in free-surface) and --param NAME=VALUE, repeated,
+    its parameters; those not given take their defaults. `stokesian confinements` lists
+    every confinement with its parameters (default or required, what each is) and its
+    boundary planes. --boundary-height H, --lambda L and --gap G stand for
+    --param height=H, lambda=L and gap=G; giving one of them and the same --param, or
+    one the confinement does not have, is an error.
+    The slit's boundaries hold only approximately (it superposes the single-wall
+    images): accurate for wide slits, and not positive definite near a wall of a narrow
+    slit (use gap >= ~12 radii for a single sphere, ~50 radii for touching pairs near a
+    wall).
 
 MOMENTS
     F    point forces: velocities of the centres (3N unknowns).
@@ -173,6 +174,9 @@ enum Command {
     /// The co-rotating doublet above a wall (Swan & Brady Sec. III B, Figs. 2-3).
     #[command(long_about = doublet::ABOUT)]
     Doublet(doublet::DoubletArgs),
+    /// List the confinements: names, parameters (defaults, what they are), boundaries.
+    #[command(long_about = confinements::ABOUT)]
+    Confinements(confinements::ConfinementsArgs),
 }
 
 /// Parse the command line, run the subcommand, and report an error on stderr.
@@ -195,6 +199,7 @@ fn main() -> ExitCode {
             .resolve_scene()
             .and_then(|()| brownian::run(&args)),
         Command::Doublet(args) => doublet::run(&args),
+        Command::Confinements(args) => confinements::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,14 +4,9 @@
 use crate::error::CliError;
 
 /// A number as Rust prints it (shortest round trip), in exponent form when it is very
-/// large or very small (`1e-301`, not three hundred zeros).
-pub fn num(v: f64) -> String {
-    if v != 0.0 && v.is_finite() && !(1e-5..1e16).contains(&v.abs()) {
-        format!("{v:e}")
-    } else {
-        format!("{v}")
-    }
-}
+/// large or very small (`1e-301`, not three hundred zeros): the library's, so that the
+/// command's messages and the boundaries' descriptions agree.
+pub use kernels::readable as num;
 
 /// A positive finite option value.
 pub fn positive(option: &'static str, value: f64, what: &str) -> Result<(), CliError> {

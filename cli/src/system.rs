@@ -1,12 +1,16 @@
 //! The system arguments every subcommand shares (confinement, truncation or scene file,
-//! particles, viscosity, boundary parameters, overlaps), their validation and the
-//! mapping of the library's [`InputError`] to files, lines and options; and the cause
-//! named when a result is not finite.
+//! particles, viscosity, the confinement's parameters, overlaps), their validation and
+//! the mapping of the library's [`InputError`] to files, lines and options; and the
+//! cause named when a result is not finite. The confinements and their parameters are
+//! those the kernels declare (`kernels::DECLARATIONS`): `--confinement NAME` and
+//! `--param NAME=VALUE`, with the aliases [`ALIASES`].
 
 use crate::error::CliError;
 use crate::options::{num, positive};
 use crate::table::{self, Columns, Table};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, ValueEnum};
+use kernels::{Declaration, ParamError};
 use std::fs;
 use std::path::PathBuf;
 use stokesian::{Confinement, InputError, Moments, Particle, System};
@@ -14,10 +18,19 @@ use stokesian::{Confinement, InputError, Moments, Particle, System};
 /// The system: confinement, truncation, particles, viscosity.
 #[derive(Args, Debug)]
 pub struct SystemArgs {
-    /// The boundary: free (none), wall, free-surface, interface (needs --lambda) or slit
-    /// (needs --gap).
-    #[arg(long, value_enum, required_unless_present = "scene")]
-    pub confinement: Option<ConfinementArg>,
+    /// The Green's function: one of the registry's confinements (a hyphen may stand for
+    /// each underscore); `stokesian confinements` lists them with their parameters.
+    #[arg(
+        long,
+        value_name = "NAME",
+        value_parser = confinement_parser(),
+        required_unless_present = "scene"
+    )]
+    pub confinement: Option<&'static Declaration>,
+    /// A parameter of the confinement, NAME=VALUE (repeatable); those not given take
+    /// their defaults (`stokesian confinements` lists them).
+    #[arg(long = "param", value_name = "NAME=VALUE", value_parser = parse_param)]
+    pub params: Vec<(String, f64)>,
     /// Truncation of the multipole expansion: F, FT or FTS.
     #[arg(
         long,
@@ -40,13 +53,15 @@ pub struct SystemArgs {
     /// Viscosity of the fluid that holds the spheres.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub viscosity: f64,
-    /// Height of the boundary plane z = H [default: 0; not for free].
+    /// --param height=H: the height of the boundary plane x3 = H, for the confinements
+    /// that have a `height` [default: 0].
     #[arg(long, value_name = "H", allow_negative_numbers = true)]
     pub boundary_height: Option<f64>,
-    /// Interface only: viscosity ratio (liquid below / liquid holding the spheres), >= 0.
+    /// --param lambda=L: the interface's viscosity ratio (liquid below / liquid holding
+    /// the spheres), >= 0.
     #[arg(long, value_name = "L", allow_negative_numbers = true)]
     pub lambda: Option<f64>,
-    /// Slit only: distance from the lower wall to the upper wall (> 0).
+    /// --param gap=G: the slit's distance from the lower wall to the upper wall (> 0).
     #[arg(long, value_name = "G", allow_negative_numbers = true)]
     pub gap: Option<f64>,
     /// Accept spheres that overlap each other or cut a boundary (normally an error).
@@ -54,20 +69,57 @@ pub struct SystemArgs {
     pub allow_overlap: bool,
 }
 
-/// `--confinement`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ConfinementArg {
-    /// Unbounded fluid.
-    Free,
-    /// No-slip plane wall at z = H.
-    Wall,
-    /// Flat free surface at z = H.
-    #[value(alias = "free_surface")]
-    FreeSurface,
-    /// Flat liquid-liquid interface at z = H, viscosity ratio --lambda.
-    Interface,
-    /// Two no-slip walls at z = H and z = H + --gap.
-    Slit,
+/// The options that stand for `--param NAME=`, kept from before `--param`: (option,
+/// parameter).
+pub const ALIASES: [(&str, &str); 3] = [
+    ("--boundary-height", "height"),
+    ("--lambda", "lambda"),
+    ("--gap", "gap"),
+];
+
+/// The declaration called `name`, a hyphen standing for each underscore
+/// (`free-surface` for `free_surface`), in any case.
+fn confinement_named(name: &str) -> Result<&'static Declaration, ParamError> {
+    kernels::declaration(&name.to_ascii_lowercase().replace('-', "_"))
+}
+
+/// `--confinement`: the registry's names, each with its title as help and its hyphenated
+/// spelling as an alias.
+fn confinement_parser() -> impl clap::builder::TypedValueParser<Value = &'static Declaration> {
+    let values = kernels::DECLARATIONS.iter().map(|d| {
+        PossibleValue::new(d.name)
+            .help(d.title)
+            .alias(d.name.replace('_', "-"))
+    });
+    PossibleValuesParser::new(values).map(|name| {
+        confinement_named(&name).expect("a possible value of --confinement names a declaration")
+    })
+}
+
+/// `--param NAME=VALUE`.
+fn parse_param(text: &str) -> Result<(String, f64), String> {
+    let (name, value) = text
+        .split_once('=')
+        .ok_or("expected NAME=VALUE, such as gap=12")?;
+    let name = name.trim();
+    if name.is_empty() {
+        return Err("the parameter's name is empty (expected NAME=VALUE)".to_string());
+    }
+    let value: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| format!("{:?} is not a number", value.trim()))?;
+    Ok((name.to_string(), value))
+}
+
+/// `its parameters: a, b` or `it has no parameters`, for messages.
+fn parameters_phrase(d: &Declaration) -> String {
+    if d.params.is_empty() {
+        "it has no parameters".to_string()
+    } else {
+        let names: Vec<&str> = d.params.iter().map(|p| p.name).collect();
+        format!("its parameters: {}", names.join(", "))
+    }
 }
 
 /// `--moments`.
@@ -170,10 +222,7 @@ impl SystemArgs {
             None => Err(bad(format!("`{key}` is missing"))),
         };
         let c = string("confinement")?;
-        self.confinement = Some(
-            ConfinementArg::from_str(&c, true)
-                .map_err(|_| bad(format!("unknown confinement `{c}`")))?,
-        );
+        self.confinement = Some(confinement_named(&c).map_err(|e| bad(e.to_string()))?);
         let m = string("moments")?;
         self.moments = Some(
             MomentsArg::from_str(&m, true)
@@ -182,8 +231,8 @@ impl SystemArgs {
         Ok(())
     }
 
-    /// The confinement kind (given, or read by [`SystemArgs::resolve_scene`]).
-    pub fn kind(&self) -> ConfinementArg {
+    /// The confinement's declaration (given, or read by [`SystemArgs::resolve_scene`]).
+    pub fn declaration(&self) -> &'static Declaration {
         self.confinement
             .expect("clap requires --confinement or --scene, and resolve_scene reads the scene")
     }
@@ -194,57 +243,81 @@ impl SystemArgs {
             .expect("clap requires --moments or --scene, and resolve_scene reads the scene")
     }
 
-    /// The confinement from the command line, with a clear error for a missing or
-    /// inapplicable parameter (the values themselves are the library's to check).
-    fn confinement(&self) -> Result<Confinement, CliError> {
-        let (name, shown) = match self.kind() {
-            ConfinementArg::Free => ("free", "free"),
-            ConfinementArg::Wall => ("wall", "wall"),
-            ConfinementArg::FreeSurface => ("free_surface", "free-surface"),
-            ConfinementArg::Interface => ("interface", "interface"),
-            ConfinementArg::Slit => ("slit", "slit"),
-        };
-        let inapplicable = |option: &'static str| CliError::Inapplicable {
-            option,
-            context: format!("--confinement {shown}"),
-        };
-        if self.lambda.is_some() && self.kind() != ConfinementArg::Interface {
-            return Err(inapplicable("--lambda"));
+    /// The parameters given, each with how: the aliases first, then `--param` in order.
+    fn given(&self) -> Vec<Given<'_>> {
+        let aliases = [self.boundary_height, self.lambda, self.gap];
+        let by_alias = ALIASES
+            .iter()
+            .zip(aliases)
+            .filter_map(|(&(option, name), value)| {
+                value.map(|value| Given {
+                    name,
+                    value,
+                    option,
+                })
+            });
+        let by_param = self.params.iter().map(|(name, value)| Given {
+            name,
+            value: *value,
+            option: "--param",
+        });
+        by_alias.chain(by_param).collect()
+    }
+
+    /// The confinement from the command line by its declaration
+    /// ([`Declaration::with`]): an alias that does not apply, an unknown, missing,
+    /// repeated or non-finite parameter is an error that says which (the values'
+    /// ranges are the library's to check).
+    pub fn confinement(&self) -> Result<Confinement, CliError> {
+        let decl = self.declaration();
+        let given = self.given();
+        for g in &given {
+            if g.option != "--param" && !decl.params.iter().any(|p| p.name == g.name) {
+                return Err(CliError::Inapplicable {
+                    option: g.option,
+                    context: format!("--confinement {} ({})", decl.name, parameters_phrase(decl)),
+                });
+            }
         }
-        if self.gap.is_some() && self.kind() != ConfinementArg::Slit {
-            return Err(inapplicable("--gap"));
-        }
-        let height = self.boundary_height.unwrap_or(0.0);
-        let params: Vec<f64> = match self.kind() {
-            ConfinementArg::Free => {
-                if self.boundary_height.is_some() {
-                    return Err(inapplicable("--boundary-height"));
+        let values: Vec<(&str, f64)> = given.iter().map(|g| (g.name, g.value)).collect();
+        decl.with(&values).map_err(|source| {
+            let shown = |name: &str| -> Vec<String> {
+                given
+                    .iter()
+                    .filter(|g| g.name == name)
+                    .map(Given::shown)
+                    .collect()
+            };
+            let (place, hint) = match &source {
+                ParamError::Unknown { param, .. } => (shown(param).join(", "), String::new()),
+                ParamError::Missing { param, .. } => {
+                    let alias = ALIASES
+                        .iter()
+                        .find(|(_, name)| name == param)
+                        .map(|(option, _)| format!(" or {option} VALUE"))
+                        .unwrap_or_default();
+                    (
+                        String::new(),
+                        format!(" (give --param {param}=VALUE{alias})"),
+                    )
                 }
-                vec![]
+                ParamError::Repeated(param) => (
+                    String::new(),
+                    format!(" ({}; give it once)", shown(param).join(" and ")),
+                ),
+                ParamError::NotFinite { param, .. } => (shown(param).join(", "), String::new()),
+                ParamError::UnknownConfinement(_) => (String::new(), String::new()),
+            };
+            let place = if place.is_empty() {
+                place
+            } else {
+                format!("{place}: ")
+            };
+            CliError::Param {
+                place,
+                source,
+                hint,
             }
-            ConfinementArg::Wall | ConfinementArg::FreeSurface => vec![height],
-            ConfinementArg::Interface => {
-                let lambda = self.lambda.ok_or(CliError::MissingOption {
-                    confinement: shown,
-                    option: "--lambda",
-                    what: "the viscosity ratio of the liquid below the interface to the \
-                           liquid holding the spheres",
-                })?;
-                vec![height, lambda]
-            }
-            ConfinementArg::Slit => {
-                let gap = self.gap.ok_or(CliError::MissingOption {
-                    confinement: shown,
-                    option: "--gap",
-                    what: "the distance from the lower wall to the upper wall",
-                })?;
-                vec![height, gap]
-            }
-        };
-        Confinement::from_name(name, &params).ok_or_else(|| CliError::BadOption {
-            option: "--confinement",
-            value: shown.to_string(),
-            reason: "not a confinement the kernels know".to_string(),
         })
     }
 
@@ -272,13 +345,34 @@ impl SystemArgs {
             })
             .collect();
         let system = System::new(conf, self.viscosity, particles, self.allow_overlap)
-            .map_err(|e| input_error(e, &table))?;
+            .map_err(|e| input_error(e, &table, &self.given()))?;
         Ok(Setup {
             system,
             table,
             moments: self.truncation(),
             allow_overlap: self.allow_overlap,
         })
+    }
+}
+
+/// A parameter as the command line gave it.
+struct Given<'a> {
+    /// The declared name it stands for.
+    name: &'a str,
+    /// Its value.
+    value: f64,
+    /// `--param` or the alias that gave it.
+    option: &'static str,
+}
+
+impl Given<'_> {
+    /// As typed: `--gap 12` or `--param gap=12`.
+    fn shown(&self) -> String {
+        if self.option == "--param" {
+            format!("--param {}={}", self.name, num(self.value))
+        } else {
+            format!("{} {}", self.option, num(self.value))
+        }
     }
 }
 
@@ -323,20 +417,27 @@ impl Setup {
             format!(
                 "spheres accepted with --allow-overlap overlap ({}), where the kernels are \
                  not meaningful",
-                input_error(e, &self.table)
+                // the confinement's parameters passed this validation already
+                input_error(e, &self.table, &[])
             )
         })
     }
 
-    /// Why the stresslet block is not positive definite: accepted overlaps, a narrow
-    /// slit, or neither (unexpected).
+    /// Why the stresslet block is not positive definite: accepted overlaps, boundaries
+    /// that hold only approximately (the slit's superposed images, not positive definite
+    /// near a wall of a narrow slit), or neither (unexpected).
     pub fn indefinite(&self) -> String {
+        let conf = self.system.confinement();
         if let Some(overlap) = self.accepted_overlap() {
             overlap
-        } else if matches!(self.system.confinement(), Confinement::Slit { .. }) {
-            "the slit's superposed images are not positive definite near a wall of a \
-             narrow slit: widen --gap"
-                .to_string()
+        } else if let Some(b) = conf.boundaries().iter().find(|b| !b.exact) {
+            format!(
+                "--confinement {} satisfies its boundary conditions only approximately \
+                 ({b}), and is not positive definite near such a boundary when the fluid \
+                 between its boundaries is narrow: widen it ({})",
+                conf.name(),
+                parameters_phrase(conf.declaration())
+            )
         } else {
             "unexpected for spheres clear of each other and of the boundaries; please \
              report it with the input"
@@ -391,8 +492,9 @@ pub fn particle_error(table: &Table, index: usize, reason: String) -> CliError {
     }
 }
 
-/// Map the library's 0-based particle errors to file lines (or rows) and option names.
-fn input_error(e: InputError, table: &Table) -> CliError {
+/// Map the library's 0-based particle errors to file lines (or rows), and a
+/// parameter's to the option that gave it (`given`; `--param` for a default).
+fn input_error(e: InputError, table: &Table, given: &[Given]) -> CliError {
     let pair = |a: usize, b: usize, reason: String| CliError::Pair {
         path: table.path.clone(),
         places: table.places(a, b),
@@ -419,16 +521,17 @@ fn input_error(e: InputError, table: &Table) -> CliError {
             value: num(value),
             reason: "must be a positive finite number".to_string(),
         },
-        InputError::BadParameter { name, value, why } => CliError::BadOption {
-            option: match name {
-                "lambda" => "--lambda",
-                "gap" => "--gap",
-                "height" => "--boundary-height",
-                _ => "confinement parameter",
-            },
-            value: num(value),
-            reason: why.to_string(),
-        },
+        InputError::BadParameter { name, value, why } => {
+            let (option, value) = match given.iter().find(|g| g.name == name) {
+                Some(g) if g.option != "--param" => (g.option, num(value)),
+                _ => ("--param", format!("{name}={}", num(value))),
+            };
+            CliError::BadOption {
+                option,
+                value,
+                reason: why.to_string(),
+            }
+        }
         InputError::Unrepresentable { index, a, eta } => particle_error(
             table,
             index,
@@ -464,8 +567,8 @@ fn input_error(e: InputError, table: &Table) -> CliError {
             table,
             index,
             format!(
-                "sphere of radius {} overlaps the boundary, {} \
-                 (centre-to-boundary distance {} < radius; --allow-overlap accepts this)",
+                "sphere of radius {} overlaps the boundary, {}: centre-to-boundary \
+                 distance {} < radius (--allow-overlap accepts this)",
                 num(a),
                 boundary,
                 num(distance)

@@ -85,10 +85,10 @@ impl Boundary {
         let n = self.normal;
         let axis = (0..3).find(|&k| n[k].abs() == 1.0);
         let (lhs, off) = match axis {
-            Some(k) => (format!("x{}", k + 1), self.offset * n[k]),
+            Some(k) => (format!("x{}", k + 1), readable(self.offset * n[k])),
             None => (
                 format!("({:.6}, {:.6}, {:.6}) . x", n[0], n[1], n[2]),
-                self.offset,
+                readable(self.offset),
             ),
         };
         let side = match axis {
@@ -106,6 +106,16 @@ impl Boundary {
 impl std::fmt::Display for Boundary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(&self.describe())
+    }
+}
+
+/// A number as people read it: plain between 1e-5 and 1e16 in magnitude (and zero),
+/// in exponent form outside (a plane at `1e308` is not 309 digits).
+pub fn readable(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-5..1e16).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
     }
 }
 

@@ -87,7 +87,7 @@ pub use blocks::{
     Drift, Grand, GrandCartesian, Product, STRAIN_BASIS,
 };
 pub use declare::{
-    along, declaration, Boundary, Condition, Declaration, Dimension, Param, ParamError,
+    along, declaration, readable, Boundary, Condition, Declaration, Dimension, Param, ParamError,
 };
 pub use generated::{
     pair, pair_divergence, pair_divergence_lanes, pair_divergence_lanes_ordered, pair_equal,

@@ -426,7 +426,7 @@ fn brownian_bad_inputs_fail_without_output() {
         &run(&bd_args(s(&q), "7", s(&out))),
         &[
             "cut.csv line 3 (particle 1)",
-            "overlaps the boundary at z = 0.25",
+            "overlaps the boundary, no slip at x3 = 0.25 (fluid where x3 > 0.25)",
         ],
         &dir,
         &["cut.csv", "particles.csv"],

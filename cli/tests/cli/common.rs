@@ -272,6 +272,13 @@ pub fn rel_err(got: &[f64], want: &[f64]) -> f64 {
     d / want.iter().map(|w| w.abs()).fold(0.0, f64::max)
 }
 
+/// The options docs/cli.md names as aliases of `--param NAME=`: (option, parameter).
+pub const ALIASES: [(&str, &str); 3] = [
+    ("--boundary-height", "height"),
+    ("--lambda", "lambda"),
+    ("--gap", "gap"),
+];
+
 pub const SYSTEM_ARGS: [&str; 6] = [
     "--confinement",
     "wall",
@@ -285,16 +292,28 @@ pub const SYSTEM_ARGS: [&str; 6] = [
 pub fn mobility_fails(dir: &Dir, particles: &str, extra: &[&str]) -> Output {
     let p = dir.file("particles.csv", particles);
     let out = dir.path("M.npy");
+    run_mobility("wall", "FTS", &p, &out, extra)
+}
+
+/// Run `mobility --confinement CONFINEMENT --moments MOMENTS` on `particles`, writing
+/// `out`, with `extra` options.
+pub fn run_mobility(
+    confinement: &str,
+    moments: &str,
+    particles: &Path,
+    out: &Path,
+    extra: &[&str],
+) -> Output {
     let mut args = vec![
         "mobility",
         "--confinement",
-        "wall",
+        confinement,
         "--moments",
-        "FTS",
+        moments,
         "--particles",
-        s(&p),
+        s(particles),
         "--out",
-        s(&out),
+        s(out),
     ];
     args.extend(extra);
     run(&args)

@@ -14,17 +14,7 @@ fn missing_particles_file() {
     let dir = Dir::new("missing");
     let out = dir.path("M.npy");
     let p = dir.path("nowhere.csv");
-    let o = run(&[
-        "mobility",
-        "--confinement",
-        "wall",
-        "--moments",
-        "F",
-        "--particles",
-        s(&p),
-        "--out",
-        s(&out),
-    ]);
+    let o = run_mobility("wall", "F", &p, &out, &[]);
     assert_fails(
         &o,
         &["cannot read particles file", "nowhere.csv"],
@@ -134,7 +124,7 @@ fn centre_below_wall() {
     );
     assert_fails(
         &o,
-        &["particles.csv line 3 (particle 1): centre z = -1 is not inside the fluid (boundary at z = -0.5)"],
+        &["particles.csv line 3 (particle 1): centre is not inside the fluid: signed distance -0.5 from the boundary, no slip at x3 = -0.5 (fluid where x3 > -0.5)"],
         &dir,
         &["particles.csv"],
     );
@@ -148,7 +138,7 @@ fn sphere_overlapping_the_wall_and_allow_overlap() {
     assert_fails(
         &o,
         &[
-            "particles.csv line 3 (particle 1): sphere of radius 1 overlaps the boundary at z = 0",
+            "particles.csv line 3 (particle 1): sphere of radius 1 overlaps the boundary, no slip at x3 = 0 (fluid where x3 > 0): centre-to-boundary distance 0.5 < radius",
             "--allow-overlap",
         ],
         &dir,
@@ -195,20 +185,13 @@ fn missing_lambda_for_interface() {
     let dir = Dir::new("lambda");
     let p = dir.file("particles.csv", PARTICLES);
     let out = dir.path("M.json");
-    let o = run(&[
-        "mobility",
-        "--confinement",
-        "interface",
-        "--moments",
-        "F",
-        "--particles",
-        s(&p),
-        "--out",
-        s(&out),
-    ]);
+    let o = run_mobility("interface", "F", &p, &out, &[]);
     assert_fails(
         &o,
-        &["--confinement interface needs --lambda"],
+        &[
+            "`interface` needs the parameter `lambda`: viscosity ratio",
+            "(give --param lambda=VALUE or --lambda VALUE)",
+        ],
         &dir,
         &["particles.csv"],
     );
@@ -219,20 +202,13 @@ fn missing_gap_for_slit() {
     let dir = Dir::new("gap");
     let p = dir.file("particles.csv", PARTICLES);
     let out = dir.path("M.json");
-    let o = run(&[
-        "mobility",
-        "--confinement",
-        "slit",
-        "--moments",
-        "F",
-        "--particles",
-        s(&p),
-        "--out",
-        s(&out),
-    ]);
+    let o = run_mobility("slit", "F", &p, &out, &[]);
     assert_fails(
         &o,
-        &["--confinement slit needs --gap"],
+        &[
+            "`slit` needs the parameter `gap`: distance from the lower wall to the upper wall",
+            "(give --param gap=VALUE or --gap VALUE)",
+        ],
         &dir,
         &["particles.csv"],
     );
@@ -441,21 +417,7 @@ fn bad_tables_and_npy_files_are_named() {
     // npy: a dtype, a shape, a row
     let p = dir.path("p.npy");
     let out = dir.path("M.npy");
-    let mobility = |extra: &[&str]| {
-        let mut args = vec![
-            "mobility",
-            "--confinement",
-            "wall",
-            "--moments",
-            "F",
-            "--particles",
-            s(&p),
-            "--out",
-            s(&out),
-        ];
-        args.extend(extra);
-        run(&args)
-    };
+    let mobility = |extra: &[&str]| run_mobility("wall", "F", &p, &out, extra);
     write_npy_rows(&p, &[vec![0.0, 0.0, 2.0]], false, false);
     assert_fails(&mobility(&[]), &["p.npy: shape (1, 3): expected a 2-D float64 or float32 array of shape (N, 4), columns x, y, z, radius"], &dir, &["forces.csv", "p.npy", "particles.csv"]);
     write_npy_rows(
@@ -527,6 +489,91 @@ fn bad_tables_and_npy_files_are_named() {
     );
 }
 
+/// `--param NAME=VALUE` and the aliases give the same bytes, in any mix and order.
+#[test]
+fn params_by_name_equal_the_aliases() {
+    let dir = Dir::new("params");
+    let p = dir.file("particles.csv", PARTICLES);
+    let spellings: [&[&str]; 3] = [
+        &["--boundary-height", "-0.5", "--gap", "60"],
+        &["--param", "gap=60", "--param", "height=-0.5"],
+        &["--param=height=-0.5", "--gap=60"],
+    ];
+    let mut outputs = Vec::new();
+    for (k, spelling) in spellings.iter().enumerate() {
+        let out = dir.path(&format!("M{k}.npy"));
+        assert_ok(&run_mobility("slit", "FT", &p, &out, spelling));
+        outputs.push(fs::read(&out).expect("read output"));
+    }
+    assert_eq!(outputs[0], outputs[1], "--param");
+    assert_eq!(outputs[0], outputs[2], "mixed");
+}
+
+/// A parameter given wrongly by name is refused with a message naming it (and the
+/// known ones, or what a missing one is), before any output.
+#[test]
+fn params_given_wrongly() {
+    let dir = Dir::new("param-errors");
+    let p = dir.file("particles.csv", PARTICLES);
+    let out = dir.path("M.npy");
+    let cases: [(&str, &[&str], &str); 10] = [
+        (
+            "slit",
+            &["--param", "gapp=3"],
+            "--param gapp=3: `slit` has no parameter `gapp` (its parameters: height, gap)",
+        ),
+        (
+            "free",
+            &["--param", "height=1"],
+            "--param height=1: `free` has no parameters (got `height`)",
+        ),
+        (
+            "slit",
+            &["--gap", "60", "--param", "gap=60"],
+            "the parameter `gap` is given twice (--gap 60 and --param gap=60; give it once)",
+        ),
+        (
+            "wall",
+            &["--param", "height=0", "--param", "height=1"],
+            "the parameter `height` is given twice (--param height=0 and --param height=1; give it once)",
+        ),
+        (
+            "interface",
+            &["--param", "height=0.1"],
+            "`interface` needs the parameter `lambda`",
+        ),
+        (
+            "wall",
+            &["--lambda", "2"],
+            "--lambda does not apply to --confinement wall (its parameters: height)",
+        ),
+        (
+            "free",
+            &["--boundary-height", "0"],
+            "--boundary-height does not apply to --confinement free (it has no parameters)",
+        ),
+        (
+            "slit",
+            &["--param", "gap=-1"],
+            "--param gap=-1: a length must be a positive finite number",
+        ),
+        (
+            "slit",
+            &["--param", "gap"],
+            "invalid value 'gap' for '--param <NAME=VALUE>': expected NAME=VALUE",
+        ),
+        (
+            "slit",
+            &["--param", "gap=wide"],
+            "invalid value 'gap=wide' for '--param <NAME=VALUE>': \"wide\" is not a number",
+        ),
+    ];
+    for (confinement, extra, message) in cases {
+        let o = run_mobility(confinement, "F", &p, &out, extra);
+        assert_fails(&o, &[message], &dir, &["particles.csv"]);
+    }
+}
+
 /// A unit-scale mistake names the scale, not overlaps; a scene file's TOML error its
 /// line and column.
 #[test]
@@ -549,17 +596,7 @@ fn causes_are_named_right() {
     let tiny = "x,y,z,radius\n0,0,2e-70,1e-70\n1e-60,0,2e-70,1e-70\n";
     let p = dir.file("particles.csv", tiny);
     let out = dir.path("M.npy");
-    let o = run(&[
-        "mobility",
-        "--confinement",
-        "wall",
-        "--moments",
-        "FTS",
-        "--particles",
-        s(&p),
-        "--out",
-        s(&out),
-    ]);
+    let o = run_mobility("wall", "FTS", &p, &out, &[]);
     assert_fails(
         &o,
         &[
@@ -571,18 +608,7 @@ fn causes_are_named_right() {
     );
     assert!(!stderr(&o).contains("allow-overlap"), "{}", stderr(&o));
     // accepted overlaps are suspected only where there are some
-    let o = run(&[
-        "mobility",
-        "--confinement",
-        "wall",
-        "--moments",
-        "FTS",
-        "--particles",
-        s(&p),
-        "--out",
-        s(&out),
-        "--allow-overlap",
-    ]);
+    let o = run_mobility("wall", "FTS", &p, &out, &["--allow-overlap"]);
     assert_fails(
         &o,
         &["not finite numbers: the lengths (from 1.000e-70"],
@@ -660,13 +686,14 @@ fn assert_clean_outcome(o: &Output, dir: &Dir, out: &Path, inputs: &[&str]) {
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig { cases: 128, ..Default::default() })]
 
-    /// Any numbers as coordinates, radii, viscosity, boundary height, lambda and gap.
+    /// Any numbers as coordinates, radii, viscosity and the parameters of any
+    /// confinement, each given by `--param` or by its alias.
     #[test]
     fn any_numbers_exit_cleanly(
-        conf in proptest::sample::select(vec!["free", "wall", "free-surface", "interface", "slit"]),
+        conf in proptest::sample::select(Confinement::NAMES.to_vec()),
         values in proptest::collection::vec(nasty_text(), 8..=12),
-        height in proptest::option::of(nasty_text()),
-        parameter in nasty_text(),
+        parameters in proptest::collection::vec(proptest::option::of(nasty_text()), 2),
+        by_alias in proptest::bool::ANY,
         viscosity in nasty_text(),
         allow_overlap in proptest::bool::ANY,
     ) {
@@ -680,16 +707,21 @@ proptest::proptest! {
         let out = dir.path("M.npy");
         let viscosity = format!("--viscosity={viscosity}");
         let mut args = vec!["mobility", "--moments", "F", "--confinement", conf, "--particles", s(&p), "--out", s(&out), &viscosity];
-        let height = height.map(|h| format!("--boundary-height={h}"));
-        if let (Some(h), true) = (&height, conf != "free") {
-            args.push(h);
-        }
-        let parameter = match conf {
-            "interface" => Some(format!("--lambda={parameter}")),
-            "slit" => Some(format!("--gap={parameter}")),
-            _ => None,
-        };
-        args.extend(parameter.as_deref());
+        let declared = kernels::declaration(conf).expect("a registered name").params;
+        assert!(declared.len() <= parameters.len(), "a value for each parameter of {conf}");
+        let given: Vec<String> = declared
+            .iter()
+            .zip(&parameters)
+            .filter_map(|(param, value)| {
+                let value = value.as_ref()?;
+                let alias = ALIASES.iter().find(|(_, name)| *name == param.name);
+                Some(match alias {
+                    Some((option, _)) if by_alias => format!("{option}={value}"),
+                    _ => format!("--param={}={value}", param.name),
+                })
+            })
+            .collect();
+        args.extend(given.iter().map(String::as_str));
         if allow_overlap {
             args.push("--allow-overlap");
         }
@@ -747,22 +779,22 @@ fn corpus_of_nasty_command_lines() {
         (
             "0,0,1e308,1",
             &["--confinement", "wall", "--boundary-height", "1e308"],
-            "particles.csv line 2 (particle 0): centre z = 1e308 is not inside the fluid (boundary at z = 1e308)",
+            "particles.csv line 2 (particle 0): centre is not inside the fluid: signed distance 0 from the boundary, no slip at x3 = ",
         ),
         (
             "0,0,2,1",
             &["--confinement", "slit", "--gap", "inf"],
-            "--gap inf: the slit width must be a positive finite number",
+            "--gap inf: the parameter `gap` must be finite (got inf)",
         ),
         (
             "0,0,2,1",
             &["--confinement", "interface", "--lambda", "NaN"],
-            "--lambda NaN: the viscosity ratio must be a non-negative finite number",
+            "--lambda NaN: the parameter `lambda` must be finite (got NaN)",
         ),
         (
             "0,0,1.5,1",
             &["--confinement", "slit", "--gap", "1e-300"],
-            "centre z = 1.5 is not inside the fluid (boundary at z = 1e-300)",
+            "particles.csv line 2 (particle 0): centre is not inside the fluid: signed distance -1.5 from the boundary, no slip at x3 = ",
         ),
         (
             "-1e308,0,2,1\n1e308,0,2,1",
@@ -777,7 +809,7 @@ fn corpus_of_nasty_command_lines() {
         (
             "0,0,1e-300,1",
             &["--confinement", "wall", "--allow-overlap"],
-            "particles.csv line 2 (particle 0): sphere of radius 1 overlaps the boundary at z = 0 (centre-to-boundary distance 1e-300 < radius; --allow-overlap accepts this)), where the kernels are not meaningful",
+            "particles.csv line 2 (particle 0): sphere of radius 1 overlaps the boundary, no slip at x3 = 0 (fluid where x3 > 0): centre-to-boundary distance 1e-300 < radius (--allow-overlap accepts this)), where the kernels are not meaningful",
         ),
     ];
     for (rows, options, message) in failures {

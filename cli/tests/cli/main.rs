@@ -3,10 +3,13 @@
 //! output file.
 //!
 //! One test binary (each costs CI link time), one module per subcommand; `inputs` holds
-//! the tests of the inputs every subcommand shares, `common` the helpers.
+//! the tests of the inputs every subcommand shares, `confinements` those of the
+//! declared confinements (the listing, a confinement no code of the command names),
+//! `common` the helpers.
 
 mod brownian;
 mod common;
+mod confinements;
 mod doublet;
 mod inputs;
 mod mobility;

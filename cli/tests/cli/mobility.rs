@@ -70,7 +70,17 @@ fn mobility_every_confinement_matches_the_library() {
                 gap: 60.0,
             },
         ),
+        (
+            vec!["side_wall", "--param", "side=-2"],
+            Confinement::SideWall { side: -2.0 },
+        ),
     ];
+    let mut covered: Vec<&str> = cases.iter().map(|(_, c)| c.name()).collect();
+    covered.push(WALL.name()); // mobility_npy_and_json_equal_the_library_bit_for_bit
+    covered.sort();
+    let mut names = Confinement::NAMES.to_vec();
+    names.sort();
+    assert_eq!(covered, names, "a case for every registered confinement");
     for (k, (conf_args, conf)) in cases.into_iter().enumerate() {
         let out = dir.path(&format!("M{k}.npy"));
         let mut args = vec!["mobility", "--confinement"];
@@ -101,17 +111,7 @@ fn bad_output_name_is_rejected_before_any_work() {
     let o = {
         let p = dir.file("particles.csv", PARTICLES);
         let out = dir.path("M.txt");
-        run(&[
-            "mobility",
-            "--confinement",
-            "wall",
-            "--moments",
-            "F",
-            "--particles",
-            s(&p),
-            "--out",
-            s(&out),
-        ])
+        run_mobility("wall", "F", &p, &out, &[])
     };
     assert_fails(
         &o,

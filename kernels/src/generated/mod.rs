@@ -38,6 +38,10 @@ pub mod scene_slit_f;
 pub mod scene_slit_ft;
 /// Kernels of the `side_wall` family.
 pub mod side_wall;
+/// Kernels of the scene `side_wall_f` (`scenes/`).
+pub mod scene_side_wall_f;
+/// Kernels of the scene `side_wall_ft` (`scenes/`).
+pub mod scene_side_wall_ft;
 use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};
 /// The F blocks of `M^{ab}` (equal-radius kernels when `aa == ab`).
 pub fn pair_f(
@@ -92,13 +96,11 @@ pub fn pair_f(
             }
         }
         Confinement::SideWall { side } => {
-            BlocksF::from(
-                &if aa == ab {
-                    side_wall::side_wall_pair_equal(xa, xb, aa, eta, side)
-                } else {
-                    side_wall::side_wall_pair(xa, xb, aa, ab, eta, side)
-                },
-            )
+            if aa == ab {
+                scene_side_wall_f::side_wall_f_pair_equal(xa, xb, aa, eta, side)
+            } else {
+                scene_side_wall_f::side_wall_f_pair(xa, xb, aa, ab, eta, side)
+            }
         }
     }
 }
@@ -117,7 +119,7 @@ pub fn self_f(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> BlocksF {
             scene_slit_f::slit_f_self(x, a, eta, height, gap)
         }
         Confinement::SideWall { side } => {
-            BlocksF::from(&side_wall::side_wall_self(x, a, eta, side))
+            scene_side_wall_f::side_wall_f_self(x, a, eta, side)
         }
     }
 }
@@ -224,14 +226,28 @@ pub fn product_f(
             }
         }
         Confinement::SideWall { side } => {
-            BlocksF::from(
-                    &if aa == ab {
-                        side_wall::side_wall_pair_equal(xa, xb, aa, eta, side)
-                    } else {
-                        side_wall::side_wall_pair(xa, xb, aa, ab, eta, side)
-                    },
+            if aa == ab {
+                scene_side_wall_f::side_wall_f_pair_equal_product(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    side,
+                    va,
+                    vb,
                 )
-                .product(va, vb)
+            } else {
+                scene_side_wall_f::side_wall_f_pair_product(
+                    xa,
+                    xb,
+                    aa,
+                    ab,
+                    eta,
+                    side,
+                    va,
+                    vb,
+                )
+            }
         }
     }
 }
@@ -310,17 +326,16 @@ pub fn product_f_lanes<L: lanes::Lane>(
             )
         }
         Confinement::SideWall { side } => {
-            let _ = (side,);
-            let (a, b) = crate::blocks::lane_by_lane(
-                |xa, aa, xb, ab, va, vb| product_f(conf, eta, xa, aa, xb, ab, va, vb),
+            scene_side_wall_f::side_wall_f_pair_product_lanes(
                 xa,
-                aa,
                 xb,
+                aa,
                 ab,
+                L::splat(eta),
+                L::splat(side),
                 va,
                 vb,
-            );
-            std::array::from_fn(|i| if i < 3usize { a[i] } else { b[i - 3usize] })
+            )
         }
     }
 }
@@ -399,17 +414,16 @@ pub fn product_f_lanes_ordered<L: lanes::Lane>(
             )
         }
         Confinement::SideWall { side } => {
-            let _ = (side,);
-            let (a, b) = crate::blocks::lane_by_lane(
-                |xa, aa, xb, ab, va, vb| product_f(conf, eta, xa, aa, xb, ab, va, vb),
+            scene_side_wall_f::side_wall_f_pair_product_lanes_ordered(
                 xa,
-                aa,
                 xb,
+                aa,
                 ab,
+                L::splat(eta),
+                L::splat(side),
                 va,
                 vb,
-            );
-            std::array::from_fn(|i| if i < 3usize { a[i] } else { b[i - 3usize] })
+            )
         }
     }
 }
@@ -470,16 +484,13 @@ pub fn pair_f_lanes_ordered<L: lanes::Lane>(
             )
         }
         Confinement::SideWall { side } => {
-            crate::blocks::truncate_lanes(
-                side_wall::side_wall_pair_lanes_ordered(
-                    xa,
-                    xb,
-                    aa,
-                    ab,
-                    L::splat(eta),
-                    L::splat(side),
-                ),
-                &crate::blocks::F_FLAT,
+            scene_side_wall_f::side_wall_f_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(side),
             )
         }
     }
@@ -551,13 +562,11 @@ pub fn pair_ft(
             }
         }
         Confinement::SideWall { side } => {
-            BlocksFT::from(
-                &if aa == ab {
-                    side_wall::side_wall_pair_equal(xa, xb, aa, eta, side)
-                } else {
-                    side_wall::side_wall_pair(xa, xb, aa, ab, eta, side)
-                },
-            )
+            if aa == ab {
+                scene_side_wall_ft::side_wall_ft_pair_equal(xa, xb, aa, eta, side)
+            } else {
+                scene_side_wall_ft::side_wall_ft_pair(xa, xb, aa, ab, eta, side)
+            }
         }
     }
 }
@@ -576,7 +585,7 @@ pub fn self_ft(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> BlocksFT {
             scene_slit_ft::slit_ft_self(x, a, eta, height, gap)
         }
         Confinement::SideWall { side } => {
-            BlocksFT::from(&side_wall::side_wall_self(x, a, eta, side))
+            scene_side_wall_ft::side_wall_ft_self(x, a, eta, side)
         }
     }
 }
@@ -691,14 +700,28 @@ pub fn product_ft(
             }
         }
         Confinement::SideWall { side } => {
-            BlocksFT::from(
-                    &if aa == ab {
-                        side_wall::side_wall_pair_equal(xa, xb, aa, eta, side)
-                    } else {
-                        side_wall::side_wall_pair(xa, xb, aa, ab, eta, side)
-                    },
+            if aa == ab {
+                scene_side_wall_ft::side_wall_ft_pair_equal_product(
+                    xa,
+                    xb,
+                    aa,
+                    eta,
+                    side,
+                    va,
+                    vb,
                 )
-                .product(va, vb)
+            } else {
+                scene_side_wall_ft::side_wall_ft_pair_product(
+                    xa,
+                    xb,
+                    aa,
+                    ab,
+                    eta,
+                    side,
+                    va,
+                    vb,
+                )
+            }
         }
     }
 }
@@ -777,17 +800,16 @@ pub fn product_ft_lanes<L: lanes::Lane>(
             )
         }
         Confinement::SideWall { side } => {
-            let _ = (side,);
-            let (a, b) = crate::blocks::lane_by_lane(
-                |xa, aa, xb, ab, va, vb| product_ft(conf, eta, xa, aa, xb, ab, va, vb),
+            scene_side_wall_ft::side_wall_ft_pair_product_lanes(
                 xa,
-                aa,
                 xb,
+                aa,
                 ab,
+                L::splat(eta),
+                L::splat(side),
                 va,
                 vb,
-            );
-            std::array::from_fn(|i| if i < 6usize { a[i] } else { b[i - 6usize] })
+            )
         }
     }
 }
@@ -866,17 +888,16 @@ pub fn product_ft_lanes_ordered<L: lanes::Lane>(
             )
         }
         Confinement::SideWall { side } => {
-            let _ = (side,);
-            let (a, b) = crate::blocks::lane_by_lane(
-                |xa, aa, xb, ab, va, vb| product_ft(conf, eta, xa, aa, xb, ab, va, vb),
+            scene_side_wall_ft::side_wall_ft_pair_product_lanes_ordered(
                 xa,
-                aa,
                 xb,
+                aa,
                 ab,
+                L::splat(eta),
+                L::splat(side),
                 va,
                 vb,
-            );
-            std::array::from_fn(|i| if i < 6usize { a[i] } else { b[i - 6usize] })
+            )
         }
     }
 }
@@ -937,16 +958,13 @@ pub fn pair_ft_lanes_ordered<L: lanes::Lane>(
             )
         }
         Confinement::SideWall { side } => {
-            crate::blocks::truncate_lanes(
-                side_wall::side_wall_pair_lanes_ordered(
-                    xa,
-                    xb,
-                    aa,
-                    ab,
-                    L::splat(eta),
-                    L::splat(side),
-                ),
-                &crate::blocks::FT_FLAT,
+            scene_side_wall_ft::side_wall_ft_pair_lanes_ordered(
+                xa,
+                xb,
+                aa,
+                ab,
+                L::splat(eta),
+                L::splat(side),
             )
         }
     }

@@ -5,5 +5,6 @@
 
 mod confinements;
 mod engine;
+mod rotated;
 mod scenes;
 mod stiff_cases;
