@@ -1,7 +1,9 @@
 //! `cargo xtask gen [--check]`: regenerate the committed kernels in
 //! `kernels/src/generated/` from the registry and the scenes in `scenes/`, or (with
 //! `--check`) fail when they are stale. `cargo xtask gen --scene FILE [--out PATH]`:
-//! generate one scene as a standalone module. `cargo xtask report`: check that the
+//! generate one scene as a standalone module; every file within the size budget
+//! ([`budget`](mod@budget)). `cargo xtask check-green FILE.rs`: try a Green's function that
+//! is not registered, in a scratch copy ([`check_green`]). `cargo xtask report`: check that the
 //! committed kernels are up to date, then measure and write `report/` ([`report`]).
 //! `cargo xtask test`: every test, Rust and Python ([`test`](fn@test)). `cargo xtask bench`: the
 //! performance table of README.md and docs/performance.md ([`bench`](mod@bench)).
@@ -15,6 +17,8 @@ use std::process::{Command, Stdio};
 use std::time::Instant;
 
 mod bench;
+mod budget;
+mod check_green;
 mod report;
 mod wall_limit;
 
@@ -27,12 +31,19 @@ fn root() -> PathBuf {
 
 fn usage() -> &'static str {
     "usage: cargo xtask gen [--check] | cargo xtask gen --scene FILE [--out PATH] | cargo xtask report [--quick]\n\
+     | cargo xtask check-green FILE.rs [--name NAME] | cargo xtask check-green --registered NAME\n\
      | cargo xtask test | cargo xtask bench [--quick] | cargo xtask wall-limit [--truncation N]\n\
      \n\
-     gen                       regenerate kernels/src/generated/ from kernel-gen and scenes/*.toml\n\
+     gen                       regenerate kernels/src/generated/ from kernel-gen and scenes/*.toml; prints each\n\
+                               kernel's operations and bytes, and writes nothing if a file is over the size budget\n\
      gen --check               exit non-zero if the committed kernels differ from what the generator produces\n\
      gen --scene FILE          generate only what the scene FILE needs, as a standalone module\n\
                                (default output: target/scenes/<name>.rs)\n\
+     check-green FILE.rs       try a Green's function that is not registered (one `impl Green for T`, T a unit\n\
+                               struct) in a scratch copy under target/check-green/: registered as module NAME (default:\n\
+                               the file's stem), generated, built (time and peak memory), measured and tested\n\
+     check-green --registered NAME  measure a registered Green's function: boundary residuals, incompressibility,\n\
+                               structured against generic derivatives\n\
      report                    check the committed kernels (as gen --check), then measure them and the solver and\n\
                                write report/REPORT.md with its plots (deleted and recreated); --quick: a reduced sample\n\
      test                      every test: cargo test --workspace --release, then the Python module built into\n\
@@ -78,17 +89,10 @@ pub(crate) fn scenes() -> Result<Vec<Scene>> {
     paths.iter().map(|p| read_scene(p)).collect()
 }
 
-fn print_counts(files: &[GeneratedFile]) {
-    for f in files {
-        for (name, n) in &f.op_counts {
-            println!("{name:<40} {n:>8} flops");
-        }
-    }
-}
-
 /// `cargo xtask gen --scene FILE [--out PATH]`.
 fn gen_scene(file: &Path, out: Option<&Path>) -> Result<()> {
     let scene = read_scene(file)?;
+    kernel_gen::physics::green::check_registry()?;
     struct One<'a> {
         scene: &'a Scene,
         file: Option<GeneratedFile>,
@@ -108,6 +112,8 @@ fn gen_scene(file: &Path, out: Option<&Path>) -> Result<()> {
     let f = one
         .file
         .expect("the scene's confinement is registered (checked on parse)");
+    print!("{}", budget::table(std::slice::from_ref(&f)));
+    budget::check(std::slice::from_ref(&f), budget::FILE_BUDGET)?;
     let path = match out {
         Some(p) => p.to_path_buf(),
         None => root().join("target/scenes").join(&f.name),
@@ -116,7 +122,6 @@ fn gen_scene(file: &Path, out: Option<&Path>) -> Result<()> {
         std::fs::create_dir_all(dir)?;
     }
     std::fs::write(&path, &f.contents).with_context(|| format!("writing {}", path.display()))?;
-    print_counts(std::slice::from_ref(&f));
     println!("wrote {}", path.display());
     Ok(())
 }
@@ -149,6 +154,9 @@ fn gen(check: bool) -> Result<()> {
         };
         (kernels, join(wall), join(pair), join(far), join(near))
     });
+    let files = files?;
+    print!("{}", budget::table(&files));
+    budget::check(&files, budget::FILE_BUDGET)?;
     let dir = root().join("kernels/src/generated");
     let mut stale = Vec::new();
     for f in &files {
@@ -194,7 +202,6 @@ fn gen(check: bool) -> Result<()> {
             }
         }
     }
-    print_counts(&files);
     println!(
         "generated {} files in {:.2} s, the sphere-wall tables in {:.2} s, the two-sphere \
          recurrence coefficients in {:.2} s and the two-sphere tables in {:.2} s (far) and \
@@ -358,6 +365,7 @@ fn main() -> Result<()> {
         ["bench"] => bench::run(&root(), false),
         ["bench", "--quick"] => bench::run(&root(), true),
         ["wall-limit", rest @ ..] => wall_limit::run(rest),
+        ["check-green", rest @ ..] => check_green::run(&root(), rest),
         ["help"] | ["--help"] | ["-h"] | [] => {
             println!("{}", usage());
             Ok(())

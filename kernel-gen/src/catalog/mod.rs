@@ -40,8 +40,38 @@ pub struct GeneratedFile {
     pub op_counts: Vec<(String, usize)>,
 }
 
-/// Every generated file, including `mod.rs`.
-pub fn generate(scenes: &[Scene]) -> Vec<GeneratedFile> {
+impl GeneratedFile {
+    /// Every function the file defines at its top level, in order: its name and the
+    /// size in bytes of its code, from `pub fn` to its closing brace (doc comments and
+    /// attributes left out). The size of what the compiler must digest, kernel by kernel:
+    /// the file is formatted by prettyplease, which starts a top-level item in column 0
+    /// and closes it with a `}` alone on a line.
+    pub fn functions(&self) -> Vec<(&str, usize)> {
+        let mut out = Vec::new();
+        let mut open: Option<(&str, usize)> = None;
+        let mut at = 0;
+        for line in self.contents.split_inclusive('\n') {
+            if let Some(rest) = line.strip_prefix("pub fn ") {
+                let end = rest
+                    .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+                    .unwrap_or(rest.len());
+                open = Some((&rest[..end], at));
+            }
+            at += line.len();
+            if line.trim_end() == "}" {
+                if let Some((name, start)) = open.take() {
+                    out.push((name, at - start));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Every generated file, including `mod.rs`, once every registered declaration passes
+/// [`green::check_registry`].
+pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::DeclarationError> {
+    green::check_registry()?;
     let mut c = Collect {
         families: Vec::new(),
         scenes,
@@ -80,7 +110,7 @@ pub fn generate(scenes: &[Scene]) -> Vec<GeneratedFile> {
         single.push(f.single);
     }
     files.push(single_file(single));
-    files
+    Ok(files)
 }
 
 struct Family {
@@ -181,5 +211,27 @@ fn moments_label(m: Moments) -> &'static str {
         Moments::F => "F",
         Moments::FT => "FT",
         Moments::FTS => "FTS",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::GeneratedFile;
+
+    /// A function's size runs from `pub fn` to its closing brace in column 0; the
+    /// braces of its body and of other items do not end it early.
+    #[test]
+    fn functions_are_measured_from_pub_fn_to_the_closing_brace() {
+        let one = "pub fn a_b(x: f64) -> f64 {\n    if x > 0.0 {\n        x\n    } else {\n        -x\n    }\n}\n";
+        let two = "pub fn lanes<L: Lane>() {\n}\n";
+        let contents = format!(
+            "//! doc\nuse crate::x;\n/// doc\n#[inline]\n{one}pub struct S {{\n    a: f64,\n}}\n{two}"
+        );
+        let f = GeneratedFile {
+            name: "f.rs".into(),
+            contents,
+            op_counts: Vec::new(),
+        };
+        assert_eq!(f.functions(), [("a_b", one.len()), ("lanes", two.len())]);
     }
 }

@@ -7,7 +7,8 @@
 //! generic over the scalar (this is what the generic six-variable path
 //! differentiates), and optionally its image structure ([`ImageTerm`]s, each of the
 //! form `c w (y3 - H)^p d^gamma J_ab(R)`, `R = x - y'`), which the structured path
-//! differentiates by the chain rules of Eq. 10. Register it in [`for_each`].
+//! differentiates by the chain rules of Eq. 10. Register it in [`for_each`]; the
+//! generator refuses a declaration that fails [`check`] (non-unit normals and the like).
 
 pub mod free;
 pub mod free_surface;
@@ -15,6 +16,10 @@ pub mod interface;
 pub mod side_wall;
 pub mod slit;
 pub mod wall;
+
+mod declaration;
+
+pub use declaration::{check, check_registry, is_identifier, DeclarationError, UNIT_TOLERANCE};
 
 use crate::number::scalar::Scalar;
 

@@ -1,0 +1,151 @@
+//! The size budget of generated files: what `cargo xtask gen` prints of every kernel
+//! (operation counts, bytes of code) and each file, and the check that refuses, before
+//! anything is written, a file too large to compile.
+
+use anyhow::{bail, Result};
+use kernel_gen::catalog::GeneratedFile;
+use kernel_gen::physics::green::{Green, Visitor};
+use std::fmt::Write;
+
+/// The largest generated file `cargo xtask gen` writes, in bytes (4 MiB).
+///
+/// The kernels are `#[inline]` or generic over the lanes, so the `kernels` crate only
+/// parses and checks them and the machine code is made in the crates that call them.
+/// Measured with `/usr/bin/time -v` on 2 cores, with `wall.rs` (1.42 MB) the largest of
+/// the generated files: `cargo build --release -p kernels` peaks at 0.65 GB resident
+/// (18 s) and `cargo build --release -p stokesian`, which compiles the kernels into
+/// machine code, at 2.58 GB (5 min). Compile memory grows with the size of the code
+/// (LLVM holds a function's instructions at once; rustc the crate's syntax and MIR):
+/// 4 MiB is 2.9 times `wall.rs`, and 2.9 times the whole peak of the solver's build,
+/// as if all of it grew with that one file, is 7.6 GB, within a machine of 8 GiB.
+pub const FILE_BUDGET: usize = 4 << 20;
+
+/// One line per file (its size) and, below it, one per function it defines: bytes of
+/// code and the operation counts of its branches.
+pub fn table(files: &[GeneratedFile]) -> String {
+    let mut out = String::new();
+    for f in files {
+        rows(&mut out, f, &f.functions());
+    }
+    out
+}
+
+/// The line of file `f` and those of its `functions`, in the order given.
+fn rows(out: &mut String, f: &GeneratedFile, functions: &[(&str, usize)]) {
+    let _ = writeln!(out, "{:<56} {:>9} bytes", f.name, f.contents.len());
+    for (name, bytes) in functions {
+        // the counts of `name` and of its labelled branches, `name (label)`
+        let counts: Vec<String> = f
+            .op_counts
+            .iter()
+            .filter_map(|(k, n)| match k.strip_prefix(name)? {
+                "" => Some(format!("{n} flops")),
+                label => Some(format!("{n} flops {}", label.strip_prefix(' ')?)),
+            })
+            .collect();
+        let line = format!("  {name:<54} {bytes:>9} bytes  {}", counts.join(", "));
+        let _ = writeln!(out, "{}", line.trim_end());
+    }
+}
+
+/// The registered Green's functions without image terms: their kernels come from the
+/// generic six-variable path.
+fn generic() -> Vec<&'static str> {
+    struct Generic(Vec<&'static str>);
+    impl Visitor for Generic {
+        fn visit<G: Green>(&mut self, g: &G) {
+            if g.image_terms().is_none() {
+                self.0.push(g.name());
+            }
+        }
+    }
+    let mut v = Generic(Vec::new());
+    kernel_gen::physics::green::for_each(&mut v);
+    v.0
+}
+
+/// Fails if any file is over `budget`, naming each such file and its kernels (largest
+/// first, with their bytes and operation counts) and saying what to declare for the
+/// structured path.
+pub fn check(files: &[GeneratedFile], budget: usize) -> Result<()> {
+    let over: Vec<&GeneratedFile> = files.iter().filter(|f| f.contents.len() > budget).collect();
+    if over.is_empty() {
+        return Ok(());
+    }
+    let mut msg = format!(
+        "nothing was written: generated files over the budget of {budget} bytes per file \
+         (FILE_BUDGET in xtask/src/budget.rs: what builds within 8 GiB):\n"
+    );
+    for f in over {
+        let mut by_size = f.functions();
+        by_size.sort_by_key(|f| std::cmp::Reverse(f.1));
+        rows(&mut msg, f, &by_size);
+    }
+    let generic = generic();
+    let declare = "`Green::image_terms` with `Green::mirrors` (each term \
+                   c w (n.y - offset)^p d^gamma J_ab(R) in its mirror's own frame; \
+                   docs/generator.md, \"Adding a confinement\")";
+    if generic.is_empty() {
+        let _ = write!(
+            msg,
+            "Every confinement declares its image structure, {declare}: the kernels take the \
+             structured path (Eq. 10) already and are this large because of their many image \
+             terms."
+        );
+    } else {
+        let names: Vec<String> = generic.iter().map(|n| format!("`{n}`")).collect();
+        let _ = write!(
+            msg,
+            "Without image terms ({}), kernels come from the generic six-variable path, whose \
+             jets of the whole G(x, y) grow with every term of the reflected field. Declare \
+             the image structure, {declare}: the structured path (Eq. 10) then \
+             differentiates one Stokeslet per image term.",
+            names.join(", ")
+        );
+    }
+    bail!(msg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn file(name: &str, contents: &str, op_counts: &[(&str, usize)]) -> GeneratedFile {
+        GeneratedFile {
+            name: name.into(),
+            contents: contents.into(),
+            op_counts: op_counts.iter().map(|(k, n)| (k.to_string(), *n)).collect(),
+        }
+    }
+
+    /// A file over the budget is named with its kernels, largest first, their counts
+    /// and sizes; files within it pass.
+    #[test]
+    fn a_file_over_the_budget_names_its_kernels() {
+        let small = "pub fn c_self() {\n}\n";
+        let large = "pub fn c_pair() {\n    let t0 = 1.0;\n}\npub fn c_pair_lanes() {\n    let t0 = 1.0;\n    let t1 = 2.0;\n}\n";
+        let files = [
+            file("small.rs", small, &[("c_self", 3)]),
+            file(
+                "c.rs",
+                large,
+                &[
+                    ("c_pair", 70),
+                    ("c_pair (far field)", 20),
+                    ("c_pair_lanes (fma)", 50),
+                ],
+            ),
+        ];
+        check(&files, large.len()).unwrap();
+        let err = check(&files, large.len() - 1).unwrap_err().to_string();
+        let c = err.lines().find(|l| l.starts_with("c.rs ")).unwrap();
+        assert!(c.ends_with(&format!(" {} bytes", large.len())), "{err}");
+        assert!(!err.contains("small.rs"), "{err}");
+        let lanes = err.find("c_pair_lanes ").unwrap();
+        let pair = err.find("c_pair ").unwrap();
+        assert!(lanes < pair, "largest first: {err}");
+        assert!(err.contains("70 flops, 20 flops (far field)"), "{err}");
+        assert!(err.contains("50 flops (fma)"), "{err}");
+        assert!(err.contains("Green::image_terms"), "{err}");
+    }
+}
