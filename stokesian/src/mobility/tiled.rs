@@ -17,14 +17,15 @@
 //! pair or per tile. The Brownian drift (the generated divergence kernels summed over
 //! pairs) runs through the same tiles (`Divergence`).
 //!
-//! Near a no-slip wall the kernels evaluate `M^{ab}` with the lower particle as the
-//! source (`Confinement::exchanges_by_height`). The particles are therefore ordered by
-//! height, highest first, and every tile calls the `*_lanes_ordered` kernels, which skip
-//! the per-lane exchange (its comparison and selects): the same values, pair by pair.
+//! Near a no-slip wall the kernels evaluate `M^{ab}` with the particle nearer the wall as
+//! the source (`Confinement::exchange_normal`: the wall's normal, along which they
+//! compare). The particles are therefore ordered along that normal, farthest first, and
+//! every tile calls the `*_lanes_ordered` kernels, which skip the per-lane exchange (its
+//! comparison and selects): the same values, pair by pair.
 //!
 //! The lanes hold `f64` or, for the single-precision product ([`Precision::Single`]),
 //! `f32`: twice the pairs per instruction. Single precision runs in units where the
-//! largest radius, the viscosity and the largest moment are 1 and heights are measured
+//! largest radius, the viscosity and the largest moment are 1 and positions are measured
 //! from the first boundary (`Confinement::in_units`), so no intermediate of the kernels
 //! overflows or underflows `f32` whatever the user's units; each tile's sums are
 //! carried in `f32` and every total in `f64`.
@@ -155,8 +156,8 @@ impl LaneProduct<11> for ProductFTS<'_> {
 pub(crate) trait LaneBlocks<const K: usize, const N: usize> {
     /// Where entry `(i, j)` of a block sits among the kernel's outputs.
     const FLAT: [[usize; K]; K];
-    /// The blocks `M^{ab}` of `L::WIDTH` pairs, `b` no higher than `a` where
-    /// [`Confinement::exchanges_by_height`].
+    /// The blocks `M^{ab}` of `L::WIDTH` pairs, `b` no higher than `a` along
+    /// [`Confinement::exchange_normal`] where there is one.
     fn blocks<L: Lane<Elem = f64>>(
         conf: &Confinement,
         eta: f64,
@@ -218,8 +219,8 @@ lane_blocks!(
 /// The blocks `M^{ab}` of particle `a` with each particle of `bs`, truncated as `T`
 /// says, from the generated lane kernels, `L::WIDTH` pairs at a time: written
 /// row-major (`K x K`, grand order) one after another into `out` (`K^2 bs.len()`
-/// values). Where the kernels want the higher particle first
-/// ([`Confinement::exchanges_by_height`]) and `b` is higher, the lane computes `M^{ba}`
+/// values). Where the kernels want the higher particle first (along
+/// [`Confinement::exchange_normal`]) and `b` is higher, the lane computes `M^{ba}`
 /// and its transpose is written (reciprocity), as the scalar kernels do.
 pub(crate) struct PairBlocks<'a, T> {
     pub conf: &'a Confinement,
@@ -485,9 +486,9 @@ pub(crate) fn apply<P: LaneProduct<K>, E: Element, const K: usize>(
     isa: Isa,
     parallel: bool,
 ) -> Vec<[f64; K]> {
-    // the order of the lane kernels' pairs: by height, highest first, where they skip
-    // the exchange of roles (a stable sort: the order and every sum are fixed by the
-    // input alone); as given otherwise
+    // the order of the lane kernels' pairs: along the exchange normal, highest first,
+    // where they skip the exchange of roles (a stable sort: the order and every sum are
+    // fixed by the input alone); as given otherwise
     let mut order: Vec<usize> = (0..particles.len()).collect();
     if let Some(n) = product.by_height() {
         let h = |i: usize| kernels::along(n, particles[i].0);
@@ -678,7 +679,7 @@ impl System {
 }
 
 /// The units of the single-precision product: lengths in units of the largest radius,
-/// measured laterally from the centroid and vertically from the first boundary (the
+/// measured from the centroid moved onto the first boundary along its normal (the
 /// centroid in free space); the viscosity 1; moments scaled so that the largest is 1.
 struct Units {
     origin: [f64; 3],
