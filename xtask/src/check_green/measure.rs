@@ -47,14 +47,19 @@ fn of_order(n: u8) -> Vec<[u8; 3]> {
     v
 }
 
+/// `order 0: r0, order 1: r1, ...`.
+fn by_order(r: &[f64]) -> String {
+    let v: Vec<String> = r
+        .iter()
+        .enumerate()
+        .map(|(o, r)| format!("order {o}: {r:.1e}"))
+        .collect();
+    v.join(", ")
+}
+
 /// The derivatives the kernels are emitted from: the structured path if the Green's
 /// function has image terms, otherwise the generic jets.
-fn emitted<'a, G: Green>(
-    g: &G,
-    x: &[f64; 3],
-    y: &[f64; 3],
-    p: &[f64],
-) -> Box<dyn Derivatives<f64> + 'a> {
+fn emitted<G: Green>(g: &G, x: &[f64; 3], y: &[f64; 3], p: &[f64]) -> Box<dyn Derivatives<f64>> {
     match g.image_terms() {
         Some(_) => Box::new(Structured::new(g, x, y, p, 5, true, true)),
         None => Box::new(GenericJets::new(g, Part::Full, x, y, p, 5)),
@@ -211,18 +216,13 @@ impl Measure {
                     }
                 }
             }
-            let orders: Vec<String> = worst
-                .iter()
-                .enumerate()
-                .map(|(o, w)| format!("order {o}: {w:.1e}"))
-                .collect();
             self.lines.push(format!(
                 "  boundary {k}: {:?} on the plane {:?}.x = {} ({}): {}",
                 b.condition,
                 b.plane.normal,
                 b.plane.offset,
                 if b.exact { "exact" } else { "not exact" },
-                orders.join(", ")
+                by_order(&worst)
             ));
             if b.exact && worst.iter().any(|&w| w > EXACT) {
                 self.failures.push(format!(
@@ -308,14 +308,9 @@ impl Measure {
             }
         }
         for (what, w) in ["pair (J + J^w)", "self (J^w at x = y)"].iter().zip(worst) {
-            let orders: Vec<String> = w
-                .iter()
-                .enumerate()
-                .map(|(o, w)| format!("order {o}: {w:.1e}"))
-                .collect();
             self.lines.push(format!(
                 "structured (Eq. 10) vs generic jets, {what}, over {PAIRS} pairs: {}",
-                orders.join(", ")
+                by_order(&w)
             ));
             if w.iter().any(|&v| v > PATHS) {
                 self.failures.push(format!(

@@ -457,8 +457,11 @@ impl Scratch {
                  checkout was written"
             );
         }
-        summary
-            .push("generated files of the family (bytes of each kernel, operation counts):".into());
+        summary.push(format!(
+            "generated files of the family (bytes of each kernel, operation counts; the budget \
+             is {} bytes per file):",
+            crate::budget::FILE_BUDGET
+        ));
         summary.extend(family_rows(&gen_out, name));
         summary.extend(
             gen_out
@@ -513,7 +516,7 @@ impl Scratch {
         let (_, test_out) = streamed(&mut self.cargo(&run))?;
         let (passed, failing) = test_results(&test_out);
         summary.push(format!(
-            "integration tests {}: {passed} passed, {} failed in {:.0} s{}",
+            "integration tests ({}): {passed} passed, {} failed in {:.0} s{}",
             REGISTRY_TESTS.join(" "),
             failing.len(),
             t.elapsed().as_secs_f64(),
