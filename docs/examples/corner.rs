@@ -7,8 +7,7 @@
 //! wall's no slip, and the boundaries say so (`exact: false`).
 //!
 //! Not part of the registry: `cargo xtask check-green docs/examples/corner.rs` tries it
-//! in a scratch copy of the workspace (docs/generator.md, "A corner through
-//! check-green").
+//! in a scratch copy of the workspace (docs/generator.md, "Trying a Green's function").
 
 use super::wall::{blake, blake_terms};
 use super::{
