@@ -60,11 +60,10 @@ impl Green for FreeSurface {
         vec![Plane::horizontal(p[0].clone())]
     }
     fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<Boundary<S>> {
-        vec![Boundary {
-            plane: Plane::horizontal(p[0].clone()),
-            condition: Condition::FreeSurface,
-            exact: true,
-        }]
+        vec![Boundary::exact(
+            Plane::horizontal(p[0].clone()),
+            Condition::FreeSurface,
+        )]
     }
     fn axisymmetric(&self) -> bool {
         true

@@ -47,11 +47,10 @@ impl Green for Interface {
         vec![Plane::horizontal(p[0].clone())]
     }
     fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<Boundary<S>> {
-        vec![Boundary {
-            plane: Plane::horizontal(p[0].clone()),
-            condition: Condition::Interface,
-            exact: true,
-        }]
+        vec![Boundary::exact(
+            Plane::horizontal(p[0].clone()),
+            Condition::Interface,
+        )]
     }
     /// `[1/(1 + lambda), lambda/(1 + lambda)]`.
     fn weights<S: Scalar>(&self, p: &[S]) -> Vec<S> {

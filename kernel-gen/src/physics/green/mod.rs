@@ -246,6 +246,18 @@ pub struct Boundary<S> {
     pub exact: bool,
 }
 
+impl<S> Boundary<S> {
+    /// A boundary whose condition `G` satisfies exactly (the single plane of a wall,
+    /// a free surface, an interface).
+    pub fn exact(plane: Plane<S>, condition: Condition) -> Boundary<S> {
+        Boundary {
+            plane,
+            condition,
+            exact: true,
+        }
+    }
+}
+
 /// How a run-time parameter changes when lengths are measured in another unit from
 /// another origin of `x3` (`Confinement::in_units`).
 #[derive(Clone, Copy, Debug, PartialEq)]

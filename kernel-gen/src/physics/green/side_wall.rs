@@ -45,14 +45,8 @@ impl Green for SideWall {
         }]
     }
     fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<Boundary<S>> {
-        vec![Boundary {
-            plane: Plane {
-                normal: NORMAL,
-                offset: p[0].clone(),
-            },
-            condition: Condition::NoSlip,
-            exact: true,
-        }]
+        let [plane] = self.mirrors(p).try_into().expect("one mirror");
+        vec![Boundary::exact(plane, Condition::NoSlip)]
     }
     /// A source on the wall has no effect: at `n.y = side`, `R = r` and `J^w = -J(R)`.
     fn cancelling_image(&self) -> Option<(usize, usize)> {

@@ -98,11 +98,10 @@ impl Green for Wall {
         vec![Plane::horizontal(p[0].clone())]
     }
     fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<Boundary<S>> {
-        vec![Boundary {
-            plane: Plane::horizontal(p[0].clone()),
-            condition: Condition::NoSlip,
-            exact: true,
-        }]
+        vec![Boundary::exact(
+            Plane::horizontal(p[0].clone()),
+            Condition::NoSlip,
+        )]
     }
     /// A source on the wall has no effect: at `h = 0`, `R = r` and `J^w = -J(R)`.
     fn cancelling_image(&self) -> Option<(usize, usize)> {
