@@ -7,17 +7,18 @@ use kernel_gen::catalog::GeneratedFile;
 use kernel_gen::physics::green::{Green, Visitor};
 use std::fmt::Write;
 
-/// The largest generated file `cargo xtask gen` writes, in bytes (4 MiB).
+/// The largest generated file `cargo xtask gen` writes, in bytes (4 MiB; the largest
+/// today, `wall.rs`, is 1.42 MB).
 ///
-/// The kernels are `#[inline]` or generic over the lanes, so the `kernels` crate only
-/// parses and checks them and the machine code is made in the crates that call them.
-/// Measured with `/usr/bin/time -v` on 2 cores, with `wall.rs` (1.42 MB) the largest of
-/// the generated files: `cargo build --release -p kernels` peaks at 0.65 GB resident
-/// (18 s) and `cargo build --release -p stokesian`, which compiles the kernels into
-/// machine code, at 2.58 GB (5 min). Compile memory grows with the size of the code
-/// (LLVM holds a function's instructions at once; rustc the crate's syntax and MIR):
-/// 4 MiB is 2.9 times `wall.rs`, and 2.9 times the whole peak of the solver's build,
-/// as if all of it grew with that one file, is 7.6 GB, within a machine of 8 GiB.
+/// Measured with `/usr/bin/time -v` (peak resident memory of the largest process) on
+/// 2 cores. The kernels are `#[inline]` or generic over the lanes, so most of their
+/// machine code is made in the crates that call them: `cargo build --release -p kernels`
+/// peaks at 0.69 GB (16 s), while `cargo build --release
+/// -p xtask` (the kernels with `f32`, the solver, the tests' library) peaks at 2.78 GB;
+/// with one family more, the corner of docs/examples/corner.rs (`corner.rs` 0.77 MB and
+/// its single-precision twin 0.16 MB, through `cargo xtask check-green`), at 3.31 GB:
+/// 0.57 GB per MB of generated code. A family file at the budget, with its twin (a fifth
+/// of it), adds 2.9 GB: 5.7 GB, within a machine of 8 GiB (8.6 GB).
 pub const FILE_BUDGET: usize = 4 << 20;
 
 /// One line per file (its size) and, below it, one per function it defines: bytes of
@@ -64,6 +65,9 @@ fn generic() -> Vec<&'static str> {
     v.0
 }
 
+/// How many of an over-budget file's functions its message lists, largest first.
+const LISTED: usize = 8;
+
 /// Fails if any file is over `budget`, naming each such file and its kernels (largest
 /// first, with their bytes and operation counts) and saying what to declare for the
 /// structured path.
@@ -79,7 +83,10 @@ pub fn check(files: &[GeneratedFile], budget: usize) -> Result<()> {
     for f in over {
         let mut by_size = f.functions();
         by_size.sort_by_key(|f| std::cmp::Reverse(f.1));
-        rows(&mut msg, f, &by_size);
+        rows(&mut msg, f, &by_size[..by_size.len().min(LISTED)]);
+        if by_size.len() > LISTED {
+            let _ = writeln!(msg, "  ({} smaller functions)", by_size.len() - LISTED);
+        }
     }
     let generic = generic();
     let declare = "`Green::image_terms` with `Green::mirrors` (each term \
@@ -147,5 +154,15 @@ mod tests {
         assert!(err.contains("70 flops, 20 flops (far field)"), "{err}");
         assert!(err.contains("50 flops (fma)"), "{err}");
         assert!(err.contains("Green::image_terms"), "{err}");
+        // a file of many functions: the largest LISTED of them
+        let many: String = (0..LISTED + 2)
+            .map(|k| format!("pub fn f{k}() {{\n{}}}\n", "    x;\n".repeat(k)))
+            .collect();
+        let err = check(&[file("many.rs", &many, &[])], 0)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(&format!("  f{} ", LISTED + 1)), "{err}");
+        assert!(!err.contains("  f1 "), "{err}");
+        assert!(err.contains("  (2 smaller functions)"), "{err}");
     }
 }
