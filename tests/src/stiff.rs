@@ -54,8 +54,6 @@ pub struct StiffRow {
     pub block: String,
     /// `rho/h`, `gap/a`, radius ratio, `h/a` or `a`.
     pub parameter: f64,
-    /// Lateral distance over the smaller height of the configuration.
-    pub rho_over_h: f64,
     /// Norm-wise relative error against the double-double direct sum.
     pub error: f64,
     /// The same for the plain direct sum evaluated in `f64` (the reference's graph,
@@ -211,8 +209,6 @@ pub struct Case {
     pub with_self: bool,
     /// Whether the pair kernels are evaluated.
     pub with_pair: bool,
-    /// Lateral distance over the smaller height (pairs).
-    pub rho_over_h: f64,
     /// Height of `xa` over its radius (self kernels).
     pub h_over_a: f64,
 }
@@ -368,7 +364,6 @@ pub fn case(
 ) -> Case {
     let top = (xa[2] + aa).max(xb[2] + ab) - plane;
     let gap = (12.0 * aa.max(ab)).max(3.0 * top);
-    let rho = (xa[0] - xb[0]).hypot(xa[1] - xb[1]);
     Case {
         case,
         label,
@@ -382,7 +377,6 @@ pub fn case(
         gap,
         with_self,
         with_pair,
-        rho_over_h: rho / (xa[2] - plane).min(xb[2] - plane),
         h_over_a: (xa[2] - plane) / aa,
     }
 }
@@ -599,7 +593,6 @@ pub fn stiff_cases() -> Vec<StiffRow> {
                             kernel: format!("{} {}", kind.name(), c.label),
                             block,
                             parameter: c.parameter,
-                            rho_over_h: c.rho_over_h,
                             error,
                             direct_sum,
                         });

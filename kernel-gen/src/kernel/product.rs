@@ -4,7 +4,7 @@
 use super::traced::BlockOut;
 use crate::graph::Ex;
 use crate::number::scalar::Scalar;
-use crate::physics::frame::Frame;
+use crate::physics::frame::{Frame, Turn};
 use crate::physics::operators::{response_dim, Basis, Moment, Response};
 
 /// Components of a response or moment kept when the blocks are `blocks`, in grand
@@ -65,12 +65,13 @@ pub(super) fn fused<S: Scalar>(
 
 /// The fused product from the traced blocks of `M^{ab}` ([`fused`]); with a frame, the
 /// blocks are those of the frame, the moments are rotated into it and the responses
-/// back.
+/// back; with a turn (the frame of the planes, [`Turn`]) the same around it.
 pub(super) fn product_outputs(
     blocks: &[BlockOut],
     va: &[Ex],
     vb: &[Ex],
     frame: Option<&Frame>,
+    turn: Option<&Turn>,
 ) -> Vec<BlockOut> {
     let which: Vec<(Response, Moment)> = blocks
         .iter()
@@ -80,18 +81,26 @@ pub(super) fn product_outputs(
         .iter()
         .map(|b| b.ids.iter().map(|&id| Ex(id)).collect())
         .collect();
+    let (l, s) = kept(&which);
+    let parts: Vec<usize> = [Some(3), l.then_some(3), s.then_some(5)]
+        .into_iter()
+        .flatten()
+        .collect();
+    let (va, vb) = match turn {
+        Some(q) => (q.vector(va, &parts, true), q.vector(vb, &parts, true)),
+        None => (va.to_vec(), vb.to_vec()),
+    };
     let (a, b) = match frame {
-        None => fused(&which, &values, Basis::Orthonormal, va, vb),
+        None => fused(&which, &values, Basis::Orthonormal, &va, &vb),
         Some(f) => {
-            let (l, s) = kept(&which);
-            let parts: Vec<usize> = [Some(3), l.then_some(3), s.then_some(5)]
-                .into_iter()
-                .flatten()
-                .collect();
-            let (fa, fb) = (f.vector(va, &parts, true), f.vector(vb, &parts, true));
+            let (fa, fb) = (f.vector(&va, &parts, true), f.vector(&vb, &parts, true));
             let (a, b) = fused(&which, &values, Basis::Orthonormal, &fa, &fb);
             (f.vector(&a, &parts, false), f.vector(&b, &parts, false))
         }
+    };
+    let (a, b) = match turn {
+        Some(q) => (q.vector(&a, &parts, false), q.vector(&b, &parts, false)),
+        None => (a, b),
     };
     let out = |name: &str, v: Vec<Ex>| BlockOut {
         name: name.into(),

@@ -9,9 +9,13 @@ use super::traced::{Arg, ArgKind, BlockOut, FarBranch, Traced};
 use crate::graph::{Ex, Trace};
 use crate::number::scalar::Scalar;
 use crate::physics::derivatives::{Collection, Differences, Form};
-use crate::physics::frame::Frame;
+use crate::physics::frame::{Frame, Turn};
+use crate::physics::green::turned::{self, Turned};
 use crate::physics::green::Green;
 use crate::physics::operators::{block_name, moment_dim, response_dim, Basis, Moment, Response};
+
+/// `(values, rows, columns)` of a row-major block to the block rotated.
+type BlockRotation<'a> = dyn Fn(&[Ex], usize, usize) -> Vec<Ex> + 'a;
 
 fn shape(r: Response, m: Moment, b: Basis) -> Vec<usize> {
     let side = |n: usize| if n == 9 { vec![3, 3] } else { vec![n] };
@@ -35,7 +39,22 @@ fn shape(r: Response, m: Moment, b: Basis) -> Vec<usize> {
 /// (the wall) the winner is traced once more with the exact difference for the leading
 /// terms only ([`Differences::Leading`]) and the cheaper kept: the F kernels and the
 /// divergence take it, the FT kernels do not.
+///
+/// A Green's function whose planes share a normal other than `e3` is traced as the
+/// same confinement in its planes' own frame ([`turned`]), the points and moments
+/// rotated in and the outputs rotated out: it takes the canonical frame and the lateral
+/// far field like a plane normal to `e3`.
 pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
+    match turned::turn(g) {
+        Some(q) => trace_forms(&Turned { g, q }, spec, Some(&Turn::from_frame(&q))),
+        None => trace_forms(g, spec, None),
+    }
+}
+
+fn trace_forms<G: Green>(g: &G, spec: &KernelSpec, turn: Option<&Turn>) -> Traced {
+    let trace_with = |g: &G, spec: &KernelSpec, form: Form, canonical: bool| {
+        trace_with(g, spec, form, canonical, turn)
+    };
     let first = trace_with(g, spec, Form::collecting(Collection::Entries), true);
     if g.image_terms().is_none() || spec.path == Path::Generic {
         return first;
@@ -87,7 +106,13 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
     }
 }
 
-fn trace_with<G: Green>(g: &G, spec: &KernelSpec, form: Form, canonical: bool) -> Traced {
+fn trace_with<G: Green>(
+    g: &G,
+    spec: &KernelSpec,
+    form: Form,
+    canonical: bool,
+    turn: Option<&Turn>,
+) -> Traced {
     let t = Trace::begin();
     let mut args = Vec::new();
     let mut point = |t: &Trace, name: &str, doc: &str| -> [Ex; 3] {
@@ -112,6 +137,11 @@ fn trace_with<G: Green>(g: &G, spec: &KernelSpec, form: Form, canonical: bool) -
             let x = point(&t, "x", "centre of the particle");
             (x, x)
         }
+    };
+    // the points in the frame of the planes
+    let (xa, xb) = match turn {
+        Some(q) => (q.point(&xa), q.point(&xb)),
+        None => (xa, xb),
     };
     let mut scalar = |t: &Trace, name: &str, doc: &str| -> Ex {
         args.push(Arg {
@@ -259,29 +289,48 @@ fn trace_with<G: Green>(g: &G, spec: &KernelSpec, form: Form, canonical: bool) -
     }
     // From the frame to the world: the products rotate the moments in and the
     // responses out; the block kernels rotate the blocks.
+    // each block `B` to `Q_r B Q_m^T`, by `rotate(values, rows, columns)`
+    let rotated = |blocks: Vec<BlockOut>, rotate: &BlockRotation| {
+        blocks
+            .into_iter()
+            .map(|b| {
+                let (r, m) = b.block.expect("block outputs");
+                let (nr, nm) = (response_dim(r, spec.basis), moment_dim(m, spec.basis));
+                let vals: Vec<Ex> = b.ids.iter().map(|&id| Ex(id)).collect();
+                let ids = rotate(&vals, nr, nm).into_iter().map(|e| e.0).collect();
+                BlockOut { ids, ..b }
+            })
+            .collect::<Vec<_>>()
+    };
     let to_world = |blocks: Vec<BlockOut>| -> Vec<BlockOut> {
-        match (&vectors, &frame) {
-            (Some((va, vb)), _) => product_outputs(&blocks, va, vb, frame.as_ref()),
-            (None, Some(f)) => blocks
-                .into_iter()
-                .map(|b| {
-                    let (r, m) = b.block.expect("block outputs");
-                    let (nr, nm) = (response_dim(r, spec.basis), moment_dim(m, spec.basis));
-                    let vals: Vec<Ex> = b.ids.iter().map(|&id| Ex(id)).collect();
-                    let ids = Frame::block_to_world(&vals, nr, nm, &f.c, &f.s)
-                        .into_iter()
-                        .map(|e| e.0)
-                        .collect();
-                    BlockOut { ids, ..b }
-                })
-                .collect(),
+        let blocks = match (&vectors, &frame) {
+            (Some((va, vb)), _) => return product_outputs(&blocks, va, vb, frame.as_ref(), turn),
+            (None, Some(f)) => rotated(blocks, &|v, nr, nm| {
+                Frame::block_to_world(v, nr, nm, &f.c, &f.s)
+            }),
             (None, None) => blocks,
+        };
+        // from the frame of the planes
+        match turn {
+            Some(q) => rotated(blocks, &|v, nr, nm| q.block_to_world(v, nr, nm)),
+            None => blocks,
         }
     };
     if !spec.divergence {
         outputs = to_world(outputs);
         if let Some(f) = &mut far {
             f.outputs = to_world(std::mem::take(&mut f.outputs));
+        }
+    } else if let Some(q) = turn {
+        // the drift's velocities (and angular velocities) back to the world
+        for b in &mut outputs {
+            let vals: Vec<Ex> = b.ids.iter().map(|&id| Ex(id)).collect();
+            let parts = vec![3; vals.len() / 3];
+            b.ids = q
+                .vector(&vals, &parts, false)
+                .into_iter()
+                .map(|e| e.0)
+                .collect();
         }
     }
     let swap = match (

@@ -19,6 +19,7 @@
 
 use crate::graph::Ex;
 use crate::number::scalar::Scalar;
+use crate::physics::green::{clean, Mat3};
 use crate::physics::operators::STRAIN_BASIS;
 
 /// The frame of a pair: `rho^2`, `1/rho` and the rotation's `(cos, sin)`.
@@ -53,56 +54,120 @@ impl Frame {
 
     /// `Q_r B' Q_m^T`: a block (`nr x nm`, row-major) from the frame to the world.
     pub fn block_to_world<S: Scalar>(vals: &[S], nr: usize, nm: usize, c: &S, s: &S) -> Vec<S> {
-        let qr = rotation(nr, c, s);
-        let qm = rotation(nm, c, s);
-        let mut out = Vec::with_capacity(nr * nm);
-        for i in 0..nr {
-            for j in 0..nm {
-                let mut acc = S::cst(0.0);
-                for a in 0..nr {
-                    if qr[i][a].is_known_zero() {
-                        continue;
-                    }
-                    let mut inner = S::cst(0.0);
-                    for b in 0..nm {
-                        let v = &vals[a * nm + b];
-                        if v.is_known_zero() || qm[j][b].is_known_zero() {
-                            continue;
-                        }
-                        inner = inner + v.clone() * qm[j][b].clone();
-                    }
-                    acc = acc + qr[i][a].clone() * inner;
-                }
-                out.push(acc);
-            }
-        }
-        out
+        rotate_block(vals, &rotation(nr, c, s), &rotation(nm, c, s))
     }
 
     /// A grand vector (`[3 | 3 | 5]` parts as kept, `parts` their lengths) rotated by
     /// `Q^T` (into the frame, `transpose`) or by `Q` (back to the world).
     pub fn vector(&self, v: &[Ex], parts: &[usize], transpose: bool) -> Vec<Ex> {
-        let mut out = Vec::with_capacity(v.len());
-        let mut at = 0;
-        for &n in parts {
-            let q = rotation(n, &self.c, &self.s);
-            for i in 0..n {
-                let mut acc = Ex::cst(0.0);
-                for k in 0..n {
-                    let w = if transpose { q[k][i] } else { q[i][k] };
-                    acc = acc + w * v[at + k];
-                }
-                out.push(acc);
-            }
-            at += n;
-        }
-        out
+        rotate_vector(v, parts, transpose, |n| rotation(n, &self.c, &self.s))
     }
 }
 
+/// A fixed rotation from a plane's frame to the world: `Q^T` for the frame `Q` (rows
+/// `t1, t2, n`, [`crate::physics::green::frame`]) of the mirror planes of a
+/// [`crate::physics::green::turned::Turned`] Green's function. Its entries (and those
+/// of its strain representation, computed in `f64`) are constants of the graph, so a
+/// signed permutation folds to relabelled inputs and outputs.
+pub struct Turn {
+    /// `Q^T`: frame to world.
+    q3: Mat3<f64>,
+    /// `Q_5^T`.
+    q5: Vec<Vec<f64>>,
+}
+
+impl Turn {
+    /// The rotation back from the frame `q` (rows `t1, t2, n`).
+    pub fn from_frame(q: &Mat3<f64>) -> Turn {
+        let q3: Mat3<f64> = std::array::from_fn(|i| std::array::from_fn(|j| q[j][i]));
+        let q5 = strains(&q3);
+        Turn { q3, q5 }
+    }
+
+    fn matrix<S: Scalar>(&self, dim: usize) -> Vec<Vec<S>> {
+        let m: Vec<Vec<f64>> = match dim {
+            3 => self.q3.iter().map(|r| r.to_vec()).collect(),
+            5 => self.q5.clone(),
+            _ => panic!("vectors, pseudovectors and strains only"),
+        };
+        m.into_iter()
+            .map(|r| r.into_iter().map(|v| S::cst(clean(v))).collect())
+            .collect()
+    }
+
+    /// A point of the world in the frame: `Q x`.
+    pub fn point<S: Scalar>(&self, x: &[S; 3]) -> [S; 3] {
+        let v = rotate_vector(x, &[3], true, |n| self.matrix(n));
+        std::array::from_fn(|k| v[k].clone())
+    }
+
+    /// A grand vector (`parts` as in [`Frame::vector`]) into the frame (`transpose`) or
+    /// back to the world.
+    pub fn vector<S: Scalar>(&self, v: &[S], parts: &[usize], transpose: bool) -> Vec<S> {
+        rotate_vector(v, parts, transpose, |n| self.matrix(n))
+    }
+
+    /// A block (`nr x nm`, row-major) from the frame to the world.
+    pub fn block_to_world<S: Scalar>(&self, vals: &[S], nr: usize, nm: usize) -> Vec<S> {
+        rotate_block(vals, &self.matrix(nr), &self.matrix(nm))
+    }
+}
+
+/// `Q_r B Q_m^T` for a block `B` (`qr.len() x qm.len()`, row-major), skipping the
+/// known zeros.
+fn rotate_block<S: Scalar>(vals: &[S], qr: &[Vec<S>], qm: &[Vec<S>]) -> Vec<S> {
+    let (nr, nm) = (qr.len(), qm.len());
+    let mut out = Vec::with_capacity(nr * nm);
+    for i in 0..nr {
+        for j in 0..nm {
+            let mut acc = S::cst(0.0);
+            for a in 0..nr {
+                if qr[i][a].is_known_zero() {
+                    continue;
+                }
+                let mut inner = S::cst(0.0);
+                for b in 0..nm {
+                    let v = &vals[a * nm + b];
+                    if v.is_known_zero() || qm[j][b].is_known_zero() {
+                        continue;
+                    }
+                    inner = inner + v.clone() * qm[j][b].clone();
+                }
+                acc = acc + qr[i][a].clone() * inner;
+            }
+            out.push(acc);
+        }
+    }
+    out
+}
+
+/// A grand vector rotated part by part: `Q^T v` (`transpose`) or `Q v`, `q(n)` the
+/// rotation on a part of length `n`.
+fn rotate_vector<S: Scalar>(
+    v: &[S],
+    parts: &[usize],
+    transpose: bool,
+    q: impl Fn(usize) -> Vec<Vec<S>>,
+) -> Vec<S> {
+    let mut out = Vec::with_capacity(v.len());
+    let mut at = 0;
+    for &n in parts {
+        let q = q(n);
+        for i in 0..n {
+            let mut acc = S::cst(0.0);
+            for k in 0..n {
+                let w = if transpose { &q[k][i] } else { &q[i][k] };
+                acc = acc + w.clone() * v[at + k].clone();
+            }
+            out.push(acc);
+        }
+        at += n;
+    }
+    out
+}
+
 /// The rotation by `(c, s) = (cos, sin)` about `e3` on vectors (`dim = 3`) or on the
-/// orthonormal strain basis (`dim = 5`: `Q_5[p][q] = B_p : (Q B_q Q^T)`), zeros as
-/// exact constants.
+/// orthonormal strain basis (`dim = 5`: [`strains`]), zeros as exact constants.
 pub fn rotation<S: Scalar>(dim: usize, c: &S, s: &S) -> Vec<Vec<S>> {
     let z = || S::cst(0.0);
     let r = [
@@ -114,6 +179,11 @@ pub fn rotation<S: Scalar>(dim: usize, c: &S, s: &S) -> Vec<Vec<S>> {
         return r.iter().map(|row| row.to_vec()).collect();
     }
     assert_eq!(dim, 5, "orthonormal strain basis");
+    strains(&r)
+}
+
+/// A rotation `R` on the orthonormal strain basis: `R_5[p][q] = B_p : (R B_q R^T)`.
+pub fn strains<S: Scalar>(r: &Mat3<S>) -> Vec<Vec<S>> {
     let mut q = vec![vec![S::cst(0.0); 5]; 5];
     for p in 0..5 {
         for qq in 0..5 {

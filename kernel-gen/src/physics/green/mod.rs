@@ -15,6 +15,7 @@ pub mod free_surface;
 pub mod interface;
 pub mod side_wall;
 pub mod slit;
+pub mod turned;
 pub mod wall;
 
 mod declaration;
@@ -188,7 +189,7 @@ pub fn frame(n: [f64; 3]) -> Mat3<f64> {
 
 /// `-0` and round-off below `1e-15` as `0`, so that an axis-aligned frame has exact
 /// entries.
-fn clean(v: f64) -> f64 {
+pub(crate) fn clean(v: f64) -> f64 {
     if v.abs() < 1e-15 {
         0.0
     } else {
@@ -335,10 +336,12 @@ pub trait Green {
     fn cancelling_image(&self) -> Option<(usize, usize)> {
         None
     }
-    /// Whether `G` is invariant under rotations about `e3` and lateral translations
-    /// (all boundaries are planes normal to `e3`): pair kernels are then traced in the
-    /// canonical frame of [`crate::physics::frame`], where the lateral separation lies along
-    /// `x1`. A Green's function that does not say so is traced as it is.
+    /// Whether `G` is invariant under rotations about the common normal `n` of its
+    /// mirror planes (`e3` without mirrors) and translations along them (all boundaries
+    /// are planes normal to `n`): pair kernels are then traced in the canonical frame of
+    /// [`crate::physics::frame`], where the lateral separation lies along the plane's
+    /// first axis (for `n` other than `e3`, in the planes' own frame: [`turned`]). A
+    /// Green's function that does not say so is traced as it is.
     fn axisymmetric(&self) -> bool {
         false
     }

@@ -48,6 +48,11 @@ impl Green for SideWall {
         let [plane] = self.mirrors(p).try_into().expect("one mirror");
         vec![Boundary::exact(plane, Condition::NoSlip)]
     }
+    /// Blake's image is invariant under rotations about the wall's normal and
+    /// translations along the wall.
+    fn axisymmetric(&self) -> bool {
+        true
+    }
     /// A source on the wall has no effect: at `n.y = side`, `R = r` and `J^w = -J(R)`.
     fn cancelling_image(&self) -> Option<(usize, usize)> {
         Some((0, 0))
