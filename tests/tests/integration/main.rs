@@ -4,14 +4,15 @@
 //! exact series, statistics, the stiff cases) live in the `integration_tests` library
 //! (`tests/src`).
 //!
-//! One binary links once where one per file linked 24 times. Run one theme, one file or
-//! one test by its path, e.g.
+//! One binary links once where one per file linked 24 times; the lane kernels' tests are
+//! a second binary (`tests/tests/lanes`), so that their instantiation of every lane
+//! kernel on every instruction set compiles alongside this one. Run one theme, one file
+//! or one test by its path, e.g.
 //! `cargo test --workspace --release -- two_sphere::exact::cost --nocapture`.
 
 mod bad_input;
 mod brownian;
 mod generated;
-mod lanes;
 mod lubrication;
 mod paper;
 mod physics;

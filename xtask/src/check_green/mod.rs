@@ -9,8 +9,9 @@
 //! build of the kernels and the solver and of the integration tests, each timed with its
 //! peak memory (`/usr/bin/time -v`), the measurements of [`measure`]
 //! (`check-green --registered NAME`) and the integration tests that iterate the
-//! registry (`generated::`, `physics::`, `lanes::`: reciprocity, positive definiteness,
-//! emitted against interpreted kernels, the far field, lanes and units). A summary of
+//! registry (`generated::`, `physics::` and the lanes binary's modules: reciprocity,
+//! positive definiteness, emitted against interpreted kernels, the far field, lanes and
+//! units). A summary of
 //! the sizes, operation counts, residuals, times and memory closes the run.
 //!
 //! `cargo xtask check-green --registered NAME` measures a registered Green's function.
@@ -31,8 +32,16 @@ const GREEN_DIR: &str = "kernel-gen/src/physics/green";
 /// file there yet, and from then on left to the scratch copy's own generator.
 const GENERATED: [&str; 2] = ["kernels/src/generated/", "stokesian/src/generated/"];
 
-/// The modules of the integration tests that iterate the registry.
-const REGISTRY_TESTS: [&str; 3] = ["generated::", "physics::", "lanes::"];
+/// The modules of the integration tests (binaries `integration` and `lanes`) that iterate
+/// the registry.
+const REGISTRY_TESTS: [&str; 6] = [
+    "generated::",
+    "physics::",
+    "scalar::",
+    "single_precision::",
+    "tiled_product::",
+    "layout::",
+];
 
 /// What the command line asks.
 #[derive(Debug, PartialEq)]
@@ -496,6 +505,8 @@ impl Scratch {
             "xtask",
             "--test",
             "integration",
+            "--test",
+            "lanes",
         ];
         let no_run: Vec<&str> = tests.iter().copied().chain(["--no-run"]).collect();
         let build = measured(&mut self.cargo(&no_run))?;

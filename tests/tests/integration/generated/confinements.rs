@@ -150,10 +150,11 @@ fn boundary_conditions_hold_for_the_image_and_its_source_derivatives() {
 /// also shrink from h = 1e4 a to h = 1e6 a.
 ///
 /// The spheres are placed at heights h and h + 0.7 over the first boundary, along its
-/// normal (`integration_tests::above`), the parameters chosen by their dimension: every
-/// position 0 (the planes through the origin), every length 2 h (a slit's gap: the
-/// spheres midway), every pure number its example. That this puts the spheres far
-/// from every boundary is checked, not assumed.
+/// normal (`integration_tests::above`), and moved by h along the normal of any other
+/// boundary they are nearer than h / 2 (a side wall meeting the floor), the parameters
+/// chosen by their dimension: every position 0 (the planes through the origin), every
+/// length 2 h (a slit's gap: the spheres midway), every pure number its example. That
+/// this puts the spheres far from every boundary is checked, not assumed.
 struct FarField {
     checked: usize,
 }
@@ -169,7 +170,20 @@ impl Visitor for FarField {
                 Dimension::Length => 2.0 * h,
                 Dimension::Number => p.example,
             });
-            let (xa, xb) = (above(&c, [0.5, 0.1], h), above(&c, [2.5, 2.1], h + 0.7));
+            // over the first boundary, then away from every other boundary it is near
+            // (a corner's side wall), along that boundary's normal
+            let clear = |mut x: [f64; 3]| {
+                for b in c.boundaries() {
+                    if b.distance(x) < 0.5 * h {
+                        x = std::array::from_fn(|k| x[k] + h * b.normal[k]);
+                    }
+                }
+                x
+            };
+            let (xa, xb) = (
+                clear(above(&c, [0.5, 0.1], h)),
+                clear(above(&c, [2.5, 2.1], h + 0.7)),
+            );
             for b in c.boundaries() {
                 for x in [xa, xb] {
                     assert!(

@@ -10,7 +10,7 @@ use rand_chacha::ChaCha8Rng;
 use stokesian::{Isa, Moments, Precision, System};
 
 /// 1e-13 of `|M x|`: the same kernels summed in another order, the lanes with fused
-/// multiply-adds (lanes = scalar to 1e-14 per pair, `lanes::scalar`).
+/// multiply-adds (lanes = scalar to 1e-14 per pair, `scalar.rs`).
 #[test]
 fn tiled_product_equals_the_dense_matrix_on_every_instruction_set() {
     let mut rng = ChaCha8Rng::seed_from_u64(21);
@@ -37,7 +37,7 @@ fn tiled_product_equals_the_dense_matrix_on_every_instruction_set() {
 
 /// The dense assembly (tiles of particle groups) puts every block where the layout of
 /// Eq. 1 says, exactly as `System::block` returns it (the lane kernels of each
-/// truncation, which `lanes::scalar` compares with the scalar kernels): `M^{ab}` for
+/// truncation, which `scalar.rs` compares with the scalar kernels): `M^{ab}` for
 /// `a <= b` and its transpose below, the self blocks on the diagonal, equal radii too.
 /// 37 spheres: more than the serial threshold, three groups, the last one partial.
 /// Compared bit for bit: the assembly copies values and computes none. The same into a

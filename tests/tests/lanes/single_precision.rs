@@ -91,7 +91,7 @@ fn si_system(rng: &mut ChaCha8Rng, conf: &Confinement, n: usize) -> (System, Con
 /// F, FT and FTS, every instruction set, in SI units: within 2e-6 of the norm of each
 /// part of the response (velocities; rotations and strains). Per pair the `f32` lanes
 /// agree with the `f64` kernels to 2e-6 of the pair's output norm away from the wall's
-/// lateral switch (`lanes::scalar`, about 2e-6 at worst, the slit); the sums run in `f32` within a tile and in `f64`
+/// lateral switch (`scalar.rs`, about 2e-6 at worst, the slit); the sums run in `f32` within a tile and in `f64`
 /// across tiles, and the errors of many pairs partly cancel (measured 1e-8 to 2e-7). Measured:
 /// printed by `-- --nocapture`.
 #[test]
