@@ -471,6 +471,34 @@ def test_any_array_in_the_same_kind_out(angular):
         c.Mdot(OnTheGpu(forces))
 
 
+def test_an_array_api_library_gets_its_own_arrays_back():
+    # array-api-strict (installed by `cargo xtask test` and the test extra): a real array
+    # library besides NumPy, offering DLPack and an array API namespace
+    import array_api_strict as xp
+
+    positions, forces, torques = wall_configuration(3)
+    s = solver(xp.asarray(positions), angular=True, seed=4)
+    c = solver(positions, angular=True, seed=4)
+    got = {
+        "Mdot": s.Mdot(xp.asarray(forces), xp.asarray(torques)),
+        "sqrtMdotW": s.sqrtMdotW(),
+        "divM": s.divM(),
+        "LangevinVelocities": s.LangevinVelocities(0.01, 1.0, xp.asarray(forces)),
+    }
+    want = {
+        "Mdot": c.Mdot(forces, torques),
+        "sqrtMdotW": c.sqrtMdotW(),
+        "divM": c.divM(),
+        "LangevinVelocities": c.LangevinVelocities(0.01, 1.0, forces),
+    }
+    for method, pair in got.items():
+        for g, w in zip(pair, want[method]):
+            assert type(g) is type(xp.asarray(positions)), method
+            assert g.dtype == xp.float64 and g.shape == w.shape, method
+            # the same kernels and random numbers: identical bits
+            assert np.array_equal(np.from_dlpack(g), w), method
+
+
 def test_periodic_and_two_walls_are_refused():
     for per in [("periodic", "periodic", "periodic"), ("periodic", "periodic", "open"),
                 ("open", "open", "two_walls"), ("single_wall", "open", "open")]:
