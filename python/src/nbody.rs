@@ -345,7 +345,7 @@ impl NBody {
         let (nbatch, per) = self.batch;
         let count = if nbatch < 0 { 1 } else { nbatch as usize };
         let size = if per < 0 { n } else { per as usize };
-        if count * size != n {
+        if count.checked_mul(size) != Some(n) {
             return Err(input_error(format!(
                 "Invalid batch parameters for NBody: Nbatch = {nbatch}, NperBatch = {per} \
                  for {n} particles; Nbatch * NperBatch must be the number of particles (-1: \
@@ -380,9 +380,15 @@ impl NBody {
             })
             .collect();
         // on an error the previous positions stay
+        // no particles: one empty batch, which the library refuses with its own message
+        let groups: Vec<&[Particle]> = match n {
+            0 => vec![&ps],
+            _ => ps.chunks(size).collect(),
+        };
         let systems = py
             .detach(|| {
-                ps.chunks(size.max(1))
+                groups
+                    .iter()
                     .enumerate()
                     .map(|(b, batch)| {
                         batch_system(conf, eta, batch.to_vec()).map_err(|e| wall_words(e, b * size))
