@@ -95,6 +95,16 @@ pub(crate) struct NBody {
 /// Velocities and angular velocities, each in the shape and kind asked for.
 type Output<'py> = (Bound<'py, PyAny>, Option<Bound<'py, PyAny>>);
 
+/// `M [F; T]` (moment-major) with what the outputs take from the inputs: the shapes of
+/// the forces and of the torques given, and the kind of array of the forces (else the
+/// torques).
+struct Product {
+    v: Vec<f64>,
+    forces: Option<Vec<usize>>,
+    torques: Option<Vec<usize>>,
+    kind: Option<Kind>,
+}
+
 impl NBody {
     /// The batches, or the error libMobility gives before `setPositions`.
     fn batches(&self) -> PyResult<&Batches> {
@@ -149,21 +159,13 @@ impl NBody {
         Ok(y.into_iter().map(|v| v * prefactor).collect())
     }
 
-    /// `M [F; T]` (moment-major) from optional forces and torques, with the shapes of the
-    /// outputs libMobility gives (each output shaped like its own input, else like the
-    /// other input, else `None`) and the kind of array of the forces (else the torques).
-    #[allow(clippy::type_complexity)]
+    /// `M [F; T]` from optional forces and torques (zero where not given).
     fn m_dot(
         &self,
         py: Python<'_>,
         forces: Option<Floats>,
         torques: Option<Floats>,
-    ) -> PyResult<(
-        Vec<f64>,
-        Option<Vec<usize>>,
-        Option<Vec<usize>>,
-        Option<Kind>,
-    )> {
+    ) -> PyResult<Product> {
         let batches = self.batches()?;
         let n = batches.len();
         if torques.is_some() && !self.angular {
@@ -172,8 +174,8 @@ impl NBody {
                  call initialize(..., includeAngular=True) to use torques",
             ));
         }
-        let f_shape = forces.as_ref().map(Floats::shape);
-        let t_shape = torques.as_ref().map(Floats::shape);
+        let forces_shape = forces.as_ref().map(Floats::shape);
+        let torques_shape = torques.as_ref().map(Floats::shape);
         let kind = forces
             .as_ref()
             .or(torques.as_ref())
@@ -195,7 +197,12 @@ impl NBody {
         }
         let m = self.moments();
         let v = py.detach(|| batches.apply(m, &x));
-        Ok((v, f_shape, t_shape, kind))
+        Ok(Product {
+            v,
+            forces: forces_shape,
+            torques: torques_shape,
+            kind,
+        })
     }
 }
 
@@ -411,13 +418,16 @@ impl NBody {
         forces: Option<Floats>,
         torques: Option<Floats>,
     ) -> PyResult<Output<'py>> {
-        let (v, f_shape, t_shape, kind) = self.m_dot(py, forces, torques)?;
-        let (Some(lin), Some(ang)) = (f_shape.clone().or(t_shape.clone()), t_shape.or(f_shape))
-        else {
+        let p = self.m_dot(py, forces, torques)?;
+        // libMobility: each output shaped like its own input, else like the other one
+        let (Some(lin), Some(ang)) = (
+            p.forces.clone().or(p.torques.clone()),
+            p.torques.or(p.forces),
+        ) else {
             return Err(input_error("Mdot needs forces or torques (at least one)"));
         };
-        let kind = kind.unwrap_or(Kind::NUMPY);
-        self.outputs(py, v, (&lin, &ang), &kind)
+        let kind = p.kind.unwrap_or(Kind::NUMPY);
+        self.outputs(py, p.v, (&lin, &ang), &kind)
     }
 
     /// `(linear, angular) = prefactor M^{1/2} W`.
@@ -464,7 +474,12 @@ impl NBody {
                 "kbt = {kbt}: the thermal energy must be a finite number >= 0"
             )));
         }
-        let (mut v, f_shape, t_shape, kind) = self.m_dot(py, forces, torques)?;
+        let Product {
+            mut v,
+            forces,
+            torques,
+            kind,
+        } = self.m_dot(py, forces, torques)?;
         if kbt != 0.0 {
             let noise = self.sqrt_m_w(py, (2.0 * kbt / dt).sqrt())?;
             let batches = self.batches()?;
@@ -475,8 +490,8 @@ impl NBody {
             }
         }
         // libMobility: each output shaped like its own input, else like the positions
-        let lin = f_shape.unwrap_or_else(|| self.shape.clone());
-        let ang = t_shape.unwrap_or_else(|| self.shape.clone());
+        let lin = forces.unwrap_or_else(|| self.shape.clone());
+        let ang = torques.unwrap_or_else(|| self.shape.clone());
         let kind = kind.unwrap_or_else(|| self.kind.clone_ref(py));
         self.outputs(py, v, (&lin, &ang), &kind)
     }
