@@ -4,8 +4,14 @@
 //! dense mobility, matrix-free products, velocities, the resistance with lubrication,
 //! Brownian trajectories) and `NBody` (`stokesian.NBody`, libMobility's interface in
 //! free space and above a wall); and `confinements()`, every confinement with its
-//! declared parameters, which `System(..., confinement=NAME, params={...})` takes. Every error of the library is raised as `ValueError`
-//! with the library's message; the arithmetic runs with the GIL released.
+//! declared parameters, which `System(..., confinement=NAME, params={...})` takes.
+//!
+//! Every error of the library and every refused input is raised as `stokesian.InputError`
+//! with the library's message: a subclass of both `ValueError` (what `System`'s users
+//! catch) and `RuntimeError` (what libMobility raises, and its users catch). Arrays come
+//! in as NumPy arrays, anything `numpy.asarray` reads, or any CPU array offering
+//! `__dlpack__` (torch, jax, cupy on the CPU); `NBody` returns its results in the kind of
+//! array it was given (see [`Floats`]). The arithmetic runs with the GIL released.
 //!
 //! The crate forbids `unsafe` in its own code; PyO3's and rust-numpy's macros expand to
 //! `unsafe` blocks in this crate, which `forbid` would reject (it cannot be overridden
@@ -22,9 +28,10 @@ use system::PySystem;
 use numpy::ndarray::{Array2, Array3, ShapeBuilder};
 use numpy::PyUntypedArrayMethods;
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLikeDyn, PyArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyDict, PyList, PyTuple, PyType};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
@@ -34,9 +41,43 @@ use stokesian::{
     System, DECLARATIONS,
 };
 
-/// A library error as `ValueError` with its message.
-fn value_error(e: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(e.to_string())
+/// `stokesian.InputError`, made once: `class InputError(RuntimeError, ValueError)`.
+static INPUT_ERROR: PyOnceLock<Py<PyType>> = PyOnceLock::new();
+
+/// The docstring of `stokesian.InputError`.
+const INPUT_ERROR_DOC: &str = "An input the solver refuses, or an error of the library, with \
+the library's message. Both a RuntimeError (what libMobility raises, so that its scripts and \
+tests catch it) and a ValueError (what the arguments' values cause).";
+
+/// The class `stokesian.InputError`, built on first use from Python's own
+/// `RuntimeError` and `ValueError` (PyO3's exceptions take one base).
+fn input_error_type(py: Python<'_>) -> PyResult<&Bound<'_, PyType>> {
+    let ty = INPUT_ERROR.get_or_try_init(py, || -> PyResult<Py<PyType>> {
+        let builtins = py.import("builtins")?;
+        let bases = PyTuple::new(
+            py,
+            [
+                builtins.getattr("RuntimeError")?,
+                builtins.getattr("ValueError")?,
+            ],
+        )?;
+        let namespace = PyDict::new(py);
+        namespace.set_item("__module__", "stokesian")?;
+        namespace.set_item("__doc__", INPUT_ERROR_DOC)?;
+        let ty = builtins
+            .getattr("type")?
+            .call1(("InputError", bases, namespace))?;
+        Ok(ty.cast_into::<PyType>()?.unbind())
+    })?;
+    Ok(ty.bind(py))
+}
+
+/// A library error or a refused input as `stokesian.InputError` with its message.
+fn input_error(e: impl std::fmt::Display) -> PyErr {
+    Python::attach(|py| match input_error_type(py) {
+        Ok(ty) => PyErr::from_type(ty.clone(), e.to_string()),
+        Err(err) => err,
+    })
 }
 
 /// The lubrication settings of `pair_tolerance` (the library's default without it),
@@ -47,19 +88,71 @@ fn lubrication_settings(lubrication: bool, pair_tolerance: Option<f64>) -> PyRes
         return Ok(lub);
     };
     if !lubrication {
-        return Err(PyValueError::new_err(
+        return Err(input_error(
             "pair_tolerance applies with lubrication=True only",
         ));
     }
     let lub = lub.with_pair_tolerance(tol);
-    lub.check().map_err(value_error)?;
+    lub.check().map_err(input_error)?;
     Ok(lub)
 }
 
-/// A NumPy array (or anything `numpy.asarray` accepts) as `f64`s in C order: borrowed
-/// without a copy when NumPy already holds them contiguously, copied otherwise.
+/// The kind of array an input was: how to hand a result back in the same kind.
+/// `None`: NumPy (and what `numpy.asarray` reads, lists included); otherwise the
+/// `from_dlpack` of the input's own library, which takes the NumPy result without a copy
+/// (the array API's way: every array library offers `from_dlpack`).
+pub(crate) struct Kind(Option<Py<PyAny>>);
+
+impl Kind {
+    /// NumPy's kind.
+    pub(crate) const NUMPY: Kind = Kind(None);
+
+    /// The same kind (a new reference).
+    pub(crate) fn clone_ref(&self, py: Python<'_>) -> Kind {
+        Kind(self.0.as_ref().map(|f| f.clone_ref(py)))
+    }
+
+    /// The NumPy array `a` as an array of this kind.
+    pub(crate) fn wrap<'py>(&self, a: Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        match &self.0 {
+            None => Ok(a),
+            Some(from_dlpack) => from_dlpack.bind(a.py()).call1((a,)),
+        }
+    }
+
+    /// The kind of `ob`, an array offering `__dlpack__` that is not NumPy's: the
+    /// `from_dlpack` of its array API namespace (`__array_namespace__()`: jax, cupy), or
+    /// of the top-level module of its type (torch); NumPy's when it has neither.
+    fn of_dlpack(ob: &Bound<'_, PyAny>) -> Kind {
+        let py = ob.py();
+        let namespace = if ob.hasattr("__array_namespace__").unwrap_or(false) {
+            ob.call_method0("__array_namespace__").ok()
+        } else {
+            ob.get_type()
+                .module()
+                .ok()
+                .and_then(|m| {
+                    let top = m.to_string();
+                    let top = top.split('.').next().unwrap_or_default().to_string();
+                    py.import(top).ok()
+                })
+                .map(|m| m.into_any())
+        };
+        Kind(
+            namespace
+                .and_then(|ns| ns.getattr("from_dlpack").ok())
+                .map(Bound::unbind),
+        )
+    }
+}
+
+/// An array as `f64`s in C order: a NumPy array (or anything `numpy.asarray` accepts),
+/// borrowed without a copy when NumPy already holds them contiguously, copied otherwise;
+/// or any array offering `__dlpack__` (torch, jax, cupy, ... on the CPU), read through
+/// `numpy.from_dlpack` without a copy, and its [`Kind`] kept for the results.
 struct Floats<'py> {
     array: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
+    kind: Kind,
 }
 
 impl<'py> Floats<'py> {
@@ -77,11 +170,38 @@ impl<'py> Floats<'py> {
     }
 }
 
+/// DLPack's device type of the CPU (`kDLCPU`).
+const DLPACK_CPU: i32 = 1;
+
 impl<'a, 'py> FromPyObject<'a, 'py> for Floats<'py> {
     type Error = PyErr;
     fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        let ob = ob.to_owned();
+        if ob.is_instance_of::<numpy::PyUntypedArray>() || !ob.hasattr("__dlpack__")? {
+            return Ok(Floats {
+                array: ob.extract()?,
+                kind: Kind::NUMPY,
+            });
+        }
+        // another library's array: on the CPU (the device is optional in DLPack's
+        // protocol; without it, NumPy's from_dlpack refuses what it cannot read)
+        if ob.hasattr("__dlpack_device__")? {
+            let (device, id): (i32, i32) = ob.call_method0("__dlpack_device__")?.extract()?;
+            if device != DLPACK_CPU {
+                return Err(input_error(format!(
+                    "an array on DLPack device ({device}, {id}): only arrays on the CPU \
+                     (device type {DLPACK_CPU}) are read; move it with the library's own \
+                     .cpu() or to_device"
+                )));
+            }
+        }
+        let numpy = ob.py().import("numpy")?;
+        let array = numpy
+            .call_method1("from_dlpack", (&ob,))
+            .map_err(|e| input_error(format!("cannot read the array through DLPack: {e}")))?;
         Ok(Floats {
-            array: ob.extract()?,
+            array: array.extract()?,
+            kind: Kind::of_dlpack(&ob),
         })
     }
 }
@@ -91,7 +211,7 @@ fn rows_of_three(name: &str, shape: &[usize]) -> PyResult<usize> {
     match *shape {
         [n, 3] => Ok(n),
         [m] if m % 3 == 0 => Ok(m / 3),
-        _ => Err(PyValueError::new_err(format!(
+        _ => Err(input_error(format!(
             "{name} must have shape (N, 3) or (3N,), found {shape:?}"
         ))),
     }
@@ -103,7 +223,7 @@ fn moments(name: &str) -> PyResult<Moments> {
         "F" => Ok(Moments::F),
         "FT" => Ok(Moments::FT),
         "FTS" => Ok(Moments::FTS),
-        _ => Err(PyValueError::new_err(format!(
+        _ => Err(input_error(format!(
             "moments = {name:?}: must be \"F\", \"FT\" or \"FTS\""
         ))),
     }
@@ -114,7 +234,7 @@ fn precision(name: &str) -> PyResult<Precision> {
     match name {
         "double" => Ok(Precision::Double),
         "single" => Ok(Precision::Single),
-        _ => Err(PyValueError::new_err(format!(
+        _ => Err(input_error(format!(
             "precision = {name:?}: must be \"double\" or \"single\""
         ))),
     }
@@ -128,7 +248,7 @@ fn radii(ob: &Bound<'_, PyAny>, n: usize) -> PyResult<Vec<f64>> {
     let a: Floats = ob.extract()?;
     let v = a.values().into_owned();
     if a.shape().len() != 1 || v.len() != n {
-        return Err(PyValueError::new_err(format!(
+        return Err(input_error(format!(
             "radii: one number, or one per particle ({n}), found shape {:?}",
             a.shape()
         )));
@@ -158,7 +278,7 @@ fn shaped<'py>(py: Python<'py>, v: Vec<f64>, shape: &[usize]) -> PyResult<Bound<
 /// A dense matrix (column-major) as a Fortran-ordered NumPy array, without a copy.
 fn matrix(py: Python<'_>, m: nalgebra::DMatrix<f64>) -> PyResult<Bound<'_, PyArray2<f64>>> {
     let (r, c) = m.shape();
-    let a = Array2::from_shape_vec((r, c).f(), m.data.into()).map_err(value_error)?;
+    let a = Array2::from_shape_vec((r, c).f(), m.data.into()).map_err(input_error)?;
     Ok(PyArray2::from_owned_array(py, a))
 }
 
@@ -178,7 +298,7 @@ fn split<'py>(
 fn vec_of(n: usize, name: &str, a: &Floats) -> PyResult<Vec<f64>> {
     let rows = rows_of_three(name, &a.shape())?;
     if rows != n {
-        return Err(PyValueError::new_err(format!(
+        return Err(input_error(format!(
             "{name}: {rows} rows for {n} particles"
         )));
     }
@@ -193,9 +313,9 @@ fn strain_basis(s: &Floats) -> PyResult<[f64; 5]> {
         [5] => Ok([v[0], v[1], v[2], v[3], v[4]]),
         [3, 3] => {
             let e = [[v[0], v[1], v[2]], [v[3], v[4], v[5]], [v[6], v[7], v[8]]];
-            stokesian::strain_components(&e).map_err(value_error)
+            stokesian::strain_components(&e).map_err(input_error)
         }
-        shape => Err(PyValueError::new_err(format!(
+        shape => Err(input_error(format!(
             "strain must have shape (5,) (orthonormal basis) or (3, 3) (Cartesian), found {shape:?}"
         ))),
     }
@@ -220,16 +340,16 @@ fn declared_confinement(
     params: Option<&Bound<'_, PyDict>>,
     aliases: [Option<f64>; 3],
 ) -> PyResult<Confinement> {
-    let decl = declaration(&name.replace('-', "_")).map_err(value_error)?;
+    let decl = declaration(&name.replace('-', "_")).map_err(input_error)?;
     let mut values: Vec<(String, f64)> = Vec::new();
     if let Some(d) = params {
         for (k, v) in d.iter() {
             let key: String = k.extract().map_err(|_| {
-                PyValueError::new_err(format!("params: the names must be strings, found {k}"))
+                input_error(format!("params: the names must be strings, found {k}"))
             })?;
-            let value: f64 = v.extract().map_err(|_| {
-                PyValueError::new_err(format!("params[{key:?}] must be a number, found {v}"))
-            })?;
+            let value: f64 = v
+                .extract()
+                .map_err(|_| input_error(format!("params[{key:?}] must be a number, found {v}")))?;
             values.push((key, value));
         }
     }
@@ -240,7 +360,7 @@ fn declared_confinement(
         .collect();
     for &(keyword, param, value) in &keywords {
         if values.iter().any(|(k, _)| k == param) {
-            return Err(PyValueError::new_err(format!(
+            return Err(input_error(format!(
                 "{keyword} and params[{param:?}] both give the parameter `{param}` \
                  ({keyword} is its other name): give it once"
             )));
@@ -265,7 +385,7 @@ fn declared_confinement(
             },
             _ => e.to_string(),
         };
-        PyValueError::new_err(message)
+        input_error(message)
     })
 }
 
@@ -303,6 +423,7 @@ fn confinements(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
 /// The module.
 #[pymodule]
 fn _stokesian(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("InputError", input_error_type(m.py())?)?;
     m.add_class::<PySystem>()?;
     m.add_class::<NBody>()?;
     m.add_function(wrap_pyfunction!(confinements, m)?)?;

@@ -1,6 +1,75 @@
-//! `stokesian.NBody`: libMobility's interface over the library's `System`.
+//! `stokesian.NBody`: libMobility's interface over the library's `System`, in batches.
+//!
+//! Batches (libMobility's `Nbatch`, `NperBatch`): the particles are `Nbatch` consecutive
+//! groups of `NperBatch`, independent systems without any interaction between them, so
+//! the mobility is block diagonal and each product, square root and divergence is taken
+//! batch by batch (the square root of a block-diagonal matrix is block diagonal).
 
 use super::*;
+
+/// The systems of the batches, in order, each with its particles' slice.
+struct Batches {
+    systems: Vec<System>,
+}
+
+impl Batches {
+    /// Number of particles of all batches.
+    fn len(&self) -> usize {
+        self.systems.iter().map(System::len).sum()
+    }
+
+    /// `f` batch by batch: each batch's system with its slice of the moment-major vector
+    /// `x` (`k` moments of 3 per particle: all batches' first moment, then the second),
+    /// and its result (the same layout within the batch) put back in the whole layout.
+    /// One batch: `f` of the whole vector, untouched.
+    fn each(&self, k: usize, x: &[f64], f: impl Fn(&System, &[f64]) -> Vec<f64>) -> Vec<f64> {
+        if let [system] = self.systems.as_slice() {
+            return f(system, x);
+        }
+        let n = self.len();
+        let range =
+            |q: usize, start: usize, len: usize| 3 * (q * n + start)..3 * (q * n + start + len);
+        let mut out = vec![0.0; 3 * k * n];
+        let mut start = 0;
+        for system in &self.systems {
+            let len = system.len();
+            let xb: Vec<f64> = if x.is_empty() {
+                Vec::new()
+            } else {
+                (0..k)
+                    .flat_map(|q| x[range(q, start, len)].iter().copied())
+                    .collect()
+            };
+            let yb = f(system, &xb);
+            for q in 0..k {
+                out[range(q, start, len)].copy_from_slice(&yb[3 * q * len..3 * (q + 1) * len]);
+            }
+            start += len;
+        }
+        out
+    }
+
+    /// `M x`, moment-major.
+    fn apply(&self, m: Moments, x: &[f64]) -> Vec<f64> {
+        self.each(m.per_particle() / 3, x, |s, xb| s.apply(m, xb))
+    }
+
+    /// `div M`, moment-major.
+    fn divergence(&self, m: Moments) -> Vec<f64> {
+        self.each(m.per_particle() / 3, &[], |s, _| s.divergence_at(m))
+    }
+}
+
+/// The system of one batch. Overlapping spheres, and spheres cutting the wall, are
+/// refused: libMobility's NBody regularises them with the RPY overlap forms, which this
+/// is the place to choose once the library has them.
+fn batch_system(
+    confinement: Confinement,
+    viscosity: f64,
+    particles: Vec<Particle>,
+) -> Result<System, stokesian::InputError> {
+    System::new(confinement, viscosity, particles, false)
+}
 
 /// libMobility's `NBody` solver with our kernels: Rotne-Prager-Yamakawa in free space
 /// (`"open", "open", "open"`) and the Swan-Brady wall mobility above a no-slip wall
@@ -8,21 +77,39 @@ use super::*;
 #[pyclass(module = "stokesian")]
 pub(crate) struct NBody {
     wall: bool,
-    wall_height: f64,
+    /// The wall's height; None until `setParameters` gives it (required with a wall).
+    wall_height: Option<f64>,
+    /// `Nbatch` and `NperBatch` as given (negative: libMobility's default).
+    batch: (i64, i64),
     viscosity: Option<f64>,
     radius: Option<Vec<f64>>,
     angular: bool,
     tolerance: f64,
     rng: ChaCha8Rng,
-    system: Option<System>,
+    batches: Option<Batches>,
+    /// The positions' shape and kind of array: those of the outputs without forces.
     shape: Vec<usize>,
+    kind: Kind,
+}
+
+/// Velocities and angular velocities, each in the shape and kind asked for.
+type Output<'py> = (Bound<'py, PyAny>, Option<Bound<'py, PyAny>>);
+
+/// `M [F; T]` (moment-major) with what the outputs take from the inputs: the shapes of
+/// the forces and of the torques given, and the kind of array of the forces (else the
+/// torques).
+struct Product {
+    v: Vec<f64>,
+    forces: Option<Vec<usize>>,
+    torques: Option<Vec<usize>>,
+    kind: Option<Kind>,
 }
 
 impl NBody {
-    /// The system, or the error libMobility gives before `setPositions`.
-    fn system(&self) -> PyResult<&System> {
-        self.system.as_ref().ok_or_else(|| {
-            PyValueError::new_err(
+    /// The batches, or the error libMobility gives before `setPositions`.
+    fn batches(&self) -> PyResult<&Batches> {
+        self.batches.as_ref().ok_or_else(|| {
+            input_error(
                 "the number of particles is not set: call initialize and setPositions first",
             )
         })
@@ -37,55 +124,62 @@ impl NBody {
         }
     }
 
-    /// `(linear, angular)` shaped like `shape` from a moment-major vector.
+    /// `(linear, angular)` from a moment-major vector, the linear part shaped `lin`, the
+    /// angular part `ang`, both of the array kind `kind`.
     fn outputs<'py>(
         &self,
         py: Python<'py>,
         v: Vec<f64>,
-        shape: &[usize],
-    ) -> PyResult<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>)> {
+        (lin, ang): (&[usize], &[usize]),
+        kind: &Kind,
+    ) -> PyResult<Output<'py>> {
         let n = v.len() / if self.angular { 6 } else { 3 };
-        let lin = shaped(py, v[..3 * n].to_vec(), shape)?;
-        let ang = if self.angular {
-            Some(shaped(py, v[3 * n..].to_vec(), shape)?)
+        let linear = kind.wrap(shaped(py, v[..3 * n].to_vec(), lin)?)?;
+        let angular = if self.angular {
+            Some(kind.wrap(shaped(py, v[3 * n..].to_vec(), ang)?)?)
         } else {
             None
         };
-        Ok((lin, ang))
+        Ok((linear, angular))
     }
 
     /// `prefactor M^{1/2} W`, moment-major, `W` standard normal from this solver's
     /// generator, by Lanczos to the tolerance of `initialize`.
     fn sqrt_m_w(&mut self, py: Python<'_>, prefactor: f64) -> PyResult<Vec<f64>> {
         let m = self.moments();
-        let system = self.system()?.clone();
-        let w: Vec<f64> = (0..m.per_particle() * system.len())
+        let len = m.per_particle() * self.batches()?.len();
+        let w: Vec<f64> = (0..len)
             .map(|_| self.rng.sample::<f64, _>(StandardNormal))
             .collect();
         let tol = self.tolerance;
+        let batches = self.batches()?;
         let (y, _) = py
-            .detach(|| lanczos_sqrt(|x| system.apply(m, x), &w, tol, w.len()))
-            .map_err(value_error)?;
+            .detach(|| lanczos_sqrt(|x| batches.apply(m, x), &w, tol, w.len()))
+            .map_err(input_error)?;
         Ok(y.into_iter().map(|v| v * prefactor).collect())
     }
 
-    /// `M [F; T]` (moment-major) and the shape of the outputs, from optional forces and
-    /// torques.
+    /// `M [F; T]` from optional forces and torques (zero where not given).
     fn m_dot(
         &self,
         py: Python<'_>,
         forces: Option<Floats>,
         torques: Option<Floats>,
-    ) -> PyResult<(Vec<f64>, Option<Vec<usize>>)> {
-        let system = self.system()?;
-        let n = system.len();
+    ) -> PyResult<Product> {
+        let batches = self.batches()?;
+        let n = batches.len();
         if torques.is_some() && !self.angular {
-            return Err(PyValueError::new_err(
+            return Err(input_error(
                 "torques given, but the solver was initialized without includeAngular: \
                  call initialize(..., includeAngular=True) to use torques",
             ));
         }
-        let shape = forces.as_ref().or(torques.as_ref()).map(|a| a.shape());
+        let forces_shape = forces.as_ref().map(Floats::shape);
+        let torques_shape = torques.as_ref().map(Floats::shape);
+        let kind = forces
+            .as_ref()
+            .or(torques.as_ref())
+            .map(|a| a.kind.clone_ref(py));
         let mut x = match &forces {
             Some(f) => vec_of(n, "forces", f)?,
             None => vec![0.0; 3 * n],
@@ -97,12 +191,18 @@ impl NBody {
             }
         }
         if let Some((i, v)) = x.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(PyValueError::new_err(format!(
+            return Err(input_error(format!(
                 "force or torque component {i} is {v}, not a finite number"
             )));
         }
         let m = self.moments();
-        Ok((py.detach(|| system.apply(m, &x)), shape))
+        let v = py.detach(|| batches.apply(m, &x));
+        Ok(Product {
+            v,
+            forces: forces_shape,
+            torques: torques_shape,
+            kind,
+        })
     }
 }
 
@@ -121,7 +221,7 @@ impl NBody {
             ("open", "open", "open") => false,
             ("open", "open", "single_wall") => true,
             _ => {
-                return Err(PyValueError::new_err(format!(
+                return Err(input_error(format!(
                     "NBody supports periodicity (\"open\", \"open\", \"open\") (free space) \
                      and (\"open\", \"open\", \"single_wall\") (a no-slip wall below the \
                      particles); found ({periodicityX:?}, {periodicityY:?}, \
@@ -132,19 +232,23 @@ impl NBody {
         };
         Ok(NBody {
             wall,
-            wall_height: 0.0,
+            wall_height: None,
+            batch: (-1, -1),
             viscosity: None,
             radius: None,
             angular: false,
             tolerance: 1e-4,
             rng: ChaCha8Rng::seed_from_u64(0),
-            system: None,
+            batches: None,
             shape: Vec::new(),
+            kind: Kind::NUMPY,
         })
     }
 
-    /// libMobility's NBody parameters: only `wallHeight` matters here.
-    #[pyo3(signature = (algorithm = "advise", Nbatch = -1, NperBatch = -1, wallHeight = Some(0.0), delta = None))]
+    /// libMobility's NBody parameters: the wall's height (required with a wall, refused
+    /// without), the batches (checked against the number of particles by
+    /// `setPositions`); the algorithm and `delta` are accepted for libMobility's scripts.
+    #[pyo3(signature = (algorithm = "advise", Nbatch = -1, NperBatch = -1, wallHeight = None, delta = 1e-3))]
     #[allow(non_snake_case)]
     fn setParameters(
         &mut self,
@@ -152,27 +256,37 @@ impl NBody {
         Nbatch: i64,
         NperBatch: i64,
         wallHeight: Option<f64>,
-        delta: Option<f64>,
+        delta: f64,
     ) -> PyResult<()> {
-        let _ = (Nbatch, NperBatch, delta);
+        // the random finite difference's step: divM is exact here
+        let _ = delta;
         if !["advise", "naive", "fast", "block"].contains(&algorithm) {
-            return Err(PyValueError::new_err(format!(
+            return Err(input_error(format!(
                 "algorithm = {algorithm:?}: must be \"advise\", \"naive\", \"fast\" or \"block\" \
                  (accepted for libMobility's scripts; every one computes the same here)"
             )));
         }
-        let h = wallHeight.unwrap_or(0.0);
-        if !h.is_finite() {
-            return Err(PyValueError::new_err(format!(
-                "wallHeight = {h}: must be a finite number"
-            )));
+        match (self.wall, wallHeight) {
+            (true, None) => {
+                return Err(input_error(
+                    "wallHeight is required for a bottom wall (periodicityZ = \"single_wall\"): \
+                     setParameters(wallHeight=...)",
+                ))
+            }
+            (false, Some(_)) => {
+                return Err(input_error(
+                    "wallHeight applies only with periodicityZ = \"single_wall\"",
+                ))
+            }
+            (_, Some(h)) if !h.is_finite() => {
+                return Err(input_error(format!(
+                    "wallHeight = {h}: must be a finite number"
+                )))
+            }
+            _ => {}
         }
-        if h != 0.0 && !self.wall {
-            return Err(PyValueError::new_err(
-                "wallHeight applies only with periodicityZ = \"single_wall\"",
-            ));
-        }
-        self.wall_height = h;
+        self.wall_height = wallHeight;
+        self.batch = (Nbatch, NperBatch);
         Ok(())
     }
 
@@ -189,10 +303,10 @@ impl NBody {
         seed: Option<u64>,
     ) -> PyResult<()> {
         if !(viscosity > 0.0 && viscosity.is_finite()) {
-            return Err(value_error(stokesian::InputError::BadViscosity(viscosity)));
+            return Err(input_error(stokesian::InputError::BadViscosity(viscosity)));
         }
         if !(tolerance > 0.0 && tolerance.is_finite()) {
-            return Err(PyValueError::new_err(format!(
+            return Err(input_error(format!(
                 "tolerance = {tolerance}: must be a positive finite number"
             )));
         }
@@ -203,7 +317,7 @@ impl NBody {
                     PyTypeError::new_err("hydrodynamicRadius: a number or an array of N numbers")
                 })?;
                 if a.shape().len() != 1 {
-                    return Err(PyValueError::new_err(format!(
+                    return Err(input_error(format!(
                         "hydrodynamicRadius: a number or an array of N numbers, found shape {:?}",
                         a.shape()
                     )));
@@ -219,28 +333,51 @@ impl NBody {
             Some(s) => ChaCha8Rng::seed_from_u64(s),
             None => ChaCha8Rng::seed_from_u64(rand::thread_rng().gen()),
         };
-        self.system = None;
+        self.batches = None;
         Ok(())
     }
 
-    /// The positions, `(N, 3)` or `(3N,)`; later outputs take this shape. Invalid
-    /// positions raise ValueError and leave the previous ones in place.
+    /// The positions, `(N, 3)` or `(3N,)`, any kind of array; outputs without forces
+    /// take this shape and kind. Invalid positions raise InputError and leave the
+    /// previous ones in place.
     #[allow(non_snake_case)]
     fn setPositions(&mut self, py: Python<'_>, positions: Floats) -> PyResult<()> {
         let (Some(eta), Some(radius)) = (self.viscosity, self.radius.clone()) else {
-            return Err(PyValueError::new_err("call initialize before setPositions"));
+            return Err(input_error("call initialize before setPositions"));
         };
         let shape = positions.shape();
         let n = rows_of_three("positions", &shape)?;
+        // libMobility's batches: a negative Nbatch is one batch, a negative NperBatch all
+        // particles in each; Nbatch * NperBatch must be the number of particles
+        let (nbatch, per) = self.batch;
+        let count = if nbatch < 0 { 1 } else { nbatch as usize };
+        let size = if per < 0 { n } else { per as usize };
+        if count.checked_mul(size) != Some(n) {
+            return Err(input_error(format!(
+                "Invalid batch parameters for NBody: Nbatch = {nbatch}, NperBatch = {per} \
+                 for {n} particles; Nbatch * NperBatch must be the number of particles (-1: \
+                 one batch, or all particles in each; if in doubt, use the defaults)"
+            )));
+        }
         let a = if radius.len() == 1 {
             vec![radius[0]; n]
         } else if radius.len() == n {
             radius
         } else {
-            return Err(PyValueError::new_err(format!(
+            return Err(input_error(format!(
                 "{} hydrodynamic radii for {n} particles",
                 radius.len()
             )));
+        };
+        let conf = match (self.wall, self.wall_height) {
+            (false, _) => Confinement::Free,
+            (true, Some(height)) => Confinement::Wall { height },
+            (true, None) => {
+                return Err(input_error(
+                    "wallHeight is required for a bottom wall: call \
+                     setParameters(wallHeight=...) before setPositions",
+                ))
+            }
         };
         let x = positions.values();
         let ps: Vec<Particle> = (0..n)
@@ -249,19 +386,26 @@ impl NBody {
                 a: a[i],
             })
             .collect();
-        let conf = if self.wall {
-            Confinement::Wall {
-                height: self.wall_height,
-            }
-        } else {
-            Confinement::Free
-        };
         // on an error the previous positions stay
-        let system = py
-            .detach(|| System::new(conf, eta, ps, false))
-            .map_err(value_error)?;
-        self.system = Some(system);
+        // no particles: one empty batch, which the library refuses with its own message
+        let groups: Vec<&[Particle]> = match n {
+            0 => vec![&ps],
+            _ => ps.chunks(size).collect(),
+        };
+        let systems = py
+            .detach(|| {
+                groups
+                    .iter()
+                    .enumerate()
+                    .map(|(b, batch)| {
+                        batch_system(conf, eta, batch.to_vec()).map_err(|e| wall_words(e, b * size))
+                    })
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .map_err(input_error)?;
+        self.batches = Some(Batches { systems });
         self.shape = shape;
+        self.kind = positions.kind;
         Ok(())
     }
 
@@ -273,41 +417,39 @@ impl NBody {
         py: Python<'py>,
         forces: Option<Floats>,
         torques: Option<Floats>,
-    ) -> PyResult<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>)> {
-        let (v, shape) = self.m_dot(py, forces, torques)?;
-        let shape = shape
-            .ok_or_else(|| PyValueError::new_err("Mdot needs forces or torques (at least one)"))?;
-        self.outputs(py, v, &shape)
+    ) -> PyResult<Output<'py>> {
+        let p = self.m_dot(py, forces, torques)?;
+        // libMobility: each output shaped like its own input, else like the other one
+        let (Some(lin), Some(ang)) = (
+            p.forces.clone().or(p.torques.clone()),
+            p.torques.or(p.forces),
+        ) else {
+            return Err(input_error("Mdot needs forces or torques (at least one)"));
+        };
+        let kind = p.kind.unwrap_or(Kind::NUMPY);
+        self.outputs(py, p.v, (&lin, &ang), &kind)
     }
 
     /// `(linear, angular) = prefactor M^{1/2} W`.
     #[pyo3(signature = (prefactor = 1.0))]
     #[allow(non_snake_case)]
-    fn sqrtMdotW<'py>(
-        &mut self,
-        py: Python<'py>,
-        prefactor: f64,
-    ) -> PyResult<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>)> {
+    fn sqrtMdotW<'py>(&mut self, py: Python<'py>, prefactor: f64) -> PyResult<Output<'py>> {
         let v = self.sqrt_m_w(py, prefactor)?;
-        let shape = self.shape.clone();
-        self.outputs(py, v, &shape)
+        self.outputs(py, v, (&self.shape, &self.shape), &self.kind)
     }
 
     /// `(linear, angular) = prefactor div M`.
     #[pyo3(signature = (prefactor = 1.0))]
     #[allow(non_snake_case)]
-    fn divM<'py>(
-        &self,
-        py: Python<'py>,
-        prefactor: f64,
-    ) -> PyResult<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>)> {
-        let system = self.system()?;
+    fn divM<'py>(&self, py: Python<'py>, prefactor: f64) -> PyResult<Output<'py>> {
+        let batches = self.batches()?;
         let m = self.moments();
-        let d = py.detach(|| system.divergence_at(m));
+        let d = py.detach(|| batches.divergence(m));
         self.outputs(
             py,
             d.into_iter().map(|v| v * prefactor).collect(),
-            &self.shape,
+            (&self.shape, &self.shape),
+            &self.kind,
         )
     }
 
@@ -321,36 +463,63 @@ impl NBody {
         kbt: f64,
         forces: Option<Floats>,
         torques: Option<Floats>,
-    ) -> PyResult<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>)> {
+    ) -> PyResult<Output<'py>> {
         if !(dt > 0.0 && dt.is_finite()) {
-            return Err(PyValueError::new_err(format!(
+            return Err(input_error(format!(
                 "dt = {dt}: the time step must be a positive finite number"
             )));
         }
         if !(kbt >= 0.0 && kbt.is_finite()) {
-            return Err(PyValueError::new_err(format!(
+            return Err(input_error(format!(
                 "kbt = {kbt}: the thermal energy must be a finite number >= 0"
             )));
         }
-        let (mut v, shape) = self.m_dot(py, forces, torques)?;
+        let Product {
+            mut v,
+            forces,
+            torques,
+            kind,
+        } = self.m_dot(py, forces, torques)?;
         if kbt != 0.0 {
             let noise = self.sqrt_m_w(py, (2.0 * kbt / dt).sqrt())?;
-            let system = self.system()?;
+            let batches = self.batches()?;
             let m = self.moments();
-            let div = py.detach(|| system.divergence_at(m));
+            let div = py.detach(|| batches.divergence(m));
             for ((v, w), d) in v.iter_mut().zip(noise).zip(div) {
                 *v += w + kbt * d;
             }
         }
-        let shape = shape.unwrap_or_else(|| self.shape.clone());
-        self.outputs(py, v, &shape)
+        // libMobility: each output shaped like its own input, else like the positions
+        let lin = forces.unwrap_or_else(|| self.shape.clone());
+        let ang = torques.unwrap_or_else(|| self.shape.clone());
+        let kind = kind.unwrap_or_else(|| self.kind.clone_ref(py));
+        self.outputs(py, v, (&lin, &ang), &kind)
     }
 
     /// Forget the positions (and parameters): `initialize` and `setPositions` again
     /// before the next product.
     fn clean(&mut self) {
-        self.system = None;
+        self.batches = None;
         self.viscosity = None;
         self.radius = None;
+    }
+}
+
+/// The library's error for particle `offset + index` of a batch, in the words
+/// libMobility's users match on for a centre below the wall ("fallen below the wall").
+fn wall_words(e: stokesian::InputError, offset: usize) -> String {
+    use stokesian::InputError::*;
+    match e {
+        OutsideFluid {
+            index,
+            distance,
+            boundary,
+        } => format!(
+            "particle {}: the centre has fallen below the wall: signed distance {distance} \
+             from the boundary, {boundary}",
+            offset + index
+        ),
+        e if offset == 0 => e.to_string(),
+        e => format!("batch of particles {offset}..: {e}"),
     }
 }

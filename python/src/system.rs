@@ -38,7 +38,7 @@ impl PySystem {
         let ps = particles(&positions, radii)?;
         let system = py
             .detach(|| System::new(conf, viscosity, ps, allow_overlap))
-            .map_err(value_error)?;
+            .map_err(input_error)?;
         Ok(PySystem { system })
     }
 
@@ -95,7 +95,7 @@ impl PySystem {
         let out = PyArray2::<f64>::zeros(py, [dim, dim], true);
         {
             let mut values = out.readwrite();
-            let values = values.as_slice_mut().map_err(value_error)?;
+            let values = values.as_slice_mut().map_err(input_error)?;
             py.detach(|| s.mobility_into(m, values));
         }
         Ok(out)
@@ -116,7 +116,7 @@ impl PySystem {
         let expected = m.per_particle() * self.system.len();
         let x = x.values();
         if x.len() != expected {
-            return Err(PyValueError::new_err(format!(
+            return Err(input_error(format!(
                 "x has {} entries; {moments} for {} particles needs {expected}",
                 x.len(),
                 self.system.len()
@@ -163,7 +163,7 @@ impl PySystem {
         let s = &self.system;
         let v = py
             .detach(|| s.velocities(m, &x, &e, lubrication.then_some(&lub)))
-            .map_err(value_error)?;
+            .map_err(input_error)?;
         let (lin, ang) = split(py, v.u, n)?;
         Ok((
             lin,
@@ -194,7 +194,7 @@ impl PySystem {
         let s = &self.system;
         matrix(
             py,
-            py.detach(|| s.resistance(m, &lub)).map_err(value_error)?,
+            py.detach(|| s.resistance(m, &lub)).map_err(input_error)?,
         )
     }
 
@@ -208,9 +208,7 @@ impl PySystem {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let m = self::moments(moments)?;
         if m == Moments::FTS {
-            return Err(PyValueError::new_err(
-                "the divergence is of the F or FT mobility",
-            ));
+            return Err(input_error("the divergence is of the F or FT mobility"));
         }
         let s = &self.system;
         Ok(PyArray1::from_vec(py, py.detach(|| s.divergence_at(m))))
@@ -250,7 +248,7 @@ impl PySystem {
             "euler-maruyama" | "euler_maruyama" => Scheme::EulerMaruyama,
             "fixman" => Scheme::FixmanMidpoint,
             _ => {
-                return Err(PyValueError::new_err(format!(
+                return Err(input_error(format!(
                     "scheme = {scheme:?}: must be \"euler-maruyama\" or \"fixman\""
                 )))
             }
@@ -301,9 +299,9 @@ impl PySystem {
                     })
                     .map(|_| out)
             })
-            .map_err(value_error)?;
+            .map_err(input_error)?;
         let count = frames.len() / (n * width);
-        let a = Array3::from_shape_vec((count, n, width), frames).map_err(value_error)?;
+        let a = Array3::from_shape_vec((count, n, width), frames).map_err(input_error)?;
         Ok(PyArray3::from_owned_array(py, a))
     }
 

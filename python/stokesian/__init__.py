@@ -13,9 +13,11 @@ plane wall, a free surface, a liquid-liquid interface, in a slit or beside a sid
 Units: any consistent set (SI: m, Pa s, N, N m, s). Sign: forces and torques are those
 the particles exert on the fluid, i.e. the external force and torque on each particle;
 velocities are along the force (the mobility is positive definite). Every error of the
-library raises ``ValueError`` with the library's message.
+library and every refused input raises :class:`InputError` with the library's message: a
+subclass of both ``ValueError`` and ``RuntimeError`` (libMobility's exception), so either
+``except`` catches it.
 """
 
-from ._stokesian import NBody, System, confinements
+from ._stokesian import InputError, NBody, System, confinements
 
-__all__ = ["NBody", "System", "confinements"]
+__all__ = ["InputError", "NBody", "System", "confinements"]

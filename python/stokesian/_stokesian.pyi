@@ -16,8 +16,11 @@ all E (5N, in the orthonormal strain basis B1..B5 of the command line's help); t
 mobility maps (F, L, S) to (U - U_inf, Omega - Omega_inf, -E_inf).
 
 Errors: every error of the library (bad shapes, NaN, overlapping spheres, a sphere below
-the wall, a matrix that is not positive definite, ...) raises ``ValueError`` with the
-library's message.
+the wall, a matrix that is not positive definite, ...) raises :class:`InputError` with the
+library's message; it is both a ``ValueError`` and a ``RuntimeError`` (libMobility's).
+
+Arrays: NumPy arrays, anything ``numpy.asarray`` reads, or any CPU array offering
+``__dlpack__`` (torch, jax, cupy, ...), read without a copy where possible.
 """
 
 from typing import ClassVar, Dict, List, Literal, Optional, Sequence, Tuple, TypedDict, Union
@@ -54,6 +57,11 @@ def confinements() -> List[Declaration]:
     ``"length"``, or ``"number"`` such as a viscosity ratio), default (None: the
     parameter must be given) and a typical value. ``System(..., confinement=name,
     params={...})`` takes them by name."""
+
+class InputError(RuntimeError, ValueError):
+    """An input the solver refuses, or an error of the library, with the library's
+    message. Both a ``RuntimeError`` (what libMobility raises, so that its scripts and
+    tests catch it) and a ``ValueError`` (what ``System``'s users catch)."""
 
 class System:
     """Spheres in Stokes flow in one confinement, validated once on construction.
@@ -218,8 +226,14 @@ class NBody:
     non-overlapping spheres. Above a no-slip wall (``"open", "open", "single_wall"``,
     the wall at ``z = wallHeight``): the Rotne-Prager-Blake mobility of Swan & Brady
     (2007) and, beyond libMobility, its exact divergence. Periodic boundaries and two
-    walls raise ValueError. Overlapping spheres, or spheres cutting the wall, raise
-    ValueError (libMobility's regularised overlap forms are not implemented).
+    walls raise InputError. Overlapping spheres, or spheres cutting the wall, raise
+    InputError (libMobility's regularised overlap forms are not implemented yet); a
+    centre below the wall raises InputError saying it has "fallen below the wall", in
+    libMobility's words.
+
+    Arrays: positions, forces and torques of any kind offering DLPack on the CPU (NumPy,
+    torch, jax, cupy, ...); the results come back in the kind of the forces (else the
+    torques, else the positions), as libMobility's do, always float64.
 
     Units and sign as libMobility: ``Mdot`` maps the force (torque) acting on each
     particle to its velocity (angular velocity), in the units of the viscosity, radius
@@ -234,12 +248,18 @@ class NBody:
         algorithm: str = "advise",
         Nbatch: int = -1,
         NperBatch: int = -1,
-        wallHeight: Optional[float] = 0.0,
-        delta: Optional[float] = None,
+        wallHeight: Optional[float] = None,
+        delta: float = 1e-3,
     ) -> None:
-        """``wallHeight``: the height of the wall (single_wall only). The other
-        arguments are libMobility's algorithm and batching choices, accepted and ignored
-        (every algorithm computes the same here)."""
+        """``wallHeight``: the height of the wall; required with ``"single_wall"`` (also
+        when ``setParameters`` is not called: ``setPositions`` then raises) and refused
+        in free space. ``Nbatch``, ``NperBatch``: the particles are ``Nbatch``
+        consecutive groups of ``NperBatch`` that do not interact (a block-diagonal
+        mobility); -1: one batch, or all particles in each; ``setPositions`` raises
+        InputError unless ``Nbatch * NperBatch`` is the number of particles.
+        ``algorithm`` (checked) and ``delta`` (libMobility's random finite difference
+        step) are accepted and change nothing: every algorithm computes the same here,
+        and ``divM`` is exact."""
     def initialize(
         self,
         viscosity: float,
@@ -254,20 +274,23 @@ class NBody:
         the noise (None: drawn from the operating system)."""
     def setPositions(self, positions: ArrayLike) -> None:
         """Positions of shape (N, 3) or (3N,); the outputs of ``sqrtMdotW`` and ``divM``
-        take this shape. Invalid positions (NaN, overlapping spheres, a sphere cutting or
-        below the wall) raise ValueError and leave the previous positions in place."""
+        take this shape and kind of array. Invalid positions (NaN, overlapping spheres, a
+        sphere cutting or below the wall, batches that do not divide N) raise InputError
+        and leave the previous positions in place."""
     def Mdot(self, forces: Optional[ArrayLike] = None, torques: Optional[ArrayLike] = None) -> Output:
         """``(linear, angular) = M [F; T]``: velocities (length/time) and angular
-        velocities (rad/time) from forces and torques on the particles, each shaped
-        like its input ((N, 3) or (3N,)); ``angular`` is None unless ``includeAngular``.
-        Torques without ``includeAngular``, or calling before ``setPositions``, raise
-        ValueError."""
+        velocities (rad/time) from forces and torques on the particles. ``linear`` is
+        shaped like the forces (else the torques), ``angular`` like the torques (else
+        the forces), each (N, 3) or (3N,); ``angular`` is None unless
+        ``includeAngular``. Torques without ``includeAngular``, or calling before
+        ``setPositions``, raise InputError."""
     def sqrtMdotW(self, prefactor: float = 1.0) -> Output:
         """``prefactor M^(1/2) W``, W standard normal (covariance ``prefactor^2 M``),
         by a Lanczos iteration to ``tolerance``."""
     def divM(self, prefactor: float = 1.0) -> Output:
-        """``prefactor div M`` (``sum_j d M_ij / d x_j``), exact, from the generated
-        divergence kernels (zero in free space for non-overlapping spheres)."""
+        """``prefactor div M`` (``sum_j d M_ij / d x_j``), exact and deterministic, from
+        the generated divergence kernels (libMobility's is a random finite difference
+        that differs from call to call); exactly zero in free space."""
     def LangevinVelocities(
         self,
         dt: float,
@@ -276,6 +299,7 @@ class NBody:
         torques: Optional[ArrayLike] = None,
     ) -> Output:
         """``M [F; T] + sqrt(2 kbt / dt) M^(1/2) W + kbt div M``: the velocities of one
-        Euler-Maruyama step of length ``dt`` at thermal energy ``kbt``."""
+        Euler-Maruyama step of length ``dt`` at thermal energy ``kbt``. Each output is
+        shaped like its own input, else like the positions."""
     def clean(self) -> None:
         """Forget the parameters and positions (``initialize`` again before use)."""

@@ -296,6 +296,9 @@ fn test() -> Result<()> {
         "maturin>=1.9,<2",
         "numpy",
         "pytest",
+        // an array library besides NumPy (pure Python, the array API's reference): NBody's
+        // arrays of any kind through DLPack
+        "array-api-strict",
     ]))?;
     let path = std::env::join_paths(std::iter::once(venv.join("bin")).chain(
         std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),

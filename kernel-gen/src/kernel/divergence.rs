@@ -16,6 +16,14 @@ use crate::physics::operators::{Moment, Response};
 /// kernels), then `a_i = sum_j d/dxb_j M_ij` over the force columns of the `U` and
 /// `Omega` rows, and for pairs `b_i = sum_j d/dxa_j M^{ba}_ij` with
 /// `M^{ba}_{UF} = (M^{ab}_{UF})^T`, `M^{ba}_{OmegaF} = (M^{ab}_{UL})^T`.
+///
+/// A Green's function without image terms (`G = J`, free space) is translation
+/// invariant: every block is a function of `xa - xb`, so `d/dxb_j M_ij = -d/dxa_j M_ij`,
+/// and `sum_j d/dx_j M_ij = 0` for every row by incompressibility: each column of `UF` is
+/// a divergence-free flow (the Stokeslet and its Laplacian, the Rotne-Prager-Yamakawa
+/// correction), `OmegaF` is half the curl of `UF` (`sum_j d_j eps_ikl d_k M_lj = eps_ikl
+/// d_k sum_j d_j M_jl = 0`, `UF` being symmetric) and `UL` its transpose. Its divergence
+/// outputs are the constant 0, exactly, where the jets would leave rounding of ~1e-18.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn divergence_outputs<G: Green>(
     g: &G,
@@ -61,11 +69,20 @@ pub(super) fn divergence_outputs<G: Green>(
     if let Some(of) = of {
         a.extend((0..3).map(|i| sum3(&|j| d(of, i, j, src_var(j)))));
     }
+    let translation_invariant = g.image_terms().is_some_and(|t| t.is_empty());
+    let ids = |v: Vec<Ex>| -> Vec<_> {
+        v.into_iter()
+            .map(|v| match translation_invariant {
+                true => Ex::cst(0.0).0,
+                false => (*scale * v).0,
+            })
+            .collect()
+    };
     let mut outs = vec![BlockOut {
         name: "a".into(),
         block: None,
         shape: vec![a.len()],
-        ids: a.into_iter().map(|v| (*scale * v).0).collect(),
+        ids: ids(a),
     }];
     if pair {
         let mut b: Vec<Ex> = (0..3).map(|i| sum3(&|j| d(uf, j, i, j))).collect();
@@ -77,7 +94,7 @@ pub(super) fn divergence_outputs<G: Green>(
             name: "b".into(),
             block: None,
             shape: vec![b.len()],
-            ids: b.into_iter().map(|v| (*scale * v).0).collect(),
+            ids: ids(b),
         });
     }
     outs
