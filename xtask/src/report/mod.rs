@@ -45,6 +45,10 @@ pub struct Config {
     pub brownian_steps: usize,
     /// Draw a progress bar.
     pub progress: bool,
+    /// Run the sections concurrently, one thread each (the reduced run of the test,
+    /// whose timings are not read); the full report runs them one after the other so
+    /// that no section's timings share the processor with another's.
+    pub concurrent: bool,
 }
 
 impl Config {
@@ -58,6 +62,7 @@ impl Config {
             sweep: 12,
             brownian_steps: 1_200_000,
             progress: true,
+            concurrent: false,
         }
     }
 
@@ -71,6 +76,7 @@ impl Config {
             sweep: 3,
             brownian_steps: 4_000,
             progress: false,
+            concurrent: true,
         }
     }
 }
@@ -132,10 +138,17 @@ pub fn run(cfg: Config) -> Result<PathBuf> {
         ProgressBar::hidden()
     };
     let ctx = Ctx { cfg, progress };
-    let mut sections = Vec::new();
-    for f in SECTIONS {
-        sections.push(f(&ctx)?);
-    }
+    let sections: Vec<Section> = if ctx.cfg.concurrent {
+        std::thread::scope(|s| {
+            let running: Vec<_> = SECTIONS.iter().map(|f| s.spawn(|| f(&ctx))).collect();
+            running
+                .into_iter()
+                .map(|h| h.join().expect("a report section panicked"))
+                .collect::<Result<_>>()
+        })?
+    } else {
+        SECTIONS.iter().map(|f| f(&ctx)).collect::<Result<_>>()?
+    };
     ctx.progress.finish_and_clear();
     let elapsed = t0.elapsed();
     let text = document(&sections, elapsed)?;
