@@ -517,10 +517,11 @@ impl Scratch {
             "build of the integration tests: {}",
             build.describe()
         ));
+        // every binary runs, whatever fails in the one before
         let run: Vec<&str> = tests
             .iter()
             .copied()
-            .chain(["--"])
+            .chain(["--no-fail-fast", "--"])
             .chain(REGISTRY_TESTS)
             .collect();
         let t = Instant::now();
