@@ -19,7 +19,7 @@
 
 use crate::graph::Ex;
 use crate::number::scalar::Scalar;
-use crate::physics::green::{clean, Mat3};
+use crate::physics::green::{clean, rotate, Mat3};
 use crate::physics::operators::STRAIN_BASIS;
 
 /// The frame of a pair: `rho^2`, `1/rho` and the rotation's `(cos, sin)`.
@@ -70,6 +70,8 @@ impl Frame {
 /// of its strain representation, computed in `f64`) are constants of the graph, so a
 /// signed permutation folds to relabelled inputs and outputs.
 pub struct Turn {
+    /// `Q`: the frame's rows.
+    frame: Mat3<f64>,
     /// `Q^T`: frame to world.
     q3: Mat3<f64>,
     /// `Q_5^T`.
@@ -81,7 +83,7 @@ impl Turn {
     pub fn from_frame(q: &Mat3<f64>) -> Turn {
         let q3: Mat3<f64> = std::array::from_fn(|i| std::array::from_fn(|j| q[j][i]));
         let q5 = strains(&q3);
-        Turn { q3, q5 }
+        Turn { frame: *q, q3, q5 }
     }
 
     fn matrix<S: Scalar>(&self, dim: usize) -> Vec<Vec<S>> {
@@ -97,8 +99,7 @@ impl Turn {
 
     /// A point of the world in the frame: `Q x`.
     pub fn point<S: Scalar>(&self, x: &[S; 3]) -> [S; 3] {
-        let v = rotate_vector(x, &[3], true, |n| self.matrix(n));
-        std::array::from_fn(|k| v[k].clone())
+        rotate(&self.frame, x)
     }
 
     /// A grand vector (`parts` as in [`Frame::vector`]) into the frame (`transpose`) or
