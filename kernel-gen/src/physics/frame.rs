@@ -16,6 +16,11 @@
 //! (`c = 1`, `s = 0`), chosen by a comparison node ([`Ex::select_gt`]), and the
 //! reciprocal is taken of `rho` where it is positive and of 1 elsewhere, so no kernel
 //! ever forms `1/0`.
+//!
+//! [`Turn`] is the fixed rotation that comes before it for planes of another normal `n`
+//! ([`crate::physics::green::turned`]): points and moments into the planes' own frame
+//! (rows `t1, t2, n`), blocks and responses back, with the same block and vector
+//! rotations.
 
 use crate::graph::Ex;
 use crate::number::scalar::Scalar;
