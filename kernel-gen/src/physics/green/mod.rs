@@ -199,7 +199,7 @@ pub(crate) fn clean(v: f64) -> f64 {
 
 /// `Q^T f(Q x, Q y) Q`: a reflected field written in the frame `q` (rows `t1, t2, n`),
 /// in the world frame. With [`Plane::frame`], a reflection written for the plane
-/// `x3 = offset` (Blake's image, [`wall::blake`]) serves a plane of normal `n`.
+/// `x3 = offset` (Blake's image, `wall::blake`) serves a plane of normal `n`.
 pub fn in_frame<S: Scalar>(
     q: &Mat3<f64>,
     x: &[S; 3],
