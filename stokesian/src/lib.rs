@@ -103,20 +103,17 @@
 //!   and two-sphere resistance functions, series and tables;
 //! - [`dynamics`]: Brownian dynamics, with the far-field mobility or with lubrication;
 //! - [`studies`]: studies of the paper (the co-rotating doublet);
-//! - [`generate`]: what `cargo xtask gen` writes into `src/generated/` (the tables and
-//!   coefficients), used at generation time only.
 //!
 //! No two modules import each other: `resistance::lubrication` forms the far-field
 //! mobility through `System::mobility` (`mobility::assembly`), and
 //! `mobility::velocity` solves that resistance when the velocities are lubricated, but
-//! `mobility::assembly` and `mobility::tiled` know nothing of the resistance. The tables
-//! of `resistance` read the series' closed forms; what makes the tables from the series
-//! is `generate`.
+//! `mobility::assembly` and `mobility::tiled` know nothing of the resistance. The exact
+//! two-body functions (series, tables and what generates the tables) are the crate
+//! `resistance_functions`, re-exported in `resistance`.
 //!
 //! The types most callers need are re-exported here.
 
 pub mod dynamics;
-pub mod generate;
 pub mod linalg;
 pub mod mobility;
 pub mod resistance;

@@ -18,8 +18,10 @@ use std::process::Command;
 use std::time::SystemTime;
 
 /// The marker lines that enclose the generated table.
-const BEGIN: &str = "<!-- bench:begin -->";
-const END: &str = "<!-- bench:end -->";
+/// The line before the performance table in the files it is written into.
+pub const BEGIN: &str = "<!-- bench:begin -->";
+/// The line after the performance table.
+pub const END: &str = "<!-- bench:end -->";
 
 /// The files whose table is rewritten, relative to the workspace root.
 const FILES: [&str; 2] = ["README.md", "docs/performance.md"];
@@ -35,7 +37,7 @@ const PAIR_ROWS: [(&str, &str, &str); 6] = [
 ];
 
 /// Whole operations: (row label, criterion id).
-const OPERATION_ROWS: [(&str, &str); 6] = [
+pub const OPERATION_ROWS: [(&str, &str); 6] = [
     (
         "`M x` near a wall, F, N = 10^4 (`System::apply`)",
         "wall product M x/F/10000",
@@ -74,7 +76,7 @@ fn pair_ids(conf: &str, level: &str, isa: Isa) -> [String; 3] {
 }
 
 /// Every criterion id the table reads.
-fn all_ids(isa: Isa) -> Vec<String> {
+pub fn all_ids(isa: Isa) -> Vec<String> {
     let pairs = PAIR_ROWS
         .iter()
         .flat_map(|&(_, conf, level)| pair_ids(conf, level, isa));
@@ -83,7 +85,7 @@ fn all_ids(isa: Isa) -> Vec<String> {
 }
 
 /// `s` with the regular expression's special characters escaped.
-fn escape(s: &str) -> String {
+pub fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         if r"\.+*?()|[]{}^$#&-~".contains(c) {
@@ -152,7 +154,7 @@ fn read_estimates(
 }
 
 /// A time in nanoseconds with three significant digits and its unit.
-fn format_time(ns: f64) -> String {
+pub fn format_time(ns: f64) -> String {
     let (value, unit) = if ns < 1e3 {
         (ns, "ns")
     } else if ns < 1e6 {
@@ -243,7 +245,7 @@ fn table(
 }
 
 /// Replace what lies between the markers of `path` by `body`.
-fn rewrite(path: &Path, body: &str) -> Result<()> {
+pub fn rewrite(path: &Path, body: &str) -> Result<()> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
     let (Some(b), Some(e)) = (text.find(BEGIN), text.find(END)) else {
@@ -257,7 +259,7 @@ fn rewrite(path: &Path, body: &str) -> Result<()> {
 }
 
 /// `cargo xtask bench [--quick]`.
-pub(crate) fn run(root: &Path, quick: bool) -> Result<()> {
+pub fn run(root: &Path, quick: bool) -> Result<()> {
     let isa = Isa::best();
     let filter = format!(
         "^({})$",
@@ -287,44 +289,4 @@ pub(crate) fn run(root: &Path, quick: bool) -> Result<()> {
     }
     print!("{body}");
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn times_have_three_significant_digits_and_a_unit() {
-        assert_eq!(format_time(5.349), "5.35 ns");
-        assert_eq!(format_time(12.71), "12.7 ns");
-        assert_eq!(format_time(611.2), "611 ns");
-        assert_eq!(format_time(1110.0), "1.11 us");
-        assert_eq!(format_time(8.7e7), "87.0 ms");
-        assert_eq!(format_time(2.5e9), "2.50 s");
-    }
-
-    #[test]
-    fn the_filter_matches_the_ids_literally() {
-        assert_eq!(
-            escape("wall product M x/F/10000"),
-            "wall product M x/F/10000"
-        );
-        assert_eq!(escape("a.b (c)|d"), r"a\.b \(c\)\|d");
-        // 6 pair rows of 3 columns, and the whole operations
-        assert_eq!(all_ids(Isa::Avx2).len(), 18 + OPERATION_ROWS.len());
-    }
-
-    #[test]
-    fn only_the_text_between_the_markers_is_replaced() {
-        let dir = std::env::temp_dir().join(format!("xtask-bench-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("page.md");
-        std::fs::write(&path, format!("top\n{BEGIN}\nold\n{END}\nbottom\n")).unwrap();
-        rewrite(&path, "new\n").unwrap();
-        let text = std::fs::read_to_string(&path).unwrap();
-        assert_eq!(text, format!("top\n{BEGIN}\nnew\n{END}\nbottom\n"));
-        std::fs::write(&path, "no markers\n").unwrap();
-        assert!(rewrite(&path, "new\n").is_err());
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
 }

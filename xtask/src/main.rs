@@ -16,18 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-mod bench;
-mod budget;
-mod check_green;
-mod report;
-mod wall_limit;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("xtask lives in the workspace root")
-        .to_path_buf()
-}
+use xtask::{bench, budget, check_green, read_scene, report, root, run, scenes, wall_limit};
 
 fn usage() -> &'static str {
     "usage: cargo xtask gen [--check] | cargo xtask gen --scene FILE [--out PATH] | cargo xtask report [--quick]\n\
@@ -52,41 +41,6 @@ fn usage() -> &'static str {
                                that table in README.md and docs/performance.md; --quick: short, provisional runs\n\
      wall-limit [--truncation N]  the sphere-plane functions as the two-sphere limit of a large second sphere\n\
                                (coefficients built to N terms, default 400; a table in Markdown on stdout)"
-}
-
-/// Names of the registered Green's functions.
-fn registered() -> Vec<&'static str> {
-    struct Names(Vec<&'static str>);
-    impl kernel_gen::physics::green::Visitor for Names {
-        fn visit<G: kernel_gen::physics::green::Green>(&mut self, g: &G) {
-            self.0.push(g.name());
-        }
-    }
-    let mut n = Names(Vec::new());
-    kernel_gen::physics::green::for_each(&mut n);
-    n.0
-}
-
-fn read_scene(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("reading scene {}", path.display()))?;
-    Ok(Scene::parse(
-        &path.display().to_string(),
-        &text,
-        &registered(),
-    )?)
-}
-
-/// Every scene in `scenes/`, in file-name order.
-pub(crate) fn scenes() -> Result<Vec<Scene>> {
-    let dir = root().join("scenes");
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .with_context(|| format!("reading {}", dir.display()))?
-        .map(|e| e.map(|e| e.path()))
-        .collect::<std::io::Result<_>>()?;
-    paths.retain(|p| p.extension().is_some_and(|e| e == "toml"));
-    paths.sort();
-    paths.iter().map(|p| read_scene(p)).collect()
 }
 
 /// `cargo xtask gen --scene FILE [--out PATH]`.
@@ -142,10 +96,11 @@ fn gen(check: bool) -> Result<()> {
         (far, t_far),
         (near, t_near),
     ) = std::thread::scope(|scope| {
-        let wall = scope.spawn(|| timed(|| stokesian::generate::wall_tables().into_bytes()));
-        let pair = scope.spawn(|| timed(stokesian::generate::two_sphere_coefficients));
-        let far = scope.spawn(|| timed(stokesian::generate::two_sphere_far));
-        let near = scope.spawn(|| timed(stokesian::generate::two_sphere_near));
+        let wall =
+            scope.spawn(|| timed(|| resistance_functions::generate::wall_tables().into_bytes()));
+        let pair = scope.spawn(|| timed(resistance_functions::generate::two_sphere_coefficients));
+        let far = scope.spawn(|| timed(resistance_functions::generate::two_sphere_far));
+        let near = scope.spawn(|| timed(resistance_functions::generate::two_sphere_near));
         let t = Instant::now();
         let files = kernel_gen::catalog::generate(&scenes);
         let kernels = (files, t.elapsed());
@@ -185,13 +140,19 @@ fn gen(check: bool) -> Result<()> {
     }
     // the exact resistance tables of the solver, from its series
     for (name, bytes) in [
-        ("stokesian/src/generated/wall_tables.rs", wall_tables),
         (
-            "stokesian/src/generated/two_sphere_coefficients.bin",
+            "resistance-functions/src/generated/wall_tables.rs",
+            wall_tables,
+        ),
+        (
+            "resistance-functions/src/generated/two_sphere_coefficients.bin",
             coefficients,
         ),
-        ("stokesian/src/generated/two_sphere_far.bin", far),
-        ("stokesian/src/generated/two_sphere_near.bin", near),
+        ("resistance-functions/src/generated/two_sphere_far.bin", far),
+        (
+            "resistance-functions/src/generated/two_sphere_near.bin",
+            near,
+        ),
     ] {
         let path = root().join(name);
         if std::fs::read(&path).ok().as_deref() != Some(bytes.as_slice()) {
@@ -219,7 +180,7 @@ fn gen(check: bool) -> Result<()> {
             bail!(
                 "the committed kernels are stale: {} differ from what the generator produces.\n\
                  Run `cargo xtask gen` and commit kernels/src/generated/ and \
-                 stokesian/src/generated/.",
+                 resistance-functions/src/generated/.",
                 stale.join(", ")
             );
         }
@@ -251,19 +212,15 @@ fn run_report(quick: bool) -> Result<()> {
     Ok(())
 }
 
-/// Run `cmd`, failing with its name if it fails.
-fn run(cmd: &mut Command) -> Result<()> {
-    let status = cmd
-        .status()
-        .with_context(|| format!("cannot start {cmd:?}"))?;
-    if !status.success() {
-        bail!("{cmd:?} failed ({status})");
-    }
-    Ok(())
-}
-
 /// Crates of the solver that the Python build must find compiled by `cargo test`.
-const SHARED: &[&str] = &["faer ", "nalgebra ", "kernels ", "lanes ", "stokesian "];
+const SHARED: &[&str] = &[
+    "faer ",
+    "nalgebra ",
+    "kernels ",
+    "lanes ",
+    "resistance-functions ",
+    "stokesian ",
+];
 
 /// `cargo xtask test`: `cargo test --workspace --release`; then a virtual environment in
 /// `target/python-venv` (created once) with maturin, numpy and pytest from PyPI, the

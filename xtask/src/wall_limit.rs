@@ -59,6 +59,8 @@ fn extrapolate(u: &[f64], f: &[f64], tol: f64) -> Option<(f64, f64)> {
     Some((p4, est))
 }
 
+/// `cargo xtask wall-limit [--truncation N]`: the table of the sphere-plane functions as
+/// the limit of two spheres, in Markdown on standard output.
 pub fn run(args: &[&str]) -> Result<()> {
     let truncation = match args {
         [] => 400,

@@ -3,7 +3,10 @@
 
 use integration_tests::{all_confinements, over, WALL};
 use kernels::Dimension;
-use stokesian::{Confinement, InputError, Moments, Particle, System};
+use stokesian::{
+    strain_components, Confinement, InputError, Lubrication, Moments, Particle, ResistanceError,
+    System, VelocityError,
+};
 
 fn p(x: [f64; 3], a: f64) -> Particle {
     Particle { x, a }
@@ -314,4 +317,66 @@ fn corpus_of_extreme_inputs() {
             second: 2
         }
     );
+}
+
+#[test]
+fn strain_components_are_the_basis_projections_and_checked() {
+    // E = B_4 (e1e1 - e2e2)/sqrt2 scaled by 3: components (0, 0, 0, 3, 0)
+    let r = 3.0 / 2f64.sqrt();
+    let e = [[r, 0.0, 0.0], [0.0, -r, 0.0], [0.0, 0.0, 0.0]];
+    let c = strain_components(&e).unwrap();
+    assert!((c[3] - 3.0).abs() < 1e-15 && c.iter().enumerate().all(|(m, v)| m == 3 || *v == 0.0));
+    let mut bad = e;
+    bad[0][1] = 1.0;
+    assert!(matches!(
+        strain_components(&bad),
+        Err(VelocityError::NotSymmetricTraceless(_))
+    ));
+    assert!(matches!(
+        strain_components(&[[1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]),
+        Err(VelocityError::NotSymmetricTraceless(_))
+    ));
+}
+
+#[test]
+fn velocities_refuse_bad_input() {
+    let p = |z| Particle {
+        x: [0.0, 0.0, z],
+        a: 1.0,
+    };
+    let s = System::new(
+        kernels::Confinement::Wall { height: 0.0 },
+        1.0,
+        vec![p(2.0)],
+        false,
+    )
+    .unwrap();
+    let e0 = [0.0; 5];
+    assert!(matches!(
+        s.velocities(Moments::F, &[1.0; 4], &e0, None),
+        Err(VelocityError::Length {
+            expected: 3,
+            found: 4,
+            ..
+        })
+    ));
+    assert!(matches!(
+        s.velocities(Moments::F, &[1.0, f64::NAN, 0.0], &e0, None),
+        Err(VelocityError::NonFinite { index: 1, .. })
+    ));
+    assert!(matches!(
+        s.velocities(Moments::FT, &[0.0; 6], &[1.0, 0.0, 0.0, 0.0, 0.0], None),
+        Err(VelocityError::StrainWithoutStresslets(Moments::FT))
+    ));
+    assert!(matches!(
+        s.velocities(Moments::F, &[0.0; 3], &e0, Some(&Lubrication::default())),
+        Err(VelocityError::Resistance(ResistanceError::Unsupported(
+            Moments::F
+        )))
+    ));
+    // F without lubrication is M x
+    let u = s
+        .velocities(Moments::F, &[1.0, 0.0, 0.0], &e0, None)
+        .unwrap();
+    assert_eq!(u.u, s.apply(Moments::F, &[1.0, 0.0, 0.0]));
 }

@@ -13,6 +13,7 @@
 mod bad_input;
 mod brownian;
 mod generated;
+mod linalg;
 mod lubrication;
 mod paper;
 mod physics;

@@ -7,6 +7,7 @@ use integration_tests::{all_confinements, random_spheres};
 use nalgebra::DVector;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use stokesian::mobility::tiled::rounds;
 use stokesian::{Isa, Moments, Precision, System};
 
 /// 1e-13 of `|M x|`: the same kernels summed in another order, the lanes with fused
@@ -260,5 +261,27 @@ fn seeded_brownian_runs_do_not_depend_on_the_number_of_threads() {
             };
             assert_eq!(run(1), run(3), "{moments:?} {noise:?}");
         }
+    }
+}
+
+/// The rounds of the tiled product: every tile of the upper triangle once, and the tiles of
+/// one round touch disjoint blocks (so that a round's tiles write in parallel).
+#[test]
+fn rounds_cover_every_tile_once_with_disjoint_blocks() {
+    for blocks in 1..12 {
+        let r = rounds(blocks);
+        let mut seen = std::collections::BTreeSet::new();
+        for round in &r {
+            let mut used = std::collections::BTreeSet::new();
+            for &(i, j) in round {
+                assert!(i <= j);
+                assert!(
+                    used.insert(i) && (i == j || used.insert(j)),
+                    "{blocks}: {round:?}"
+                );
+                assert!(seen.insert((i, j)));
+            }
+        }
+        assert_eq!(seen.len(), blocks * (blocks + 1) / 2);
     }
 }

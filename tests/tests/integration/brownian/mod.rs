@@ -3,3 +3,4 @@
 
 mod dynamics;
 mod lubricated;
+mod settings;

@@ -312,7 +312,7 @@ static XC: Family = Family {
 /// [`Table::ALL`], little-endian `f64`. They do not depend on `lambda`; `gen --check`
 /// fails when this file differs from a fresh evaluation of the recurrences.
 static COEFFICIENTS: &[u8; 11 * TRIANGLE * 8] =
-    include_bytes!("../../generated/two_sphere_coefficients.bin");
+    include_bytes!("../generated/two_sphere_coefficients.bin");
 
 /// Numbers in one triangle.
 const TRIANGLE: usize = TRUNCATION * (TRUNCATION + 1) / 2 + TRUNCATION + 1;

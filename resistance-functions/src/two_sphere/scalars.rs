@@ -1,5 +1,5 @@
 //! The 22 scalar resistance functions of two spheres in Kim & Karrila's normalisation
-//! (module docs of [`crate::resistance::two_sphere`]) and their names.
+//! (module docs of [`crate::two_sphere`]) and their names.
 
 /// The ten force-torque resistance functions (Kim & Karrila normalisation, module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

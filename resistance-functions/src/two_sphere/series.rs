@@ -254,7 +254,7 @@ impl PairSeries {
 
     /// The regular parts `F - h . S(t)` of the functions at `s_dash` (module docs: the
     /// remainder series `sum_m r_m t^m`), continuous up to contact: what the near-contact
-    /// tables of [`crate::resistance::pair_tables`] fit.
+    /// tables of [`crate::pair_tables`] fit.
     pub fn regular(&self, s_dash: f64) -> Result<[f64; 22], TwoSphereError> {
         self.regular_at(s_dash, &Geometry::new(s_dash)?)
     }
@@ -370,7 +370,7 @@ fn row_sums<const N: usize>(rows: &[[f64; SOURCES]], powers: &[f64]) -> [f64; N]
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::resistance::two_sphere::{LAMBDA_MIN, NAMES};
+    use crate::two_sphere::{LAMBDA_MIN, NAMES};
 
     #[test]
     fn bad_input_is_a_typed_error() {

@@ -1,14 +1,14 @@
 //! The exact resistance functions of one sphere near a plane no-slip wall, `R^W` of
 //! Eq. 19: the five functions ([`WallFunctions`]) from the generated tables
-//! ([`crate::resistance::wall_tables`]) at every gap up to `EPS_MAX`, continued below the
+//! ([`crate::wall_tables`]) at every gap up to `EPS_MAX`, continued below the
 //! tables by the near-contact forms ([`wall_near_contact`]) and above them by the
-//! bispherical series ([`wall_series`], [`crate::resistance::exact`]).
+//! bispherical series ([`wall_series`], [`crate::exact`]).
 
 use super::exact::{wall_functions_at_gap, ZETA3};
 use super::wall_tables::{tabulated, EPS_MAX, EPS_MIN};
 
 /// Sphere-wall resistance functions at `eps = (h - a)/a`, exact: the generated tables
-/// of [`crate::resistance::wall_tables`] (piecewise Chebyshev in `ln eps`, within 1e-10 of the series,
+/// of [`crate::wall_tables`] (piecewise Chebyshev in `ln eps`, within 1e-10 of the series,
 /// the integration tests of the wall tables) for `eps` up to 1e3, the near-contact forms
 /// continued from them below `1e-7`, and the series beyond `1e3`.
 pub fn wall_functions(eps: f64) -> WallFunctions {
@@ -35,7 +35,7 @@ pub fn wall_functions(eps: f64) -> WallFunctions {
     }
 }
 
-/// The exact bispherical series at `eps = (h - a)/a` ([`crate::resistance::exact`]: Brenner 1961,
+/// The exact bispherical series at `eps = (h - a)/a` ([`crate::exact`]: Brenner 1961,
 /// O'Neill 1964, Dean & O'Neill 1963 as corrected by Goldman, Cox & Brenner 1967,
 /// Jeffery 1915; [`wall_functions_at_gap`]): what the tables are made
 /// from. Converged to round-off at every `eps >= 1e-7` (thousands of terms at the

@@ -1,5 +1,5 @@
 //! The closed forms that carry the singular terms `1/xi`, `ln(1/xi)` and `xi ln(1/xi)`
-//! of every function exactly (module docs of [`crate::resistance::two_sphere`]), at one
+//! of every function exactly (module docs of [`crate::two_sphere`]), at one
 //! separation, and their Taylor coefficients in `t = 2/s'`.
 
 use super::check_lambda;

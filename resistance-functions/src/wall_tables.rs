@@ -1,14 +1,14 @@
 //! Generated tables of the exact sphere-wall resistance functions: piecewise Chebyshev
 //! fits in `s = ln(eps)`, `eps = (h - a)/a` the gap over the radius, made by
-//! `cargo xtask gen` from the bispherical series of [`crate::resistance::exact`] (Brenner 1961,
+//! `cargo xtask gen` from the bispherical series of [`crate::exact`] (Brenner 1961,
 //! O'Neill 1964, Dean & O'Neill 1963 with Goldman, Cox & Brenner 1967, Jeffery 1915) and
 //! committed in `src/generated/wall_tables.rs`.
 //!
 //! In `s` the near-contact singularities are smooth: `ln(1/eps) = -s` is linear, and the
 //! `1/eps` of `X^A` is taken out analytically by fitting `eps X^A`. The tables span
 //! `eps` in `[EPS_MIN, EPS_MAX]` = `[1e-7, 1e3]` on unit intervals of `s`; below, the
-//! near-contact forms ([`crate::resistance::wall_near_contact`], continued by
-//! [`crate::resistance::wall_functions`]) shifted by their constant offset
+//! near-contact forms ([`crate::wall_near_contact`], continued by
+//! [`crate::wall_functions`]) shifted by their constant offset
 //! from the table at `EPS_MIN` (so that the functions are continuous there; the offset
 //! is the error of the near-contact constants, below 2e-8 relative); above, a sphere
 //! is so far from the wall (`h > 1000 a`) that the exact functions equal the inverse of
@@ -24,7 +24,7 @@ pub const EPS_MAX: f64 = 1e3;
 pub const TERMS: usize = 18;
 
 #[rustfmt::skip]
-#[path = "../generated/wall_tables.rs"]
+#[path = "generated/wall_tables.rs"]
 mod data;
 
 /// The first interval's left end in `s`.

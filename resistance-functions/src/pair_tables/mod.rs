@@ -1,18 +1,18 @@
 //! Generated tables of the 22 two-sphere resistance functions at every separation `s' =
 //! 2r/(a1 + a2) > 2` and size ratio `lambda = a2/a1` in `[1e-2, 1e2]`: 2-D Chebyshev
 //! fits made by `cargo xtask gen` from the twin-multipole series of
-//! [`crate::resistance::two_sphere`] and committed in `src/generated/two_sphere_far.bin` and
+//! [`crate::two_sphere`] and committed in `src/generated/two_sphere_far.bin` and
 //! `src/generated/two_sphere_near.bin`. No series is built at run time.
 //!
 //! - **Far** (`s' >= S_MIN = 3`): each function is a power series in `t = 2/s'` with
-//!   coefficients that are polynomials in `mu = lambda/(1 + lambda)` ([`crate::resistance::two_sphere`],
+//!   coefficients that are polynomials in `mu = lambda/(1 + lambda)` ([`crate::two_sphere`],
 //!   module docs): analytic on `t < 1`, so on `t <= 2/3` a few terms in `t` and `mu`
 //!   fit it to 4e-11 with no singular part to take out (the lubrication singularities
 //!   sit at contact, `t = 1`).
 //! - **Near** (`2 < s' < 3`, gap `xi = s' - 2` in `(0, 1)`): the series' closed forms
 //!   carry the singular terms `1/xi`, `ln(1/xi)` and `xi ln(1/xi)` exactly
-//!   ([`crate::resistance::two_sphere::SingularForms`], evaluated at run time); the tables fit only
-//!   the regular remainder ([`crate::resistance::two_sphere::PairSeries::regular`]), continuous up to
+//!   ([`crate::two_sphere::SingularForms`], evaluated at run time); the tables fit only
+//!   the regular remainder ([`crate::two_sphere::PairSeries::regular`]), continuous up to
 //!   contact, in `u = ln xi` and `ln lambda`. In `u` the remainder's first non-analytic
 //!   term, `xi^2 ln xi`, is smooth, and the remainder tends to its contact value
 //!   exponentially as `u -> -infinity`. The table reaches `xi = exp(U_MIN)` (2.3e-16),
@@ -188,7 +188,7 @@ const fn mu(lambda: f64) -> f64 {
 /// long: it reads the coefficients from beyond the first-level cache); 3 x 4 patches of
 /// 12 x 16 (5.9e-12); 8 equal `mu` patches of 8 terms (5.1e-9 at `lambda = 100`).
 pub(crate) static FAR: Table = Table {
-    file: include_bytes!("../../generated/two_sphere_far.bin"),
+    file: include_bytes!("../generated/two_sphere_far.bin"),
     separation: Axis {
         lo: 0.0,
         hi: 2.0 / S_MIN,
@@ -214,7 +214,7 @@ static FAR_READ: OnceLock<Option<Read>> = OnceLock::new();
 /// coefficients per call, and a call for all 22 functions took half as long again); 12, 16 and 20 patches of 10 terms (1.1e-6, 1.5e-8 and 2.3e-9 at
 /// `lambda = 100`); 16 patches of 8 terms in `ln lambda` (3.4e-6).
 pub(crate) static NEAR: Table = Table {
-    file: include_bytes!("../../generated/two_sphere_near.bin"),
+    file: include_bytes!("../generated/two_sphere_near.bin"),
     separation: Axis {
         lo: U_MIN,
         hi: 0.0,

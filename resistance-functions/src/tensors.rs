@@ -9,7 +9,8 @@ use kernels::{basis_both, basis_rows};
 use nalgebra::{DMatrix, SMatrix};
 use std::f64::consts::PI;
 
-pub(crate) type M6 = SMatrix<f64, 6, 6>;
+/// A `6 x 6` block: the force-torque resistance of one sphere or one pair seen from one sphere.
+pub type M6 = SMatrix<f64, 6, 6>;
 
 fn eps3(i: usize, j: usize, k: usize) -> f64 {
     ((i as i64 - j as i64) * (j as i64 - k as i64) * (k as i64 - i as i64)) as f64 / 2.0
@@ -25,7 +26,7 @@ fn delta(i: usize, j: usize) -> f64 {
 
 /// `R^W` of a sphere of radius `a` at gap `eps` from a wall with normal `n` (into the
 /// fluid), 6x6 in the order `[U, Omega]`.
-pub(crate) fn wall_block(eta: f64, a: f64, eps: f64, n: [f64; 3]) -> M6 {
+pub fn wall_block(eta: f64, a: f64, eps: f64, n: [f64; 3]) -> M6 {
     let w = wall_functions(eps);
     let mut r = M6::zeros();
     for i in 0..3 {
@@ -151,7 +152,7 @@ fn ordered_pair(
     }
 }
 
-/// `R^P` of two spheres (exact two-sphere resistance, [`crate::resistance::two_sphere`]), per-particle
+/// `R^P` of two spheres (exact two-sphere resistance, [`crate::two_sphere`]), per-particle
 /// layout `[U_1, Omega_1, E_1, U_2, Omega_2, E_2]` truncated to `k` = 6 or 11 components
 /// each. Each ordered block `(alpha, beta)` takes the "11" or "12" functions seen from
 /// `alpha` (`lambda = a_beta/a_alpha`, scaled with `a_alpha`, `d` from `alpha` to the
@@ -159,7 +160,7 @@ fn ordered_pair(
 /// columns are the transposes of the other ordered pair's torque and stresslet rows
 /// (`B~^{ab} = (B^{ba})^T`, `G~^{ab} = (G^{ba})^T`, `H~^{ab} = (H^{ba})^T`, JO84 eq. 1.4).
 /// `spheres` holds each sphere's radius and the functions seen from it ([`PairFunctions`]).
-pub(crate) fn pair_block(
+pub fn pair_block(
     eta: f64,
     spheres: [(f64, PairScalars); 2],
     d: [f64; 3],
@@ -208,7 +209,7 @@ pub(crate) fn pair_block(
 /// The mirror image in a horizontal plane on the per-particle components `[U, Omega,
 /// E]` (`k` = 6 or 11): `U -> P U`, `Omega -> -P Omega` (an axial vector),
 /// `E -> P E P` in the orthonormal strain basis, `P = diag(1, 1, -1)`.
-pub(crate) fn mirror(k: usize) -> DMatrix<f64> {
+pub fn mirror(k: usize) -> DMatrix<f64> {
     let p = |i: usize| if i == 2 { -1.0 } else { 1.0 };
     let mut t = [[[[0.0; 3]; 3]; 3]; 3];
     for (i, ti) in t.iter_mut().enumerate() {
@@ -228,7 +229,7 @@ pub(crate) fn mirror(k: usize) -> DMatrix<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::resistance::two_sphere::PairSeries;
+    use crate::two_sphere::PairSeries;
 
     /// unequal spheres at FTS, which checks the lambda -> 1/lambda rule and the
     /// transposed force rows; 1e-12 relative: the series satisfy reciprocity to

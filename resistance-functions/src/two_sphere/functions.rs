@@ -1,6 +1,6 @@
 //! The 22 functions as sums over the recurrences' triangles: which triangle, factor,
 //! parity and shift each takes (JO84, J92 as corrected by Townsend 2023; module docs of
-//! [`crate::resistance::two_sphere`]), and the coefficients of their singular terms near
+//! [`crate::two_sphere`]), and the coefficients of their singular terms near
 //! contact.
 
 use super::check_lambda;
