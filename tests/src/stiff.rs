@@ -562,12 +562,21 @@ pub fn cases() -> Vec<Case> {
 
 /// Every block of every kernel the solver links, for every confinement, in every case.
 pub fn stiff_cases() -> Vec<StiffRow> {
-    struct Measure {
+    stiff_cases_of(&|_| true)
+}
+
+/// [`stiff_cases`] of the confinements whose name `include` accepts.
+pub fn stiff_cases_of(include: &dyn Fn(&str) -> bool) -> Vec<StiffRow> {
+    struct Measure<'a> {
+        include: &'a dyn Fn(&str) -> bool,
         cases: Vec<Case>,
         rows: Vec<StiffRow>,
     }
-    impl Visitor for Measure {
+    impl Visitor for Measure<'_> {
         fn visit<G: Green>(&mut self, g: &G) {
+            if !(self.include)(g.name()) {
+                return;
+            }
             for kind in KINDS {
                 let traced = trace(g, &kind.reference());
                 let ids = traced.output_ids();
@@ -602,6 +611,7 @@ pub fn stiff_cases() -> Vec<StiffRow> {
         }
     }
     let mut m = Measure {
+        include,
         cases: cases(),
         rows: Vec::new(),
     };

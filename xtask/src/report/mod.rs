@@ -43,6 +43,8 @@ pub struct Config {
     pub sweep: usize,
     /// Brownian steps of each run of section e.
     pub brownian_steps: usize,
+    /// The confinements of the stiff cases (section c), all of them if `None`.
+    pub stiff_only: Option<&'static str>,
     /// Draw a progress bar.
     pub progress: bool,
     /// Run the sections concurrently, one thread each (the reduced run of the test,
@@ -61,6 +63,7 @@ impl Config {
             min_time: Duration::from_millis(150),
             sweep: 12,
             brownian_steps: 1_200_000,
+            stiff_only: None,
             progress: true,
             concurrent: false,
         }
@@ -75,6 +78,9 @@ impl Config {
             min_time: Duration::from_millis(2),
             sweep: 3,
             brownian_steps: 4_000,
+            // the wall alone: every confinement's stiff cases are the integration
+            // test `generated::stiff_cases`, the same measurement
+            stiff_only: Some("wall"),
             progress: false,
             concurrent: true,
         }

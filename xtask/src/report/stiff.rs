@@ -9,7 +9,7 @@
 use super::table::{err, Table};
 use super::{Ctx, Section};
 use anyhow::Result;
-use integration_tests::stiff::{stiff_cases, StiffRow, TOL};
+use integration_tests::stiff::{stiff_cases_of, StiffRow, TOL};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
@@ -18,7 +18,8 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
     ctx.progress.inc_length(1);
     ctx.progress
         .set_message("stiff and extreme cases (double-double references)");
-    let rows = stiff_cases();
+    let only = ctx.cfg.stiff_only;
+    let rows = stiff_cases_of(&|name| only.is_none() || only == Some(name));
     ctx.progress.inc(1);
     // the worst row per (case, confinement)
     // the worst row per (case, confinement), and the plain direct sum's worst there
