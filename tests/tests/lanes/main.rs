@@ -1,13 +1,12 @@
-//! The lane kernels and the tiled product built on them: lanes equal the scalar kernels on
-//! every instruction set, the tiled product equals the dense matrix whatever the number of
-//! threads, and the single-precision product with the change of units it rests on.
+//! The lane kernels and the tiled product built on them: the `f64` lanes equal the scalar
+//! kernels on every instruction set, and the tiled product equals the dense matrix
+//! whatever the number of threads (the `f32` lanes: `tests/tests/lanes_single`).
 //!
 //! A test binary of its own: `scalar` instantiates every lane kernel of every
-//! confinement for every instruction set and precision, most of what the tests compile,
-//! and compiles alongside `tests/tests/integration`. Run one module by its path, e.g.
-//! `cargo test --workspace --release -- scalar:: --nocapture`.
+//! confinement for every instruction set in `f64`, most of what the tests compile, and
+//! compiles alongside `tests/tests/integration` and `tests/tests/lanes_single`. Run one
+//! module by its path, e.g. `cargo test --workspace --release -- scalar:: --nocapture`.
 
 mod layout;
 mod scalar;
-mod single_precision;
 mod tiled_product;

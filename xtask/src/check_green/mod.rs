@@ -35,7 +35,8 @@ const GENERATED: [&str; 2] = [
     "resistance-functions/src/generated/",
 ];
 
-/// The modules of the integration tests (binaries `integration` and `lanes`) that iterate
+/// The modules of the integration tests (binaries `integration`, `lanes` and
+/// `lanes_single`) that iterate
 /// the registry.
 const REGISTRY_TESTS: [&str; 6] = [
     "generated::",
@@ -517,6 +518,8 @@ impl Scratch {
             "integration",
             "--test",
             "lanes",
+            "--test",
+            "lanes_single",
         ];
         let no_run: Vec<&str> = tests.iter().copied().chain(["--no-run"]).collect();
         let build = measured(&mut self.cargo(&no_run))?;
