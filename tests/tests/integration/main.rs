@@ -14,6 +14,7 @@ mod bad_input;
 mod brownian;
 mod generated;
 mod lubrication;
+mod overlap;
 mod paper;
 mod physics;
 mod references;
