@@ -508,7 +508,8 @@ impl System {
         }
     }
 
-    /// The drift `div M` at the F level (`3N`) or the FT level (`6N`, moment-major:
+    /// The drift `div M` (not that of a sphere damped by [`crate::Overlap::Rpy`]:
+    /// [`System::check_drift`]) at the F level (`3N`) or the FT level (`6N`, moment-major:
     /// translational then rotational rows; the columns are always the forces, since the
     /// mobility of spheres does not depend on their orientation).
     pub fn divergence_at(&self, moments: Moments) -> Vec<f64> {

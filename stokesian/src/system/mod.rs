@@ -8,7 +8,7 @@
 //!
 //! | methods | module |
 //! |---|---|
-//! | `new`, `with_precision`, `precision`, `particles`, `confinement`, `viscosity`, `len`, `is_empty`, `overlap`, `check_overlap` | here |
+//! | `new`, `with_precision`, `precision`, `particles`, `confinement`, `viscosity`, `len`, `is_empty`, `overlap`, `check_overlap`, `check_drift` | here |
 //! | `block`, `mobility`, `mobility_into` (the dense grand mobility) | [`crate::mobility::assembly`] |
 //! | `apply`, `apply_with` (the matrix-free product) | [`crate::mobility::tiled`] |
 //! | `velocities` (the mobility problem) | [`crate::mobility::velocity`] |
@@ -122,6 +122,17 @@ impl System {
         match (&self.rpy, moments) {
             (Some(rpy), Moments::FTS) => rpy.refuse("the stresslets (FTS)"),
             _ => Ok(()),
+        }
+    }
+
+    /// Whether the Brownian drift of the divergence kernels ([`System::divergence_at`])
+    /// is this system's: not where [`Overlap::Rpy`] damps a sphere cutting a boundary
+    /// (the divergence of the damped mobility is not available; the corrections of
+    /// overlapping pairs are divergence-free, [`overlap`]).
+    pub fn check_drift(&self) -> Result<(), OverlapError> {
+        match &self.rpy {
+            Some(rpy) => rpy.refuse_damping("the Brownian drift (div M)"),
+            None => Ok(()),
         }
     }
 
