@@ -234,8 +234,14 @@ fn overlap_rpy_gives_the_library_matrix_and_refuses_fts() {
     assert_ok(&ok);
     assert!(stderr(&ok).contains("Cholesky succeeds"), "{}", stderr(&ok));
     let ps = vec![
-        Particle { x: [0.0, 0.0, 0.8], a: 1.0 },
-        Particle { x: [1.2, 0.0, 1.5], a: 0.7 },
+        Particle {
+            x: [0.0, 0.0, 0.8],
+            a: 1.0,
+        },
+        Particle {
+            x: [1.2, 0.0, 1.5],
+            a: 0.7,
+        },
     ];
     let want = System::new(Confinement::Wall { height: 0.0 }, 1.0, ps, Overlap::Rpy)
         .unwrap()
@@ -243,8 +249,17 @@ fn overlap_rpy_gives_the_library_matrix_and_refuses_fts() {
     assert_bit_equal(&read_npy(&out), &want, "--overlap rpy");
     std::fs::remove_file(&out).unwrap();
     let fts = run("FTS", &["--overlap", "rpy"]);
-    assert_fails(&fts, &["particles 0 and 1 overlap", "not the stresslets (FTS)"], &dir, &["p.csv"]);
+    assert_fails(
+        &fts,
+        &["particles 0 and 1 overlap", "not the stresslets (FTS)"],
+        &dir,
+        &["p.csv"],
+    );
     let both = run("F", &["--overlap", "rpy", "--allow-overlap"]);
     assert!(!both.status.success());
-    assert!(stderr(&both).contains("cannot be used with"), "{}", stderr(&both));
+    assert!(
+        stderr(&both).contains("cannot be used with"),
+        "{}",
+        stderr(&both)
+    );
 }
