@@ -32,9 +32,11 @@
 //! ```
 //!
 //! The translational forms are those of Zuk, Wajnryb, Mizerski and Szymczak, J. Fluid
-//! Mech. 741, R5 (2014), Eq. 2.6 (the generalisation of Rotne and Prager to unequal and
-//! overlapping spheres); the rotational and coupling forms are those of Wajnryb,
-//! Mizerski, Zuk and Szymczak, J. Fluid Mech. 731, R3 (2013). At equal radii they are
+//! Mech. 741, R5 (2014) (the generalisation of Rotne and Prager to unequal and
+//! overlapping spheres); the rotational and coupling forms those of the same
+//! generalisation by Wajnryb, Mizerski, Zuk and Szymczak (J. Fluid Mech., 2013), whose
+//! printed form was not at hand: the quadrature of the definition below is their
+//! reference here. At equal radii they are
 //! the forms of libMobility's NBody solver (units of `a`: `M_UF = [(1 - 9r/32) I +
 //! (3r/32) rr] / (6 pi eta a)`, `M_OmegaL = [(1 - 27r/32 + 5r^3/64) I + (9r/32 -
 //! 3r^3/64) rr] / (8 pi eta a^3)`, coupling `(1/2)(1 - 3r/8)` times the cross product
