@@ -149,6 +149,9 @@ pub enum CliError {
     /// A plot could not be drawn.
     #[error("cannot draw {path}: {reason}")]
     Plot { path: String, reason: String },
+    /// What the RPY overlap forms do not cover (`--overlap rpy` at FTS).
+    #[error("{0}; nothing written")]
+    Overlap(#[from] stokesian::OverlapError),
     /// Brownian dynamics failed for another reason.
     #[error("{0}; nothing written")]
     Brownian(stokesian::BrownianError),

@@ -5,7 +5,8 @@
 //!
 //! The subcommands share the description of the system (`--confinement` and
 //! `--moments` or `--scene`, `--param NAME=VALUE` and its aliases `--boundary-height`,
-//! `--lambda`, `--gap`, `--particles`, `--viscosity`, `--allow-overlap`):
+//! `--lambda`, `--gap`, `--particles`, `--viscosity`, `--overlap` (and its alias
+//! `--allow-overlap`)):
 //!
 //! - `stokesian mobility ... --out M.npy|M.csv|M.json` writes the dense grand mobility, and
 //!   `stokesian resistance` the resistance with lubrication;
@@ -115,7 +116,8 @@ FILES
     lines starting with # are skipped. Error messages give the line (CSV, from 1, the
     header included) or the row (.npy, from 0).
     Overlapping spheres (centre distance < sum of radii) and spheres cutting the boundary
-    are errors unless --allow-overlap is given.
+    are errors unless --overlap rpy (the Rotne-Prager-Yamakawa overlap forms, F and FT)
+    or --overlap far (--allow-overlap: the far forms anyway) is given.
     The output is written to a temporary file next to --out and renamed when complete:
     on any error no output file is created (an existing one is left as it was).";
 

@@ -13,7 +13,7 @@ use clap::{Args, ValueEnum};
 use kernels::{Declaration, ParamError};
 use std::fs;
 use std::path::PathBuf;
-use stokesian::{Confinement, InputError, Moments, Particle, System};
+use stokesian::{Confinement, InputError, Moments, Overlap, Particle, System};
 
 /// The system: confinement, truncation, particles, viscosity.
 #[derive(Args, Debug)]
@@ -64,9 +64,25 @@ pub struct SystemArgs {
     /// --param gap=G: the slit's distance from the lower wall to the upper wall (> 0).
     #[arg(long, value_name = "G", allow_negative_numbers = true)]
     pub gap: Option<f64>,
-    /// Accept spheres that overlap each other or cut a boundary (normally an error).
-    #[arg(long)]
+    /// Spheres that overlap each other or cut a boundary: refuse them (an error), take
+    /// the far forms anyway (not positive definite), or the Rotne-Prager-Yamakawa
+    /// overlap forms and the damping near boundaries (F and FT; docs/overlap.md).
+    #[arg(long, value_enum, value_name = "HOW", default_value = "refuse")]
+    pub overlap: OverlapArg,
+    /// The same as --overlap far.
+    #[arg(long, conflicts_with = "overlap")]
     pub allow_overlap: bool,
+}
+
+/// `--overlap`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OverlapArg {
+    /// An error (the default).
+    Refuse,
+    /// The far forms, evaluated anyway.
+    Far,
+    /// The RPY overlap forms; spheres cutting a boundary damped.
+    Rpy,
 }
 
 /// The options that stand for `--param NAME=`, kept from before `--param`: (option,
@@ -344,13 +360,18 @@ impl SystemArgs {
                 a: self.radius.unwrap_or_else(|| r[3]),
             })
             .collect();
-        let system = System::new(conf, self.viscosity, particles, self.allow_overlap)
+        let overlap = match (self.allow_overlap, self.overlap) {
+            (true, _) | (_, OverlapArg::Far) => Overlap::Far,
+            (_, OverlapArg::Refuse) => Overlap::Refuse,
+            (_, OverlapArg::Rpy) => Overlap::Rpy,
+        };
+        let system = System::new(conf, self.viscosity, particles, overlap)
             .map_err(|e| input_error(e, &table, &self.given()))?;
         Ok(Setup {
             system,
             table,
             moments: self.truncation(),
-            allow_overlap: self.allow_overlap,
+            allow_overlap: overlap == Overlap::Far,
         })
     }
 }
@@ -384,7 +405,7 @@ pub struct Setup {
     pub table: Table,
     /// The truncation.
     pub moments: MomentsArg,
-    /// Whether overlaps were accepted.
+    /// Whether overlaps were accepted with the far forms (`--overlap far`).
     pub allow_overlap: bool,
 }
 
@@ -406,7 +427,7 @@ impl Setup {
         }
     }
 
-    /// The overlaps `--allow-overlap` accepted, if it accepted any.
+    /// The overlaps `--overlap far` accepted, if it accepted any.
     fn accepted_overlap(&self) -> Option<String> {
         let s = &self.system;
         if !self.allow_overlap {
@@ -415,7 +436,7 @@ impl Setup {
         let strict = stokesian::validate(s.confinement(), s.viscosity(), s.particles(), false);
         strict.err().map(|e| {
             format!(
-                "spheres accepted with --allow-overlap overlap ({}), where the kernels are \
+                "spheres accepted with --overlap far overlap ({}), where the kernels are \
                  not meaningful",
                 // the confinement's parameters passed this validation already
                 input_error(e, &self.table, &[])
@@ -568,7 +589,7 @@ fn input_error(e: InputError, table: &Table, given: &[Given]) -> CliError {
             index,
             format!(
                 "sphere of radius {} overlaps the boundary, {}: centre-to-boundary \
-                 distance {} < radius (--allow-overlap accepts this)",
+                 distance {} < radius (--overlap rpy or far accepts this)",
                 num(a),
                 boundary,
                 num(distance)
@@ -584,7 +605,7 @@ fn input_error(e: InputError, table: &Table, given: &[Given]) -> CliError {
             second,
             format!(
                 "spheres overlap: centre distance {} < sum of radii {} \
-                 (--allow-overlap accepts this)",
+                 (--overlap rpy or far accepts this)",
                 num(distance),
                 num(sum)
             ),
@@ -593,7 +614,7 @@ fn input_error(e: InputError, table: &Table, given: &[Given]) -> CliError {
             first,
             second,
             "the two spheres have the same centre; the mobility is undefined even with \
-             --allow-overlap"
+             --overlap"
                 .to_string(),
         ),
     }

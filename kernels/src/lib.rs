@@ -17,6 +17,10 @@
 //! assert!(m.uf[0][0] > 0.0);
 //! ```
 //!
+//! The RPY overlap corrections ([`overlap_f`], [`overlap_ft`]: the Rotne-Prager-Yamakawa
+//! form of two overlapping spheres minus the far form, which is the free-space part of
+//! every pair kernel) are added by the solver to the pair kernels of overlapping spheres.
+//!
 //! The truncated kernels ([`pair_f`], [`pair_ft`], [`self_f`], ...) return only the
 //! blocks a truncation keeps, and the fused products ([`product_f`], [`product_ft`])
 //! return a pair's contributions to both particles' velocities, `M^{ab} v_b` and
@@ -89,6 +93,7 @@ pub use blocks::{
 pub use declare::{
     along, declaration, readable, Boundary, Condition, Declaration, Dimension, Param, ParamError,
 };
+pub use generated::overlap::{overlap_f, overlap_ft};
 pub use generated::{
     pair, pair_divergence, pair_divergence_lanes, pair_divergence_lanes_ordered, pair_equal,
     pair_f, pair_f_lanes_ordered, pair_ft, pair_ft_lanes_ordered, pair_lanes_ordered, product_f,

@@ -54,21 +54,25 @@ impl Batches {
         self.each(m.per_particle() / 3, x, |s, xb| s.apply(m, xb))
     }
 
-    /// `div M`, moment-major.
-    fn divergence(&self, m: Moments) -> Vec<f64> {
-        self.each(m.per_particle() / 3, &[], |s, _| s.divergence_at(m))
+    /// `div M`, moment-major; an error where a sphere cutting the wall is damped
+    /// (`System::check_drift`).
+    fn divergence(&self, m: Moments) -> Result<Vec<f64>, stokesian::OverlapError> {
+        for s in &self.systems {
+            s.check_drift()?;
+        }
+        Ok(self.each(m.per_particle() / 3, &[], |s, _| s.divergence_at(m)))
     }
 }
 
-/// The system of one batch. Overlapping spheres, and spheres cutting the wall, are
-/// refused: libMobility's NBody regularises them with the RPY overlap forms, which this
-/// is the place to choose once the library has them.
+/// The system of one batch, overlaps evaluated as libMobility's NBody does: the RPY
+/// overlap forms for overlapping spheres, spheres cutting the wall damped
+/// (`stokesian::Overlap::Rpy`; their drift `divM` is refused).
 fn batch_system(
     confinement: Confinement,
     viscosity: f64,
     particles: Vec<Particle>,
 ) -> Result<System, stokesian::InputError> {
-    System::new(confinement, viscosity, particles, false)
+    System::new(confinement, viscosity, particles, Overlap::Rpy)
 }
 
 /// libMobility's `NBody` solver with our kernels: Rotne-Prager-Yamakawa in free space
@@ -444,7 +448,7 @@ impl NBody {
     fn divM<'py>(&self, py: Python<'py>, prefactor: f64) -> PyResult<Output<'py>> {
         let batches = self.batches()?;
         let m = self.moments();
-        let d = py.detach(|| batches.divergence(m));
+        let d = py.detach(|| batches.divergence(m)).map_err(input_error)?;
         self.outputs(
             py,
             d.into_iter().map(|v| v * prefactor).collect(),
@@ -484,7 +488,7 @@ impl NBody {
             let noise = self.sqrt_m_w(py, (2.0 * kbt / dt).sqrt())?;
             let batches = self.batches()?;
             let m = self.moments();
-            let div = py.detach(|| batches.divergence(m));
+            let div = py.detach(|| batches.divergence(m)).map_err(input_error)?;
             for ((v, w), d) in v.iter_mut().zip(noise).zip(div) {
                 *v += w + kbt * d;
             }

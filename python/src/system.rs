@@ -19,7 +19,7 @@ pub(crate) struct PySystem {
 #[pymethods]
 impl PySystem {
     #[new]
-    #[pyo3(signature = (positions, radii, *, confinement = "wall", params = None, viscosity = 1.0, boundary_height = None, lam = None, gap = None, allow_overlap = false))]
+    #[pyo3(signature = (positions, radii, *, confinement = "wall", params = None, viscosity = 1.0, boundary_height = None, lam = None, gap = None, allow_overlap = false, overlap = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -32,12 +32,29 @@ impl PySystem {
         lam: Option<f64>,
         gap: Option<f64>,
         allow_overlap: bool,
+        overlap: Option<&str>,
     ) -> PyResult<Self> {
         // in the order of ALIASES
         let conf = declared_confinement(confinement, params, [boundary_height, lam, gap])?;
         let ps = particles(&positions, radii)?;
+        let overlap = match (overlap, allow_overlap) {
+            (None, allow) => Overlap::from(allow),
+            (Some(_), true) => {
+                return Err(input_error(
+                    "allow_overlap=True is overlap=\"far\": give one of them",
+                ))
+            }
+            (Some("refuse"), false) => Overlap::Refuse,
+            (Some("far"), false) => Overlap::Far,
+            (Some("rpy"), false) => Overlap::Rpy,
+            (Some(other), false) => {
+                return Err(input_error(format!(
+                    "overlap = {other:?}: expected \"refuse\", \"far\" or \"rpy\""
+                )))
+            }
+        };
         let system = py
-            .detach(|| System::new(conf, viscosity, ps, allow_overlap))
+            .detach(|| System::new(conf, viscosity, ps, overlap))
             .map_err(input_error)?;
         Ok(PySystem { system })
     }
@@ -88,6 +105,7 @@ impl PySystem {
     fn mobility<'py>(&self, py: Python<'py>, moments: &str) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let m = self::moments(moments)?;
         let s = &self.system;
+        s.check_overlap(m).map_err(input_error)?;
         // assembled straight into NumPy's array (column-major: Fortran order), whose
         // allocator asks for transparent huge pages for large arrays, as
         // `stokesian::linalg::LargeMatrix` does for the command line
@@ -113,6 +131,7 @@ impl PySystem {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let m = self::moments(moments)?;
         let p = self::precision(precision)?;
+        self.system.check_overlap(m).map_err(input_error)?;
         let expected = m.per_particle() * self.system.len();
         let x = x.values();
         if x.len() != expected {
@@ -211,6 +230,7 @@ impl PySystem {
             return Err(input_error("the divergence is of the F or FT mobility"));
         }
         let s = &self.system;
+        s.check_drift().map_err(input_error)?;
         Ok(PyArray1::from_vec(py, py.detach(|| s.divergence_at(m))))
     }
 

@@ -67,7 +67,7 @@ class System:
     """Spheres in Stokes flow in one confinement, validated once on construction.
 
     ``System(positions, radii, *, confinement="wall", params=None, viscosity=1.0,
-    boundary_height=None, lam=None, gap=None, allow_overlap=False)``
+    boundary_height=None, lam=None, gap=None, allow_overlap=False, overlap=None)``
 
     positions: centres, shape (N, 3) or (3N,), length units.
     radii: one radius for all spheres, or one per sphere (shape (N,)).
@@ -83,8 +83,11 @@ class System:
     boundary_height, lam, gap: other names of the parameters ``height``, ``lambda`` and
         ``gap`` (giving one both ways is a ValueError).
     viscosity: of the fluid holding the spheres (> 0).
-    allow_overlap: accept spheres overlapping each other or cutting a boundary (otherwise
-        a ValueError naming the particles).
+    overlap: spheres overlapping each other or cutting a boundary: ``"refuse"`` (the
+        default: a ValueError naming the particles), ``"rpy"`` (the Rotne-Prager-Yamakawa
+        overlap forms, spheres cutting a boundary damped: symmetric positive definite; F
+        and FT only, FTS and lubrication raise) or ``"far"`` (the far forms anyway).
+    allow_overlap: ``True`` is ``overlap="far"`` (give one of the two).
     """
 
     def __init__(
@@ -99,6 +102,7 @@ class System:
         lam: Optional[float] = None,
         gap: Optional[float] = None,
         allow_overlap: bool = False,
+        overlap: Optional[Literal["refuse", "far", "rpy"]] = None,
     ) -> None: ...
     def __len__(self) -> int: ...
     @property
@@ -223,11 +227,12 @@ class NBody:
     script runs by changing its import.
 
     Free space (``"open", "open", "open"``): the Rotne-Prager-Yamakawa mobility of
-    non-overlapping spheres. Above a no-slip wall (``"open", "open", "single_wall"``,
+    spheres (overlapping ones with its overlap forms). Above a no-slip wall (``"open", "open", "single_wall"``,
     the wall at ``z = wallHeight``): the Rotne-Prager-Blake mobility of Swan & Brady
     (2007) and, beyond libMobility, its exact divergence. Periodic boundaries and two
-    walls raise InputError. Overlapping spheres, or spheres cutting the wall, raise
-    InputError (libMobility's regularised overlap forms are not implemented yet); a
+    walls raise InputError. Overlapping spheres take the RPY overlap forms and spheres
+    cutting the wall are damped, as in libMobility (``divM`` raises InputError while a
+    sphere cuts the wall: the damped mobility's divergence is not available); a
     centre below the wall raises InputError saying it has "fallen below the wall", in
     libMobility's words.
 
@@ -274,8 +279,8 @@ class NBody:
         the noise (None: drawn from the operating system)."""
     def setPositions(self, positions: ArrayLike) -> None:
         """Positions of shape (N, 3) or (3N,); the outputs of ``sqrtMdotW`` and ``divM``
-        take this shape and kind of array. Invalid positions (NaN, overlapping spheres, a
-        sphere cutting or below the wall, batches that do not divide N) raise InputError
+        take this shape and kind of array. Invalid positions (NaN, two equal centres, a
+        centre below the wall, batches that do not divide N) raise InputError
         and leave the previous positions in place."""
     def Mdot(self, forces: Optional[ArrayLike] = None, torques: Optional[ArrayLike] = None) -> Output:
         """``(linear, angular) = M [F; T]``: velocities (length/time) and angular

@@ -336,3 +336,35 @@ def test_long_calls_release_the_gil():
     worker.join()
     assert span[0] > 0.2, f"the call took {span[0]:.3f} s: too short to tell"
     assert stall < span[0] / 4, f"stalled {stall:.3f} s during a {span[0]:.3f} s call"
+
+
+def test_overlap_options():
+    # two overlapping spheres, the second cutting the wall
+    x = np.array([[0.0, 0.0, 2.0], [1.0, 0.0, 0.7]])
+    with pytest.raises(ValueError, match="overlap"):
+        stokesian.System(x, 1.0)
+    apart = np.array([[0.0, 0.0, 2.0], [3.0, 0.0, 1.5]])
+    refuse = stokesian.System(apart, 1.0, overlap="refuse")
+    same = stokesian.System(apart, 1.0, overlap="rpy")
+    # nothing overlaps: the same bits
+    assert np.array_equal(refuse.mobility("FTS"), same.mobility("FTS"))
+    far = stokesian.System(x, 1.0, allow_overlap=True)
+    assert np.array_equal(far.mobility("FT"), stokesian.System(x, 1.0, overlap="far").mobility("FT"))
+    rpy = stokesian.System(x, 1.0, overlap="rpy")
+    for moments in ("F", "FT"):
+        m = rpy.mobility(moments)
+        assert np.abs(m - m.T).max() <= 1e-14 * np.abs(m).max()
+        assert np.linalg.eigvalsh(m).min() > 0.0
+        v = np.linspace(-1.0, 1.0, m.shape[0])
+        # the tiled product and the dense matrix sum in other orders
+        assert np.abs(rpy.apply(moments, v) - m @ v).max() <= 1e-13 * np.abs(m @ v).max()
+    with pytest.raises(ValueError, match="not the stresslets"):
+        rpy.mobility("FTS")
+    with pytest.raises(ValueError, match="not the stresslets"):
+        rpy.apply("FTS", np.zeros(22))
+    with pytest.raises(ValueError, match="cuts a boundary"):
+        rpy.divergence("F")
+    with pytest.raises(ValueError, match="give one of them"):
+        stokesian.System(x, 1.0, allow_overlap=True, overlap="rpy")
+    with pytest.raises(ValueError, match="expected"):
+        stokesian.System(x, 1.0, overlap="soft")

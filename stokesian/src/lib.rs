@@ -138,4 +138,5 @@ pub use resistance::{
     Lubrication, ResistanceError, WallFunctions,
 };
 pub use system::input::{validate, InputError, Particle};
+pub use system::overlap::{Overlap, OverlapError};
 pub use system::{Moments, Precision, System};

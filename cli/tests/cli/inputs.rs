@@ -139,7 +139,7 @@ fn sphere_overlapping_the_wall_and_allow_overlap() {
         &o,
         &[
             "particles.csv line 3 (particle 1): sphere of radius 1 overlaps the boundary, no slip at x3 = 0 (fluid where x3 > 0): centre-to-boundary distance 0.5 < radius",
-            "--allow-overlap",
+            "--overlap rpy or far",
         ],
         &dir,
         &["particles.csv"],
@@ -809,7 +809,7 @@ fn corpus_of_nasty_command_lines() {
         (
             "0,0,1e-300,1",
             &["--confinement", "wall", "--allow-overlap"],
-            "particles.csv line 2 (particle 0): sphere of radius 1 overlaps the boundary, no slip at x3 = 0 (fluid where x3 > 0): centre-to-boundary distance 1e-300 < radius (--allow-overlap accepts this)), where the kernels are not meaningful",
+            "particles.csv line 2 (particle 0): sphere of radius 1 overlaps the boundary, no slip at x3 = 0 (fluid where x3 > 0): centre-to-boundary distance 1e-300 < radius (--overlap rpy or far accepts this)), where the kernels are not meaningful",
         ),
     ];
     for (rows, options, message) in failures {

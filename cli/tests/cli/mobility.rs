@@ -4,7 +4,7 @@
 use crate::common::*;
 use std::fs;
 use std::path::Path;
-use stokesian::{Confinement, Moments};
+use stokesian::{Confinement, Moments, Overlap, Particle, System};
 
 #[test]
 fn mobility_npy_and_json_equal_the_library_bit_for_bit() {
@@ -213,4 +213,53 @@ fn mobility_csv_equals_the_npy_and_other_extensions_are_refused() {
             &["particles.csv"],
         );
     }
+}
+
+/// `--overlap rpy`: overlapping spheres, one of them cutting the wall, give the library's
+/// RPY mobility bit for bit, symmetric positive definite (`--check`); at FTS the
+/// overlap forms do not exist and the command says so; `--allow-overlap` and
+/// `--overlap` together are refused.
+#[test]
+fn overlap_rpy_gives_the_library_matrix_and_refuses_fts() {
+    let dir = Dir::new("mobility-overlap-rpy");
+    let csv = dir.file("p.csv", "x,y,z,radius\n0,0,0.8,1\n1.2,0,1.5,0.7\n");
+    let out = dir.path("M.npy");
+    let run = |moments: &str, extra: &[&str]| {
+        let mut a = vec!["mobility", "--confinement", "wall", "--moments", moments];
+        a.extend(["--check", "--particles", s(&csv), "--out", s(&out)]);
+        a.extend(extra);
+        run(&a)
+    };
+    let ok = run("FT", &["--overlap", "rpy"]);
+    assert_ok(&ok);
+    assert!(stderr(&ok).contains("Cholesky succeeds"), "{}", stderr(&ok));
+    let ps = vec![
+        Particle {
+            x: [0.0, 0.0, 0.8],
+            a: 1.0,
+        },
+        Particle {
+            x: [1.2, 0.0, 1.5],
+            a: 0.7,
+        },
+    ];
+    let want = System::new(Confinement::Wall { height: 0.0 }, 1.0, ps, Overlap::Rpy)
+        .unwrap()
+        .mobility(Moments::FT);
+    assert_bit_equal(&read_npy(&out), &want, "--overlap rpy");
+    std::fs::remove_file(&out).unwrap();
+    let fts = run("FTS", &["--overlap", "rpy"]);
+    assert_fails(
+        &fts,
+        &["particles 0 and 1 overlap", "not the stresslets (FTS)"],
+        &dir,
+        &["p.csv"],
+    );
+    let both = run("F", &["--overlap", "rpy", "--allow-overlap"]);
+    assert!(!both.status.success());
+    assert!(
+        stderr(&both).contains("cannot be used with"),
+        "{}",
+        stderr(&both)
+    );
 }

@@ -11,10 +11,12 @@
 //! - `family`: the kernels of one Green's function ([`variants`], [`family()`]) and their
 //!   single-precision twins;
 //! - `scene_file`: the kernels of one scene ([`scene_file()`]);
-//! - `dispatch`: the generated `mod.rs`, the `Confinement` enum and its entry points.
+//! - `dispatch`: the generated `mod.rs`, the `Confinement` enum and its entry points;
+//! - `overlap`: the RPY overlap corrections of any confinement (`overlap.rs`).
 
 mod dispatch;
 mod family;
+mod overlap;
 mod scene;
 mod scene_file;
 
@@ -91,6 +93,10 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
             mods.push(quote!(#[doc = #d] pub mod #m;));
         }
     }
+    mods.push(quote!(
+        #[doc = " The RPY overlap corrections (kernel_gen::physics::overlap)."]
+        pub mod overlap;
+    ));
     let dispatch = dispatch(&c.families);
     let single_entry = dispatch::single_dispatch(&c.families);
     let module_doc = vec![
@@ -110,6 +116,7 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
         single.push(f.single);
     }
     files.push(single_file(single));
+    files.push(overlap::overlap_file());
     Ok(files)
 }
 

@@ -11,7 +11,9 @@
 //! the field point, Eqs. 12-15). [`frame`] is the canonical frame of a pair, in which
 //! the kernels of axisymmetric confinements are traced; [`farfield`] and [`self_image`]
 //! are the expansions that replace the direct sum where it cancels (pairs far apart
-//! along a wall; a sphere's own image).
+//! along a wall; a sphere's own image). [`overlap`] holds the Rotne-Prager-Yamakawa
+//! forms of overlapping spheres, whose difference from the far form is the overlap
+//! correction.
 
 pub mod derivatives;
 pub mod farfield;
@@ -19,4 +21,5 @@ pub mod fd;
 pub mod frame;
 pub mod green;
 pub mod operators;
+pub mod overlap;
 pub mod self_image;

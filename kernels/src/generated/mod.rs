@@ -42,6 +42,8 @@ pub mod side_wall;
 pub mod scene_side_wall_f;
 /// Kernels of the scene `side_wall_ft` (`scenes/`).
 pub mod scene_side_wall_ft;
+/// The RPY overlap corrections (kernel_gen::physics::overlap).
+pub mod overlap;
 use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};
 /// The F blocks of `M^{ab}` (equal-radius kernels when `aa == ab`).
 pub fn pair_f(

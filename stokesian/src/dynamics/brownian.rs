@@ -8,6 +8,7 @@ use super::settings::{
 };
 use crate::linalg::{lanczos_sqrt, mul_vec, Cholesky};
 use crate::system::input::Particle;
+use crate::system::overlap::Overlap;
 use crate::system::{Moments, Precision, System, PARALLEL_MIN};
 use kernels::lanes::Isa;
 use rand::Rng;
@@ -283,6 +284,13 @@ impl System {
             }
         };
         let div = if bd.drift && bd.hydrodynamics {
+            // the corrections of overlapping pairs are divergence-free; the damping's
+            // divergence is not available
+            if let Some(rpy) = self.rpy() {
+                rpy.refuse_damping(
+                    "the Brownian drift of Euler-Maruyama (use Fixman's midpoint scheme)",
+                )?;
+            }
             self.divergence_at(bd.moments)
         } else {
             vec![0.0; w.len()]
@@ -464,7 +472,12 @@ impl System {
                 a: p.a,
             })
             .collect();
-        System::new(*self.confinement(), self.viscosity(), ps, false)
+        // overlaps stay refused unless the RPY forms evaluate them
+        let overlap = match self.overlap() {
+            Overlap::Rpy => Overlap::Rpy,
+            Overlap::Refuse | Overlap::Far => Overlap::Refuse,
+        };
+        System::new(*self.confinement(), self.viscosity(), ps, overlap)
             .map_err(|source| BrownianError::Invalid { step, source })
     }
 
@@ -495,7 +508,8 @@ impl System {
         }
     }
 
-    /// The drift `div M` at the F level (`3N`) or the FT level (`6N`, moment-major:
+    /// The drift `div M` (not that of a sphere damped by [`crate::Overlap::Rpy`]:
+    /// [`System::check_drift`]) at the F level (`3N`) or the FT level (`6N`, moment-major:
     /// translational then rotational rows; the columns are always the forces, since the
     /// mobility of spheres does not depend on their orientation).
     pub fn divergence_at(&self, moments: Moments) -> Vec<f64> {

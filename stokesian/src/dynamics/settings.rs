@@ -175,6 +175,10 @@ pub enum BrownianError {
         /// Why.
         source: LanczosError,
     },
+    /// What the RPY overlap forms do not cover: the drift of a damped sphere
+    /// ([`crate::Overlap::Rpy`]).
+    #[error("{0}")]
+    Overlap(#[from] crate::system::overlap::OverlapError),
     /// A setting is out of range ([`Brownian::check`], [`Run`]).
     #[error("{name} = {value}: {why}")]
     BadSetting {

@@ -1,8 +1,11 @@
 //! The dense grand mobility (Eq. 1 layout, moment-major: all `U`, then all `Omega`, then
 //! all `E`; particle-major within a moment) and its blocks: each unordered pair evaluated
 //! once by the lane twins of the pair kernels and written twice (reciprocity), in tiles
-//! of groups scheduled in the rounds of [`crate::mobility::tiled`].
+//! of groups scheduled in the rounds of [`crate::mobility::tiled`]. With
+//! [`crate::Overlap::Rpy`], the overlapping pairs' corrections are added and the damping
+//! applied in a scalar pass afterwards ([`crate::system::overlap`]).
 
+use crate::system::overlap::correction;
 use crate::system::{component_of, global, Moments, System, PARALLEL_MIN};
 use kernels::lanes::dispatch;
 use kernels::{self_f, self_ft, self_mobility};
@@ -29,8 +32,10 @@ impl System {
     /// (Eq. 17), else the lane twin of the pair kernel of that truncation on the widest
     /// instruction set of this processor (the same blocks as [`kernels::pair_f`],
     /// [`kernels::pair_ft`] and [`kernels::pair`] to a few ulps: the integration tests of
-    /// the lanes).
+    /// the lanes). With [`crate::Overlap::Rpy`], the overlap correction and the damping
+    /// as in the dense matrix; panics where [`System::check_overlap`] fails.
     pub fn block(&self, moments: Moments, a: usize, b: usize) -> DMatrix<f64> {
+        self.assert_overlap(moments);
         let k = moments.per_particle();
         let mut out = vec![0.0; k * k];
         if a == b {
@@ -38,7 +43,21 @@ impl System {
         } else {
             self.pair_blocks_into(moments, a, b..b + 1, &mut out);
         }
-        DMatrix::from_row_slice(k, k, &out)
+        let mut m = DMatrix::from_row_slice(k, k, &out);
+        if let Some(rpy) = self.rpy() {
+            let pair = (a.min(b), a.max(b));
+            if a != b && rpy.pairs.binary_search(&pair).is_ok() {
+                let ps = self.evaluated();
+                let mut c = [0.0; 36];
+                correction(moments, self.viscosity(), &ps[pair.0], &ps[pair.1], &mut c);
+                let c = DMatrix::from_row_slice(k, k, &c[..k * k]);
+                m += if a < b { c } else { c.transpose() };
+            }
+            if let Some(d) = &rpy.damping {
+                m *= d.b[a] * d.b[b];
+            }
+        }
+        m
     }
 
     /// The blocks `M^{ab}` truncated to `moments` of `a` with every `b` of `bs` (none of
@@ -53,7 +72,7 @@ impl System {
     ) {
         use crate::mobility::tiled::{BlocksF, BlocksFT, BlocksFTS, PairBlocks};
         let (conf, eta) = (self.confinement(), self.viscosity());
-        let (a, bs) = (&self.particles()[a], &self.particles()[bs]);
+        let (a, bs) = (&self.evaluated()[a], &self.evaluated()[bs]);
         match moments {
             Moments::F => dispatch(PairBlocks::<BlocksF>::new(conf, eta, a, bs, out)),
             Moments::FT => dispatch(PairBlocks::<BlocksFT>::new(conf, eta, a, bs, out)),
@@ -63,7 +82,7 @@ impl System {
 
     /// `M^{aa}` truncated to `moments`, written row-major `K x K` into `out`.
     fn self_block_into(&self, moments: Moments, a: usize, out: &mut [f64]) {
-        let p = &self.particles()[a];
+        let p = &self.evaluated()[a];
         let (c, eta) = (self.confinement(), self.viscosity());
         let mut put = |k: usize, at: &dyn Fn(usize, usize) -> f64| {
             for i in 0..k {
@@ -110,8 +129,10 @@ impl System {
     /// `K` = 3, 6 or 11): every entry is written. For a matrix in memory of the
     /// caller's choosing, such as [`crate::linalg::LargeMatrix`] (transparent huge pages:
     /// at FTS, N = 1000, the 4 KiB pages of a fresh `Vec` cost more to map and to reach
-    /// than the kernels). Panics if `out` has not `(K N)^2` entries.
+    /// than the kernels). Panics if `out` has not `(K N)^2` entries, or where
+    /// [`System::check_overlap`] fails.
     pub fn mobility_into(&self, moments: Moments, out: &mut [f64]) {
+        self.assert_overlap(moments);
         let n = self.len();
         let k = moments.per_particle();
         assert_eq!(
@@ -228,6 +249,38 @@ impl System {
             }
         }
         drop(columns);
+        self.add_rpy(moments, out);
+    }
+
+    /// With [`crate::Overlap::Rpy`]: each overlapping pair's correction added to `M^{ab}`
+    /// and its transpose to `M^{ba}`, then every entry of rows `a`, columns `b`
+    /// multiplied by `b_a b_b` (the damping) in the column-major matrix `out`.
+    fn add_rpy(&self, moments: Moments, out: &mut [f64]) {
+        let Some(rpy) = self.rpy() else {
+            return;
+        };
+        let (n, k, parts) = (self.len(), moments.per_particle(), moments.parts());
+        let dim = k * n;
+        let ps = self.evaluated();
+        let mut c = [0.0; 36];
+        for &(a, b) in &rpy.pairs {
+            correction(moments, self.viscosity(), &ps[a], &ps[b], &mut c);
+            for i in 0..k {
+                for j in 0..k {
+                    let (ra, rb) = (global(parts, n, a, i), global(parts, n, b, j));
+                    out[rb * dim + ra] += c[i * k + j];
+                    out[ra * dim + rb] += c[i * k + j];
+                }
+            }
+        }
+        if let Some(d) = &rpy.damping {
+            let factor: Vec<f64> = (0..dim).map(|c| d.b[component_of(parts, n, c).0]).collect();
+            for (col, fc) in out.chunks_exact_mut(dim).zip(&factor) {
+                for (v, fr) in col.iter_mut().zip(&factor) {
+                    *v *= fr * fc;
+                }
+            }
+        }
     }
 }
 

@@ -29,8 +29,13 @@
 //! from the first boundary (`Confinement::in_units`), so no intermediate of the kernels
 //! overflows or underflows `f32` whatever the user's units; each tile's sums are
 //! carried in `f32` and every total in `f64`.
+//!
+//! With [`crate::Overlap::Rpy`], the overlapping pairs' corrections and the damping are
+//! applied in `f64` in a scalar pass around the tiles ([`crate::system::overlap`]): the
+//! tiles themselves are the same.
 
 use crate::system::input::Particle;
+use crate::system::overlap::correction;
 use crate::system::{global, Moments, Precision, System, PARALLEL_MIN};
 use kernels::lanes::{self, Element, Isa, Lane, WithLanes};
 use kernels::Confinement;
@@ -636,7 +641,8 @@ impl System {
     }
 
     /// [`System::apply`] on the lanes of `isa` (`Isa::all_available()` lists this
-    /// processor's) in `precision`; panics if this processor lacks `isa`.
+    /// processor's) in `precision`; panics if this processor lacks `isa`, or where
+    /// [`System::check_overlap`] fails.
     pub fn apply_with(
         &self,
         moments: Moments,
@@ -653,12 +659,16 @@ impl System {
             "vector length must be {} for {n} particles",
             k * n
         );
+        self.assert_overlap(moments);
+        let rpy = self.rpy();
+        let damping = rpy.and_then(|r| r.damping.as_ref());
+        let b = |a: usize| damping.map_or(1.0, |d| d.b[a]);
         let xs: Vec<f64> = (0..n)
             .flat_map(|a| (0..k).map(move |i| (a, i)))
-            .map(|(a, i)| x[global(parts, n, a, i)])
+            .map(|(a, i)| b(a) * x[global(parts, n, a, i)])
             .collect();
-        let ps: Vec<([f64; 3], f64)> = self.particles().iter().map(|p| (p.x, p.a)).collect();
-        let acc = apply_moments(
+        let ps: Vec<([f64; 3], f64)> = self.evaluated().iter().map(|p| (p.x, p.a)).collect();
+        let mut acc = apply_moments(
             self.confinement(),
             self.viscosity(),
             moments,
@@ -668,10 +678,23 @@ impl System {
             precision,
             n >= PARALLEL_MIN,
         );
+        if let Some(rpy) = rpy {
+            let ps = self.evaluated();
+            let mut c = [0.0; 36];
+            for &(p, q) in &rpy.pairs {
+                correction(moments, self.viscosity(), &ps[p], &ps[q], &mut c);
+                for i in 0..k {
+                    for j in 0..k {
+                        acc[p * k + i] += c[i * k + j] * xs[q * k + j];
+                        acc[q * k + j] += c[i * k + j] * xs[p * k + i];
+                    }
+                }
+            }
+        }
         let mut out = vec![0.0; k * n];
         for a in 0..n {
             for i in 0..k {
-                out[global(parts, n, a, i)] = acc[a * k + i];
+                out[global(parts, n, a, i)] = b(a) * acc[a * k + i];
             }
         }
         out

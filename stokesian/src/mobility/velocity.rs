@@ -64,6 +64,9 @@ pub enum VelocityError {
         "a rate of strain must be symmetric and traceless (to 1e-9 of its largest component): {0}"
     )]
     NotSymmetricTraceless(String),
+    /// Overlapping spheres ([`crate::Overlap::Rpy`]) at FTS, where no overlap form exists.
+    #[error("{0}")]
+    Overlap(#[from] crate::system::overlap::OverlapError),
     /// The mobility or the result has entries that are not finite.
     #[error("the {0} has entries that are not finite numbers (spheres accepted although they overlap, or lengths and viscosity near the limits of double precision)")]
     NotFinite(&'static str),
@@ -182,6 +185,7 @@ impl System {
         if moments != Moments::FTS && *e_inf != [0.0; 5] {
             return Err(VelocityError::StrainWithoutStresslets(moments));
         }
+        self.check_overlap(moments)?;
         let mut out = Velocities {
             u: Vec::new(),
             condition: None,

@@ -188,6 +188,10 @@ pub enum ResistanceError {
     /// The corrected resistance is not positive definite.
     #[error("the resistance with lubrication is not positive definite")]
     ResistanceNotPositiveDefinite,
+    /// Spheres overlap or cut a boundary with [`crate::Overlap::Rpy`]: lubrication has
+    /// no overlap form.
+    #[error("{0}")]
+    Overlap(#[from] crate::system::overlap::OverlapError),
 }
 
 /// The self mobility (per-particle layout `[U, Omega, E]`, truncated to `k` = 6 or 11
@@ -429,7 +433,8 @@ impl System {
     /// `(U, Omega[, -E_inf])`. At FTS the pair and free-surface corrections cover every
     /// block; the no-slip walls' only the force-torque blocks (exact sphere-wall
     /// stresslet functions are not available), their stresslet rows and columns keep the
-    /// far-field inverse. Overlapping spheres are rejected at construction unless allowed.
+    /// far-field inverse. Overlapping spheres are rejected at construction unless allowed;
+    /// with [`crate::Overlap::Rpy`] here ([`ResistanceError::Overlap`]).
     pub fn resistance(
         &self,
         moments: Moments,
@@ -441,6 +446,9 @@ impl System {
             Moments::F => return Err(ResistanceError::Unsupported(moments)),
         };
         lub.check()?;
+        if let Some(rpy) = self.rpy() {
+            rpy.refuse("lubrication")?;
+        }
         let parts = moments.parts();
         let n = self.len();
         let eta = self.viscosity();

@@ -1,5 +1,7 @@
-//! Validation of particles, viscosity and confinement parameters.
+//! Validation of particles, viscosity and confinement parameters, and the overlapping
+//! pairs (one neighbour search for the check and for the RPY overlap forms).
 
+use super::overlap::{Damping, Overlap, Rpy};
 use kernels::{Boundary, Confinement, Dimension};
 use thiserror::Error;
 
@@ -135,14 +137,26 @@ fn planes(conf: &Confinement) -> Result<Vec<Boundary>, InputError> {
 
 /// Check everything the kernels assume: finite positions, positive radii and
 /// viscosity at a representable length scale, centres inside the fluid, spheres clear
-/// of the boundaries and (unless `allow_overlap`) of each other, and no two centres
-/// the same.
+/// of the boundaries and of each other (unless `overlap` accepts them), and no two
+/// centres the same.
 pub fn validate(
     conf: &Confinement,
     eta: f64,
     particles: &[Particle],
-    allow_overlap: bool,
+    overlap: impl Into<Overlap>,
 ) -> Result<(), InputError> {
+    prepare(conf, eta, particles, overlap.into()).map(|_| ())
+}
+
+/// [`validate`], and with [`Overlap::Rpy`] what it changes where something overlaps:
+/// the overlapping pairs and the damping, found at the centres the kernels see (moved
+/// clear of the boundaries), which must be distinct too.
+pub(crate) fn prepare(
+    conf: &Confinement,
+    eta: f64,
+    particles: &[Particle],
+    overlap: Overlap,
+) -> Result<Option<Rpy>, InputError> {
     if particles.is_empty() {
         return Err(InputError::Empty);
     }
@@ -173,7 +187,7 @@ pub fn validate(
                     boundary,
                 });
             }
-            if distance < p.a && !allow_overlap {
+            if distance < p.a && overlap == Overlap::Refuse {
                 return Err(InputError::OverlapsBoundary {
                     index,
                     a: p.a,
@@ -183,8 +197,8 @@ pub fn validate(
             }
         }
     }
-    if !allow_overlap {
-        if let Some((i, j)) = first_overlap(particles) {
+    if overlap == Overlap::Refuse {
+        if let Some(&(i, j)) = overlapping_pairs(particles).first() {
             let (p, q) = (&particles[i], &particles[j]);
             let d2: f64 = (0..3).map(|k| (p.x[k] - q.x[k]).powi(2)).sum();
             return Err(InputError::Overlap {
@@ -198,7 +212,30 @@ pub fn validate(
     if let Some((first, second)) = first_same_centre(particles) {
         return Err(InputError::SameCentre { first, second });
     }
-    Ok(())
+    if overlap != Overlap::Rpy {
+        return Ok(None);
+    }
+    let damping = Damping::of(conf, particles).map_err(|index| {
+        let p = &particles[index];
+        // the boundary it cannot be moved clear of: the nearest
+        let (distance, boundary) = planes
+            .iter()
+            .map(|b| (b.distance(p.x), *b))
+            .min_by(|x, y| x.0.total_cmp(&y.0))
+            .expect("a sphere is damped only near a boundary");
+        InputError::OverlapsBoundary {
+            index,
+            a: p.a,
+            distance,
+            boundary,
+        }
+    })?;
+    let at = damping.as_ref().map_or(particles, |d| &d.at[..]);
+    if let Some((first, second)) = first_same_centre(at) {
+        return Err(InputError::SameCentre { first, second });
+    }
+    let pairs = overlapping_pairs(at);
+    Ok((damping.is_some() || !pairs.is_empty()).then_some(Rpy { pairs, damping }))
 }
 
 /// The first pair `(i, j)`, `i < j`, of spheres with the same centre, if any (sorted by
@@ -221,15 +258,16 @@ fn first_same_centre(particles: &[Particle]) -> Option<(usize, usize)> {
         .min()
 }
 
-/// The overlapping pair `(i, j)`, `i < j`, that comes first in index order, if any.
-/// Sweep along `x1`: only spheres whose centres are closer than `a_i + max a` in `x1`
-/// can overlap, so sorted by `x1` each sphere is compared with its few neighbours
-/// (`O(N log N)` for a suspension, where all pairs would be `O(N^2)`).
-fn first_overlap(particles: &[Particle]) -> Option<(usize, usize)> {
+/// Every overlapping pair `(i, j)`, `i < j`, in index order (the first is the one
+/// [`InputError::Overlap`] names). Sweep along `x1`: only spheres whose centres are
+/// closer than `a_i + max a` in `x1` can overlap, so sorted by `x1` each sphere is
+/// compared with its few neighbours (`O(N log N)` plus the pairs for a suspension, where
+/// all pairs would be `O(N^2)`).
+pub(crate) fn overlapping_pairs(particles: &[Particle]) -> Vec<(usize, usize)> {
     let amax = particles.iter().map(|p| p.a).fold(0.0, f64::max);
     let mut order: Vec<usize> = (0..particles.len()).collect();
     order.sort_by(|&i, &j| particles[i].x[0].total_cmp(&particles[j].x[0]));
-    let mut first: Option<(usize, usize)> = None;
+    let mut pairs = Vec::new();
     for (s, &i) in order.iter().enumerate() {
         let p = &particles[i];
         for &j in &order[s + 1..] {
@@ -240,10 +278,10 @@ fn first_overlap(particles: &[Particle]) -> Option<(usize, usize)> {
             let d2: f64 = (0..3).map(|k| (p.x[k] - q.x[k]).powi(2)).sum();
             let sum = p.a + q.a;
             if d2 < sum * sum {
-                let pair = (i.min(j), i.max(j));
-                first = Some(first.map_or(pair, |f| f.min(pair)));
+                pairs.push((i.min(j), i.max(j)));
             }
         }
     }
-    first
+    pairs.sort_unstable();
+    pairs
 }

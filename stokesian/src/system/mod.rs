@@ -1,13 +1,14 @@
 //! The validated system of spheres and its core: [`System`] (spheres in a confinement,
 //! validated once on construction, so that every method is infallible), the truncation
 //! [`Moments`], the arithmetic [`Precision`] of the matrix-free product, the moment-major
-//! layout of Eq. 1, and the validation of the input ([`input`]).
+//! layout of Eq. 1, the validation of the input ([`input`]), and what is done with
+//! overlapping spheres ([`overlap`]).
 //!
 //! `System`'s methods live with the subsystem they belong to:
 //!
 //! | methods | module |
 //! |---|---|
-//! | `new`, `with_precision`, `precision`, `particles`, `confinement`, `viscosity`, `len`, `is_empty` | here |
+//! | `new`, `with_precision`, `precision`, `particles`, `confinement`, `viscosity`, `len`, `is_empty`, `overlap`, `check_overlap`, `check_drift` | here |
 //! | `block`, `mobility`, `mobility_into` (the dense grand mobility) | [`crate::mobility::assembly`] |
 //! | `apply`, `apply_with` (the matrix-free product) | [`crate::mobility::tiled`] |
 //! | `velocities` (the mobility problem) | [`crate::mobility::velocity`] |
@@ -15,9 +16,11 @@
 //! | `brownian_run`, `brownian_step`, `brownian_increment`, `external_forces`, `divergence`, `divergence_at`, `lubricated_divergence` | [`crate::dynamics::brownian`] |
 
 pub mod input;
+pub mod overlap;
 
-use input::{validate, InputError, Particle};
+use input::{prepare, InputError, Particle};
 use kernels::Confinement;
+use overlap::{Overlap, OverlapError, Rpy};
 
 /// Below this many particles the pair loops run on the calling thread: handing a few
 /// pairs to the thread pool costs more than computing them (it dominated Brownian
@@ -78,24 +81,80 @@ pub struct System {
     viscosity: f64,
     particles: Vec<Particle>,
     precision: Precision,
+    overlap: Overlap,
+    /// With [`Overlap::Rpy`], where something overlaps: the pairs and the damping.
+    rpy: Option<Rpy>,
 }
 
 impl System {
     /// Validate and build. Overlapping spheres (with each other or a boundary) are
-    /// errors unless `allow_overlap`.
+    /// errors, evaluated with the far forms or with the RPY overlap forms as `overlap`
+    /// says ([`Overlap`]; `false` and `true` are [`Overlap::Refuse`] and
+    /// [`Overlap::Far`]).
     pub fn new(
         confinement: Confinement,
         viscosity: f64,
         particles: Vec<Particle>,
-        allow_overlap: bool,
+        overlap: impl Into<Overlap>,
     ) -> Result<System, InputError> {
-        validate(&confinement, viscosity, &particles, allow_overlap)?;
+        let overlap = overlap.into();
+        let rpy = prepare(&confinement, viscosity, &particles, overlap)?;
         Ok(System {
             confinement,
             viscosity,
             particles,
             precision: Precision::Double,
+            overlap,
+            rpy,
         })
+    }
+
+    /// What is done with overlapping spheres.
+    pub fn overlap(&self) -> Overlap {
+        self.overlap
+    }
+
+    /// Whether the mobility at `moments` is available as [`Overlap::Rpy`] asks: not
+    /// with the stresslets (FTS) where spheres overlap or cut a boundary. The dense
+    /// matrix, its blocks and the product panic where this is an error; the velocities,
+    /// resistances and Brownian dynamics return it.
+    pub fn check_overlap(&self, moments: Moments) -> Result<(), OverlapError> {
+        match (&self.rpy, moments) {
+            (Some(rpy), Moments::FTS) => rpy.refuse("the stresslets (FTS)"),
+            _ => Ok(()),
+        }
+    }
+
+    /// Whether the Brownian drift of the divergence kernels ([`System::divergence_at`])
+    /// is this system's: not where [`Overlap::Rpy`] damps a sphere cutting a boundary
+    /// (the divergence of the damped mobility is not available; the corrections of
+    /// overlapping pairs are divergence-free, [`overlap`]).
+    pub fn check_drift(&self) -> Result<(), OverlapError> {
+        match &self.rpy {
+            Some(rpy) => rpy.refuse_damping("the Brownian drift (div M)"),
+            None => Ok(()),
+        }
+    }
+
+    /// With [`Overlap::Rpy`], where something overlaps: the pairs and the damping.
+    pub(crate) fn rpy(&self) -> Option<&Rpy> {
+        self.rpy.as_ref()
+    }
+
+    /// The particles as the kernels see them: with the damping of [`Overlap::Rpy`],
+    /// centres moved clear of the boundaries.
+    pub(crate) fn evaluated(&self) -> &[Particle] {
+        match self.rpy.as_ref().and_then(|r| r.damping.as_ref()) {
+            Some(d) => &d.at,
+            None => &self.particles,
+        }
+    }
+
+    /// Panics where [`System::check_overlap`] fails.
+    pub(crate) fn assert_overlap(&self, moments: Moments) {
+        if let Err(e) = self.check_overlap(moments) {
+            panic!("{e} (System::check_overlap)");
+        }
     }
 
     /// The same system with the matrix-free product [`System::apply`] (and with it the

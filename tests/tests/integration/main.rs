@@ -15,6 +15,7 @@ mod brownian;
 mod generated;
 mod linalg;
 mod lubrication;
+mod overlap;
 mod paper;
 mod physics;
 mod references;
