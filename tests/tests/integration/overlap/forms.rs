@@ -266,9 +266,10 @@ fn equal_radii_are_libmobility_closed_forms() {
     }
 }
 
-/// The correction vanishes at contact (to rounding: 1e-13 of the far form's entries) and the overlapping form meets the nested one at
-/// `r = |aa - ab|` (both branches of the kernel on either side, 1e-9 apart over a
-/// step of 1e-10 in `r`: the forms' slopes are of order one).
+/// The correction vanishes at contact (to rounding: 1e-13 of the far form's entries)
+/// and the overlapping form meets the nested one at `r = |aa - ab|` (both branches of
+/// the kernel on either side, 1e-9 apart over a step of 1e-10 in `r`: the forms' slopes
+/// are of order one).
 #[test]
 fn continuous_at_contact_and_at_nesting() {
     for (aa, ab) in [(1.0, 1.0), (1.0, 0.45), (0.3, 1.7)] {
