@@ -19,7 +19,9 @@
 //!
 //! The RPY overlap corrections ([`overlap_f`], [`overlap_ft`]: the Rotne-Prager-Yamakawa
 //! form of two overlapping spheres minus the far form, which is the free-space part of
-//! every pair kernel) are added by the solver to the pair kernels of overlapping spheres.
+//! every pair kernel) are added by the solver to the pair kernels of overlapping spheres;
+//! [`overlap_along`], [`pair_along`] and [`self_along`] differentiate the blocks along a
+//! direction, for the drift of spheres held on a boundary.
 //!
 //! The truncated kernels ([`pair_f`], [`pair_ft`], [`self_f`], ...) return only the
 //! blocks a truncation keeps, and the fused products ([`product_f`], [`product_ft`])
@@ -93,12 +95,12 @@ pub use blocks::{
 pub use declare::{
     along, declaration, readable, Boundary, Condition, Declaration, Dimension, Param, ParamError,
 };
-pub use generated::overlap::{overlap_f, overlap_ft};
+pub use generated::overlap::{overlap_along, overlap_f, overlap_ft};
 pub use generated::{
-    pair, pair_divergence, pair_divergence_lanes, pair_divergence_lanes_ordered, pair_equal,
-    pair_f, pair_f_lanes_ordered, pair_ft, pair_ft_lanes_ordered, pair_lanes_ordered, product_f,
-    product_f_lanes, product_f_lanes_ordered, product_ft, product_ft_lanes,
-    product_ft_lanes_ordered, self_divergence, self_f, self_ft, self_mobility, Confinement,
-    DECLARATIONS,
+    pair, pair_along, pair_divergence, pair_divergence_lanes, pair_divergence_lanes_ordered,
+    pair_equal, pair_f, pair_f_lanes_ordered, pair_ft, pair_ft_lanes_ordered, pair_lanes_ordered,
+    product_f, product_f_lanes, product_f_lanes_ordered, product_ft, product_ft_lanes,
+    product_ft_lanes_ordered, self_along, self_divergence, self_f, self_ft, self_mobility,
+    Confinement, DECLARATIONS,
 };
 pub use lanes;

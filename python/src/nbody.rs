@@ -54,8 +54,8 @@ impl Batches {
         self.each(m.per_particle() / 3, x, |s, xb| s.apply(m, xb))
     }
 
-    /// `div M`, moment-major; an error where a sphere cutting the wall is damped
-    /// (`System::check_drift`).
+    /// `div M`, moment-major (of the damped mobility where a sphere cuts the wall); an
+    /// error where `System::check_drift` fails.
     fn divergence(&self, m: Moments) -> Result<Vec<f64>, stokesian::OverlapError> {
         for s in &self.systems {
             s.check_drift()?;
@@ -66,7 +66,7 @@ impl Batches {
 
 /// The system of one batch, overlaps evaluated as libMobility's NBody does: the RPY
 /// overlap forms for overlapping spheres, spheres cutting the wall damped
-/// (`stokesian::Overlap::Rpy`; their drift `divM` is refused).
+/// (`stokesian::Overlap::Rpy`; `divM` is the drift of the damped mobility).
 fn batch_system(
     confinement: Confinement,
     viscosity: f64,

@@ -231,8 +231,8 @@ class NBody:
     the wall at ``z = wallHeight``): the Rotne-Prager-Blake mobility of Swan & Brady
     (2007) and, beyond libMobility, its exact divergence. Periodic boundaries and two
     walls raise InputError. Overlapping spheres take the RPY overlap forms and spheres
-    cutting the wall are damped, as in libMobility (``divM`` raises InputError while a
-    sphere cuts the wall: the damped mobility's divergence is not available); a
+    cutting the wall are damped, as in libMobility (``divM`` is then the exact divergence
+    of the damped mobility); a
     centre below the wall raises InputError saying it has "fallen below the wall", in
     libMobility's words.
 

@@ -362,8 +362,9 @@ def test_overlap_options():
         rpy.mobility("FTS")
     with pytest.raises(ValueError, match="not the stresslets"):
         rpy.apply("FTS", np.zeros(22))
-    with pytest.raises(ValueError, match="cuts a boundary"):
-        rpy.divergence("F")
+    # the drift of the damped mobility: finite (checked against differences of the
+    # damped mobility in test_nbody and the Rust tests)
+    assert np.all(np.isfinite(rpy.divergence("FT")))
     with pytest.raises(ValueError, match="give one of them"):
         stokesian.System(x, 1.0, allow_overlap=True, overlap="rpy")
     with pytest.raises(ValueError, match="expected"):

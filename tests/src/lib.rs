@@ -293,7 +293,7 @@ pub fn two_sphere_mobility(
         blocks: BLOCKS.to_vec(),
         path,
         product: false,
-        divergence: false,
+        drift: None,
     };
     let self_k = trace(&Wall, &spec(Interaction::SelfTerm));
     let pair_k = trace(&Wall, &spec(Interaction::Pair));

@@ -175,7 +175,7 @@ impl Kind {
             },
             path: Path::Structured,
             product,
-            divergence: false,
+            drift: None,
         }
     }
 }

@@ -95,6 +95,8 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
     let mut normal_arms = Vec::new();
     let mut declarations = Vec::new();
     let mut div_self_arms = Vec::new();
+    let mut along_pair_arms = Vec::new();
+    let mut along_self_arms = Vec::new();
     let mut truncated: Vec<Vec<TokenStream>> = Vec::new();
     for f in families {
         let v = ident(&camel(f.name));
@@ -180,6 +182,12 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
             ident(&format!("{}_self_divergence", f.name)),
         );
         div_pair_arms.push(quote!(#pattern => #m::#fdp(xa, xb, aa, ab, eta, #(#fields),*)));
+        let (fap, fas) = (
+            ident(&format!("{}_pair_along", f.name)),
+            ident(&format!("{}_self_along", f.name)),
+        );
+        along_pair_arms.push(quote!(#pattern => #m::#fap(xa, xb, aa, ab, eta, #(#fields,)* v)));
+        along_self_arms.push(quote!(#pattern => #m::#fas(x, a, eta, #(#fields,)* v)));
         let fdpl = ident(&format!("{}_pair_divergence_lanes", f.name));
         div_lane_arms.push(
             quote!(#pattern => #m::#fdpl(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)),
@@ -324,6 +332,20 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
         /// rows U then Omega, force columns.
         pub fn self_divergence(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Drift<6> {
             match *conf { #(#div_self_arms),* }
+        }
+
+        /// The derivative of a pair's blocks along a unit vector `v` of their column along
+        /// `v` (rows U then Omega, force columns): `a = sum_jk v_j v_k d/dxb_k M^{ab}_{ij}`,
+        /// `b` that of `M^{ba}` over the position of `a`. The part of the divergence that
+        /// holding the moving sphere's centre on a plane of normal `v` removes.
+        pub fn pair_along(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64, v: [f64; 3]) -> Product<6> {
+            match *conf { #(#along_pair_arms),* }
+        }
+
+        /// [`pair_along`] for one particle's self mobility, its position moving:
+        /// `sum_jk v_j v_k d/dx_k M^{aa}_{ij}`.
+        pub fn self_along(conf: &Confinement, eta: f64, x: [f64; 3], a: f64, v: [f64; 3]) -> Drift<6> {
+            match *conf { #(#along_self_arms),* }
         }
 
         /// What every registered confinement declares: name, title, parameters, in the

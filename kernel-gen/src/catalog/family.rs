@@ -3,7 +3,7 @@
 
 use super::GeneratedFile;
 use crate::emit::{self, ident, Float, KernelFn};
-use crate::kernel::{trace, Interaction, KernelSpec, Path, Traced};
+use crate::kernel::{trace, Drift, Interaction, KernelSpec, Path, Traced};
 use crate::physics::green::Green;
 use crate::physics::operators::{Basis, BLOCKS};
 use proc_macro2::TokenStream;
@@ -32,11 +32,11 @@ pub fn variants() -> Vec<Variant> {
         blocks: BLOCKS.to_vec(),
         path: Path::Structured,
         product: false,
-        divergence: false,
+        drift: None,
     };
-    let divergence = |interaction, blocks: Vec<(Response, Moment)>| KernelSpec {
+    let drift = |interaction, drift, blocks: Vec<(Response, Moment)>| KernelSpec {
         blocks,
-        divergence: true,
+        drift: Some(drift),
         ..spec(interaction, false)
     };
     let (uf, ul, of) = (
@@ -65,14 +65,26 @@ pub fn variants() -> Vec<Variant> {
         },
         Variant {
             suffix: "self_divergence",
-            spec: divergence(Interaction::SelfTerm, vec![uf, of]),
+            spec: drift(Interaction::SelfTerm, Drift::Divergence, vec![uf, of]),
             what: "self, divergence over the position of the particle (Brownian drift): a = [sum_j d/dx_j M_UF,ij, sum_j d/dx_j M_OmegaF,ij]",
             ret: ("Drift<6>", "Drift::<6>"),
         },
         Variant {
             suffix: "pair_divergence",
-            spec: divergence(Interaction::Pair, vec![uf, ul, of]),
+            spec: drift(Interaction::Pair, Drift::Divergence, vec![uf, ul, of]),
             what: "pair, divergence over the source position (Brownian drift): a = [sum_j d/dxb_j M^ab_UF,ij, sum_j d/dxb_j M^ab_OmegaF,ij], b the same for M^ba over xa",
+            ret: ("Product<6>", "Product::<6>"),
+        },
+        Variant {
+            suffix: "self_along",
+            spec: drift(Interaction::SelfTerm, Drift::Along, vec![uf, of]),
+            what: "self, derivative along a unit vector v of the column along v, the position of the particle moving (the drift of a sphere held on a plane of normal v): a = [sum_jk v_j v_k d/dx_k M_UF,ij, the same for M_OmegaF]",
+            ret: ("Drift<6>", "Drift::<6>"),
+        },
+        Variant {
+            suffix: "pair_along",
+            spec: drift(Interaction::Pair, Drift::Along, vec![uf, ul, of]),
+            what: "pair, derivative along a unit vector v of the column along v, the source position moving (the drift of a sphere held on a plane of normal v): a = [sum_jk v_j v_k d/dxb_k M^ab_UF,ij, the same for M^ab_OmegaF], b the same for M^ba over xa",
             ret: ("Product<6>", "Product::<6>"),
         },
     ]

@@ -42,7 +42,7 @@ pub fn scene_file<G: Green>(g: &G, scene: &Scene, standalone: bool) -> Generated
             blocks: scene.moments.blocks(),
             path: Path::Structured,
             product,
-            divergence: false,
+            drift: None,
         };
         let traced: Traced = trace(g, &spec);
         let name = format!("{}_{suffix}", scene.name);

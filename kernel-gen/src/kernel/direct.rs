@@ -15,7 +15,7 @@ use crate::physics::green::Green;
 /// leaves about 1e-17 of the terms wherever they cancel, while here every rational weight
 /// is exact ([`Scalar::ratio`]).
 pub fn evaluate_direct<G: Green, S: Scalar>(g: &G, spec: &KernelSpec, inputs: &[S]) -> Vec<S> {
-    assert!(!spec.divergence, "the divergences are traced only");
+    assert!(spec.drift.is_none(), "the drift kernels are traced only");
     let mut rest = inputs;
     let mut take = |n: usize| {
         let (head, tail) = rest.split_at(n);

@@ -32,7 +32,7 @@ mod trace;
 mod traced;
 
 pub use direct::evaluate_direct;
-pub use spec::{Interaction, KernelSpec, Path};
+pub use spec::{Drift, Interaction, KernelSpec, Path};
 pub use swap::Swap;
 pub use trace::trace;
 pub use traced::{Arg, ArgKind, BlockOut, FarBranch, Traced};

@@ -46,12 +46,26 @@ pub struct KernelSpec {
     /// moments of particles a and b, `[F, L, S]` truncated to the blocks' moments) and
     /// outputs `a = M^{ab} vb`, `b = M^{ba} va = (M^{ab})^T va` (pair kernels only).
     pub product: bool,
-    /// Instead of the blocks, their divergence with respect to the particle positions
-    /// (the Brownian drift `kT div M`): outputs `a_i = sum_j d/dxb_j M^{ab}_{ij}` and, for
-    /// pairs, `b_i = sum_j d/dxa_j M^{ba}_{ij}` over the force columns, rows `U` then
-    /// `Omega` as kept (F: 3, FT: 6). Obtained by running the same derivative path on
-    /// jets, of degree 1 in the positions, whose coefficients are expression nodes.
-    pub divergence: bool,
+    /// Instead of the blocks, a derivative of them over the particle positions
+    /// ([`Drift`]), by the same derivative path run on jets of degree 1 in the
+    /// positions whose coefficients are expression nodes.
+    pub drift: Option<Drift>,
+}
+
+/// The derivatives of the blocks over the positions that a drift kernel computes, over
+/// the force columns, rows `U` then `Omega` as kept (F: 3, FT: 6); for pairs `a` (the
+/// derivative of `M^{ab}` over the source position `xb`) and `b` (that of `M^{ba} =
+/// (M^{ab})^T`, with `M^{ba}_{OmegaF} = (M^{ab}_{UL})^T`, over `xa`); for a self term
+/// the derivative over the one position, both arguments moving together.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Drift {
+    /// The divergence, the Brownian drift `kT div M`: `a_i = sum_j d/dxb_j M^{ab}_{ij}`.
+    Divergence,
+    /// The derivative along a unit vector `v` (an argument of the kernel) of the column
+    /// along `v`: `a_i = sum_jk v_j v_k d/dxb_k M^{ab}_{ij}`. The part of the divergence
+    /// that holding a sphere's centre on a plane of normal `v` removes: the drift of
+    /// spheres damped at a boundary (`stokesian`'s overlap treatment).
+    Along,
 }
 
 impl KernelSpec {

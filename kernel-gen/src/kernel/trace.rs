@@ -1,9 +1,9 @@
 //! The tracing of a kernel into an expression graph.
 
 use super::blocks::block_values;
-use super::divergence::divergence_outputs;
+use super::divergence::{drift_outputs, Points};
 use super::product::{moments_len, product_outputs};
-use super::spec::{Interaction, KernelSpec, Path};
+use super::spec::{Drift, Interaction, KernelSpec, Path};
 use super::swap::exchange;
 use super::traced::{Arg, ArgKind, BlockOut, FarBranch, Traced};
 use crate::graph::{Ex, Trace};
@@ -168,6 +168,19 @@ fn trace_with<G: Green>(
         .map(|p| scalar(&t, p.name, p.doc))
         .collect();
 
+    // the direction of a derivative along a vector, after the parameters
+    let along = (spec.drift == Some(Drift::Along)).then(|| {
+        args.push(Arg {
+            name: "v".into(),
+            kind: ArgKind::Point,
+            doc: "the direction of the derivative, a unit vector".into(),
+        });
+        let v: [Ex; 3] = std::array::from_fn(|k| t.input(&format!("v[{k}]")));
+        match turn {
+            Some(q) => q.point(&v),
+            None => v,
+        }
+    });
     let order = spec.order();
     // Moment vectors of the fused product, declared before any block is traced so the
     // argument order is fixed.
@@ -197,7 +210,7 @@ fn trace_with<G: Green>(
         && spec.path == Path::Structured
         && spec.interaction == Interaction::Pair
         && spec.basis == Basis::Orthonormal
-        && !spec.divergence
+        && spec.drift.is_none()
         && g.axisymmetric())
     .then(|| Frame::of(&xa, &xb));
     let (fxa, fxb) = match &frame {
@@ -207,8 +220,15 @@ fn trace_with<G: Green>(
     let frame = frame.map(|(f, _, _)| f);
     let mut outputs = Vec::new();
     let mut far = None;
-    if spec.divergence {
-        outputs = divergence_outputs(g, spec, &xa, &xb, &aa, &ab, &params, order, &scale, form);
+    if let Some(drift) = spec.drift {
+        let at = Points {
+            xa: &xa,
+            xb: &xb,
+            aa: &aa,
+            ab: &ab,
+            v: along.as_ref(),
+        };
+        outputs = drift_outputs(g, spec, drift, &at, &params, order, &scale, form);
     } else {
         let values = block_values(
             g,
@@ -316,7 +336,7 @@ fn trace_with<G: Green>(
             None => blocks,
         }
     };
-    if !spec.divergence {
+    if spec.drift.is_none() {
         outputs = to_world(outputs);
         if let Some(f) = &mut far {
             f.outputs = to_world(std::mem::take(&mut f.outputs));

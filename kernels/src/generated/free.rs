@@ -1726,3 +1726,285 @@ pub fn free_pair_divergence_lanes<L: lanes::Lane>(
     out
 }
 pub use free_pair_divergence_lanes as free_pair_divergence_lanes_ordered;
+/// Grand mobility blocks, self, derivative along a unit vector v of the column along v, the position of the particle moving (the drift of a sphere held on a plane of normal v): a = [sum_jk v_j v_k d/dx_k M_UF,ij, the same for M_OmegaF]: unbounded fluid: the Stokeslet J of Eq. 4.
+///
+/// Eq. 17: the isolated sphere plus the reflected field only. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).
+/// Strain and stresslet in the 5-component orthonormal basis (kernels::STRAIN_BASIS).
+///
+/// # Arguments
+/// - `x`: centre of the particle
+/// - `a`: radius of the particle(s)
+/// - `eta`: viscosity of the fluid
+/// - `v`: the direction of the derivative, a unit vector
+///
+/// Operation count (after dead-code elimination): 0 flops (0 add/sub, 0 mul, 0 div, 0 sqrt, 0 powi, 0 neg).
+#[inline]
+pub fn free_self_along(x: [f64; 3], a: f64, eta: f64, v: [f64; 3]) -> Drift<6> {
+    let _ = x;
+    let _ = a;
+    let _ = eta;
+    let _ = v;
+    Drift::<6> {
+        a: [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    }
+}
+/// Grand mobility blocks, pair, derivative along a unit vector v of the column along v, the source position moving (the drift of a sphere held on a plane of normal v): a = [sum_jk v_j v_k d/dxb_k M^ab_UF,ij, the same for M^ab_OmegaF], b the same for M^ba over xa: unbounded fluid: the Stokeslet J of Eq. 4.
+///
+/// Eq. 16: Faxén laws (Eqs. 12-15) applied to the multipole expansion (Eq. 8) of G = J + J^w. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf).
+/// Strain and stresslet in the 5-component orthonormal basis (kernels::STRAIN_BASIS).
+///
+/// # Arguments
+/// - `xa`: centre of particle a (the field particle), [x1, x2, x3]
+/// - `xb`: centre of particle b (the source particle)
+/// - `aa`: radius of particle a
+/// - `ab`: radius of particle b
+/// - `eta`: viscosity of the fluid
+/// - `v`: the direction of the derivative, a unit vector
+///
+/// Operation count (after dead-code elimination): 232 flops (87 add/sub, 141 mul, 3 div, 1 sqrt, 0 powi, 0 neg).
+#[inline]
+pub fn free_pair_along(
+    xa: [f64; 3],
+    xb: [f64; 3],
+    aa: f64,
+    ab: f64,
+    eta: f64,
+    v: [f64; 3],
+) -> Product<6> {
+    let t0: f64 = 0.039788735772973836 / eta;
+    let t1: f64 = xa[0] - xb[0];
+    let t2: f64 = xa[1] - xb[1];
+    let t3: f64 = xa[2] - xb[2];
+    let t4: f64 = aa * aa;
+    let t5: f64 = ab * ab;
+    let t6: f64 = t4 * 0.16666666666666666;
+    let t7: f64 = t5 * 0.16666666666666666;
+    let t8: f64 = t1 * t1;
+    let t9: f64 = v[0] * t1;
+    let t10: f64 = t9 + t9;
+    let t11: f64 = t2 * t2;
+    let t12: f64 = v[1] * t2;
+    let t13: f64 = t12 + t12;
+    let t14: f64 = t8 + t11;
+    let t15: f64 = t10 + t13;
+    let t16: f64 = t3 * t3;
+    let t17: f64 = v[2] * t3;
+    let t18: f64 = t17 + t17;
+    let t19: f64 = t14 + t16;
+    let t20: f64 = t15 + t18;
+    let t21: f64 = t19.sqrt();
+    let t22: f64 = t21 * 2.0;
+    let t23: f64 = 1.0 / t22;
+    let t24: f64 = t20 * t23;
+    let t25: f64 = 1.0 / t21;
+    let t26: f64 = t24 * t25;
+    let t27: f64 = t25 * t25;
+    let t28: f64 = t24 * t27;
+    let t29: f64 = t1 * t25;
+    let t30: f64 = t1 * t28;
+    let t31: f64 = v[0] * t25;
+    let t32: f64 = t31 - t30;
+    let t33: f64 = t30 - t31;
+    let t34: f64 = t2 * t25;
+    let t35: f64 = t2 * t28;
+    let t36: f64 = v[1] * t25;
+    let t37: f64 = t36 - t35;
+    let t38: f64 = t35 - t36;
+    let t39: f64 = t3 * t25;
+    let t40: f64 = t3 * t28;
+    let t41: f64 = v[2] * t25;
+    let t42: f64 = t41 - t40;
+    let t43: f64 = t40 - t41;
+    let t44: f64 = t26 * t27;
+    let t45: f64 = t44 + t44;
+    let t46: f64 = t6 * t27;
+    let t47: f64 = t6 * t45;
+    let t48: f64 = t7 * t27;
+    let t49: f64 = t7 * t45;
+    let t50: f64 = t29 * t29;
+    let t51: f64 = t29 * t32;
+    let t52: f64 = t51 + t51;
+    let t53: f64 = t29 * t33;
+    let t54: f64 = t53 + t53;
+    let t55: f64 = t48 * (-6.0);
+    let t56: f64 = t49 * (-6.0);
+    let t57: f64 = 1.0 + t55;
+    let t58: f64 = t46 * (-6.0);
+    let t59: f64 = t47 * (-6.0);
+    let t60: f64 = t57 + t58;
+    let t61: f64 = t56 + t59;
+    let t62: f64 = t50 * t60;
+    let t63: f64 = t52 * t60;
+    let t64: f64 = t50 * t61;
+    let t65: f64 = t63 - t64;
+    let t66: f64 = t54 * t60;
+    let t67: f64 = t64 + t66;
+    let t68: f64 = 2.0 * t48;
+    let t69: f64 = 2.0 * t49;
+    let t70: f64 = 1.0 + t68;
+    let t71: f64 = 2.0 * t46;
+    let t72: f64 = 2.0 * t47;
+    let t73: f64 = t70 + t71;
+    let t74: f64 = t69 + t72;
+    let t75: f64 = t62 + t73;
+    let t76: f64 = t65 - t74;
+    let t77: f64 = t67 + t74;
+    let t78: f64 = t25 * t76;
+    let t79: f64 = t28 * t75;
+    let t80: f64 = t78 - t79;
+    let t81: f64 = t25 * t77;
+    let t82: f64 = t79 + t81;
+    let t83: f64 = t34 * t60;
+    let t84: f64 = t37 * t60;
+    let t85: f64 = t34 * t61;
+    let t86: f64 = t84 - t85;
+    let t87: f64 = t38 * t60;
+    let t88: f64 = t85 + t87;
+    let t89: f64 = t29 * t83;
+    let t90: f64 = t32 * t83;
+    let t91: f64 = t29 * t86;
+    let t92: f64 = t90 + t91;
+    let t93: f64 = t33 * t83;
+    let t94: f64 = t29 * t88;
+    let t95: f64 = t93 + t94;
+    let t96: f64 = t25 * t92;
+    let t97: f64 = t28 * t89;
+    let t98: f64 = t96 - t97;
+    let t99: f64 = t25 * t95;
+    let t100: f64 = t97 + t99;
+    let t101: f64 = t39 * t60;
+    let t102: f64 = t42 * t60;
+    let t103: f64 = t39 * t61;
+    let t104: f64 = t102 - t103;
+    let t105: f64 = t43 * t60;
+    let t106: f64 = t103 + t105;
+    let t107: f64 = t29 * t101;
+    let t108: f64 = t32 * t101;
+    let t109: f64 = t29 * t104;
+    let t110: f64 = t108 + t109;
+    let t111: f64 = t33 * t101;
+    let t112: f64 = t29 * t106;
+    let t113: f64 = t111 + t112;
+    let t114: f64 = t25 * t110;
+    let t115: f64 = t28 * t107;
+    let t116: f64 = t114 - t115;
+    let t117: f64 = t25 * t113;
+    let t118: f64 = t115 + t117;
+    let t119: f64 = t34 * t34;
+    let t120: f64 = t34 * t37;
+    let t121: f64 = t120 + t120;
+    let t122: f64 = t34 * t38;
+    let t123: f64 = t122 + t122;
+    let t124: f64 = t60 * t119;
+    let t125: f64 = t60 * t121;
+    let t126: f64 = t61 * t119;
+    let t127: f64 = t125 - t126;
+    let t128: f64 = t60 * t123;
+    let t129: f64 = t126 + t128;
+    let t130: f64 = t73 + t124;
+    let t131: f64 = t127 - t74;
+    let t132: f64 = t74 + t129;
+    let t133: f64 = t25 * t131;
+    let t134: f64 = t28 * t130;
+    let t135: f64 = t133 - t134;
+    let t136: f64 = t25 * t132;
+    let t137: f64 = t134 + t136;
+    let t138: f64 = t34 * t101;
+    let t139: f64 = t37 * t101;
+    let t140: f64 = t34 * t104;
+    let t141: f64 = t139 + t140;
+    let t142: f64 = t38 * t101;
+    let t143: f64 = t34 * t106;
+    let t144: f64 = t142 + t143;
+    let t145: f64 = t25 * t141;
+    let t146: f64 = t28 * t138;
+    let t147: f64 = t145 - t146;
+    let t148: f64 = t25 * t144;
+    let t149: f64 = t146 + t148;
+    let t150: f64 = t39 * t39;
+    let t151: f64 = t39 * t42;
+    let t152: f64 = t151 + t151;
+    let t153: f64 = t39 * t43;
+    let t154: f64 = t153 + t153;
+    let t155: f64 = t60 * t150;
+    let t156: f64 = t60 * t152;
+    let t157: f64 = t61 * t150;
+    let t158: f64 = t156 - t157;
+    let t159: f64 = t60 * t154;
+    let t160: f64 = t157 + t159;
+    let t161: f64 = t73 + t155;
+    let t162: f64 = t158 - t74;
+    let t163: f64 = t74 + t160;
+    let t164: f64 = t25 * t162;
+    let t165: f64 = t28 * t161;
+    let t166: f64 = t164 - t165;
+    let t167: f64 = t25 * t163;
+    let t168: f64 = t165 + t167;
+    let t169: f64 = t27 * t42;
+    let t170: f64 = t39 * t45;
+    let t171: f64 = t169 - t170;
+    let t172: f64 = t27 * t43;
+    let t173: f64 = t170 + t172;
+    let t174: f64 = t27 * t38;
+    let t175: f64 = t34 * t45;
+    let t176: f64 = t174 + t175;
+    let t177: f64 = t27 * t37;
+    let t178: f64 = t177 - t175;
+    let t179: f64 = t27 * t32;
+    let t180: f64 = t29 * t45;
+    let t181: f64 = t179 - t180;
+    let t182: f64 = t27 * t33;
+    let t183: f64 = t180 + t182;
+    let t184: f64 = v[0] * t82;
+    let t185: f64 = v[1] * t100;
+    let t186: f64 = t184 + t185;
+    let t187: f64 = v[2] * t118;
+    let t188: f64 = t186 + t187;
+    let t189: f64 = v[0] * t100;
+    let t190: f64 = v[1] * t137;
+    let t191: f64 = t189 + t190;
+    let t192: f64 = v[2] * t149;
+    let t193: f64 = t191 + t192;
+    let t194: f64 = v[0] * t118;
+    let t195: f64 = v[1] * t149;
+    let t196: f64 = t194 + t195;
+    let t197: f64 = v[2] * t168;
+    let t198: f64 = t196 + t197;
+    let t199: f64 = v[1] * t173;
+    let t200: f64 = v[2] * t178;
+    let t201: f64 = t199 + t200;
+    let t202: f64 = v[0] * t171;
+    let t203: f64 = v[2] * t183;
+    let t204: f64 = t202 + t203;
+    let t205: f64 = v[0] * t176;
+    let t206: f64 = v[1] * t181;
+    let t207: f64 = t205 + t206;
+    let t208: f64 = t0 * t188;
+    let t209: f64 = t0 * t193;
+    let t210: f64 = t0 * t198;
+    let t211: f64 = t0 * t201;
+    let t212: f64 = t0 * t204;
+    let t213: f64 = t0 * t207;
+    let t214: f64 = v[0] * t80;
+    let t215: f64 = v[1] * t98;
+    let t216: f64 = t214 + t215;
+    let t217: f64 = v[2] * t116;
+    let t218: f64 = t216 + t217;
+    let t219: f64 = v[0] * t98;
+    let t220: f64 = v[1] * t135;
+    let t221: f64 = t219 + t220;
+    let t222: f64 = v[2] * t147;
+    let t223: f64 = t221 + t222;
+    let t224: f64 = v[0] * t116;
+    let t225: f64 = v[1] * t147;
+    let t226: f64 = t224 + t225;
+    let t227: f64 = v[2] * t166;
+    let t228: f64 = t226 + t227;
+    let t229: f64 = t0 * t218;
+    let t230: f64 = t0 * t223;
+    let t231: f64 = t0 * t228;
+    Product::<6> {
+        a: [t208, t209, t210, t211, t212, t213],
+        b: [t229, t230, t231, t211, t212, t213],
+    }
+}

@@ -1227,6 +1227,64 @@ pub fn self_divergence(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Dri
         }
     }
 }
+/// The derivative of a pair's blocks along a unit vector `v` of their column along
+/// `v` (rows U then Omega, force columns): `a = sum_jk v_j v_k d/dxb_k M^{ab}_{ij}`,
+/// `b` that of `M^{ba}` over the position of `a`. The part of the divergence that
+/// holding the moving sphere's centre on a plane of normal `v` removes.
+pub fn pair_along(
+    conf: &Confinement,
+    eta: f64,
+    xa: [f64; 3],
+    aa: f64,
+    xb: [f64; 3],
+    ab: f64,
+    v: [f64; 3],
+) -> Product<6> {
+    match *conf {
+        Confinement::Free => free::free_pair_along(xa, xb, aa, ab, eta, v),
+        Confinement::Wall { height } => {
+            wall::wall_pair_along(xa, xb, aa, ab, eta, height, v)
+        }
+        Confinement::FreeSurface { height } => {
+            free_surface::free_surface_pair_along(xa, xb, aa, ab, eta, height, v)
+        }
+        Confinement::Interface { height, lambda } => {
+            interface::interface_pair_along(xa, xb, aa, ab, eta, height, lambda, v)
+        }
+        Confinement::Slit { height, gap } => {
+            slit::slit_pair_along(xa, xb, aa, ab, eta, height, gap, v)
+        }
+        Confinement::SideWall { side } => {
+            side_wall::side_wall_pair_along(xa, xb, aa, ab, eta, side, v)
+        }
+    }
+}
+/// [`pair_along`] for one particle's self mobility, its position moving:
+/// `sum_jk v_j v_k d/dx_k M^{aa}_{ij}`.
+pub fn self_along(
+    conf: &Confinement,
+    eta: f64,
+    x: [f64; 3],
+    a: f64,
+    v: [f64; 3],
+) -> Drift<6> {
+    match *conf {
+        Confinement::Free => free::free_self_along(x, a, eta, v),
+        Confinement::Wall { height } => wall::wall_self_along(x, a, eta, height, v),
+        Confinement::FreeSurface { height } => {
+            free_surface::free_surface_self_along(x, a, eta, height, v)
+        }
+        Confinement::Interface { height, lambda } => {
+            interface::interface_self_along(x, a, eta, height, lambda, v)
+        }
+        Confinement::Slit { height, gap } => {
+            slit::slit_self_along(x, a, eta, height, gap, v)
+        }
+        Confinement::SideWall { side } => {
+            side_wall::side_wall_self_along(x, a, eta, side, v)
+        }
+    }
+}
 /// What every registered confinement declares: name, title, parameters, in the
 /// order of [`Confinement::NAMES`].
 pub static DECLARATIONS: &[crate::declare::Declaration] = &[

@@ -144,22 +144,38 @@ impl System {
     }
 
     /// `sum_b sum_j d/dx_{b,j} M^{ab}_{ij}` for the `U` and `Omega` rows (`6N`,
-    /// moment-major), from the generated divergence kernels.
+    /// moment-major), from the generated divergence kernels; with the damping of
+    /// [`crate::Overlap::Rpy`] that of `B M(clamped) B` (`crate::system::overlap`: the
+    /// divergence weighted by the factors, plus the terms of the clamping and of the
+    /// factors' gradients). The overlap corrections are divergence-free.
     fn divergence_ft(&self) -> Vec<f64> {
         let n = self.len();
-        let ps: Vec<([f64; 3], f64)> = self.particles().iter().map(|p| (p.x, p.a)).collect();
+        let ps: Vec<([f64; 3], f64)> = self.evaluated().iter().map(|p| (p.x, p.a)).collect();
+        let rpy = self.rpy();
+        let damping = rpy.and_then(|r| r.damping.as_ref());
         let div = crate::mobility::tiled::Divergence {
             conf: self.confinement(),
             eta: self.viscosity(),
+            weighted: damping.is_some(),
         };
+        // the weights b_q, through the first moment of the (otherwise unused) vectors
+        let weights: Vec<[f64; 6]> = (0..n)
+            .map(|q| [damping.map_or(1.0, |d| d.b[q]), 0.0, 0.0, 0.0, 0.0, 0.0])
+            .collect();
         // each unordered pair once, in tiles: the same bits with any number of threads
-        let acc = crate::mobility::tiled::apply::<_, f64, 6>(
+        let mut acc = crate::mobility::tiled::apply::<_, f64, 6>(
             &div,
             &ps,
-            &vec![[0.0; 6]; n],
+            &weights,
             kernels::lanes::Isa::best(),
             n >= PARALLEL_MIN,
         );
+        if let (Some(rpy), Some(d)) = (rpy, damping) {
+            d.drift(self.confinement(), self.viscosity(), &rpy.pairs, &mut acc);
+            for (v, b) in acc.iter_mut().zip(&d.b) {
+                v.iter_mut().for_each(|v| *v *= b);
+            }
+        }
         let mut out = vec![0.0; 6 * n];
         for (a, v) in acc.iter().enumerate() {
             for i in 0..3 {
@@ -284,13 +300,7 @@ impl System {
             }
         };
         let div = if bd.drift && bd.hydrodynamics {
-            // the corrections of overlapping pairs are divergence-free; the damping's
-            // divergence is not available
-            if let Some(rpy) = self.rpy() {
-                rpy.refuse_damping(
-                    "the Brownian drift of Euler-Maruyama (use Fixman's midpoint scheme)",
-                )?;
-            }
+            self.check_drift()?;
             self.divergence_at(bd.moments)
         } else {
             vec![0.0; w.len()]
@@ -508,10 +518,11 @@ impl System {
         }
     }
 
-    /// The drift `div M` (not that of a sphere damped by [`crate::Overlap::Rpy`]:
-    /// [`System::check_drift`]) at the F level (`3N`) or the FT level (`6N`, moment-major:
-    /// translational then rotational rows; the columns are always the forces, since the
-    /// mobility of spheres does not depend on their orientation).
+    /// The drift `div M` (with [`crate::Overlap::Rpy`] that of the damped mobility;
+    /// [`System::check_drift`] says where it is not available) at the F level (`3N`) or
+    /// the FT level (`6N`, moment-major: translational then rotational rows; the columns
+    /// are always the forces, since the mobility of spheres does not depend on their
+    /// orientation).
     pub fn divergence_at(&self, moments: Moments) -> Vec<f64> {
         let n = self.len();
         let d = self.divergence_ft();

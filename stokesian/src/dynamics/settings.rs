@@ -175,8 +175,10 @@ pub enum BrownianError {
         /// Why.
         source: LanczosError,
     },
-    /// What the RPY overlap forms do not cover: the drift of a damped sphere
-    /// ([`crate::Overlap::Rpy`]).
+    /// What the RPY overlap forms do not cover ([`crate::Overlap::Rpy`]): the drift of a
+    /// sphere cut by two boundaries that are not perpendicular ([`System::check_drift`]).
+    ///
+    /// [`System::check_drift`]: crate::System::check_drift
     #[error("{0}")]
     Overlap(#[from] crate::system::overlap::OverlapError),
     /// A setting is out of range ([`Brownian::check`], [`Run`]).

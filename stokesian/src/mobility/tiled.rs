@@ -328,10 +328,13 @@ with_lanes!(BlocksFTS, 11, 121);
 
 /// The Brownian drift: `a` the divergence of `M^{ab}` over the position of `b`, `b`
 /// that of `M^{ba}` over the position of `a` (rows `U` then `Omega`, force columns),
-/// from the generated divergence kernels; the moment vectors are not used.
+/// from the generated divergence kernels; `weighted`: each multiplied by the first
+/// entry of the moving particle's vector (the damping factor `b_q`, where spheres are
+/// damped at a boundary), otherwise the vectors are not used.
 pub(crate) struct Divergence<'a> {
     pub conf: &'a Confinement,
     pub eta: f64,
+    pub weighted: bool,
 }
 
 impl LaneProduct<6> for Divergence<'_> {
@@ -345,15 +348,23 @@ impl LaneProduct<6> for Divergence<'_> {
         aa: L,
         xb: [L; 3],
         ab: L,
-        _va: [L; 6],
-        _vb: [L; 6],
+        va: [L; 6],
+        vb: [L; 6],
     ) -> ([L; 6], [L; 6]) {
-        halves(kernels::pair_divergence_lanes_ordered(
+        let (a, b) = halves(kernels::pair_divergence_lanes_ordered(
             self.conf, self.eta, xa, aa, xb, ab,
-        ))
+        ));
+        match self.weighted {
+            true => (a.map(|d| d * vb[0]), b.map(|d| d * va[0])),
+            false => (a, b),
+        }
     }
-    fn diagonal(&self, x: [f64; 3], a: f64, _v: [f64; 6]) -> [f64; 6] {
-        kernels::self_divergence(self.conf, self.eta, x, a).a
+    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; 6]) -> [f64; 6] {
+        let d = kernels::self_divergence(self.conf, self.eta, x, a).a;
+        match self.weighted {
+            true => d.map(|d| d * v[0]),
+            false => d,
+        }
     }
 }
 

@@ -125,13 +125,18 @@ impl System {
         }
     }
 
-    /// Whether the Brownian drift of the divergence kernels ([`System::divergence_at`])
-    /// is this system's: not where [`Overlap::Rpy`] damps a sphere cutting a boundary
-    /// (the divergence of the damped mobility is not available; the corrections of
-    /// overlapping pairs are divergence-free, [`overlap`]).
+    /// Whether [`System::divergence_at`] is this system's Brownian drift: always, except
+    /// where [`Overlap::Rpy`] damps a sphere cut by two boundaries that are not
+    /// perpendicular (no registered confinement has such boundaries; [`overlap`]).
     pub fn check_drift(&self) -> Result<(), OverlapError> {
-        match &self.rpy {
-            Some(rpy) => rpy.refuse_damping("the Brownian drift (div M)"),
+        match self.rpy.as_ref().and_then(|r| r.damping.as_ref()) {
+            Some(d) => match d.oblique() {
+                Some(index) => Err(OverlapError::Boundary {
+                    index,
+                    what: "the Brownian drift (div M) of a sphere cut by two boundaries that are not perpendicular",
+                }),
+                None => Ok(()),
+            },
             None => Ok(()),
         }
     }

@@ -23,10 +23,21 @@
 //! boundaries: one boundary's factor where only one is cut (the wall's damping), a
 //! smooth factor where two are (the minimum has a kink where the distances cross), and
 //! still `B M B`. A sphere that cannot be moved clear of every boundary (a slit
-//! narrower than its diameter) is refused. The divergence of the damped mobility is not
-//! available from the kernels: the Euler-Maruyama drift is refused while a sphere is
-//! damped ([`OverlapError::Boundary`]); Fixman's midpoint scheme, which needs no
-//! divergence, is not.
+//! narrower than its diameter) is refused.
+//!
+//! The drift of the damped mobility ([`Damping::drift`]): with `x~` the clamped centres
+//! (`dx~_q/dx_q = P_q = I - sum_c n_c n_c^T` over the boundaries `c` that cut sphere `q`,
+//! perpendicular to each other), `K_pq` the force columns of the blocks at `x~` (overlap
+//! corrections included) and `D_pq = sum_j d/dx~_qj K_pq,ij` the generated divergence,
+//!
+//! `sum_q div_q (b_p b_q K_pq) = b_p [ sum_q b_q D_pq - sum_q b_q sum_c N^c_pq
+//!     + sum_q K_pq grad b_q + [p cut] K_pp grad b_p ]`,
+//!
+//! where `N^c_pq = sum_jk n_j n_k d/dx~_qk K_pq,ij` (`kernels::pair_along`,
+//! `kernels::self_along`, `kernels::overlap_along`) is the part of the divergence that
+//! holding `q` on the plane removes, and `grad b_q = sum_c (prod_{c' != c} f_c') n_c / a_q`
+//! (`f_c = d_c / a_q`, the factor of boundary `c`). A sphere cut by two boundaries that
+//! are not perpendicular has no such drift ([`OverlapError::Boundary`]).
 
 use super::input::Particle;
 use super::Moments;
@@ -74,7 +85,7 @@ pub enum OverlapError {
         what: &'static str,
     },
     /// A sphere cuts a boundary, and `what` has no damped form.
-    #[error("particle {index} cuts a boundary: the damped mobility covers forces and torques (F, FT) without Brownian drift only, not {what}")]
+    #[error("particle {index} cuts a boundary: the damped mobility covers forces and torques (F, FT) only, not {what}")]
     Boundary {
         /// Particle index.
         index: usize,
@@ -99,6 +110,8 @@ pub(crate) struct Damping {
     pub at: Vec<Particle>,
     /// `b_i`: the product over the boundaries of `clamp(d / a, 0, 1)`.
     pub b: Vec<f64>,
+    /// For each particle, the boundaries that cut it: `(normal, d / a)`.
+    pub cuts: Vec<Vec<([f64; 3], f64)>>,
 }
 
 impl Damping {
@@ -109,13 +122,16 @@ impl Damping {
         let planes = conf.boundaries();
         let mut at = particles.to_vec();
         let mut b = vec![1.0; particles.len()];
+        let mut cuts = vec![Vec::new(); particles.len()];
         let mut any = false;
         for (i, p) in at.iter_mut().enumerate() {
             for plane in &planes {
                 let d = plane.distance(p.x);
                 if d < p.a {
                     any = true;
-                    b[i] *= (d / p.a).clamp(0.0, 1.0);
+                    let f = (d / p.a).clamp(0.0, 1.0);
+                    b[i] *= f;
+                    cuts[i].push((plane.normal, f));
                     let up = p.a - d;
                     for (x, n) in p.x.iter_mut().zip(plane.normal) {
                         *x += up * n;
@@ -127,7 +143,103 @@ impl Damping {
                 return Err(i);
             }
         }
-        Ok(any.then_some(Damping { at, b }))
+        Ok(any.then_some(Damping { at, b, cuts }))
+    }
+}
+
+impl Damping {
+    /// The first sphere cut by two boundaries that are not perpendicular, whose drift
+    /// [`Damping::drift`] does not cover.
+    pub fn oblique(&self) -> Option<usize> {
+        self.cuts.iter().position(|c| {
+            c.iter().enumerate().any(|(k, (n, _))| {
+                c[k + 1..]
+                    .iter()
+                    .any(|(m, _)| (0..3).map(|i| n[i] * m[i]).sum::<f64>().abs() > 1e-12)
+            })
+        })
+    }
+
+    /// Adds to `acc` (per particle, rows `U` then `Omega`, before the row factor `b_p`)
+    /// what the damping adds to `sum_q b_q D_pq` (module docs): for every sphere `q`
+    /// that a boundary cuts and every `p`, `K_pq grad b_q - b_q sum_c N^c_pq` (and
+    /// `K_qq grad b_q` once more for `p = q`), with the overlap corrections of the
+    /// overlapping `pairs` (sorted, at the clamped centres).
+    pub fn drift(
+        &self,
+        conf: &Confinement,
+        eta: f64,
+        pairs: &[(usize, usize)],
+        acc: &mut [[f64; 6]],
+    ) {
+        let ps = &self.at;
+        for (q, cuts) in self.cuts.iter().enumerate().filter(|(_, c)| !c.is_empty()) {
+            let pq = &ps[q];
+            // grad b_q = sum_c (prod of the other factors) n_c / a_q
+            let mut grad = [0.0; 3];
+            for (c, (n, _)) in cuts.iter().enumerate() {
+                let others: f64 = cuts
+                    .iter()
+                    .enumerate()
+                    .filter(|&(k, _)| k != c)
+                    .map(|(_, &(_, f))| f)
+                    .product();
+                for (g, nk) in grad.iter_mut().zip(n) {
+                    *g += others * nk / pq.a;
+                }
+            }
+            for (p, pp) in ps.iter().enumerate() {
+                // the force columns K_pq (rows U, Omega) and sum_c N^c_pq
+                let (uf, of, along) = if p == q {
+                    let m = kernels::self_ft(conf, eta, pq.x, pq.a);
+                    let along = |n: [f64; 3]| kernels::self_along(conf, eta, pq.x, pq.a, n).a;
+                    (
+                        m.uf,
+                        m.of,
+                        cuts.iter().map(|&(n, _)| along(n)).collect::<Vec<_>>(),
+                    )
+                } else {
+                    let m = kernels::pair_ft(conf, eta, pp.x, pp.a, pq.x, pq.a);
+                    let (mut uf, mut of) = (m.uf, m.of);
+                    let overlapping = pairs.binary_search(&(p.min(q), p.max(q))).is_ok();
+                    if overlapping {
+                        let c = kernels::overlap_ft(pp.x, pq.x, pp.a, pq.a, eta);
+                        for i in 0..3 {
+                            for j in 0..3 {
+                                uf[i][j] += c.uf[i][j];
+                                of[i][j] += c.of[i][j];
+                            }
+                        }
+                    }
+                    let along = |n: [f64; 3]| {
+                        let mut d = kernels::pair_along(conf, eta, pp.x, pp.a, pq.x, pq.a, n).a;
+                        if overlapping {
+                            let c = kernels::overlap_along(pp.x, pq.x, pp.a, pq.a, eta, n).a;
+                            for (d, c) in d.iter_mut().zip(c) {
+                                *d += c;
+                            }
+                        }
+                        d
+                    };
+                    (uf, of, cuts.iter().map(|&(n, _)| along(n)).collect())
+                };
+                let times = if p == q { 2.0 } else { 1.0 };
+                for i in 0..3 {
+                    let (mut u, mut o) = (0.0, 0.0);
+                    for j in 0..3 {
+                        u += uf[i][j] * grad[j];
+                        o += of[i][j] * grad[j];
+                    }
+                    acc[p][i] += times * u;
+                    acc[p][3 + i] += times * o;
+                }
+                for n in &along {
+                    for (a, d) in acc[p].iter_mut().zip(n) {
+                        *a -= self.b[q] * d;
+                    }
+                }
+            }
+        }
     }
 }
 

@@ -3,14 +3,19 @@
 
 use integration_tests::{all_confinements, confinement, flat, placed, sample_params};
 use kernel_gen::catalog::variants;
-use kernel_gen::kernel::{trace, Interaction};
+use kernel_gen::kernel::{trace, Drift, Interaction};
 use kernel_gen::number::dd::Dd;
 use kernel_gen::number::jet::Layout;
 use kernel_gen::physics::derivatives::{GenericJets, Part, Structured};
 use kernel_gen::physics::fd::FiniteDifferences;
 use kernel_gen::physics::green::{free::Free, wall::Wall, Green, Visitor};
 use kernel_gen::physics::operators::{Deriv, Derivatives};
-use kernels::{pair, pair_divergence, pair_equal, self_divergence, self_mobility};
+use kernels::{
+    pair, pair_along, pair_divergence, pair_equal, self_along, self_divergence, self_mobility,
+};
+
+/// A unit vector of no special direction, for the derivatives along a direction.
+const DIRECTION: [f64; 3] = [0.48, -0.6, 0.64];
 
 fn all_derivs(order: usize) -> Vec<Deriv> {
     let l = Layout::get(6, order);
@@ -151,34 +156,46 @@ impl Visitor for EmittedVsInterpreted {
             for (xa, xb) in [(hi, lo), (lo, hi)] {
                 let mut inputs: Vec<f64> = xa.to_vec();
                 // the kernel the variant was emitted as, through the public dispatch
-                let got: Vec<f64> =
-                    match (v.spec.interaction, v.spec.equal_radii, v.spec.divergence) {
-                        (Interaction::SelfTerm, _, false) => {
-                            inputs.extend([aa, eta]);
-                            flat(&self_mobility(&conf, eta, xa, aa))
-                        }
-                        (Interaction::SelfTerm, _, true) => {
-                            inputs.extend([aa, eta]);
-                            self_divergence(&conf, eta, xa, aa).a.to_vec()
-                        }
-                        (Interaction::Pair, true, _) => {
-                            inputs.extend(xb);
-                            inputs.extend([aa, eta]);
-                            flat(&pair_equal(&conf, eta, xa, xb, aa))
-                        }
-                        (Interaction::Pair, false, false) => {
-                            inputs.extend(xb);
-                            inputs.extend([aa, ab, eta]);
-                            flat(&pair(&conf, eta, xa, aa, xb, ab))
-                        }
-                        (Interaction::Pair, false, true) => {
-                            inputs.extend(xb);
-                            inputs.extend([aa, ab, eta]);
-                            let d = pair_divergence(&conf, eta, xa, aa, xb, ab);
-                            d.a.iter().chain(&d.b).copied().collect()
-                        }
-                    };
+                let got: Vec<f64> = match (v.spec.interaction, v.spec.equal_radii, v.spec.drift) {
+                    (Interaction::SelfTerm, _, None) => {
+                        inputs.extend([aa, eta]);
+                        flat(&self_mobility(&conf, eta, xa, aa))
+                    }
+                    (Interaction::SelfTerm, _, Some(Drift::Divergence)) => {
+                        inputs.extend([aa, eta]);
+                        self_divergence(&conf, eta, xa, aa).a.to_vec()
+                    }
+                    (Interaction::SelfTerm, _, Some(Drift::Along)) => {
+                        inputs.extend([aa, eta]);
+                        self_along(&conf, eta, xa, aa, DIRECTION).a.to_vec()
+                    }
+                    (Interaction::Pair, true, _) => {
+                        inputs.extend(xb);
+                        inputs.extend([aa, eta]);
+                        flat(&pair_equal(&conf, eta, xa, xb, aa))
+                    }
+                    (Interaction::Pair, false, None) => {
+                        inputs.extend(xb);
+                        inputs.extend([aa, ab, eta]);
+                        flat(&pair(&conf, eta, xa, aa, xb, ab))
+                    }
+                    (Interaction::Pair, false, Some(Drift::Divergence)) => {
+                        inputs.extend(xb);
+                        inputs.extend([aa, ab, eta]);
+                        let d = pair_divergence(&conf, eta, xa, aa, xb, ab);
+                        d.a.iter().chain(&d.b).copied().collect()
+                    }
+                    (Interaction::Pair, false, Some(Drift::Along)) => {
+                        inputs.extend(xb);
+                        inputs.extend([aa, ab, eta]);
+                        let d = pair_along(&conf, eta, xa, aa, xb, ab, DIRECTION);
+                        d.a.iter().chain(&d.b).copied().collect()
+                    }
+                };
                 inputs.extend(&p);
+                if v.spec.drift == Some(Drift::Along) {
+                    inputs.extend(DIRECTION);
+                }
                 let want: Vec<f64> = traced.eval(&inputs);
                 assert_eq!(got.len(), want.len());
                 for (k, (a, b)) in got.iter().zip(&want).enumerate() {

@@ -3,7 +3,7 @@
 //! generator: a quadrature of the RPY definition for unequal and nested spheres, and
 //! libMobility's equal-radius closed forms written out here.
 
-use kernels::{overlap_f, overlap_ft, pair_f, pair_ft, BlocksFT, Confinement};
+use kernels::{overlap_along, overlap_f, overlap_ft, pair_f, pair_ft, BlocksFT, Confinement};
 use std::f64::consts::PI;
 
 type M3 = [[f64; 3]; 3];
@@ -344,5 +344,43 @@ fn corrections_are_divergence_free() {
             }
         }
         assert!(div.iter().all(|v| v.abs() < 1e-7), "{aa} {ab} {r}: {div:?}");
+    }
+}
+
+/// The derivative of the correction along a direction (the drift of an overlapping
+/// sphere held on a boundary) against central differences of the correction kernel,
+/// overlapping and nested, along an axis and along a direction of no symmetry; step and
+/// tolerance as in [`corrections_are_divergence_free`].
+#[test]
+fn correction_along_a_direction_equals_finite_differences() {
+    let h = 1e-5;
+    for (aa, ab, r) in [(1.0, 1.0, 1.2), (1.0, 0.5, 0.8), (0.3, 1.0, 0.4)] {
+        let (xa, xb) = at(r);
+        for v in [[0.0, 0.0, 1.0], [0.48, -0.6, 0.64]] {
+            let got = overlap_along(xa, xb, aa, ab, 1.0, v).a;
+            let moved = |s: f64| {
+                overlap_ft(
+                    xa,
+                    std::array::from_fn(|k| xb[k] + s * h * v[k]),
+                    aa,
+                    ab,
+                    1.0,
+                )
+            };
+            let (p, m) = (moved(1.0), moved(-1.0));
+            let mut want = [0.0; 6];
+            for j in 0..3 {
+                for i in 0..3 {
+                    want[i] += (p.uf[i][j] - m.uf[i][j]) / (2.0 * h) * v[j];
+                    want[3 + i] += (p.of[i][j] - m.of[i][j]) / (2.0 * h) * v[j];
+                }
+            }
+            let largest = want.iter().fold(0.0f64, |m, w| m.max(w.abs()));
+            assert!(largest > 1e-3, "a derivative that can fail: {want:?}");
+            assert!(
+                got.iter().zip(&want).all(|(g, w)| (g - w).abs() < 1e-7),
+                "{aa} {ab} {r} along {v:?}: {got:?} vs {want:?}"
+            );
+        }
     }
 }

@@ -4,5 +4,6 @@
 //! mobilities of overlapping clusters, the damping near boundaries, the same bits as
 //! before where nothing overlaps, and the typed errors of what the forms do not cover.
 
+mod drift;
 mod forms;
 mod system;

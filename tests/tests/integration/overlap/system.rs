@@ -7,9 +7,8 @@ use integration_tests::WALL;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use rand::{Rng, SeedableRng};
 use stokesian::{
-    check_spd, Brownian, BrownianError, Confinement, ExternalForces, InputError, Lubrication,
-    Moments, Noise, Overlap, OverlapError, Particle, ResistanceError, Scheme, System,
-    VelocityError,
+    check_spd, Brownian, Confinement, ExternalForces, InputError, Lubrication, Moments, Noise,
+    Overlap, OverlapError, Particle, ResistanceError, Scheme, System, VelocityError,
 };
 
 fn p(x: [f64; 3], a: f64) -> Particle {
@@ -210,8 +209,8 @@ fn damping_in_a_slit() {
 }
 
 /// What the forms do not cover is a typed error: the stresslets (FTS) and lubrication
-/// of overlapping or damped spheres, and the Euler-Maruyama drift of a damped sphere;
-/// the drift of overlapping pairs away from boundaries is available.
+/// of overlapping or damped spheres; the drift of overlapping and of damped spheres is
+/// available.
 #[test]
 fn what_is_not_covered_is_refused() {
     let pair = vec![p([0.0, 0.0, 3.0], 1.0), p([1.5, 0.0, 3.0], 1.0)];
@@ -281,16 +280,20 @@ fn what_is_not_covered_is_refused() {
         Overlap::Rpy,
     )
     .unwrap();
-    let e = damped.brownian_increment(&bd, &w, 1).unwrap_err();
+    // the drift of the damped mobility is available (overlap::drift checks it)
+    assert!(damped.brownian_increment(&bd, &w, 1).is_ok());
+    let e = damped.check_overlap(Moments::FTS).unwrap_err();
+    assert!(matches!(e, OverlapError::Boundary { index: 0, .. }), "{e}");
+    let e = damped
+        .resistance(Moments::FT, &Lubrication::default())
+        .unwrap_err();
     assert!(
         matches!(
             e,
-            BrownianError::Overlap(OverlapError::Boundary { index: 0, .. })
+            ResistanceError::Overlap(OverlapError::Boundary { index: 0, .. })
         ),
         "{e}"
     );
-    let e = damped.check_overlap(Moments::FTS).unwrap_err();
-    assert!(matches!(e, OverlapError::Boundary { index: 0, .. }), "{e}");
     let fixman = Brownian {
         scheme: Scheme::FixmanMidpoint,
         ..bd

@@ -1,10 +1,14 @@
 //! The generated divergence kernels (the Brownian drift kT div M), for every
 //! confinement: against central finite differences of the generated mobility
 //! kernels, zero in unbounded fluid, and for one sphere above a wall against the
-//! derivative of the closed form B1.
+//! derivative of the closed form B1; and the derivatives along a direction (the drift
+//! of spheres held on a boundary) against finite differences the same way.
 
 use integration_tests::{all_confinements, random_spheres};
-use kernels::{pair, pair_divergence, self_divergence, self_mobility, Confinement, Grand};
+use kernels::{
+    pair, pair_along, pair_divergence, self_along, self_divergence, self_mobility, Confinement,
+    Grand,
+};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::PI;
@@ -27,6 +31,22 @@ fn fd_divergence(f: impl Fn([f64; 3]) -> Grand + Copy, x: [f64; 3], h: f64) -> [
         for i in 0..3 {
             out[i] += d.uf[i][j];
             out[3 + i] += d.of[i][j];
+        }
+    }
+    out
+}
+
+/// `sum_jk v_j v_k d/dx_k M_{ij}` over the force columns of U and Omega rows, by a
+/// central difference along `v`.
+fn fd_along(f: impl Fn([f64; 3]) -> Grand, x: [f64; 3], v: [f64; 3], h: f64) -> [f64; 6] {
+    let at = |s: f64| f(std::array::from_fn(|k| x[k] + s * h * v[k])).matrix();
+    let d = (at(1.0) - at(-1.0)) / (2.0 * h);
+    let d = Grand::from_matrix(&d);
+    let mut out = [0.0; 6];
+    for j in 0..3 {
+        for i in 0..3 {
+            out[i] += d.uf[i][j] * v[j];
+            out[3 + i] += d.of[i][j] * v[j];
         }
     }
     out
@@ -73,6 +93,48 @@ fn divergence_kernels_equal_finite_differences_for_every_confinement() {
                 "{name} self: {:?} vs {fs:?}",
                 s.a
             );
+        }
+    }
+}
+
+/// The derivatives along a direction: along every boundary's normal (what the drift
+/// of a sphere held on that boundary takes) and along a direction of no symmetry, for
+/// every confinement, against central differences of the generated mobility kernels;
+/// tolerance as for the divergence above (same step, same scale).
+#[test]
+fn along_kernels_equal_finite_differences_for_every_confinement() {
+    let mut rng = ChaCha8Rng::seed_from_u64(10);
+    let eta = 0.8;
+    for (name, conf) in all_confinements() {
+        let mut directions: Vec<[f64; 3]> = conf.boundaries().iter().map(|b| b.normal).collect();
+        directions.push([0.48, -0.6, 0.64]);
+        for _ in 0..3 {
+            let ps = random_spheres(&mut rng, &conf, 2, (0.5, 1.2), 0.1, 5.0);
+            let (p, q) = (ps[0], ps[1]);
+            let h = 1e-4;
+            let scale = 1.0 / (6.0 * PI * eta * p.a.min(q.a) * p.a.min(q.a));
+            for &v in &directions {
+                let d = pair_along(&conf, eta, p.x, p.a, q.x, q.a, v);
+                let fa = fd_along(|xb| pair(&conf, eta, p.x, p.a, xb, q.a), q.x, v, h);
+                let fb = fd_along(|xa| pair(&conf, eta, q.x, q.a, xa, p.a), p.x, v, h);
+                assert!(
+                    close(&d.a, &fa, scale, 1e-7),
+                    "{name} pair a along {v:?}: {:?} vs {fa:?}",
+                    d.a
+                );
+                assert!(
+                    close(&d.b, &fb, scale, 1e-7),
+                    "{name} pair b along {v:?}: {:?} vs {fb:?}",
+                    d.b
+                );
+                let s = self_along(&conf, eta, p.x, p.a, v);
+                let fs = fd_along(|x| self_mobility(&conf, eta, x, p.a), p.x, v, h);
+                assert!(
+                    close(&s.a, &fs, scale, 1e-7),
+                    "{name} self along {v:?}: {:?} vs {fs:?}",
+                    s.a
+                );
+            }
         }
     }
 }
