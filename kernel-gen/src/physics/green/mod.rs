@@ -7,8 +7,10 @@
 //! generic over the scalar (this is what the generic six-variable path
 //! differentiates), and optionally its image structure ([`ImageTerm`]s, each of the
 //! form `c w (y3 - H)^p d^gamma J_ab(R)`, `R = x - y'`), which the structured path
-//! differentiates by the chain rules of Eq. 10. Register it in [`for_each`]; the
-//! generator refuses a declaration that fails [`check`] (non-unit normals and the like).
+//! differentiates by the chain rules of Eq. 10. Register it in [`for_each`] (a
+//! confinement) or [`for_each_building_block`] (a part of a sum, such as the real part of
+//! an Ewald split); the generator refuses a declaration that fails [`check`] (non-unit
+//! normals and the like).
 
 pub mod ewald;
 pub mod free;
@@ -395,6 +397,16 @@ pub fn for_each<V: Visitor>(v: &mut V) {
     v.visit(&interface::Interface);
     v.visit(&slit::Slit);
     v.visit(&side_wall::SideWall);
+}
+
+/// The building blocks: Green's functions that are parts of a sum the solver forms (the
+/// real part of an Ewald split, summed over periodic images), not confinements of their
+/// own. Only the kernels of their scenes (`scenes/`) are generated: no family file, no
+/// `Confinement` variant, so the solver, the command line and Python do not offer them.
+/// Their declarations are checked with the registry's ([`check_registry`]: one name
+/// space).
+pub fn for_each_building_block<V: Visitor>(v: &mut V) {
+    v.visit(&ewald::EwaldReal);
 }
 
 /// The full Green's function `J(x - y) + J^w(x, y)`, units of `1/(8 pi eta)`
