@@ -24,7 +24,8 @@ pub fn root() -> PathBuf {
         .to_path_buf()
 }
 
-/// Names of the registered Green's functions.
+/// Names of the registered Green's functions: the confinements, then the building blocks
+/// (which scenes may name too).
 pub fn registered() -> Vec<&'static str> {
     struct Names(Vec<&'static str>);
     impl kernel_gen::physics::green::Visitor for Names {
@@ -34,6 +35,7 @@ pub fn registered() -> Vec<&'static str> {
     }
     let mut n = Names(Vec::new());
     kernel_gen::physics::green::for_each(&mut n);
+    kernel_gen::physics::green::for_each_building_block(&mut n);
     n.0
 }
 

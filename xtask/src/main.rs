@@ -63,6 +63,7 @@ fn gen_scene(file: &Path, out: Option<&Path>) -> Result<()> {
         file: None,
     };
     kernel_gen::physics::green::for_each(&mut one);
+    kernel_gen::physics::green::for_each_building_block(&mut one);
     let f = one
         .file
         .expect("the scene's confinement is registered (checked on parse)");

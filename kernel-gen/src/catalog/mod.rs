@@ -1,6 +1,7 @@
 //! The catalogue of generated kernels. For every registered Green's function: the self
 //! and pair kernels of all nine blocks (a family file). For every scene (`scenes/`):
-//! only the blocks its truncation needs, and, if asked, the fused pair products. In
+//! only the blocks its truncation needs, and, if asked, the fused pair products; a
+//! building block ([`green::for_each_building_block`]) has its scenes' kernels only. In
 //! `mod.rs`: the `Confinement` enum and the entry points that dispatch on it, using a
 //! scene's kernels where one exists and the family's otherwise. In `single.rs`
 //! ([`SINGLE`]): the FTS self and pair kernels of every family in single precision, behind
@@ -79,6 +80,11 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
         scenes,
     };
     green::for_each(&mut c);
+    let mut blocks = BuildingBlocks {
+        scenes,
+        files: Vec::new(),
+    };
+    green::for_each_building_block(&mut blocks);
     let mut mods: Vec<TokenStream> = Vec::new();
     for f in &c.families {
         let n = ident(f.name);
@@ -92,6 +98,14 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
             );
             mods.push(quote!(#[doc = #d] pub mod #m;));
         }
+    }
+    for (green, sf) in &blocks.files {
+        let m = ident(sf.name.trim_end_matches(".rs"));
+        let d = format!(
+            " Kernels of the scene `{}` (`scenes/`) of the building block `{green}` (not a confinement: kernel_gen::physics::green::for_each_building_block).",
+            sf.name.trim_start_matches("scene_").trim_end_matches(".rs")
+        );
+        mods.push(quote!(#[doc = #d] pub mod #m;));
     }
     mods.push(quote!(
         #[doc = " The RPY overlap corrections (kernel_gen::physics::overlap)."]
@@ -115,6 +129,7 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
         files.extend(f.scene_files);
         single.push(f.single);
     }
+    files.extend(blocks.files.into_iter().map(|(_, f)| f));
     files.push(single_file(single));
     files.push(overlap::overlap_file());
     Ok(files)
@@ -201,6 +216,22 @@ impl Visitor for Collect<'_> {
             serving,
             scene_files: mine.iter().map(|s| scene_file(g, s, false)).collect(),
         });
+    }
+}
+
+/// The scene files of the building blocks ([`green::for_each_building_block`]): their
+/// only kernels.
+struct BuildingBlocks<'a> {
+    scenes: &'a [Scene],
+    /// `(Green's function, scene file)`.
+    files: Vec<(&'static str, GeneratedFile)>,
+}
+
+impl Visitor for BuildingBlocks<'_> {
+    fn visit<G: Green>(&mut self, g: &G) {
+        for s in self.scenes.iter().filter(|s| s.confinement == g.name()) {
+            self.files.push((g.name(), scene_file(g, s, false)));
+        }
     }
 }
 

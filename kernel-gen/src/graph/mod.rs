@@ -22,8 +22,11 @@
 //! - `interpret`: the nodes a set of outputs needs (dead-code elimination,
 //!   [`Graph::live`]), their operation counts ([`Graph::op_count`]) and the
 //!   interpreter ([`Graph::eval`], in any scalar: `f64`, double-double);
-//! - `trace`: [`Trace`] and [`Ex`], the graph of the current thread.
+//! - `trace`: [`Trace`] and [`Ex`], the graph of the current thread;
+//! - `elementary`: `exp` and `erfc` of [`Ex`] lowered into arithmetic and choices, so
+//!   that the lanes need no elementary functions of their own.
 
+mod elementary;
 mod folding;
 mod interpret;
 mod lane_form;

@@ -124,6 +124,14 @@ impl Scalar for Ex {
     fn powi(&self, n: i32) -> Self {
         Ex(with_graph(|g| g.powi(self.0, n)))
     }
+    /// Lowered into arithmetic for a non-positive argument ([`super::elementary`]).
+    fn exp(&self) -> Self {
+        super::elementary::exp(*self)
+    }
+    /// Lowered into arithmetic ([`super::elementary`]).
+    fn erfc(&self) -> Self {
+        super::elementary::erfc(*self)
+    }
     fn to_f64(&self) -> f64 {
         self.as_const().unwrap_or(f64::NAN)
     }

@@ -300,6 +300,18 @@ impl Scalar for Poly {
             .expect("the square root of a constant polynomial only");
         Poly::constant(c.sqrt())
     }
+    fn exp(&self) -> Self {
+        let c = self
+            .as_constant()
+            .expect("the exponential of a constant polynomial only");
+        Poly::constant(c.exp())
+    }
+    fn erfc(&self) -> Self {
+        let c = self
+            .as_constant()
+            .expect("the error function of a constant polynomial only");
+        Poly::constant(c.erfc())
+    }
     fn powi(&self, n: i32) -> Self {
         assert!(n >= 0, "non-negative powers of a polynomial only");
         let mut acc = Poly::cst(1.0);

@@ -39,6 +39,11 @@ pub trait Scalar:
     fn sqrt(&self) -> Self;
     /// Integer power.
     fn powi(&self, n: i32) -> Self;
+    /// `e^self`. Traced ([`crate::graph::Ex`]), for a non-positive argument only: the
+    /// lowering into arithmetic serves Gaussians `e^{-t}`, `t >= 0`.
+    fn exp(&self) -> Self;
+    /// The complementary error function `erfc(self) = (2/sqrt(pi)) int_self^inf e^{-t^2} dt`.
+    fn erfc(&self) -> Self;
     /// `1 / self`.
     fn recip(&self) -> Self {
         Self::cst(1.0) / self.clone()
@@ -62,6 +67,13 @@ impl Scalar for f64 {
     }
     fn powi(&self, n: i32) -> Self {
         f64::powi(*self, n)
+    }
+    fn exp(&self) -> Self {
+        f64::exp(*self)
+    }
+    /// `erfc` is not in `std`: the double-double value, rounded (spot values only).
+    fn erfc(&self) -> Self {
+        crate::number::dd::Dd::new(*self).erfc().to_f64()
     }
     fn recip(&self) -> Self {
         1.0 / *self

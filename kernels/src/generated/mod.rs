@@ -42,6 +42,10 @@ pub mod side_wall;
 pub mod scene_side_wall_f;
 /// Kernels of the scene `side_wall_ft` (`scenes/`).
 pub mod scene_side_wall_ft;
+/// Kernels of the scene `ewald_real_f` (`scenes/`) of the building block `ewald_real` (not a confinement: kernel_gen::physics::green::for_each_building_block).
+pub mod scene_ewald_real_f;
+/// Kernels of the scene `ewald_real_ft` (`scenes/`) of the building block `ewald_real` (not a confinement: kernel_gen::physics::green::for_each_building_block).
+pub mod scene_ewald_real_ft;
 /// The RPY overlap corrections (kernel_gen::physics::overlap).
 pub mod overlap;
 use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};

@@ -161,7 +161,8 @@ pub fn check<G: Green>(g: &G) -> Result<(), DeclarationError> {
     Ok(())
 }
 
-/// Check every registered declaration ([`check`]) and that their names are distinct.
+/// Check every registered declaration, confinements and building blocks ([`check`]), and
+/// that their names are distinct.
 pub fn check_registry() -> Result<(), DeclarationError> {
     struct All(Vec<&'static str>, Result<(), DeclarationError>);
     impl Visitor for All {
@@ -181,5 +182,6 @@ pub fn check_registry() -> Result<(), DeclarationError> {
     }
     let mut all = All(Vec::new(), Ok(()));
     super::for_each(&mut all);
+    super::for_each_building_block(&mut all);
     all.1
 }

@@ -7,9 +7,12 @@
 //! generic over the scalar (this is what the generic six-variable path
 //! differentiates), and optionally its image structure ([`ImageTerm`]s, each of the
 //! form `c w (y3 - H)^p d^gamma J_ab(R)`, `R = x - y'`), which the structured path
-//! differentiates by the chain rules of Eq. 10. Register it in [`for_each`]; the
-//! generator refuses a declaration that fails [`check`] (non-unit normals and the like).
+//! differentiates by the chain rules of Eq. 10. Register it in [`for_each`] (a
+//! confinement) or [`for_each_building_block`] (a part of a sum, such as the real part of
+//! an Ewald split); the generator refuses a declaration that fails [`check`] (non-unit
+//! normals and the like).
 
+pub mod ewald;
 pub mod free;
 pub mod free_surface;
 pub mod interface;
@@ -312,6 +315,21 @@ pub trait Green {
     fn params(&self) -> &'static [Param];
     /// The reflected field `J^w(x, y)` in units of `1/(8 pi eta)`, as ordinary Rust.
     fn reflected<S: Scalar>(&self, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S>;
+    /// The full Green's function `G = J + J^w` (pair interactions). Its own closed form
+    /// where the sum would cancel: a screened Green's function, whose `J^w` tends to `-J`
+    /// at large distance ([`ewald`]).
+    fn full<S: Scalar>(&self, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S> {
+        let r: [S; 3] = std::array::from_fn(|k| x[k].clone() - y[k].clone());
+        let j = stokeslet(&r);
+        let w = self.reflected(x, y, p);
+        std::array::from_fn(|i| std::array::from_fn(|l| j[i][l].clone() + w[i][l].clone()))
+    }
+    /// Whether `G` depends on `x - y` only (no boundary): the generic path then expands
+    /// it in the three components of `r = x - y`, with `d_y = -d_x`
+    /// ([`crate::physics::derivatives::GenericJets`]).
+    fn translation_invariant(&self) -> bool {
+        false
+    }
     /// The image structure of [`Green::reflected`] for the Eq. 10 path, if it has one.
     fn image_terms(&self) -> Option<Vec<ImageTerm>> {
         None
@@ -381,10 +399,18 @@ pub fn for_each<V: Visitor>(v: &mut V) {
     v.visit(&side_wall::SideWall);
 }
 
-/// The full Green's function `J(x - y) + J^w(x, y)`, units of `1/(8 pi eta)`.
+/// The building blocks: Green's functions that are parts of a sum the solver forms (the
+/// real part of an Ewald split, summed over periodic images), not confinements of their
+/// own. Only the kernels of their scenes (`scenes/`) are generated: no family file, no
+/// `Confinement` variant, so the solver, the command line and Python do not offer them.
+/// Their declarations are checked with the registry's ([`check_registry`]: one name
+/// space).
+pub fn for_each_building_block<V: Visitor>(v: &mut V) {
+    v.visit(&ewald::EwaldReal);
+}
+
+/// The full Green's function `J(x - y) + J^w(x, y)`, units of `1/(8 pi eta)`
+/// ([`Green::full`]).
 pub fn full<G: Green, S: Scalar>(g: &G, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S> {
-    let r: [S; 3] = std::array::from_fn(|k| x[k].clone() - y[k].clone());
-    let j = stokeslet(&r);
-    let w = g.reflected(x, y, p);
-    std::array::from_fn(|i| std::array::from_fn(|l| j[i][l].clone() + w[i][l].clone()))
+    g.full(x, y, p)
 }
