@@ -152,6 +152,9 @@ pub enum CliError {
     /// What the RPY overlap forms do not cover (`--overlap rpy` at FTS).
     #[error("{0}; nothing written")]
     Overlap(#[from] stokesian::OverlapError),
+    /// What a periodic box cannot be or do (`--box`).
+    #[error("--box: {0}; nothing written")]
+    Periodic(#[from] stokesian::PeriodicError),
     /// Brownian dynamics failed for another reason.
     #[error("{0}; nothing written")]
     Brownian(stokesian::BrownianError),

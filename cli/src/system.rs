@@ -6,7 +6,7 @@
 //! `--param NAME=VALUE`, with the aliases [`ALIASES`].
 
 use crate::error::CliError;
-use crate::options::{num, positive};
+use crate::options::{num, parse_components, positive};
 use crate::table::{self, Columns, Table};
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, ValueEnum};
@@ -72,6 +72,13 @@ pub struct SystemArgs {
     /// The same as --overlap far.
     #[arg(long, conflicts_with = "overlap")]
     pub allow_overlap: bool,
+    /// A triply periodic box of unbounded fluid (--confinement free), LX,LY,LZ: every
+    /// periodic image summed by Ewald summation (F and FT; docs/periodic.md).
+    #[arg(long = "box", value_name = "LX,LY,LZ", allow_hyphen_values = true)]
+    pub periodic_box: Option<String>,
+    /// Relative truncation error of the periodic sums (with --box).
+    #[arg(long, value_name = "TOL", requires = "periodic_box", default_value_t = stokesian::PeriodicBox::TOLERANCE)]
+    pub periodic_tolerance: f64,
 }
 
 /// `--overlap`.
@@ -367,6 +374,26 @@ impl SystemArgs {
         };
         let system = System::new(conf, self.viscosity, particles, overlap)
             .map_err(|e| input_error(e, &table, &self.given()))?;
+        let system = match &self.periodic_box {
+            Some(text) => {
+                let lengths =
+                    <[f64; 3]>::try_from(parse_components("--box", text)?).map_err(|v| {
+                        CliError::BadOption {
+                            option: "--box",
+                            value: text.clone(),
+                            reason: format!(
+                                "needs 3 lengths lx,ly,lz (a triply periodic box), found {}",
+                                v.len()
+                            ),
+                        }
+                    })?;
+                system.periodic(stokesian::PeriodicBox {
+                    lengths,
+                    tolerance: self.periodic_tolerance,
+                })?
+            }
+            None => system,
+        };
         Ok(Setup {
             system,
             table,

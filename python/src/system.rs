@@ -19,7 +19,7 @@ pub(crate) struct PySystem {
 #[pymethods]
 impl PySystem {
     #[new]
-    #[pyo3(signature = (positions, radii, *, confinement = "wall", params = None, viscosity = 1.0, boundary_height = None, lam = None, gap = None, allow_overlap = false, overlap = None))]
+    #[pyo3(signature = (positions, radii, *, confinement = "wall", params = None, viscosity = 1.0, boundary_height = None, lam = None, gap = None, allow_overlap = false, overlap = None, r#box = None, periodic_tolerance = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -33,6 +33,8 @@ impl PySystem {
         gap: Option<f64>,
         allow_overlap: bool,
         overlap: Option<&str>,
+        r#box: Option<Vec<f64>>,
+        periodic_tolerance: Option<f64>,
     ) -> PyResult<Self> {
         // in the order of ALIASES
         let conf = declared_confinement(confinement, params, [boundary_height, lam, gap])?;
@@ -56,6 +58,26 @@ impl PySystem {
         let system = py
             .detach(|| System::new(conf, viscosity, ps, overlap))
             .map_err(input_error)?;
+        let system = match (r#box, periodic_tolerance) {
+            (None, None) => system,
+            (None, Some(_)) => {
+                return Err(input_error(
+                    "periodic_tolerance is for a periodic box: give box too",
+                ))
+            }
+            (Some(b), tol) => {
+                let lengths: [f64; 3] = b.as_slice().try_into().map_err(|_| {
+                    input_error(format!(
+                        "box = {b:?}: expected three lengths (Lx, Ly, Lz): a triply periodic box"
+                    ))
+                })?;
+                let bx = PeriodicBox {
+                    lengths,
+                    tolerance: tol.unwrap_or(PeriodicBox::TOLERANCE),
+                };
+                py.detach(|| system.periodic(bx)).map_err(input_error)?
+            }
+        };
         Ok(PySystem { system })
     }
 
@@ -106,6 +128,7 @@ impl PySystem {
         let m = self::moments(moments)?;
         let s = &self.system;
         s.check_overlap(m).map_err(input_error)?;
+        s.check_periodic(m).map_err(input_error)?;
         // assembled straight into NumPy's array (column-major: Fortran order), whose
         // allocator asks for transparent huge pages for large arrays, as
         // `stokesian::linalg::LargeMatrix` does for the command line
@@ -132,6 +155,7 @@ impl PySystem {
         let m = self::moments(moments)?;
         let p = self::precision(precision)?;
         self.system.check_overlap(m).map_err(input_error)?;
+        self.system.check_periodic(m).map_err(input_error)?;
         let expected = m.per_particle() * self.system.len();
         let x = x.values();
         if x.len() != expected {

@@ -67,7 +67,8 @@ class System:
     """Spheres in Stokes flow in one confinement, validated once on construction.
 
     ``System(positions, radii, *, confinement="wall", params=None, viscosity=1.0,
-    boundary_height=None, lam=None, gap=None, allow_overlap=False, overlap=None)``
+    boundary_height=None, lam=None, gap=None, allow_overlap=False, overlap=None,
+    box=None, periodic_tolerance=None)``
 
     positions: centres, shape (N, 3) or (3N,), length units.
     radii: one radius for all spheres, or one per sphere (shape (N,)).
@@ -88,6 +89,11 @@ class System:
         overlap forms, spheres cutting a boundary damped: symmetric positive definite; F
         and FT only, FTS and lubrication raise) or ``"far"`` (the far forms anyway).
     allow_overlap: ``True`` is ``overlap="far"`` (give one of the two).
+    box: ``(Lx, Ly, Lz)``: a triply periodic box of unbounded fluid (``confinement=
+        "free"``), the mobility summed over every periodic image by Ewald summation
+        (F and FT; FTS, lubrication and Brownian dynamics raise; the drift is zero). A
+        sphere overlapping its own image or another's raises.
+    periodic_tolerance: relative truncation error of the periodic sums (default 1e-10).
     """
 
     def __init__(
@@ -103,6 +109,8 @@ class System:
         gap: Optional[float] = None,
         allow_overlap: bool = False,
         overlap: Optional[Literal["refuse", "far", "rpy"]] = None,
+        box: Optional[Sequence[float]] = None,
+        periodic_tolerance: Optional[float] = None,
     ) -> None: ...
     def __len__(self) -> int: ...
     @property

@@ -369,3 +369,30 @@ def test_overlap_options():
         stokesian.System(x, 1.0, allow_overlap=True, overlap="rpy")
     with pytest.raises(ValueError, match="expected"):
         stokesian.System(x, 1.0, overlap="soft")
+
+
+def test_a_triply_periodic_box():
+    # one sphere in a cubic box: Hasimoto's self mobility 1 - 2.8372974794806 a/L
+    # + (4 pi/3)(a/L)^3 (times 1/(6 pi eta a)), to the sums' 1e-10 and the printed
+    # coefficient's 1e-13
+    L = 10.0
+    s = stokesian.System(np.array([[1.0, 2.0, 3.0]]), 1.0, confinement="free", box=(L, L, L))
+    x = 1.0 / L
+    want = 1.0 - 2.8372974794806 * x + 4.0 * np.pi / 3.0 * x**3
+    m = s.mobility("F")
+    assert abs(m[0, 0] * 6.0 * np.pi - want) < 1e-9
+    assert np.all(s.divergence("FT") == 0.0)
+    two = stokesian.System(np.array([[0.0, 0.0, 0.0], [3.0, 1.0, 2.0]]), [1.0, 0.7],
+                           confinement="free", box=(8.0, 9.0, 10.0), periodic_tolerance=1e-12)
+    m = two.mobility("FT")
+    assert np.array_equal(m, m.T) and np.linalg.eigvalsh(m).min() > 0.0
+    with pytest.raises(ValueError, match="three lengths"):
+        stokesian.System(np.array([[1.0, 2.0, 3.0]]), 1.0, confinement="free", box=(L, L))
+    with pytest.raises(ValueError, match="free surface"):
+        stokesian.System(np.array([[1.0, 2.0, 3.0]]), 1.0, confinement="free_surface",
+                         box=(L, L, L))
+    with pytest.raises(ValueError, match="own periodic image"):
+        stokesian.System(np.array([[1.0, 2.0, 3.0]]), 1.0, confinement="free",
+                         box=(1.5, L, L))
+    with pytest.raises(ValueError, match="not available in a periodic box"):
+        s.mobility("FTS")

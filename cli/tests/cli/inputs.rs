@@ -864,3 +864,68 @@ fn corpus_of_nasty_command_lines() {
         fs::remove_file(&out).expect("remove output");
     }
 }
+
+/// `--box LX,LY,LZ`: the library's periodic mobility, written whole; bad boxes and what
+/// a box does not provide are errors that write nothing.
+#[test]
+fn a_periodic_box() {
+    let dir = Dir::new("box");
+    let text = "x,y,z,radius\n0,0,0,1\n3,1,2,0.7\n";
+    let p = dir.file("particles.csv", text);
+    let out = dir.path("M.npy");
+    let o = run_mobility("free", "FT", &p, &out, &["--box", "10,11,12"]);
+    assert_ok(&o);
+    let m = read_npy(&out);
+    let ps = vec![
+        Particle {
+            x: [0.0, 0.0, 0.0],
+            a: 1.0,
+        },
+        Particle {
+            x: [3.0, 1.0, 2.0],
+            a: 0.7,
+        },
+    ];
+    let want = System::new(Confinement::Free, 1.0, ps, false)
+        .unwrap()
+        .periodic(stokesian::PeriodicBox::new([10.0, 11.0, 12.0]))
+        .unwrap()
+        .mobility(Moments::FT);
+    assert_eq!(m.shape(), (12, 12));
+    assert_eq!(m, want);
+    fs::remove_file(&out).unwrap();
+    for (conf, moments, b, message) in [
+        (
+            "free",
+            "F",
+            "10,11",
+            "--box 10,11: needs 3 lengths lx,ly,lz (a triply periodic box), found 2",
+        ),
+        (
+            "free",
+            "FTS",
+            "10,11,12",
+            "--box: the stresslets (FTS): not available in a periodic box",
+        ),
+        (
+            "free",
+            "F",
+            "10,1.5,12",
+            "--box: particle 0: sphere of radius 1 overlaps its own periodic image",
+        ),
+        (
+            "free-surface",
+            "F",
+            "10,11,12",
+            "--box: a periodic box is not available near a free surface or an interface",
+        ),
+    ] {
+        // the plane of the free surface below the spheres
+        let mut extra = vec!["--box", b];
+        if conf != "free" {
+            extra.extend(["--boundary-height", "-5"]);
+        }
+        let o = run_mobility(conf, moments, &p, &out, &extra);
+        assert_fails(&o, &[message], &dir, &["particles.csv"]);
+    }
+}

@@ -230,6 +230,10 @@ impl System {
         w: &[f64],
         step: usize,
     ) -> Result<(Vec<f64>, Option<usize>), BrownianError> {
+        if self.periodic_ref().is_some() {
+            let what = "Brownian dynamics (not implemented with periodic images yet)";
+            return Err(crate::periodic::PeriodicError::NotAvailable(what).into());
+        }
         match bd.moments {
             Moments::F | Moments::FT => {}
             Moments::FTS => return Err(BrownianError::Unsupported("FTS Brownian dynamics")),
@@ -525,6 +529,10 @@ impl System {
     /// orientation).
     pub fn divergence_at(&self, moments: Moments) -> Vec<f64> {
         let n = self.len();
+        if self.periodic_ref().is_some() {
+            // every part of the Ewald split is divergence-free (crate::periodic)
+            return vec![0.0; moments.per_particle() * n];
+        }
         let d = self.divergence_ft();
         match moments {
             Moments::FT => d,

@@ -37,6 +37,9 @@ impl System {
     pub fn block(&self, moments: Moments, a: usize, b: usize) -> DMatrix<f64> {
         self.assert_overlap(moments);
         let k = moments.per_particle();
+        if let Some(p) = self.periodic_ref() {
+            return DMatrix::from_row_slice(k, k, &self.periodic_block(p, moments, a, b));
+        }
         let mut out = vec![0.0; k * k];
         if a == b {
             self.self_block_into(moments, a, &mut out);
@@ -141,6 +144,9 @@ impl System {
             "a {0} x {0} matrix for {n} particles",
             k * n
         );
+        if let Some(p) = self.periodic_ref() {
+            return self.periodic_mobility_into(p, moments, out);
+        }
         let parts = moments.parts();
         let groups = n.div_ceil(DENSE_GROUP);
         let members = |g: usize| g * DENSE_GROUP..((g + 1) * DENSE_GROUP).min(n);

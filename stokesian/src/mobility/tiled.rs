@@ -671,6 +671,9 @@ impl System {
             k * n
         );
         self.assert_overlap(moments);
+        if let Some(p) = self.periodic_ref() {
+            return self.periodic_apply(p, moments, x);
+        }
         let rpy = self.rpy();
         let damping = rpy.and_then(|r| r.damping.as_ref());
         let b = |a: usize| damping.map_or(1.0, |d| d.b[a]);

@@ -67,6 +67,9 @@ pub enum VelocityError {
     /// Overlapping spheres ([`crate::Overlap::Rpy`]) at FTS, where no overlap form exists.
     #[error("{0}")]
     Overlap(#[from] crate::system::overlap::OverlapError),
+    /// What a periodic box does not provide ([`crate::periodic`]).
+    #[error("{0}")]
+    Periodic(#[from] crate::periodic::PeriodicError),
     /// The mobility or the result has entries that are not finite.
     #[error("the {0} has entries that are not finite numbers (spheres accepted although they overlap, or lengths and viscosity near the limits of double precision)")]
     NotFinite(&'static str),
@@ -186,6 +189,7 @@ impl System {
             return Err(VelocityError::StrainWithoutStresslets(moments));
         }
         self.check_overlap(moments)?;
+        self.check_periodic(moments)?;
         let mut out = Velocities {
             u: Vec::new(),
             condition: None,

@@ -192,6 +192,9 @@ pub enum ResistanceError {
     /// no overlap form.
     #[error("{0}")]
     Overlap(#[from] crate::system::overlap::OverlapError),
+    /// Lubrication in a periodic box ([`crate::periodic`]).
+    #[error("{0}")]
+    Periodic(#[from] crate::periodic::PeriodicError),
 }
 
 /// The self mobility (per-particle layout `[U, Omega, E]`, truncated to `k` = 6 or 11
@@ -448,6 +451,9 @@ impl System {
         lub.check()?;
         if let Some(rpy) = self.rpy() {
             rpy.refuse("lubrication")?;
+        }
+        if self.periodic_ref().is_some() {
+            return Err(crate::periodic::PeriodicError::NotAvailable("lubrication").into());
         }
         let parts = moments.parts();
         let n = self.len();

@@ -9,6 +9,7 @@
 //! | methods | module |
 //! |---|---|
 //! | `new`, `with_precision`, `precision`, `particles`, `confinement`, `viscosity`, `len`, `is_empty`, `overlap`, `check_overlap`, `check_drift` | here |
+//! | `periodic`, `periodic_box`, `check_periodic` (a triply periodic box) | [`crate::periodic`] |
 //! | `block`, `mobility`, `mobility_into` (the dense grand mobility) | [`crate::mobility::assembly`] |
 //! | `apply`, `apply_with` (the matrix-free product) | [`crate::mobility::tiled`] |
 //! | `velocities` (the mobility problem) | [`crate::mobility::velocity`] |
@@ -18,6 +19,7 @@
 pub mod input;
 pub mod overlap;
 
+use crate::periodic::Periodic;
 use input::{prepare, InputError, Particle};
 use kernels::Confinement;
 use overlap::{Overlap, OverlapError, Rpy};
@@ -84,6 +86,8 @@ pub struct System {
     overlap: Overlap,
     /// With [`Overlap::Rpy`], where something overlaps: the pairs and the damping.
     rpy: Option<Rpy>,
+    /// The periodic box, if any ([`System::periodic`]).
+    periodic: Option<Periodic>,
 }
 
 impl System {
@@ -106,6 +110,7 @@ impl System {
             precision: Precision::Double,
             overlap,
             rpy,
+            periodic: None,
         })
     }
 
@@ -141,6 +146,15 @@ impl System {
         }
     }
 
+    /// The periodic box and its split, if any.
+    pub(crate) fn periodic_ref(&self) -> Option<&Periodic> {
+        self.periodic.as_ref()
+    }
+
+    pub(crate) fn set_periodic(&mut self, p: Option<Periodic>) {
+        self.periodic = p;
+    }
+
     /// With [`Overlap::Rpy`], where something overlaps: the pairs and the damping.
     pub(crate) fn rpy(&self) -> Option<&Rpy> {
         self.rpy.as_ref()
@@ -155,10 +169,13 @@ impl System {
         }
     }
 
-    /// Panics where [`System::check_overlap`] fails.
+    /// Panics where [`System::check_overlap`] or [`System::check_periodic`] fails.
     pub(crate) fn assert_overlap(&self, moments: Moments) {
         if let Err(e) = self.check_overlap(moments) {
             panic!("{e} (System::check_overlap)");
+        }
+        if let Err(e) = self.check_periodic(moments) {
+            panic!("{e} (System::check_periodic)");
         }
     }
 

@@ -17,6 +17,7 @@ mod linalg;
 mod lubrication;
 mod overlap;
 mod paper;
+mod periodic;
 mod physics;
 mod references;
 mod two_sphere;

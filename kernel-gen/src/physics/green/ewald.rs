@@ -156,7 +156,7 @@ mod tests {
             blocks: blocks.to_vec(),
             path: Path::Structured,
             product: false,
-            divergence: false,
+            drift: None,
         }
     }
 

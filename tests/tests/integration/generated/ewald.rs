@@ -54,7 +54,7 @@ fn spec(moments: Moments, interaction: Interaction, equal: bool, product: bool) 
         blocks: moments.blocks(),
         path: Path::Structured,
         product,
-        divergence: false,
+        drift: None,
     }
 }
 

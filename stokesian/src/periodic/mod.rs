@@ -1,0 +1,256 @@
+//! Periodic boxes: spheres in a triply periodic box of unbounded fluid, the mobility
+//! summed over every periodic image by Ewald summation ([`ewald`]). A [`System`] is
+//! made periodic by [`System::periodic`], which validates the box against the spheres;
+//! the dense mobility, its blocks, the product and the velocities (F and FT) then are
+//! the periodic ones, and the Brownian drift is zero (each part of the split is
+//! divergence-free, as the free-space kernels are).
+//!
+//! Not available in a periodic box (typed errors, or panics of the infallible dense
+//! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS),
+//! lubrication, Brownian dynamics, the overlap forms (overlapping spheres are refused,
+//! by their nearest images), and every confinement but free space: near a free surface
+//! or an interface the lattice sum diverges (their far field parallel to the plane
+//! decays like `1/rho`, and nothing balances a net lateral force); near a wall and in a
+//! slit the doubly periodic sum is not implemented.
+//!
+//! Positions are used as given (not wrapped): every sum is over the lattice, so moving a
+//! sphere by a box length changes nothing but rounding.
+
+pub mod ewald;
+
+use crate::system::input::Particle;
+use crate::system::Moments;
+use crate::System;
+use ewald::Ewald;
+use kernels::{BlocksFT, Confinement};
+use thiserror::Error;
+
+/// A periodic box: its lengths and the tolerance of its lattice sums.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PeriodicBox {
+    /// `[Lx, Ly, Lz]`.
+    pub lengths: [f64; 3],
+    /// Relative truncation error of the lattice sums, of each block's largest pair
+    /// entry.
+    pub tolerance: f64,
+}
+
+impl PeriodicBox {
+    /// The default tolerance of the lattice sums.
+    pub const TOLERANCE: f64 = 1e-10;
+
+    /// A box of `lengths` at the default tolerance.
+    pub fn new(lengths: [f64; 3]) -> PeriodicBox {
+        PeriodicBox {
+            lengths,
+            tolerance: PeriodicBox::TOLERANCE,
+        }
+    }
+}
+
+/// What a periodic box cannot be, or cannot do.
+#[derive(Debug, Error, PartialEq)]
+pub enum PeriodicError {
+    /// A box length is not a positive finite number.
+    #[error("box length {axis} = {value} must be a positive finite number")]
+    BadLength {
+        /// `x`, `y` or `z`.
+        axis: char,
+        /// The value.
+        value: f64,
+    },
+    /// The tolerance is not in `[1e-15, 1e-2]`.
+    #[error("periodic tolerance {0} must be between 1e-15 and 1e-2")]
+    BadTolerance(f64),
+    /// The confinement has no periodic sum here.
+    #[error("a periodic box is not available {where_}: {why}")]
+    Confinement {
+        /// Where (near what).
+        where_: &'static str,
+        /// Why.
+        why: &'static str,
+    },
+    /// A sphere overlaps its own periodic image.
+    #[error("particle {index}: sphere of radius {a} overlaps its own periodic image: box length {axis} = {length} is not more than its diameter")]
+    OwnImage {
+        /// Particle index.
+        index: usize,
+        /// Radius.
+        a: f64,
+        /// The axis.
+        axis: char,
+        /// The box length along it.
+        length: f64,
+    },
+    /// Two spheres overlap, by their nearest images.
+    #[error("particles {first} and {second} overlap in the periodic box: nearest-image distance {distance} < sum of radii {sum}")]
+    Overlap {
+        /// First particle.
+        first: usize,
+        /// Second particle.
+        second: usize,
+        /// Nearest-image centre distance.
+        distance: f64,
+        /// Sum of radii.
+        sum: f64,
+    },
+    /// What a periodic box does not provide.
+    #[error("{0}: not available in a periodic box")]
+    NotAvailable(&'static str),
+}
+
+/// A validated box and its Ewald split.
+#[derive(Clone, Debug)]
+pub(crate) struct Periodic {
+    pub(crate) bx: PeriodicBox,
+    pub(crate) ewald: Ewald,
+}
+
+impl Periodic {
+    /// The FT blocks `M^{ab}` of particles `p` (field) and `q` (source), every image
+    /// summed; `p == q` for the self mobility.
+    pub(crate) fn blocks(&self, eta: f64, ps: &[Particle], p: usize, q: usize) -> BlocksFT {
+        self.ewald.blocks(eta, &ps[p], &ps[q], p == q)
+    }
+}
+
+impl System {
+    /// This system in a periodic box: triply periodic unbounded fluid (the confinement
+    /// must be free space), spheres clear of each other's and their own images. See
+    /// [`crate::periodic`] for what is available there.
+    pub fn periodic(mut self, bx: PeriodicBox) -> Result<System, PeriodicError> {
+        for (d, &value) in bx.lengths.iter().enumerate() {
+            if !(value > 0.0 && value.is_finite()) {
+                let axis = ['x', 'y', 'z'][d];
+                return Err(PeriodicError::BadLength { axis, value });
+            }
+        }
+        if !(1e-15..=1e-2).contains(&bx.tolerance) {
+            return Err(PeriodicError::BadTolerance(bx.tolerance));
+        }
+        match self.confinement() {
+            Confinement::Free => {}
+            Confinement::FreeSurface { .. } | Confinement::Interface { .. } => {
+                return Err(PeriodicError::Confinement {
+                    where_: "near a free surface or an interface",
+                    why: "the far field parallel to the plane decays like 1/rho, nothing balances a net lateral force, and the lattice sum diverges",
+                })
+            }
+            _ => {
+                return Err(PeriodicError::Confinement {
+                    where_: "in this confinement",
+                    why: "only a triply periodic box of unbounded fluid (confinement free) is implemented; a doubly periodic box near a wall or in a slit is not yet",
+                })
+            }
+        }
+        let ps = self.particles();
+        for (index, p) in ps.iter().enumerate() {
+            for (d, &length) in bx.lengths.iter().enumerate() {
+                if length <= 2.0 * p.a {
+                    let axis = ['x', 'y', 'z'][d];
+                    return Err(PeriodicError::OwnImage {
+                        index,
+                        a: p.a,
+                        axis,
+                        length,
+                    });
+                }
+            }
+        }
+        let ewald = Ewald::new(bx.lengths, bx.tolerance, None);
+        for i in 0..ps.len() {
+            for j in i + 1..ps.len() {
+                let r = ewald.minimum_image(ps[i].x, ps[j].x);
+                let distance = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+                let sum = ps[i].a + ps[j].a;
+                if distance < sum {
+                    return Err(PeriodicError::Overlap {
+                        first: i,
+                        second: j,
+                        distance,
+                        sum,
+                    });
+                }
+            }
+        }
+        self.set_periodic(Some(Periodic { bx, ewald }));
+        Ok(self)
+    }
+
+    /// The periodic box, if any.
+    pub fn periodic_box(&self) -> Option<PeriodicBox> {
+        self.periodic_ref().map(|p| p.bx)
+    }
+
+    /// Whether `what` at `moments` is available: in a periodic box, not the stresslets.
+    pub fn check_periodic(&self, moments: Moments) -> Result<(), PeriodicError> {
+        match (self.periodic_ref(), moments) {
+            (Some(_), Moments::FTS) => Err(PeriodicError::NotAvailable("the stresslets (FTS)")),
+            _ => Ok(()),
+        }
+    }
+
+    /// The periodic dense mobility at F or FT, column-major into `out` (every entry
+    /// written): each unordered pair once, `M^{ba} = (M^{ab})^T`.
+    pub(crate) fn periodic_mobility_into(&self, p: &Periodic, moments: Moments, out: &mut [f64]) {
+        let n = self.len();
+        let k = moments.per_particle();
+        let dim = k * n;
+        let ps = self.particles();
+        let eta = self.viscosity();
+        let parts = moments.parts();
+        for a in 0..n {
+            for b in a..n {
+                let m = p.blocks(eta, ps, a, b).matrix();
+                for i in 0..k {
+                    for j in 0..k {
+                        let (gi, gj) = (
+                            crate::system::global(parts, n, a, i),
+                            crate::system::global(parts, n, b, j),
+                        );
+                        out[gi + dim * gj] = m[i][j];
+                        out[gj + dim * gi] = m[i][j];
+                    }
+                }
+            }
+        }
+    }
+
+    /// The periodic block `M^{ab}` truncated to F or FT, row-major.
+    pub(crate) fn periodic_block(
+        &self,
+        p: &Periodic,
+        moments: Moments,
+        a: usize,
+        b: usize,
+    ) -> Vec<f64> {
+        let k = moments.per_particle();
+        let m = p.blocks(self.viscosity(), self.particles(), a, b).matrix();
+        (0..k * k).map(|e| m[e / k][e % k]).collect()
+    }
+
+    /// The periodic product `M x` at F or FT, moment-major, pair by pair.
+    pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
+        let n = self.len();
+        let k = moments.per_particle();
+        let ps = self.particles();
+        let eta = self.viscosity();
+        let parts = moments.parts();
+        let g = |a: usize, i: usize| crate::system::global(parts, n, a, i);
+        let mut out = vec![0.0; k * n];
+        for a in 0..n {
+            for b in a..n {
+                let m = p.blocks(eta, ps, a, b).matrix();
+                for i in 0..k {
+                    for j in 0..k {
+                        out[g(a, i)] += m[i][j] * x[g(b, j)];
+                        if a != b {
+                            out[g(b, j)] += m[i][j] * x[g(a, i)];
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+}

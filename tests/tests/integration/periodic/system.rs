@@ -1,0 +1,241 @@
+//! A [`System`] in a periodic box: its dense mobility is symmetric positive definite and
+//! agrees with its blocks and its product; a sphere moved by a box length changes
+//! nothing; a large box tends to the open mobility; what a box cannot be or do is a
+//! typed error.
+
+use nalgebra::DMatrix;
+use rand::{Rng, SeedableRng};
+use stokesian::{
+    check_spd, Brownian, BrownianError, Confinement, Lubrication, Moments, Noise, Overlap,
+    Particle, PeriodicBox, PeriodicError, ResistanceError, Scheme, System, VelocityError,
+};
+
+const ETA: f64 = 0.9;
+
+fn p(x: [f64; 3], a: f64) -> Particle {
+    Particle { x, a }
+}
+
+/// `n` spheres of radii in `[0.5, 1]` placed at random in a box of `lengths`, none
+/// overlapping another by their nearest images.
+fn spheres(seed: u64, n: usize, lengths: [f64; 3]) -> Vec<Particle> {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut out: Vec<Particle> = Vec::new();
+    while out.len() < n {
+        let q = p(
+            std::array::from_fn(|d| rng.gen_range(0.0..lengths[d])),
+            rng.gen_range(0.5..1.0),
+        );
+        let clear = out.iter().all(|o| {
+            let d2: f64 = (0..3)
+                .map(|d| {
+                    let r = o.x[d] - q.x[d];
+                    (r - lengths[d] * (r / lengths[d]).round()).powi(2)
+                })
+                .sum();
+            d2.sqrt() > o.a + q.a + 0.05
+        });
+        if clear {
+            out.push(q);
+        }
+    }
+    out
+}
+
+fn periodic(ps: Vec<Particle>, lengths: [f64; 3]) -> System {
+    System::new(Confinement::Free, ETA, ps, Overlap::Refuse)
+        .unwrap()
+        .periodic(PeriodicBox::new(lengths))
+        .unwrap()
+}
+
+fn max_abs(m: &DMatrix<f64>) -> f64 {
+    m.iter().fold(0.0f64, |a, v| a.max(v.abs()))
+}
+
+/// Symmetric (to the rounding of the two orders of evaluation: each pair is evaluated
+/// once, so exactly), positive definite, the blocks and the product the matrix's
+/// (the same pair sums: to rounding, 1e-14 of the largest entry).
+#[test]
+fn dense_product_and_blocks_agree_and_are_positive_definite() {
+    let lengths = [8.0, 9.0, 10.0];
+    let s = periodic(spheres(1, 12, lengths), lengths);
+    for moments in [Moments::F, Moments::FT] {
+        let m = s.mobility(moments);
+        assert_eq!(m, m.transpose());
+        assert!(check_spd(&m).positive_definite, "{moments:?}");
+        let x: Vec<f64> = (0..m.nrows()).map(|i| (i as f64 * 0.37).sin()).collect();
+        let mx = &m * DMatrix::from_column_slice(x.len(), 1, &x);
+        let y = s.apply(moments, &x);
+        let scale = max_abs(&m);
+        for (a, b) in mx.iter().zip(&y) {
+            assert!((a - b).abs() < 1e-13 * scale * x.len() as f64);
+        }
+        let k = moments.per_particle();
+        let n = s.len();
+        let b = s.block(moments, 3, 7);
+        for i in 0..k {
+            for j in 0..k {
+                // the moment-major index of component i of particle a
+                let g = |a: usize, i: usize| {
+                    if i < 3 {
+                        3 * a + i
+                    } else {
+                        3 * n + 3 * a + i - 3
+                    }
+                };
+                assert_eq!(b[(i, j)], m[(g(3, i), g(7, j))]);
+            }
+        }
+    }
+}
+
+/// Moving a sphere by a box length is the same system: the same mobility to the
+/// rounding of the moved coordinates (dyadic lengths: the move is exact, the minimum
+/// image the same; 1e-13 of the largest entry for the images' other order).
+#[test]
+fn a_box_length_changes_nothing() {
+    let lengths = [8.0, 8.0, 16.0];
+    let ps = spheres(2, 6, lengths);
+    let mut moved = ps.clone();
+    moved[2].x[0] += 8.0;
+    moved[4].x[2] -= 32.0;
+    let (m, n) = (
+        periodic(ps, lengths).mobility(Moments::FT),
+        periodic(moved, lengths).mobility(Moments::FT),
+    );
+    assert!(max_abs(&(&m - &n)) < 1e-13 * max_abs(&m));
+}
+
+/// In a large box the periodic mobility tends to the open one: the self mobility's
+/// leading correction is Hasimoto's `-2.8373 a/L` (relative to the isolated sphere), the
+/// pairs' `O(1/L)` too; `L M_periodic - L M_open` converges as `L` doubles.
+#[test]
+fn a_large_box_tends_to_the_open_mobility() {
+    let ps = vec![p([0.0, 0.0, 0.0], 1.0), p([3.0, 1.0, -0.5], 0.8)];
+    let open = System::new(Confinement::Free, ETA, ps.clone(), false)
+        .unwrap()
+        .mobility(Moments::F);
+    let scaled: Vec<DMatrix<f64>> = [50.0, 100.0, 200.0]
+        .iter()
+        .map(|&l| (periodic(ps.clone(), [l; 3]).mobility(Moments::F) - &open) * l)
+        .collect();
+    let (d1, d2) = (
+        max_abs(&(&scaled[1] - &scaled[0])),
+        max_abs(&(&scaled[2] - &scaled[1])),
+    );
+    // the next term is O(1/L): halving L's inverse halves the change
+    assert!(d2 < 0.6 * d1, "{d1:e} {d2:e}");
+    // and the self entry is Hasimoto's, to its next term (4 pi/3)(a/L)^3 L (4e-5 here)
+    let want = -2.8372974794806 / (6.0 * std::f64::consts::PI * ETA);
+    assert!(
+        (scaled[2][(0, 0)] - want).abs() < 1e-4 * want.abs(),
+        "{} vs {want}",
+        scaled[2][(0, 0)]
+    );
+}
+
+/// Bad boxes and what a box does not provide are typed errors.
+#[test]
+fn bad_boxes_and_what_a_box_cannot_do_are_refused() {
+    let ps = vec![p([0.0, 0.0, 0.0], 1.0), p([3.0, 0.0, 0.0], 1.0)];
+    let free = || System::new(Confinement::Free, 1.0, ps.clone(), false).unwrap();
+    let e = free()
+        .periodic(PeriodicBox::new([10.0, -1.0, 10.0]))
+        .unwrap_err();
+    assert_eq!(
+        e,
+        PeriodicError::BadLength {
+            axis: 'y',
+            value: -1.0
+        }
+    );
+    let e = free()
+        .periodic(PeriodicBox::new([10.0, f64::NAN, 10.0]))
+        .unwrap_err();
+    assert!(
+        matches!(e, PeriodicError::BadLength { axis: 'y', .. }),
+        "{e}"
+    );
+    let e = free()
+        .periodic(PeriodicBox {
+            lengths: [10.0; 3],
+            tolerance: 0.5,
+        })
+        .unwrap_err();
+    assert_eq!(e, PeriodicError::BadTolerance(0.5));
+    // a sphere overlapping its own image, two overlapping across the box
+    let e = free()
+        .periodic(PeriodicBox::new([10.0, 10.0, 1.5]))
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            PeriodicError::OwnImage {
+                index: 0,
+                axis: 'z',
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let e = free()
+        .periodic(PeriodicBox::new([4.5, 10.0, 10.0]))
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            PeriodicError::Overlap {
+                first: 0,
+                second: 1,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    // confinements without a periodic sum, each with its reason
+    let above = vec![p([0.0, 0.0, 2.0], 1.0)];
+    for conf in [
+        Confinement::FreeSurface { height: 0.0 },
+        Confinement::Wall { height: 0.0 },
+    ] {
+        let e = System::new(conf, 1.0, above.clone(), false)
+            .unwrap()
+            .periodic(PeriodicBox::new([10.0; 3]))
+            .unwrap_err();
+        assert!(matches!(e, PeriodicError::Confinement { .. }), "{e}");
+    }
+    // FTS, lubrication and Brownian dynamics are not available
+    let s = free().periodic(PeriodicBox::new([10.0; 3])).unwrap();
+    assert!(s.check_periodic(Moments::FT).is_ok());
+    assert!(matches!(
+        s.check_periodic(Moments::FTS),
+        Err(PeriodicError::NotAvailable(_))
+    ));
+    let ft = [0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let v = s
+        .velocities(Moments::FTS, &ft, &[0.0; 5], None)
+        .unwrap_err();
+    assert!(matches!(v, VelocityError::Periodic(_)), "{v}");
+    let r = s
+        .resistance(Moments::FT, &Lubrication::default())
+        .unwrap_err();
+    assert!(matches!(r, ResistanceError::Periodic(_)), "{r}");
+    let bd = Brownian {
+        kt: 1.0,
+        dt: 1e-3,
+        drift: true,
+        forces: integration_tests::NO_FORCES,
+        noise: Noise::Cholesky,
+        hydrodynamics: true,
+        moments: Moments::F,
+        scheme: Scheme::EulerMaruyama,
+        lubrication: None,
+    };
+    let e = s.brownian_increment(&bd, &[0.1; 6], 1).unwrap_err();
+    assert!(matches!(e, BrownianError::Periodic(_)), "{e}");
+    // the velocities at F and FT are the product's, the drift zero
+    let u = s.velocities(Moments::FT, &ft, &[0.0; 5], None).unwrap();
+    assert_eq!(u.u, s.apply(Moments::FT, &ft));
+    assert_eq!(s.divergence_at(Moments::FT), vec![0.0; 12]);
+}
