@@ -98,6 +98,21 @@ fn flat_product<L: Lane, const K: usize>(
     [a, b].concat()
 }
 
+/// The outputs of a lane kernel, one row per lane: `rows[l][k]` is lane `l` of output `k`.
+#[inline(always)]
+pub fn per_lane<L: Lane>(outputs: &[L]) -> Vec<Vec<f64>> {
+    let w = L::WIDTH;
+    let mut rows = vec![vec![0.0; outputs.len()]; w];
+    for (k, v) in outputs.iter().enumerate() {
+        let mut buf = vec![L::Elem::default(); w];
+        v.store(&mut buf);
+        for (row, b) in rows.iter_mut().zip(&buf) {
+            row[k] = b.to_f64();
+        }
+    }
+    rows
+}
+
 impl<E: Element> WithLanes for Run<'_, E> {
     type Elem = E;
     type Output = Vec<Vec<f64>>;
@@ -147,15 +162,7 @@ impl<E: Element> WithLanes for Run<'_, E> {
                     [a, b].concat()
                 }
             };
-            let mut per_pair = vec![vec![0.0; lanes.len()]; w];
-            for (k, v) in lanes.iter().enumerate() {
-                let mut buf = vec![E::default(); w];
-                v.store(&mut buf);
-                for l in 0..w {
-                    per_pair[l][k] = buf[l].to_f64();
-                }
-            }
-            out.extend(per_pair);
+            out.extend(per_lane(&lanes));
         }
         out
     }

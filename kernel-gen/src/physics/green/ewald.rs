@@ -38,16 +38,24 @@ fn separation<S: Scalar>(x: &[S; 3], y: &[S; 3]) -> ([S; 3], S) {
     (r, s)
 }
 
-/// `A delta_ij + b r_i r_j`.
+/// `a delta_ij + b r_i r_j`, each of the six distinct entries formed once (on jets,
+/// `(b r_i) r_j` and `(b r_j) r_i` would be different nodes).
 fn isotropic_plus_dyad<S: Scalar>(a: &S, b: &S, r: &[S; 3]) -> Mat3<S> {
+    let br: [S; 3] = std::array::from_fn(|i| b.clone() * r[i].clone());
+    let entry = |i: usize, j: usize| -> S {
+        let d = br[i].clone() * r[j].clone();
+        if i == j {
+            a.clone() + d
+        } else {
+            d
+        }
+    };
+    let upper: [[Option<S>; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| (i <= j).then(|| entry(i, j))));
     std::array::from_fn(|i| {
         std::array::from_fn(|j| {
-            let d = b.clone() * r[i].clone() * r[j].clone();
-            if i == j {
-                a.clone() + d
-            } else {
-                d
-            }
+            let (p, q) = if i <= j { (i, j) } else { (j, i) };
+            upper[p][q].clone().expect("upper triangle")
         })
     })
 }
