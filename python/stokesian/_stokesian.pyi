@@ -91,8 +91,9 @@ class System:
     allow_overlap: ``True`` is ``overlap="far"`` (give one of the two).
     box: ``(Lx, Ly, Lz)``: a triply periodic box of unbounded fluid (``confinement=
         "free"``), the mobility summed over every periodic image by Ewald summation
-        (F and FT; FTS, lubrication and Brownian dynamics raise; the drift is zero). A
-        sphere overlapping its own image or another's raises.
+        (F and FT, Brownian dynamics too: the drift is zero, positions unwrapped; FTS,
+        lubrication and a trap raise). A sphere overlapping its own image or another's
+        raises.
     periodic_tolerance: relative truncation error of the periodic sums (default 1e-10).
     """
 

@@ -396,3 +396,8 @@ def test_a_triply_periodic_box():
                          box=(1.5, L, L))
     with pytest.raises(ValueError, match="not available in a periodic box"):
         s.mobility("FTS")
+    # Brownian dynamics in the box: frames of the unwrapped positions; no trap
+    frames = two.brownian(5, 0.01, seed=1)
+    assert frames.shape == (6, 2, 3) and np.all(np.isfinite(frames))
+    with pytest.raises(ValueError, match="harmonic trap"):
+        two.brownian(5, 0.01, trap=1.0)

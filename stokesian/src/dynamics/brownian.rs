@@ -7,7 +7,8 @@ use super::settings::{
     Brownian, BrownianError, ExternalForces, LubricatedDynamics, Noise, Run, RunTally, Scheme, Step,
 };
 use crate::linalg::{lanczos_sqrt, mul_vec, Cholesky};
-use crate::system::input::Particle;
+use crate::periodic::PeriodicError;
+use crate::system::input::{InputError, Particle};
 use crate::system::overlap::Overlap;
 use crate::system::{Moments, Precision, System, PARALLEL_MIN};
 use kernels::lanes::Isa;
@@ -230,8 +231,8 @@ impl System {
         w: &[f64],
         step: usize,
     ) -> Result<(Vec<f64>, Option<usize>), BrownianError> {
-        if self.periodic_ref().is_some() {
-            let what = "Brownian dynamics (not implemented with periodic images yet)";
+        if self.periodic_ref().is_some() && bd.forces.trap != 0.0 {
+            let what = "a harmonic trap (it pulls towards one axis, not a periodic force)";
             return Err(crate::periodic::PeriodicError::NotAvailable(what).into());
         }
         match bd.moments {
@@ -491,8 +492,31 @@ impl System {
             Overlap::Rpy => Overlap::Rpy,
             Overlap::Refuse | Overlap::Far => Overlap::Refuse,
         };
-        System::new(*self.confinement(), self.viscosity(), ps, overlap)
-            .map_err(|source| BrownianError::Invalid { step, source })
+        let system = System::new(*self.confinement(), self.viscosity(), ps, overlap)
+            .map_err(|source| BrownianError::Invalid { step, source })?;
+        // in a periodic box the positions stay unwrapped (every sum is over the lattice);
+        // spheres overlapping by their nearest images are an invalid step, as in open
+        // space (the box itself was validated before)
+        let Some(bx) = self.periodic_box() else {
+            return Ok(system);
+        };
+        system.periodic(bx).map_err(|e| match e {
+            PeriodicError::Overlap {
+                first,
+                second,
+                distance,
+                sum,
+            } => BrownianError::Invalid {
+                step,
+                source: InputError::Overlap {
+                    first,
+                    second,
+                    distance,
+                    sum,
+                },
+            },
+            other => BrownianError::Periodic(other),
+        })
     }
 
     /// External forces (and at the FT level torques), moment-major like the mobility.

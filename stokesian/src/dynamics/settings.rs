@@ -181,7 +181,7 @@ pub enum BrownianError {
     /// [`System::check_drift`]: crate::System::check_drift
     #[error("{0}")]
     Overlap(#[from] crate::system::overlap::OverlapError),
-    /// Brownian dynamics in a periodic box ([`crate::periodic`]).
+    /// What a periodic box does not provide ([`crate::periodic`]).
     #[error("{0}")]
     Periodic(#[from] crate::periodic::PeriodicError),
     /// A setting is out of range ([`Brownian::check`], [`Run`]).

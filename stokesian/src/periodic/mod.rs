@@ -2,13 +2,16 @@
 //! summed over every periodic image by Ewald summation ([`ewald`]). A [`System`] is
 //! made periodic by [`System::periodic`], which validates the box against the spheres;
 //! the dense mobility, its blocks, the product and the velocities (F and FT) then are
-//! the periodic ones, and the Brownian drift is zero (each part of the split is
-//! divergence-free, as the free-space kernels are).
+//! the periodic ones, and so is Brownian dynamics, whose drift is zero (each part of the
+//! split is divergence-free, as the free-space kernels are); a step that would overlap
+//! two spheres by their nearest images is redrawn like any invalid step.
 //!
 //! Not available in a periodic box (typed errors, or panics of the infallible dense
 //! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS),
-//! lubrication, Brownian dynamics, the overlap forms (overlapping spheres are refused,
-//! by their nearest images), and every confinement but free space: near a free surface
+//! lubrication, the harmonic trap of Brownian dynamics (not a periodic force), the
+//! overlap forms (overlapping spheres are refused, by their nearest images), the
+//! single-precision product (the periodic product is in `f64` whatever
+//! [`crate::Precision`] asks), and every confinement but free space: near a free surface
 //! or an interface the lattice sum diverges (their far field parallel to the plane
 //! decays like `1/rho`, and nothing balances a net lateral force); near a wall and in a
 //! slit the doubly periodic sum is not implemented.

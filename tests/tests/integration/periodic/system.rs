@@ -225,7 +225,10 @@ fn bad_boxes_and_what_a_box_cannot_do_are_refused() {
         kt: 1.0,
         dt: 1e-3,
         drift: true,
-        forces: integration_tests::NO_FORCES,
+        forces: stokesian::ExternalForces {
+            trap: 1.0,
+            ..integration_tests::NO_FORCES
+        },
         noise: Noise::Cholesky,
         hydrodynamics: true,
         moments: Moments::F,
@@ -238,4 +241,71 @@ fn bad_boxes_and_what_a_box_cannot_do_are_refused() {
     let u = s.velocities(Moments::FT, &ft, &[0.0; 5], None).unwrap();
     assert_eq!(u.u, s.apply(Moments::FT, &ft));
     assert_eq!(s.divergence_at(Moments::FT), vec![0.0; 12]);
+}
+
+/// Brownian dynamics in a box: one sphere's Euler-Maruyama increment is `sqrt(2 kT dt M)
+/// w` with Hasimoto's periodic self mobility (zero drift; the Cholesky factor of the
+/// cube's isotropic self block is its square root), to its 1e-10 and the printed
+/// coefficient's 1e-13; a run leaves the positions unwrapped, the box kept, and steps
+/// that would overlap two spheres by their nearest images are redrawn.
+#[test]
+fn brownian_dynamics_in_a_box() {
+    let (l, a, kt, dt) = (10.0, 1.0, 1.3, 1e-2);
+    let s = periodic(vec![p([0.5, 9.9, 5.0], a)], [l; 3]);
+    let bd = Brownian {
+        kt,
+        dt,
+        drift: true,
+        forces: integration_tests::NO_FORCES,
+        noise: Noise::Cholesky,
+        hydrodynamics: true,
+        moments: Moments::F,
+        scheme: Scheme::EulerMaruyama,
+        lubrication: None,
+    };
+    let w = [0.3, -1.1, 0.7];
+    let dx = s.brownian_increment(&bd, &w, 1).unwrap();
+    let x = a / l;
+    let m = (1.0 - 2.8372974794806 * x + 4.0 * std::f64::consts::PI / 3.0 * x.powi(3))
+        / (6.0 * std::f64::consts::PI * ETA * a);
+    for k in 0..3 {
+        let want = (2.0 * kt * dt * m).sqrt() * w[k];
+        assert!(
+            (dx[k] - want).abs() < 1e-9 * want.abs(),
+            "{k}: {} vs {want}",
+            dx[k]
+        );
+    }
+    // a run of a close pair (gap 0.05) at the edge of the box: unwrapped positions, the
+    // box kept, overlapping steps redrawn
+    let lengths = [6.0, 6.0, 6.0];
+    let s = periodic(
+        vec![p([0.5, 5.8, 3.0], 1.0), p([0.5, 3.75, 3.0], 1.0)],
+        lengths,
+    );
+    let run = stokesian::Run {
+        steps: 40,
+        seed: 3,
+        every: 40,
+        max_rejections: 1000,
+    };
+    let bd = Brownian { dt: 0.5, ..bd };
+    let mut last = None;
+    let bx = s.periodic_box();
+    let tally = s
+        .brownian_run(&bd, &run, |_, system, _| last = Some(system.clone()))
+        .unwrap();
+    let last = last.unwrap();
+    assert_eq!(last.periodic_box(), bx);
+    println!("rejections {}", tally.rejections);
+    assert!(
+        tally.rejections > 0,
+        "the close pair overlaps in some drawn steps"
+    );
+    assert!(
+        last.particles()
+            .iter()
+            .any(|q| q.x.iter().any(|&c| !(0.0..6.0).contains(&c))),
+        "some centre left the box: the positions are not wrapped"
+    );
 }
