@@ -81,6 +81,10 @@ fn batch_system(
 #[pyclass(module = "stokesian")]
 pub(crate) struct NBody {
     wall: bool,
+    /// `("periodic", "periodic", "periodic")`: a triply periodic box, whose lengths
+    /// `setParameters` gives (`Lx`, `Ly`, `Lz`, as libMobility's PSE takes them).
+    periodic: bool,
+    lengths: Option<[f64; 3]>,
     /// The wall's height; None until `setParameters` gives it (required with a wall).
     wall_height: Option<f64>,
     /// `Nbatch` and `NperBatch` as given (negative: libMobility's default).
@@ -221,21 +225,25 @@ impl NBody {
     #[pyo3(signature = (periodicityX, periodicityY, periodicityZ))]
     #[allow(non_snake_case)]
     fn new(periodicityX: &str, periodicityY: &str, periodicityZ: &str) -> PyResult<Self> {
-        let wall = match (periodicityX, periodicityY, periodicityZ) {
-            ("open", "open", "open") => false,
-            ("open", "open", "single_wall") => true,
+        let (wall, periodic) = match (periodicityX, periodicityY, periodicityZ) {
+            ("open", "open", "open") => (false, false),
+            ("open", "open", "single_wall") => (true, false),
+            ("periodic", "periodic", "periodic") => (false, true),
             _ => {
                 return Err(input_error(format!(
-                    "NBody supports periodicity (\"open\", \"open\", \"open\") (free space) \
-                     and (\"open\", \"open\", \"single_wall\") (a no-slip wall below the \
-                     particles); found ({periodicityX:?}, {periodicityY:?}, \
-                     {periodicityZ:?}): periodic boundaries and two walls are not \
-                     implemented"
+                    "NBody supports periodicity (\"open\", \"open\", \"open\") (free space), \
+                     (\"open\", \"open\", \"single_wall\") (a no-slip wall below the \
+                     particles) and (\"periodic\", \"periodic\", \"periodic\") (a triply \
+                     periodic box, as libMobility's PSE); found ({periodicityX:?}, \
+                     {periodicityY:?}, {periodicityZ:?}): doubly periodic boxes and two walls \
+                     are not implemented"
                 )))
             }
         };
         Ok(NBody {
             wall,
+            periodic,
+            lengths: None,
             wall_height: None,
             batch: (-1, -1),
             viscosity: None,
@@ -252,8 +260,8 @@ impl NBody {
     /// libMobility's NBody parameters: the wall's height (required with a wall, refused
     /// without), the batches (checked against the number of particles by
     /// `setPositions`); the algorithm and `delta` are accepted for libMobility's scripts.
-    #[pyo3(signature = (algorithm = "advise", Nbatch = -1, NperBatch = -1, wallHeight = None, delta = 1e-3))]
-    #[allow(non_snake_case)]
+    #[pyo3(signature = (algorithm = "advise", Nbatch = -1, NperBatch = -1, wallHeight = None, delta = 1e-3, *, Lx = None, Ly = None, Lz = None, psi = None, shearStrain = None))]
+    #[allow(non_snake_case, clippy::too_many_arguments)]
     fn setParameters(
         &mut self,
         algorithm: &str,
@@ -261,7 +269,42 @@ impl NBody {
         NperBatch: i64,
         wallHeight: Option<f64>,
         delta: f64,
+        Lx: Option<f64>,
+        Ly: Option<f64>,
+        Lz: Option<f64>,
+        psi: Option<f64>,
+        shearStrain: Option<f64>,
     ) -> PyResult<()> {
+        // the box (libMobility's PSE names): required for a periodic box, refused otherwise
+        let lengths = match (self.periodic, Lx, Ly, Lz) {
+            (true, Some(x), Some(y), Some(z)) => Some([x, y, z]),
+            (true, ..) => {
+                return Err(input_error(
+                    "Lx, Ly and Lz are required for a periodic box: setParameters(Lx=..., \
+                     Ly=..., Lz=...)",
+                ))
+            }
+            (false, None, None, None) => None,
+            (false, ..) => {
+                return Err(input_error(
+                    "Lx, Ly, Lz apply only with periodicity (\"periodic\", \"periodic\", \
+                     \"periodic\")",
+                ))
+            }
+        };
+        // PSE's splitting parameter changes only how the same sum is split
+        if let Some(p) = psi {
+            if !(p >= 0.0 && p.is_finite()) {
+                return Err(input_error(format!(
+                    "psi = {p}: must be a non-negative finite number"
+                )));
+            }
+        }
+        if shearStrain.is_some_and(|s| s != 0.0) {
+            return Err(input_error(
+                "shearStrain: sheared (Lees-Edwards) boxes are not implemented; only 0",
+            ));
+        }
         // the random finite difference's step: divM is exact here
         let _ = delta;
         if !["advise", "naive", "fast", "block"].contains(&algorithm) {
@@ -290,6 +333,7 @@ impl NBody {
             _ => {}
         }
         self.wall_height = wallHeight;
+        self.lengths = lengths;
         self.batch = (Nbatch, NperBatch);
         Ok(())
     }
@@ -373,6 +417,13 @@ impl NBody {
                 radius.len()
             )));
         };
+        if self.periodic && self.lengths.is_none() {
+            return Err(input_error(
+                "Lx, Ly and Lz are required for a periodic box: call setParameters(Lx=..., \
+                 Ly=..., Lz=...) before setPositions",
+            ));
+        }
+        let lengths = self.lengths;
         let conf = match (self.wall, self.wall_height) {
             (false, _) => Confinement::Free,
             (true, Some(height)) => Confinement::Wall { height },
@@ -402,7 +453,14 @@ impl NBody {
                     .iter()
                     .enumerate()
                     .map(|(b, batch)| {
-                        batch_system(conf, eta, batch.to_vec()).map_err(|e| wall_words(e, b * size))
+                        let s = batch_system(conf, eta, batch.to_vec())
+                            .map_err(|e| wall_words(e, b * size))?;
+                        match lengths {
+                            Some(l) => s
+                                .periodic(stokesian::PeriodicBox::new(l))
+                                .map_err(|e| e.to_string()),
+                            None => Ok(s),
+                        }
                     })
                     .collect::<Result<Vec<_>, _>>()
             })

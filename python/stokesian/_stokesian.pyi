@@ -238,8 +238,11 @@ class NBody:
     Free space (``"open", "open", "open"``): the Rotne-Prager-Yamakawa mobility of
     spheres (overlapping ones with its overlap forms). Above a no-slip wall (``"open", "open", "single_wall"``,
     the wall at ``z = wallHeight``): the Rotne-Prager-Blake mobility of Swan & Brady
-    (2007) and, beyond libMobility, its exact divergence. Periodic boundaries and two
-    walls raise InputError. Overlapping spheres take the RPY overlap forms and spheres
+    (2007) and, beyond libMobility, its exact divergence. A triply periodic box
+    (``"periodic", "periodic", "periodic"``, as libMobility's PSE solver; box lengths
+    ``Lx, Ly, Lz`` through ``setParameters``): the RPY mobility summed over every periodic
+    image by Ewald summation, zero drift, overlapping spheres refused. Doubly periodic
+    boxes and two walls raise InputError. Overlapping spheres take the RPY overlap forms and spheres
     cutting the wall are damped, as in libMobility (``divM`` is then the exact divergence
     of the damped mobility); a
     centre below the wall raises InputError saying it has "fallen below the wall", in
@@ -264,6 +267,12 @@ class NBody:
         NperBatch: int = -1,
         wallHeight: Optional[float] = None,
         delta: float = 1e-3,
+        *,
+        Lx: Optional[float] = None,
+        Ly: Optional[float] = None,
+        Lz: Optional[float] = None,
+        psi: Optional[float] = None,
+        shearStrain: Optional[float] = None,
     ) -> None:
         """``wallHeight``: the height of the wall; required with ``"single_wall"`` (also
         when ``setParameters`` is not called: ``setPositions`` then raises) and refused
@@ -273,7 +282,10 @@ class NBody:
         InputError unless ``Nbatch * NperBatch`` is the number of particles.
         ``algorithm`` (checked) and ``delta`` (libMobility's random finite difference
         step) are accepted and change nothing: every algorithm computes the same here,
-        and ``divM`` is exact."""
+        and ``divM`` is exact. ``Lx, Ly, Lz``: the box of a triply periodic solver
+        (required there, refused otherwise); ``psi`` (PSE's splitting parameter) is
+        accepted and changes nothing (the split is chosen for the tolerance);
+        ``shearStrain`` other than 0 raises."""
     def initialize(
         self,
         viscosity: float,
