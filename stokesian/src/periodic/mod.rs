@@ -26,6 +26,7 @@ use crate::system::Moments;
 use crate::System;
 use ewald::Ewald;
 use kernels::{BlocksFT, Confinement};
+use rayon::prelude::*;
 use thiserror::Error;
 
 /// A periodic box: its lengths and the tolerance of its lattice sums.
@@ -193,30 +194,44 @@ impl System {
         }
     }
 
+    /// The FT blocks `M^{ab}`, `b >= a`, row by row in order of `a`: `ROWS` rows at a
+    /// time evaluated in parallel (each block on its own, so the bits do not depend on
+    /// the threads), then handed to `f(a, [M^{aa}, M^{a,a+1}, ...])`.
+    fn block_rows(&self, p: &Periodic, mut f: impl FnMut(usize, &[[[f64; 6]; 6]])) {
+        const ROWS: usize = 16;
+        let n = self.len();
+        let (ps, eta) = (self.particles(), self.viscosity());
+        for start in (0..n).step_by(ROWS) {
+            let rows: Vec<Vec<[[f64; 6]; 6]>> = (start..(start + ROWS).min(n))
+                .into_par_iter()
+                .map(|a| (a..n).map(|b| p.blocks(eta, ps, a, b).matrix()).collect())
+                .collect();
+            for (k, row) in rows.iter().enumerate() {
+                f(start + k, row);
+            }
+        }
+    }
+
     /// The periodic dense mobility at F or FT, column-major into `out` (every entry
     /// written): each unordered pair once, `M^{ba} = (M^{ab})^T`.
     pub(crate) fn periodic_mobility_into(&self, p: &Periodic, moments: Moments, out: &mut [f64]) {
         let n = self.len();
         let k = moments.per_particle();
         let dim = k * n;
-        let ps = self.particles();
-        let eta = self.viscosity();
         let parts = moments.parts();
-        for a in 0..n {
-            for b in a..n {
-                let m = p.blocks(eta, ps, a, b).matrix();
+        let g = |a: usize, i: usize| crate::system::global(parts, n, a, i);
+        self.block_rows(p, |a, row| {
+            for (db, m) in row.iter().enumerate() {
+                let b = a + db;
                 for i in 0..k {
                     for j in 0..k {
-                        let (gi, gj) = (
-                            crate::system::global(parts, n, a, i),
-                            crate::system::global(parts, n, b, j),
-                        );
+                        let (gi, gj) = (g(a, i), g(b, j));
                         out[gi + dim * gj] = m[i][j];
                         out[gj + dim * gi] = m[i][j];
                     }
                 }
             }
-        }
+        });
     }
 
     /// The periodic block `M^{ab}` truncated to F or FT, row-major.
@@ -232,18 +247,17 @@ impl System {
         (0..k * k).map(|e| m[e / k][e % k]).collect()
     }
 
-    /// The periodic product `M x` at F or FT, moment-major, pair by pair.
+    /// The periodic product `M x` at F or FT, moment-major, pair by pair (the blocks as
+    /// for the dense matrix, summed in a fixed order).
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
         let n = self.len();
         let k = moments.per_particle();
-        let ps = self.particles();
-        let eta = self.viscosity();
         let parts = moments.parts();
         let g = |a: usize, i: usize| crate::system::global(parts, n, a, i);
         let mut out = vec![0.0; k * n];
-        for a in 0..n {
-            for b in a..n {
-                let m = p.blocks(eta, ps, a, b).matrix();
+        self.block_rows(p, |a, row| {
+            for (db, m) in row.iter().enumerate() {
+                let b = a + db;
                 for i in 0..k {
                     for j in 0..k {
                         out[g(a, i)] += m[i][j] * x[g(b, j)];
@@ -253,7 +267,7 @@ impl System {
                     }
                 }
             }
-        }
+        });
         out
     }
 }
