@@ -54,6 +54,30 @@ impl Batches {
         self.each(m.per_particle() / 3, x, |s, xb| s.apply(m, xb))
     }
 
+    /// A square-root factor of `M` applied to `w`, batch by batch
+    /// (`System::sqrt_apply`: better conditioned where spheres are damped).
+    fn sqrt_apply(
+        &self,
+        m: Moments,
+        w: &[f64],
+        tol: f64,
+    ) -> Result<Vec<f64>, stokesian::LanczosError> {
+        let failed = std::cell::RefCell::new(None);
+        let y = self.each(m.per_particle() / 3, w, |s, wb| {
+            match s.sqrt_apply(m, wb, tol) {
+                Ok((y, _)) => y,
+                Err(e) => {
+                    failed.borrow_mut().get_or_insert(e);
+                    vec![0.0; wb.len()]
+                }
+            }
+        });
+        match failed.into_inner() {
+            Some(e) => Err(e),
+            None => Ok(y),
+        }
+    }
+
     /// `div M`, moment-major (of the damped mobility where a sphere cuts the wall); an
     /// error where `System::check_drift` fails.
     fn divergence(&self, m: Moments) -> Result<Vec<f64>, stokesian::OverlapError> {
@@ -161,8 +185,8 @@ impl NBody {
             .collect();
         let tol = self.tolerance;
         let batches = self.batches()?;
-        let (y, _) = py
-            .detach(|| lanczos_sqrt(|x| batches.apply(m, x), &w, tol, w.len()))
+        let y = py
+            .detach(|| batches.sqrt_apply(m, &w, tol))
             .map_err(input_error)?;
         Ok(y.into_iter().map(|v| v * prefactor).collect())
     }

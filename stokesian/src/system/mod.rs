@@ -8,7 +8,7 @@
 //!
 //! | methods | module |
 //! |---|---|
-//! | `new`, `with_precision`, `precision`, `particles`, `confinement`, `viscosity`, `len`, `is_empty`, `overlap`, `check_overlap`, `check_drift` | here |
+//! | `new`, `with_precision`, `precision`, `particles`, `confinement`, `viscosity`, `len`, `is_empty`, `overlap`, `check_overlap`, `check_drift`, `sqrt_apply` | here |
 //! | `periodic`, `periodic_box`, `check_periodic` (a triply periodic box) | [`crate::periodic`] |
 //! | `block`, `mobility`, `mobility_into` (the dense grand mobility) | [`crate::mobility::assembly`] |
 //! | `apply`, `apply_with` (the matrix-free product) | [`crate::mobility::tiled`] |
@@ -158,6 +158,46 @@ impl System {
     /// With [`Overlap::Rpy`], where something overlaps: the pairs and the damping.
     pub(crate) fn rpy(&self) -> Option<&Rpy> {
         self.rpy.as_ref()
+    }
+
+    /// A square-root factor `S` of the mobility at `moments` (F or FT; `S S^T = M`)
+    /// applied to `w`, by Lanczos to relative tolerance `tol` (iterations returned):
+    /// `M^{1/2} w`, except where [`Overlap::Rpy`] damps a sphere cutting a boundary, where
+    /// it is `B M_c^{1/2} w` with `M_c` the mobility at the clamped centres (undamped):
+    /// also a factor of `B M_c B`, and Lanczos converges on the well-conditioned `M_c`
+    /// rather than on `B M_c B`, whose eigenvalues go to zero with the factors `b_i`
+    /// (where the noise, whitened by `M^{-1/2}`, would carry the Lanczos error divided by
+    /// `b_i`). Panics where [`System::check_overlap`] fails.
+    pub fn sqrt_apply(
+        &self,
+        moments: Moments,
+        w: &[f64],
+        tol: f64,
+    ) -> Result<(Vec<f64>, usize), crate::LanczosError> {
+        let damped = self
+            .rpy
+            .as_ref()
+            .and_then(|r| r.damping.as_ref().map(|d| (r, d)));
+        let Some((rpy, d)) = damped else {
+            return crate::lanczos_sqrt(|x| self.apply(moments, x), w, tol, w.len());
+        };
+        let clamped = System {
+            particles: d.at.clone(),
+            rpy: Some(Rpy {
+                pairs: rpy.pairs.clone(),
+                damping: None,
+            }),
+            ..self.clone()
+        };
+        let (mut y, k) = crate::lanczos_sqrt(|x| clamped.apply(moments, x), w, tol, w.len())?;
+        let n = self.len();
+        let parts = moments.parts();
+        for (a, b) in d.b.iter().enumerate() {
+            for i in 0..moments.per_particle() {
+                y[global(parts, n, a, i)] *= b;
+            }
+        }
+        Ok((y, k))
     }
 
     /// The particles as the kernels see them: with the damping of [`Overlap::Rpy`],

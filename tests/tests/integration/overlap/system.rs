@@ -311,3 +311,38 @@ fn fts_matrix_of_overlapping_spheres_panics() {
         .unwrap()
         .mobility(Moments::FTS);
 }
+
+/// `System::sqrt_apply` is a square-root factor of the damped mobility: with spheres
+/// cutting the wall (`b` down to 0.05) and overlapping, `S S^T = B M_c B` from the
+/// factor's columns (Lanczos to 1e-13 on each unit vector: the Krylov space is whole
+/// after `3N` steps, so 1e-10 of the largest entry); without damping it is `M^{1/2}`,
+/// symmetric.
+#[test]
+fn the_noise_factor_of_damped_spheres_squares_to_the_mobility() {
+    let ps = vec![
+        p([0.0, 0.0, 0.05], 1.0),
+        p([1.5, 0.3, 0.7], 0.8),
+        p([0.4, 2.1, 2.5], 1.0),
+        p([3.5, 0.0, 1.5], 0.7),
+    ];
+    for (ps, damped) in [(ps.clone(), true), (cluster(5, 4, 3.0), false)] {
+        let s = System::new(WALL, 1.0, ps, Overlap::Rpy).unwrap();
+        for moments in [Moments::F, Moments::FT] {
+            let m = s.mobility(moments);
+            let n = m.nrows();
+            let mut f = DMatrix::zeros(n, n);
+            for j in 0..n {
+                let mut e = vec![0.0; n];
+                e[j] = 1.0;
+                let (col, _) = s.sqrt_apply(moments, &e, 1e-13).unwrap();
+                f.set_column(j, &DVector::from_vec(col));
+            }
+            let scale = m.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let d = (&f * f.transpose() - &m).abs().max();
+            assert!(d < 1e-10 * scale, "{moments:?} damped {damped}: {d:e}");
+            if !damped {
+                assert!((&f - f.transpose()).abs().max() < 1e-10 * scale.sqrt());
+            }
+        }
+    }
+}
