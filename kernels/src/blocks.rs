@@ -379,6 +379,20 @@ impl BlocksF {
     }
 }
 
+/// Block by block: a correction or one more image added to a pair's blocks.
+impl core::ops::AddAssign<&BlocksFT> for BlocksFT {
+    fn add_assign(&mut self, b: &BlocksFT) {
+        for i in 0..3 {
+            for j in 0..3 {
+                self.uf[i][j] += b.uf[i][j];
+                self.ul[i][j] += b.ul[i][j];
+                self.of[i][j] += b.of[i][j];
+                self.ol[i][j] += b.ol[i][j];
+            }
+        }
+    }
+}
+
 impl BlocksFT {
     /// The 6x6 block `[[UF, UL], [OF, OL]]`.
     pub fn matrix(&self) -> [[f64; 6]; 6] {

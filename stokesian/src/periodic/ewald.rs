@@ -194,7 +194,7 @@ impl Ewald {
             if d2 > self.r_cut * self.r_cut || (skip_origin && d2 == 0.0) {
                 continue;
             }
-            add(out, &real(ri));
+            *out += &real(ri);
         }
     }
 
@@ -238,16 +238,4 @@ impl Ewald {
 
 fn norm2(v: &[f64; 3]) -> f64 {
     v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
-}
-
-/// `out += b`, block by block.
-pub(crate) fn add(out: &mut BlocksFT, b: &BlocksFT) {
-    for i in 0..3 {
-        for j in 0..3 {
-            out.uf[i][j] += b.uf[i][j];
-            out.ul[i][j] += b.ul[i][j];
-            out.of[i][j] += b.of[i][j];
-            out.ol[i][j] += b.ol[i][j];
-        }
-    }
 }

@@ -199,17 +199,10 @@ impl Damping {
                         cuts.iter().map(|&(n, _)| along(n)).collect::<Vec<_>>(),
                     )
                 } else {
-                    let m = kernels::pair_ft(conf, eta, pp.x, pp.a, pq.x, pq.a);
-                    let (mut uf, mut of) = (m.uf, m.of);
+                    let mut m = kernels::pair_ft(conf, eta, pp.x, pp.a, pq.x, pq.a);
                     let overlapping = pairs.binary_search(&(p.min(q), p.max(q))).is_ok();
                     if overlapping {
-                        let c = kernels::overlap_ft(pp.x, pq.x, pp.a, pq.a, eta);
-                        for i in 0..3 {
-                            for j in 0..3 {
-                                uf[i][j] += c.uf[i][j];
-                                of[i][j] += c.of[i][j];
-                            }
-                        }
+                        m += &kernels::overlap_ft(pp.x, pq.x, pp.a, pq.a, eta);
                     }
                     let along = |n: [f64; 3]| {
                         let mut d = kernels::pair_along(conf, eta, pp.x, pp.a, pq.x, pq.a, n).a;
@@ -221,7 +214,7 @@ impl Damping {
                         }
                         d
                     };
-                    (uf, of, cuts.iter().map(|&(n, _)| along(n)).collect())
+                    (m.uf, m.of, cuts.iter().map(|&(n, _)| along(n)).collect())
                 };
                 let times = if p == q { 2.0 } else { 1.0 };
                 for i in 0..3 {
