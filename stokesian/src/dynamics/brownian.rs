@@ -456,7 +456,8 @@ impl System {
     }
 
     /// The smallest gap over the radius (the smaller of the two for a pair) of any
-    /// sphere to a boundary or to another sphere; infinite for one sphere in free space.
+    /// sphere to a boundary or to another sphere (in a periodic box, to the nearest
+    /// images of the others and of itself); infinite for one sphere in free space.
     fn smallest_gap(&self) -> f64 {
         let ps = self.particles();
         let mut gap = f64::INFINITY;
@@ -464,12 +465,19 @@ impl System {
             for b in self.confinement().boundaries() {
                 gap = gap.min((b.distance(p.x).abs() - p.a) / p.a);
             }
+            let bx = self.periodic_box();
             for q in &ps[a + 1..] {
-                let r = (0..3)
-                    .map(|i| (p.x[i] - q.x[i]).powi(2))
-                    .sum::<f64>()
-                    .sqrt();
+                // in a periodic box, the nearest image
+                let d = |i: usize| {
+                    let d = p.x[i] - q.x[i];
+                    bx.map_or(d, |bx| d - bx.lengths[i] * (d / bx.lengths[i]).round())
+                };
+                let r = (0..3).map(|i| d(i).powi(2)).sum::<f64>().sqrt();
                 gap = gap.min((r - p.a - q.a) / p.a.min(q.a));
+            }
+            // and its own nearest images
+            for l in bx.iter().flat_map(|bx| bx.lengths) {
+                gap = gap.min((l - 2.0 * p.a) / p.a);
             }
         }
         gap

@@ -6,9 +6,15 @@
 //! split is divergence-free, as the free-space kernels are); a step that would overlap
 //! two spheres by their nearest images is redrawn like any invalid step.
 //!
+//! The resistance with lubrication ([`System::resistance`]) adds its pair corrections
+//! for every image of a sphere within the window of the correction, a sphere's own
+//! images included ([`PeriodicBox::separations`], [`PeriodicBox::own_images`]): the
+//! near field of a pair is the same two-body problem wherever the pair sits in the
+//! lattice, and the far field of every image is already in the periodic mobility.
+//!
 //! Not available in a periodic box (typed errors, or panics of the infallible dense
-//! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS),
-//! lubrication, the harmonic trap of Brownian dynamics (not a periodic force), the
+//! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS), the
+//! harmonic trap of Brownian dynamics (not a periodic force), the
 //! overlap forms (overlapping spheres are refused, by their nearest images), the
 //! single-precision product (the periodic product is in `f64` whatever
 //! [`crate::Precision`] asks), and every confinement but free space: near a free surface
@@ -49,6 +55,54 @@ impl PeriodicBox {
             lengths,
             tolerance: PeriodicBox::TOLERANCE,
         }
+    }
+
+    /// The separations `x_b + n L - x_a` of the periodic images of a sphere at `xb` from
+    /// a sphere at `xa` whose length is at most `reach`, over every lattice vector `n L`
+    /// (`n` in a fixed order, the last component fastest).
+    pub fn separations(&self, xa: [f64; 3], xb: [f64; 3], reach: f64) -> Vec<[f64; 3]> {
+        let l = self.lengths;
+        // the nearest image, each component in [-L/2, L/2]
+        let r0 = std::array::from_fn(|d| {
+            let r = xb[d] - xa[d];
+            r - l[d] * (r / l[d]).round()
+        });
+        self.lattice(r0, reach, false)
+    }
+
+    /// The lattice vectors `n L`, `n != 0`, of length at most `reach`, one of each pair
+    /// `+-n` (the first non-zero component of `n` positive): the separations of a
+    /// sphere's own images, each pair of which is one pair of spheres seen from either
+    /// end.
+    pub fn own_images(&self, reach: f64) -> Vec<[f64; 3]> {
+        self.lattice([0.0; 3], reach, true)
+    }
+
+    /// `r0 + n L` of length at most `reach`, `n` in a fixed order (with `half`, `n` in
+    /// the half lattice of [`PeriodicBox::own_images`]).
+    fn lattice(&self, r0: [f64; 3], reach: f64, half: bool) -> Vec<[f64; 3]> {
+        let l = self.lengths;
+        let range = |d: usize| {
+            let lo = ((-reach - r0[d]) / l[d]).ceil() as i64;
+            let hi = ((reach - r0[d]) / l[d]).floor() as i64;
+            lo..=hi
+        };
+        let mut out = Vec::new();
+        for n1 in range(0) {
+            for n2 in range(1) {
+                for n3 in range(2) {
+                    if half && !(n1 > 0 || (n1 == 0 && (n2 > 0 || (n2 == 0 && n3 > 0)))) {
+                        continue;
+                    }
+                    let n = [n1, n2, n3];
+                    let r: [f64; 3] = std::array::from_fn(|d| r0[d] + n[d] as f64 * l[d]);
+                    if r[0] * r[0] + r[1] * r[1] + r[2] * r[2] <= reach * reach {
+                        out.push(r);
+                    }
+                }
+            }
+        }
+        out
     }
 }
 

@@ -424,10 +424,67 @@ fn scatter(r: &mut DMatrix<f64>, idx: &[usize], c: &DMatrix<f64>, k: usize, know
     }
 }
 
-/// The distance between two centres.
-fn distance(x: [f64; 3], y: [f64; 3]) -> f64 {
-    let d: [f64; 3] = std::array::from_fn(|c| y[c] - x[c]);
-    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+/// Two spheres within the window of the pair correction: `a <= b`, `b` (or, in a
+/// periodic box, one of its images: `a == b` for a sphere's own image) at `xb`.
+struct ClosePair {
+    a: usize,
+    b: usize,
+    /// `xb - x_a`.
+    r: [f64; 3],
+    /// `|r|`.
+    dist: f64,
+    /// The source's centre (the image's, in a periodic box).
+    xb: [f64; 3],
+    /// The window's weight ([`pair_weight`]).
+    weight: f64,
+}
+
+impl System {
+    /// The pairs within the window `(s0, s1)` in a fixed order: each unordered pair once
+    /// and, in a periodic box, every image of the second sphere within the window (and
+    /// every sphere with its own images, one of each `+-n`).
+    fn close_pairs(&self, window: (f64, f64)) -> Vec<ClosePair> {
+        let ps = self.particles();
+        let n = ps.len();
+        let pair = |a: usize, b: usize, r: [f64; 3], xb: [f64; 3]| {
+            let dist = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+            let weight = pair_weight(2.0 * dist / (ps[a].a + ps[b].a), window);
+            (weight != 0.0).then_some(ClosePair {
+                a,
+                b,
+                r,
+                dist,
+                xb,
+                weight,
+            })
+        };
+        let Some(bx) = self.periodic_box() else {
+            return (0..n)
+                .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
+                .filter_map(|(a, b)| {
+                    let (x, y) = (ps[a].x, ps[b].x);
+                    pair(a, b, std::array::from_fn(|c| y[c] - x[c]), y)
+                })
+                .collect();
+        };
+        // beyond s' = s1 the weight is 0
+        let reach = |a: usize, b: usize| 0.5 * window.1 * (ps[a].a + ps[b].a);
+        (0..n)
+            .flat_map(|a| (a..n).map(move |b| (a, b)))
+            .flat_map(|(a, b)| {
+                let x = ps[a].x;
+                let images = if a == b {
+                    bx.own_images(reach(a, a))
+                } else {
+                    bx.separations(x, ps[b].x, reach(a, b))
+                };
+                images.into_iter().filter_map(move |r| {
+                    let xb = std::array::from_fn(|c| x[c] + r[c]);
+                    pair(a, b, r, xb)
+                })
+            })
+            .collect()
+    }
 }
 
 impl System {
@@ -437,7 +494,9 @@ impl System {
     /// block; the no-slip walls' only the force-torque blocks (exact sphere-wall
     /// stresslet functions are not available), their stresslet rows and columns keep the
     /// far-field inverse. Overlapping spheres are rejected at construction unless allowed;
-    /// with [`crate::Overlap::Rpy`] here ([`ResistanceError::Overlap`]).
+    /// with [`crate::Overlap::Rpy`] here ([`ResistanceError::Overlap`]). In a periodic box
+    /// (FT only) `M^-1` is the periodic mobility's and the pair corrections are added for
+    /// every image within the window ([`crate::periodic`]).
     pub fn resistance(
         &self,
         moments: Moments,
@@ -452,9 +511,7 @@ impl System {
         if let Some(rpy) = self.rpy() {
             rpy.refuse("lubrication")?;
         }
-        if self.periodic_ref().is_some() {
-            return Err(crate::periodic::PeriodicError::NotAvailable("lubrication").into());
-        }
+        self.check_periodic(moments)?;
         let parts = moments.parts();
         let n = self.len();
         let eta = self.viscosity();
@@ -499,19 +556,12 @@ impl System {
             .collect();
         // the pairs within the window, in order; their corrections evaluated in parallel
         // and added in that order, so the sum does not depend on the threads
-        let close: Vec<(usize, usize, f64, f64)> = (0..n)
-            .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
-            .filter_map(|(a, b)| {
-                let dist = distance(ps[a].x, ps[b].x);
-                let weight = pair_weight(2.0 * dist / (ps[a].a + ps[b].a), window);
-                (weight != 0.0).then_some((a, b, dist, weight))
-            })
-            .collect();
+        let close = self.close_pairs(window);
         let functions = PairFunctions::new(
             surface.iter().map(|_| 1.0).chain(
                 close
                     .iter()
-                    .flat_map(|&(a, b, _, _)| [ps[b].a / ps[a].a, ps[a].a / ps[b].a]),
+                    .flat_map(|c| [ps[c.b].a / ps[c.a].a, ps[c.a].a / ps[c.b].a]),
             ),
         );
         for &(a, b, s_dash, weight) in &surface {
@@ -527,17 +577,19 @@ impl System {
         for chunk in close.chunks(2048) {
             let corrections: Vec<DMatrix<f64>> = chunk
                 .par_iter()
-                .map(|&(a, b, dist, weight)| {
-                    let (p, q) = (&ps[a], &ps[b]);
-                    let s_dash = 2.0 * dist / (p.a + q.a);
+                .map(|c| {
+                    let (p, q) = (&ps[c.a], &ps[c.b]);
+                    let s_dash = 2.0 * c.dist / (p.a + q.a);
                     let [fi, fj] = functions.pair(s_dash, [q.a / p.a, p.a / q.a], k != 11)?;
-                    let d: [f64; 3] = std::array::from_fn(|c| (q.x[c] - p.x[c]) / dist);
+                    let d: [f64; 3] = std::array::from_fn(|i| c.r[i] / c.dist);
                     let exact = pair_block(eta, [(p.a, fi), (q.a, fj)], d, k);
-                    let far = free_pair_mobility(eta, (p.x, p.a), (q.x, q.a), k);
-                    correction(&exact, far, k, k, weight)
+                    let far = free_pair_mobility(eta, (p.x, p.a), (c.xb, q.a), k);
+                    correction(&exact, far, k, k, c.weight)
                 })
                 .collect::<Result<_, _>>()?;
-            for (&(a, b, _, _), c) in chunk.iter().zip(&corrections) {
+            // a sphere and its own image (a == b): the four blocks add on its diagonal
+            // block, which is the correction of the sphere moving with its image
+            for (&ClosePair { a, b, .. }, c) in chunk.iter().zip(&corrections) {
                 let idx: Vec<usize> = (0..2 * k)
                     .map(|i| global(parts, n, if i < k { a } else { b }, i % k))
                     .collect();

@@ -205,7 +205,7 @@ fn bad_boxes_and_what_a_box_cannot_do_are_refused() {
             .unwrap_err();
         assert!(matches!(e, PeriodicError::Confinement { .. }), "{e}");
     }
-    // FTS, lubrication and Brownian dynamics are not available
+    // FTS (lubrication too) and Brownian dynamics in a trap are not available
     let s = free().periodic(PeriodicBox::new([10.0; 3])).unwrap();
     assert!(s.check_periodic(Moments::FT).is_ok());
     assert!(matches!(
@@ -218,7 +218,7 @@ fn bad_boxes_and_what_a_box_cannot_do_are_refused() {
         .unwrap_err();
     assert!(matches!(v, VelocityError::Periodic(_)), "{v}");
     let r = s
-        .resistance(Moments::FT, &Lubrication::default())
+        .resistance(Moments::FTS, &Lubrication::default())
         .unwrap_err();
     assert!(matches!(r, ResistanceError::Periodic(_)), "{r}");
     let bd = Brownian {
