@@ -19,7 +19,11 @@
 //! Positions are used as given (not wrapped): every sum is over the lattice, so moving a
 //! sphere by a box length changes nothing but rounding.
 
+mod cells;
 pub mod ewald;
+mod fft;
+mod product;
+mod spectral;
 
 use crate::system::input::Particle;
 use crate::system::Moments;
@@ -247,27 +251,10 @@ impl System {
         (0..k * k).map(|e| m[e / k][e % k]).collect()
     }
 
-    /// The periodic product `M x` at F or FT, moment-major, pair by pair (the blocks as
-    /// for the dense matrix, summed in a fixed order).
+    /// The periodic product `M x` at F or FT, moment-major: the fast product
+    /// ([`product`]: linked cells and spectral Ewald), to the box's tolerance.
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
-        let n = self.len();
-        let k = moments.per_particle();
-        let parts = moments.parts();
-        let g = |a: usize, i: usize| crate::system::global(parts, n, a, i);
-        let mut out = vec![0.0; k * n];
-        self.block_rows(p, |a, row| {
-            for (db, m) in row.iter().enumerate() {
-                let b = a + db;
-                for i in 0..k {
-                    for j in 0..k {
-                        out[g(a, i)] += m[i][j] * x[g(b, j)];
-                        if a != b {
-                            out[g(b, j)] += m[i][j] * x[g(a, i)];
-                        }
-                    }
-                }
-            }
-        });
-        out
+        let (lengths, tol) = (p.bx.lengths, p.bx.tolerance);
+        product::apply(lengths, tol, self.viscosity(), self.particles(), moments, x)
     }
 }
