@@ -4,7 +4,9 @@
 //! the dense mobility, its blocks, the product and the velocities (F and FT) then are
 //! the periodic ones, and so is Brownian dynamics, whose drift is zero (each part of the
 //! split is divergence-free, as the free-space kernels are); a step that would overlap
-//! two spheres by their nearest images is redrawn like any invalid step.
+//! two spheres by their nearest images is redrawn like any invalid step. The dense
+//! matrix and its blocks use the direct sums; the product is the fast one ([`product`]:
+//! real space over linked cells, reciprocal space by spectral Ewald), `O(N)`.
 //!
 //! Not available in a periodic box (typed errors, or panics of the infallible dense
 //! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS),
