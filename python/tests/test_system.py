@@ -396,6 +396,10 @@ def test_a_triply_periodic_box():
                          box=(1.5, L, L))
     with pytest.raises(ValueError, match="not available in a periodic box"):
         s.mobility("FTS")
+    # the resistance with lubrication in the box: every image within the pair window
+    r = two.resistance("FT")
+    assert np.array_equal(r, r.T) and np.linalg.eigvalsh(r).min() > 0.0
+    assert np.abs(r - np.linalg.inv(m)).max() > 1e-6 * np.abs(r).max()
     # Brownian dynamics in the box: frames of the unwrapped positions; no trap
     frames = two.brownian(5, 0.01, seed=1)
     assert frames.shape == (6, 2, 3) and np.all(np.isfinite(frames))

@@ -4,7 +4,9 @@
 //! the dense mobility, its blocks, the product and the velocities (F and FT) then are
 //! the periodic ones, and so is Brownian dynamics, whose drift is zero (each part of the
 //! split is divergence-free, as the free-space kernels are); a step that would overlap
-//! two spheres by their nearest images is redrawn like any invalid step.
+//! two spheres by their nearest images is redrawn like any invalid step. The dense
+//! matrix and its blocks use the direct sums; the product is the fast one ([`product`]:
+//! real space over linked cells, reciprocal space by spectral Ewald), `O(N)`.
 //!
 //! The resistance with lubrication ([`System::resistance`]) adds its pair corrections
 //! for every image of a sphere within the window of the correction, a sphere's own
@@ -25,7 +27,11 @@
 //! Positions are used as given (not wrapped): every sum is over the lattice, so moving a
 //! sphere by a box length changes nothing but rounding.
 
+mod cells;
 pub mod ewald;
+mod fft;
+mod product;
+mod spectral;
 
 use crate::system::input::Particle;
 use crate::system::Moments;
@@ -301,27 +307,10 @@ impl System {
         (0..k * k).map(|e| m[e / k][e % k]).collect()
     }
 
-    /// The periodic product `M x` at F or FT, moment-major, pair by pair (the blocks as
-    /// for the dense matrix, summed in a fixed order).
+    /// The periodic product `M x` at F or FT, moment-major: the fast product
+    /// ([`product`]: linked cells and spectral Ewald), to the box's tolerance.
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
-        let n = self.len();
-        let k = moments.per_particle();
-        let parts = moments.parts();
-        let g = |a: usize, i: usize| crate::system::global(parts, n, a, i);
-        let mut out = vec![0.0; k * n];
-        self.block_rows(p, |a, row| {
-            for (db, m) in row.iter().enumerate() {
-                let b = a + db;
-                for i in 0..k {
-                    for j in 0..k {
-                        out[g(a, i)] += m[i][j] * x[g(b, j)];
-                        if a != b {
-                            out[g(b, j)] += m[i][j] * x[g(a, i)];
-                        }
-                    }
-                }
-            }
-        });
-        out
+        let (lengths, tol) = (p.bx.lengths, p.bx.tolerance);
+        product::apply(lengths, tol, self.viscosity(), self.particles(), moments, x)
     }
 }

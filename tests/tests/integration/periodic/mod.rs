@@ -2,8 +2,39 @@
 //! periodic self mobility and against the windowed sum over replicas of the open RPY
 //! mobility (`ewald`); the split parameter changes nothing; the system's matrices,
 //! products and refusals (`system`); the resistance with lubrication over every image
-//! (`lubrication`).
+//! (`lubrication`); the fast product (cells and spectral Ewald) against the dense
+//! matrix, and its bits whatever the threads (`spectral`).
 
 mod ewald;
 mod lubrication;
+mod spectral;
 mod system;
+
+use rand::{Rng, SeedableRng};
+use stokesian::Particle;
+
+/// `n` spheres of radius `a` or, without it, radii in `[0.5, 1]`, at random in a box
+/// of `lengths`, clear of each other (by `0.05`) by their nearest images.
+fn spheres(seed: u64, n: usize, lengths: [f64; 3], a: Option<f64>) -> Vec<Particle> {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut out: Vec<Particle> = Vec::new();
+    while out.len() < n {
+        let q = Particle {
+            x: std::array::from_fn(|d| rng.gen_range(0.0..lengths[d])),
+            a: a.unwrap_or_else(|| rng.gen_range(0.5..1.0)),
+        };
+        let clear = out.iter().all(|o| {
+            let d2: f64 = (0..3)
+                .map(|d| {
+                    let r = o.x[d] - q.x[d];
+                    (r - lengths[d] * (r / lengths[d]).round()).powi(2)
+                })
+                .sum();
+            d2.sqrt() > o.a + q.a + 0.05
+        });
+        if clear {
+            out.push(q);
+        }
+    }
+    out
+}
