@@ -92,8 +92,10 @@ class System:
     box: ``(Lx, Ly, Lz)``: a triply periodic box of unbounded fluid (``confinement=
         "free"``), the mobility summed over every periodic image by Ewald summation
         (F and FT, Brownian dynamics too: the drift is zero, positions unwrapped; FTS,
-        lubrication and a trap raise). A sphere overlapping its own image or another's
-        raises.
+        lubrication and a trap raise). ``(Lx, Ly)``: periodic along a wall
+        (``confinement="wall"``), unbounded above it (F and FT; Brownian dynamics and the
+        divergence raise: the drift is not implemented there). A sphere overlapping its
+        own image or another's raises.
     periodic_tolerance: relative truncation error of the periodic sums (default 1e-10).
     """
 

@@ -231,6 +231,7 @@ impl System {
         w: &[f64],
         step: usize,
     ) -> Result<(Vec<f64>, Option<usize>), BrownianError> {
+        self.check_periodic_drift()?;
         if self.periodic_ref().is_some() && bd.forces.trap != 0.0 {
             let what = "a harmonic trap (it pulls towards one axis, not a periodic force)";
             return Err(crate::periodic::PeriodicError::NotAvailable(what).into());
@@ -550,10 +551,14 @@ impl System {
     /// [`System::check_drift`] says where it is not available) at the F level (`3N`) or
     /// the FT level (`6N`, moment-major: translational then rotational rows; the columns
     /// are always the forces, since the mobility of spheres does not depend on their
-    /// orientation).
+    /// orientation). Panics near a wall in a periodic box
+    /// ([`System::check_periodic_drift`]).
     pub fn divergence_at(&self, moments: Moments) -> Vec<f64> {
         let n = self.len();
         if self.periodic_ref().is_some() {
+            if let Err(e) = self.check_periodic_drift() {
+                panic!("{e} (System::check_periodic_drift)");
+            }
             // every part of the Ewald split is divergence-free (crate::periodic)
             return vec![0.0; moments.per_particle() * n];
         }
