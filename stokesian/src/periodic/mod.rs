@@ -133,6 +133,17 @@ pub enum PeriodicError {
         /// Sum of radii.
         sum: f64,
     },
+    /// A sphere cuts the wall of a box periodic along it (the overlap forms of
+    /// [`crate::Overlap::Rpy`] are not available in a periodic box).
+    #[error("particle {index}: sphere of radius {a} cuts the wall (its centre {distance} above it): the overlap forms are not available in a periodic box")]
+    CutsWall {
+        /// Particle index.
+        index: usize,
+        /// Radius.
+        a: f64,
+        /// The centre's distance from the wall.
+        distance: f64,
+    },
     /// What a periodic box does not provide.
     #[error("{0}: not available in a periodic box")]
     NotAvailable(&'static str),
@@ -236,6 +247,18 @@ impl System {
                         a: p.a,
                         axis,
                         length,
+                    });
+                }
+            }
+        }
+        if let Lattice::Wall(w) = &lattice {
+            for (index, p) in ps.iter().enumerate() {
+                let distance = p.x[2] - w.height;
+                if distance < p.a {
+                    return Err(PeriodicError::CutsWall {
+                        index,
+                        a: p.a,
+                        distance,
                     });
                 }
             }

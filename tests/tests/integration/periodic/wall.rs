@@ -355,6 +355,15 @@ fn bad_boxes_near_walls_are_refused() {
         ),
         "{e}"
     );
+    // a sphere cutting the wall (accepted in open space with the RPY overlap forms)
+    let cutting = System::new(wall, 1.0, vec![p([0.0, 0.0, 0.5], 1.0)], Overlap::Rpy)
+        .unwrap()
+        .periodic(PeriodicBox::lateral([10.0, 10.0]))
+        .unwrap_err();
+    assert!(
+        matches!(cutting, PeriodicError::CutsWall { index: 0, .. }),
+        "{cutting}"
+    );
     // Brownian dynamics: the drift near a periodic wall is not implemented
     let s = make(wall)
         .periodic(PeriodicBox::lateral([10.0, 10.0]))
