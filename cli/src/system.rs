@@ -13,7 +13,7 @@ use clap::{Args, ValueEnum};
 use kernels::{Declaration, ParamError};
 use std::fs;
 use std::path::PathBuf;
-use stokesian::{Confinement, InputError, Moments, Overlap, Particle, System};
+use stokesian::{BoxLengths, Confinement, InputError, Moments, Overlap, Particle, System};
 
 /// The system: confinement, truncation, particles, viscosity.
 #[derive(Args, Debug)]
@@ -72,9 +72,10 @@ pub struct SystemArgs {
     /// The same as --overlap far.
     #[arg(long, conflicts_with = "overlap")]
     pub allow_overlap: bool,
-    /// A triply periodic box of unbounded fluid (--confinement free), LX,LY,LZ: every
-    /// periodic image summed by Ewald summation (F and FT; docs/periodic.md).
-    #[arg(long = "box", value_name = "LX,LY,LZ", allow_hyphen_values = true)]
+    /// A periodic box, every periodic image summed by Ewald summation (F and FT;
+    /// docs/periodic.md): LX,LY,LZ, triply periodic unbounded fluid (--confinement free),
+    /// or LX,LY, periodic along the wall (--confinement wall).
+    #[arg(long = "box", value_name = "LX,LY[,LZ]", allow_hyphen_values = true)]
     pub periodic_box: Option<String>,
     /// Relative truncation error of the periodic sums (with --box).
     #[arg(long, value_name = "TOL", requires = "periodic_box", default_value_t = stokesian::PeriodicBox::TOLERANCE)]
@@ -376,17 +377,20 @@ impl SystemArgs {
             .map_err(|e| input_error(e, &table, &self.given()))?;
         let system = match &self.periodic_box {
             Some(text) => {
-                let lengths =
-                    <[f64; 3]>::try_from(parse_components("--box", text)?).map_err(|v| {
-                        CliError::BadOption {
+                let lengths = match parse_components("--box", text)?.as_slice() {
+                    &[lx, ly, lz] => BoxLengths::Triply([lx, ly, lz]),
+                    &[lx, ly] => BoxLengths::Lateral([lx, ly]),
+                    v => {
+                        return Err(CliError::BadOption {
                             option: "--box",
                             value: text.clone(),
                             reason: format!(
-                                "needs 3 lengths lx,ly,lz (a triply periodic box), found {}",
+                                "needs 3 lengths lx,ly,lz (a triply periodic box) or 2 lengths lx,ly (periodic along a wall), found {}",
                                 v.len()
                             ),
-                        }
-                    })?;
+                        })
+                    }
+                };
                 system.periodic(stokesian::PeriodicBox {
                     lengths,
                     tolerance: self.periodic_tolerance,

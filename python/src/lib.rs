@@ -36,9 +36,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use stokesian::{
-    declaration, Brownian, Confinement, Dimension, ExternalForces, Isa, LubricatedDynamics,
-    Lubrication, Moments, Noise, Overlap, ParamError, Particle, PeriodicBox, Precision, Run,
-    Scheme, System, DECLARATIONS,
+    declaration, BoxLengths, Brownian, Confinement, Dimension, ExternalForces, Isa,
+    LubricatedDynamics, Lubrication, Moments, Noise, Overlap, ParamError, Particle, PeriodicBox,
+    Precision, Run, Scheme, System, DECLARATIONS,
 };
 
 /// `stokesian.InputError`, made once: `class InputError(RuntimeError, ValueError)`.

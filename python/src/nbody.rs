@@ -79,10 +79,11 @@ impl Batches {
     }
 
     /// `div M`, moment-major (of the damped mobility where a sphere cuts the wall); an
-    /// error where `System::check_drift` fails.
-    fn divergence(&self, m: Moments) -> Result<Vec<f64>, stokesian::OverlapError> {
+    /// error where `System::check_drift` or `System::check_periodic_drift` fails.
+    fn divergence(&self, m: Moments) -> Result<Vec<f64>, String> {
         for s in &self.systems {
-            s.check_drift()?;
+            s.check_drift().map_err(|e| e.to_string())?;
+            s.check_periodic_drift().map_err(|e| e.to_string())?;
         }
         Ok(self.each(m.per_particle() / 3, &[], |s, _| s.divergence_at(m)))
     }
@@ -106,9 +107,11 @@ fn batch_system(
 pub(crate) struct NBody {
     wall: bool,
     /// `("periodic", "periodic", "periodic")`: a triply periodic box, whose lengths
-    /// `setParameters` gives (`Lx`, `Ly`, `Lz`, as libMobility's PSE takes them).
+    /// `setParameters` gives (`Lx`, `Ly`, `Lz`, as libMobility's PSE takes them); with
+    /// `wall`, `("periodic", "periodic", "single_wall")`: periodic along the wall (`Lx`,
+    /// `Ly` and the wall at `zmin`, as libMobility's DPStokes takes them).
     periodic: bool,
-    lengths: Option<[f64; 3]>,
+    lengths: Option<BoxLengths>,
     /// The wall's height; None until `setParameters` gives it (required with a wall).
     wall_height: Option<f64>,
     /// `Nbatch` and `NperBatch` as given (negative: libMobility's default).
@@ -253,14 +256,16 @@ impl NBody {
             ("open", "open", "open") => (false, false),
             ("open", "open", "single_wall") => (true, false),
             ("periodic", "periodic", "periodic") => (false, true),
+            ("periodic", "periodic", "single_wall") => (true, true),
             _ => {
                 return Err(input_error(format!(
                     "NBody supports periodicity (\"open\", \"open\", \"open\") (free space), \
                      (\"open\", \"open\", \"single_wall\") (a no-slip wall below the \
-                     particles) and (\"periodic\", \"periodic\", \"periodic\") (a triply \
-                     periodic box, as libMobility's PSE); found ({periodicityX:?}, \
-                     {periodicityY:?}, {periodicityZ:?}): doubly periodic boxes and two walls \
-                     are not implemented"
+                     particles), (\"periodic\", \"periodic\", \"periodic\") (a triply \
+                     periodic box, as libMobility's PSE) and (\"periodic\", \"periodic\", \
+                     \"single_wall\") (periodic along the wall, as libMobility's DPStokes); \
+                     found ({periodicityX:?}, {periodicityY:?}, {periodicityZ:?}): two walls, \
+                     an open z with periodic x and y, and other mixes are not implemented"
                 )))
             }
         };
@@ -284,7 +289,7 @@ impl NBody {
     /// libMobility's NBody parameters: the wall's height (required with a wall, refused
     /// without), the batches (checked against the number of particles by
     /// `setPositions`); the algorithm and `delta` are accepted for libMobility's scripts.
-    #[pyo3(signature = (algorithm = "advise", Nbatch = -1, NperBatch = -1, wallHeight = None, delta = 1e-3, *, Lx = None, Ly = None, Lz = None, psi = None, shearStrain = None))]
+    #[pyo3(signature = (algorithm = "advise", Nbatch = -1, NperBatch = -1, wallHeight = None, delta = 1e-3, *, Lx = None, Ly = None, Lz = None, psi = None, shearStrain = None, zmin = None, zmax = None, allowChangingBoxSize = false, allowUnsafeForces = false))]
     #[allow(non_snake_case, clippy::too_many_arguments)]
     fn setParameters(
         &mut self,
@@ -298,23 +303,53 @@ impl NBody {
         Lz: Option<f64>,
         psi: Option<f64>,
         shearStrain: Option<f64>,
+        zmin: Option<f64>,
+        zmax: Option<f64>,
+        allowChangingBoxSize: bool,
+        allowUnsafeForces: bool,
     ) -> PyResult<()> {
-        // the box (libMobility's PSE names): required for a periodic box, refused otherwise
-        let lengths = match (self.periodic, Lx, Ly, Lz) {
-            (true, Some(x), Some(y), Some(z)) => Some([x, y, z]),
-            (true, ..) => {
+        // the box: libMobility's PSE names for a triply periodic one, DPStokes' along a
+        // wall; required there, refused otherwise
+        let lengths = match (self.periodic, self.wall, Lx, Ly, Lz) {
+            (true, false, Some(x), Some(y), Some(z)) => Some(BoxLengths::Triply([x, y, z])),
+            (true, false, ..) => {
                 return Err(input_error(
                     "Lx, Ly and Lz are required for a periodic box: setParameters(Lx=..., \
                      Ly=..., Lz=...)",
                 ))
             }
-            (false, None, None, None) => None,
+            (true, true, Some(x), Some(y), None) => Some(BoxLengths::Lateral([x, y])),
+            (true, true, ..) => {
+                return Err(input_error(
+                    "Lx and Ly (and no Lz) are required for a box periodic along the wall: \
+                     setParameters(Lx=..., Ly=..., zmin=...)",
+                ))
+            }
+            (false, _, None, None, None) => None,
             (false, ..) => {
                 return Err(input_error(
                     "Lx, Ly, Lz apply only with periodicity (\"periodic\", \"periodic\", \
-                     \"periodic\")",
+                     \"periodic\") or (\"periodic\", \"periodic\", \"single_wall\")",
                 ))
             }
+        };
+        // DPStokes' wall at zmin (the top of its grid zmax changes nothing here, nor do
+        // its box rounding and its check of the net force in an open z)
+        let _ = (zmax, allowChangingBoxSize, allowUnsafeForces);
+        let wallHeight = match (self.periodic && self.wall, zmin, wallHeight) {
+            (false, Some(_), _) => {
+                return Err(input_error(
+                    "zmin applies only with periodicity (\"periodic\", \"periodic\", \
+                     \"single_wall\") (the wall's height; wallHeight otherwise)",
+                ))
+            }
+            (true, Some(z), Some(h)) if z != h => {
+                return Err(input_error(format!(
+                    "zmin = {z} and wallHeight = {h}: both are the wall's height; give one"
+                )))
+            }
+            (_, Some(z), _) => Some(z),
+            (_, None, h) => h,
         };
         // PSE's splitting parameter changes only how the same sum is split
         if let Some(p) = psi {
@@ -341,7 +376,7 @@ impl NBody {
             (true, None) => {
                 return Err(input_error(
                     "wallHeight is required for a bottom wall (periodicityZ = \"single_wall\"): \
-                     setParameters(wallHeight=...)",
+                     setParameters(wallHeight=...) (zmin=... with periodic x and y)",
                 ))
             }
             (false, Some(_)) => {
@@ -443,8 +478,8 @@ impl NBody {
         };
         if self.periodic && self.lengths.is_none() {
             return Err(input_error(
-                "Lx, Ly and Lz are required for a periodic box: call setParameters(Lx=..., \
-                 Ly=..., Lz=...) before setPositions",
+                "the box is required for a periodic solver: call setParameters(Lx=..., \
+                 Ly=..., Lz=...) (or Lx, Ly and zmin along a wall) before setPositions",
             ));
         }
         let lengths = self.lengths;
@@ -480,8 +515,11 @@ impl NBody {
                         let s = batch_system(conf, eta, batch.to_vec())
                             .map_err(|e| wall_words(e, b * size))?;
                         match lengths {
-                            Some(l) => s
-                                .periodic(stokesian::PeriodicBox::new(l))
+                            Some(lengths) => s
+                                .periodic(stokesian::PeriodicBox {
+                                    lengths,
+                                    tolerance: stokesian::PeriodicBox::TOLERANCE,
+                                })
                                 .map_err(|e| e.to_string()),
                             None => Ok(s),
                         }

@@ -66,11 +66,15 @@ impl PySystem {
                 ))
             }
             (Some(b), tol) => {
-                let lengths: [f64; 3] = b.as_slice().try_into().map_err(|_| {
-                    input_error(format!(
-                        "box = {b:?}: expected three lengths (Lx, Ly, Lz): a triply periodic box"
-                    ))
-                })?;
+                let lengths = match *b.as_slice() {
+                    [lx, ly, lz] => BoxLengths::Triply([lx, ly, lz]),
+                    [lx, ly] => BoxLengths::Lateral([lx, ly]),
+                    _ => {
+                        return Err(input_error(format!(
+                            "box = {b:?}: expected three lengths (Lx, Ly, Lz), a triply periodic box, or two (Lx, Ly), periodic along a wall"
+                        )))
+                    }
+                };
                 let bx = PeriodicBox {
                     lengths,
                     tolerance: tol.unwrap_or(PeriodicBox::TOLERANCE),
@@ -255,6 +259,7 @@ impl PySystem {
         }
         let s = &self.system;
         s.check_drift().map_err(input_error)?;
+        s.check_periodic_drift().map_err(input_error)?;
         Ok(PyArray1::from_vec(py, py.detach(|| s.divergence_at(m))))
     }
 

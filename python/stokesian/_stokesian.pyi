@@ -92,8 +92,10 @@ class System:
     box: ``(Lx, Ly, Lz)``: a triply periodic box of unbounded fluid (``confinement=
         "free"``), the mobility summed over every periodic image by Ewald summation
         (F and FT, Brownian dynamics too: the drift is zero, positions unwrapped; FTS,
-        lubrication and a trap raise). A sphere overlapping its own image or another's
-        raises.
+        lubrication and a trap raise). ``(Lx, Ly)``: periodic along a wall
+        (``confinement="wall"``), unbounded above it (F and FT; Brownian dynamics and the
+        divergence raise: the drift is not implemented there). A sphere overlapping its
+        own image or another's raises.
     periodic_tolerance: relative truncation error of the periodic sums (default 1e-10).
     """
 
@@ -241,8 +243,12 @@ class NBody:
     (2007) and, beyond libMobility, its exact divergence. A triply periodic box
     (``"periodic", "periodic", "periodic"``, as libMobility's PSE solver; box lengths
     ``Lx, Ly, Lz`` through ``setParameters``): the RPY mobility summed over every periodic
-    image by Ewald summation, zero drift, overlapping spheres refused. Doubly periodic
-    boxes and two walls raise InputError. Overlapping spheres take the RPY overlap forms and spheres
+    image by Ewald summation, zero drift, overlapping spheres refused. Periodic along a
+    wall (``"periodic", "periodic", "single_wall"``, as libMobility's DPStokes; ``Lx, Ly``
+    and the wall's height ``zmin`` through ``setParameters``): Blake's image system summed
+    over the lateral images by Ewald summation; ``divM`` (and ``LangevinVelocities`` at
+    ``kbt > 0``) raise there, the drift is not implemented. Two walls and an open ``z``
+    with periodic ``x, y`` raise InputError. Overlapping spheres take the RPY overlap forms and spheres
     cutting the wall are damped, as in libMobility (``divM`` is then the exact divergence
     of the damped mobility); a
     centre below the wall raises InputError saying it has "fallen below the wall", in
@@ -273,6 +279,10 @@ class NBody:
         Lz: Optional[float] = None,
         psi: Optional[float] = None,
         shearStrain: Optional[float] = None,
+        zmin: Optional[float] = None,
+        zmax: Optional[float] = None,
+        allowChangingBoxSize: bool = False,
+        allowUnsafeForces: bool = False,
     ) -> None:
         """``wallHeight``: the height of the wall; required with ``"single_wall"`` (also
         when ``setParameters`` is not called: ``setPositions`` then raises) and refused
@@ -285,7 +295,10 @@ class NBody:
         and ``divM`` is exact. ``Lx, Ly, Lz``: the box of a triply periodic solver
         (required there, refused otherwise); ``psi`` (PSE's splitting parameter) is
         accepted and changes nothing (the split is chosen for the tolerance);
-        ``shearStrain`` other than 0 raises."""
+        ``shearStrain`` other than 0 raises. Periodic along a wall (DPStokes' names):
+        ``Lx, Ly`` (required, ``Lz`` refused) and ``zmin``, the wall's height (or
+        ``wallHeight``; both must agree); ``zmax``, ``allowChangingBoxSize`` and
+        ``allowUnsafeForces`` are accepted and change nothing (no grid here)."""
     def initialize(
         self,
         viscosity: float,

@@ -387,6 +387,8 @@ def test_a_triply_periodic_box():
     m = two.mobility("FT")
     assert np.array_equal(m, m.T) and np.linalg.eigvalsh(m).min() > 0.0
     with pytest.raises(ValueError, match="three lengths"):
+        stokesian.System(np.array([[1.0, 2.0, 3.0]]), 1.0, confinement="free", box=(L,))
+    with pytest.raises(ValueError, match="net lateral force"):
         stokesian.System(np.array([[1.0, 2.0, 3.0]]), 1.0, confinement="free", box=(L, L))
     with pytest.raises(ValueError, match="free surface"):
         stokesian.System(np.array([[1.0, 2.0, 3.0]]), 1.0, confinement="free_surface",
@@ -405,3 +407,27 @@ def test_a_triply_periodic_box():
     assert frames.shape == (6, 2, 3) and np.all(np.isfinite(frames))
     with pytest.raises(ValueError, match="harmonic trap"):
         two.brownian(5, 0.01, trap=1.0)
+
+
+def test_a_box_periodic_along_a_wall():
+    # two spheres above a wall, box=(Lx, Ly): symmetric positive definite; a sphere moved
+    # by Lx is the same system (to the rounding of the images' order); far apart in a
+    # large box, the self block tends to the open wall's
+    x = np.array([[0.0, 0.0, 2.0], [3.0, 1.0, 3.5]])
+    s = stokesian.System(x, [1.0, 0.7], confinement="wall", box=(8.0, 9.0))
+    m = s.mobility("FT")
+    assert np.array_equal(m, m.T) and np.linalg.eigvalsh(m).min() > 0.0
+    moved = x.copy()
+    moved[1, 0] += 8.0
+    m2 = stokesian.System(moved, [1.0, 0.7], confinement="wall", box=(8.0, 9.0)).mobility("FT")
+    assert np.abs(m2 - m).max() < 1e-13 * np.abs(m).max()
+    one = np.array([[0.0, 0.0, 2.0]])
+    open_ = stokesian.System(one, 1.0, confinement="wall").mobility("F")
+    big = stokesian.System(one, 1.0, confinement="wall", box=(400.0, 400.0)).mobility("F")
+    assert np.abs(big - open_).max() < 1e-5 * np.abs(open_).max()
+    with pytest.raises(ValueError, match="superposition of two walls"):
+        stokesian.System(one, 1.0, confinement="slit", params={"gap": 5.0}, box=(8.0, 9.0))
+    with pytest.raises(ValueError, match="drift"):
+        s.brownian(5, 0.01, seed=1)
+    with pytest.raises(ValueError, match="drift"):
+        s.divergence("F")

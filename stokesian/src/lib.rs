@@ -134,7 +134,7 @@ pub use linalg::{check_spd, lanczos_sqrt, LanczosError, SpdCheck};
 pub use mobility::{
     solve_fts, strain_components, SingularStressletBlock, Velocities, VelocityError, MAX_CONDITION,
 };
-pub use periodic::{PeriodicBox, PeriodicError};
+pub use periodic::{BoxLengths, PeriodicBox, PeriodicError};
 pub use resistance::{
     solve_resistance, solve_resistance_fts, wall_functions, wall_near_contact, wall_series,
     Lubrication, ResistanceError, WallFunctions,

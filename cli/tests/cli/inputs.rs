@@ -865,6 +865,37 @@ fn corpus_of_nasty_command_lines() {
     }
 }
 
+/// `--box LX,LY` near a wall: the library's mobility periodic along the wall, written
+/// whole.
+#[test]
+fn a_box_periodic_along_a_wall() {
+    let dir = Dir::new("box_wall");
+    let text = "x,y,z,radius\n0,0,0,1\n3,1,2,0.7\n";
+    let p = dir.file("particles.csv", text);
+    let out = dir.path("M.npy");
+    let extra = ["--box", "10,11", "--boundary-height", "-5"];
+    let o = run_mobility("wall", "FT", &p, &out, &extra);
+    assert_ok(&o);
+    let m = read_npy(&out);
+    let ps = vec![
+        Particle {
+            x: [0.0, 0.0, 0.0],
+            a: 1.0,
+        },
+        Particle {
+            x: [3.0, 1.0, 2.0],
+            a: 0.7,
+        },
+    ];
+    let want = System::new(Confinement::Wall { height: -5.0 }, 1.0, ps, false)
+        .unwrap()
+        .periodic(stokesian::PeriodicBox::lateral([10.0, 11.0]))
+        .unwrap()
+        .mobility(Moments::FT);
+    assert_eq!(m.shape(), (12, 12));
+    assert_eq!(m, want);
+}
+
 /// `--box LX,LY,LZ`: the library's periodic mobility, written whole; bad boxes and what
 /// a box does not provide are errors that write nothing.
 #[test]
@@ -898,8 +929,20 @@ fn a_periodic_box() {
         (
             "free",
             "F",
+            "10",
+            "--box 10: needs 3 lengths lx,ly,lz (a triply periodic box) or 2 lengths lx,ly (periodic along a wall), found 1",
+        ),
+        (
+            "free",
+            "F",
             "10,11",
-            "--box 10,11: needs 3 lengths lx,ly,lz (a triply periodic box), found 2",
+            "--box: a periodic box is not available in unbounded fluid with two lengths",
+        ),
+        (
+            "wall",
+            "F",
+            "10,11,12",
+            "--box: a periodic box is not available near a wall with three lengths",
         ),
         (
             "free",

@@ -231,6 +231,7 @@ impl System {
         w: &[f64],
         step: usize,
     ) -> Result<(Vec<f64>, Option<usize>), BrownianError> {
+        self.check_periodic_drift()?;
         if self.periodic_ref().is_some() && bd.forces.trap != 0.0 {
             let what = "a harmonic trap (it pulls towards one axis, not a periodic force)";
             return Err(crate::periodic::PeriodicError::NotAvailable(what).into());
@@ -470,13 +471,16 @@ impl System {
                 // in a periodic box, the nearest image
                 let d = |i: usize| {
                     let d = p.x[i] - q.x[i];
-                    bx.map_or(d, |bx| d - bx.lengths[i] * (d / bx.lengths[i]).round())
+                    match bx.and_then(|bx| bx.lengths.along(i)) {
+                        Some(l) => d - l * (d / l).round(),
+                        None => d,
+                    }
                 };
                 let r = (0..3).map(|i| d(i).powi(2)).sum::<f64>().sqrt();
                 gap = gap.min((r - p.a - q.a) / p.a.min(q.a));
             }
             // and its own nearest images
-            for l in bx.iter().flat_map(|bx| bx.lengths) {
+            for &l in bx.iter().flat_map(|bx| bx.lengths.as_slice()) {
                 gap = gap.min((l - 2.0 * p.a) / p.a);
             }
         }
@@ -558,10 +562,14 @@ impl System {
     /// [`System::check_drift`] says where it is not available) at the F level (`3N`) or
     /// the FT level (`6N`, moment-major: translational then rotational rows; the columns
     /// are always the forces, since the mobility of spheres does not depend on their
-    /// orientation).
+    /// orientation). Panics near a wall in a periodic box
+    /// ([`System::check_periodic_drift`]).
     pub fn divergence_at(&self, moments: Moments) -> Vec<f64> {
         let n = self.len();
         if self.periodic_ref().is_some() {
+            if let Err(e) = self.check_periodic_drift() {
+                panic!("{e} (System::check_periodic_drift)");
+            }
             // every part of the Ewald split is divergence-free (crate::periodic)
             return vec![0.0; moments.per_particle() * n];
         }

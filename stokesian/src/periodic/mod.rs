@@ -1,12 +1,16 @@
-//! Periodic boxes: spheres in a triply periodic box of unbounded fluid, the mobility
-//! summed over every periodic image by Ewald summation ([`ewald`]). A [`System`] is
-//! made periodic by [`System::periodic`], which validates the box against the spheres;
-//! the dense mobility, its blocks, the product and the velocities (F and FT) then are
-//! the periodic ones, and so is Brownian dynamics, whose drift is zero (each part of the
-//! split is divergence-free, as the free-space kernels are); a step that would overlap
-//! two spheres by their nearest images is redrawn like any invalid step. The dense
-//! matrix and its blocks use the direct sums; the product is the fast one ([`product`]:
-//! real space over linked cells, reciprocal space by spectral Ewald), `O(N)`.
+//! Periodic boxes: spheres in a triply periodic box of unbounded fluid, or above a plane
+//! no-slip wall in a box periodic along it (x and y), the mobility summed over every
+//! periodic image by Ewald summation ([`ewald`], [`wall`]). A [`System`] is made periodic
+//! by [`System::periodic`], which validates the box against the spheres; the dense
+//! mobility, its blocks, the product and the velocities (F and FT) then are the periodic
+//! ones, and so is Brownian dynamics in the triply periodic box, whose drift is zero (each
+//! part of the split is divergence-free, as the free-space kernels are); a step that would
+//! overlap two spheres by their nearest images is redrawn like any invalid step. Near a
+//! periodic wall the drift is not zero and not implemented: Brownian dynamics is refused
+//! there ([`System::check_periodic_drift`]). The dense
+//! matrix and its blocks use the direct sums; the triply periodic product is the fast
+//! one ([`product`]: real space over linked cells, reciprocal space by spectral Ewald),
+//! `O(N)`; near a wall the product sums the blocks pair by pair.
 //!
 //! The resistance with lubrication ([`System::resistance`]) adds its pair corrections
 //! for every image of a sphere within the window of the correction, a sphere's own
@@ -19,10 +23,13 @@
 //! harmonic trap of Brownian dynamics (not a periodic force), the
 //! overlap forms (overlapping spheres are refused, by their nearest images), the
 //! single-precision product (the periodic product is in `f64` whatever
-//! [`crate::Precision`] asks), and every confinement but free space: near a free surface
-//! or an interface the lattice sum diverges (their far field parallel to the plane
-//! decays like `1/rho`, and nothing balances a net lateral force); near a wall and in a
-//! slit the doubly periodic sum is not implemented.
+//! [`crate::Precision`] asks), and every confinement but free space (three lengths) and
+//! the wall (two lengths, the wall normal to `e3`): near a free surface or an interface
+//! the lattice sum diverges (their far field parallel to the plane decays like `1/rho`,
+//! and nothing balances a net lateral force), and so it does in the slit, whose Green's
+//! function is the superposition of two walls' (its far field tends to `-J`, `1/rho`);
+//! a wall of another normal is periodic along its normal, which is meaningless; free
+//! space with two lengths leaves a net lateral force unbalanced (`1/rho` again).
 //!
 //! Positions are used as given (not wrapped): every sum is over the lattice, so moving a
 //! sphere by a box length changes nothing but rounding.
@@ -32,46 +39,79 @@ pub mod ewald;
 mod fft;
 mod product;
 mod spectral;
+pub mod wall;
 
 use crate::system::input::Particle;
 use crate::system::Moments;
 use crate::System;
 use ewald::Ewald;
-use kernels::{BlocksFT, Confinement};
+use kernels::{BlocksFT, Condition, Confinement};
 use rayon::prelude::*;
 use thiserror::Error;
+use wall::WallEwald;
 
 /// A periodic box: its lengths and the tolerance of its lattice sums.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PeriodicBox {
-    /// `[Lx, Ly, Lz]`.
-    pub lengths: [f64; 3],
+    /// The periodic lengths.
+    pub lengths: BoxLengths,
     /// Relative truncation error of the lattice sums, of each block's largest pair
     /// entry.
     pub tolerance: f64,
+}
+
+/// Along which axes a box is periodic, and its lengths there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BoxLengths {
+    /// `[Lx, Ly, Lz]`: triply periodic (unbounded fluid).
+    Triply([f64; 3]),
+    /// `[Lx, Ly]`: periodic along a wall normal to `e3`, unbounded above it.
+    Lateral([f64; 2]),
+}
+
+impl BoxLengths {
+    /// The lengths, `x` first.
+    pub fn as_slice(&self) -> &[f64] {
+        match self {
+            BoxLengths::Triply(l) => l,
+            BoxLengths::Lateral(l) => l,
+        }
+    }
+
+    /// The length along axis `d` (0, 1, 2 for x, y, z), if the box is periodic along it.
+    pub fn along(&self, d: usize) -> Option<f64> {
+        self.as_slice().get(d).copied()
+    }
 }
 
 impl PeriodicBox {
     /// The default tolerance of the lattice sums.
     pub const TOLERANCE: f64 = 1e-10;
 
-    /// A box of `lengths` at the default tolerance.
+    /// A triply periodic box of `[Lx, Ly, Lz]` at the default tolerance.
     pub fn new(lengths: [f64; 3]) -> PeriodicBox {
         PeriodicBox {
-            lengths,
+            lengths: BoxLengths::Triply(lengths),
+            tolerance: PeriodicBox::TOLERANCE,
+        }
+    }
+
+    /// A box periodic along a wall, `[Lx, Ly]`, at the default tolerance.
+    pub fn lateral(lengths: [f64; 2]) -> PeriodicBox {
+        PeriodicBox {
+            lengths: BoxLengths::Lateral(lengths),
             tolerance: PeriodicBox::TOLERANCE,
         }
     }
 
     /// The separations `x_b + n L - x_a` of the periodic images of a sphere at `xb` from
     /// a sphere at `xa` whose length is at most `reach`, over every lattice vector `n L`
-    /// (`n` in a fixed order, the last component fastest).
+    /// (along the periodic axes; `n` in a fixed order, the last component fastest).
     pub fn separations(&self, xa: [f64; 3], xb: [f64; 3], reach: f64) -> Vec<[f64; 3]> {
-        let l = self.lengths;
-        // the nearest image, each component in [-L/2, L/2]
+        // the nearest image, each periodic component in [-L/2, L/2]
         let r0 = std::array::from_fn(|d| {
             let r = xb[d] - xa[d];
-            r - l[d] * (r / l[d]).round()
+            self.lengths.along(d).map_or(r, |l| r - l * (r / l).round())
         });
         self.lattice(r0, reach, false)
     }
@@ -85,13 +125,13 @@ impl PeriodicBox {
     }
 
     /// `r0 + n L` of length at most `reach`, `n` in a fixed order (with `half`, `n` in
-    /// the half lattice of [`PeriodicBox::own_images`]).
+    /// the half lattice of [`PeriodicBox::own_images`]); `n_d = 0` along an axis that is
+    /// not periodic.
     fn lattice(&self, r0: [f64; 3], reach: f64, half: bool) -> Vec<[f64; 3]> {
-        let l = self.lengths;
-        let range = |d: usize| {
-            let lo = ((-reach - r0[d]) / l[d]).ceil() as i64;
-            let hi = ((reach - r0[d]) / l[d]).floor() as i64;
-            lo..=hi
+        let l: [f64; 3] = std::array::from_fn(|d| self.lengths.along(d).unwrap_or(0.0));
+        let range = |d: usize| match self.lengths.along(d) {
+            Some(l) => ((-reach - r0[d]) / l).ceil() as i64..=((reach - r0[d]) / l).floor() as i64,
+            None => 0..=0,
         };
         let mut out = Vec::new();
         for n1 in range(0) {
@@ -158,6 +198,17 @@ pub enum PeriodicError {
         /// Sum of radii.
         sum: f64,
     },
+    /// A sphere cuts the wall of a box periodic along it (the overlap forms of
+    /// [`crate::Overlap::Rpy`] are not available in a periodic box).
+    #[error("particle {index}: sphere of radius {a} cuts the wall (its centre {distance} above it): the overlap forms are not available in a periodic box")]
+    CutsWall {
+        /// Particle index.
+        index: usize,
+        /// Radius.
+        a: f64,
+        /// The centre's distance from the wall.
+        distance: f64,
+    },
     /// What a periodic box does not provide.
     #[error("{0}: not available in a periodic box")]
     NotAvailable(&'static str),
@@ -167,23 +218,81 @@ pub enum PeriodicError {
 #[derive(Clone, Debug)]
 pub(crate) struct Periodic {
     pub(crate) bx: PeriodicBox,
-    pub(crate) ewald: Ewald,
+    pub(crate) lattice: Lattice,
+}
+
+/// The Ewald sum of a box: triply periodic, or periodic along a wall.
+#[derive(Clone, Debug)]
+pub(crate) enum Lattice {
+    /// Unbounded fluid, periodic in `x`, `y` and `z`.
+    Triply(Ewald),
+    /// Above a wall, periodic in `x` and `y`.
+    Wall(WallEwald),
 }
 
 impl Periodic {
     /// The FT blocks `M^{ab}` of particles `p` (field) and `q` (source), every image
     /// summed; `p == q` for the self mobility.
     pub(crate) fn blocks(&self, eta: f64, ps: &[Particle], p: usize, q: usize) -> BlocksFT {
-        self.ewald.blocks(eta, &ps[p], &ps[q], p == q)
+        match &self.lattice {
+            Lattice::Triply(e) => e.blocks(eta, &ps[p], &ps[q], p == q),
+            Lattice::Wall(w) => w.blocks(eta, &ps[p], &ps[q], p == q),
+        }
+    }
+
+    /// The separation `x_a - x_b` of the nearest images (along the periodic axes).
+    fn minimum_image(&self, xa: [f64; 3], xb: [f64; 3]) -> [f64; 3] {
+        match &self.lattice {
+            Lattice::Triply(e) => e.minimum_image(xa, xb),
+            Lattice::Wall(w) => w.minimum_image(xa, xb),
+        }
+    }
+}
+
+/// The refusal of a slit: its Green's function superposes two walls'.
+const SLIT: &str = "our slit's Green's function is the superposition of two walls' (Swan & Brady Sec. IV): its far field parallel to the walls tends to -J and decays like 1/rho, so the lattice sum diverges (an exact slit Green's function would be needed)";
+
+/// The Ewald sum of `bx` in `confinement`, or why there is none.
+fn lattice(confinement: &Confinement, bx: &PeriodicBox) -> Result<Lattice, PeriodicError> {
+    let bounds = confinement.boundaries();
+    let refuse = |where_, why| Err(PeriodicError::Confinement { where_, why });
+    if bounds
+        .iter()
+        .any(|b| matches!(b.condition, Condition::FreeSurface | Condition::Interface))
+    {
+        return refuse(
+            "near a free surface or an interface",
+            "the far field parallel to the plane decays like 1/rho, nothing balances a net lateral force, and the lattice sum diverges",
+        );
+    }
+    match (bounds.as_slice(), bx.lengths) {
+        ([], BoxLengths::Triply(l)) => Ok(Lattice::Triply(Ewald::new(l, bx.tolerance, None))),
+        ([], BoxLengths::Lateral(_)) => refuse(
+            "in unbounded fluid with two lengths (periodic in x and y only)",
+            "a net lateral force is balanced by nothing, the far field decays like 1/rho and the lattice sum diverges; give three lengths for a triply periodic box",
+        ),
+        ([wall], BoxLengths::Lateral(l)) if wall.normal == [0.0, 0.0, 1.0] => Ok(Lattice::Wall(
+            WallEwald::new(l, wall.offset, bx.tolerance, None),
+        )),
+        ([_], BoxLengths::Lateral(_)) => refuse(
+            "near a wall whose normal is not e3",
+            "the box is periodic in x and y, and a box periodic along the wall's normal is meaningless (use the wall normal to e3)",
+        ),
+        ([_], BoxLengths::Triply(_)) => refuse(
+            "near a wall with three lengths",
+            "the box is periodic along the wall only: give two lengths, Lx and Ly",
+        ),
+        (_, _) => refuse("in a slit", SLIT),
     }
 }
 
 impl System {
-    /// This system in a periodic box: triply periodic unbounded fluid (the confinement
-    /// must be free space), spheres clear of each other's and their own images. See
+    /// This system in a periodic box: triply periodic unbounded fluid (confinement free,
+    /// [`PeriodicBox::new`]) or periodic along a wall normal to `e3` (confinement wall,
+    /// [`PeriodicBox::lateral`]), spheres clear of each other's and their own images. See
     /// [`crate::periodic`] for what is available there.
     pub fn periodic(mut self, bx: PeriodicBox) -> Result<System, PeriodicError> {
-        for (d, &value) in bx.lengths.iter().enumerate() {
+        for (d, &value) in bx.lengths.as_slice().iter().enumerate() {
             if !(value > 0.0 && value.is_finite()) {
                 let axis = ['x', 'y', 'z'][d];
                 return Err(PeriodicError::BadLength { axis, value });
@@ -192,24 +301,10 @@ impl System {
         if !(1e-15..=1e-2).contains(&bx.tolerance) {
             return Err(PeriodicError::BadTolerance(bx.tolerance));
         }
-        match self.confinement() {
-            Confinement::Free => {}
-            Confinement::FreeSurface { .. } | Confinement::Interface { .. } => {
-                return Err(PeriodicError::Confinement {
-                    where_: "near a free surface or an interface",
-                    why: "the far field parallel to the plane decays like 1/rho, nothing balances a net lateral force, and the lattice sum diverges",
-                })
-            }
-            _ => {
-                return Err(PeriodicError::Confinement {
-                    where_: "in this confinement",
-                    why: "only a triply periodic box of unbounded fluid (confinement free) is implemented; a doubly periodic box near a wall or in a slit is not yet",
-                })
-            }
-        }
+        let lattice = lattice(self.confinement(), &bx)?;
         let ps = self.particles();
         for (index, p) in ps.iter().enumerate() {
-            for (d, &length) in bx.lengths.iter().enumerate() {
+            for (d, &length) in bx.lengths.as_slice().iter().enumerate() {
                 if length <= 2.0 * p.a {
                     let axis = ['x', 'y', 'z'][d];
                     return Err(PeriodicError::OwnImage {
@@ -221,10 +316,22 @@ impl System {
                 }
             }
         }
-        let ewald = Ewald::new(bx.lengths, bx.tolerance, None);
+        if let Lattice::Wall(w) = &lattice {
+            for (index, p) in ps.iter().enumerate() {
+                let distance = p.x[2] - w.height;
+                if distance < p.a {
+                    return Err(PeriodicError::CutsWall {
+                        index,
+                        a: p.a,
+                        distance,
+                    });
+                }
+            }
+        }
+        let periodic = Periodic { bx, lattice };
         for i in 0..ps.len() {
             for j in i + 1..ps.len() {
-                let r = ewald.minimum_image(ps[i].x, ps[j].x);
+                let r = periodic.minimum_image(ps[i].x, ps[j].x);
                 let distance = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
                 let sum = ps[i].a + ps[j].a;
                 if distance < sum {
@@ -237,8 +344,19 @@ impl System {
                 }
             }
         }
-        self.set_periodic(Some(Periodic { bx, ewald }));
+        self.set_periodic(Some(periodic));
         Ok(self)
+    }
+
+    /// Whether the Brownian drift `div M` is available: not near a periodic wall, where
+    /// it is not zero (the wall's mobility depends on the heights) and not implemented.
+    pub fn check_periodic_drift(&self) -> Result<(), PeriodicError> {
+        match self.periodic_ref().map(|p| &p.lattice) {
+            Some(Lattice::Wall(_)) => Err(PeriodicError::NotAvailable(
+                "the Brownian drift near a wall in a periodic box (not zero there, and not implemented)",
+            )),
+            _ => Ok(()),
+        }
     }
 
     /// The periodic box, if any.
@@ -307,10 +425,33 @@ impl System {
         (0..k * k).map(|e| m[e / k][e % k]).collect()
     }
 
-    /// The periodic product `M x` at F or FT, moment-major: the fast product
-    /// ([`product`]: linked cells and spectral Ewald), to the box's tolerance.
+    /// The periodic product `M x` at F or FT, moment-major: in a triply periodic box the
+    /// fast product ([`product`]: linked cells and spectral Ewald), to the box's
+    /// tolerance; near a wall the dense matrix's blocks, pair by pair.
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
-        let (lengths, tol) = (p.bx.lengths, p.bx.tolerance);
-        product::apply(lengths, tol, self.viscosity(), self.particles(), moments, x)
+        if let BoxLengths::Triply(lengths) = p.bx.lengths {
+            let tol = p.bx.tolerance;
+            return product::apply(lengths, tol, self.viscosity(), self.particles(), moments, x);
+        }
+        // near a wall: the blocks pair by pair, as for the dense matrix, in a fixed order
+        let n = self.len();
+        let k = moments.per_particle();
+        let parts = moments.parts();
+        let g = |a: usize, i: usize| crate::system::global(parts, n, a, i);
+        let mut out = vec![0.0; k * n];
+        self.block_rows(p, |a, row| {
+            for (db, m) in row.iter().enumerate() {
+                let b = a + db;
+                for i in 0..k {
+                    for j in 0..k {
+                        out[g(a, i)] += m[i][j] * x[g(b, j)];
+                        if a != b {
+                            out[g(b, j)] += m[i][j] * x[g(a, i)];
+                        }
+                    }
+                }
+            }
+        });
+        out
     }
 }

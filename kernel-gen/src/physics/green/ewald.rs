@@ -28,11 +28,20 @@ use crate::number::scalar::Scalar;
 /// The real part of the Ewald split of free space.
 pub struct EwaldReal;
 
+/// The screening length of the split, a parameter of every Ewald building block.
+pub const SIGMA: Param = Param {
+    name: "sigma",
+    doc: "screening length sigma = 1/xi of the Ewald split (the real part decays like exp(-r^2/sigma^2))",
+    dimension: Dimension::Length,
+    default: None,
+    example: 1.3,
+};
+
 /// Terms kept in the series of `r erf(xi r)` in `s = r.r` (up to `s^SERIES_TERMS`).
 pub const SERIES_TERMS: usize = 6;
 
 /// `r = x - y` and `s = r.r`.
-fn separation<S: Scalar>(x: &[S; 3], y: &[S; 3]) -> ([S; 3], S) {
+pub(crate) fn separation<S: Scalar>(x: &[S; 3], y: &[S; 3]) -> ([S; 3], S) {
     let r: [S; 3] = std::array::from_fn(|k| x[k].clone() - y[k].clone());
     let s = r[0].clone() * r[0].clone() + r[1].clone() * r[1].clone() + r[2].clone() * r[2].clone();
     (r, s)
@@ -124,13 +133,7 @@ impl Green for EwaldReal {
         "free space, the real part of Beenakker's Ewald split: (delta lap - d d)[r erfc(r/sigma)]"
     }
     fn params(&self) -> &'static [Param] {
-        &[Param {
-            name: "sigma",
-            doc: "screening length sigma = 1/xi of the Ewald split (the real part decays like exp(-r^2/sigma^2))",
-            dimension: Dimension::Length,
-            default: None,
-            example: 1.3,
-        }]
+        &[SIGMA]
     }
     fn full<S: Scalar>(&self, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S> {
         let (r, s) = separation(x, y);

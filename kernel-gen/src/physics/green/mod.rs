@@ -13,6 +13,7 @@
 //! normals and the like).
 
 pub mod ewald;
+pub mod ewald_wall;
 pub mod free;
 pub mod free_surface;
 pub mod interface;
@@ -407,6 +408,7 @@ pub fn for_each<V: Visitor>(v: &mut V) {
 /// space).
 pub fn for_each_building_block<V: Visitor>(v: &mut V) {
     v.visit(&ewald::EwaldReal);
+    v.visit(&ewald_wall::EwaldWall);
 }
 
 /// The full Green's function `J(x - y) + J^w(x, y)`, units of `1/(8 pi eta)`

@@ -59,6 +59,24 @@ pub(crate) fn blake_terms(plane: usize, weight: usize) -> Vec<ImageTerm> {
 
 /// Blake's image about the plane `x3 = height`, as ordinary Rust (Eq. 5).
 pub(crate) fn blake<S: Scalar>(x: &[S; 3], y: &[S; 3], height: &S) -> Mat3<S> {
+    image_system(x, y, height, |r| {
+        (stokeslet(r), stokeslet_gradient(r), stokeslet_laplacian(r))
+    })
+}
+
+/// `J`, its gradient `d_k J_ij` (indexed `[k][i][j]`) and its Laplacian at `R`.
+pub(crate) type WithDerivatives<S> = (Mat3<S>, [Mat3<S>; 3], Mat3<S>);
+
+/// Blake's image system (Eq. 5) about the plane `x3 = height` built from `kernel(R)`,
+/// which gives a Stokeslet-like `J`, its gradient and its Laplacian at `R = x - y'`:
+/// Blake's image with `J` itself ([`blake`]), or with the screened real part of an Ewald
+/// split ([`super::ewald_wall`]).
+pub(crate) fn image_system<S: Scalar>(
+    x: &[S; 3],
+    y: &[S; 3],
+    height: &S,
+    kernel: impl Fn(&[S; 3]) -> WithDerivatives<S>,
+) -> Mat3<S> {
     let h = y[2].clone() - height.clone();
     let yp = [
         y[0].clone(),
@@ -66,9 +84,7 @@ pub(crate) fn blake<S: Scalar>(x: &[S; 3], y: &[S; 3], height: &S) -> Mat3<S> {
         y[2].clone() - S::cst(2.0) * h.clone(),
     ];
     let r: [S; 3] = std::array::from_fn(|k| x[k].clone() - yp[k].clone());
-    let j = stokeslet(&r);
-    let dj = stokeslet_gradient(&r);
-    let lj = stokeslet_laplacian(&r);
+    let (j, dj, lj) = kernel(&r);
     std::array::from_fn(|i| {
         std::array::from_fn(|l| {
             let p = S::cst(mirror(l));

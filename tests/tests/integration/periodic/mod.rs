@@ -4,11 +4,14 @@
 //! products and refusals (`system`); the resistance with lubrication over every image
 //! (`lubrication`); the fast product (cells and spectral Ewald) against the dense
 //! matrix, and its bits whatever the threads (`spectral`).
+//! Boxes periodic along a wall: the Ewald sums against the brute-force sum over shells
+//! of the open wall's images, and the system (`wall`).
 
 mod ewald;
 mod lubrication;
 mod spectral;
 mod system;
+mod wall;
 
 use rand::{Rng, SeedableRng};
 use stokesian::Particle;

@@ -12,7 +12,10 @@ const ETA: f64 = 0.9;
 fn system(ps: Vec<Particle>, lengths: [f64; 3], tolerance: f64) -> System {
     System::new(Confinement::Free, ETA, ps, Overlap::Refuse)
         .unwrap()
-        .periodic(PeriodicBox { lengths, tolerance })
+        .periodic(PeriodicBox {
+            tolerance,
+            ..PeriodicBox::new(lengths)
+        })
         .unwrap()
 }
 

@@ -135,8 +135,8 @@ fn bad_boxes_and_what_a_box_cannot_do_are_refused() {
     );
     let e = free()
         .periodic(PeriodicBox {
-            lengths: [10.0; 3],
             tolerance: 0.5,
+            ..PeriodicBox::new([10.0; 3])
         })
         .unwrap_err();
     assert_eq!(e, PeriodicError::BadTolerance(0.5));

@@ -1,0 +1,25 @@
+"""Time the dense mobility of spheres above a wall in a box periodic along it
+(docs/periodic.md): a monolayer of spheres of radius 1 at area fraction about 0.3,
+centres at heights 1.5 to 3.5 above the wall, F and FT, two tolerances.
+
+Run with the module built (`cargo xtask test` builds it into target/python-venv):
+    target/python-venv/bin/python docs/examples/periodic_wall_timing.py
+"""
+import time, numpy as np, stokesian
+rng = np.random.default_rng(1)
+for n in (100, 400):
+    L = np.sqrt(n * np.pi / 0.3)
+    pts = []
+    while len(pts) < n:
+        x = np.array([rng.random() * L, rng.random() * L, 1.5 + 2.0 * rng.random()])
+        ok = True
+        for q in pts:
+            d = x - q; d[:2] -= L * np.round(d[:2] / L)
+            if np.linalg.norm(d) < 2.05: ok = False; break
+        if ok: pts.append(x)
+    x = np.array(pts)
+    for tol in (1e-6, 1e-10):
+        s = stokesian.System(x, 1.0, confinement="wall", box=(L, L), periodic_tolerance=tol)
+        for mom in ("F", "FT"):
+            t = time.perf_counter(); m = s.mobility(mom); t = time.perf_counter() - t
+            print(f"N={n} L={L:.1f} tol={tol:g} {mom}: dense {t:.3f} s")

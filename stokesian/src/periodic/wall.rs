@@ -1,0 +1,492 @@
+//! The Rotne-Prager-Yamakawa mobility of spheres above a plane no-slip wall in a box
+//! periodic along the wall (x and y, lengths `Lx`, `Ly`, area `A = Lx Ly`): Blake's image
+//! system summed over the lateral lattice by an Ewald split of every Stokeslet in it.
+//!
+//! Every block of the wall decays like `rho^-3` along the wall, so the lattice sum
+//! converges, but slowly. Beenakker's split `J = J^R + J^K` (`J^R` screened by
+//! `erfc(xi r)`, [`super::ewald`]) applied to the Stokeslet and to each of its image
+//! terms (Eq. 5) gives
+//!
+//! - a **real part**, Blake's image system of `J^R` (the generated building block
+//!   `kernels::generated::scene_ewald_wall_ft`), Gaussian in the distances to the source
+//!   and to its image: summed over the lateral images within `r_c`;
+//! - a **reciprocal part**, the same image system of the smooth `J^K`: the image is a
+//!   source at `y' = y - 2 h e3` (`h` the source's height above the wall) with the
+//!   Fourier symbol `Jhat^K(k) T(k, h)`,
+//!   `T_ml = delta_ml (-1 - h^2 k^2 P_ll) - 2 i h P_ll k_l delta_m3`, `P = diag(1, 1, -1)`,
+//!   next to the direct `Jhat^K(k) = phi(k) (I - khat khat)/(eta k^2)` (physical units,
+//!   `phi` of [`super::ewald`]). The lateral wave vectors `k_par = 2 pi (n1/Lx, n2/Ly) != 0`
+//!   are summed within `k_c`; the integral over `k_z` is a trapezoidal sum, that is the
+//!   same sum in a box also periodic in `z`, of height `Lz' = h_a + h_b + D` for the pair:
+//!   its copies along `z` are at least `D` from every field point, and a mode of lateral
+//!   wave number `k_par` decays like `exp(-k_par |z|)` away from its sources, so the
+//!   copies add about `(1 + K0 (h_a + h_b))^2 exp(-K0 D)` relative, `K0 = 2 pi / max(Lx,
+//!   Ly)` (the image's symbol carries `h_b^2 k^2`): `D = (ln(100/tol) + 2 ln(1 + K0 (h_a +
+//!   h_b)))/K0`. For the same reason `k_c = 2 xi sqrt(p^2 + 2 ln(1 + 2 xi p (h_a + h_b)))`,
+//!   slightly above the triply periodic box's `2 xi p`;
+//!   The operators act on the field point as `i k` and on the source as `d/dy`, which on
+//!   the image is `-i (k1, k2, -k3)` plus `d/dh` on `T` (so the source's Faxén
+//!   operator and rotlet see the image's explicit heights);
+//! - the **mode `k_par = 0`** in closed form: the plane average of the whole lattice sum
+//!   is that of one wall's Green's function, `8 pi min(h_a, h_b) (I - e3 e3)` per area in
+//!   units of `1/(8 pi eta)` (a force sheet above a no-slip wall drives the plug flow
+//!   `u = F min(z, h)/(eta A)`, which the wall's shear stress balances); minus the plane
+//!   average of the real part, it leaves `(I - e3 e3) f/A` with
+//!   `f = Psi(h_a - h_b) - Psi(h_a + h_b) + h_b^2 Psi''(h_a + h_b)`,
+//!   `Psi(z) = -4 pi z erf(xi z) - 4 sqrt(pi) xi z^2 exp(-xi^2 z^2)` (even and entire).
+//!   The blocks follow from the operators in `z` alone: `UF = (1 + a_a^2/6 d_a^2)(1 +
+//!   a_b^2/6 d_b^2) f`, `OmegaF_mj = (1/2) eps_m3j d_a (1 + a_b^2/6 d_b^2) f`, `UL_ij =
+//!   (1/2) eps_j3i d_b (1 + a_a^2/6 d_a^2) f`, `OmegaL = (1/4) d_a d_b f (I - e3 e3)`, with
+//!   `d_a`, `d_b` the derivatives in `h_a`, `h_b`. Unlike a triply periodic box nothing is
+//!   left out: a net lateral force drives a bounded plug flow.
+//!
+//! The self mobility is the generated self kernel (the isolated sphere, `W(0)` and the
+//! screened image at `R = 2 h e3`), the real images `n != 0`, the reciprocal sum and the
+//! mode `k_par = 0` at `(x, x)`.
+//!
+//! Truncation as in the triply periodic box: `p = xi r_c`, `p^2 = ln(1/tol) + 11.5`
+//! ([`super::ewald::truncation_parameter`]), `k_c` and `D` as above; `xi = sqrt(pi/A)`.
+//! Measured against the brute-force lattice sum and across `xi` a factor 6 apart
+//! (`tests/tests/integration/periodic/wall.rs`), the blocks are good to the tolerance of
+//! their largest entry.
+
+use super::ewald::truncation_parameter;
+use crate::system::input::Particle;
+use kernels::generated::scene_ewald_wall_ft::{ewald_wall_ft_pair, ewald_wall_ft_self};
+use kernels::BlocksFT;
+use std::f64::consts::PI;
+
+/// The split and truncation of one box periodic along a wall, at one tolerance.
+#[derive(Clone, Debug)]
+pub struct WallEwald {
+    /// `[Lx, Ly]`.
+    pub lengths: [f64; 2],
+    /// The wall's plane `x3 = height`.
+    pub height: f64,
+    /// The splitting parameter `xi` (inverse length).
+    pub xi: f64,
+    /// Real-space cut-off `r_c`.
+    pub r_cut: f64,
+    /// The truncation parameter `p = xi r_c`.
+    p: f64,
+    /// The tolerance.
+    tolerance: f64,
+    /// The lateral lattice vectors within `r_c + ` half the box's diagonal, nearest first.
+    shifts: Vec<[f64; 2]>,
+}
+
+impl WallEwald {
+    /// The split for a box of lateral `lengths` above the wall `x3 = height` at relative
+    /// tolerance `tol` (of each block's largest pair entry), `xi` chosen (module docs) or
+    /// given.
+    pub fn new(lengths: [f64; 2], height: f64, tol: f64, xi: Option<f64>) -> WallEwald {
+        let area = lengths[0] * lengths[1];
+        let p = truncation_parameter(tol);
+        let xi = xi.unwrap_or((PI / area).sqrt());
+        let r_cut = p / xi;
+        let reach = r_cut + 0.5 * (lengths[0].powi(2) + lengths[1].powi(2)).sqrt();
+        let mmax: [i64; 2] = std::array::from_fn(|d| (reach / lengths[d]).ceil() as i64);
+        let mut shifts = Vec::new();
+        for m1 in -mmax[0]..=mmax[0] {
+            for m2 in -mmax[1]..=mmax[1] {
+                let s = [m1 as f64 * lengths[0], m2 as f64 * lengths[1]];
+                if s[0] * s[0] + s[1] * s[1] <= reach * reach {
+                    shifts.push(s);
+                }
+            }
+        }
+        shifts.sort_by(|a, b| (a[0] * a[0] + a[1] * a[1]).total_cmp(&(b[0] * b[0] + b[1] * b[1])));
+        WallEwald {
+            lengths,
+            height,
+            xi,
+            r_cut,
+            p,
+            tolerance: tol,
+            shifts,
+        }
+    }
+
+    /// The separation `x_a - x_b`, its lateral components brought into the box centred
+    /// on the origin (each in `[-L/2, L/2]`), its normal component as it is.
+    pub fn minimum_image(&self, xa: [f64; 3], xb: [f64; 3]) -> [f64; 3] {
+        let lateral = |d: usize| {
+            let r = xa[d] - xb[d];
+            r - self.lengths[d] * (r / self.lengths[d]).round()
+        };
+        [lateral(0), lateral(1), xa[2] - xb[2]]
+    }
+
+    /// The FT blocks `M^{ab}` of spheres `a` (field) and `b` (source) summed over every
+    /// lateral image of `b`; with `same`, `b` is `a` and the result its self mobility.
+    pub fn blocks(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
+        let sigma = 1.0 / self.xi;
+        let r = if same {
+            [0.0; 3]
+        } else {
+            self.minimum_image(a.x, b.x)
+        };
+        let mut out = if same {
+            ewald_wall_ft_self(a.x, a.a, eta, self.height, sigma)
+        } else {
+            BlocksFT::default()
+        };
+        let rc2 = self.r_cut * self.r_cut;
+        for s in &self.shifts {
+            let ri = [r[0] + s[0], r[1] + s[1]];
+            let lateral2 = ri[0] * ri[0] + ri[1] * ri[1];
+            if lateral2 + r[2] * r[2] > rc2 || (same && lateral2 == 0.0) {
+                continue;
+            }
+            // the image of the source at the lateral offset `ri` from `x_a`
+            let xb = [a.x[0] - ri[0], a.x[1] - ri[1], b.x[2]];
+            out += &ewald_wall_ft_pair(a.x, xb, a.a, b.a, eta, self.height, sigma);
+        }
+        let (ha, hb) = (a.x[2] - self.height, b.x[2] - self.height);
+        self.reciprocal([r[0], r[1]], ha, hb, a.a, b.a, eta, &mut out);
+        self.plane_average(ha, hb, a.a, b.a, eta, &mut out);
+        out
+    }
+
+    /// The reciprocal cut-off `k_c` and the height `Lz'` of the box periodic in `z` for a
+    /// pair of heights `ha + hb = s` above the wall (module docs).
+    pub fn reciprocal_box(&self, s: f64) -> (f64, f64) {
+        let xi = self.xi;
+        let k_cut = 2.0 * xi * (self.p * self.p + 2.0 * (1.0 + 2.0 * xi * self.p * s).ln()).sqrt();
+        let k0 = 2.0 * PI / self.lengths[0].max(self.lengths[1]);
+        let padding = ((100.0 / self.tolerance).ln() + 2.0 * (1.0 + k0 * s).ln()) / k0;
+        (k_cut, s + padding)
+    }
+
+    /// The reciprocal sum (`k_par != 0`) of the FT blocks at lateral separation `rho`,
+    /// heights `ha`, `hb` above the wall, radii `aa`, `ab`, added to `out`.
+    #[allow(clippy::too_many_arguments)]
+    fn reciprocal(
+        &self,
+        rho: [f64; 2],
+        ha: f64,
+        hb: f64,
+        aa: f64,
+        ab: f64,
+        eta: f64,
+        out: &mut BlocksFT,
+    ) {
+        let (k_cut, lz) = self.reciprocal_box(ha + hb);
+        // the factor 2: each k_par stands for itself and its opposite (real part)
+        let scale = 2.0 / (self.lengths[0] * self.lengths[1] * lz * eta);
+        let (ca, cb) = (aa * aa / 6.0, ab * ab / 6.0);
+        let kc2 = k_cut * k_cut;
+        let mmax = (k_cut * lz / (2.0 * PI)).floor() as i64;
+        let nmax: [i64; 2] =
+            std::array::from_fn(|d| (k_cut * self.lengths[d] / (2.0 * PI)).floor() as i64);
+        let xi2 = self.xi * self.xi;
+        let mut acc = Acc::default();
+        // one of each +-k_par: the first non-zero index positive
+        let half = (0..=nmax[0])
+            .flat_map(|n1| (-nmax[1]..=nmax[1]).map(move |n2| (n1, n2)))
+            .filter(|&(n1, n2)| n1 > 0 || (n1 == 0 && n2 > 0));
+        for (n1, n2) in half {
+            let kp = [
+                2.0 * PI * n1 as f64 / self.lengths[0],
+                2.0 * PI * n2 as f64 / self.lengths[1],
+            ];
+            let kp2 = kp[0] * kp[0] + kp[1] * kp[1];
+            if kp2 > kc2 {
+                continue;
+            }
+            let lateral_phase = kp[0] * rho[0] + kp[1] * rho[1];
+            for m in -mmax..=mmax {
+                let k3 = 2.0 * PI * m as f64 / lz;
+                let k2 = kp2 + k3 * k3;
+                if k2 > kc2 {
+                    continue;
+                }
+                let k = [kp[0], kp[1], k3];
+                let q = k2 / (4.0 * xi2);
+                let g = (1.0 + q + 2.0 * q * q) * (-q).exp() / k2;
+                // g (I - khat khat), the direct symbol
+                let proj: [[f64; 3]; 3] = std::array::from_fn(|i| {
+                    std::array::from_fn(|j| g * (f64::from(u8::from(i == j)) - k[i] * k[j] / k2))
+                });
+                let direct = Source {
+                    m0: proj.map(|row| row.map(C::re)),
+                    m1: None,
+                    ky: k,
+                };
+                acc.add(
+                    C::unit(lateral_phase + k3 * (ha - hb)),
+                    &blocks_of(&direct, k, k2, ca, cb),
+                );
+                let image = image_source(&proj, k, k2, hb);
+                acc.add(
+                    C::unit(lateral_phase + k3 * (ha + hb)),
+                    &blocks_of(&image, k, k2, ca, cb),
+                );
+            }
+        }
+        acc.into(scale, out);
+    }
+
+    /// The mode `k_par = 0` (module docs) of the FT blocks at heights `ha`, `hb` above the
+    /// wall, added to `out`.
+    #[allow(clippy::too_many_arguments)]
+    fn plane_average(&self, ha: f64, hb: f64, aa: f64, ab: f64, eta: f64, out: &mut BlocksFT) {
+        let (ca, cb) = (aa * aa / 6.0, ab * ab / 6.0);
+        let (d, s) = (ha - hb, ha + hb);
+        let psi_d = Psi::at(self.xi, d);
+        let psi_s = Psi::at(self.xi, s);
+        // d_a^m d_b^n f
+        let t = |m: usize, n: usize| {
+            let sign = if n.is_multiple_of(2) { 1.0 } else { -1.0 };
+            let mut v = sign * psi_d.0[m + n] - psi_s.0[m + n];
+            // d_b^n [h_b^2 Psi''(S)] by Leibniz: the derivatives of h_b^2 are 2 h_b, 2
+            let heights = [hb * hb, 2.0 * hb, 2.0];
+            let mut binomial = 1.0;
+            for (j, c) in heights.iter().enumerate().take(n.min(2) + 1) {
+                if j > 0 {
+                    binomial *= (n + 1 - j) as f64 / j as f64;
+                }
+                v += binomial * c * psi_s.0[2 + m + n - j];
+            }
+            v
+        };
+        let unit = 1.0 / (8.0 * PI * eta * self.lengths[0] * self.lengths[1]);
+        let uf = unit * (t(0, 0) + ca * t(2, 0) + cb * t(0, 2) + ca * cb * t(2, 2));
+        let of = 0.5 * unit * (t(1, 0) + cb * t(1, 2));
+        let ul = 0.5 * unit * (t(0, 1) + ca * t(2, 1));
+        let ol = 0.25 * unit * t(1, 1);
+        for i in 0..2 {
+            out.uf[i][i] += uf;
+            out.ol[i][i] += ol;
+        }
+        // eps_m3j: (1, 2) -> -1, (2, 1) -> +1
+        out.of[0][1] -= of;
+        out.of[1][0] += of;
+        // UL_ij = (1/2) eps_j3i d_b (...) f: (i, j) = (1, 2) -> eps_231 = +1
+        out.ul[0][1] += ul;
+        out.ul[1][0] -= ul;
+    }
+}
+
+/// `Psi` and its derivatives to the sixth at one point: `Psi(z) = -4 pi z erf(u) - 4
+/// sqrt(pi) xi z^2 e^{-u^2}`, `u = xi z`; `Psi' = -4 pi erf(u) + 8 sqrt(pi) (u^3 - 2 u)
+/// e^{-u^2}`; for `n >= 2`, `Psi^(n) = 8 sqrt(pi) xi^(n-1) q_(n-2)(u) e^{-u^2}` with
+/// `q_0 = -3 + 7 u^2 - 2 u^4` and `q_(j+1) = q_j' - 2 u q_j`.
+struct Psi([f64; 7]);
+
+impl Psi {
+    fn at(xi: f64, z: f64) -> Psi {
+        let u = xi * z;
+        let gauss = (-u * u).exp();
+        let root = PI.sqrt();
+        let mut v = [0.0; 7];
+        v[0] = -4.0 * PI * z * libm::erf(u) - 4.0 * root * xi * z * z * gauss;
+        v[1] = -4.0 * PI * libm::erf(u) + 8.0 * root * (u * u * u - 2.0 * u) * gauss;
+        // q as coefficients of powers of u
+        let mut q = vec![-3.0, 0.0, 7.0, 0.0, -2.0];
+        let mut xi_power = xi;
+        for vn in v.iter_mut().skip(2) {
+            let value = q.iter().rev().fold(0.0, |acc, c| acc * u + c);
+            *vn = 8.0 * root * xi_power * value * gauss;
+            // q' - 2 u q
+            let mut next = vec![0.0; q.len() + 1];
+            for (p, c) in q.iter().enumerate() {
+                if p > 0 {
+                    next[p - 1] += p as f64 * c;
+                }
+                next[p + 1] -= 2.0 * c;
+            }
+            q = next;
+            xi_power *= xi;
+        }
+        Psi(v)
+    }
+}
+
+/// A complex number (the reciprocal sums' phases and symbols).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct C {
+    re: f64,
+    im: f64,
+}
+
+impl C {
+    fn re(re: f64) -> C {
+        C { re, im: 0.0 }
+    }
+    fn im(im: f64) -> C {
+        C { re: 0.0, im }
+    }
+    /// `exp(i t)`.
+    fn unit(t: f64) -> C {
+        let (s, c) = t.sin_cos();
+        C { re: c, im: s }
+    }
+    fn scale(self, s: f64) -> C {
+        C {
+            re: s * self.re,
+            im: s * self.im,
+        }
+    }
+}
+
+impl std::ops::Add for C {
+    type Output = C;
+    fn add(self, o: C) -> C {
+        C {
+            re: self.re + o.re,
+            im: self.im + o.im,
+        }
+    }
+}
+
+impl std::ops::Mul for C {
+    type Output = C;
+    fn mul(self, o: C) -> C {
+        C {
+            re: self.re * o.re - self.im * o.im,
+            im: self.re * o.im + self.im * o.re,
+        }
+    }
+}
+
+type M3 = [[C; 3]; 3];
+
+/// A source's symbol `M` at the source's height, with its first and second derivatives
+/// in that height (`None` for the direct term, whose symbol does not depend on it; the
+/// image's is quadratic in it), and `ky`, the wave vector that `i d/dy` gives on the
+/// source's phase.
+struct Source {
+    m0: M3,
+    m1: Option<(M3, M3)>,
+    ky: [f64; 3],
+}
+
+/// `g (I - khat khat) T(k, h)` and its first and second derivatives in `h` (module docs).
+fn image_source(proj: &[[f64; 3]; 3], k: [f64; 3], k2: f64, h: f64) -> Source {
+    let mirror = [1.0, 1.0, -1.0];
+    // T = T0 + h N - h^2 k^2 P, T0 = -I, N_3l = -2 i P_ll k_l
+    let t = |i: usize, l: usize, deriv: usize| -> C {
+        let diag = if i == l {
+            match deriv {
+                0 => -1.0 - h * h * k2 * mirror[l],
+                1 => -2.0 * h * k2 * mirror[l],
+                _ => -2.0 * k2 * mirror[l],
+            }
+        } else {
+            0.0
+        };
+        let n = if i == 2 { -2.0 * mirror[l] * k[l] } else { 0.0 };
+        let n = match deriv {
+            0 => h * n,
+            1 => n,
+            _ => 0.0,
+        };
+        C { re: diag, im: n }
+    };
+    let product = |deriv: usize| -> M3 {
+        std::array::from_fn(|i| {
+            std::array::from_fn(|l| {
+                (0..3).fold(C::default(), |acc, m| {
+                    acc + t(m, l, deriv).scale(proj[i][m])
+                })
+            })
+        })
+    };
+    Source {
+        m0: product(0),
+        m1: Some((product(1), product(2))),
+        ky: [k[0], k[1], -k[2]],
+    }
+}
+
+/// The FT blocks of one wave vector `k` (without its phase) from a source's symbol:
+/// `S = (1 + a_b^2/6 lap_y) M`, `UF = (1 - a_a^2 k^2/6) S`, `OmegaF_mj = (1/2) eps_mni (i
+/// k_n) S_ij`, `UL_ij = (1 - a_a^2 k^2/6) (1/2) eps_jnl (D_n M)_il`, `OmegaL_mj = (1/2)
+/// eps_mni (i k_n) (1/2) eps_jpl (D_p M)_il`, with `D_n M = -i ky_n M + delta_n3 d_h M`.
+fn blocks_of(src: &Source, k: [f64; 3], k2: f64, ca: f64, cb: f64) -> [M3; 4] {
+    let zero = [[C::default(); 3]; 3];
+    let (m1, m2) = src.m1.unwrap_or((zero, zero));
+    let fa = 1.0 - ca * k2;
+    // lap_y M = -k^2 M - 2 i ky3 M' + M''
+    let s: M3 = std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            src.m0[i][j].scale(1.0 - cb * k2)
+                + (C::im(-2.0 * src.ky[2]) * m1[i][j] + m2[i][j]).scale(cb)
+        })
+    });
+    // D_n M
+    let dm: [M3; 3] = std::array::from_fn(|n| {
+        std::array::from_fn(|i| {
+            std::array::from_fn(|l| {
+                let v = C::im(-src.ky[n]) * src.m0[i][l];
+                if n == 2 {
+                    v + m1[i][l]
+                } else {
+                    v
+                }
+            })
+        })
+    });
+    let uf = s.map(|row| row.map(|v| v.scale(fa)));
+    let mut of = zero;
+    let mut ul = zero;
+    let mut ol = zero;
+    for (a, b, c, e) in LEVI_CIVITA {
+        // eps_abc = e: OmegaF_aj += (1/2) e (i k_b) S_cj
+        for j in 0..3 {
+            of[a][j] = of[a][j] + (C::im(0.5 * e * k[b]) * s[c][j]);
+        }
+        // UL_ia += (1/2) e (D_b M)_ic, fa
+        for i in 0..3 {
+            ul[i][a] = ul[i][a] + dm[b][i][c].scale(0.5 * e * fa);
+        }
+    }
+    for (m, n, i, e1) in LEVI_CIVITA {
+        for (j, p, l, e2) in LEVI_CIVITA {
+            ol[m][j] = ol[m][j] + C::im(0.25 * e1 * e2 * k[n]) * dm[p][i][l];
+        }
+    }
+    [uf, ul, of, ol]
+}
+
+/// The non-zero `eps_abc`: `(a, b, c, eps_abc)`.
+const LEVI_CIVITA: [(usize, usize, usize, f64); 6] = [
+    (0, 1, 2, 1.0),
+    (1, 2, 0, 1.0),
+    (2, 0, 1, 1.0),
+    (0, 2, 1, -1.0),
+    (2, 1, 0, -1.0),
+    (1, 0, 2, -1.0),
+];
+
+/// The reciprocal blocks summed: `Re(phase B)` accumulated in the order of the waves.
+#[derive(Default)]
+struct Acc {
+    sums: [[[f64; 3]; 3]; 4],
+}
+
+impl Acc {
+    fn add(&mut self, phase: C, blocks: &[M3; 4]) {
+        for (sum, b) in self.sums.iter_mut().zip(blocks) {
+            for i in 0..3 {
+                for j in 0..3 {
+                    sum[i][j] += (phase * b[i][j]).re;
+                }
+            }
+        }
+    }
+
+    /// `scale` times the sums, added to `out` (`[UF, UL, OmegaF, OmegaL]`).
+    fn into(self, scale: f64, out: &mut BlocksFT) {
+        let [uf, ul, of, ol] = self.sums;
+        for i in 0..3 {
+            for j in 0..3 {
+                out.uf[i][j] += scale * uf[i][j];
+                out.ul[i][j] += scale * ul[i][j];
+                out.of[i][j] += scale * of[i][j];
+                out.ol[i][j] += scale * ol[i][j];
+            }
+        }
+    }
+}

@@ -1,0 +1,388 @@
+//! Spheres above a wall in a box periodic along it ([`stokesian::periodic::wall`]): the
+//! Ewald sums against the brute-force sum over square shells of lateral images of the
+//! open wall's kernels (`kernels::pair_ft`, `kernels::self_ft` with `Confinement::Wall`:
+//! independent of the split), extrapolated in the shells' size; the split parameter
+//! changes nothing; a large box tends to the open wall with the lattice sum of the wall's
+//! far field; the system's matrix is symmetric positive definite, agrees with its product
+//! and with a doubled box, and does not see a move by a box length; what such a box
+//! cannot be or do is a typed error.
+
+use kernels::{pair_ft, self_ft, BlocksFT, Confinement};
+use nalgebra::DMatrix;
+use std::f64::consts::PI;
+use stokesian::periodic::wall::WallEwald;
+use stokesian::{
+    check_spd, Brownian, BrownianError, Moments, Noise, Overlap, Particle, PeriodicBox,
+    PeriodicError, Scheme, System,
+};
+
+const ETA: f64 = 0.9;
+const HEIGHT: f64 = 0.5;
+
+fn p(x: [f64; 3], a: f64) -> Particle {
+    Particle { x, a }
+}
+
+fn largest(m: &[[f64; 6]; 6]) -> f64 {
+    m.iter().flatten().fold(0.0f64, |acc, v| acc.max(v.abs()))
+}
+
+fn difference(a: &BlocksFT, b: &BlocksFT) -> f64 {
+    let (ma, mb) = (a.matrix(), b.matrix());
+    (0..36).fold(0.0f64, |acc, k| {
+        acc.max((ma[k / 6][k % 6] - mb[k / 6][k % 6]).abs())
+    })
+}
+
+/// `sum_{|n|_inf <= N}` of the open wall's FT blocks of `q`'s lateral images acting on
+/// `p` (with `same`, the self block for `n = 0`), for each `N` of `sizes` (increasing):
+/// shells added in order, Neumaier-compensated.
+fn shells(
+    wall: &Confinement,
+    lengths: [f64; 2],
+    (p, q): (&Particle, &Particle),
+    same: bool,
+    sizes: &[i64],
+) -> Vec<[f64; 36]> {
+    let mut sum = [0.0; 36];
+    let mut carry = [0.0; 36];
+    let add = |sum: &mut [f64; 36], carry: &mut [f64; 36], m: [[f64; 6]; 6]| {
+        for k in 0..36 {
+            let v = m[k / 6][k % 6];
+            let t = sum[k] + v;
+            carry[k] += if sum[k].abs() >= v.abs() {
+                (sum[k] - t) + v
+            } else {
+                (v - t) + sum[k]
+            };
+            sum[k] = t;
+        }
+    };
+    let mut out = Vec::new();
+    for n in 0..=*sizes.last().expect("sizes") {
+        for n1 in -n..=n {
+            for n2 in -n..=n {
+                if n1.abs().max(n2.abs()) != n {
+                    continue;
+                }
+                let xb = [
+                    q.x[0] + n1 as f64 * lengths[0],
+                    q.x[1] + n2 as f64 * lengths[1],
+                    q.x[2],
+                ];
+                let m = if same && n == 0 {
+                    self_ft(wall, ETA, p.x, p.a)
+                } else {
+                    pair_ft(wall, ETA, p.x, p.a, xb, q.a)
+                };
+                add(&mut sum, &mut carry, m.matrix());
+            }
+        }
+        if sizes.contains(&n) {
+            out.push(std::array::from_fn(|k| sum[k] + carry[k]));
+        }
+    }
+    out
+}
+
+/// `S(N) = S + c1/N + ... + c4/N^4` solved for `S`, entry by entry.
+fn extrapolate(sizes: &[i64], sums: &[[f64; 36]]) -> [f64; 36] {
+    let m = DMatrix::from_fn(sizes.len(), sizes.len(), |i, j| {
+        (sizes[i] as f64).powi(-(j as i32))
+    });
+    let lu = m.lu();
+    std::array::from_fn(|k| {
+        let rhs = nalgebra::DVector::from_fn(sizes.len(), |i, _| sums[i][k]);
+        lu.solve(&rhs).expect("regular")[0]
+    })
+}
+
+/// The lattice sum of the open wall's blocks converges absolutely (every block decays
+/// like `rho^-3` along the wall), and square shells to `N` leave a tail with an expansion
+/// in `1/N`: Richardson from `N = 32, 48, 64, 96, 128` (6.6e4 images; compensated sums),
+/// against the same from `N = 24 ... 96` (one order worse), moves by 1e-10 of the largest
+/// entry (measured; asserted below 5e-10). The Ewald sums at tolerance 1e-12 agree with
+/// it to 1e-9 of the largest entry, the reference's own uncertainty with a margin
+/// (measured 2e-11 and less): a pair of unequal spheres
+/// at different heights and the self mobility, every FT block (translation, rotation and
+/// their couplings, so the image's source operators and the mode `k_par = 0` of each).
+#[test]
+fn ewald_sum_equals_the_extrapolated_sum_over_shells() {
+    let lengths = [10.0, 13.0];
+    let wall = Confinement::Wall { height: HEIGHT };
+    let a = p([1.3, 2.1, 1.7 + HEIGHT], 1.0);
+    let b = p([-2.4, 0.6, 3.1 + HEIGHT], 0.6);
+    let ewald = WallEwald::new(lengths, HEIGHT, 1e-12, None);
+    for (p, q, same) in [(&a, &b, false), (&a, &a, true), (&b, &b, true)] {
+        let sizes = [24, 32, 48, 64, 96, 128];
+        let sums = shells(&wall, lengths, (p, q), same, &sizes);
+        let reference = extrapolate(&sizes[1..], &sums[1..]);
+        let other = extrapolate(&sizes[..5], &sums[..5]);
+        let got = ewald.blocks(ETA, p, q, same).matrix();
+        let scale = largest(&got);
+        let spread = (0..36).fold(0.0f64, |acc, k| acc.max((reference[k] - other[k]).abs()));
+        let worst = (0..36).fold(0.0f64, |acc, k| {
+            acc.max((reference[k] - got[k / 6][k % 6]).abs())
+        });
+        println!("same {same}: worst {worst:e}, spread {spread:e} of {scale:e}");
+        assert!(spread < 5e-10 * scale, "same {same}: spread {spread:e}");
+        assert!(worst < 1e-9 * scale, "same {same}: {worst:e} of {scale:e}");
+    }
+}
+
+/// The real part and the reciprocal part (with its mode `k_par = 0`) move with the split
+/// parameter in opposite directions; their sum must not: `xi` a factor 6 apart, a box
+/// that is not a square, unequal radii, pairs near the wall and high above it, the self
+/// mobility; at tolerance 1e-12, to 1e-11 of the largest entry (measured 2e-13).
+#[test]
+fn the_split_parameter_changes_nothing() {
+    let lengths = [9.0, 12.0];
+    let ps = [
+        p([0.4, 8.7, 1.2 + HEIGHT], 1.0),
+        p([3.1, 1.2, 2.5 + HEIGHT], 0.6),
+        p([-5.0, 3.0, 9.0 + HEIGHT], 0.8),
+    ];
+    let base = (PI / (lengths[0] * lengths[1])).sqrt();
+    let sums: Vec<WallEwald> = [0.4, 1.0, 2.4]
+        .iter()
+        .map(|&f| WallEwald::new(lengths, HEIGHT, 1e-12, Some(f * base)))
+        .collect();
+    for i in 0..3 {
+        for j in i..3 {
+            let blocks: Vec<BlocksFT> = sums
+                .iter()
+                .map(|e| e.blocks(ETA, &ps[i], &ps[j], i == j))
+                .collect();
+            let scale = largest(&blocks[1].matrix());
+            for other in [&blocks[0], &blocks[2]] {
+                let d = difference(other, &blocks[1]);
+                assert!(d < 1e-11 * scale, "{i} {j}: {d:e} of {scale:e}");
+            }
+        }
+    }
+}
+
+/// In a large square box the lattice sum is the open wall's plus the images' far field,
+/// `12 h_a h_b rho_i rho_j / rho^5` on the lateral translations (units of `1/(8 pi
+/// eta)`), whose sum over the square lattice `n L != 0` is `6 h_a h_b S3 / L^3 (I - e3
+/// e3)`, `S3 = sum' |n|^-3 = 4 zeta(3/2) beta(3/2)` (zeta(3/2) = 2.612375348685488,
+/// Dirichlet's beta(3/2) = 0.8645026534612016). The next terms are smaller by `(h/L)^2`
+/// and `(a/L)^2`: the self mobility's correction at `h = 2`, `L = 400` within 1e-3 of it.
+#[test]
+fn a_large_box_adds_the_lattice_sum_of_the_far_field() {
+    let s3 = 4.0 * 2.612375348685488 * 0.8645026534612016;
+    let h = 2.0;
+    let a = p([0.3, -0.2, h + HEIGHT], 1.0);
+    let wall = Confinement::Wall { height: HEIGHT };
+    let open = self_ft(&wall, ETA, a.x, a.a).matrix();
+    let l = 400.0;
+    let got = WallEwald::new([l, l], HEIGHT, 1e-13, None)
+        .blocks(ETA, &a, &a, true)
+        .matrix();
+    let want = 6.0 * h * h * s3 / (l * l * l) / (8.0 * PI * ETA);
+    for i in 0..2 {
+        let d = got[i][i] - open[i][i];
+        assert!((d / want - 1.0).abs() < 1e-3, "{i}: {d:e} vs {want:e}");
+    }
+    // normal translation and rotation: far smaller (rho^-5 and the Faxén terms)
+    assert!((got[2][2] - open[2][2]).abs() < 1e-2 * want);
+}
+
+fn periodic(ps: Vec<Particle>, lengths: [f64; 2]) -> System {
+    System::new(
+        Confinement::Wall { height: HEIGHT },
+        ETA,
+        ps,
+        Overlap::Refuse,
+    )
+    .unwrap()
+    .periodic(PeriodicBox::lateral(lengths))
+    .unwrap()
+}
+
+fn max_abs(m: &DMatrix<f64>) -> f64 {
+    m.iter().fold(0.0f64, |a, v| a.max(v.abs()))
+}
+
+/// Spheres above the wall, clear of each other by their nearest lateral images.
+fn spheres() -> Vec<Particle> {
+    vec![
+        p([0.5, 0.5, 1.3 + HEIGHT], 1.0),
+        p([3.0, 1.0, 2.0 + HEIGHT], 0.7),
+        p([6.5, 5.5, 1.1 + HEIGHT], 0.9),
+        p([1.0, 6.0, 4.0 + HEIGHT], 0.8),
+        p([5.0, 3.0, 3.2 + HEIGHT], 0.6),
+    ]
+}
+
+/// The dense matrix is symmetric (each pair evaluated once: exactly) and positive
+/// definite, its product and its blocks agree with it (the same pair sums: to rounding,
+/// 1e-13 of the largest entry per term, as in the triply periodic box); moving spheres by box lengths changes it by no
+/// more than 1e-13 of its largest entry (dyadic lengths: the move is exact, the images
+/// are summed in another order).
+#[test]
+fn dense_matrix_is_positive_definite_and_periodic() {
+    let lengths = [8.0, 8.0];
+    let s = periodic(spheres(), lengths);
+    for moments in [Moments::F, Moments::FT] {
+        let m = s.mobility(moments);
+        assert_eq!(m, m.transpose());
+        assert!(check_spd(&m).positive_definite, "{moments:?}");
+        let x: Vec<f64> = (0..m.nrows()).map(|i| (i as f64 * 0.37).sin()).collect();
+        let mx = &m * DMatrix::from_column_slice(x.len(), 1, &x);
+        let y = s.apply(moments, &x);
+        let scale = max_abs(&m);
+        for (a, b) in mx.iter().zip(&y) {
+            assert!((a - b).abs() < 1e-13 * scale * x.len() as f64);
+        }
+    }
+    let mut moved = spheres();
+    moved[1].x[0] += 8.0;
+    moved[3].x[1] -= 16.0;
+    let (m, n) = (
+        s.mobility(Moments::FT),
+        periodic(moved, lengths).mobility(Moments::FT),
+    );
+    assert!(max_abs(&(&m - &n)) < 1e-13 * max_abs(&m));
+}
+
+/// libMobility's check of DPStokes: a box doubled along x with every sphere replicated
+/// is the same system, so the mobility of sphere `a` from the forces on `b` and its
+/// replica is the original box's `M^{ab}`; to the tolerance, 1e-10 of the largest entry.
+#[test]
+fn a_doubled_box_with_replicated_spheres_is_the_same_system() {
+    let lengths = [8.0, 8.0];
+    let ps = spheres();
+    let n = ps.len();
+    let mut doubled = ps.clone();
+    doubled.extend(ps.iter().map(|q| p([q.x[0] + 8.0, q.x[1], q.x[2]], q.a)));
+    let m = periodic(ps, lengths).mobility(Moments::FT);
+    let d = periodic(doubled, [16.0, 8.0]).mobility(Moments::FT);
+    // moment-major: component i < 3 of sphere a at 3 a + i, else 3 N + 3 a + i - 3
+    let g = |count: usize, a: usize, i: usize| {
+        if i < 3 {
+            3 * a + i
+        } else {
+            3 * count + 3 * a + i - 3
+        }
+    };
+    let scale = max_abs(&m);
+    for a in 0..n {
+        for b in 0..n {
+            for i in 0..6 {
+                for j in 0..6 {
+                    let want = m[(g(n, a, i), g(n, b, j))];
+                    let got = d[(g(2 * n, a, i), g(2 * n, b, j))]
+                        + d[(g(2 * n, a, i), g(2 * n, b + n, j))];
+                    assert!(
+                        (got - want).abs() < 1e-10 * scale,
+                        "{a} {b} {i} {j}: {got:e} vs {want:e}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// What a box along a wall cannot be or do: typed errors with their reasons.
+#[test]
+fn bad_boxes_near_walls_are_refused() {
+    let above = vec![p([0.0, 0.0, 2.0], 1.0), p([3.0, 0.0, 2.0], 1.0)];
+    let make = |conf: Confinement| System::new(conf, 1.0, above.clone(), false).unwrap();
+    let wall = Confinement::Wall { height: 0.0 };
+    let reason = |e: PeriodicError| match e {
+        PeriodicError::Confinement { why, .. } => why,
+        other => panic!("{other}"),
+    };
+    // the slit (two superposed walls: 1/rho), free surfaces and interfaces (1/rho),
+    // a side wall (periodic along its normal), free space with two lengths, a wall with
+    // three
+    let slit = make(Confinement::Slit {
+        height: 0.0,
+        gap: 5.0,
+    })
+    .periodic(PeriodicBox::lateral([10.0, 10.0]))
+    .unwrap_err();
+    assert!(reason(slit).contains("superposition of two walls"));
+    let surface = make(Confinement::FreeSurface { height: 0.0 })
+        .periodic(PeriodicBox::lateral([10.0, 10.0]))
+        .unwrap_err();
+    assert!(reason(surface).contains("1/rho"));
+    let side = System::new(
+        Confinement::SideWall { side: -2.0 },
+        1.0,
+        above.clone(),
+        false,
+    )
+    .unwrap()
+    .periodic(PeriodicBox::lateral([10.0, 10.0]))
+    .unwrap_err();
+    assert!(reason(side).contains("normal"));
+    let free = make(Confinement::Free)
+        .periodic(PeriodicBox::lateral([10.0, 10.0]))
+        .unwrap_err();
+    assert!(reason(free).contains("net lateral force"));
+    let three = make(wall)
+        .periodic(PeriodicBox::new([10.0; 3]))
+        .unwrap_err();
+    assert!(reason(three).contains("two lengths"));
+    // lengths, own images, overlaps by nearest lateral images
+    let e = make(wall)
+        .periodic(PeriodicBox::lateral([10.0, 0.0]))
+        .unwrap_err();
+    assert!(
+        matches!(e, PeriodicError::BadLength { axis: 'y', .. }),
+        "{e}"
+    );
+    let e = make(wall)
+        .periodic(PeriodicBox::lateral([10.0, 1.9]))
+        .unwrap_err();
+    assert!(
+        matches!(e, PeriodicError::OwnImage { axis: 'y', .. }),
+        "{e}"
+    );
+    let e = make(wall)
+        .periodic(PeriodicBox::lateral([4.5, 10.0]))
+        .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            PeriodicError::Overlap {
+                first: 0,
+                second: 1,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    // a sphere cutting the wall (accepted in open space with the RPY overlap forms)
+    let cutting = System::new(wall, 1.0, vec![p([0.0, 0.0, 0.5], 1.0)], Overlap::Rpy)
+        .unwrap()
+        .periodic(PeriodicBox::lateral([10.0, 10.0]))
+        .unwrap_err();
+    assert!(
+        matches!(cutting, PeriodicError::CutsWall { index: 0, .. }),
+        "{cutting}"
+    );
+    // Brownian dynamics: the drift near a periodic wall is not implemented
+    let s = make(wall)
+        .periodic(PeriodicBox::lateral([10.0, 10.0]))
+        .unwrap();
+    assert!(matches!(
+        s.check_periodic_drift(),
+        Err(PeriodicError::NotAvailable(_))
+    ));
+    let bd = Brownian {
+        kt: 1.0,
+        dt: 1e-3,
+        drift: true,
+        forces: integration_tests::NO_FORCES,
+        noise: Noise::Cholesky,
+        hydrodynamics: true,
+        moments: Moments::F,
+        scheme: Scheme::EulerMaruyama,
+        lubrication: None,
+    };
+    let e = s.brownian_increment(&bd, &[0.1; 6], 1).unwrap_err();
+    assert!(matches!(e, BrownianError::Periodic(_)), "{e}");
+}
