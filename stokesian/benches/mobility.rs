@@ -394,8 +394,8 @@ fn periodic_products(c: &mut Criterion) {
         .collect();
     let open = System::new(Confinement::Free, 1.0, ps.clone(), false).unwrap();
     let bx = PeriodicBox {
-        lengths: [side; 3],
         tolerance: 1e-6,
+        ..PeriodicBox::new([side; 3])
     };
     let periodic = open.clone().periodic(bx).unwrap();
     for (name, s, moments) in [
