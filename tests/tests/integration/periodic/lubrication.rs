@@ -22,14 +22,96 @@ fn at(n: usize, a: usize, c: usize) -> usize {
     }
 }
 
+/// The correction `R - M^-1` of `ps` in `confinement` and box `bx` (periodic along the
+/// axes where `lengths` is not zero) against the reference: for every sphere `a` and
+/// every partner `(b, n)`, `b + n != a`, within the window, the open pair's correction
+/// `R_2 - M_2^-1` less each sphere's own correction near the boundaries (`R_1 -
+/// M_1^-1`, the sphere alone), its `(a, a)` block on `a`'s diagonal block and its `(a,
+/// b)` block on `(a, b)`; and each sphere's own correction once.
+fn check(confinement: Confinement, bx: PeriodicBox, lengths: [f64; 3], ps: &[Particle]) {
+    // a pair tolerance of 1e-3: window s' <= 11.6, several images of each pair
+    let lub = Lubrication {
+        pair_tolerance: 1e-3,
+        ..Lubrication::default()
+    };
+    let s = System::new(confinement, ETA, ps.to_vec(), Overlap::Refuse)
+        .unwrap()
+        .periodic(bx)
+        .unwrap();
+    let r = s.resistance(Moments::FT, &lub).unwrap();
+    let m_inv = Cholesky::new(&s.mobility(Moments::FT)).unwrap().inverse();
+    let correction = &r - &m_inv;
+
+    let open = |ps: Vec<Particle>| {
+        let s = System::new(confinement, ETA, ps, Overlap::Refuse).unwrap();
+        s.resistance(Moments::FT, &lub).unwrap()
+            - Cholesky::new(&s.mobility(Moments::FT)).unwrap().inverse()
+    };
+    let n = ps.len();
+    let own: Vec<_> = ps.iter().map(|p| open(vec![*p])).collect();
+    let (_, s1) = lub.pair_window(Moments::FT);
+    let mut want = nalgebra::DMatrix::<f64>::zeros(6 * n, 6 * n);
+    for a in 0..n {
+        for i in 0..6 {
+            for j in 0..6 {
+                want[(at(n, a, i), at(n, a, j))] += own[a][(i, j)];
+            }
+        }
+    }
+    let range = |d: usize| if lengths[d] > 0.0 { -4i32..=4 } else { 0..=0 };
+    let mut partners = 0;
+    for a in 0..n {
+        for b in 0..n {
+            for n1 in range(0) {
+                for n2 in range(1) {
+                    for n3 in range(2) {
+                        let shift = [n1, n2, n3];
+                        if a == b && shift == [0; 3] {
+                            continue;
+                        }
+                        let xb: [f64; 3] =
+                            std::array::from_fn(|d| ps[b].x[d] + f64::from(shift[d]) * lengths[d]);
+                        let d2: f64 = (0..3).map(|d| (xb[d] - ps[a].x[d]).powi(2)).sum();
+                        if 2.0 * d2.sqrt() / (ps[a].a + ps[b].a) >= s1 {
+                            continue;
+                        }
+                        partners += 1;
+                        let c2 = open(vec![ps[a], Particle { x: xb, a: ps[b].a }]);
+                        for i in 0..6 {
+                            for j in 0..6 {
+                                want[(at(n, a, i), at(n, a, j))] +=
+                                    c2[(at(2, 0, i), at(2, 0, j))] - own[a][(i, j)];
+                                want[(at(n, a, i), at(n, b, j))] += c2[(at(2, 0, i), at(2, 1, j))];
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // the window covers images out to 1.5 box lengths: several per pair
+    assert!(partners > 3 * n * n, "{partners} partners");
+    // Tolerance: both sides add the same tabulated two-sphere and sphere-wall functions;
+    // they differ by the rounding of R - M^-1 (entries of M^-1 ~ 20 beside corrections
+    // up to ~300 at the gaps of 0.06) and of the pair blocks evaluated from either end:
+    // 1e-11 of the largest correction is a thousand times that, and far below any
+    // missing image's share (the smallest in full weight is ~1e-3 of the largest).
+    let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let worst = (&correction - &want)
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    assert!(worst <= 1e-11 * scale, "worst {worst:e} of {scale:e}");
+    // and the resistance is positive definite
+    assert!(Cholesky::new(&r).is_some());
+}
+
 /// Three spheres in a 6 x 8 x 9 box: the first two 0.063 apart across the face x = 0
 /// (full corrections), the first and the last with their own images within the window
-/// (the first's in full, the last's in the window's smooth fall-off), at a pair
-/// tolerance of 1e-3 (window `s' <= 11.6`: several images of each pair).
+/// (the first's in full, the last's in the window's smooth fall-off).
 #[test]
 fn pair_corrections_cover_every_image_and_own_images() {
     let lengths = [6.0, 8.0, 9.0];
-    let ps = vec![
+    let ps = [
         Particle {
             x: [0.3, 4.0, 4.5],
             a: 1.0,
@@ -43,72 +125,30 @@ fn pair_corrections_cover_every_image_and_own_images() {
             a: 0.6,
         },
     ];
-    let lub = Lubrication {
-        pair_tolerance: 1e-3,
-        ..Lubrication::default()
-    };
-    let bx = PeriodicBox::new(lengths);
-    let s = System::new(Confinement::Free, ETA, ps.clone(), Overlap::Refuse)
-        .unwrap()
-        .periodic(bx)
-        .unwrap();
-    let r = s.resistance(Moments::FT, &lub).unwrap();
-    let m_inv = Cholesky::new(&s.mobility(Moments::FT)).unwrap().inverse();
-    let correction = &r - &m_inv;
+    check(Confinement::Free, PeriodicBox::new(lengths), lengths, &ps);
+}
 
-    // the reference: for every sphere a and every partner (b, n), b + n != a, within
-    // the window, the open pair's correction C = R_2 - M_2^-1: its (a, a) block on a's
-    // diagonal block, its (a, b) block on (a, b)
-    let n = ps.len();
-    let (_, s1) = lub.pair_window(Moments::FT);
-    let mut want = nalgebra::DMatrix::<f64>::zeros(6 * n, 6 * n);
-    let mut partners = 0;
-    for a in 0..n {
-        for b in 0..n {
-            for n1 in -4i32..=4 {
-                for n2 in -4i32..=4 {
-                    for n3 in -4i32..=4 {
-                        let shift = [n1, n2, n3];
-                        if a == b && shift == [0; 3] {
-                            continue;
-                        }
-                        let xb: [f64; 3] =
-                            std::array::from_fn(|d| ps[b].x[d] + f64::from(shift[d]) * lengths[d]);
-                        let d2: f64 = (0..3).map(|d| (xb[d] - ps[a].x[d]).powi(2)).sum();
-                        if 2.0 * d2.sqrt() / (ps[a].a + ps[b].a) >= s1 {
-                            continue;
-                        }
-                        partners += 1;
-                        let pair = vec![ps[a], Particle { x: xb, a: ps[b].a }];
-                        let two =
-                            System::new(Confinement::Free, ETA, pair, Overlap::Refuse).unwrap();
-                        let c2 = two.resistance(Moments::FT, &lub).unwrap()
-                            - Cholesky::new(&two.mobility(Moments::FT)).unwrap().inverse();
-                        for i in 0..6 {
-                            for j in 0..6 {
-                                want[(at(n, a, i), at(n, a, j))] += c2[(at(2, 0, i), at(2, 0, j))];
-                                want[(at(n, a, i), at(n, b, j))] += c2[(at(2, 0, i), at(2, 1, j))];
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-    // the window covers images out to 1.5 box lengths: several per pair
-    assert!(partners > 3 * n * n, "{partners} partners");
-    // Tolerance: both sides add the same tabulated two-sphere functions; they differ by
-    // the rounding of R - M^-1 (entries of M^-1 ~ 20 beside corrections up to ~300 at
-    // the gap 0.063) and of the pair blocks evaluated from either end: 1e-11 of the
-    // largest correction is a thousand times that, and far below any missing image's
-    // share (the smallest in full weight is ~1e-3 of the largest).
-    let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let worst = (&correction - &want)
-        .iter()
-        .fold(0.0f64, |m, v| m.max(v.abs()));
-    assert!(worst <= 1e-11 * scale, "worst {worst:e} of {scale:e}");
-    // and the resistance is positive definite
-    assert!(Cholesky::new(&r).is_some());
+/// The same near a wall in a box periodic along it (6 x 8): pairs across the face x = 0
+/// and own images along the wall, and every sphere's sphere-wall correction (gaps 0.2,
+/// 0.2 and 1.4 radii).
+#[test]
+fn near_a_periodic_wall_the_corrections_cover_the_lateral_images() {
+    let ps = [
+        Particle {
+            x: [0.3, 4.0, 1.2],
+            a: 1.0,
+        },
+        Particle {
+            x: [4.45, 4.2, 0.96],
+            a: 0.8,
+        },
+        Particle {
+            x: [3.0, 7.5, 1.44],
+            a: 0.6,
+        },
+    ];
+    let wall = Confinement::Wall { height: 0.0 };
+    check(wall, PeriodicBox::lateral([6.0, 8.0]), [6.0, 8.0, 0.0], &ps);
 }
 
 /// A lubricated Brownian increment in a box is available and does not change when a
