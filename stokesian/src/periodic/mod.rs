@@ -31,8 +31,9 @@
 //! a wall of another normal is periodic along its normal, which is meaningless; free
 //! space with two lengths leaves a net lateral force unbalanced (`1/rho` again).
 //!
-//! Positions are used as given (not wrapped): every sum is over the lattice, so moving a
-//! sphere by a box length changes nothing but rounding.
+//! Positions are kept as given (unwrapped) and wrapped into the box where the kernels
+//! evaluate them ([`PeriodicBox::wrap`]): every sum is over the lattice, and a sphere
+//! moved by box lengths (an exact move) gives the same bits.
 
 mod cells;
 pub mod ewald;
@@ -102,6 +103,17 @@ impl PeriodicBox {
             lengths: BoxLengths::Lateral(lengths),
             tolerance: PeriodicBox::TOLERANCE,
         }
+    }
+
+    /// `x` brought into the box along its periodic axes, `x - L floor(x/L)` (in `[0, L)`
+    /// but for rounding): every kernel evaluates the wrapped positions, so a sphere
+    /// moved by box lengths (an exact move) gives the same bits.
+    pub fn wrap(&self, x: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|d| {
+            self.lengths
+                .along(d)
+                .map_or(x[d], |l| x[d] - l * (x[d] / l).floor())
+        })
     }
 
     /// The separations `x_b + n L - x_a` of the periodic images of a sphere at `xb` from
@@ -234,9 +246,14 @@ impl Periodic {
     /// The FT blocks `M^{ab}` of particles `p` (field) and `q` (source), every image
     /// summed; `p == q` for the self mobility.
     pub(crate) fn blocks(&self, eta: f64, ps: &[Particle], p: usize, q: usize) -> BlocksFT {
+        let wrap = |s: &Particle| Particle {
+            x: self.bx.wrap(s.x),
+            a: s.a,
+        };
+        let (a, b) = (wrap(&ps[p]), wrap(&ps[q]));
         match &self.lattice {
-            Lattice::Triply(e) => e.blocks(eta, &ps[p], &ps[q], p == q),
-            Lattice::Wall(w) => w.blocks(eta, &ps[p], &ps[q], p == q),
+            Lattice::Triply(e) => e.blocks(eta, &a, &b, p == q),
+            Lattice::Wall(w) => w.blocks(eta, &a, &b, p == q),
         }
     }
 
@@ -431,7 +448,13 @@ impl System {
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
         if let BoxLengths::Triply(lengths) = p.bx.lengths {
             let tol = p.bx.tolerance;
-            return product::apply(lengths, tol, self.viscosity(), self.particles(), moments, x);
+            let ps: Vec<Particle> = (self.particles().iter())
+                .map(|s| Particle {
+                    x: p.bx.wrap(s.x),
+                    a: s.a,
+                })
+                .collect();
+            return product::apply(lengths, tol, self.viscosity(), &ps, moments, x);
         }
         // near a wall: the blocks pair by pair, as for the dense matrix, in a fixed order
         let n = self.len();
