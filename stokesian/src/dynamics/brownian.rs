@@ -469,14 +469,11 @@ impl System {
             let bx = self.periodic_box();
             for q in &ps[a + 1..] {
                 // in a periodic box, the nearest image
-                let d = |i: usize| {
-                    let d = p.x[i] - q.x[i];
-                    match bx.and_then(|bx| bx.lengths.along(i)) {
-                        Some(l) => d - l * (d / l).round(),
-                        None => d,
-                    }
+                let d = match bx {
+                    Some(bx) => bx.minimum_image(p.x, q.x),
+                    None => std::array::from_fn(|i| p.x[i] - q.x[i]),
                 };
-                let r = (0..3).map(|i| d(i).powi(2)).sum::<f64>().sqrt();
+                let r = d.iter().map(|v| v.powi(2)).sum::<f64>().sqrt();
                 gap = gap.min((r - p.a - q.a) / p.a.min(q.a));
             }
             // and its own nearest images

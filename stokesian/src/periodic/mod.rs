@@ -116,16 +116,20 @@ impl PeriodicBox {
         })
     }
 
+    /// The separation `x_a - x_b` of the nearest images: each periodic component in
+    /// `[-L/2, L/2]`, the others as they are.
+    pub fn minimum_image(&self, xa: [f64; 3], xb: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|d| {
+            let r = xa[d] - xb[d];
+            self.lengths.along(d).map_or(r, |l| r - l * (r / l).round())
+        })
+    }
+
     /// The separations `x_b + n L - x_a` of the periodic images of a sphere at `xb` from
     /// a sphere at `xa` whose length is at most `reach`, over every lattice vector `n L`
     /// (along the periodic axes; `n` in a fixed order, the last component fastest).
     pub fn separations(&self, xa: [f64; 3], xb: [f64; 3], reach: f64) -> Vec<[f64; 3]> {
-        // the nearest image, each periodic component in [-L/2, L/2]
-        let r0 = std::array::from_fn(|d| {
-            let r = xb[d] - xa[d];
-            self.lengths.along(d).map_or(r, |l| r - l * (r / l).round())
-        });
-        self.lattice(r0, reach, false)
+        self.lattice(self.minimum_image(xb, xa), reach, false)
     }
 
     /// The lattice vectors `n L`, `n != 0`, of length at most `reach`, one of each pair
@@ -256,14 +260,6 @@ impl Periodic {
             Lattice::Wall(w) => w.blocks(eta, &a, &b, p == q),
         }
     }
-
-    /// The separation `x_a - x_b` of the nearest images (along the periodic axes).
-    fn minimum_image(&self, xa: [f64; 3], xb: [f64; 3]) -> [f64; 3] {
-        match &self.lattice {
-            Lattice::Triply(e) => e.minimum_image(xa, xb),
-            Lattice::Wall(w) => w.minimum_image(xa, xb),
-        }
-    }
 }
 
 /// The refusal of a slit: its Green's function superposes two walls'.
@@ -348,7 +344,7 @@ impl System {
         let periodic = Periodic { bx, lattice };
         for i in 0..ps.len() {
             for j in i + 1..ps.len() {
-                let r = periodic.minimum_image(ps[i].x, ps[j].x);
+                let r = bx.minimum_image(ps[i].x, ps[j].x);
                 let distance = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
                 let sum = ps[i].a + ps[j].a;
                 if distance < sum {
