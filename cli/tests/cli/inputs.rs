@@ -865,19 +865,11 @@ fn corpus_of_nasty_command_lines() {
     }
 }
 
-/// `--box LX,LY` near a wall: the library's mobility periodic along the wall, written
-/// whole.
-#[test]
-fn a_box_periodic_along_a_wall() {
-    let dir = Dir::new("box_wall");
-    let text = "x,y,z,radius\n0,0,0,1\n3,1,2,0.7\n";
-    let p = dir.file("particles.csv", text);
-    let out = dir.path("M.npy");
-    let extra = ["--box", "10,11", "--boundary-height", "-5"];
-    let o = run_mobility("wall", "FT", &p, &out, &extra);
-    assert_ok(&o);
-    let m = read_npy(&out);
-    let ps = vec![
+/// Two spheres for the periodic boxes' tests: the particle file and its particles.
+const BOXED_SPHERES: &str = "x,y,z,radius\n0,0,0,1\n3,1,2,0.7\n";
+
+fn boxed_spheres() -> Vec<Particle> {
+    vec![
         Particle {
             x: [0.0, 0.0, 0.0],
             a: 1.0,
@@ -886,7 +878,22 @@ fn a_box_periodic_along_a_wall() {
             x: [3.0, 1.0, 2.0],
             a: 0.7,
         },
-    ];
+    ]
+}
+
+/// `--box LX,LY` near a wall: the library's mobility periodic along the wall, written
+/// whole.
+#[test]
+fn a_box_periodic_along_a_wall() {
+    let dir = Dir::new("box_wall");
+    let text = BOXED_SPHERES;
+    let p = dir.file("particles.csv", text);
+    let out = dir.path("M.npy");
+    let extra = ["--box", "10,11", "--boundary-height", "-5"];
+    let o = run_mobility("wall", "FT", &p, &out, &extra);
+    assert_ok(&o);
+    let m = read_npy(&out);
+    let ps = boxed_spheres();
     let want = System::new(Confinement::Wall { height: -5.0 }, 1.0, ps, false)
         .unwrap()
         .periodic(stokesian::PeriodicBox::lateral([10.0, 11.0]))
@@ -901,22 +908,13 @@ fn a_box_periodic_along_a_wall() {
 #[test]
 fn a_periodic_box() {
     let dir = Dir::new("box");
-    let text = "x,y,z,radius\n0,0,0,1\n3,1,2,0.7\n";
+    let text = BOXED_SPHERES;
     let p = dir.file("particles.csv", text);
     let out = dir.path("M.npy");
     let o = run_mobility("free", "FT", &p, &out, &["--box", "10,11,12"]);
     assert_ok(&o);
     let m = read_npy(&out);
-    let ps = vec![
-        Particle {
-            x: [0.0, 0.0, 0.0],
-            a: 1.0,
-        },
-        Particle {
-            x: [3.0, 1.0, 2.0],
-            a: 0.7,
-        },
-    ];
+    let ps = boxed_spheres();
     let want = System::new(Confinement::Free, 1.0, ps, false)
         .unwrap()
         .periodic(stokesian::PeriodicBox::new([10.0, 11.0, 12.0]))
