@@ -79,11 +79,10 @@ impl Batches {
     }
 
     /// `div M`, moment-major (of the damped mobility where a sphere cuts the wall); an
-    /// error where `System::check_drift` or `System::check_periodic_drift` fails.
+    /// error where `System::check_drift` fails.
     fn divergence(&self, m: Moments) -> Result<Vec<f64>, String> {
         for s in &self.systems {
             s.check_drift().map_err(|e| e.to_string())?;
-            s.check_periodic_drift().map_err(|e| e.to_string())?;
         }
         Ok(self.each(m.per_particle() / 3, &[], |s, _| s.divergence_at(m)))
     }

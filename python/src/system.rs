@@ -259,7 +259,6 @@ impl PySystem {
         }
         let s = &self.system;
         s.check_drift().map_err(input_error)?;
-        s.check_periodic_drift().map_err(input_error)?;
         Ok(PyArray1::from_vec(py, py.detach(|| s.divergence_at(m))))
     }
 

@@ -91,10 +91,10 @@ class System:
     allow_overlap: ``True`` is ``overlap="far"`` (give one of the two).
     box: ``(Lx, Ly, Lz)``: a triply periodic box of unbounded fluid (``confinement=
         "free"``), the mobility summed over every periodic image by Ewald summation
-        (F and FT, Brownian dynamics too: the drift is zero, positions unwrapped; FTS,
-        lubrication and a trap raise). ``(Lx, Ly)``: periodic along a wall
-        (``confinement="wall"``), unbounded above it (F and FT; Brownian dynamics and the
-        divergence raise: the drift is not implemented there). A sphere overlapping its
+        (F and FT, Brownian dynamics too: the drift is zero, positions unwrapped; FTS and
+        a trap raise). ``(Lx, Ly)``: periodic along a wall (``confinement="wall"``),
+        unbounded above it (F and FT; Brownian dynamics with the generated drift, each
+        sphere's height derivative of its periodic self mobility). A sphere overlapping its
         own image or another's raises.
     periodic_tolerance: relative truncation error of the periodic sums (default 1e-10).
     """
@@ -246,8 +246,8 @@ class NBody:
     image by Ewald summation, zero drift, overlapping spheres refused. Periodic along a
     wall (``"periodic", "periodic", "single_wall"``, as libMobility's DPStokes; ``Lx, Ly``
     and the wall's height ``zmin`` through ``setParameters``): Blake's image system summed
-    over the lateral images by Ewald summation; ``divM`` (and ``LangevinVelocities`` at
-    ``kbt > 0``) raise there, the drift is not implemented. Two walls and an open ``z``
+    over the lateral images by Ewald summation, ``divM`` its generated drift (each
+    sphere's height derivative of its periodic self mobility). Two walls and an open ``z``
     with periodic ``x, y`` raise InputError. Overlapping spheres take the RPY overlap forms and spheres
     cutting the wall are damped, as in libMobility (``divM`` is then the exact divergence
     of the damped mobility); a

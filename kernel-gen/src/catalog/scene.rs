@@ -62,7 +62,8 @@ pub enum Radii {
 /// confinement = "wall"       # a registered Green's function
 /// moments = "F"              # F, FT or FTS
 /// radii = "unequal"          # equal or unequal
-/// outputs = ["dense", "product"]   # block kernels, fused pair-product kernels
+/// outputs = ["dense", "product"]   # block kernels, fused pair-product kernels,
+///                            # "drift": a sphere's drift from itself and its own images
 /// description = "..."        # optional
 /// ```
 #[derive(Clone, Debug, PartialEq)]
@@ -79,6 +80,11 @@ pub struct Scene {
     pub dense: bool,
     /// Generate fused pair-product kernels (`u_a += M^{ab} x_b`, `u_b += M^{ba} x_a`).
     pub product: bool,
+    /// Generate the kernels of a sphere's drift in a periodic box: the derivative of the
+    /// self kernel along a direction `v` of its column along `v` (`self_along`) and the
+    /// same of the pair kernel with both points moving together (`pair_together`, for
+    /// the sphere's own images); one radius.
+    pub drift: bool,
     /// Free text for the generated documentation.
     pub description: String,
 }
@@ -167,17 +173,27 @@ impl Scene {
             "unequal" => Radii::Unequal,
             other => return Err(bad("radii", other, "must be equal or unequal")),
         };
-        let mut dense = false;
-        let mut product = false;
+        let (mut dense, mut product, mut drift) = (false, false, false);
         for o in &t.outputs {
             match o.as_str() {
                 "dense" => dense = true,
                 "product" => product = true,
-                other => return Err(bad("outputs", other, "entries must be dense or product")),
+                "drift" => drift = true,
+                other => {
+                    return Err(bad(
+                        "outputs",
+                        other,
+                        "entries must be dense, product or drift",
+                    ))
+                }
             }
         }
-        if !dense && !product {
-            return Err(bad("outputs", "[]", "ask for dense, product or both"));
+        if !dense && !product && !drift {
+            return Err(bad(
+                "outputs",
+                "[]",
+                "ask for dense, product, drift or several",
+            ));
         }
         Ok(Scene {
             name: t.name,
@@ -186,6 +202,7 @@ impl Scene {
             radii,
             dense,
             product,
+            drift,
             description: t.description,
         })
     }

@@ -3,9 +3,9 @@
 use super::family::counts;
 use super::{blocks_type, moments_label, GeneratedFile, Radii, Scene};
 use crate::emit::{self, ident, Float, KernelFn};
-use crate::kernel::{trace, Interaction, KernelSpec, Path, Traced};
+use crate::kernel::{trace, Drift, Interaction, KernelSpec, Path, Traced};
 use crate::physics::green::Green;
-use crate::physics::operators::Basis;
+use crate::physics::operators::{Basis, Moment, Response};
 use proc_macro2::TokenStream;
 use quote::quote;
 
@@ -15,62 +15,100 @@ use quote::quote;
 pub fn scene_file<G: Green>(g: &G, scene: &Scene, standalone: bool) -> GeneratedFile {
     let mut items = TokenStream::new();
     let mut op_counts = Vec::new();
-    let mut kinds: Vec<(&str, Interaction, bool, bool)> =
-        vec![("self", Interaction::SelfTerm, false, false)];
+    // (suffix, interaction, equal radii, fused product, drift)
+    let mut kinds: Vec<(&str, Interaction, bool, bool, Option<Drift>)> = Vec::new();
+    if scene.dense || scene.product {
+        kinds.push(("self", Interaction::SelfTerm, false, false, None));
+    }
     if scene.dense {
         if scene.radii == Radii::Unequal {
-            kinds.push(("pair", Interaction::Pair, false, false));
+            kinds.push(("pair", Interaction::Pair, false, false, None));
         }
-        kinds.push(("pair_equal", Interaction::Pair, true, false));
+        kinds.push(("pair_equal", Interaction::Pair, true, false, None));
     }
     if scene.product {
         if scene.radii == Radii::Unequal {
-            kinds.push(("pair_product", Interaction::Pair, false, true));
+            kinds.push(("pair_product", Interaction::Pair, false, true, None));
         }
-        kinds.push(("pair_equal_product", Interaction::Pair, true, true));
+        kinds.push(("pair_equal_product", Interaction::Pair, true, true, None));
+    }
+    if scene.drift {
+        // a sphere and its own images: one radius
+        let along = Some(Drift::Along);
+        kinds.push(("self_along", Interaction::SelfTerm, true, false, along));
+        let together = Some(Drift::Together);
+        kinds.push(("pair_together", Interaction::Pair, true, false, together));
     }
     let ty = blocks_type(scene.moments);
     let n = scene.moments.per_particle();
+    // the drift's rows: U (and Omega) over the force columns (UL for a pair's `b`)
+    let drift_blocks: Vec<(Response, Moment)> = scene
+        .moments
+        .blocks()
+        .into_iter()
+        .filter(|&(r, m)| {
+            matches!(
+                (r, m),
+                (Response::U, Moment::F) | (Response::Omega, Moment::F) | (Response::U, Moment::L)
+            )
+        })
+        .collect();
+    let drift_len = drift_blocks
+        .iter()
+        .filter(|&&(_, m)| m == Moment::F)
+        .count()
+        * 3;
     // (type name, its fields with their shapes), for standalone definitions
     type Fields = Vec<(String, Vec<usize>)>;
     let mut types: Vec<(String, Fields)> = Vec::new();
-    for (suffix, interaction, equal, product) in kinds {
+    for (suffix, interaction, equal, product, drift) in kinds {
         let spec = KernelSpec {
             interaction,
             basis: Basis::Orthonormal,
             equal_radii: equal,
-            blocks: scene.moments.blocks(),
+            blocks: match drift {
+                Some(_) => drift_blocks.clone(),
+                None => scene.moments.blocks(),
+            },
             path: Path::Structured,
             product,
-            drift: None,
+            drift,
         };
         let traced: Traced = trace(g, &spec);
         let name = format!("{}_{suffix}", scene.name);
-        let (ret, ctor) = if product {
-            (format!("Product<{n}>"), format!("Product::<{n}>"))
-        } else {
-            (ty.to_string(), ty.to_string())
+        let (ret, ctor) = match (product, drift, interaction) {
+            (true, _, _) => (format!("Product<{n}>"), format!("Product::<{n}>")),
+            (_, Some(_), Interaction::Pair) => (
+                format!("Product<{drift_len}>"),
+                format!("Product::<{drift_len}>"),
+            ),
+            (_, Some(_), Interaction::SelfTerm) => (
+                format!("Drift<{drift_len}>"),
+                format!("Drift::<{drift_len}>"),
+            ),
+            _ => (ty.to_string(), ty.to_string()),
         };
         let shape_fields = traced
             .outputs
             .iter()
             .map(|b| (b.name.clone(), b.shape.clone()))
             .collect();
-        let tyname = if product {
-            "Product".to_string()
-        } else {
-            ty.to_string()
+        let tyname = match (product, drift, interaction) {
+            (true, _, _) | (_, Some(_), Interaction::Pair) => "Product".to_string(),
+            (_, Some(_), Interaction::SelfTerm) => "Drift".to_string(),
+            _ => ty.to_string(),
         };
         if !types.iter().any(|(t, _)| *t == tyname) {
             types.push((tyname, shape_fields));
         }
-        let what = if product {
-            format!(
+        let what = match (product, drift) {
+            (true, _) => format!(
                 "the fused pair product a = M^{{ab}} vb, b = M^{{ba}} va, {} moments",
                 moments_label(scene.moments)
-            )
-        } else {
-            format!("the {} blocks", moments_label(scene.moments))
+            ),
+            (_, Some(Drift::Together)) => "the derivative along a unit vector v of the column along v, both points moving together, a = [sum_jk v_j v_k d/dt M^ab_UF,ij(xa + t v, xb + t v) (and M_OmegaF)], b the same for M^ba (a sphere's drift from one of its own periodic images)".to_string(),
+            (_, Some(_)) => "the derivative along a unit vector v of the column along v, the position moving, a = [sum_jk v_j v_k d/dx_k M_UF,ij (and M_OmegaF)]".to_string(),
+            (false, None) => format!("the {} blocks", moments_label(scene.moments)),
         };
         let doc = vec![
             format!(
@@ -99,7 +137,7 @@ pub fn scene_file<G: Green>(g: &G, scene: &Scene, standalone: bool) -> Generated
         items.extend(emit::function(&kf));
         // the lane twins of the unequal-radius product (the tiled products' kernel) and
         // blocks (the dense assembly's)
-        if !equal && !standalone {
+        if !equal && !standalone && drift.is_none() {
             let (f, n) = emit::lane_function(&kf);
             op_counts.push((format!("{name}_lanes (fma)"), n));
             items.extend(f);

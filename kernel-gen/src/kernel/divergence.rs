@@ -31,7 +31,9 @@ pub(super) struct Points<'a> {
 ///   one point's 0-2 for self kernels);
 /// - [`Drift::Along`]: `v_j d/dt` with the points moved to `x + t v` (one variable `t`
 ///   per point, `xa` 0 and `xb` 1 for pairs; `t` moves both arguments of a self
-///   kernel), so that `sum_j v_j d/dt M_ij = sum_jk v_j v_k d/dx_k M_ij`.
+///   kernel), so that `sum_j v_j d/dt M_ij = sum_jk v_j v_k d/dx_k M_ij`;
+/// - [`Drift::Together`]: `v_j d/dt` with both points moved to `x + t v` by one variable
+///   `t` (for a self kernel the same as [`Drift::Along`]).
 ///
 /// A Green's function without image terms (`G = J`, free space) is translation
 /// invariant: every block is a function of `xa - xb`, so `d/dxb_j M_ij = -d/dxa_j M_ij`,
@@ -65,21 +67,25 @@ pub(super) fn drift_outputs<G: Green>(
             };
             (l, ja, jb)
         }
-        (Drift::Along, Some(v)) => {
-            let l = Layout::get(points, 1);
+        (Drift::Along | Drift::Together, Some(v)) => {
+            let together = drift == Drift::Together;
+            let l = Layout::get(if together { 1 } else { points }, 1);
             // x + t v
             let moved = |x: &[Ex; 3], var: usize| -> [Jet<Ex>; 3] {
                 let t = Jet::variable(&l, var, Ex::cst(0.0));
                 std::array::from_fn(|k| c(&x[k]) + c(&v[k]) * t.clone())
             };
             let ja = moved(at.xa, 0);
-            let jb = match pair {
-                true => moved(at.xb, 1),
-                false => ja.clone(),
+            let jb = match (pair, together) {
+                (true, false) => moved(at.xb, 1),
+                (true, true) => moved(at.xb, 0),
+                (false, _) => ja.clone(),
             };
             (l, ja, jb)
         }
-        (Drift::Along, None) => panic!("a derivative along a direction needs the direction"),
+        (Drift::Along | Drift::Together, None) => {
+            panic!("a derivative along a direction needs the direction")
+        }
     };
     let jp: Vec<Jet<Ex>> = params.iter().map(c).collect();
     let values = block_values(
@@ -108,7 +114,12 @@ pub(super) fn drift_outputs<G: Green>(
     };
     // the term `c_k` of entry (i, j), moving the source (`b`) or the field point (`a`)
     let term = |blk: &Vec<Jet<Ex>>, (i, j): (usize, usize), k: usize, source: bool| -> Ex {
-        let first = if source && pair { 1 } else { 0 };
+        // one variable moves both points of a `Together` pair
+        let first = if source && pair && drift != Drift::Together {
+            1
+        } else {
+            0
+        };
         match (drift, at.v) {
             (Drift::Divergence, _) => d(blk, i, j, 3 * first + k),
             (_, Some(v)) => v[k] * d(blk, i, j, first),

@@ -66,6 +66,11 @@ pub enum Drift {
     /// that holding a sphere's centre on a plane of normal `v` removes: the drift of
     /// spheres damped at a boundary (`stokesian`'s overlap treatment).
     Along,
+    /// The derivative along a unit vector `v` of the column along `v` with both points
+    /// moving together, `a_i = sum_jk v_j v_k d/dt M^{ab}_{ij}(xa + t v, xb + t v)`: on a
+    /// sphere and one of its own periodic images (`xb = xa + n L`), that image's part of
+    /// the derivative of the sphere's self mobility (its drift in a periodic box).
+    Together,
 }
 
 impl KernelSpec {

@@ -169,7 +169,7 @@ fn trace_with<G: Green>(
         .collect();
 
     // the direction of a derivative along a vector, after the parameters
-    let along = (spec.drift == Some(Drift::Along)).then(|| {
+    let along = matches!(spec.drift, Some(Drift::Along | Drift::Together)).then(|| {
         args.push(Arg {
             name: "v".into(),
             kind: ArgKind::Point,

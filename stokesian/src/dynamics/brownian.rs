@@ -14,6 +14,7 @@ use crate::system::{Moments, Precision, System, PARALLEL_MIN};
 use kernels::lanes::Isa;
 use rand::Rng;
 use rand_distr::StandardNormal;
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// The rotation vectors (`Omega` rows of an FT increment), or zeros at the F level.
@@ -231,7 +232,6 @@ impl System {
         w: &[f64],
         step: usize,
     ) -> Result<(Vec<f64>, Option<usize>), BrownianError> {
-        self.check_periodic_drift()?;
         if self.periodic_ref().is_some() && bd.forces.trap != 0.0 {
             let what = "a harmonic trap (it pulls towards one axis, not a periodic force)";
             return Err(crate::periodic::PeriodicError::NotAvailable(what).into());
@@ -559,16 +559,29 @@ impl System {
     /// [`System::check_drift`] says where it is not available) at the F level (`3N`) or
     /// the FT level (`6N`, moment-major: translational then rotational rows; the columns
     /// are always the forces, since the mobility of spheres does not depend on their
-    /// orientation). Panics near a wall in a periodic box
-    /// ([`System::check_periodic_drift`]).
+    /// orientation). In a triply periodic box it is zero (every part of the Ewald split is
+    /// divergence-free); near a wall in a box periodic along it, each sphere's is the
+    /// height derivative of its periodic self mobility ([`crate::periodic::wall::WallEwald::drift`]).
     pub fn divergence_at(&self, moments: Moments) -> Vec<f64> {
         let n = self.len();
-        if self.periodic_ref().is_some() {
-            if let Err(e) = self.check_periodic_drift() {
-                panic!("{e} (System::check_periodic_drift)");
+        if let Some(p) = self.periodic_ref() {
+            let mut out = vec![0.0; moments.per_particle() * n];
+            if let crate::periodic::Lattice::Wall(w) = &p.lattice {
+                let eta = self.viscosity();
+                let ps = self.particles();
+                // the kernels evaluate wrapped positions (crate::periodic)
+                let drift: Vec<[f64; 3]> = ps
+                    .par_iter()
+                    .map(|q| {
+                        let x = p.bx.wrap(q.x);
+                        w.drift(eta, &Particle { x, a: q.a })
+                    })
+                    .collect();
+                for (a, d) in drift.iter().enumerate() {
+                    out[3 * a..3 * a + 3].copy_from_slice(d);
+                }
             }
-            // every part of the Ewald split is divergence-free (crate::periodic)
-            return vec![0.0; moments.per_particle() * n];
+            return out;
         }
         let d = self.divergence_ft();
         match moments {

@@ -3,11 +3,11 @@
 //! periodic image by Ewald summation ([`ewald`], [`wall`]). A [`System`] is made periodic
 //! by [`System::periodic`], which validates the box against the spheres; the dense
 //! mobility, its blocks, the product and the velocities (F and FT) then are the periodic
-//! ones, and so is Brownian dynamics in the triply periodic box, whose drift is zero (each
-//! part of the split is divergence-free, as the free-space kernels are); a step that would
-//! overlap two spheres by their nearest images is redrawn like any invalid step. Near a
-//! periodic wall the drift is not zero and not implemented: Brownian dynamics is refused
-//! there ([`System::check_periodic_drift`]). The dense
+//! ones, and so is Brownian dynamics: in the triply periodic box the drift is zero (each
+//! part of the split is divergence-free, as the free-space kernels are); near a periodic
+//! wall each sphere's drift is the height derivative of its own periodic self mobility
+//! ([`wall::WallEwald::drift`]: the pairs of distinct spheres add none). A step that
+//! would overlap two spheres by their nearest images is redrawn like any invalid step. The dense
 //! matrix and its blocks use the direct sums; the triply periodic product is the fast
 //! one ([`product`]: real space over linked cells, reciprocal space by spectral Ewald),
 //! `O(N)`; near a wall the product sums the blocks pair by pair.
@@ -359,17 +359,6 @@ impl System {
         }
         self.set_periodic(Some(periodic));
         Ok(self)
-    }
-
-    /// Whether the Brownian drift `div M` is available: not near a periodic wall, where
-    /// it is not zero (the wall's mobility depends on the heights) and not implemented.
-    pub fn check_periodic_drift(&self) -> Result<(), PeriodicError> {
-        match self.periodic_ref().map(|p| &p.lattice) {
-            Some(Lattice::Wall(_)) => Err(PeriodicError::NotAvailable(
-                "the Brownian drift near a wall in a periodic box (not zero there, and not implemented)",
-            )),
-            _ => Ok(()),
-        }
     }
 
     /// The periodic box, if any.

@@ -52,6 +52,9 @@
 
 use super::ewald::truncation_parameter;
 use crate::system::input::Particle;
+use kernels::generated::scene_ewald_wall_drift::{
+    ewald_wall_drift_pair_together, ewald_wall_drift_self_along,
+};
 use kernels::generated::scene_ewald_wall_ft::{ewald_wall_ft_pair, ewald_wall_ft_self};
 use kernels::BlocksFT;
 use std::f64::consts::PI;
@@ -171,16 +174,45 @@ impl WallEwald {
         eta: f64,
         out: &mut BlocksFT,
     ) {
-        let (k_cut, lz) = self.reciprocal_box(ha + hb);
-        // the factor 2: each k_par stands for itself and its opposite (real part)
-        let scale = 2.0 / (self.lengths[0] * self.lengths[1] * lz * eta);
         let (ca, cb) = (aa * aa / 6.0, ab * ab / 6.0);
+        let mut acc = Acc::default();
+        let scale = self.for_each_wave(ha + hb, eta, |k, k2, proj| {
+            let lateral_phase = k[0] * rho[0] + k[1] * rho[1];
+            let direct = Source {
+                m0: proj.map(|row| row.map(C::re)),
+                m1: None,
+                ky: k,
+            };
+            acc.add(
+                C::unit(lateral_phase + k[2] * (ha - hb)),
+                &blocks_of(&direct, k, k2, ca, cb),
+            );
+            let image = image_source(proj, k, k2, hb);
+            acc.add(
+                C::unit(lateral_phase + k[2] * (ha + hb)),
+                &blocks_of(&image, k, k2, ca, cb),
+            );
+        });
+        acc.into(scale, out);
+    }
+
+    /// Calls `f(k, k^2, g (I - khat khat))` for one of each pair `+-k_par != 0` of the
+    /// lateral wave vectors and every `k_z` of the box periodic in `z` for heights `ha +
+    /// hb = s` ([`WallEwald::reciprocal_box`]) within `k_c`, in a fixed order, with `g =
+    /// phi(k)/k^2`; returns the scale of the sum, `2/(A Lz' eta)` (the factor 2: each
+    /// `k_par` stands for itself and its opposite, whose term is the conjugate).
+    fn for_each_wave(
+        &self,
+        s: f64,
+        eta: f64,
+        mut f: impl FnMut([f64; 3], f64, &[[f64; 3]; 3]),
+    ) -> f64 {
+        let (k_cut, lz) = self.reciprocal_box(s);
         let kc2 = k_cut * k_cut;
         let mmax = (k_cut * lz / (2.0 * PI)).floor() as i64;
         let nmax: [i64; 2] =
             std::array::from_fn(|d| (k_cut * self.lengths[d] / (2.0 * PI)).floor() as i64);
         let xi2 = self.xi * self.xi;
-        let mut acc = Acc::default();
         // one of each +-k_par: the first non-zero index positive
         let half = (0..=nmax[0])
             .flat_map(|n1| (-nmax[1]..=nmax[1]).map(move |n2| (n1, n2)))
@@ -194,7 +226,6 @@ impl WallEwald {
             if kp2 > kc2 {
                 continue;
             }
-            let lateral_phase = kp[0] * rho[0] + kp[1] * rho[1];
             for m in -mmax..=mmax {
                 let k3 = 2.0 * PI * m as f64 / lz;
                 let k2 = kp2 + k3 * k3;
@@ -208,23 +239,66 @@ impl WallEwald {
                 let proj: [[f64; 3]; 3] = std::array::from_fn(|i| {
                     std::array::from_fn(|j| g * (f64::from(u8::from(i == j)) - k[i] * k[j] / k2))
                 });
-                let direct = Source {
-                    m0: proj.map(|row| row.map(C::re)),
-                    m1: None,
-                    ky: k,
-                };
-                acc.add(
-                    C::unit(lateral_phase + k3 * (ha - hb)),
-                    &blocks_of(&direct, k, k2, ca, cb),
-                );
-                let image = image_source(&proj, k, k2, hb);
-                acc.add(
-                    C::unit(lateral_phase + k3 * (ha + hb)),
-                    &blocks_of(&image, k, k2, ca, cb),
-                );
+                f(k, k2, &proj);
             }
         }
-        acc.into(scale, out);
+        2.0 / (self.lengths[0] * self.lengths[1] * lz * eta)
+    }
+
+    /// The Brownian drift of sphere `p` (its translational rows; the rotational ones
+    /// vanish), `sum_j d/dx_j M^{pp}_{ij}` of its periodic self mobility `S(h)`, which
+    /// depends on the height `h` alone: the column `d S_i3/dh`.
+    ///
+    /// The pairs of distinct spheres add nothing: the whole lattice sum is a Green's
+    /// function, reciprocal and divergence-free in its field point, so `sum_j d/dxb_j
+    /// M^{ab}_ij = 0` image by image (the parts of the Ewald split are not each
+    /// reciprocal; their sum is). The sphere's own images move with it: each adds the
+    /// derivative of its pair kernel with both points moving together (the generated
+    /// `ewald_wall_drift_pair_together`), next to the self kernel's
+    /// (`ewald_wall_drift_self_along`), the reciprocal sum's (the image source's phase
+    /// `exp(i k_z (h_a + h_b))` and its symbol's explicit heights, differentiated at fixed
+    /// truncation) and the mode `k_par = 0`'s, which is zero (its third column is).
+    /// `x` and `y` components are zero up to rounding by the lattice's symmetry
+    /// `rho -> -rho`; they are summed as computed.
+    pub fn drift(&self, eta: f64, p: &Particle) -> [f64; 3] {
+        let sigma = 1.0 / self.xi;
+        let up = [0.0, 0.0, 1.0];
+        let mut out = ewald_wall_drift_self_along(p.x, p.a, eta, self.height, sigma, up).a;
+        let rc2 = self.r_cut * self.r_cut;
+        for s in &self.shifts {
+            let lateral2 = s[0] * s[0] + s[1] * s[1];
+            if lateral2 > rc2 || lateral2 == 0.0 {
+                continue;
+            }
+            let image = [p.x[0] - s[0], p.x[1] - s[1], p.x[2]];
+            let d = ewald_wall_drift_pair_together(p.x, image, p.a, eta, self.height, sigma, up).a;
+            for i in 0..3 {
+                out[i] += d[i];
+            }
+        }
+        // the reciprocal sum at (x, x): the image source's `uf = fa S(h)` under the phase
+        // `exp(2 i k_z h)`; d/dh = phase fa (2 i k_z S + S'), `S' = (1 - cb k^2) M' - 2 i
+        // cb ky_3 M''` (`M` is quadratic in `h`)
+        let h = p.x[2] - self.height;
+        let c = p.a * p.a / 6.0;
+        let mut sum = [0.0; 3];
+        let scale = self.for_each_wave(2.0 * h, eta, |k, k2, proj| {
+            let image = image_source(proj, k, k2, h);
+            let (m1, m2) = image.m1.expect("the image's symbol depends on its height");
+            let fa = 1.0 - c * k2;
+            let phase = C::unit(2.0 * k[2] * h);
+            for (i, v) in sum.iter_mut().enumerate() {
+                let s0 = image.m0[i][2].scale(1.0 - c * k2)
+                    + (C::im(-2.0 * image.ky[2]) * m1[i][2] + m2[i][2]).scale(c);
+                let s1 =
+                    m1[i][2].scale(1.0 - c * k2) + (C::im(-2.0 * image.ky[2]) * m2[i][2]).scale(c);
+                *v += (phase * (C::im(2.0 * k[2]) * s0 + s1)).re * fa;
+            }
+        });
+        for i in 0..3 {
+            out[i] += scale * sum[i];
+        }
+        out
     }
 
     /// The mode `k_par = 0` (module docs) of the FT blocks at heights `ha`, `hb` above the

@@ -6,7 +6,9 @@
 //! shared [`Ctx`] to a [`Section`]: adding a section is one function and one line), the
 //! header (machine, date) and the writing of the file. The sections live in
 //! [`numerics`] (a: kernel accuracy and cost per variant), [`physics`] (b: truncation
-//! levels against exact results) and [`scenes`] (d: pruned scene kernels); the shared
+//! levels against exact results), [`scenes`] (d: pruned scene kernels), [`brownian`] (e:
+//! lubricated Brownian dynamics at equilibrium) and [`periodic`] (f: Brownian dynamics
+//! above a periodic wall); the shared
 //! pieces in [`sample`] (seeded configurations), [`timing`] (the timing loop),
 //! [`table`] (markdown tables and number formatting) and [`plot`] (log-log scatter
 //! plots).
@@ -14,6 +16,7 @@
 pub mod brownian;
 pub mod closed;
 pub mod numerics;
+pub mod periodic;
 pub mod physics;
 pub mod plot;
 pub mod sample;
@@ -43,6 +46,8 @@ pub struct Config {
     pub sweep: usize,
     /// Brownian steps of each run of section e.
     pub brownian_steps: usize,
+    /// Brownian steps of each run of section f (a step sums the periodic lattice).
+    pub periodic_brownian_steps: usize,
     /// The confinements of the stiff cases (section c), all of them if `None`.
     pub stiff_only: Option<&'static str>,
     /// Draw a progress bar.
@@ -63,6 +68,7 @@ impl Config {
             min_time: Duration::from_millis(150),
             sweep: 12,
             brownian_steps: 1_200_000,
+            periodic_brownian_steps: 1_200_000,
             stiff_only: None,
             progress: true,
             concurrent: false,
@@ -78,6 +84,7 @@ impl Config {
             min_time: Duration::from_millis(2),
             sweep: 3,
             brownian_steps: 4_000,
+            periodic_brownian_steps: 400,
             // the wall alone: every confinement's stiff cases are the integration
             // test `generated::stiff_cases`, the same measurement
             stiff_only: Some("wall"),
@@ -121,6 +128,7 @@ pub const SECTIONS: &[SectionFn] = &[
     stiff::section,
     scenes::section,
     brownian::section,
+    periodic::section,
 ];
 
 /// Run the whole report into `cfg.out` (deleted and recreated) and return the path of

@@ -169,6 +169,9 @@ impl Visitor for EmittedVsInterpreted {
                         inputs.extend([aa, eta]);
                         self_along(&conf, eta, xa, aa, DIRECTION).a.to_vec()
                     }
+                    (_, _, Some(Drift::Together)) => {
+                        unreachable!("no family kernel moves both points together (a scene's)")
+                    }
                     (Interaction::Pair, true, _) => {
                         inputs.extend(xb);
                         inputs.extend([aa, eta]);

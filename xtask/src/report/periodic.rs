@@ -1,0 +1,137 @@
+//! Section f, Brownian dynamics above a wall in a box periodic along it: one sedimented
+//! sphere moved by Euler-Maruyama with the periodic mobility and its generated drift
+//! (`WallEwald::drift`), with and without the drift. With it the heights must follow
+//! Boltzmann's distribution (Kolmogorov-Smirnov at the 1% level); without it they
+//! follow `exp(-U/kT) / mu_perp(h)`, which is measurably not Boltzmann. A run long
+//! enough for this takes minutes (every step sums the lattice), so it is measured here
+//! rather than in the test suite, which checks the drift against differences of the
+//! mobility.
+
+use super::{Ctx, Section};
+use anyhow::Result;
+use integration_tests::statistics::{boltzmann_height_cdf, ks, sample};
+use std::fmt::Write as _;
+use std::time::Instant;
+use stokesian::{
+    Brownian, Confinement, ExternalForces, Moments, Noise, Overlap, Particle, PeriodicBox, Scheme,
+    System,
+};
+
+/// Buoyant weight 1 kT/a, repulsion 50 kT/a over 0.1 a (the forces of the open wall's
+/// test of the drift, `brownian::dynamics`).
+const FORCES: ExternalForces = ExternalForces {
+    weight: 1.0,
+    strength: 50.0,
+    debye: 0.1,
+    trap: 0.0,
+    torque: [0.0; 3],
+};
+
+/// The box: 8 a x 8 a, lattice sums to 1e-6.
+fn periodic_box() -> PeriodicBox {
+    PeriodicBox {
+        tolerance: 1e-6,
+        ..PeriodicBox::lateral([8.0, 8.0])
+    }
+}
+
+/// Heights sampled every `every` steps after `10 every`, and the redrawn steps.
+fn heights(drift: bool, steps: usize, every: usize, seed: u64) -> Result<(Vec<f64>, usize)> {
+    let bd = Brownian {
+        noise: Noise::Cholesky,
+        hydrodynamics: true,
+        lubrication: None,
+        moments: Moments::F,
+        scheme: Scheme::EulerMaruyama,
+        kt: 1.0,
+        dt: 0.02,
+        drift,
+        forces: FORCES,
+    };
+    let start = System::new(
+        Confinement::Wall { height: 0.0 },
+        1.0,
+        vec![Particle {
+            x: [0.0, 0.0, 1.4],
+            a: 1.0,
+        }],
+        Overlap::Refuse,
+    )?
+    .periodic(periodic_box())?;
+    Ok(sample(&bd, start, (steps, every, 10 * every), seed, |s| {
+        s.particles()[0].x[2]
+    }))
+}
+
+/// Section f.
+pub fn section(ctx: &Ctx) -> Result<Section> {
+    ctx.progress.inc_length(1);
+    ctx.progress
+        .set_message("Brownian dynamics above a periodic wall (minutes)");
+    let steps = ctx.cfg.periodic_brownian_steps;
+    // 40 time units between samples, about the heights' correlation time
+    let every = 2000.min(steps / 20).max(1);
+    let t0 = Instant::now();
+    let (with, without) = std::thread::scope(|sc| {
+        let without = sc.spawn(|| heights(false, steps, every, 1));
+        (heights(true, steps, every, 1), without.join())
+    });
+    let ((with, redrawn_with), (without, redrawn_without)) = (
+        with?,
+        without.map_err(|_| anyhow::anyhow!("the run without the drift panicked"))??,
+    );
+    let elapsed = t0.elapsed().as_secs_f64();
+    ctx.progress.inc(1);
+    let cdf = boltzmann_height_cdf(&FORCES, 1.0);
+    let critical = 1.628 / (with.len().max(1) as f64).sqrt();
+    let (d_with, d_without) = (ks(with.clone(), &cdf), ks(without.clone(), &cdf));
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+    let verdict = |d: f64| {
+        if d < critical {
+            "Boltzmann"
+        } else {
+            "NOT Boltzmann"
+        }
+    };
+    let bx = periodic_box();
+    let mut body = String::new();
+    writeln!(
+        body,
+        "One unit sphere above a no-slip wall in a box periodic along it ({} a x {} a, lattice sums to {:e}; \
+         viscosity 1, kT = 1), buoyant weight 1 kT/a, wall repulsion 50 kT/a with screening length 0.1 a, \
+         dt = 0.02, {steps} steps per run, Euler-Maruyama with Cholesky noise, with the generated drift \
+         (the height derivative of the periodic self mobility) and without it; steps into the wall redrawn. \
+         Samples every {every} steps after {} steps; Kolmogorov-Smirnov against Boltzmann's distribution of \
+         the height at the 1% level (critical value 1.628/sqrt(n)). Both runs took {elapsed:.0} s of wall \
+         time (in parallel).\n",
+        bx.lengths.as_slice()[0],
+        bx.lengths.as_slice()[1],
+        bx.tolerance,
+        10 * every
+    )?;
+    writeln!(
+        body,
+        "| run | samples | mean height | KS distance | critical (1%) | |"
+    )?;
+    writeln!(body, "|---|---|---|---|---|---|")?;
+    for (name, v, d) in [
+        ("with the drift", &with, d_with),
+        ("without the drift", &without, d_without),
+    ] {
+        writeln!(
+            body,
+            "| {name} | {} | {:.4} a | {d:.4} | {critical:.4} | {} |",
+            v.len(),
+            mean(v),
+            verdict(d)
+        )?;
+    }
+    writeln!(
+        body,
+        "\nSteps redrawn: {redrawn_with} with the drift, {redrawn_without} without."
+    )?;
+    Ok(Section {
+        title: "f. Brownian dynamics above a wall in a periodic box".into(),
+        body,
+    })
+}
