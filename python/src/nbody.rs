@@ -519,7 +519,7 @@ impl NBody {
                                     lengths,
                                     tolerance: stokesian::PeriodicBox::TOLERANCE,
                                 })
-                                .map_err(|e| e.to_string()),
+                                .map_err(|e| periodic_words(e, b * size)),
                             None => Ok(s),
                         }
                     })
@@ -630,6 +630,43 @@ impl NBody {
 
 /// The library's error for particle `offset + index` of a batch, in the words
 /// libMobility's users match on for a centre below the wall ("fallen below the wall").
+/// A periodic box's error of the batch of particles from `offset` on, naming the
+/// particles by their indices among all particles.
+fn periodic_words(e: stokesian::PeriodicError, offset: usize) -> String {
+    use stokesian::PeriodicError::*;
+    match e {
+        OwnImage {
+            index,
+            a,
+            axis,
+            length,
+        } => OwnImage {
+            index: offset + index,
+            a,
+            axis,
+            length,
+        },
+        Overlap {
+            first,
+            second,
+            distance,
+            sum,
+        } => Overlap {
+            first: offset + first,
+            second: offset + second,
+            distance,
+            sum,
+        },
+        CutsWall { index, a, distance } => CutsWall {
+            index: offset + index,
+            a,
+            distance,
+        },
+        other => other,
+    }
+    .to_string()
+}
+
 fn wall_words(e: stokesian::InputError, offset: usize) -> String {
     use stokesian::InputError::*;
     match e {

@@ -672,6 +672,14 @@ def test_a_triply_periodic_box_as_libmobilitys_pse():
         s.setParameters(Lx=L, Ly=L, Lz=L, shearStrain=0.1)
     with pytest.raises(RuntimeError, match="apply only"):
         stokesian.NBody("open", "open", "open").setParameters(Lx=L, Ly=L, Lz=L)
+    # in batches, a box's errors name the particles by their indices among all: the
+    # second batch's spheres overlap by their nearest images (1.5 apart across z = L)
+    b = stokesian.NBody("periodic", "periodic", "periodic")
+    b.setParameters(Nbatch=2, NperBatch=2, Lx=L, Ly=L, Lz=L)
+    b.initialize(viscosity=1.0, hydrodynamicRadius=1.0)
+    with pytest.raises(ValueError, match="particles 2 and 3 overlap in the periodic box"):
+        b.setPositions(np.array([[0.0, 0.0, 0.0], [5.0, 5.0, 5.0],
+                                 [1.0, 1.0, 1.0], [1.0, 1.0, L - 0.5]]))
 
 
 def test_periodic_along_a_wall_as_libmobilitys_dpstokes():
