@@ -9,7 +9,7 @@ use crate::physics::green::Green;
 use crate::physics::operators::{self, apply, isolated};
 
 /// The derivative source for a kernel: structured when the Green's function has image
-/// structure, generic otherwise.
+/// structure (pair kernels only, for a radial potential), generic otherwise.
 enum Source<S> {
     Structured(Structured<S>),
     Generic(GenericJets<S>),
@@ -28,7 +28,10 @@ impl<S: Scalar> Source<S> {
         scale: Option<&S>,
     ) -> Self {
         let pair = spec.interaction == Interaction::Pair;
-        if g.image_terms().is_some() && spec.path != Path::Generic {
+        // a radial potential's self term has a free part, its reflected field at r = 0,
+        // which the atoms about a unit vector do not reach
+        let structured = pair || !crate::physics::green::is_radial(g);
+        if g.image_terms().is_some() && spec.path != Path::Generic && structured {
             let explicit = spec.path != Path::StructuredNoExplicitHeight;
             let s = Structured::new(g, xa, xb, p, order, pair, explicit);
             let s = s.in_form(form);

@@ -40,7 +40,8 @@
 //! the plane's height) for which some block's expansion has no term of degree 0 in
 //! `(u_a, u_b)` (the direct sum cancels to leading order): the wall. The free surface (`J(r) +
 //! J(R) P`, which does not cancel) and the confinements with run-time weights or
-//! two planes keep the direct sum alone.
+//! two planes keep the direct sum alone, and so does a kernel of a radial potential
+//! other than the Stokeslet's (`Green::radial`: not homogeneous, so no step 1).
 
 use crate::number::dd::Dd;
 use crate::number::jet::{Jet, Layout};
@@ -119,6 +120,7 @@ pub fn lateral<G: Green>(
         || g.mirrors(&[0.0f64])[0].normal != crate::physics::green::E3
         || !g.axisymmetric()
         || g.image_terms().is_none()
+        || crate::physics::green::is_radial(g)
         || g.weights(&[0.0f64]).len() != 1
     {
         return None;

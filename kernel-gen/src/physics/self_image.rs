@@ -70,7 +70,8 @@ pub struct SelfImage {
 }
 
 /// The closed form of the reflected self term of `blocks` for `g`, or `None` without
-/// image structure or mirror planes.
+/// image structure or mirror planes, or for a radial potential ([`Green::radial`]: not
+/// homogeneous).
 pub fn expansion<G: Green>(
     g: &G,
     blocks: &[(Response, Moment)],
@@ -78,6 +79,9 @@ pub fn expansion<G: Green>(
     order: usize,
 ) -> Option<SelfImage> {
     let terms = g.image_terms()?;
+    if crate::physics::green::is_radial(g) {
+        return None;
+    }
     let zeros = vec![0.0f64; g.params().len()];
     let bounds = g.boundaries(&zeros);
     let mirrors = g.mirrors(&zeros);

@@ -1,7 +1,10 @@
-//! The atoms of the structured path: every derivative of the Stokeslet is a
-//! combination of derivatives of the scalar potentials `r` and `1/r`,
-//! `J_ab = (delta_ab lap - d_a d_b) r`, reduced to `nu_3 <= 1` by
-//! `d_3^2 = lap - d_1^2 - d_2^2`.
+//! The atoms of the structured path: every derivative of the kernel
+//! `J_ab = (delta_ab lap - d_a d_b) phi` is a combination of derivatives of radial
+//! potentials, reduced to `nu_3 <= 1` by `d_3^2 = lap - d_1^2 - d_2^2`, the Laplacian of
+//! a radial potential being a radial potential again ([`Potential::laplacian`]): for the
+//! Stokeslet (`phi = r`) the homogeneous `r` and `1/r` (`lap r = 2/r`, `lap 1/r = 0`); for
+//! a declared radial `phi` ([`crate::physics::green::Green::radial`]) its Laplacians
+//! `lap^m phi`, each its own potential.
 
 use std::collections::BTreeMap;
 
@@ -13,13 +16,48 @@ pub(super) fn binomial(n: usize, k: usize) -> f64 {
     factorial(n) / (factorial(k) * factorial(n - k))
 }
 
-/// The scalar potential a Stokeslet derivative reduces to.
+/// The scalar potential a kernel derivative reduces to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Potential {
     /// `r` (biharmonic: `J_ab = (delta_ab lap - d_a d_b) r`).
     R,
     /// `1/r` (harmonic; `lap r = 2/r`).
     InvR,
+    /// `lap^m phi` of the radial potential `phi` a Green's function declares
+    /// ([`crate::physics::green::Green::radial`]): not homogeneous, so its derivatives
+    /// about a unit vector carry run-time radial coefficients (`Structured::radial`).
+    Radial(u8),
+}
+
+impl Potential {
+    /// The potential of the kernel `J = (delta lap - d d) phi`: `r`, or the declared
+    /// radial `phi`.
+    pub(super) fn kernel(radial: bool) -> Potential {
+        if radial {
+            Potential::Radial(0)
+        } else {
+            Potential::R
+        }
+    }
+
+    /// `lap phi` as `coef * potential`, `None` where it is zero (away from `r = 0`).
+    fn laplacian(self) -> Option<(Potential, f64)> {
+        match self {
+            Potential::R => Some((Potential::InvR, 2.0)),
+            Potential::InvR => None,
+            Potential::Radial(m) => Some((Potential::Radial(m + 1), 1.0)),
+        }
+    }
+
+    /// The dimension `p` of the potential, a power of length (`|R|^p` for the
+    /// homogeneous ones; `phi` has the dimension of `r`).
+    pub(super) fn dimension(self) -> i32 {
+        match self {
+            Potential::R => 1,
+            Potential::InvR => -1,
+            Potential::Radial(m) => 1 - 2 * i32::from(m),
+        }
+    }
 }
 
 /// `d^nu phi` of a potential at one expansion centre, with `nu_3 <= 1` after reduction.
@@ -35,22 +73,24 @@ pub struct Atom {
 }
 
 /// `d^nu phi` as a combination of derivatives with `nu_3 <= 1`, by
-/// `d_3^2 = lap - d_1^2 - d_2^2`, `lap r = 2/r`, `lap (1/r) = 0` (away from `r = 0`).
+/// `d_3^2 = lap - d_1^2 - d_2^2` ([`Potential::laplacian`]).
 fn reduce(pot: Potential, nu: [u8; 3], coef: f64, out: &mut BTreeMap<(Potential, [u8; 3]), f64>) {
     if nu[2] < 2 {
         *out.entry((pot, nu)).or_insert(0.0) += coef;
         return;
     }
     let base = [nu[0], nu[1], nu[2] - 2];
-    if pot == Potential::R {
-        reduce(Potential::InvR, base, 2.0 * coef, out);
+    if let Some((lap, c)) = pot.laplacian() {
+        reduce(lap, base, c * coef, out);
     }
     reduce(pot, [base[0] + 2, base[1], base[2]], -coef, out);
     reduce(pot, [base[0], base[1] + 2, base[2]], -coef, out);
 }
 
-/// `d^mu J_ab = delta_ab d^mu lap r - d^(mu + e_a + e_b) r`, reduced.
+/// `d^mu J_ab = delta_ab d^mu lap phi - d^(mu + e_a + e_b) phi` of the kernel's
+/// potential `phi` ([`Potential::kernel`]), reduced.
 pub(super) fn stokeslet_atoms(
+    phi: Potential,
     a: usize,
     b: usize,
     mu: [u8; 3],
@@ -58,12 +98,14 @@ pub(super) fn stokeslet_atoms(
 ) -> BTreeMap<(Potential, [u8; 3]), f64> {
     let mut out = BTreeMap::new();
     if a == b {
-        reduce(Potential::InvR, mu, 2.0 * coef, &mut out);
+        if let Some((lap, c)) = phi.laplacian() {
+            reduce(lap, mu, c * coef, &mut out);
+        }
     }
     let mut nu = mu;
     nu[a] += 1;
     nu[b] += 1;
-    reduce(Potential::R, nu, -coef, &mut out);
+    reduce(phi, nu, -coef, &mut out);
     out.retain(|_, c| *c != 0.0);
     out
 }

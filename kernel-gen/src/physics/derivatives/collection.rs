@@ -24,37 +24,38 @@ impl<S: Scalar> Structured<S> {
         }
         let mut acc: Option<S> = None;
         for ((centre, pot, n), list) in groups {
-            let sum =
-                if self.collect != Collection::Atoms && self.difference_plane(centre).is_none() {
-                    // one polynomial in the unit vector, evaluated by Horner's rule
-                    let mut p = Poly::default();
-                    for (a, c) in &list {
-                        let d = self.poly_jet(pot).derivative(&a.nu);
-                        p.add_scaled(&d, Dd::new(*c));
+            let sum = if let (Potential::Radial(m), true) = (pot, self.collect != Collection::Atoms)
+            {
+                // one polynomial per radial coefficient
+                let atoms: Vec<([u8; 3], f64)> = list.iter().map(|(a, c)| (a.nu, *c)).collect();
+                self.radial_value(centre, m, &atoms)
+            } else if self.collect != Collection::Atoms && self.difference_plane(centre).is_none() {
+                // one polynomial in the unit vector, evaluated by Horner's rule
+                let mut p = Poly::default();
+                for (a, c) in &list {
+                    let d = self.poly_jet(pot).derivative(&a.nu);
+                    p.add_scaled(&d, Dd::new(*c));
+                }
+                let (_, _, e) = self.unit(centre);
+                let v = p.eval(&e);
+                (!v.is_known_zero()).then_some(v)
+            } else {
+                let mut sum: Option<S> = None;
+                for (a, c) in list {
+                    let v = self.atom_at_unit(&a);
+                    if v.is_known_zero() {
+                        continue;
                     }
-                    let (_, _, e) = self.unit(centre);
-                    let v = p.eval(&e);
-                    (!v.is_known_zero()).then_some(v)
-                } else {
-                    let mut sum: Option<S> = None;
-                    for (a, c) in list {
-                        let v = self.atom_at_unit(&a);
-                        if v.is_known_zero() {
-                            continue;
-                        }
-                        let v = if c == 1.0 { v } else { S::cst(c) * v };
-                        sum = Some(match sum {
-                            None => v,
-                            Some(s) => s + v,
-                        });
-                    }
-                    sum
-                };
-            let Some(sum) = sum else { continue };
-            let p = match pot {
-                Potential::R => 1,
-                Potential::InvR => -1,
+                    let v = if c == 1.0 { v } else { S::cst(c) * v };
+                    sum = Some(match sum {
+                        None => v,
+                        Some(s) => s + v,
+                    });
+                }
+                sum
             };
+            let Some(sum) = sum else { continue };
+            let p = pot.dimension();
             let scaling = self.scaling_centre(centre);
             let v = self.inv_norm_pow(scaling, n as i32 - p) * sum;
             acc = Some(match acc {
@@ -141,7 +142,11 @@ impl<S: Scalar> Structured<S> {
         aa2: &S,
         ab2: &S,
     ) -> S {
-        let mut polys: BTreeMap<(usize, Option<usize>, i32), Poly> = BTreeMap::new();
+        // per centre, weight and power of `1/|R|`: one polynomial, or for a radial
+        // potential one per radial coefficient `b_{m,j}` (its key)
+        type Coefficient = Option<(u8, usize)>;
+        let mut polys: BTreeMap<(usize, Option<usize>, i32), BTreeMap<Coefficient, Poly>> =
+            BTreeMap::new();
         let mut rest: BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>> = BTreeMap::new();
         for ((pa, pb, f), atoms) in groups {
             for (a, c) in atoms {
@@ -162,25 +167,36 @@ impl<S: Scalar> Structured<S> {
                     }
                 };
                 let n: i32 = a.nu.iter().map(|&k| k as i32).sum();
-                let p = match a.pot {
-                    Potential::R => 1,
-                    Potential::InvR => -1,
-                };
-                let k = n - p - 2 * (pa as i32 + pb as i32) - q as i32;
-                let d = self.poly_jet(a.pot).derivative(&a.nu);
+                let k = n - a.pot.dimension() - 2 * (pa as i32 + pb as i32) - q as i32;
                 let mut shift = [0u8; VARS];
                 shift[3] = q;
                 shift[4] = pa;
                 shift[5] = pb;
-                polys
-                    .entry((a.centre, weight, k))
+                let entry = polys.entry((a.centre, weight, k)).or_default();
+                if let Potential::Radial(m) = a.pot {
+                    let powers = self.u_powers();
+                    for (j, power) in powers.iter().enumerate() {
+                        let d = power.derivative(&a.nu);
+                        if !d.is_empty() {
+                            entry.entry(Some((m, j))).or_default().add_shifted(
+                                &d,
+                                Dd::new(c),
+                                shift,
+                            );
+                        }
+                    }
+                    continue;
+                }
+                let d = self.poly_jet(a.pot).derivative(&a.nu);
+                entry
+                    .entry(None)
                     .or_default()
                     .add_shifted(&d, Dd::new(c), shift);
             }
         }
         let mut out: Option<S> = None;
-        for ((centre, weight, k), p) in polys {
-            if p.is_empty() {
+        for ((centre, weight, k), parts) in polys {
+            if parts.values().all(Poly::is_empty) {
                 continue;
             }
             let (_, inv, e) = self.unit(centre);
@@ -197,15 +213,29 @@ impl<S: Scalar> Structured<S> {
                 aa2.clone() * inv2.clone(),
                 ab2.clone() * inv2,
             ];
-            let p = if self.collect == Collection::EntriesOnSphere {
-                p.on_unit_sphere(std::array::from_fn(|k| vars[k].is_known_zero()))
-            } else {
-                p
-            };
-            let mut v = p.eval_all(&vars);
-            if v.is_known_zero() {
-                continue;
+            let mut sum: Option<S> = None;
+            for (coefficient, p) in parts {
+                if p.is_empty() {
+                    continue;
+                }
+                let p = if self.collect == Collection::EntriesOnSphere {
+                    p.on_unit_sphere(std::array::from_fn(|k| vars[k].is_known_zero()))
+                } else {
+                    p
+                };
+                let mut v = p.eval_all(&vars);
+                if v.is_known_zero() {
+                    continue;
+                }
+                if let Some((m, j)) = coefficient {
+                    v = self.radial[&(centre, m)][j].clone() * v;
+                }
+                sum = Some(match sum {
+                    None => v,
+                    Some(s) => s + v,
+                });
             }
+            let Some(mut v) = sum else { continue };
             v = self.inv_norm_pow(centre, k) * v;
             if let Some(w) = weight {
                 v = self.weights[w].clone() * v;

@@ -6,6 +6,7 @@
 
 use super::atoms::{binomial, factorial, stokeslet_atoms, Atom, Factor, Potential};
 use super::{Collection, Differences, Form};
+use crate::number::dd::Dd;
 use crate::number::jet::{Jet, Layout};
 use crate::number::poly::Poly;
 use crate::number::scalar::Scalar;
@@ -42,6 +43,15 @@ pub struct Structured<S> {
     pub(super) jets: HashMap<(usize, Potential), Jet<S>>,
     /// The jets of the potentials about a symbolic unit vector ([`Poly`]), per potential.
     pub(super) poly_jets: HashMap<Potential, Jet<Poly>>,
+    /// The potential of the kernel `J = (delta lap - d d) phi`: `r`, or
+    /// [`Potential::Radial`]`(0)` for a Green's function that declares one.
+    pub(super) phi: Potential,
+    /// The radial coefficients of a declared radial potential, per centre and Laplacian
+    /// `m` ([`Structured::radial`]).
+    pub(super) radial: HashMap<(usize, u8), Vec<S>>,
+    /// The powers `u^j`, `j = 0..=degree`, of `u = |e + d|^2 - 1 = 2 e.d + d.d` as jets
+    /// in `d` about the symbolic unit vector `e`, built on first use.
+    pub(super) u_powers: Vec<Jet<Poly>>,
     /// How atoms become arithmetic.
     pub(super) collect: Collection,
     /// Which terms take the exact difference near a cancelling image.
@@ -86,7 +96,54 @@ impl<S: Scalar> Structured<S> {
             s.centres[0] = rotate(q, &r);
         }
         s.cancel = cancel;
+        if crate::physics::green::is_radial(g) {
+            s.phi = Potential::kernel(true);
+            s.radial = s.radial_coefficients(g, p);
+        }
         s
+    }
+
+    /// The radial coefficients `b_{m,j}` of `lap^m phi` ([`Green::radial`]) at every
+    /// centre: about the unit vector `e = R/|R|`, with `s = |R|^2` and `u = |e + d|^2 - 1
+    /// = 2 e.d + d.d`, `lap^m phi(|R| (e + d)) = |R|^(1 - 2m) sum_j b_{m,j} u^j`, so
+    /// `b_{m,j}` is the coefficient of `u^j` in the univariate jet of `lap^m phi(s (1 + u))`
+    /// (the Green's function's own `sqrt`, `erfc`, `exp` on jets), times `|R|^(2m - 1)`.
+    /// For a homogeneous potential `|R|^p` the `b_j` are the binomial coefficients
+    /// `C(p/2, j)`, which the polynomial jets of [`Structured::poly_jet`] fold in; here
+    /// they are run-time values, so every atom is `sum_j b_{m,j} P_{nu,j}(e)` with
+    /// `P_{nu,j}` the universal polynomial of `d^nu u^j` ([`Structured::u_powers`]).
+    /// Laplacians up to `m = degree / 2`, each to degree `degree - 2m` (an atom of
+    /// `lap^m phi` has order at most that); what no kernel uses is dead code.
+    fn radial_coefficients<G: Green>(&mut self, g: &G, p: &[S]) -> HashMap<(usize, u8), Vec<S>> {
+        let first = if self.include_free { 0 } else { 1 };
+        let pj: Vec<Jet<S>> = p.iter().map(|v| Jet::constant(v.clone())).collect();
+        let mut out = HashMap::new();
+        for centre in first..self.centres.len() {
+            let (norm, inv, _) = self.unit(centre);
+            let c = &self.centres[centre];
+            let s0 = c[0].clone() * c[0].clone()
+                + c[1].clone() * c[1].clone()
+                + c[2].clone() * c[2].clone();
+            for m in 0..=(self.degree / 2) as u8 {
+                let degree = self.degree - 2 * m as usize;
+                let l = Layout::get(1, degree);
+                let u = Jet::variable(&l, 0, S::cst(0.0));
+                let x = Jet::constant(s0.clone()) + Jet::constant(s0.clone()) * u;
+                let f = g
+                    .radial(m, &x, &pj)
+                    .expect("a radial potential declares every Laplacian");
+                // |R|^(2m - 1)
+                let scale = match m {
+                    0 => inv.clone(),
+                    _ => (1..2 * m - 1).fold(norm.clone(), |a, _| a * norm.clone()),
+                };
+                let b = (0..=degree)
+                    .map(|j| scale.clone() * f.coeff(&[j as u8]))
+                    .collect();
+                out.insert((centre, m), b);
+            }
+        }
+        out
     }
 
     /// The plain direct sum of the Stokeslet and its image, without the rewrite into
@@ -159,6 +216,9 @@ impl<S: Scalar> Structured<S> {
             degree,
             jets: HashMap::new(),
             poly_jets: HashMap::new(),
+            phi: Potential::R,
+            radial: HashMap::new(),
+            u_powers: Vec::new(),
             collect: Collection::Centres,
             differences: Differences::All,
             units: HashMap::new(),
@@ -209,8 +269,72 @@ impl<S: Scalar> Structured<S> {
             match pot {
                 Potential::R => s.powf(0.5, S::cst(1.0)),
                 Potential::InvR => s.powf(-0.5, S::cst(1.0)),
+                Potential::Radial(_) => unreachable!("radial atoms take `radial_value`"),
             }
         })
+    }
+
+    /// `u^j`, `j = 0..=degree`, with `u = 2 e.d + d.d`, as jets in `d` whose
+    /// coefficients are polynomials in the symbolic unit vector `e`: `d^nu u^j` is the
+    /// polynomial `P_{nu,j}(e)` of the radial atoms ([`Structured::radial_coefficients`]),
+    /// zero unless `j <= |nu| <= 2j`.
+    pub(super) fn u_powers(&mut self) -> &[Jet<Poly>] {
+        if self.u_powers.is_empty() {
+            let l = Layout::get(3, self.degree);
+            let d: [Jet<Poly>; 3] = std::array::from_fn(|k| Jet::variable(&l, k, Poly::cst(0.0)));
+            let mut u = Jet::cst(0.0);
+            for k in 0..3 {
+                u = u
+                    + Jet::constant(Poly::cst(2.0) * Poly::var(k)) * d[k].clone()
+                    + d[k].clone() * d[k].clone();
+            }
+            let mut power = Jet::cst(1.0);
+            for _ in 0..=self.degree {
+                self.u_powers.push(power.clone());
+                power = power * u.clone();
+            }
+        }
+        &self.u_powers
+    }
+
+    /// `sum_j b_{m,j} (sum_atoms c d^nu u^j)(e)`: atoms `(nu, c)` of `lap^m phi` at one
+    /// centre, without the factor `|R|^(1 - 2m - n)` ([`Structured::radial_coefficients`]);
+    /// `None` if nothing survives.
+    pub(super) fn radial_value(
+        &mut self,
+        centre: usize,
+        m: u8,
+        atoms: &[([u8; 3], f64)],
+    ) -> Option<S> {
+        let polys: Vec<Poly> = self
+            .u_powers()
+            .iter()
+            .map(|power| {
+                let mut p = Poly::default();
+                for (nu, c) in atoms {
+                    p.add_scaled(&power.derivative(nu), Dd::new(*c));
+                }
+                p
+            })
+            .collect();
+        let (_, _, e) = self.unit(centre);
+        let b = self.radial[&(centre, m)].clone();
+        let mut acc: Option<S> = None;
+        for (p, bj) in polys.iter().zip(&b) {
+            if p.is_empty() {
+                continue;
+            }
+            let v = p.eval(&e);
+            if v.is_known_zero() {
+                continue;
+            }
+            let v = bj.clone() * v;
+            acc = Some(match acc {
+                None => v,
+                Some(a) => a + v,
+            });
+        }
+        acc
     }
 
     /// The jet of a potential about the symbolic unit vector `e`: every coefficient a
@@ -229,6 +353,7 @@ impl<S: Scalar> Structured<S> {
             match pot {
                 Potential::R => s.powf(0.5, Poly::cst(1.0)),
                 Potential::InvR => s.powf(-0.5, Poly::cst(1.0)),
+                Potential::Radial(_) => unreachable!("radial atoms take `u_powers`"),
             }
         })
     }
@@ -271,6 +396,7 @@ impl<S: Scalar> Structured<S> {
         match pot {
             Potential::R => dr,
             Potential::InvR => -(dr / (big * small)),
+            Potential::Radial(_) => unreachable!("no cancelling image with a radial potential"),
         }
     }
 
@@ -311,6 +437,11 @@ impl<S: Scalar> Structured<S> {
 
     /// `d^nu phi(e)`: the atom without its factor `|R|^(p - n)`.
     pub(super) fn atom_at_unit(&mut self, a: &Atom) -> S {
+        if let Potential::Radial(m) = a.pot {
+            return self
+                .radial_value(a.centre, m, &[(a.nu, 1.0)])
+                .unwrap_or_else(|| S::cst(0.0));
+        }
         self.jet(a.centre, a.pot).derivative(&a.nu)
     }
 
@@ -342,8 +473,9 @@ impl<S: Scalar> Structured<S> {
     /// `d` as `sum factor * coef * atom`: each centre's part in its own frame
     /// ([`in_frame`]).
     pub(super) fn atoms(&self, d: &Deriv, out: &mut BTreeMap<(Factor, Atom), f64>, scale: f64) {
+        let phi = self.phi;
         let mut push = |f: Factor, centre: usize, mu: [u8; 3], a: usize, b: usize, c: f64| {
-            for ((pot, nu), k) in stokeslet_atoms(a, b, mu, c) {
+            for ((pot, nu), k) in stokeslet_atoms(phi, a, b, mu, c) {
                 *out.entry((f, Atom { centre, pot, nu })).or_insert(0.0) += k;
             }
         };

@@ -68,6 +68,13 @@ pub enum DeclarationError {
         /// What it refers to.
         why: String,
     },
+    /// A radial potential ([`Green::radial`]) with a cancelling image: the exactly
+    /// evaluated `phi(R) - phi(r)` is built for the Stokeslet's homogeneous potentials only.
+    #[error(
+        "`{0}`: declares a radial potential and a cancelling image; the exact difference of \
+         the Stokeslet and its image exists for the Stokeslet's `r` only (drop `cancelling_image`)"
+    )]
+    RadialCancellingImage(&'static str),
     /// The Green's function's name cannot name generated items.
     #[error("a Green's function is named {0:?}, which is not a Rust identifier (lower-case letters, digits, `_`)")]
     BadName(&'static str),
@@ -128,6 +135,9 @@ pub fn check<G: Green>(g: &G) -> Result<(), DeclarationError> {
         }
     }
     let p = examples(g);
+    if g.cancelling_image().is_some() && super::is_radial(g) {
+        return Err(DeclarationError::RadialCancellingImage(green));
+    }
     let mirrors = g.mirrors(&p);
     for (k, m) in mirrors.iter().enumerate() {
         unit(green, format!("mirror {k}"), m.normal)?;

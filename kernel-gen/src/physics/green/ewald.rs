@@ -7,8 +7,11 @@
 //! For a radial `F(r)`, `(delta lap - d d) F = (F'' + F'/r) delta - (F'' - F'/r) rhat rhat`;
 //! with `E = erfc(xi r)` and `e = exp(-xi^2 r^2)/sqrt(pi)`,
 //! `J^R = A delta + B rhat rhat`, `A = E/r + (4 xi^3 r^2 - 6 xi) e`,
-//! `B = E/r + (2 xi - 4 xi^3 r^2) e` ([`Green::full`], in closed form: the pair kernels
-//! never form `J + (J^R - J)`, which would cancel to `eps J` where `J^R` is small).
+//! `B = E/r + (2 xi - 4 xi^3 r^2) e` ([`Green::full`], in closed form: the generic path's,
+//! the tests' reference). The pair kernels take the structured path with the radial
+//! potential `r erfc(xi r)` and its Laplacians in closed form ([`screened_laplacian`],
+//! [`Green::radial`]; docs/generator.md, "Radial potentials"): `J^R` itself, never
+//! `J + (J^R - J)`, which would cancel to `eps J` where `J^R` is small.
 //!
 //! The reflected field is `W = J^R - J = -(delta lap - d d)[r erf(xi r)]`, entire, with
 //! `W(0) = -8 xi/sqrt(pi) I`: the self kernel is the isolated sphere plus the operators
@@ -18,10 +21,10 @@
 //! `s`, `(delta lap - d d) F = (4 F' + 4 s F'') delta - 4 r r F''`. The series keeps
 //! [`SERIES_TERMS`] terms (`F` to `s^6`), so `W` is exact in every derivative up to order
 //! 11 at `r = 0` (the FTS blocks need 6; the jets drop the orders above theirs at no
-//! cost) and an approximation away from it, where nothing evaluates it: the pair kernels
-//! take [`Green::full`].
+//! cost) and an approximation away from it, where nothing evaluates it: the self kernels
+//! take it by the generic path.
 
-use super::{Dimension, Green, Mat3, Param};
+use super::{Dimension, Green, ImageTerm, Mat3, Param};
 use crate::number::dd::Dd;
 use crate::number::scalar::Scalar;
 
@@ -85,6 +88,52 @@ pub fn screened<S: Scalar>(r: &[S; 3], s: &S, sigma: &S) -> Mat3<S> {
     isotropic_plus_dyad(&a, &b, r)
 }
 
+/// `lap^m [r erfc(xi r)]` as a function of `s = r.r`, in closed form, `xi = 1/sigma`
+/// (with `E = erfc(xi r)`, `e = exp(-xi^2 s)/sqrt(pi)`): `r E`, then
+/// `2 E/r + (4 xi^3 s - 8 xi) e`, then for `m >= 2` the Gaussian times a polynomial,
+/// `xi^(2m - 1) Q_m(xi^2 s) e`, `Q_2 = 80 - 88 u + 16 u^2` and, from
+/// `lap f(s) = 4 s f'' + 6 f'`, `Q_{m+1} = 4 u (Q_m'' - 2 Q_m' + Q_m) + 6 (Q_m' - Q_m)`
+/// (integer coefficients, exact in `f64`). The radial potential of the screened kernels
+/// ([`Green::radial`]): every `lap^m` with `m >= 2` is entire and of order `xi^(2m - 1)`,
+/// where the derivatives of `r E` it is made of are of order `r^(1 - 2m)`. The Gaussian
+/// is `erfc`'s own (`exp(-(xi r)(xi r))`), one node with the one inside `erfc`'s jet rule.
+pub fn screened_laplacian<S: Scalar>(m: u8, s: &S, sigma: &S) -> S {
+    let xi = sigma.recip();
+    let r = s.sqrt();
+    let xr = xi.clone() * r.clone();
+    let u = xr.clone() * xr.clone();
+    let e = (-u.clone()).exp() * S::from_dd(Dd::two_over_sqrt_pi() * Dd::new(0.5));
+    match m {
+        0 => r * xr.erfc(),
+        1 => {
+            let c = S::cst;
+            c(2.0) * xr.erfc() * r.recip() + (c(4.0) * u - c(8.0)) * xi * e
+        }
+        _ => {
+            // Q_m by the recurrence, lowest power first
+            let mut q: Vec<f64> = vec![80.0, -88.0, 16.0];
+            for _ in 2..m {
+                let d1: Vec<f64> = (1..q.len()).map(|k| k as f64 * q[k]).collect();
+                let d2: Vec<f64> = (1..d1.len()).map(|k| k as f64 * d1[k]).collect();
+                let at = |v: &[f64], k: usize| v.get(k).copied().unwrap_or(0.0);
+                q = (0..=q.len())
+                    .map(|k| {
+                        let inner = |k: usize| at(&d2, k) - 2.0 * at(&d1, k) + at(&q, k);
+                        let shifted = if k == 0 { 0.0 } else { 4.0 * inner(k - 1) };
+                        shifted + 6.0 * (at(&d1, k) - at(&q, k))
+                    })
+                    .collect();
+            }
+            let poly = q
+                .iter()
+                .rev()
+                .fold(S::cst(0.0), |acc, &c| acc * u.clone() + S::cst(c));
+            let xi_power = (1..2 * m - 1).fold(xi.clone(), |a, _| a * xi.clone());
+            xi_power * poly * e
+        }
+    }
+}
+
 /// `W = J^R - J` from the power series of `r erf(xi r)` in `s` (module documentation).
 pub fn reflected_series<S: Scalar>(r: &[S; 3], s: &S, sigma: &S) -> Mat3<S> {
     let xi = sigma.recip();
@@ -143,6 +192,13 @@ impl Green for EwaldReal {
         let (r, s) = separation(x, y);
         reflected_series(&r, &s, &p[0])
     }
+    /// The free kernel alone, no image.
+    fn image_terms(&self) -> Option<Vec<ImageTerm>> {
+        Some(Vec::new())
+    }
+    fn radial<S: Scalar>(&self, m: u8, s: &S, p: &[S]) -> Option<S> {
+        Some(screened_laplacian(m, s, &p[0]))
+    }
     fn axisymmetric(&self) -> bool {
         true
     }
@@ -155,6 +211,7 @@ impl Green for EwaldReal {
 mod tests {
     use super::*;
     use crate::kernel::{evaluate_direct, trace, Interaction, KernelSpec, Path};
+    use crate::physics::derivatives::path_differences;
     use crate::physics::green::free::Free;
     use crate::physics::green::stokeslet;
     use crate::physics::operators::{Basis, Moment, Response, BLOCKS};
@@ -236,7 +293,7 @@ mod tests {
         }
     }
 
-    /// `(inputs, traced in f64, direct in double-double)` of the pair kernel of `blocks`
+    /// `(traced in f64, direct in double-double by the generic path)` of the pair kernel of `blocks`
     /// at separation `r` (field at the origin), radii 1 and 0.6, `eta = 0.8`, `sigma`.
     fn pair_values(blocks: &[(Response, Moment)], r: [f64; 3], sigma: f64) -> (Vec<f64>, Vec<Dd>) {
         let sp = spec(Interaction::Pair, blocks);
@@ -254,7 +311,12 @@ mod tests {
         ];
         let traced = trace(&EwaldReal, &sp).eval(&inputs);
         let dd: Vec<Dd> = inputs.iter().map(|&v| Dd::new(v)).collect();
-        (traced, evaluate_direct(&EwaldReal, &sp, &dd))
+        // the reference: the generic jets of the closed form, not the kernels' path
+        let generic = KernelSpec {
+            path: Path::Generic,
+            ..sp
+        };
+        (traced, evaluate_direct(&EwaldReal, &generic, &dd))
     }
 
     /// The traced FTS pair kernel (lowered `exp`, `erfc`, `f64`) against the direct sum in
@@ -364,6 +426,59 @@ mod tests {
                 assert!((blocks[3][3 * i + j] - d * ol).abs() < ol_tol, "OL {i}{j}");
                 assert!(blocks[1][3 * i + j].abs() < uf_tol, "UL {i}{j}");
                 assert!(blocks[2][3 * i + j].abs() < uf_tol, "OF {i}{j}");
+            }
+        }
+    }
+
+    /// Each declared Laplacian of the screened potential against the Laplacian of the
+    /// one before, `4 s f'' + 6 f'` from its jet in `s` (double-double), for `m` up to
+    /// 5 (FTS wall kernels need 5), at `xi r` from 0.3 to 3: independent of the
+    /// recurrence of `Q_m` and of the closed form of `lap (r E)`. Relative to
+    /// `|4 s f''| + |6 f'|`, the size of the terms that cancel (up to `(xi r)^-6` times the
+    /// result at `xi r = 0.3`): 1e-26.
+    #[test]
+    fn each_laplacian_is_the_laplacian_of_the_one_before() {
+        use crate::number::jet::{Jet, Layout};
+        let sigma = Dd::new(1.3);
+        let l = Layout::get(1, 2);
+        for xr in [0.3, 1.0, 3.0] {
+            let s0 = Dd::new(xr * 1.3) * Dd::new(xr * 1.3);
+            let x = Jet::variable(&l, 0, s0);
+            for m in 0..5u8 {
+                let f = screened_laplacian(m, &x, &Jet::constant(sigma));
+                let (f1, f2) = (f.derivative(&[1]), f.derivative(&[2]));
+                let want = screened_laplacian(m + 1, &s0, &sigma);
+                let (a, b) = (Dd::new(4.0) * s0 * f2, Dd::new(6.0) * f1);
+                let size = a.to_f64().abs() + b.to_f64().abs();
+                let err = (a + b - want).to_f64().abs();
+                assert!(
+                    err < 1e-26 * size,
+                    "m {m} at xi r {xr}: {err:e} of {size:e}"
+                );
+            }
+        }
+    }
+
+    /// The structured path (the atoms of `lap^m [r erfc(xi r)]`, radial coefficients
+    /// times universal polynomials in the unit vector) against the generic jets of the
+    /// closed form `J^R` ([`Green::full`]), every derivative `d_x^alpha d_y^beta J^R` to
+    /// order 6 (FTS pair kernels), in double-double, at `xi r` from 0.05 to 5: to 1e-24
+    /// of the largest derivative of its order (both are exact up to round-off of about
+    /// 1e-31 times the terms, which at order 6 and `xi r = 0.05` exceed the result by up
+    /// to the `(xi r)^-7` of `lap^3 J^R` against `J^R`'s own sixth derivatives).
+    #[test]
+    fn structured_atoms_equal_the_generic_jets() {
+        let sigma = 1.3;
+        let dir = [0.48, -0.6, 0.64];
+        for xr in [0.05, 0.7, 2.0, 5.0] {
+            let x = [0.3, -0.4, 0.9].map(Dd::new);
+            let y: [Dd; 3] = std::array::from_fn(|k| x[k] - Dd::new(xr * sigma * dir[k]));
+            let p = [Dd::new(sigma)];
+            for (n, err, scale) in path_differences(&EwaldReal, &x, &y, &p, 6) {
+                assert!(
+                    err < 1e-24 * scale,
+                    "order {n} at xi r {xr}: {err:e} of {scale:e}"
+                );
             }
         }
     }

@@ -22,15 +22,19 @@
 //!   `lap g = xi^3 (80 - 88 xi^2 r^2 + 16 xi^4 r^4) e`.
 //!
 //! As `xi -> 0` these tend to the Stokeslet's gradient and Laplacian (the unit tests check
-//! them against finite differences of `J^R`).
+//! them against finite differences of `J^R`). They make [`Green::full`], the generic
+//! path's closed form (the tests' reference); the pair kernels take the structured path,
+//! declared as what the Green's function is made of: the wall's image terms
+//! ([`blake_terms`], Eq. 10 with the explicit heights) and the screened radial potential
+//! of [`super::ewald`] ([`screened_laplacian`]).
 //!
 //! Self kernels take the reflected field `G^R - J = W(r) + ` the screened image, `W = J^R -
 //! J` as the power series of [`super::ewald`] (exact at `r = 0`), the image in closed form
 //! at `R = 2 h e3`.
 
-use super::ewald::{reflected_series, screened, separation, SIGMA};
-use super::wall::{image_system, WithDerivatives};
-use super::{Green, Mat3, Param, Plane};
+use super::ewald::{reflected_series, screened, screened_laplacian, separation, SIGMA};
+use super::wall::{blake_terms, image_system, WithDerivatives};
+use super::{Green, ImageTerm, Mat3, Param, Plane};
 use crate::number::dd::Dd;
 use crate::number::scalar::Scalar;
 
@@ -133,6 +137,14 @@ impl Green for EwaldWall {
         let w = reflected_series(&r, &s, &p[1]);
         let image = screened_image(x, y, &p[0], &p[1]);
         std::array::from_fn(|i| std::array::from_fn(|l| w[i][l].clone() + image[i][l].clone()))
+    }
+    /// Blake's image system, every Stokeslet screened: the wall's terms
+    /// ([`blake_terms`]) made of the screened kernel ([`Green::radial`]).
+    fn image_terms(&self) -> Option<Vec<ImageTerm>> {
+        Some(blake_terms(0, 0))
+    }
+    fn radial<S: Scalar>(&self, m: u8, s: &S, p: &[S]) -> Option<S> {
+        Some(screened_laplacian(m, s, &p[1]))
     }
     fn mirrors<S: Scalar>(&self, p: &[S]) -> Vec<Plane<S>> {
         vec![Plane::horizontal(p[0].clone())]
@@ -241,6 +253,32 @@ mod tests {
         }
     }
 
+    /// The structured path (Blake's image terms by Eq. 10, made of the atoms of the
+    /// screened potential) against the generic six-variable jets of the closed form
+    /// [`Green::full`], every derivative to order 4 (the FT pair kernels'; the image terms
+    /// add 2 more to the potential's), in double-double, pairs from near the wall to
+    /// `xi |R|` of 5: to 1e-24 of the largest derivative of its order (round-off of about
+    /// 1e-31 of the terms, which exceed the result where `J^R(r)` and the screened
+    /// image cancel).
+    #[test]
+    fn structured_terms_equal_the_generic_jets() {
+        use crate::physics::derivatives::path_differences;
+        let p = [Dd::new(0.3), Dd::new(1.3)];
+        for (x, y) in [
+            ([0.1, -0.2, 1.5], [0.4, 0.1, 1.8]),
+            ([0.1, -0.2, 0.5], [1.6, -1.1, 0.4]),
+            ([3.0, -2.0, 1.6], [-1.0, 2.5, 4.1]),
+        ] {
+            let (x, y) = (x.map(Dd::new), y.map(Dd::new));
+            for (n, err, scale) in path_differences(&EwaldWall, &x, &y, &p, 4) {
+                assert!(
+                    err < 1e-24 * scale,
+                    "order {n} at {x:?}, {y:?}: {err:e} of {scale:e}"
+                );
+            }
+        }
+    }
+
     /// Inputs of the pair kernel: `xa, xb, aa, ab, eta, height, sigma`.
     fn pair_inputs(xa: [f64; 3], xb: [f64; 3], height: f64, sigma: f64) -> Vec<f64> {
         let mut v = xa.to_vec();
@@ -250,7 +288,7 @@ mod tests {
     }
 
     /// The traced FT pair kernel (canonical frame, lowered `exp` and `erfc`, `f64`) against
-    /// the direct sum in double-double, pairs at heights 1.2 to 5 above the wall, lateral
+    /// the direct sum in double-double by the generic jets of the closed form, pairs at heights 1.2 to 5 above the wall, lateral
     /// distances up to `5 sigma`, every block to 1e-12 of its largest entry (the lowered
     /// functions are good to 5e-15 relative; the image terms add `h^2 lap J^R(R)`, of up
     /// to `(h/R)^2` times the terms they partly cancel, and the jets sum a few hundred
@@ -268,7 +306,11 @@ mod tests {
             let inputs = pair_inputs(xa, xb, height, sigma);
             let got = traced.eval(&inputs);
             let dd: Vec<Dd> = inputs.iter().map(|&v| Dd::new(v)).collect();
-            let want = evaluate_direct(&EwaldWall, &spec(Interaction::Pair), &dd);
+            let generic = KernelSpec {
+                path: Path::Generic,
+                ..spec(Interaction::Pair)
+            };
+            let want = evaluate_direct(&EwaldWall, &generic, &dd);
             for ((g, w), s) in got.iter().zip(&want).zip(block_scales(&want)) {
                 let err = (Dd::new(*g) - *w).to_f64().abs();
                 assert!(err <= 1e-12 * s, "{xa:?} {xb:?}: {g:e} vs {w:?}");

@@ -355,6 +355,20 @@ pub trait Green {
     fn cancelling_image(&self) -> Option<(usize, usize)> {
         None
     }
+    /// The radial potential of a kernel other than the Stokeslet: `lap^m phi` as a
+    /// function of `s = r.r`, where the free term and every image term
+    /// ([`Green::image_terms`]) are made of `J = (delta lap - d d) phi` in place of the
+    /// Stokeslet's `phi = r` (`None`, the default: the Stokeslet). The structured path
+    /// runs it on jets in `s` for the radial coefficients of its atoms
+    /// ([`crate::physics::derivatives::Potential::Radial`]). Each Laplacian is a radial
+    /// function again (`lap f(s) = 4 s f'' + 6 f'`), declared in closed form: where it is
+    /// small (screened, entire) the recurrence would be a cancellation of large terms.
+    /// `phi` has the dimension of a length, `lap^m phi` that of `length^(1 - 2m)`. Only
+    /// pair kernels take it; self kernels, whose free part is the reflected field at
+    /// `r = 0`, take the generic path.
+    fn radial<S: Scalar>(&self, _m: u8, _s: &S, _p: &[S]) -> Option<S> {
+        None
+    }
     /// Whether `G` is invariant under rotations about the common normal `n` of its
     /// mirror planes (`e3` without mirrors) and translations along them (all boundaries
     /// are planes normal to `n`): pair kernels are then traced in the canonical frame of
@@ -376,6 +390,11 @@ pub trait Green {
             })
             .unwrap_or(0)
     }
+}
+
+/// Whether `g` declares a radial potential other than the Stokeslet's ([`Green::radial`]).
+pub fn is_radial<G: Green>(g: &G) -> bool {
+    g.radial(0, &1.0f64, &examples(g)).is_some()
 }
 
 /// The example values of a Green's function's parameters ([`Param::example`]).

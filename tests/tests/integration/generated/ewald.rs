@@ -141,15 +141,19 @@ fn emitted_kernels_equal_the_interpreted_graph() {
     assert_eq!(checked, 2 * 5 * pairs().len());
 }
 
-/// The emitted FT pair kernel against the direct sum in double-double
-/// (`kernel_gen::kernel::evaluate_direct`: the same jets with `Dd`'s own `exp` and
-/// `erfc`, good to 1e-28): each block to 1e-13 of its largest entry, the lowered
-/// functions' 5e-15 and the round-off of the jets' sums (a few hundred terms). The F
-/// kernel is the FT kernel's first block (the same terms, grouped differently after
-/// dead-code elimination: 1e-13, as `scenes`).
+/// The emitted FT pair kernel (the structured path of the radial potential) against the
+/// direct sum in double-double (`kernel_gen::kernel::evaluate_direct` on the generic
+/// path: jets of the closed form with `Dd`'s own `exp` and `erfc`, good to 1e-28): each
+/// block to 1e-13 of its largest entry, the lowered functions' 5e-15 and the round-off of
+/// the sums of a few hundred terms. The F kernel is the FT kernel's first block (the same
+/// terms, grouped differently after dead-code elimination: 1e-13, as `scenes`).
 #[test]
 fn pair_kernel_equals_the_direct_sum_in_double_double() {
-    let sp = spec(Moments::FT, Interaction::Pair, false, false);
+    // the reference: the generic jets of the closed form `J^R`, not the kernels' path
+    let generic = KernelSpec {
+        path: Path::Generic,
+        ..spec(Moments::FT, Interaction::Pair, false, false)
+    };
     for (xa, xb, aa, ab) in pairs() {
         let got = ft_flat(&ft::ewald_real_ft_pair(xa, xb, aa, ab, ETA, SIGMA));
         let inputs: Vec<Dd> = [xa.to_vec(), xb.to_vec(), vec![aa, ab, ETA, SIGMA]]
@@ -157,7 +161,7 @@ fn pair_kernel_equals_the_direct_sum_in_double_double() {
             .into_iter()
             .map(Dd::new)
             .collect();
-        let want = evaluate_direct(&EwaldReal, &sp, &inputs);
+        let want = evaluate_direct(&EwaldReal, &generic, &inputs);
         for (b, (g, w)) in got.chunks(9).zip(want.chunks(9)).enumerate() {
             let scale = w.iter().map(|v| v.to_f64().abs()).fold(0.0, f64::max);
             for (x, y) in g.iter().zip(w) {
