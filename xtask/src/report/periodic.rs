@@ -10,6 +10,7 @@
 use super::{Ctx, Section};
 use anyhow::Result;
 use integration_tests::statistics::{boltzmann_height_cdf, ks, sample};
+use integration_tests::SEDIMENTED;
 use std::fmt::Write as _;
 use std::time::Instant;
 use stokesian::{
@@ -17,15 +18,8 @@ use stokesian::{
     System,
 };
 
-/// Buoyant weight 1 kT/a, repulsion 50 kT/a over 0.1 a (the forces of the open wall's
-/// test of the drift, `brownian::dynamics`).
-const FORCES: ExternalForces = ExternalForces {
-    weight: 1.0,
-    strength: 50.0,
-    debye: 0.1,
-    trap: 0.0,
-    torque: [0.0; 3],
-};
+/// The sedimented colloid of the open wall's test of the drift (`brownian::dynamics`).
+const FORCES: ExternalForces = SEDIMENTED;
 
 /// The box: 8 a x 8 a, lattice sums to 1e-6.
 fn periodic_box() -> PeriodicBox {

@@ -2,23 +2,14 @@
 //! levels stated per test).
 
 use integration_tests::statistics::{boltzmann_height_cdf, ks, ks2, sample, separation_and_height};
-use integration_tests::{NO_FORCES, WALL};
+use integration_tests::{NO_FORCES, SEDIMENTED, WALL};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use stokesian::{Brownian, ExternalForces, Moments, Noise, Particle, Scheme, System};
 
-/// A sedimented colloid: unit sphere, kT = 1, eta = 1, buoyant weight 1 kT/a (the
-/// gravitational length is a), repulsion 50 kT/a with screening length 0.1 a. Chosen so
-/// that the distribution without the drift, `exp(-U/kT) / mu_perp(h)`, is far from
-/// Boltzmann: their Kolmogorov-Smirnov distance is 0.116 (computed from B1's mu_perp;
-/// 0.091 for weight 2, 0.059 for weight 5).
-const FORCES: ExternalForces = ExternalForces {
-    weight: 1.0,
-    strength: 50.0,
-    debye: 0.1,
-    trap: 0.0,
-    torque: [0.0; 3],
-};
+/// The sedimented colloid of [`SEDIMENTED`]: chosen so that the distribution without the
+/// drift is far from Boltzmann.
+const FORCES: ExternalForces = SEDIMENTED;
 
 /// Heights visited by one sphere, sampled every `every` steps after `burn` steps, and
 /// the number of steps rejected (and redrawn) because they crossed into the wall.
