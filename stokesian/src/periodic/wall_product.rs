@@ -16,7 +16,8 @@
 //! geometric scan. The costs per unit (`C_pair`: one real-space pair-image of the
 //! scalar FT kernel on the generic path, about 11000 operations; `C_point`: one grid
 //! point, its transforms and symbols, with the image's grids) are ratios measured at `N
-//! = 1e4` (docs/periodic.md).
+//! = 2500` and checked at `N = 1e4` (docs/periodic.md); only their ratio matters, and
+//! the total is flat near its minimum.
 //!
 //! Each sphere's real-space row is summed on its own over its images in the cells'
 //! fixed order, so the product does not depend on the number of threads.
