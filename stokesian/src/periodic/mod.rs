@@ -10,7 +10,7 @@
 //! would overlap two spheres by their nearest images is redrawn like any invalid step. The dense
 //! matrix and its blocks use the direct sums; the triply periodic product is the fast
 //! one ([`product`]: real space over linked cells, reciprocal space by spectral Ewald),
-//! `O(N)`; near a wall the product sums the blocks pair by pair.
+//! `O(N)`, and so is the product along a periodic wall ([`wall_product`]).
 //!
 //! The resistance with lubrication ([`System::resistance`]) adds its pair corrections
 //! for every image of a sphere within the window of the correction, a sphere's own
@@ -38,9 +38,12 @@
 mod cells;
 pub mod ewald;
 mod fft;
+mod plane_mode;
 mod product;
 mod spectral;
 pub mod wall;
+mod wall_product;
+mod wall_spectral;
 
 use crate::system::input::Particle;
 use crate::system::Moments;
@@ -427,39 +430,26 @@ impl System {
         (0..k * k).map(|e| m[e / k][e % k]).collect()
     }
 
-    /// The periodic product `M x` at F or FT, moment-major: in a triply periodic box the
-    /// fast product ([`product`]: linked cells and spectral Ewald), to the box's
-    /// tolerance; near a wall the dense matrix's blocks, pair by pair.
+    /// The periodic product `M x` at F or FT, moment-major, to the box's tolerance: in a
+    /// triply periodic box the fast product ([`product`]: linked cells and spectral
+    /// Ewald), near a wall its twin ([`wall_product`]: linked cells, spectral Ewald with
+    /// the image sources, the mode `k_par = 0` interpolated in the heights).
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
-        if let BoxLengths::Triply(lengths) = p.bx.lengths {
-            let tol = p.bx.tolerance;
-            let ps: Vec<Particle> = (self.particles().iter())
-                .map(|s| Particle {
-                    x: p.bx.wrap(s.x),
-                    a: s.a,
-                })
-                .collect();
-            return product::apply(lengths, tol, self.viscosity(), &ps, moments, x);
-        }
-        // near a wall: the blocks pair by pair, as for the dense matrix, in a fixed order
-        let n = self.len();
-        let k = moments.per_particle();
-        let parts = moments.parts();
-        let g = |a: usize, i: usize| crate::system::global(parts, n, a, i);
-        let mut out = vec![0.0; k * n];
-        self.block_rows(p, |a, row| {
-            for (db, m) in row.iter().enumerate() {
-                let b = a + db;
-                for i in 0..k {
-                    for j in 0..k {
-                        out[g(a, i)] += m[i][j] * x[g(b, j)];
-                        if a != b {
-                            out[g(b, j)] += m[i][j] * x[g(a, i)];
-                        }
-                    }
-                }
+        let tol = p.bx.tolerance;
+        let ps: Vec<Particle> = (self.particles().iter())
+            .map(|s| Particle {
+                x: p.bx.wrap(s.x),
+                a: s.a,
+            })
+            .collect();
+        match (&p.lattice, p.bx.lengths) {
+            (Lattice::Wall(w), _) => wall_product::apply(w, self.viscosity(), &ps, moments, x),
+            (Lattice::Triply(_), BoxLengths::Triply(lengths)) => {
+                product::apply(lengths, tol, self.viscosity(), &ps, moments, x)
             }
-        });
-        out
+            (Lattice::Triply(_), BoxLengths::Lateral(_)) => {
+                unreachable!("a triply periodic sum has three lengths")
+            }
+        }
     }
 }

@@ -56,17 +56,17 @@ use std::f64::consts::PI;
 /// The grid and window of one box at one split and tolerance.
 #[derive(Clone, Debug)]
 pub(crate) struct Spectral {
-    lengths: [f64; 3],
-    xi: f64,
+    pub(crate) lengths: [f64; 3],
+    pub(crate) xi: f64,
     /// Grid points along each axis.
     pub(crate) m: [usize; 3],
-    h: [f64; 3],
+    pub(crate) h: [f64; 3],
     /// Window points along each axis (`P` along the widest spacing).
     support: [usize; 3],
     /// The Gaussian's variance `s^2`.
-    s2: f64,
+    pub(crate) s2: f64,
     /// The split `e` of the screening.
-    split: f64,
+    pub(crate) split: f64,
 }
 
 /// The shape `m` of a window of `p` points at `xi h = xh` that balances its truncation
@@ -120,7 +120,7 @@ fn smooth(n: usize) -> usize {
 
 /// One sphere's window: its first grid point and the Gaussian's weight at each of its
 /// points, along each axis.
-struct Window {
+pub(crate) struct Window {
     first: [usize; 3],
     /// The grid indices of the window's points (wrapped), along each axis.
     index: [Vec<usize>; 3],
@@ -143,7 +143,7 @@ fn runs(first: usize, p: usize, m: usize) -> impl Iterator<Item = (usize, usize,
 
 /// The wave number of FFT index `i` of `m`, in units of `2 pi/L`; `None` for the
 /// Nyquist mode.
-fn signed(i: usize, m: usize) -> Option<f64> {
+pub(crate) fn signed(i: usize, m: usize) -> Option<f64> {
     if 2 * i == m {
         None
     } else if 2 * i < m {
@@ -157,7 +157,12 @@ impl Spectral {
     /// The grid and window of the box `lengths` for splitting parameter `xi` at
     /// tolerance `tol`.
     pub(crate) fn new(lengths: [f64; 3], xi: f64, tol: f64) -> Spectral {
-        let k_cut = 2.0 * xi * truncation_parameter(tol);
+        Spectral::with_cut(lengths, xi, tol, 2.0 * xi * truncation_parameter(tol))
+    }
+
+    /// The grid and window of the box `lengths` for splitting parameter `xi` at
+    /// tolerance `tol`, resolving the wave vectors up to `k_cut`.
+    pub(crate) fn with_cut(lengths: [f64; 3], xi: f64, tol: f64, k_cut: f64) -> Spectral {
         let m: [usize; 3] =
             std::array::from_fn(|d| smooth((k_cut * lengths[d] / PI).ceil() as usize + 2));
         let h: [f64; 3] = std::array::from_fn(|d| lengths[d] / m[d] as f64);
@@ -183,7 +188,7 @@ impl Spectral {
         }
     }
 
-    fn window(&self, x: [f64; 3]) -> Window {
+    pub(crate) fn window(&self, x: [f64; 3]) -> Window {
         let mut index: [Vec<usize>; 3] = Default::default();
         let mut weights: [Vec<f64>; 3] = Default::default();
         for d in 0..3 {
@@ -270,7 +275,12 @@ impl Spectral {
     /// The stack of `grids` complex grids holding the real fields `sources[b][f]`
     /// (field `2c` the real part of grid `c`, `2c + 1` its imaginary part), spread with
     /// the windows, x-plane by x-plane.
-    fn spread(&self, windows: &[Window], sources: &[Vec<f64>], grids: usize) -> Vec<Complex64> {
+    pub(crate) fn spread(
+        &self,
+        windows: &[Window],
+        sources: &[Vec<f64>],
+        grids: usize,
+    ) -> Vec<Complex64> {
         let [mx, my, mz] = self.m;
         let px = self.support[0];
         let plane = my * mz;
@@ -310,7 +320,7 @@ impl Spectral {
 
     /// The fields of one window: `2 grids` real values (the real and imaginary parts of
     /// each grid), integrated against the window.
-    fn interpolate(&self, w: &Window, grid: &[Complex64], grids: usize) -> Vec<f64> {
+    pub(crate) fn interpolate(&self, w: &Window, grid: &[Complex64], grids: usize) -> Vec<f64> {
         let [_, my, mz] = self.m;
         let plane = my * mz;
         let mut acc = vec![Complex64::default(); grids];

@@ -70,10 +70,8 @@ pub struct WallEwald {
     pub xi: f64,
     /// Real-space cut-off `r_c`.
     pub r_cut: f64,
-    /// The truncation parameter `p = xi r_c`.
-    p: f64,
     /// The tolerance.
-    tolerance: f64,
+    pub(crate) tolerance: f64,
     /// The lateral lattice vectors within `r_c + ` half the box's diagonal, nearest first.
     shifts: Vec<[f64; 2]>,
 }
@@ -104,7 +102,6 @@ impl WallEwald {
             height,
             xi,
             r_cut,
-            p,
             tolerance: tol,
             shifts,
         }
@@ -154,11 +151,7 @@ impl WallEwald {
     /// The reciprocal cut-off `k_c` and the height `Lz'` of the box periodic in `z` for a
     /// pair of heights `ha + hb = s` above the wall (module docs).
     pub fn reciprocal_box(&self, s: f64) -> (f64, f64) {
-        let xi = self.xi;
-        let k_cut = 2.0 * xi * (self.p * self.p + 2.0 * (1.0 + 2.0 * xi * self.p * s).ln()).sqrt();
-        let k0 = 2.0 * PI / self.lengths[0].max(self.lengths[1]);
-        let padding = ((100.0 / self.tolerance).ln() + 2.0 * (1.0 + k0 * s).ln()) / k0;
-        (k_cut, s + padding)
+        reciprocal_box(self.lengths, self.xi, self.tolerance, s)
     }
 
     /// The reciprocal sum (`k_par != 0`) of the FT blocks at lateral separation `rho`,
@@ -301,11 +294,9 @@ impl WallEwald {
         out
     }
 
-    /// The mode `k_par = 0` (module docs) of the FT blocks at heights `ha`, `hb` above the
-    /// wall, added to `out`.
-    #[allow(clippy::too_many_arguments)]
-    fn plane_average(&self, ha: f64, hb: f64, aa: f64, ab: f64, eta: f64, out: &mut BlocksFT) {
-        let (ca, cb) = (aa * aa / 6.0, ab * ab / 6.0);
+    /// The derivatives `d_a^m d_b^n f` (`m, n <= 2`, indexed `[m][n]`) of the mode
+    /// `k_par = 0`'s `f(h_a, h_b)` (module docs) at heights `ha`, `hb` above the wall.
+    pub(crate) fn plane_kernel(&self, ha: f64, hb: f64) -> [[f64; 3]; 3] {
         let (d, s) = (ha - hb, ha + hb);
         let psi_d = Psi::at(self.xi, d);
         let psi_s = Psi::at(self.xi, s);
@@ -324,6 +315,16 @@ impl WallEwald {
             }
             v
         };
+        std::array::from_fn(|m| std::array::from_fn(|n| t(m, n)))
+    }
+
+    /// The mode `k_par = 0` (module docs) of the FT blocks at heights `ha`, `hb` above the
+    /// wall, added to `out`.
+    #[allow(clippy::too_many_arguments)]
+    fn plane_average(&self, ha: f64, hb: f64, aa: f64, ab: f64, eta: f64, out: &mut BlocksFT) {
+        let (ca, cb) = (aa * aa / 6.0, ab * ab / 6.0);
+        let table = self.plane_kernel(ha, hb);
+        let t = |m: usize, n: usize| table[m][n];
         let unit = 1.0 / (8.0 * PI * eta * self.lengths[0] * self.lengths[1]);
         let uf = unit * (t(0, 0) + ca * t(2, 0) + cb * t(0, 2) + ca * cb * t(2, 2));
         let of = 0.5 * unit * (t(1, 0) + cb * t(1, 2));
@@ -340,6 +341,17 @@ impl WallEwald {
         out.ul[0][1] += ul;
         out.ul[1][0] -= ul;
     }
+}
+
+/// The reciprocal cut-off `k_c` and the height `Lz'` of the box periodic in `z` for a
+/// pair of heights `ha + hb = s` above the wall (module docs), of the box `lengths` at
+/// split `xi` and tolerance `tol`.
+pub(crate) fn reciprocal_box(lengths: [f64; 2], xi: f64, tol: f64, s: f64) -> (f64, f64) {
+    let p = truncation_parameter(tol);
+    let k_cut = 2.0 * xi * (p * p + 2.0 * (1.0 + 2.0 * xi * p * s).ln()).sqrt();
+    let k0 = 2.0 * PI / lengths[0].max(lengths[1]);
+    let padding = ((100.0 / tol).ln() + 2.0 * (1.0 + k0 * s).ln()) / k0;
+    (k_cut, s + padding)
 }
 
 /// `Psi` and its derivatives to the sixth at one point: `Psi(z) = -4 pi z erf(u) - 4

@@ -5,13 +5,15 @@
 //! (`lubrication`); the fast product (cells and spectral Ewald) against the dense
 //! matrix, and its bits whatever the threads (`spectral`).
 //! Boxes periodic along a wall: the Ewald sums against the brute-force sum over shells
-//! of the open wall's images, and the system (`wall`).
+//! of the open wall's images, and the system (`wall`); the fast product along the wall
+//! against the dense matrix (`wall_product`).
 
 mod ewald;
 mod lubrication;
 mod spectral;
 mod system;
 mod wall;
+mod wall_product;
 
 use rand::{Rng, SeedableRng};
 use stokesian::Particle;

@@ -1,0 +1,184 @@
+//! The fast product `M x` (F or FT) along a periodic wall ([`super::wall`]): the real
+//! part over linked cells ([`super::cells`]) with the generated `ewald_wall` kernel, the
+//! reciprocal part `k_par != 0` by spectral Ewald in a box also periodic in `z`
+//! ([`super::wall_spectral`]), the exact mode `k_par = 0` interpolated in the heights
+//! ([`super::plane_mode`]): `O(N)` at fixed area density and tolerance where the
+//! pair-by-pair sums of the dense matrix are `O(N^2)`.
+//!
+//! The linked cells are those of a triply periodic box whose height is the spheres'
+//! span in `z` plus `r_c` and a margin: no image along `z` is within `r_c`, so the
+//! cells visit the lateral images within `r_c` only.
+//!
+//! The split parameter is chosen for speed as in [`super::product`]: the real part
+//! costs about `C_pair N (N/A) pi r_c^2` (`r_c = p/xi`, a monolayer), the reciprocal
+//! part about `C_point M_x M_y M_z`, `M_d ~ k_c L_d/pi` with `k_c ~ 2 xi p` and `L_z =
+//! 2 h_max + D` (the padding `D` does not depend on `xi`); `xi` minimises the sum over a
+//! geometric scan. The costs per unit (`C_pair`: one real-space pair-image of the
+//! scalar FT kernel on the generic path, about 11000 operations; `C_point`: one grid
+//! point, its transforms and symbols, with the image's grids) are ratios measured at `N
+//! = 2500` and checked at `N = 1e4` (docs/periodic.md); only their ratio matters, and
+//! the total is flat near its minimum.
+//!
+//! Each sphere's real-space row is summed on its own over its images in the cells'
+//! fixed order, so the product does not depend on the number of threads.
+
+use super::cells::Cells;
+use super::ewald::truncation_parameter;
+use super::plane_mode::PlaneMode;
+use super::wall::{reciprocal_box, WallEwald};
+use super::wall_spectral::WallSpectral;
+use crate::system::input::Particle;
+use crate::system::Moments;
+use kernels::generated::scene_ewald_wall_ft::{ewald_wall_ft_pair, ewald_wall_ft_self};
+use kernels::BlocksFT;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+
+/// Cost of one real-space pair-image, F and FT (the scalar FT kernel for both).
+const C_PAIR: [f64; 2] = [1.0, 1.1];
+/// Cost of one grid point (its transforms and symbols), F and FT, in the same unit.
+const C_POINT: [f64; 2] = [0.16, 0.27];
+
+/// The split of a product along a periodic wall.
+pub(crate) struct WallPlan {
+    /// The split at the chosen `xi`.
+    pub(crate) wall: WallEwald,
+    /// The reciprocal part's grid.
+    pub(crate) spectral: WallSpectral,
+}
+
+impl WallPlan {
+    /// The cheapest split of `wall`'s box and tolerance for `n` spheres at heights at
+    /// most `h_max` above the wall, `moments` F or FT (module docs).
+    pub(crate) fn new(wall: &WallEwald, n: usize, h_max: f64, moments: Moments) -> WallPlan {
+        let p = truncation_parameter(wall.tolerance);
+        let [lx, ly] = wall.lengths;
+        let area = lx * ly;
+        let ft = usize::from(moments != Moments::F);
+        let cost = |xi: f64| {
+            let r_cut = p / xi;
+            let real = C_PAIR[ft] * n as f64 * n as f64 / area * PI * r_cut * r_cut;
+            let (k_cut, lz) = reciprocal_box(wall.lengths, xi, wall.tolerance, 2.0 * h_max);
+            let points: f64 = [lx, ly, lz]
+                .iter()
+                .map(|l| (k_cut * l / PI).ceil() + 2.0)
+                .product();
+            real + C_POINT[ft] * points
+        };
+        let (short, long) = (lx.min(ly), lx.max(ly));
+        let (lo, hi) = (p / (3.0 * long), p / (1e-3 * short));
+        let steps = 200;
+        let xi = (0..=steps)
+            .map(|s| lo * (hi / lo).powf(s as f64 / steps as f64))
+            .min_by(|a, b| cost(*a).total_cmp(&cost(*b)))
+            .unwrap_or(lo);
+        let wall = WallEwald::new(wall.lengths, wall.height, wall.tolerance, Some(xi));
+        let spectral = WallSpectral::new(&wall, h_max);
+        WallPlan { wall, spectral }
+    }
+}
+
+/// `M x` at F or FT (moment-major, as [`crate::System::apply`]) of spheres `ps` (wrapped
+/// into the box laterally) above the wall of `wall` (its box and tolerance), viscosity
+/// `eta`.
+pub(crate) fn apply(
+    wall: &WallEwald,
+    eta: f64,
+    ps: &[Particle],
+    moments: Moments,
+    x: &[f64],
+) -> Vec<f64> {
+    let n = ps.len();
+    let ft = match moments {
+        Moments::F => false,
+        Moments::FT => true,
+        Moments::FTS => unreachable!("the periodic product is F or FT"),
+    };
+    let heights: Vec<f64> = ps.iter().map(|p| p.x[2] - wall.height).collect();
+    let lo = heights.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+    let hi = heights.iter().fold(0.0f64, |a, &b| a.max(b));
+    let plan = WallPlan::new(wall, n, hi, moments);
+    let forces: Vec<[f64; 3]> = (0..n)
+        .map(|a| [x[3 * a], x[3 * a + 1], x[3 * a + 2]])
+        .collect();
+    let torques: Option<Vec<[f64; 3]>> = ft.then(|| {
+        (0..n)
+            .map(|a| std::array::from_fn(|i| x[3 * n + 3 * a + i]))
+            .collect()
+    });
+    let (mut u, mut omega) = plan.spectral.apply(eta, ps, &forces, torques.as_deref());
+    if !ft {
+        omega = vec![[0.0; 3]; n];
+    }
+    PlaneMode::new(&plan.wall, lo, hi, eta).add(
+        ps,
+        &heights,
+        &forces,
+        torques.as_deref(),
+        &mut u,
+        &mut omega,
+    );
+    let real = real_part(&plan.wall, eta, ps, &forces, torques.as_deref(), lo, hi);
+    let k = moments.per_particle();
+    let mut out = vec![0.0; k * n];
+    for a in 0..n {
+        for i in 0..3 {
+            out[3 * a + i] = u[a][i] + real[a][i];
+            if ft {
+                out[3 * n + 3 * a + i] = omega[a][i] + real[a][3 + i];
+            }
+        }
+    }
+    out
+}
+
+/// The real part of the product: each sphere's own screened kernel and the lateral
+/// images within `r_c` of every sphere, over linked cells (module docs), `[U, Omega]`
+/// per sphere (`Omega` zero without torques).
+fn real_part(
+    wall: &WallEwald,
+    eta: f64,
+    ps: &[Particle],
+    forces: &[[f64; 3]],
+    torques: Option<&[[f64; 3]]>,
+    lo: f64,
+    hi: f64,
+) -> Vec<[f64; 6]> {
+    let [lx, ly] = wall.lengths;
+    let lz = (hi - lo) + wall.r_cut + 1.0;
+    let cells = Cells::new([lx, ly, lz], wall.r_cut, ps.iter().map(|p| p.x));
+    let sigma = 1.0 / wall.xi;
+    (0..ps.len())
+        .into_par_iter()
+        .map(|a| {
+            let pa = &ps[a];
+            let mut acc = [0.0; 6];
+            let mut add = |m: &BlocksFT, b: usize| {
+                let f = &forces[b];
+                for i in 0..3 {
+                    for j in 0..3 {
+                        acc[i] += m.uf[i][j] * f[j];
+                    }
+                }
+                if let Some(t) = torques {
+                    let l = &t[b];
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            acc[i] += m.ul[i][j] * l[j];
+                            acc[3 + i] += m.of[i][j] * f[j] + m.ol[i][j] * l[j];
+                        }
+                    }
+                }
+            };
+            add(&ewald_wall_ft_self(pa.x, pa.a, eta, wall.height, sigma), a);
+            cells.for_each_image(a, |b, r| {
+                let xb = [pa.x[0] - r[0], pa.x[1] - r[1], ps[b].x[2]];
+                add(
+                    &ewald_wall_ft_pair(pa.x, xb, pa.a, ps[b].a, eta, wall.height, sigma),
+                    b,
+                );
+            });
+            acc
+        })
+        .collect()
+}

@@ -1,0 +1,169 @@
+//! The fast product along a periodic wall (linked cells, spectral Ewald with Blake's
+//! image sources, the mode `k_par = 0` interpolated in the heights) against the dense
+//! matrix of the direct sums (checked against the brute-force lattice sum in `wall`): F
+//! and FT, equal and unequal radii, a box that is not square, heights from near contact
+//! to a few box lengths, a box smaller than the real-space cut-off, at the tolerances
+//! asked; its bits do not depend on the number of threads nor on moves by box lengths.
+
+use nalgebra::DMatrix;
+use rand::{Rng, SeedableRng};
+use stokesian::{Confinement, Moments, Overlap, Particle, PeriodicBox, System};
+
+const ETA: f64 = 0.9;
+const HEIGHT: f64 = -0.5;
+
+fn system(ps: Vec<Particle>, lengths: [f64; 2], tolerance: f64) -> System {
+    System::new(
+        Confinement::Wall { height: HEIGHT },
+        ETA,
+        ps,
+        Overlap::Refuse,
+    )
+    .unwrap()
+    .periodic(PeriodicBox {
+        tolerance,
+        ..PeriodicBox::lateral(lengths)
+    })
+    .unwrap()
+}
+
+/// `n` spheres of radius `a` or, without it, radii in `[0.5, 1]`, at random laterally
+/// in the box `lengths` with their gap to the wall in `gaps`, clear of each other (by
+/// `0.05`) by their nearest lateral images.
+fn spheres(
+    seed: u64,
+    n: usize,
+    lengths: [f64; 2],
+    gaps: (f64, f64),
+    a: Option<f64>,
+) -> Vec<Particle> {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut out: Vec<Particle> = Vec::new();
+    while out.len() < n {
+        let a = a.unwrap_or_else(|| rng.gen_range(0.5..1.0));
+        let q = Particle {
+            x: [
+                rng.gen_range(0.0..lengths[0]),
+                rng.gen_range(0.0..lengths[1]),
+                HEIGHT + a + rng.gen_range(gaps.0..gaps.1),
+            ],
+            a,
+        };
+        let clear = out.iter().all(|o| {
+            let d2: f64 = (0..3)
+                .map(|d| {
+                    let r = o.x[d] - q.x[d];
+                    match lengths.get(d) {
+                        Some(l) => (r - l * (r / l).round()).powi(2),
+                        None => r * r,
+                    }
+                })
+                .sum();
+            d2.sqrt() > o.a + q.a + 0.05
+        });
+        if clear {
+            out.push(q);
+        }
+    }
+    out
+}
+
+/// The largest difference of the fast product from the dense matrix's (of the direct
+/// sums, at the same tolerance) times a random vector, relative to the largest entry of
+/// the result.
+fn error(s: &System, moments: Moments, seed: u64) -> f64 {
+    let m = s.mobility(moments);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let x: Vec<f64> = (0..m.nrows()).map(|_| rng.gen_range(-1.0..1.0)).collect();
+    let want = &m * DMatrix::from_column_slice(x.len(), 1, &x);
+    let got = s.apply(moments, &x);
+    let scale = want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let diff = want
+        .iter()
+        .zip(&got)
+        .fold(0.0f64, |a, (w, g)| a.max((w - g).abs()));
+    diff / scale
+}
+
+/// The fast product is the dense matrix's product to the tolerance asked, `1e-6` and
+/// `1e-10`, F and FT: equal radii near contact with the wall in a square box, unequal
+/// radii up to three box lengths above the wall in a box that is not square (the image
+/// grids and the Faxén fields of their own; the interpolated mode `k_par = 0` over a
+/// wide interval), three spheres in a box smaller than `r_c`. Both sums are truncated
+/// at `tol` of each block's largest pair entry, and the product's largest entry is at
+/// least about the self mobility times the largest force, so `tol` of the largest entry
+/// of the result is the bound the tolerance promises.
+#[test]
+fn the_fast_product_is_the_dense_product_to_the_tolerance() {
+    let cases = [
+        ([12.0, 12.0], 30, (0.02, 2.0), Some(1.0)),
+        ([10.0, 13.5], 30, (0.05, 30.0), None),
+        ([3.0, 4.0], 3, (0.1, 5.0), None),
+    ];
+    for tol in [1e-6, 1e-10] {
+        for (seed, &(lengths, n, gaps, a)) in cases.iter().enumerate() {
+            let s = system(spheres(seed as u64, n, lengths, gaps, a), lengths, tol);
+            for moments in [Moments::F, Moments::FT] {
+                let e = error(&s, moments, 3);
+                println!(
+                    "tol {tol:e}, box {lengths:?}, radius {a:?}, gaps {gaps:?}, {moments:?}: {e:e}"
+                );
+                assert!(e < tol, "{e:e} at tolerance {tol:e}");
+            }
+        }
+    }
+}
+
+/// The same product on one thread and on two: identical bits (every sum in a fixed
+/// order).
+#[test]
+fn the_fast_product_does_not_depend_on_the_threads() {
+    let lengths = [20.0, 18.0];
+    let s = system(spheres(11, 120, lengths, (0.05, 4.0), None), lengths, 1e-6);
+    for moments in [Moments::F, Moments::FT] {
+        let x: Vec<f64> = (0..moments.per_particle() * s.len())
+            .map(|i| (i as f64 * 0.61).cos())
+            .collect();
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| s.apply(moments, &x))
+        };
+        let (one, two) = (run(1), run(2));
+        assert!(
+            one.iter()
+                .zip(&two)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{moments:?}"
+        );
+    }
+}
+
+/// Moving spheres by box lengths (exact moves: coordinates on a grid of `2^-20`) gives
+/// the same bits, a million boxes away too: the kernels and grids see the wrapped
+/// positions.
+#[test]
+fn a_box_length_changes_nothing() {
+    let lengths = [8.0, 9.0];
+    let grid = |v: f64| (v * 1048576.0).round() / 1048576.0;
+    let ps: Vec<Particle> = spheres(5, 12, lengths, (0.1, 3.0), None)
+        .into_iter()
+        .map(|q| Particle {
+            x: q.x.map(grid),
+            a: q.a,
+        })
+        .collect();
+    let mut moved = ps.clone();
+    moved[2].x[0] += 8.0;
+    moved[4].x[1] -= 9.0 * 1048576.0;
+    moved[7].x[0] -= 16.0;
+    let (s, t) = (system(ps, lengths, 1e-8), system(moved, lengths, 1e-8));
+    for moments in [Moments::F, Moments::FT] {
+        let x: Vec<f64> = (0..moments.per_particle() * s.len())
+            .map(|i| (i as f64 * 0.37).sin())
+            .collect();
+        assert_eq!(s.apply(moments, &x), t.apply(moments, &x), "{moments:?}");
+    }
+}
