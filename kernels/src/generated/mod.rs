@@ -48,6 +48,8 @@ pub mod scene_ewald_real_f;
 pub mod scene_ewald_real_ft;
 /// Kernels of the scene `ewald_wall_drift` (`scenes/`) of the building block `ewald_wall` (not a confinement: kernel_gen::physics::green::for_each_building_block).
 pub mod scene_ewald_wall_drift;
+/// Kernels of the scene `ewald_wall_f` (`scenes/`) of the building block `ewald_wall` (not a confinement: kernel_gen::physics::green::for_each_building_block).
+pub mod scene_ewald_wall_f;
 /// Kernels of the scene `ewald_wall_ft` (`scenes/`) of the building block `ewald_wall` (not a confinement: kernel_gen::physics::green::for_each_building_block).
 pub mod scene_ewald_wall_ft;
 /// The RPY overlap corrections (kernel_gen::physics::overlap).
