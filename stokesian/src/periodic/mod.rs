@@ -40,6 +40,7 @@ pub mod ewald;
 mod fft;
 mod plane_mode;
 mod product;
+mod real;
 mod spectral;
 pub mod wall;
 mod wall_product;

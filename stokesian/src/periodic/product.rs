@@ -9,35 +9,31 @@
 //! symbols) plus spreading and interpolation, which do not depend on `xi` (the window
 //! has `P^3` points whatever the spacing); `xi` minimises the sum over a geometric scan.
 //! The costs per unit (`C_pair`: one real-space pair-image, the generated kernel on the
-//! radial structured path, about 270 operations in lanes for F, 450 scalar for FT;
+//! radial structured path, in lanes: 269 operations for F, 327 for FT;
 //! `C_point`: one grid point) are ratios measured at `N = 1e4` (docs/periodic.md);
 //! only their ratio matters, and the total is flat near its minimum.
 //!
-//! The real part of the F product evaluates `WIDTH` pair-images at once with the lane
-//! kernel; FT uses the scalar kernel (its lane twin is not instantiated in the solver,
-//! to keep the build small). Each sphere's real-space row is summed on its own over its
+//! The real part evaluates `WIDTH` pair-images at once with the lane kernels (F, or FT
+//! with torques). Each sphere's real-space row is summed on its own over its
 //! images in the cells' fixed order, so the product does not depend on the number of
 //! threads.
 
 use super::cells::Cells;
 use super::ewald::truncation_parameter;
+use super::real::{real_part, Split};
 use super::spectral::Spectral;
 use crate::system::input::Particle;
 use crate::system::Moments;
 use kernels::generated::scene_ewald_real_f::{ewald_real_f_pair_lanes, ewald_real_f_self};
-use kernels::generated::scene_ewald_real_ft::{ewald_real_ft_pair, ewald_real_ft_self};
-use kernels::lanes::{self, Lane, WithLanes};
-use rayon::prelude::*;
+use kernels::generated::scene_ewald_real_ft::{ewald_real_ft_pair_lanes, ewald_real_ft_self};
+use kernels::lanes::Lane;
+use kernels::{BlocksF, BlocksFT};
 use std::f64::consts::PI;
-use std::ops::Range;
 
-/// Field spheres per task of the real part.
-const ROWS: usize = 64;
-
-/// Cost of one real-space pair-image, F (the lane kernel) and FT (the scalar kernel).
-const C_PAIR: [f64; 2] = [1.0, 4.9];
+/// Cost of one real-space pair-image, F and FT (the lane kernels).
+const C_PAIR: [f64; 2] = [1.0, 1.3];
 /// Cost of one grid point (its transforms and symbols), F and FT, in the same unit.
-const C_POINT: [f64; 2] = [4.5, 5.2];
+const C_POINT: [f64; 2] = [4.5, 6.6];
 
 /// The split and grid of a product.
 pub(crate) struct Plan {
@@ -113,49 +109,8 @@ pub(crate) fn apply(
     let (mut u, omega) = plan.spectral.apply(eta, ps, &forces, torques.as_deref());
     let cells = Cells::new(lengths, plan.r_cut, ps.iter().map(|p| p.x));
     let sigma = 1.0 / plan.xi;
-    let real: Vec<[f64; 6]> = match &torques {
-        None => {
-            let rows: Vec<usize> = (0..n.div_ceil(ROWS)).collect();
-            let parts: Vec<Vec<[f64; 6]>> = rows
-                .par_iter()
-                .map(|&c| {
-                    lanes::dispatch(RealF {
-                        cells: &cells,
-                        ps,
-                        forces: &forces,
-                        eta,
-                        sigma,
-                        rows: c * ROWS..((c + 1) * ROWS).min(n),
-                    })
-                })
-                .collect();
-            parts.concat()
-        }
-        Some(t) => (0..n)
-            .into_par_iter()
-            .map(|a| {
-                let pa = &ps[a];
-                let mut acc = [0.0; 6];
-                let mut add = |m: &kernels::BlocksFT, b: usize| {
-                    let (f, l) = (&forces[b], &t[b]);
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            acc[i] += m.uf[i][j] * f[j] + m.ul[i][j] * l[j];
-                            acc[3 + i] += m.of[i][j] * f[j] + m.ol[i][j] * l[j];
-                        }
-                    }
-                };
-                add(&ewald_real_ft_self(pa.x, pa.a, eta, sigma), a);
-                cells.for_each_image(a, |b, r| {
-                    add(
-                        &ewald_real_ft_pair(r, [0.0; 3], pa.a, ps[b].a, eta, sigma),
-                        b,
-                    );
-                });
-                acc
-            })
-            .collect(),
-    };
+    let split = Free { eta, sigma };
+    let real = real_part(&split, &cells, ps, &forces, torques.as_deref());
     let k = moments.per_particle();
     let mut out = vec![0.0; k * n];
     for a in 0..n {
@@ -170,70 +125,26 @@ pub(crate) fn apply(
     out
 }
 
-/// The real part of the F product for the field spheres `rows`: each row's images
-/// gathered in the cells' order, then evaluated `WIDTH` at a time by the generated lane
-/// kernel and summed lane by lane, the lanes summed in order at the end (bits fixed by
-/// the instruction set, whatever the threads).
-struct RealF<'a> {
-    cells: &'a Cells,
-    ps: &'a [Particle],
-    forces: &'a [[f64; 3]],
+/// The real part of the free-space split: the lane kernels of `ewald_real_f` and
+/// `ewald_real_ft`.
+struct Free {
     eta: f64,
     sigma: f64,
-    rows: Range<usize>,
 }
 
-impl WithLanes for RealF<'_> {
-    type Elem = f64;
-    type Output = Vec<[f64; 6]>;
-
+impl Split for Free {
     #[inline(always)]
-    fn run<L: Lane<Elem = f64>>(self) -> Vec<[f64; 6]> {
-        let w = L::WIDTH;
-        // the images of one row: separation, source radius, force
-        let mut cols: [Vec<f64>; 7] = std::array::from_fn(|_| Vec::new());
-        let (eta, sigma) = (L::splat(self.eta), L::splat(self.sigma));
-        let zero = [L::splat(0.0); 3];
-        let mut out = Vec::with_capacity(self.rows.len());
-        for a in self.rows {
-            let pa = &self.ps[a];
-            for c in cols.iter_mut() {
-                c.clear();
-            }
-            self.cells.for_each_image(a, |b, r| {
-                let f = &self.forces[b];
-                for (c, v) in
-                    cols.iter_mut()
-                        .zip([r[0], r[1], r[2], self.ps[b].a, f[0], f[1], f[2]])
-                {
-                    c.push(v);
-                }
-            });
-            // padding: a finite separation, no force
-            while !cols[0].len().is_multiple_of(w) {
-                for (c, v) in cols.iter_mut().zip([1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]) {
-                    c.push(v);
-                }
-            }
-            let aa = L::splat(pa.a);
-            let mut acc = [L::splat(0.0); 3];
-            for s in (0..cols[0].len()).step_by(w) {
-                let v: [L; 7] = std::array::from_fn(|k| L::load(&cols[k][s..s + w]));
-                let m = ewald_real_f_pair_lanes([v[0], v[1], v[2]], zero, aa, v[3], eta, sigma);
-                for (i, acc) in acc.iter_mut().enumerate() {
-                    *acc = m[3 * i].mul_add(v[4], *acc);
-                    *acc = m[3 * i + 1].mul_add(v[5], *acc);
-                    *acc = m[3 * i + 2].mul_add(v[6], *acc);
-                }
-            }
-            let own = ewald_real_f_self(pa.x, pa.a, self.eta, self.sigma).uf;
-            let f = &self.forces[a];
-            let mut row = [0.0; 6];
-            for i in 0..3 {
-                row[i] = own[i][0] * f[0] + own[i][1] * f[1] + own[i][2] * f[2] + acc[i].sum();
-            }
-            out.push(row);
-        }
-        out
+    fn pair_f<L: Lane<Elem = f64>>(&self, xa: [L; 3], xb: [L; 3], aa: L, ab: L) -> [L; 9] {
+        ewald_real_f_pair_lanes(xa, xb, aa, ab, L::splat(self.eta), L::splat(self.sigma))
+    }
+    #[inline(always)]
+    fn pair_ft<L: Lane<Elem = f64>>(&self, xa: [L; 3], xb: [L; 3], aa: L, ab: L) -> [L; 36] {
+        ewald_real_ft_pair_lanes(xa, xb, aa, ab, L::splat(self.eta), L::splat(self.sigma))
+    }
+    fn self_f(&self, x: [f64; 3], a: f64) -> BlocksF {
+        ewald_real_f_self(x, a, self.eta, self.sigma)
+    }
+    fn self_ft(&self, x: [f64; 3], a: f64) -> BlocksFT {
+        ewald_real_ft_self(x, a, self.eta, self.sigma)
     }
 }

@@ -26,19 +26,16 @@
 use super::cells::Cells;
 use super::ewald::truncation_parameter;
 use super::plane_mode::PlaneMode;
+use super::real::{self, Split};
 use super::wall::{reciprocal_box, WallEwald};
 use super::wall_spectral::WallSpectral;
 use crate::system::input::Particle;
 use crate::system::Moments;
 use kernels::generated::scene_ewald_wall_f::{ewald_wall_f_pair_lanes, ewald_wall_f_self};
 use kernels::generated::scene_ewald_wall_ft::{ewald_wall_ft_pair_lanes, ewald_wall_ft_self};
-use kernels::lanes::{self, Lane, WithLanes};
-use rayon::prelude::*;
+use kernels::lanes::Lane;
+use kernels::{BlocksF, BlocksFT};
 use std::f64::consts::PI;
-use std::ops::Range;
-
-/// Field spheres per task of the real part.
-const ROWS: usize = 64;
 
 /// Cost of one real-space pair-image, F and FT (the scalar FT kernel for both).
 const C_PAIR: [f64; 2] = [1.0, 1.5];
@@ -140,7 +137,7 @@ pub(crate) fn apply(
 
 /// The real part of the product: each sphere's own screened kernel and the lateral
 /// images within `r_c` of every sphere, over linked cells (module docs), `[U, Omega]`
-/// per sphere (`Omega` zero without torques), `ROWS` field spheres per task.
+/// per sphere (`Omega` zero without torques).
 fn real_part(
     wall: &WallEwald,
     eta: f64,
@@ -153,134 +150,38 @@ fn real_part(
     let [lx, ly] = wall.lengths;
     let lz = (hi - lo) + wall.r_cut + 1.0;
     let cells = Cells::new([lx, ly, lz], wall.r_cut, ps.iter().map(|p| p.x));
-    let n = ps.len();
-    let chunks: Vec<usize> = (0..n.div_ceil(ROWS)).collect();
-    let parts: Vec<Vec<[f64; 6]>> = chunks
-        .par_iter()
-        .map(|&c| {
-            lanes::dispatch(Real {
-                cells: &cells,
-                ps,
-                forces,
-                torques,
-                eta,
-                height: wall.height,
-                sigma: 1.0 / wall.xi,
-                rows: c * ROWS..((c + 1) * ROWS).min(n),
-            })
-        })
-        .collect();
-    parts.concat()
+    let split = Wall {
+        eta,
+        height: wall.height,
+        sigma: 1.0 / wall.xi,
+    };
+    real::real_part(&split, &cells, ps, forces, torques)
 }
 
-/// The real part for the field spheres `rows`: each row's images gathered in the cells'
-/// order, then evaluated `WIDTH` at a time by the generated lane kernel (F, or FT with
-/// torques) and summed lane by lane, the lanes summed in order at the end (bits fixed by
-/// the instruction set, whatever the threads).
-struct Real<'a> {
-    cells: &'a Cells,
-    ps: &'a [Particle],
-    forces: &'a [[f64; 3]],
-    torques: Option<&'a [[f64; 3]]>,
+/// The real part of the wall's split: the lane kernels of `ewald_wall_f` and
+/// `ewald_wall_ft`.
+struct Wall {
     eta: f64,
     /// The wall's plane `x3 = height`.
     height: f64,
     sigma: f64,
-    rows: Range<usize>,
 }
 
-impl WithLanes for Real<'_> {
-    type Elem = f64;
-    type Output = Vec<[f64; 6]>;
-
+impl Split for Wall {
     #[inline(always)]
-    fn run<L: Lane<Elem = f64>>(self) -> Vec<[f64; 6]> {
-        let w = L::WIDTH;
-        // the images of one row: source position, source radius, force, torque
-        let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::new());
-        let (eta, height, sigma) = (
-            L::splat(self.eta),
-            L::splat(self.height),
-            L::splat(self.sigma),
-        );
-        let zero = [0.0; 3];
-        // the torques' columns only with torques
-        let used = if self.torques.is_some() { 10 } else { 7 };
-        let mut out = Vec::with_capacity(self.rows.len());
-        for a in self.rows {
-            let pa = &self.ps[a];
-            for c in cols.iter_mut() {
-                c.clear();
-            }
-            self.cells.for_each_image(a, |b, r| {
-                let (pb, f) = (&self.ps[b], &self.forces[b]);
-                let l = self.torques.map_or(&zero, |t| &t[b]);
-                let xb = [pa.x[0] - r[0], pa.x[1] - r[1], pb.x[2]];
-                let v = [
-                    xb[0], xb[1], xb[2], pb.a, f[0], f[1], f[2], l[0], l[1], l[2],
-                ];
-                for (c, v) in cols[..used].iter_mut().zip(v) {
-                    c.push(v);
-                }
-            });
-            // padding: a source one radius along x at the same height, no force or torque
-            let mut pad = [0.0; 10];
-            pad[..4].copy_from_slice(&[pa.x[0] + 1.0, pa.x[1], pa.x[2], 1.0]);
-            while !cols[0].len().is_multiple_of(w) {
-                for (c, v) in cols[..used].iter_mut().zip(pad) {
-                    c.push(v);
-                }
-            }
-            let (xa, aa) = (pa.x.map(L::splat), L::splat(pa.a));
-            let mut acc = [L::splat(0.0); 6];
-            for s in (0..cols[0].len()).step_by(w) {
-                let v: [L; 10] = std::array::from_fn(|k| match k < used {
-                    true => L::load(&cols[k][s..s + w]),
-                    false => L::splat(0.0),
-                });
-                let xb = [v[0], v[1], v[2]];
-                // `acc[row] += sum_j m[first + 3 row + j] v[col + j]`
-                let mut mul = |m: &[L], first: usize, rows: Range<usize>, col: usize| {
-                    for (i, acc) in acc[rows].iter_mut().enumerate() {
-                        for j in 0..3 {
-                            *acc = m[first + 3 * i + j].mul_add(v[col + j], *acc);
-                        }
-                    }
-                };
-                if self.torques.is_none() {
-                    let m = ewald_wall_f_pair_lanes(xa, xb, aa, v[3], eta, height, sigma);
-                    mul(&m, 0, 0..3, 4);
-                } else {
-                    let m = ewald_wall_ft_pair_lanes(xa, xb, aa, v[3], eta, height, sigma);
-                    // uf, ul, of, ol (BlocksFT's order)
-                    mul(&m, 0, 0..3, 4);
-                    mul(&m, 9, 0..3, 7);
-                    mul(&m, 18, 3..6, 4);
-                    mul(&m, 27, 3..6, 7);
-                }
-            }
-            let f = &self.forces[a];
-            let mut row: [f64; 6] = std::array::from_fn(|i| acc[i].sum());
-            match self.torques {
-                None => {
-                    let own = ewald_wall_f_self(pa.x, pa.a, self.eta, self.height, self.sigma);
-                    for (i, row) in row.iter_mut().take(3).enumerate() {
-                        *row += (0..3).map(|j| own.uf[i][j] * f[j]).sum::<f64>();
-                    }
-                }
-                Some(t) => {
-                    let own = ewald_wall_ft_self(pa.x, pa.a, self.eta, self.height, self.sigma);
-                    let l = &t[a];
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            row[i] += own.uf[i][j] * f[j] + own.ul[i][j] * l[j];
-                            row[3 + i] += own.of[i][j] * f[j] + own.ol[i][j] * l[j];
-                        }
-                    }
-                }
-            }
-            out.push(row);
-        }
-        out
+    fn pair_f<L: Lane<Elem = f64>>(&self, xa: [L; 3], xb: [L; 3], aa: L, ab: L) -> [L; 9] {
+        let s = L::splat;
+        ewald_wall_f_pair_lanes(xa, xb, aa, ab, s(self.eta), s(self.height), s(self.sigma))
+    }
+    #[inline(always)]
+    fn pair_ft<L: Lane<Elem = f64>>(&self, xa: [L; 3], xb: [L; 3], aa: L, ab: L) -> [L; 36] {
+        let s = L::splat;
+        ewald_wall_ft_pair_lanes(xa, xb, aa, ab, s(self.eta), s(self.height), s(self.sigma))
+    }
+    fn self_f(&self, x: [f64; 3], a: f64) -> BlocksF {
+        ewald_wall_f_self(x, a, self.eta, self.height, self.sigma)
+    }
+    fn self_ft(&self, x: [f64; 3], a: f64) -> BlocksFT {
+        ewald_wall_ft_self(x, a, self.eta, self.height, self.sigma)
     }
 }
