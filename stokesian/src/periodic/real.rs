@@ -173,3 +173,32 @@ impl<K: Split> WithLanes for Rows<'_, K> {
         out
     }
 }
+
+/// A scalar kernel `k(xa, xb, aa, ab)` evaluated lane by lane: the lane twin of a
+/// kernel whose own lane code is not instantiated (the wall's FT pair kernel: its lane
+/// code, on three instruction sets, doubled the solver's build time).
+#[inline(always)]
+pub(crate) fn per_lane<L: Lane<Elem = f64>, const M: usize>(
+    xa: [L; 3],
+    xb: [L; 3],
+    aa: L,
+    ab: L,
+    k: impl Fn([f64; 3], [f64; 3], f64, f64) -> [f64; M],
+) -> [L; M] {
+    // the widest f64 lanes (AVX-512) hold 8
+    const MAX: usize = 8;
+    let w = L::WIDTH;
+    let mut inputs = [[0.0; MAX]; 8];
+    for (d, v) in xa.iter().chain(&xb).chain([&aa, &ab]).enumerate() {
+        v.store(&mut inputs[d][..w]);
+    }
+    let mut out = [[0.0; MAX]; M];
+    for l in 0..w {
+        let at = |d: usize| inputs[d][l];
+        let m = k([at(0), at(1), at(2)], [at(3), at(4), at(5)], at(6), at(7));
+        for (o, v) in out.iter_mut().zip(m) {
+            o[l] = v;
+        }
+    }
+    std::array::from_fn(|k| L::load(&out[k][..w]))
+}

@@ -13,8 +13,9 @@
 //! costs about `C_pair N (N/A) pi r_c^2` (`r_c = p/xi`, a monolayer), the reciprocal
 //! part about `C_point M_x M_y M_z`, `M_d ~ k_c L_d/pi` with `k_c ~ 2 xi p` and `L_z =
 //! 2 h_max + D` (the padding `D` does not depend on `xi`); `xi` minimises the sum over a
-//! geometric scan. The costs per unit (`C_pair`: one real-space pair-image of the
-//! generated lane kernel, about 840 operations at F and 1080 at FT; `C_point`: one grid
+//! geometric scan. The costs per unit (`C_pair`: one real-space pair-image, the
+//! generated lane kernel at F, 841 operations, the scalar kernel lane by lane at FT
+//! ([`real::per_lane`]), 1508 operations; `C_point`: one grid
 //! point, its transforms and symbols, with the image's grids) are ratios measured at `N
 //! = 1e4` (docs/periodic.md: the time per pair-image and the slope of the reciprocal
 //! part's time in the number of grid points); only their ratio matters, and the total is
@@ -26,19 +27,20 @@
 use super::cells::Cells;
 use super::ewald::truncation_parameter;
 use super::plane_mode::PlaneMode;
+use super::real::per_lane;
 use super::real::{self, Split};
 use super::wall::{reciprocal_box, WallEwald};
 use super::wall_spectral::WallSpectral;
 use crate::system::input::Particle;
 use crate::system::Moments;
 use kernels::generated::scene_ewald_wall_f::{ewald_wall_f_pair_lanes, ewald_wall_f_self};
-use kernels::generated::scene_ewald_wall_ft::{ewald_wall_ft_pair_lanes, ewald_wall_ft_self};
+use kernels::generated::scene_ewald_wall_ft::{ewald_wall_ft_pair, ewald_wall_ft_self};
 use kernels::lanes::Lane;
 use kernels::{BlocksF, BlocksFT};
 use std::f64::consts::PI;
 
 /// Cost of one real-space pair-image, F and FT (the scalar FT kernel for both).
-const C_PAIR: [f64; 2] = [1.0, 1.5];
+const C_PAIR: [f64; 2] = [1.0, 6.0];
 /// Cost of one grid point (its transforms and symbols), F and FT, in the same unit.
 const C_POINT: [f64; 2] = [12.0, 27.0];
 
@@ -158,8 +160,8 @@ fn real_part(
     real::real_part(&split, &cells, ps, forces, torques)
 }
 
-/// The real part of the wall's split: the lane kernels of `ewald_wall_f` and
-/// `ewald_wall_ft`.
+/// The real part of the wall's split: the lane kernel of `ewald_wall_f`, and
+/// `ewald_wall_ft`'s scalar kernel lane by lane.
 struct Wall {
     eta: f64,
     /// The wall's plane `x3 = height`.
@@ -175,8 +177,16 @@ impl Split for Wall {
     }
     #[inline(always)]
     fn pair_ft<L: Lane<Elem = f64>>(&self, xa: [L; 3], xb: [L; 3], aa: L, ab: L) -> [L; 36] {
-        let s = L::splat;
-        ewald_wall_ft_pair_lanes(xa, xb, aa, ab, s(self.eta), s(self.height), s(self.sigma))
+        per_lane(xa, xb, aa, ab, |xa, xb, aa, ab| {
+            let m = ewald_wall_ft_pair(xa, xb, aa, ab, self.eta, self.height, self.sigma);
+            let mut out = [0.0; 36];
+            for (k, b) in [m.uf, m.ul, m.of, m.ol].iter().enumerate() {
+                for i in 0..3 {
+                    out[9 * k + 3 * i..9 * k + 3 * i + 3].copy_from_slice(&b[i]);
+                }
+            }
+            out
+        })
     }
     fn self_f(&self, x: [f64; 3], a: f64) -> BlocksF {
         ewald_wall_f_self(x, a, self.eta, self.height, self.sigma)

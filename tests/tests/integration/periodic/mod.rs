@@ -15,8 +15,9 @@ mod system;
 mod wall;
 mod wall_product;
 
+use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};
-use stokesian::Particle;
+use stokesian::{Moments, Particle, System};
 
 /// `n` spheres of radius `a` or, without it, radii in `[0.5, 1]`, at random in a box
 /// of `lengths`, clear of each other (by `0.05`) by their nearest images.
@@ -42,4 +43,21 @@ fn spheres(seed: u64, n: usize, lengths: [f64; 3], a: Option<f64>) -> Vec<Partic
         }
     }
     out
+}
+
+/// The largest difference of the fast product from the dense matrix's (of the direct
+/// sums, at the same tolerance) times a random vector, relative to the largest entry of
+/// the result.
+fn product_error(s: &System, moments: Moments, seed: u64) -> f64 {
+    let m = s.mobility(moments);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let x: Vec<f64> = (0..m.nrows()).map(|_| rng.gen_range(-1.0..1.0)).collect();
+    let want = &m * DMatrix::from_column_slice(x.len(), 1, &x);
+    let got = s.apply(moments, &x);
+    let scale = want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let diff = want
+        .iter()
+        .zip(&got)
+        .fold(0.0f64, |a, (w, g)| a.max((w - g).abs()));
+    diff / scale
 }

@@ -2,9 +2,7 @@
 //! matrix of the direct sums: F and FT, unequal radii, a box that is not a cube, at the
 //! tolerances asked; its bits do not depend on the number of threads.
 
-use super::spheres;
-use nalgebra::DMatrix;
-use rand::{Rng, SeedableRng};
+use super::{product_error, spheres};
 use stokesian::{Confinement, Moments, Overlap, Particle, PeriodicBox, System};
 
 const ETA: f64 = 0.9;
@@ -17,23 +15,6 @@ fn system(ps: Vec<Particle>, lengths: [f64; 3], tolerance: f64) -> System {
             ..PeriodicBox::new(lengths)
         })
         .unwrap()
-}
-
-/// The largest difference of the fast product from the dense matrix's (of the direct
-/// sums, at the same tolerance) times a random vector, relative to the largest entry of
-/// the result.
-fn error(s: &System, moments: Moments, seed: u64) -> f64 {
-    let m = s.mobility(moments);
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    let x: Vec<f64> = (0..m.nrows()).map(|_| rng.gen_range(-1.0..1.0)).collect();
-    let want = &m * DMatrix::from_column_slice(x.len(), 1, &x);
-    let got = s.apply(moments, &x);
-    let scale = want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let diff = want
-        .iter()
-        .zip(&got)
-        .fold(0.0f64, |a, (w, g)| a.max((w - g).abs()));
-    diff / scale
 }
 
 /// The fast product is the dense matrix's product to the tolerance asked, `1e-6` and
@@ -55,7 +36,7 @@ fn the_fast_product_is_the_dense_product_to_the_tolerance() {
         for (seed, &(lengths, n, a)) in cases.iter().enumerate() {
             let s = system(spheres(seed as u64, n, lengths, a), lengths, tol);
             for moments in [Moments::F, Moments::FT] {
-                let e = error(&s, moments, 3);
+                let e = product_error(&s, moments, 3);
                 println!("tol {tol:e}, box {lengths:?}, radius {a:?}, {moments:?}: {e:e}");
                 assert!(e < tol, "{e:e} at tolerance {tol:e}");
             }

@@ -5,7 +5,7 @@
 //! to a few box lengths, a box smaller than the real-space cut-off, at the tolerances
 //! asked; its bits do not depend on the number of threads nor on moves by box lengths.
 
-use nalgebra::DMatrix;
+use super::product_error;
 use rand::{Rng, SeedableRng};
 use stokesian::{Confinement, Moments, Overlap, Particle, PeriodicBox, System};
 
@@ -68,23 +68,6 @@ fn spheres(
     out
 }
 
-/// The largest difference of the fast product from the dense matrix's (of the direct
-/// sums, at the same tolerance) times a random vector, relative to the largest entry of
-/// the result.
-fn error(s: &System, moments: Moments, seed: u64) -> f64 {
-    let m = s.mobility(moments);
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    let x: Vec<f64> = (0..m.nrows()).map(|_| rng.gen_range(-1.0..1.0)).collect();
-    let want = &m * DMatrix::from_column_slice(x.len(), 1, &x);
-    let got = s.apply(moments, &x);
-    let scale = want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let diff = want
-        .iter()
-        .zip(&got)
-        .fold(0.0f64, |a, (w, g)| a.max((w - g).abs()));
-    diff / scale
-}
-
 /// The fast product is the dense matrix's product to the tolerance asked, `1e-6` and
 /// `1e-10`, F and FT: equal radii near contact with the wall in a square box, unequal
 /// radii up to three box lengths above the wall in a box that is not square (the image
@@ -104,7 +87,7 @@ fn the_fast_product_is_the_dense_product_to_the_tolerance() {
         for (seed, &(lengths, n, gaps, a)) in cases.iter().enumerate() {
             let s = system(spheres(seed as u64, n, lengths, gaps, a), lengths, tol);
             for moments in [Moments::F, Moments::FT] {
-                let e = error(&s, moments, 3);
+                let e = product_error(&s, moments, 3);
                 println!(
                     "tol {tol:e}, box {lengths:?}, radius {a:?}, gaps {gaps:?}, {moments:?}: {e:e}"
                 );
