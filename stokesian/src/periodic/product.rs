@@ -20,7 +20,7 @@
 
 use super::cells::Cells;
 use super::ewald::truncation_parameter;
-use super::real::{real_part, Split};
+use super::real::{self, real_part, Split};
 use super::spectral::Spectral;
 use crate::system::input::Particle;
 use crate::system::Moments;
@@ -98,14 +98,7 @@ pub(crate) fn apply(
         Moments::FT => true,
         Moments::FTS => unreachable!("the periodic product is F or FT"),
     };
-    let forces: Vec<[f64; 3]> = (0..n)
-        .map(|a| [x[3 * a], x[3 * a + 1], x[3 * a + 2]])
-        .collect();
-    let torques: Option<Vec<[f64; 3]>> = ft.then(|| {
-        (0..n)
-            .map(|a| std::array::from_fn(|i| x[3 * n + 3 * a + i]))
-            .collect()
-    });
+    let (forces, torques) = real::forces_and_torques(x, n, ft);
     let (mut u, omega) = plan.spectral.apply(eta, ps, &forces, torques.as_deref());
     let cells = Cells::new(lengths, plan.r_cut, ps.iter().map(|p| p.x));
     let sigma = 1.0 / plan.xi;

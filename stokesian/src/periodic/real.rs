@@ -30,6 +30,24 @@ pub(crate) trait Split: Sync {
     fn self_ft(&self, x: [f64; 3], a: f64) -> BlocksFT;
 }
 
+/// The forces and, with `ft`, the torques of `n` spheres in a moment-major vector `x`
+/// (as [`crate::System::apply`] takes it).
+pub(crate) fn forces_and_torques(
+    x: &[f64],
+    n: usize,
+    ft: bool,
+) -> (Vec<[f64; 3]>, Option<Vec<[f64; 3]>>) {
+    let forces = (0..n)
+        .map(|a| [x[3 * a], x[3 * a + 1], x[3 * a + 2]])
+        .collect();
+    let torques = ft.then(|| {
+        (0..n)
+            .map(|a| std::array::from_fn(|i| x[3 * n + 3 * a + i]))
+            .collect()
+    });
+    (forces, torques)
+}
+
 /// `[U, Omega]` of every sphere from the real part (`Omega` zero without torques).
 pub(crate) fn real_part<K: Split>(
     kernel: &K,

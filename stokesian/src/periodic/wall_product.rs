@@ -103,14 +103,7 @@ pub(crate) fn apply(
     let lo = heights.iter().fold(f64::INFINITY, |a, &b| a.min(b));
     let hi = heights.iter().fold(0.0f64, |a, &b| a.max(b));
     let plan = WallPlan::new(wall, n, hi, moments);
-    let forces: Vec<[f64; 3]> = (0..n)
-        .map(|a| [x[3 * a], x[3 * a + 1], x[3 * a + 2]])
-        .collect();
-    let torques: Option<Vec<[f64; 3]>> = ft.then(|| {
-        (0..n)
-            .map(|a| std::array::from_fn(|i| x[3 * n + 3 * a + i]))
-            .collect()
-    });
+    let (forces, torques) = real::forces_and_torques(x, n, ft);
     let (mut u, mut omega) = plan.spectral.apply(eta, ps, &forces, torques.as_deref());
     if !ft {
         omega = vec![[0.0; 3]; n];

@@ -2,7 +2,7 @@
 //! matrix of the direct sums: F and FT, unequal radii, a box that is not a cube, at the
 //! tolerances asked; its bits do not depend on the number of threads.
 
-use super::{product_error, spheres};
+use super::{product_error, same_bits_on_one_thread_and_two, spheres};
 use stokesian::{Confinement, Moments, Overlap, Particle, PeriodicBox, System};
 
 const ETA: f64 = 0.9;
@@ -51,25 +51,7 @@ fn the_fast_product_is_the_dense_product_to_the_tolerance() {
 fn the_fast_product_does_not_depend_on_the_threads() {
     let lengths = [14.0, 15.0, 16.0];
     let s = system(spheres(11, 150, lengths, None), lengths, 1e-6);
-    for moments in [Moments::F, Moments::FT] {
-        let x: Vec<f64> = (0..moments.per_particle() * s.len())
-            .map(|i| (i as f64 * 0.61).cos())
-            .collect();
-        let run = |threads: usize| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| s.apply(moments, &x))
-        };
-        let (one, two) = (run(1), run(2));
-        assert!(
-            one.iter()
-                .zip(&two)
-                .all(|(a, b)| a.to_bits() == b.to_bits()),
-            "{moments:?}"
-        );
-    }
+    same_bits_on_one_thread_and_two(&s);
 }
 
 /// One sphere in a cube through the fast product: Hasimoto's self mobility `(1 -

@@ -5,7 +5,7 @@
 //! to a few box lengths, a box smaller than the real-space cut-off, at the tolerances
 //! asked; its bits do not depend on the number of threads nor on moves by box lengths.
 
-use super::product_error;
+use super::{product_error, same_bits_on_one_thread_and_two};
 use rand::{Rng, SeedableRng};
 use stokesian::{Confinement, Moments, Overlap, Particle, PeriodicBox, System};
 
@@ -103,25 +103,7 @@ fn the_fast_product_is_the_dense_product_to_the_tolerance() {
 fn the_fast_product_does_not_depend_on_the_threads() {
     let lengths = [20.0, 18.0];
     let s = system(spheres(11, 120, lengths, (0.05, 4.0), None), lengths, 1e-6);
-    for moments in [Moments::F, Moments::FT] {
-        let x: Vec<f64> = (0..moments.per_particle() * s.len())
-            .map(|i| (i as f64 * 0.61).cos())
-            .collect();
-        let run = |threads: usize| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| s.apply(moments, &x))
-        };
-        let (one, two) = (run(1), run(2));
-        assert!(
-            one.iter()
-                .zip(&two)
-                .all(|(a, b)| a.to_bits() == b.to_bits()),
-            "{moments:?}"
-        );
-    }
+    same_bits_on_one_thread_and_two(&s);
 }
 
 /// Moving spheres by box lengths (exact moves: coordinates on a grid of `2^-20`) gives
