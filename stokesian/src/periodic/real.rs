@@ -1,7 +1,8 @@
 //! The real part of a fast periodic product ([`super::product`], [`super::wall_product`]):
 //! each sphere's own screened kernel and the images within `r_c` of every sphere over
 //! linked cells ([`super::cells`]), `WIDTH` pair-images at a time with the generated lane
-//! kernels of the split's building block ([`Split`]: F, or FT with torques).
+//! kernels of the split's building block ([`Split`]: F, or FT with torques), or its scalar
+//! kernel lane by lane ([`per_lane`]) where the lane kernel costs too much to build.
 //!
 //! Each field sphere's images are gathered in the cells' fixed order, evaluated lane by
 //! lane and summed per lane, the lanes summed in order at the end; tasks of `ROWS` field
