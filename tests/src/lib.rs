@@ -12,9 +12,7 @@
 
 pub mod closed_forms;
 pub mod configurations;
-pub mod ewald_lanes;
 pub mod exact;
-pub mod lane_checks;
 pub mod paper;
 pub mod statistics;
 pub mod stiff;

@@ -560,9 +560,16 @@ pub fn cases() -> Vec<Case> {
     v
 }
 
-/// Every block of every kernel the solver links, for every confinement, in every case.
+/// Every block of every kernel the solver links, for every confinement, in every case:
+/// one confinement per task of rayon's pool (the double-double references take most of
+/// the time), the rows in the order of [`kernels::Confinement::NAMES`].
 pub fn stiff_cases() -> Vec<StiffRow> {
-    stiff_cases_of(&|_| true)
+    use rayon::prelude::*;
+    kernels::Confinement::NAMES
+        .par_iter()
+        .map(|name| stiff_cases_of(&|n| n == *name))
+        .collect::<Vec<_>>()
+        .concat()
 }
 
 /// [`stiff_cases`] of the confinements whose name `include` accepts.

@@ -5,9 +5,9 @@
 //! (`tests/src`).
 //!
 //! One binary links once where one per file linked 24 times; the lane kernels' tests are
-//! a second binary (`tests/tests/lanes`), so that their instantiation of every lane
-//! kernel on every instruction set compiles alongside this one. Run one theme, one file
-//! or one test by its path, e.g.
+//! in the package `lane-tests` (built without optimisation), so that their instantiation
+//! of every lane kernel on every instruction set compiles quickly and alongside this one.
+//! Run one theme, one file or one test by its path, e.g.
 //! `cargo test --workspace --release -- two_sphere::exact::cost --nocapture`.
 
 mod bad_input;

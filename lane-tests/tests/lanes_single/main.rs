@@ -3,7 +3,7 @@
 //! change of units it rests on; `ewald`: the `f32` lanes of the building block
 //! `ewald_real` (not a confinement).
 //!
-//! A test binary of its own, the twin of `tests/tests/lanes` (the `f64` lanes): each
+//! A test binary of its own, the twin of `tests/lanes` (the `f64` lanes): each
 //! instantiates every lane kernel of every confinement for every instruction set in its
 //! own element, and the two compile in parallel. Run one module by its path, e.g.
 //! `cargo test --workspace --release -- single_precision:: --nocapture`.

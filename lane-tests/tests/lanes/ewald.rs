@@ -2,7 +2,7 @@
 //! scenes `ewald_real_f`, `ewald_real_ft`) equal its scalar kernels on every instruction
 //! set this processor has, `f64` lanes: the pair blocks and the fused pair products.
 
-use integration_tests::ewald_lanes::ewald_real_lanes_against_scalar;
+use lane_tests::ewald_lanes::ewald_real_lanes_against_scalar;
 
 /// Tolerance 1e-13 of each output group's largest entry: the lanes perform the scalar
 /// kernels' operations except that multiply-adds round once and square roots may come

@@ -6,7 +6,7 @@
 //! binary instantiates only its own element (`tests/lanes` the `f64` lanes,
 //! `tests/lanes_single` the `f32` ones) and the two compile in parallel.
 
-use crate::{all_confinements, frame_of, local_bounds, norm, placed, random_spheres};
+use integration_tests::{all_confinements, frame_of, local_bounds, norm, placed, random_spheres};
 use kernels::along;
 use kernels::blocks::{FT_FLAT, F_FLAT};
 use kernels::lanes::{dispatch_with, Element, Isa, Lane, WithLanes};
@@ -284,7 +284,11 @@ fn cancellation(conf: &Confinement, p: &Pair) -> f64 {
 /// largest relative difference to the scalar `f64` kernels (of the larger output
 /// vector's norm) must stay within `tol(cancellation factor)`; returns nothing,
 /// prints the largest per case.
-pub fn lanes_against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64) {
+pub fn lanes_against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64 + Send) {
+    crate::on_a_large_stack(|| against_scalar::<E>(seed, tol))
+}
+
+fn against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let isas = Isa::all_available();
     println!("instruction sets on this processor: {isas:?}");
@@ -355,6 +359,10 @@ pub fn lanes_against_scalar<E: Element>(seed: u64, tol: impl Fn(f64) -> f64) {
 /// the identity in every lane, equal heights included. Every confinement, F and FT,
 /// every instruction set, lanes of `E`.
 pub fn ordered_lanes_equal_exchanging<E: Element>(seed: u64) {
+    crate::on_a_large_stack(|| ordered_equal_exchanging::<E>(seed))
+}
+
+fn ordered_equal_exchanging<E: Element>(seed: u64) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     for (name, conf) in all_confinements() {
         let list: Vec<Pair> = pairs(&conf, &mut rng)

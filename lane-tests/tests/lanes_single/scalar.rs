@@ -8,7 +8,7 @@
 //! The `*_lanes_ordered` kernels (no exchange of roles) equal the exchanging ones bit for
 //! bit on pairs ordered by height, as the tiled product passes them.
 
-use integration_tests::lane_checks::{lanes_against_scalar, ordered_lanes_equal_exchanging};
+use lane_tests::lane_checks::{lanes_against_scalar, ordered_lanes_equal_exchanging};
 
 /// The single-precision twins (`f32` lanes: the same generated kernels, literals and
 /// inputs rounded to `f32`) against the `f64` scalar kernels. Tolerance 2e-5 of the

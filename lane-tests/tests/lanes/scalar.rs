@@ -8,7 +8,7 @@
 //! The `*_lanes_ordered` kernels (no exchange of roles) equal the exchanging ones bit for
 //! bit on pairs ordered by height, as the tiled product passes them.
 
-use integration_tests::lane_checks::{lanes_against_scalar, ordered_lanes_equal_exchanging};
+use lane_tests::lane_checks::{lanes_against_scalar, ordered_lanes_equal_exchanging};
 
 /// Tolerance 1e-13 of the larger output vector's norm, plus, for the wall, 8 ulps times
 /// the direct sum's cancellation factor `rho^2 / (h_a h_b)`: the lane kernels perform

@@ -100,6 +100,10 @@ impl<E: Element> WithLanes for Run<'_, E> {
 /// F product, FT blocks, FT product) of each pair, on every instruction set this
 /// processor has; panics where it exceeds `tol`. Returns the worst per instruction set.
 pub fn ewald_real_lanes_against_scalar<E: Element>(tol: f64) -> Vec<(Isa, f64)> {
+    crate::on_a_large_stack(|| against_scalar::<E>(tol))
+}
+
+fn against_scalar<E: Element>(tol: f64) -> Vec<(Isa, f64)> {
     let ps = pairs();
     let want: Vec<Vec<f64>> = ps.iter().map(scalar).collect();
     // (offset, length) of the four output groups

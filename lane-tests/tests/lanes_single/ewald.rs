@@ -3,7 +3,7 @@
 //! kernels to single precision on every instruction set this processor has: the lowered
 //! `exp` and `erfc` with their coefficients rounded to `f32`.
 
-use integration_tests::ewald_lanes::ewald_real_lanes_against_scalar;
+use lane_tests::ewald_lanes::ewald_real_lanes_against_scalar;
 
 /// Tolerance 2e-5 of each output group's largest entry (as for the confinements' `f32`
 /// lanes): the inputs and some thousand operations per pair each round at 6e-8,
