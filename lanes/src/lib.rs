@@ -55,7 +55,12 @@ impl Element for f64 {
             #[cfg(target_arch = "x86_64")]
             Isa::Avx2 => x86::run_avx2_f64(w),
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => x86::run_avx512_f64(w),
+            // a constant per `W`: the branch not taken is not compiled
+            Isa::Avx512 => match W::AVX512 {
+                true => x86::run_avx512_f64(w),
+                false if x86::has_avx512() => x86::run_avx2_f64(w),
+                false => Err(w),
+            },
             #[cfg(not(target_arch = "x86_64"))]
             _ => Err(w),
         }
@@ -77,7 +82,12 @@ impl Element for f32 {
             #[cfg(target_arch = "x86_64")]
             Isa::Avx2 => x86::run_avx2_f32(w),
             #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => x86::run_avx512_f32(w),
+            // a constant per `W`: the branch not taken is not compiled
+            Isa::Avx512 => match W::AVX512 {
+                true => x86::run_avx512_f32(w),
+                false if x86::has_avx512() => x86::run_avx2_f32(w),
+                false => Err(w),
+            },
             #[cfg(not(target_arch = "x86_64"))]
             _ => Err(w),
         }
@@ -284,6 +294,12 @@ pub trait WithLanes: Sized {
     type Elem: Element;
     /// What the code returns.
     type Output;
+    /// Whether the code is compiled for AVX-512 lanes: where it is `false`, AVX2 lanes run
+    /// it when AVX-512 is asked for (every processor with AVX-512F here has AVX2 and FMA).
+    /// Every instruction set is a copy of the code, and AVX-512's is the slowest to
+    /// compile; code that the wider lanes do not speed up (a computation bound by the
+    /// memory it writes) leaves it out.
+    const AVX512: bool = true;
     /// The code, for lane type `L`. Mark it `#[inline(always)]`, and everything it
     /// calls with lanes too.
     fn run<L: Lane<Elem = Self::Elem>>(self) -> Self::Output;
@@ -434,6 +450,37 @@ mod tests {
                 r.store(o);
             }
             out
+        }
+    }
+
+    /// The width of the lanes a code runs on, with and without AVX-512 lanes of its own.
+    struct Width<const WIDE: bool>;
+    impl<const WIDE: bool> WithLanes for Width<WIDE> {
+        type Elem = f64;
+        type Output = usize;
+        const AVX512: bool = WIDE;
+        #[inline(always)]
+        fn run<L: Lane<Elem = f64>>(self) -> usize {
+            L::WIDTH
+        }
+    }
+
+    /// Code without AVX-512 lanes runs on AVX2 lanes where AVX-512 is asked for, and is
+    /// handed back like any other where the processor lacks AVX-512.
+    #[test]
+    fn code_without_avx512_lanes_runs_on_avx2_lanes() {
+        let isa = Isa::Avx512;
+        let capped = dispatch_with(isa, Width::<false>).ok();
+        let wide = dispatch_with(isa, Width::<true>).ok();
+        match isa.available() {
+            true => assert_eq!((capped, wide), (Some(4), Some(8))),
+            false => assert_eq!((capped, wide), (None, None)),
+        }
+        for isa in [Isa::Scalar, Isa::Avx2]
+            .into_iter()
+            .filter(|i| i.available())
+        {
+            assert_eq!(dispatch_with(isa, Width::<false>).ok(), Some(isa.width()));
         }
     }
 

@@ -146,7 +146,7 @@ class System:
         torques, then stresslets); the result likewise (U, Omega, -E_inf). Bit for bit
         independent of the number of threads. ``precision="single"`` runs the f32
         lanes (twice the pairs per instruction, about 1e-7 relative to the result's
-        norm, any units of input)."""
+        norm, any units of input) for F and FT; FTS runs in double precision."""
     def velocities(
         self,
         forces: ArrayLike,

@@ -308,12 +308,16 @@ impl<'a, T> PairBlocks<'a, T> {
 }
 
 /// One `impl WithLanes` per truncation (a generic `impl` over `K` and `N` would leave
-/// them unconstrained).
+/// them unconstrained). Without AVX-512 lanes of their own: writing the blocks bounds a
+/// dense assembly (near a wall, an FTS pair's 242 entries are about 1.9 kB to write
+/// against 80 ns of AVX-512 arithmetic, docs/performance.md), and AVX-512's copy of every
+/// block kernel was a sixth of the solver's build.
 macro_rules! with_lanes {
     ($name:ident, $k:literal, $n:literal) => {
         impl WithLanes for PairBlocks<'_, $name> {
             type Elem = f64;
             type Output = ();
+            const AVX512: bool = false;
             #[inline(always)]
             fn run<L: Lane<Elem = f64>>(self) {
                 self.fill::<L, $k, $n>()
@@ -601,25 +605,19 @@ pub(crate) fn apply_moments(
             .collect();
         apply::<P, E, K>(p, ps, &v, isa, parallel).concat()
     }
-    fn by_moments<E: Element>(
-        conf: &Confinement,
-        eta: f64,
-        moments: Moments,
-        ps: &[([f64; 3], f64)],
-        xs: &[f64],
-        isa: Isa,
-        parallel: bool,
-    ) -> Vec<f64> {
-        match moments {
-            Moments::F => run::<_, E, 3>(&ProductF { conf, eta }, ps, xs, isa, parallel),
-            Moments::FT => run::<_, E, 6>(&ProductFT { conf, eta }, ps, xs, isa, parallel),
-            Moments::FTS => run::<_, E, 11>(&ProductFTS { conf, eta }, ps, xs, isa, parallel),
-        }
-    }
-    // the tiles' masks count particles in the lanes' precision: exact in `f32` below 2^24
-    let single = precision == Precision::Single && particles.len() + BLOCK < 1 << 24;
+    // the tiles' masks count particles in the lanes' precision: exact in `f32` below 2^24;
+    // FTS in `f64` (Precision::Single)
+    let single = precision == Precision::Single
+        && moments != Moments::FTS
+        && particles.len() + BLOCK < 1 << 24;
     if !single {
-        return by_moments::<f64>(conf, eta, moments, particles, xs, isa, parallel);
+        return match moments {
+            Moments::F => run::<_, f64, 3>(&ProductF { conf, eta }, particles, xs, isa, parallel),
+            Moments::FT => run::<_, f64, 6>(&ProductFT { conf, eta }, particles, xs, isa, parallel),
+            Moments::FTS => {
+                run::<_, f64, 11>(&ProductFTS { conf, eta }, particles, xs, isa, parallel)
+            }
+        };
     }
     let k = moments.per_particle();
     let units = Units::of(conf, particles, xs, k);
@@ -633,7 +631,22 @@ pub(crate) fn apply_moments(
         .map(|(i, v)| v / units.moment(i % k))
         .collect();
     let conf = conf.in_units(units.origin, units.length);
-    let out = by_moments::<f32>(&conf, 1.0, moments, &ps, &scaled, isa, parallel);
+    // in these units the viscosity is 1
+    let (f, ft) = (
+        ProductF {
+            conf: &conf,
+            eta: 1.0,
+        },
+        ProductFT {
+            conf: &conf,
+            eta: 1.0,
+        },
+    );
+    let out = match moments {
+        Moments::F => run::<_, f32, 3>(&f, &ps, &scaled, isa, parallel),
+        Moments::FT => run::<_, f32, 6>(&ft, &ps, &scaled, isa, parallel),
+        Moments::FTS => unreachable!("FTS runs in double precision (above)"),
+    };
     out.iter()
         .enumerate()
         .map(|(i, y)| y * units.response(i % k, eta))

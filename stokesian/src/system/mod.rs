@@ -50,8 +50,11 @@ pub enum Precision {
     /// `f32` lanes, twice as many pairs per instruction, in units where the largest
     /// radius, the viscosity and the largest moment are 1 (so any units of the input
     /// work); every total is still summed in `f64`. About 1e-7 of the product's norm
-    /// (at most 2e-6 in the tests). Systems of 2^24 particles or more run in double
-    /// precision (the tiles count particles in the lanes' precision).
+    /// (at most 2e-6 in the tests). The F and FT products: FTS products, and systems of
+    /// 2^24 particles or more, run in double precision (the tiles count particles in the
+    /// lanes' precision; `f32` lanes of the FTS kernels, the largest, were a large part
+    /// of the solver's build, for stresslets that are usually wanted to more than seven
+    /// digits).
     Single,
 }
 
