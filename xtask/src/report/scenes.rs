@@ -89,9 +89,6 @@ fn time_kernel(
         std::array::from_fn(|k| va[k]),
         std::array::from_fn(|k| vb[k]),
     );
-    if suffix.ends_with("_lanes (fma)") {
-        return serving.then(|| lane_ns(ctx, scene.moments, cases, &va, &vb));
-    }
     let equal = suffix.contains("equal");
     let ab = |c: &Case| if equal { c.aa } else { c.ab };
     macro_rules! time {
@@ -162,96 +159,46 @@ fn time_kernel(
     }
 }
 
-/// Nanoseconds per pair of the lane kernel of a truncation (`kernels::product_f_lanes`,
-/// `product_ft_lanes`) on the widest instruction set of this processor: the cases
-/// that fit in the first case's confinement (its run-time parameters for all), in
-/// vectors of `L::WIDTH`.
-fn lane_ns(
-    ctx: &Ctx,
-    moments: Moments,
-    cases: &[(Confinement, Case)],
-    va: &[f64; 11],
-    vb: &[f64; 11],
-) -> f64 {
-    use kernels::lanes::{dispatch, Lane, WithLanes};
-    let conf = cases[0].0;
-    let inside = |x: &[f64; 3], a: f64| conf.boundaries().iter().all(|b| b.distance(*x) > a);
-    let fit: Vec<&Case> = cases
-        .iter()
+/// Spheres of the tiled products that time the lane kernels ([`lane_ns`]).
+const SPHERES: usize = 256;
+
+/// Nanoseconds per pair of the lane kernels of a truncation as the solver runs them: the
+/// tiled product `System::apply_with` (the generated `kernels::product_f_lanes_ordered`,
+/// `product_ft_lanes_ordered`, or `pair_lanes_ordered` times the moments at FTS) on the
+/// widest instruction set, in double precision and on one thread, of [`SPHERES`] spheres
+/// of radii 0.4 to 1.2 placed at random in the confinement `name` (its sample
+/// parameters); the time of a product divided by its `N (N - 1)/2` pairs (the `N` self
+/// terms included in the time). The solver's own instantiation of the lane kernels: the
+/// report compiles none of its own.
+fn lane_ns(ctx: &Ctx, moments: Moments, name: &str) -> Result<f64> {
+    use rand::SeedableRng;
+    let conf = integration_tests::all_confinements()
+        .into_iter()
+        .find(|(n, _)| *n == name)
         .map(|(_, c)| c)
-        .filter(|c| inside(&c.xa, c.aa) && inside(&c.xb, c.ab))
-        .collect();
-    // pad to whole vectors of the widest lanes by repeating
-    let n = fit.len();
-    let padded: Vec<&Case> = (0..n.div_ceil(8) * 8).map(|k| fit[k % n]).collect();
-    struct Pass<'a> {
-        conf: Confinement,
-        cases: &'a [&'a Case],
-        va: &'a [f64; 11],
-        vb: &'a [f64; 11],
-        moments: Moments,
-    }
-    impl WithLanes for Pass<'_> {
-        type Elem = f64;
-        type Output = f64;
-        #[inline(always)]
-        fn run<L: Lane<Elem = f64>>(self) -> f64 {
-            let mut sum = L::splat(0.0);
-            for chunk in self.cases.chunks(L::WIDTH) {
-                let mut buf = [[0.0; 8]; 8];
-                for (l, c) in chunk.iter().enumerate() {
-                    for k in 0..3 {
-                        buf[k][l] = c.xa[k];
-                        buf[3 + k][l] = c.xb[k];
-                    }
-                    buf[6][l] = c.aa;
-                    buf[7][l] = c.ab;
-                }
-                let xa: [L; 3] = std::array::from_fn(|k| L::load(&buf[k]));
-                let xb: [L; 3] = std::array::from_fn(|k| L::load(&buf[3 + k]));
-                let (aa, ab) = (L::load(&buf[6]), L::load(&buf[7]));
-                match self.moments {
-                    Moments::F => {
-                        let va: [L; 3] = std::array::from_fn(|k| L::splat(self.va[k]));
-                        let vb: [L; 3] = std::array::from_fn(|k| L::splat(self.vb[k]));
-                        let o = kernels::product_f_lanes(&self.conf, ETA, xa, aa, xb, ab, va, vb);
-                        for o in o {
-                            sum = sum + o;
-                        }
-                    }
-                    Moments::FT => {
-                        let va: [L; 6] = std::array::from_fn(|k| L::splat(self.va[k]));
-                        let vb: [L; 6] = std::array::from_fn(|k| L::splat(self.vb[k]));
-                        let o = kernels::product_ft_lanes(&self.conf, ETA, xa, aa, xb, ab, va, vb);
-                        for o in o {
-                            sum = sum + o;
-                        }
-                    }
-                    Moments::FTS => {
-                        // the blocks without the exchange of roles (the cost is the same
-                        // in either order), times the moments: what the tiles call
-                        let va: [L; 11] = std::array::from_fn(|k| L::splat(self.va[k]));
-                        let vb: [L; 11] = std::array::from_fn(|k| L::splat(self.vb[k]));
-                        let m = kernels::pair_lanes_ordered(&self.conf, ETA, xa, aa, xb, ab);
-                        let (a, b) = kernels::grand_lanes_product(&m, va, vb);
-                        for o in a.into_iter().chain(b) {
-                            sum = sum + o;
-                        }
-                    }
-                }
-            }
-            sum.sum()
-        }
-    }
-    ns_per_eval(ctx.cfg.min_time, padded.len(), || {
-        black_box(dispatch(Pass {
-            conf: black_box(conf),
-            cases: &padded,
-            va,
-            vb,
-            moments,
-        }));
-    })
+        .ok_or_else(|| anyhow::anyhow!("no confinement {name}"))?;
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7100);
+    let ps = integration_tests::random_spheres(&mut rng, &conf, SPHERES, (0.4, 1.2), 0.05, 40.0);
+    let system = stokesian::System::new(conf, ETA, ps, false)?;
+    let moments = match moments {
+        Moments::F => stokesian::Moments::F,
+        Moments::FT => stokesian::Moments::FT,
+        Moments::FTS => stokesian::Moments::FTS,
+    };
+    let k = moments.per_particle();
+    let x: Vec<f64> = (0..SPHERES * k).map(|i| VA[(i / SPHERES) % 11]).collect();
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let pairs = SPHERES * (SPHERES - 1) / 2;
+    Ok(one.install(|| {
+        ns_per_eval(ctx.cfg.min_time, pairs, || {
+            black_box(system.apply_with(
+                moments,
+                black_box(&x),
+                stokesian::Isa::best(),
+                stokesian::Precision::Double,
+            ));
+        })
+    }))
 }
 
 /// Section d.
@@ -295,7 +242,11 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
                     .into_iter()
                     .map(|c| (c.confinement(&scene.confinement), c))
                     .collect();
-            let ns = time_kernel(ctx, scene, serving, &suffix, &cases);
+            let ns = match (suffix.ends_with("_lanes (fma)"), serving) {
+                (true, true) => Some(lane_ns(ctx, scene.moments, &scene.confinement)?),
+                (true, false) => None,
+                (false, _) => time_kernel(ctx, scene, serving, &suffix, &cases),
+            };
             if ns.is_none() {
                 untimed.push(name.clone());
             }
@@ -311,7 +262,7 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
                     "-".into()
                 } else if suffix.ends_with("_lanes (fma)") {
                     format!(
-                        "kernels::product_{}_lanes, {} (time per pair)",
+                        "System::apply, kernels::product_{}_lanes_ordered, {} (time per pair)",
                         scene.moments.lower(),
                         kernels::lanes::Isa::best().name()
                     )
@@ -334,10 +285,13 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
          product kernels with fixed moment vectors. Kernels of scenes that serve the dispatch are called through it \
          (`kernels::pair_f`, `product_f`, `self_f` and the FT counterparts; equal radii select the equal-radius kernel), \
          the others through their generated module. The lane kernels (`..._lanes (fma)`: a fused multiply-add counts once, \
-         divisors of square roots become reciprocal square roots, the other reciprocals share divisions) are timed per pair on the widest instruction set of this processor, over the \
-         configurations that fit the first one's confinement, `L::WIDTH` pairs per call.\n",
+         divisors of square roots become reciprocal square roots, the other reciprocals share divisions) are timed per pair as the solver runs \
+         them: the tiled product `System::apply_with` (their twins without the exchange of roles, `..._lanes_ordered`) on the widest instruction \
+         set of this processor, in double precision, on one thread, of {} spheres of radii 0.4 to 1.2 in the confinement, the time of a product \
+         divided by its pairs.\n",
         scenes.len(),
-        ctx.cfg.cases
+        ctx.cfg.cases,
+        SPHERES
     )?;
     body.push_str(&t.markdown());
     if !untimed.is_empty() {
@@ -371,13 +325,8 @@ fn family_lanes(ctx: &Ctx) -> Result<String> {
     let mut counts = Counts(Vec::new());
     kernel_gen::physics::green::for_each(&mut counts);
     let mut t = Table::new(&["family", "kernel", "flops", "time per pair"]);
-    for (k, (family, flops)) in counts.0.iter().enumerate() {
-        let cases: Vec<(Confinement, Case)> =
-            sample::cases(family, Kind::Pair, ctx.cfg.cases, 7500 + k as u64)
-                .into_iter()
-                .map(|c| (c.confinement(family), c))
-                .collect();
-        let ns = lane_ns(ctx, Moments::FTS, &cases, &VA, &VB);
+    for (family, flops) in &counts.0 {
+        let ns = lane_ns(ctx, Moments::FTS, family)?;
         t.row(vec![
             family.clone(),
             format!("{family}_pair_lanes (fma)"),
@@ -390,8 +339,9 @@ fn family_lanes(ctx: &Ctx) -> Result<String> {
         out,
         "\nThe FTS pair lane kernels of every family (`kernels::pair_lanes_ordered`, the lane twin \
          of the FTS pair blocks, times the moments by `kernels::grand_lanes_product`: what the \
-         tiled FTS product and the dense FTS assembly call), on {} lanes, over the configurations \
-         of section a that fit the first one's confinement:\n",
+         tiled FTS product calls), timed per pair as above: the tiled FTS product of {} spheres \
+         in the family's confinement on {} lanes, one thread:\n",
+        SPHERES,
         kernels::lanes::Isa::best().name()
     )?;
     out.push_str(&t.markdown());
