@@ -8,8 +8,8 @@
 //! the widest one the processor has, detected at run time, and compiles the generic
 //! code for it (`#[target_feature]`); [`dispatch_with`] forces one ([`Isa`]), for tests
 //! and benchmarks. Code that the wider AVX-512 lanes do not speed up leaves their copy out
-//! ([`WithLanes::AVX512`]) and runs on AVX2 lanes there. A plain `cargo build --release` is therefore fast on any x86-64 and
-//! correct everywhere else. The `f32` lanes are the single-precision twins: the same
+//! ([`WithLanes::AVX512`]) and runs on AVX2 lanes there. A plain `cargo build --release`
+//! is therefore fast on any x86-64 and correct everywhere else. The `f32` lanes are the single-precision twins: the same
 //! generated kernels (their literals rounded to `f32` by [`Lane::splat`]) with twice as
 //! many pairs per instruction.
 //!
