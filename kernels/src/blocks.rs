@@ -265,6 +265,90 @@ impl From<&Grand> for BlocksFT {
     }
 }
 
+/// The rows of `blocks` (each `[T; C]`) one after another.
+fn push_rows<const C: usize>(out: &mut Vec<f64>, blocks: &[[f64; C]]) {
+    for row in blocks {
+        out.extend_from_slice(row);
+    }
+}
+
+/// The rows of a block taken from `flat`, from `at` on; `at` moves past them.
+fn take_rows<const R: usize, const C: usize>(flat: &[f64], at: &mut usize) -> [[f64; C]; R] {
+    let rows = std::array::from_fn(|i| std::array::from_fn(|j| flat[*at + i * C + j]));
+    *at += R * C;
+    rows
+}
+
+impl Grand {
+    /// The fields flattened in their order, each row-major: the layout of
+    /// [`GRAND_FLAT`].
+    pub fn flat(&self) -> [f64; 121] {
+        let mut v = Vec::with_capacity(121);
+        push_rows(&mut v, &self.uf);
+        push_rows(&mut v, &self.ul);
+        push_rows(&mut v, &self.us);
+        push_rows(&mut v, &self.of);
+        push_rows(&mut v, &self.ol);
+        push_rows(&mut v, &self.os);
+        push_rows(&mut v, &self.ef);
+        push_rows(&mut v, &self.el);
+        push_rows(&mut v, &self.es);
+        std::array::from_fn(|i| v[i])
+    }
+
+    /// The inverse of [`Grand::flat`].
+    pub fn from_flat(m: &[f64; 121]) -> Grand {
+        let at = &mut 0;
+        Grand {
+            uf: take_rows(m, at),
+            ul: take_rows(m, at),
+            us: take_rows(m, at),
+            of: take_rows(m, at),
+            ol: take_rows(m, at),
+            os: take_rows(m, at),
+            ef: take_rows(m, at),
+            el: take_rows(m, at),
+            es: take_rows(m, at),
+        }
+    }
+}
+
+impl BlocksF {
+    /// `uf` row-major: the layout of [`F_FLAT`].
+    pub fn flat(&self) -> [f64; 9] {
+        std::array::from_fn(|k| self.uf[k / 3][k % 3])
+    }
+
+    /// The inverse of [`BlocksF::flat`].
+    pub fn from_flat(m: &[f64; 9]) -> BlocksF {
+        BlocksF {
+            uf: take_rows(m, &mut 0),
+        }
+    }
+}
+
+impl BlocksFT {
+    /// `uf`, `ul`, `of`, `ol`, each row-major: the layout of [`FT_FLAT`].
+    pub fn flat(&self) -> [f64; 36] {
+        let mut v = Vec::with_capacity(36);
+        for b in [&self.uf, &self.ul, &self.of, &self.ol] {
+            push_rows(&mut v, b);
+        }
+        std::array::from_fn(|i| v[i])
+    }
+
+    /// The inverse of [`BlocksFT::flat`].
+    pub fn from_flat(m: &[f64; 36]) -> BlocksFT {
+        let at = &mut 0;
+        BlocksFT {
+            uf: take_rows(m, at),
+            ul: take_rows(m, at),
+            of: take_rows(m, at),
+            ol: take_rows(m, at),
+        }
+    }
+}
+
 /// `(M x, M^T y)` for a small dense block stored row-major.
 fn mat_products<const K: usize>(m: &[[f64; K]; K], x: &[f64; K], y: &[f64; K]) -> Product<K> {
     let mut a = [0.0; K];

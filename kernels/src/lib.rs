@@ -77,6 +77,7 @@
 
 pub mod blocks;
 pub mod declare;
+pub mod turn;
 #[rustfmt::skip]
 #[allow(clippy::all, missing_docs)]
 pub mod generated;

@@ -74,6 +74,53 @@ fn camel(snake: &str) -> String {
         .collect()
 }
 
+/// The pattern of a family's arm in an entry point: its variant, or that of any twin it
+/// serves, each binding its parameters under the family's names (`path` names the
+/// enum).
+fn serving_pattern(f: &Family, families: &[Family], path: TokenStream) -> TokenStream {
+    let binding = |g: &Family| {
+        let v = ident(&camel(g.name));
+        if f.params.is_empty() {
+            return quote!(#path::#v);
+        }
+        let bindings = g.params.iter().zip(f.params).map(|(own, p)| {
+            let (own, p) = (ident(own.name), ident(p.name));
+            if own == p {
+                quote!(#p)
+            } else {
+                quote!(#own: #p)
+            }
+        });
+        quote!(#path::#v { #(#bindings),* })
+    };
+    let twins = families
+        .iter()
+        .filter(|t| t.twin.as_ref().is_some_and(|t| t.of == f.name));
+    let alternatives = std::iter::once(binding(f)).chain(twins.map(binding));
+    quote!(#(#alternatives)|*)
+}
+
+/// The body of an entry point: the confinement that serves `conf` and the rotation into
+/// its planes' frame where `conf` is a twin (`Confinement::served`), the arguments
+/// `turned` (`(name, Turn method)`: `point` for points and directions, `moments` for
+/// moments) into that frame, the `arms` matched on the serving confinement, and their
+/// `out` back to the world by `back`. One call of each serving kernel, so that the solver
+/// compiles it once for the family and its twins.
+fn served(turned: &[(&str, &str)], arms: &[TokenStream], back: TokenStream) -> TokenStream {
+    let names: Vec<proc_macro2::Ident> = turned.iter().map(|(n, _)| ident(n)).collect();
+    let methods: Vec<proc_macro2::Ident> = turned.iter().map(|(_, m)| ident(m)).collect();
+    quote! {
+        let (conf, turn) = conf.served();
+        let conf = &conf;
+        let (#(#names,)*) = match turn {
+            Some(t) => (#(t.#methods(#names),)*),
+            None => (#(#names,)*),
+        };
+        let out = match *conf { #(#arms),* };
+        match turn { Some(t) => #back, None => out }
+    }
+}
+
 /// The `Confinement` enum, one variant per family with its run-time parameters as
 /// fields, and the dispatching entry points `pair`, `pair_equal`, `self_mobility`.
 pub(super) fn dispatch(families: &[Family]) -> TokenStream {
@@ -98,6 +145,8 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
     let mut along_pair_arms = Vec::new();
     let mut along_self_arms = Vec::new();
     let mut truncated: Vec<Vec<TokenStream>> = Vec::new();
+    let mut served_arms = Vec::new();
+    let mut turns = Vec::new();
     for f in families {
         let v = ident(&camel(f.name));
         let m = ident(f.name);
@@ -138,9 +187,6 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
             param_arms.push(quote!(Confinement::#v => vec![]));
             bound_arms.push(quote!(Confinement::#v => vec![#(#bounds),*]));
             unit_arms.push(quote!(Confinement::#v => Confinement::#v));
-            pair_arms.push(quote!(Confinement::#v => #m::#fpair(xa, xb, aa, ab, eta)));
-            equal_arms.push(quote!(Confinement::#v => #m::#fequal(xa, xb, a, eta)));
-            self_arms.push(quote!(Confinement::#v => #m::#fself(x, a, eta)));
         } else {
             variants.push(quote!(#[doc = #doc] #v { #(#[doc = #field_docs] #fields: f64),* }));
             name_arms.push(quote!(Confinement::#v { .. } => #name));
@@ -165,18 +211,59 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
                 .collect();
             unit_arms
                 .push(quote!(Confinement::#v { #(#fields),* } => Confinement::#v { #(#scaled),* }));
-            pair_arms.push(quote!(Confinement::#v { #(#fields),* } => #m::#fpair(xa, xb, aa, ab, eta, #(#fields),*)));
-            equal_arms.push(quote!(Confinement::#v { #(#fields),* } => #m::#fequal(xa, xb, a, eta, #(#fields),*)));
-            self_arms.push(
-                quote!(Confinement::#v { #(#fields),* } => #m::#fself(x, a, eta, #(#fields),*)),
-            );
         }
         names.push(name);
-        let pattern = if fields.is_empty() {
+        let any = if fields.is_empty() {
             quote!(Confinement::#v)
         } else {
-            quote!(Confinement::#v { #(#fields),* })
+            quote!(Confinement::#v { .. })
         };
+        let exchanges = f.exchanges.is_some();
+        exchange_arms.push(quote!(#any => #exchanges));
+        let normal = match f.exchanges {
+            Some(n) => {
+                let n = vector(n);
+                quote!(Some(#n))
+            }
+            None => quote!(None),
+        };
+        normal_arms.push(quote!(#any => #normal));
+        if let Some(t) = &f.twin {
+            // a twin: served by the kernels of `t.of`, turned (kernels::turn)
+            let (of, of_fields) = (
+                ident(&camel(t.of)),
+                t.of_params.iter().map(|p| ident(p)).collect::<Vec<_>>(),
+            );
+            let konst = ident(&format!("{}_TURN", f.name.to_uppercase()));
+            let q = t.q.map(|r| r.map(lit));
+            let q = q.map(|r| quote!([#(#r),*]));
+            let q5 = t.q5.map(|r| r.map(lit));
+            let q5 = q5.map(|r| quote!([#(#r),*]));
+            let d = format!(
+                " `{}` in the frame of its planes, where it is `{}` (kernel_gen `catalog::twin`).",
+                f.name, t.of
+            );
+            turns.push(quote! {
+                #[doc = #d]
+                static #konst: crate::turn::Turn = crate::turn::Turn { q: [#(#q),*], q5: [#(#q5),*] };
+            });
+            let target = if fields.is_empty() {
+                quote!(Confinement::#of)
+            } else {
+                quote!(Confinement::#of { #(#of_fields: #fields),* })
+            };
+            let own = if fields.is_empty() {
+                quote!(Confinement::#v)
+            } else {
+                quote!(Confinement::#v { #(#fields),* })
+            };
+            served_arms.push(quote!(#own => (#target, Some(&#konst))));
+            continue;
+        }
+        let pattern = serving_pattern(f, families, quote!(Confinement));
+        pair_arms.push(quote!(#pattern => #m::#fpair(xa, xb, aa, ab, eta, #(#fields),*)));
+        equal_arms.push(quote!(#pattern => #m::#fequal(xa, xb, a, eta, #(#fields),*)));
+        self_arms.push(quote!(#pattern => #m::#fself(x, a, eta, #(#fields),*)));
         let (fdp, fds) = (
             ident(&format!("{}_pair_divergence", f.name)),
             ident(&format!("{}_self_divergence", f.name)),
@@ -200,21 +287,6 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
         pair_lane_arms.push(
             quote!(#pattern => #m::#fpo(xa, xb, aa, ab, L::splat(eta), #(L::splat(#fields)),*)),
         );
-        let exchanges = f.exchanges.is_some();
-        let any = if fields.is_empty() {
-            quote!(Confinement::#v)
-        } else {
-            quote!(Confinement::#v { .. })
-        };
-        exchange_arms.push(quote!(#any => #exchanges));
-        let normal = match f.exchanges {
-            Some(n) => {
-                let n = vector(n);
-                quote!(Some(#n))
-            }
-            None => quote!(None),
-        };
-        normal_arms.push(quote!(#any => #normal));
         div_self_arms.push(quote!(#pattern => #m::#fds(x, a, eta, #(#fields),*)));
         truncated.push(truncated_arms(f, &pattern, &m, &fields));
     }
@@ -233,6 +305,28 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
         };
         let (arms_pair, arms_self, arms_prod) = (arm(0), arm(1), arm(2));
         let (arms_lanes, arms_ordered, arms_blocks) = (arm(3), arm(4), arm(5));
+        let to_world = ident(&format!("blocks_{lo}"));
+        let flat_at = ident(&format!("{}_FLAT", moments_label(moments)));
+        let pts: &[(&str, &str)] = &[("xa", "point"), ("xb", "point")];
+        let pts_moments: &[(&str, &str)] = &[
+            ("xa", "point"),
+            ("xb", "point"),
+            ("va", "moments"),
+            ("vb", "moments"),
+        ];
+        let body_pair = served(pts, &arms_pair, quote!(t.#to_world(out)));
+        let self_to_world = ident(&format!("self_{lo}"));
+        let body_self = served(&[("x", "point")], &arms_self, quote!(t.#self_to_world(out)));
+        let body_prod = served(pts_moments, &arms_prod, quote!(t.product(out)));
+        let both_len = 2 * n;
+        let both = quote!(t.both::<L, #n, #both_len>(out));
+        let body_lanes = served(pts_moments, &arms_lanes, both.clone());
+        let body_ordered = served(pts_moments, &arms_ordered, both);
+        let body_blocks = served(
+            pts,
+            &arms_blocks,
+            quote!(t.blocks(out, &crate::blocks::#flat_at)),
+        );
         let fblocks = ident(&format!("pair_{lo}_lanes_ordered"));
         let nn = n * n;
         let flat = format!("{}_FLAT", moments_label(moments));
@@ -267,35 +361,65 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
         truncated_fns.push(quote! {
             #[doc = #d_pair]
             pub fn #fpair(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64) -> #ty {
-                match *conf { #(#arms_pair),* }
+                #body_pair
             }
             #[doc = #d_self]
             pub fn #fself(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> #ty {
-                match *conf { #(#arms_self),* }
+                #body_self
             }
             #[doc = #d_prod]
             pub fn #fprod(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64, va: [f64; #n], vb: [f64; #n]) -> Product<#n> {
-                match *conf { #(#arms_prod),* }
+                #body_prod
             }
             #[doc = #d_lanes]
             #[inline(always)]
             pub fn #flanes<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L, va: [L; #n], vb: [L; #n]) -> [L; #n2] {
-                match *conf { #(#arms_lanes),* }
+                #body_lanes
             }
             #[doc = #d_ordered]
             #[inline(always)]
             pub fn #fordered<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L, va: [L; #n], vb: [L; #n]) -> [L; #n2] {
-                match *conf { #(#arms_ordered),* }
+                #body_ordered
             }
             #[doc = #d_blocks]
             #[inline(always)]
             pub fn #fblocks<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; #nn] {
-                match *conf { #(#arms_blocks),* }
+                #body_blocks
             }
         });
     }
+    let pts: &[(&str, &str)] = &[("xa", "point"), ("xb", "point")];
+    let div_pair = served(pts, &div_pair_arms, quote!(t.product(out)));
+    let div_lanes = served(pts, &div_lane_arms, quote!(t.both::<L, 6, 12>(out)));
+    let div_ordered = served(pts, &div_ordered_arms, quote!(t.both::<L, 6, 12>(out)));
+    let pair_lanes = served(
+        pts,
+        &pair_lane_arms,
+        quote!(t.blocks(out, &crate::blocks::GRAND_FLAT)),
+    );
+    let div_self = served(&[("x", "point")], &div_self_arms, quote!(t.drift(out)));
+    let along_pair = served(
+        &[("xa", "point"), ("xb", "point"), ("v", "point")],
+        &along_pair_arms,
+        quote!(t.product(out)),
+    );
+    let along_self = served(
+        &[("x", "point"), ("v", "point")],
+        &along_self_arms,
+        quote!(t.drift(out)),
+    );
+    let pair = served(pts, &pair_arms, quote!(t.grand(out)));
+    let equal = served(pts, &equal_arms, quote!(t.grand(out)));
+    let self_mobility = served(&[("x", "point")], &self_arms, quote!(t.self_grand(out)));
+    let served_match = if served_arms.is_empty() {
+        quote!((*self, None))
+    } else {
+        quote!(match *self { #(#served_arms,)* other => (other, None) })
+    };
     quote! {
         use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};
+
+        #(#turns)*
 
         #(#truncated_fns)*
 
@@ -303,20 +427,20 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
         /// position of `b` (`sum_j d/dxb_j M_{ij}`, rows U then Omega, force columns),
         /// `b` = that of `M^{ba}` over the position of `a`.
         pub fn pair_divergence(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64) -> Product<6> {
-            match *conf { #(#div_pair_arms),* }
+            #div_pair
         }
 
         /// The lane twin of [`pair_divergence`]: `L::WIDTH` pairs at once, `a` then `b`.
         #[inline(always)]
         pub fn pair_divergence_lanes<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; 12] {
-            match *conf { #(#div_lane_arms),* }
+            #div_lanes
         }
 
         /// [`pair_divergence_lanes`] without the exchange of roles: for pairs in which `b`
         /// is no higher than `a` ([`Confinement::exchanges_by_height`]).
         #[inline(always)]
         pub fn pair_divergence_lanes_ordered<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; 12] {
-            match *conf { #(#div_ordered_arms),* }
+            #div_ordered
         }
 
         /// The lane twin of [`pair`] without the exchange of roles: `L::WIDTH` pairs at
@@ -325,13 +449,13 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
         /// [`Grand`]'s fields in their order (see [`crate::blocks::grand_lanes_product`]).
         #[inline(always)]
         pub fn pair_lanes_ordered<L: lanes::Lane>(conf: &Confinement, eta: f64, xa: [L; 3], aa: L, xb: [L; 3], ab: L) -> [L; 121] {
-            match *conf { #(#pair_lane_arms),* }
+            #pair_lanes
         }
 
         /// The Brownian drift of one particle's self mobility: `sum_j d/dx_j M^{aa}_{ij}`,
         /// rows U then Omega, force columns.
         pub fn self_divergence(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Drift<6> {
-            match *conf { #(#div_self_arms),* }
+            #div_self
         }
 
         /// The derivative of a pair's blocks along a unit vector `v` of their column along
@@ -339,13 +463,13 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
         /// `b` that of `M^{ba}` over the position of `a`. The part of the divergence that
         /// holding the moving sphere's centre on a plane of normal `v` removes.
         pub fn pair_along(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64, v: [f64; 3]) -> Product<6> {
-            match *conf { #(#along_pair_arms),* }
+            #along_pair
         }
 
         /// [`pair_along`] for one particle's self mobility, its position moving:
         /// `sum_jk v_j v_k d/dx_k M^{aa}_{ij}`.
         pub fn self_along(conf: &Confinement, eta: f64, x: [f64; 3], a: f64, v: [f64; 3]) -> Drift<6> {
-            match *conf { #(#along_self_arms),* }
+            #along_self
         }
 
         /// What every registered confinement declares: name, title, parameters, in the
@@ -409,6 +533,13 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
                 }
             }
 
+            /// The confinement whose kernels serve this one, and the rotation into the
+            /// frame of its planes where this one is that confinement turned (a twin,
+            /// [`crate::turn`]); itself and `None` otherwise.
+            pub fn served(&self) -> (Confinement, Option<&'static crate::turn::Turn>) {
+                #served_match
+            }
+
             /// Its parameters' declarations ([`DECLARATIONS`]).
             pub fn declaration(&self) -> &'static crate::declare::Declaration {
                 let name = self.name();
@@ -440,23 +571,17 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
         /// `M^{ab}` for two distinct particles: the response of particle `a` (centre
         /// `xa`, radius `aa`) to the force, torque and stresslet of particle `b`.
         pub fn pair(conf: &Confinement, eta: f64, xa: [f64; 3], aa: f64, xb: [f64; 3], ab: f64) -> Grand {
-            match *conf {
-                #(#pair_arms),*
-            }
+            #pair
         }
 
         /// `M^{ab}` for two distinct particles of the same radius `a`.
         pub fn pair_equal(conf: &Confinement, eta: f64, xa: [f64; 3], xb: [f64; 3], a: f64) -> Grand {
-            match *conf {
-                #(#equal_arms),*
-            }
+            #equal
         }
 
         /// `M^{aa}`: the isolated sphere plus its reflected field (Eq. 17).
         pub fn self_mobility(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Grand {
-            match *conf {
-                #(#self_arms),*
-            }
+            #self_mobility
         }
     }
 }
@@ -466,29 +591,33 @@ pub(super) fn dispatch(families: &[Family]) -> TokenStream {
 pub(super) fn single_dispatch(families: &[Family]) -> TokenStream {
     let mut self_arms = Vec::new();
     let mut pair_arms = Vec::new();
-    for f in families {
-        let v = ident(&camel(f.name));
+    for f in families.iter().filter(|f| f.twin.is_none()) {
         let fields: Vec<proc_macro2::Ident> = f.params.iter().map(|p| ident(p.name)).collect();
         let (fself, fpair) = (
             ident(&format!("{}_self", f.name)),
             ident(&format!("{}_pair", f.name)),
         );
-        let pattern = if fields.is_empty() {
-            quote!(crate::Confinement::#v)
-        } else {
-            quote!(crate::Confinement::#v { #(#fields),* })
-        };
+        let pattern = serving_pattern(f, families, quote!(crate::Confinement));
         self_arms.push(quote!(#pattern => #fself(x, a, eta, #(#fields as f32),*)));
         pair_arms.push(quote!(#pattern => #fpair(xa, xb, aa, ab, eta, #(#fields as f32),*)));
     }
+    let back = quote!(Grand32::from_flat(
+        &t.blocks(out.flat(), &crate::blocks::GRAND_FLAT)
+    ));
+    let back_self = quote!(Grand32::from_flat(&crate::turn::symmetric(
+        t.blocks(out.flat(), &crate::blocks::GRAND_FLAT),
+        &crate::blocks::GRAND_FLAT
+    )));
+    let body_self = served(&[("x", "point")], &self_arms, back_self);
+    let body_pair = served(&[("xa", "point"), ("xb", "point")], &pair_arms, back);
     quote! {
         /// The single-precision self kernel of a confinement (its parameters rounded to `f32`).
         pub fn self_mobility(conf: &crate::Confinement, x: [f32; 3], a: f32, eta: f32) -> Grand32 {
-            match *conf { #(#self_arms),* }
+            #body_self
         }
         /// The single-precision pair kernel of a confinement (its parameters rounded to `f32`).
         pub fn pair(conf: &crate::Confinement, xa: [f32; 3], xb: [f32; 3], aa: f32, ab: f32, eta: f32) -> Grand32 {
-            match *conf { #(#pair_arms),* }
+            #body_pair
         }
     }
 }

@@ -213,10 +213,32 @@ pub(super) fn single_file(items: Vec<TokenStream>) -> GeneratedFile {
         String::new(),
         "Compiled only with the cargo feature `f32` of the kernels crate. Regenerate with `cargo xtask gen`.".to_string(),
     ];
+    let names: Vec<proc_macro2::Ident> = BLOCKS
+        .iter()
+        .map(|&(r, m)| ident(&crate::physics::operators::block_name(r, m)))
+        .collect();
     let body = quote! {
         /// The nine blocks of [`crate::Grand`] in single precision (same layout and basis).
         #[derive(Clone, Copy, Debug, PartialEq, Default)]
         pub struct Grand32 { #(#fields),* }
+        impl Grand32 {
+            /// The fields flattened in their order, each row-major (as [`crate::Grand::flat`]).
+            pub fn flat(&self) -> [f32; 121] {
+                let v: Vec<f32> = [#(self.#names.iter().flatten().copied().collect::<Vec<f32>>()),*].concat();
+                std::array::from_fn(|i| v[i])
+            }
+            /// The inverse of [`Grand32::flat`].
+            pub fn from_flat(m: &[f32; 121]) -> Grand32 {
+                let mut at = 0;
+                let mut take = |out: &mut [f32]| {
+                    out.copy_from_slice(&m[at..at + out.len()]);
+                    at += out.len();
+                };
+                let mut g = Grand32::default();
+                #(g.#names.iter_mut().for_each(|row| take(row));)*
+                g
+            }
+        }
         #(#items)*
     };
     GeneratedFile {

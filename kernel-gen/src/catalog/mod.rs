@@ -12,6 +12,8 @@
 //! - `family`: the kernels of one Green's function ([`variants`], [`family()`]) and their
 //!   single-precision twins;
 //! - `scene_file`: the kernels of one scene ([`scene_file()`]);
+//! - `twin`: a confinement that is an earlier one turned, served by its kernels (no file
+//!   of its own);
 //! - `dispatch`: the generated `mod.rs`, the `Confinement` enum and its entry points;
 //! - `overlap`: the RPY overlap corrections of any confinement (`overlap.rs`).
 
@@ -20,6 +22,7 @@ mod family;
 mod overlap;
 mod scene;
 mod scene_file;
+mod twin;
 
 pub use family::{family, variants, Variant, SINGLE};
 pub use scene::{Moments, Radii, Scene, SceneError};
@@ -78,6 +81,7 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
     let mut c = Collect {
         families: Vec::new(),
         scenes,
+        refused: None,
     };
     green::for_each(&mut c);
     let mut blocks = BuildingBlocks {
@@ -86,7 +90,10 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
     };
     green::for_each_building_block(&mut blocks);
     let mut mods: Vec<TokenStream> = Vec::new();
-    for f in &c.families {
+    if let Some((scene, green, of)) = c.refused {
+        return Err(green::DeclarationError::SceneOfTwin { scene, green, of });
+    }
+    for f in c.families.iter().filter(|f| f.file.is_some()) {
         let n = ident(f.name);
         let d = format!(" Kernels of the `{}` family.", f.name);
         mods.push(quote!(#[doc = #d] pub mod #n;));
@@ -125,9 +132,9 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
     }];
     let mut single = vec![single_entry];
     for f in c.families {
-        files.push(f.file);
+        files.extend(f.file);
         files.extend(f.scene_files);
-        single.push(f.single);
+        single.extend(f.single);
     }
     files.extend(blocks.files.into_iter().map(|(_, f)| f));
     files.push(single_file(single));
@@ -144,9 +151,13 @@ struct Family {
     /// The normal of the cancelling image's plane, along which its pair kernels
     /// exchange the particles' roles ([`crate::kernel::Swap`]), if it has one.
     exchanges: Option<[f64; 3]>,
-    file: GeneratedFile,
-    /// Its single-precision self and pair kernels (items of [`SINGLE`]).
-    single: TokenStream,
+    /// Its kernels; `None` for a twin.
+    file: Option<GeneratedFile>,
+    /// Its single-precision self and pair kernels (items of [`SINGLE`]); `None` for a
+    /// twin.
+    single: Option<TokenStream>,
+    /// The family whose kernels serve it, turned ([`twin`]), if it is a twin.
+    twin: Option<twin::Twin>,
     /// Scenes of this confinement that serve the dispatch: `(moments, scene name)` of
     /// those with unequal radii and both outputs.
     serving: Vec<(Moments, String)>,
@@ -156,6 +167,8 @@ struct Family {
 struct Collect<'a> {
     families: Vec<Family>,
     scenes: &'a [Scene],
+    /// A scene of a twin: `(scene, twin, the family that serves it)`.
+    refused: Option<(String, &'static str, &'static str)>,
 }
 
 impl Visitor for Collect<'_> {
@@ -204,6 +217,30 @@ impl Visitor for Collect<'_> {
                 serving.push((s.moments, s.name.clone()));
             }
         }
+        if let Some(t) = twin::find(g, &self.families) {
+            if let Some(s) = mine.first() {
+                self.refused.get_or_insert((s.name.clone(), g.name(), t.of));
+            }
+            let serving = self
+                .families
+                .iter()
+                .find(|f| f.name == t.of)
+                .map(|f| f.serving.clone())
+                .unwrap_or_default();
+            self.families.push(Family {
+                name: g.name(),
+                title: g.title(),
+                params: g.params(),
+                exchanges,
+                boundaries,
+                file: None,
+                single: None,
+                twin: Some(t),
+                serving,
+                scene_files: Vec::new(),
+            });
+            return;
+        }
         let (file, single) = family_and_single(g);
         self.families.push(Family {
             name: g.name(),
@@ -211,8 +248,9 @@ impl Visitor for Collect<'_> {
             params: g.params(),
             exchanges,
             boundaries,
-            file,
-            single,
+            file: Some(file),
+            single: Some(single),
+            twin: None,
             serving,
             scene_files: mine.iter().map(|s| scene_file(g, s, false)).collect(),
         });

@@ -36,12 +36,6 @@ pub mod slit;
 pub mod scene_slit_f;
 /// Kernels of the scene `slit_ft` (`scenes/`).
 pub mod scene_slit_ft;
-/// Kernels of the `side_wall` family.
-pub mod side_wall;
-/// Kernels of the scene `side_wall_f` (`scenes/`).
-pub mod scene_side_wall_f;
-/// Kernels of the scene `side_wall_ft` (`scenes/`).
-pub mod scene_side_wall_ft;
 /// Kernels of the scene `ewald_real_f` (`scenes/`) of the building block `ewald_real` (not a confinement: kernel_gen::physics::green::for_each_building_block).
 pub mod scene_ewald_real_f;
 /// Kernels of the scene `ewald_real_ft` (`scenes/`) of the building block `ewald_real` (not a confinement: kernel_gen::physics::green::for_each_building_block).
@@ -55,6 +49,17 @@ pub mod scene_ewald_wall_ft;
 /// The RPY overlap corrections (kernel_gen::physics::overlap).
 pub mod overlap;
 use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};
+/// `side_wall` in the frame of its planes, where it is `wall` (kernel_gen `catalog::twin`).
+static SIDE_WALL_TURN: crate::turn::Turn = crate::turn::Turn {
+    q: [[0f64, 1f64, 0f64], [0f64, 0f64, 1f64], [1f64, 0f64, 0f64]],
+    q5: [
+        [0f64, 0f64, 1.0000000000000002f64, 0f64, 0f64],
+        [1.0000000000000002f64, 0f64, 0f64, 0f64, 0f64],
+        [0f64, 1.0000000000000002f64, 0f64, 0f64, 0f64],
+        [0f64, 0f64, 0f64, -0.5000000000000001f64, -0.8660254037844388f64],
+        [0f64, 0f64, 0f64, 0.8660254037844388f64, -0.5f64],
+    ],
+};
 /// The F blocks of `M^{ab}` (equal-radius kernels when `aa == ab`).
 pub fn pair_f(
     conf: &Confinement,
@@ -64,7 +69,13 @@ pub fn pair_f(
     xb: [f64; 3],
     ab: f64,
 ) -> BlocksF {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb)),
+        None => (xa, xb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             if aa == ab {
                 scene_free_f::free_f_pair_equal(xa, xb, aa, eta)
@@ -72,7 +83,7 @@ pub fn pair_f(
                 scene_free_f::free_f_pair(xa, xb, aa, ab, eta)
             }
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             if aa == ab {
                 scene_wall_f::wall_f_pair_equal(xa, xb, aa, eta, height)
             } else {
@@ -107,20 +118,25 @@ pub fn pair_f(
                 scene_slit_f::slit_f_pair(xa, xb, aa, ab, eta, height, gap)
             }
         }
-        Confinement::SideWall { side } => {
-            if aa == ab {
-                scene_side_wall_f::side_wall_f_pair_equal(xa, xb, aa, eta, side)
-            } else {
-                scene_side_wall_f::side_wall_f_pair(xa, xb, aa, ab, eta, side)
-            }
-        }
+    };
+    match turn {
+        Some(t) => t.blocks_f(out),
+        None => out,
     }
 }
 /// The F blocks of `M^{aa}` (Eq. 17).
 pub fn self_f(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> BlocksF {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (x,) = match turn {
+        Some(t) => (t.point(x),),
+        None => (x,),
+    };
+    let out = match *conf {
         Confinement::Free => scene_free_f::free_f_self(x, a, eta),
-        Confinement::Wall { height } => scene_wall_f::wall_f_self(x, a, eta, height),
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
+            scene_wall_f::wall_f_self(x, a, eta, height)
+        }
         Confinement::FreeSurface { height } => {
             scene_free_surface_f::free_surface_f_self(x, a, eta, height)
         }
@@ -130,9 +146,10 @@ pub fn self_f(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> BlocksF {
         Confinement::Slit { height, gap } => {
             scene_slit_f::slit_f_self(x, a, eta, height, gap)
         }
-        Confinement::SideWall { side } => {
-            scene_side_wall_f::side_wall_f_self(x, a, eta, side)
-        }
+    };
+    match turn {
+        Some(t) => t.self_f(out),
+        None => out,
     }
 }
 /// The fused pair product for F: `a = M^{ab} vb`, `b = M^{ba} va`.
@@ -146,7 +163,13 @@ pub fn product_f(
     va: [f64; 3usize],
     vb: [f64; 3usize],
 ) -> Product<3usize> {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb, va, vb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb), t.moments(va), t.moments(vb)),
+        None => (xa, xb, va, vb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             if aa == ab {
                 scene_free_f::free_f_pair_equal_product(xa, xb, aa, eta, va, vb)
@@ -154,7 +177,7 @@ pub fn product_f(
                 scene_free_f::free_f_pair_product(xa, xb, aa, ab, eta, va, vb)
             }
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             if aa == ab {
                 scene_wall_f::wall_f_pair_equal_product(xa, xb, aa, eta, height, va, vb)
             } else {
@@ -237,30 +260,10 @@ pub fn product_f(
                 )
             }
         }
-        Confinement::SideWall { side } => {
-            if aa == ab {
-                scene_side_wall_f::side_wall_f_pair_equal_product(
-                    xa,
-                    xb,
-                    aa,
-                    eta,
-                    side,
-                    va,
-                    vb,
-                )
-            } else {
-                scene_side_wall_f::side_wall_f_pair_product(
-                    xa,
-                    xb,
-                    aa,
-                    ab,
-                    eta,
-                    side,
-                    va,
-                    vb,
-                )
-            }
-        }
+    };
+    match turn {
+        Some(t) => t.product(out),
+        None => out,
     }
 }
 /// The lane twin of [`product_f`]: `L::WIDTH` pairs at once, returning `a` then `b` (`6` lanes); the scene's lane kernel, or the scalar product lane by lane for a confinement without one.
@@ -275,7 +278,13 @@ pub fn product_f_lanes<L: lanes::Lane>(
     va: [L; 3usize],
     vb: [L; 3usize],
 ) -> [L; 6usize] {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb, va, vb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb), t.moments(va), t.moments(vb)),
+        None => (xa, xb, va, vb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             scene_free_f::free_f_pair_product_lanes(
                 xa,
@@ -287,7 +296,7 @@ pub fn product_f_lanes<L: lanes::Lane>(
                 vb,
             )
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             scene_wall_f::wall_f_pair_product_lanes(
                 xa,
                 xb,
@@ -337,18 +346,10 @@ pub fn product_f_lanes<L: lanes::Lane>(
                 vb,
             )
         }
-        Confinement::SideWall { side } => {
-            scene_side_wall_f::side_wall_f_pair_product_lanes(
-                xa,
-                xb,
-                aa,
-                ab,
-                L::splat(eta),
-                L::splat(side),
-                va,
-                vb,
-            )
-        }
+    };
+    match turn {
+        Some(t) => t.both::<L, 3usize, 6usize>(out),
+        None => out,
     }
 }
 /// [`product_f_lanes`] without the exchange of roles: for pairs in which `b` is no higher than `a` ([`Confinement::exchanges_by_height`]; there the same values as the exchanging kernel).
@@ -363,7 +364,13 @@ pub fn product_f_lanes_ordered<L: lanes::Lane>(
     va: [L; 3usize],
     vb: [L; 3usize],
 ) -> [L; 6usize] {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb, va, vb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb), t.moments(va), t.moments(vb)),
+        None => (xa, xb, va, vb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             scene_free_f::free_f_pair_product_lanes_ordered(
                 xa,
@@ -375,7 +382,7 @@ pub fn product_f_lanes_ordered<L: lanes::Lane>(
                 vb,
             )
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             scene_wall_f::wall_f_pair_product_lanes_ordered(
                 xa,
                 xb,
@@ -425,18 +432,10 @@ pub fn product_f_lanes_ordered<L: lanes::Lane>(
                 vb,
             )
         }
-        Confinement::SideWall { side } => {
-            scene_side_wall_f::side_wall_f_pair_product_lanes_ordered(
-                xa,
-                xb,
-                aa,
-                ab,
-                L::splat(eta),
-                L::splat(side),
-                va,
-                vb,
-            )
-        }
+    };
+    match turn {
+        Some(t) => t.both::<L, 3usize, 6usize>(out),
+        None => out,
     }
 }
 /// The lane twin of [`pair_f`] without the exchange of roles, for pairs in which `b` is no higher than `a` where [`Confinement::exchanges_by_height`] (elsewhere any order): `L::WIDTH` pairs at once (unequal-radius kernels at any radii), the 9 entries of [`BlocksF`]'s fields in their order ([`crate::blocks::F_FLAT`]); the scene's lane kernel, or the FTS lane kernel truncated for a confinement without one.
@@ -449,11 +448,17 @@ pub fn pair_f_lanes_ordered<L: lanes::Lane>(
     xb: [L; 3],
     ab: L,
 ) -> [L; 9usize] {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb)),
+        None => (xa, xb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             scene_free_f::free_f_pair_lanes_ordered(xa, xb, aa, ab, L::splat(eta))
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             scene_wall_f::wall_f_pair_lanes_ordered(
                 xa,
                 xb,
@@ -495,16 +500,10 @@ pub fn pair_f_lanes_ordered<L: lanes::Lane>(
                 L::splat(gap),
             )
         }
-        Confinement::SideWall { side } => {
-            scene_side_wall_f::side_wall_f_pair_lanes_ordered(
-                xa,
-                xb,
-                aa,
-                ab,
-                L::splat(eta),
-                L::splat(side),
-            )
-        }
+    };
+    match turn {
+        Some(t) => t.blocks(out, &crate::blocks::F_FLAT),
+        None => out,
     }
 }
 /// The FT blocks of `M^{ab}` (equal-radius kernels when `aa == ab`).
@@ -516,7 +515,13 @@ pub fn pair_ft(
     xb: [f64; 3],
     ab: f64,
 ) -> BlocksFT {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb)),
+        None => (xa, xb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             if aa == ab {
                 scene_free_ft::free_ft_pair_equal(xa, xb, aa, eta)
@@ -524,7 +529,7 @@ pub fn pair_ft(
                 scene_free_ft::free_ft_pair(xa, xb, aa, ab, eta)
             }
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             if aa == ab {
                 scene_wall_ft::wall_ft_pair_equal(xa, xb, aa, eta, height)
             } else {
@@ -573,20 +578,25 @@ pub fn pair_ft(
                 scene_slit_ft::slit_ft_pair(xa, xb, aa, ab, eta, height, gap)
             }
         }
-        Confinement::SideWall { side } => {
-            if aa == ab {
-                scene_side_wall_ft::side_wall_ft_pair_equal(xa, xb, aa, eta, side)
-            } else {
-                scene_side_wall_ft::side_wall_ft_pair(xa, xb, aa, ab, eta, side)
-            }
-        }
+    };
+    match turn {
+        Some(t) => t.blocks_ft(out),
+        None => out,
     }
 }
 /// The FT blocks of `M^{aa}` (Eq. 17).
 pub fn self_ft(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> BlocksFT {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (x,) = match turn {
+        Some(t) => (t.point(x),),
+        None => (x,),
+    };
+    let out = match *conf {
         Confinement::Free => scene_free_ft::free_ft_self(x, a, eta),
-        Confinement::Wall { height } => scene_wall_ft::wall_ft_self(x, a, eta, height),
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
+            scene_wall_ft::wall_ft_self(x, a, eta, height)
+        }
         Confinement::FreeSurface { height } => {
             scene_free_surface_ft::free_surface_ft_self(x, a, eta, height)
         }
@@ -596,9 +606,10 @@ pub fn self_ft(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> BlocksFT {
         Confinement::Slit { height, gap } => {
             scene_slit_ft::slit_ft_self(x, a, eta, height, gap)
         }
-        Confinement::SideWall { side } => {
-            scene_side_wall_ft::side_wall_ft_self(x, a, eta, side)
-        }
+    };
+    match turn {
+        Some(t) => t.self_ft(out),
+        None => out,
     }
 }
 /// The fused pair product for FT: `a = M^{ab} vb`, `b = M^{ba} va`.
@@ -612,7 +623,13 @@ pub fn product_ft(
     va: [f64; 6usize],
     vb: [f64; 6usize],
 ) -> Product<6usize> {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb, va, vb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb), t.moments(va), t.moments(vb)),
+        None => (xa, xb, va, vb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             if aa == ab {
                 scene_free_ft::free_ft_pair_equal_product(xa, xb, aa, eta, va, vb)
@@ -620,7 +637,7 @@ pub fn product_ft(
                 scene_free_ft::free_ft_pair_product(xa, xb, aa, ab, eta, va, vb)
             }
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             if aa == ab {
                 scene_wall_ft::wall_ft_pair_equal_product(
                     xa,
@@ -711,30 +728,10 @@ pub fn product_ft(
                 )
             }
         }
-        Confinement::SideWall { side } => {
-            if aa == ab {
-                scene_side_wall_ft::side_wall_ft_pair_equal_product(
-                    xa,
-                    xb,
-                    aa,
-                    eta,
-                    side,
-                    va,
-                    vb,
-                )
-            } else {
-                scene_side_wall_ft::side_wall_ft_pair_product(
-                    xa,
-                    xb,
-                    aa,
-                    ab,
-                    eta,
-                    side,
-                    va,
-                    vb,
-                )
-            }
-        }
+    };
+    match turn {
+        Some(t) => t.product(out),
+        None => out,
     }
 }
 /// The lane twin of [`product_ft`]: `L::WIDTH` pairs at once, returning `a` then `b` (`12` lanes); the scene's lane kernel, or the scalar product lane by lane for a confinement without one.
@@ -749,7 +746,13 @@ pub fn product_ft_lanes<L: lanes::Lane>(
     va: [L; 6usize],
     vb: [L; 6usize],
 ) -> [L; 12usize] {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb, va, vb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb), t.moments(va), t.moments(vb)),
+        None => (xa, xb, va, vb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             scene_free_ft::free_ft_pair_product_lanes(
                 xa,
@@ -761,7 +764,7 @@ pub fn product_ft_lanes<L: lanes::Lane>(
                 vb,
             )
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             scene_wall_ft::wall_ft_pair_product_lanes(
                 xa,
                 xb,
@@ -811,18 +814,10 @@ pub fn product_ft_lanes<L: lanes::Lane>(
                 vb,
             )
         }
-        Confinement::SideWall { side } => {
-            scene_side_wall_ft::side_wall_ft_pair_product_lanes(
-                xa,
-                xb,
-                aa,
-                ab,
-                L::splat(eta),
-                L::splat(side),
-                va,
-                vb,
-            )
-        }
+    };
+    match turn {
+        Some(t) => t.both::<L, 6usize, 12usize>(out),
+        None => out,
     }
 }
 /// [`product_ft_lanes`] without the exchange of roles: for pairs in which `b` is no higher than `a` ([`Confinement::exchanges_by_height`]; there the same values as the exchanging kernel).
@@ -837,7 +832,13 @@ pub fn product_ft_lanes_ordered<L: lanes::Lane>(
     va: [L; 6usize],
     vb: [L; 6usize],
 ) -> [L; 12usize] {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb, va, vb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb), t.moments(va), t.moments(vb)),
+        None => (xa, xb, va, vb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             scene_free_ft::free_ft_pair_product_lanes_ordered(
                 xa,
@@ -849,7 +850,7 @@ pub fn product_ft_lanes_ordered<L: lanes::Lane>(
                 vb,
             )
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             scene_wall_ft::wall_ft_pair_product_lanes_ordered(
                 xa,
                 xb,
@@ -899,18 +900,10 @@ pub fn product_ft_lanes_ordered<L: lanes::Lane>(
                 vb,
             )
         }
-        Confinement::SideWall { side } => {
-            scene_side_wall_ft::side_wall_ft_pair_product_lanes_ordered(
-                xa,
-                xb,
-                aa,
-                ab,
-                L::splat(eta),
-                L::splat(side),
-                va,
-                vb,
-            )
-        }
+    };
+    match turn {
+        Some(t) => t.both::<L, 6usize, 12usize>(out),
+        None => out,
     }
 }
 /// The lane twin of [`pair_ft`] without the exchange of roles, for pairs in which `b` is no higher than `a` where [`Confinement::exchanges_by_height`] (elsewhere any order): `L::WIDTH` pairs at once (unequal-radius kernels at any radii), the 36 entries of [`BlocksFT`]'s fields in their order ([`crate::blocks::FT_FLAT`]); the scene's lane kernel, or the FTS lane kernel truncated for a confinement without one.
@@ -923,11 +916,17 @@ pub fn pair_ft_lanes_ordered<L: lanes::Lane>(
     xb: [L; 3],
     ab: L,
 ) -> [L; 36usize] {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb)),
+        None => (xa, xb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             scene_free_ft::free_ft_pair_lanes_ordered(xa, xb, aa, ab, L::splat(eta))
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             scene_wall_ft::wall_ft_pair_lanes_ordered(
                 xa,
                 xb,
@@ -969,16 +968,10 @@ pub fn pair_ft_lanes_ordered<L: lanes::Lane>(
                 L::splat(gap),
             )
         }
-        Confinement::SideWall { side } => {
-            scene_side_wall_ft::side_wall_ft_pair_lanes_ordered(
-                xa,
-                xb,
-                aa,
-                ab,
-                L::splat(eta),
-                L::splat(side),
-            )
-        }
+    };
+    match turn {
+        Some(t) => t.blocks(out, &crate::blocks::FT_FLAT),
+        None => out,
     }
 }
 /// The Brownian drift of a pair: `a` = the divergence of `M^{ab}` over the
@@ -992,9 +985,15 @@ pub fn pair_divergence(
     xb: [f64; 3],
     ab: f64,
 ) -> Product<6> {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb)),
+        None => (xa, xb),
+    };
+    let out = match *conf {
         Confinement::Free => free::free_pair_divergence(xa, xb, aa, ab, eta),
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             wall::wall_pair_divergence(xa, xb, aa, ab, eta, height)
         }
         Confinement::FreeSurface { height } => {
@@ -1006,9 +1005,10 @@ pub fn pair_divergence(
         Confinement::Slit { height, gap } => {
             slit::slit_pair_divergence(xa, xb, aa, ab, eta, height, gap)
         }
-        Confinement::SideWall { side } => {
-            side_wall::side_wall_pair_divergence(xa, xb, aa, ab, eta, side)
-        }
+    };
+    match turn {
+        Some(t) => t.product(out),
+        None => out,
     }
 }
 /// The lane twin of [`pair_divergence`]: `L::WIDTH` pairs at once, `a` then `b`.
@@ -1021,11 +1021,17 @@ pub fn pair_divergence_lanes<L: lanes::Lane>(
     xb: [L; 3],
     ab: L,
 ) -> [L; 12] {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb)),
+        None => (xa, xb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             free::free_pair_divergence_lanes(xa, xb, aa, ab, L::splat(eta))
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             wall::wall_pair_divergence_lanes(
                 xa,
                 xb,
@@ -1067,16 +1073,10 @@ pub fn pair_divergence_lanes<L: lanes::Lane>(
                 L::splat(gap),
             )
         }
-        Confinement::SideWall { side } => {
-            side_wall::side_wall_pair_divergence_lanes(
-                xa,
-                xb,
-                aa,
-                ab,
-                L::splat(eta),
-                L::splat(side),
-            )
-        }
+    };
+    match turn {
+        Some(t) => t.both::<L, 6, 12>(out),
+        None => out,
     }
 }
 /// [`pair_divergence_lanes`] without the exchange of roles: for pairs in which `b`
@@ -1090,11 +1090,17 @@ pub fn pair_divergence_lanes_ordered<L: lanes::Lane>(
     xb: [L; 3],
     ab: L,
 ) -> [L; 12] {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb)),
+        None => (xa, xb),
+    };
+    let out = match *conf {
         Confinement::Free => {
             free::free_pair_divergence_lanes_ordered(xa, xb, aa, ab, L::splat(eta))
         }
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             wall::wall_pair_divergence_lanes_ordered(
                 xa,
                 xb,
@@ -1136,16 +1142,10 @@ pub fn pair_divergence_lanes_ordered<L: lanes::Lane>(
                 L::splat(gap),
             )
         }
-        Confinement::SideWall { side } => {
-            side_wall::side_wall_pair_divergence_lanes_ordered(
-                xa,
-                xb,
-                aa,
-                ab,
-                L::splat(eta),
-                L::splat(side),
-            )
-        }
+    };
+    match turn {
+        Some(t) => t.both::<L, 6, 12>(out),
+        None => out,
     }
 }
 /// The lane twin of [`pair`] without the exchange of roles: `L::WIDTH` pairs at
@@ -1161,9 +1161,15 @@ pub fn pair_lanes_ordered<L: lanes::Lane>(
     xb: [L; 3],
     ab: L,
 ) -> [L; 121] {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb)),
+        None => (xa, xb),
+    };
+    let out = match *conf {
         Confinement::Free => free::free_pair_lanes_ordered(xa, xb, aa, ab, L::splat(eta)),
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             wall::wall_pair_lanes_ordered(
                 xa,
                 xb,
@@ -1205,24 +1211,26 @@ pub fn pair_lanes_ordered<L: lanes::Lane>(
                 L::splat(gap),
             )
         }
-        Confinement::SideWall { side } => {
-            side_wall::side_wall_pair_lanes_ordered(
-                xa,
-                xb,
-                aa,
-                ab,
-                L::splat(eta),
-                L::splat(side),
-            )
-        }
+    };
+    match turn {
+        Some(t) => t.blocks(out, &crate::blocks::GRAND_FLAT),
+        None => out,
     }
 }
 /// The Brownian drift of one particle's self mobility: `sum_j d/dx_j M^{aa}_{ij}`,
 /// rows U then Omega, force columns.
 pub fn self_divergence(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Drift<6> {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (x,) = match turn {
+        Some(t) => (t.point(x),),
+        None => (x,),
+    };
+    let out = match *conf {
         Confinement::Free => free::free_self_divergence(x, a, eta),
-        Confinement::Wall { height } => wall::wall_self_divergence(x, a, eta, height),
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
+            wall::wall_self_divergence(x, a, eta, height)
+        }
         Confinement::FreeSurface { height } => {
             free_surface::free_surface_self_divergence(x, a, eta, height)
         }
@@ -1232,9 +1240,10 @@ pub fn self_divergence(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Dri
         Confinement::Slit { height, gap } => {
             slit::slit_self_divergence(x, a, eta, height, gap)
         }
-        Confinement::SideWall { side } => {
-            side_wall::side_wall_self_divergence(x, a, eta, side)
-        }
+    };
+    match turn {
+        Some(t) => t.drift(out),
+        None => out,
     }
 }
 /// The derivative of a pair's blocks along a unit vector `v` of their column along
@@ -1250,9 +1259,15 @@ pub fn pair_along(
     ab: f64,
     v: [f64; 3],
 ) -> Product<6> {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb, v) = match turn {
+        Some(t) => (t.point(xa), t.point(xb), t.point(v)),
+        None => (xa, xb, v),
+    };
+    let out = match *conf {
         Confinement::Free => free::free_pair_along(xa, xb, aa, ab, eta, v),
-        Confinement::Wall { height } => {
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
             wall::wall_pair_along(xa, xb, aa, ab, eta, height, v)
         }
         Confinement::FreeSurface { height } => {
@@ -1264,9 +1279,10 @@ pub fn pair_along(
         Confinement::Slit { height, gap } => {
             slit::slit_pair_along(xa, xb, aa, ab, eta, height, gap, v)
         }
-        Confinement::SideWall { side } => {
-            side_wall::side_wall_pair_along(xa, xb, aa, ab, eta, side, v)
-        }
+    };
+    match turn {
+        Some(t) => t.product(out),
+        None => out,
     }
 }
 /// [`pair_along`] for one particle's self mobility, its position moving:
@@ -1278,9 +1294,17 @@ pub fn self_along(
     a: f64,
     v: [f64; 3],
 ) -> Drift<6> {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (x, v) = match turn {
+        Some(t) => (t.point(x), t.point(v)),
+        None => (x, v),
+    };
+    let out = match *conf {
         Confinement::Free => free::free_self_along(x, a, eta, v),
-        Confinement::Wall { height } => wall::wall_self_along(x, a, eta, height, v),
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
+            wall::wall_self_along(x, a, eta, height, v)
+        }
         Confinement::FreeSurface { height } => {
             free_surface::free_surface_self_along(x, a, eta, height, v)
         }
@@ -1290,9 +1314,10 @@ pub fn self_along(
         Confinement::Slit { height, gap } => {
             slit::slit_self_along(x, a, eta, height, gap, v)
         }
-        Confinement::SideWall { side } => {
-            side_wall::side_wall_self_along(x, a, eta, side, v)
-        }
+    };
+    match turn {
+        Some(t) => t.drift(out),
+        None => out,
     }
 }
 /// What every registered confinement declares: name, title, parameters, in the
@@ -1519,6 +1544,17 @@ impl Confinement {
             Confinement::SideWall { .. } => Some([1f64, 0f64, 0f64]),
         }
     }
+    /// The confinement whose kernels serve this one, and the rotation into the
+    /// frame of its planes where this one is that confinement turned (a twin,
+    /// [`crate::turn`]); itself and `None` otherwise.
+    pub fn served(&self) -> (Confinement, Option<&'static crate::turn::Turn>) {
+        match *self {
+            Confinement::SideWall { side } => {
+                (Confinement::Wall { height: side }, Some(&SIDE_WALL_TURN))
+            }
+            other => (other, None),
+        }
+    }
     /// Its parameters' declarations ([`DECLARATIONS`]).
     pub fn declaration(&self) -> &'static crate::declare::Declaration {
         let name = self.name();
@@ -1625,9 +1661,17 @@ pub fn pair(
     xb: [f64; 3],
     ab: f64,
 ) -> Grand {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb)),
+        None => (xa, xb),
+    };
+    let out = match *conf {
         Confinement::Free => free::free_pair(xa, xb, aa, ab, eta),
-        Confinement::Wall { height } => wall::wall_pair(xa, xb, aa, ab, eta, height),
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
+            wall::wall_pair(xa, xb, aa, ab, eta, height)
+        }
         Confinement::FreeSurface { height } => {
             free_surface::free_surface_pair(xa, xb, aa, ab, eta, height)
         }
@@ -1637,9 +1681,10 @@ pub fn pair(
         Confinement::Slit { height, gap } => {
             slit::slit_pair(xa, xb, aa, ab, eta, height, gap)
         }
-        Confinement::SideWall { side } => {
-            side_wall::side_wall_pair(xa, xb, aa, ab, eta, side)
-        }
+    };
+    match turn {
+        Some(t) => t.grand(out),
+        None => out,
     }
 }
 /// `M^{ab}` for two distinct particles of the same radius `a`.
@@ -1650,9 +1695,17 @@ pub fn pair_equal(
     xb: [f64; 3],
     a: f64,
 ) -> Grand {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (xa, xb) = match turn {
+        Some(t) => (t.point(xa), t.point(xb)),
+        None => (xa, xb),
+    };
+    let out = match *conf {
         Confinement::Free => free::free_pair_equal(xa, xb, a, eta),
-        Confinement::Wall { height } => wall::wall_pair_equal(xa, xb, a, eta, height),
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
+            wall::wall_pair_equal(xa, xb, a, eta, height)
+        }
         Confinement::FreeSurface { height } => {
             free_surface::free_surface_pair_equal(xa, xb, a, eta, height)
         }
@@ -1662,16 +1715,25 @@ pub fn pair_equal(
         Confinement::Slit { height, gap } => {
             slit::slit_pair_equal(xa, xb, a, eta, height, gap)
         }
-        Confinement::SideWall { side } => {
-            side_wall::side_wall_pair_equal(xa, xb, a, eta, side)
-        }
+    };
+    match turn {
+        Some(t) => t.grand(out),
+        None => out,
     }
 }
 /// `M^{aa}`: the isolated sphere plus its reflected field (Eq. 17).
 pub fn self_mobility(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Grand {
-    match *conf {
+    let (conf, turn) = conf.served();
+    let conf = &conf;
+    let (x,) = match turn {
+        Some(t) => (t.point(x),),
+        None => (x,),
+    };
+    let out = match *conf {
         Confinement::Free => free::free_self(x, a, eta),
-        Confinement::Wall { height } => wall::wall_self(x, a, eta, height),
+        Confinement::Wall { height } | Confinement::SideWall { side: height } => {
+            wall::wall_self(x, a, eta, height)
+        }
         Confinement::FreeSurface { height } => {
             free_surface::free_surface_self(x, a, eta, height)
         }
@@ -1679,6 +1741,9 @@ pub fn self_mobility(conf: &Confinement, eta: f64, x: [f64; 3], a: f64) -> Grand
             interface::interface_self(x, a, eta, height, lambda)
         }
         Confinement::Slit { height, gap } => slit::slit_self(x, a, eta, height, gap),
-        Confinement::SideWall { side } => side_wall::side_wall_self(x, a, eta, side),
+    };
+    match turn {
+        Some(t) => t.self_grand(out),
+        None => out,
     }
 }

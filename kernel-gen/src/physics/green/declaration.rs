@@ -81,6 +81,20 @@ pub enum DeclarationError {
     /// Two registered Green's functions share a name.
     #[error("two registered Green's functions are named `{0}`: each needs its own `name()`")]
     RepeatedName(&'static str),
+    /// A scene names a confinement that is another one turned (a twin, kernel_gen
+    /// `catalog::twin`): its kernels are the other's, and so are its scenes.
+    #[error(
+        "scene `{scene}`: `{green}` is `{of}` in its planes' frame and is served by `{of}`'s \
+         kernels; write the scene for `{of}` (its F and FT scenes serve `{green}` too)"
+    )]
+    SceneOfTwin {
+        /// The scene's name.
+        scene: String,
+        /// The twin.
+        green: &'static str,
+        /// The confinement that serves it.
+        of: &'static str,
+    },
 }
 
 /// Whether `s` is a lower-case Rust identifier (a letter, then letters, digits and `_`):

@@ -7,8 +7,13 @@
 //! about `e1`), which the lubrication of the slit's upper wall relies on.
 //!
 //! The references are the wall's and free surface's kernels, generated for the plane
-//! `x3 = const` in the world frame; the side wall's are generated from its image written in
-//! its own frame (kernel-gen `green::side_wall`), another expression graph.
+//! `x3 = const` in the world frame. The side wall (kernel-gen `green::side_wall`, its
+//! image written in its own frame) is the wall's twin (kernel-gen `catalog::twin`): its
+//! entry points call the wall's kernels with the points and moments turned by the
+//! generator's frame `Q` (rows `e2, e3, e1`) and turn the blocks back
+//! (`kernels::turn`); the reference turns them by another rotation `R` and its own
+//! strain representation (`stokesian::mobility::rotation`). The side wall's own Green's
+//! function is checked against its double-double direct sum in `generated::stiff_cases`.
 
 use integration_tests::{blocks, norm};
 use kernels::{pair, self_mobility, Confinement, Grand};
@@ -163,5 +168,51 @@ fn a_horizontal_plane_holds_on_either_side() {
             "{} below vs above: largest block difference {worst:.1e} of its norm",
             below.name()
         );
+    }
+}
+
+/// The side wall is served by the wall's kernels at its own offset, turned by its
+/// planes' frame `Q` (rows `e2, e3, e1`), whose strain representation `Q_5` takes the
+/// components of a symmetric traceless `E` to those of `Q E Q^T`: to 2e-15 absolute
+/// for components below 1 (each a sum of five products; `Q_5` is computed from the
+/// basis' rounded `1/sqrt 2`, `1/sqrt 6`, a few ulps off, and so is the reference).
+#[test]
+fn the_side_wall_is_served_by_the_wall_turned() {
+    let (served, turn) = Confinement::SideWall { side: -0.7 }.served();
+    assert_eq!(served, Confinement::Wall { height: -0.7 });
+    let turn = turn.expect("the side wall is a twin of the wall");
+    assert_eq!(turn.q, [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]);
+    for (_, conf) in integration_tests::all_confinements() {
+        let twin = conf.served().1.is_some();
+        assert_eq!(twin, conf.name() == "side_wall", "{}", conf.name());
+    }
+    let basis = kernels::STRAIN_BASIS;
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for _ in 0..10 {
+        let e: [f64; 5] = std::array::from_fn(|_| rng.gen_range(-1.0..1.0));
+        let m: [[f64; 3]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| (0..5).map(|p| e[p] * basis[p][i][j]).sum())
+        });
+        // Q E Q^T, then its components B_p : (Q E Q^T)
+        let qm: [[f64; 3]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                (0..3)
+                    .flat_map(|k| (0..3).map(move |l| (k, l)))
+                    .map(|(k, l)| turn.q[i][k] * m[k][l] * turn.q[j][l])
+                    .sum()
+            })
+        });
+        let want: [f64; 5] = std::array::from_fn(|p| {
+            (0..3)
+                .flat_map(|i| (0..3).map(move |j| (i, j)))
+                .map(|(i, j)| basis[p][i][j] * qm[i][j])
+                .sum()
+        });
+        // the strain part of a grand vector (force, torque, stresslet)
+        let v: [f64; 11] = std::array::from_fn(|i| if i < 6 { 0.0 } else { e[i - 6] });
+        let got = turn.moments(v);
+        for (g, w) in got[6..].iter().zip(&want) {
+            approx::assert_abs_diff_eq!(g, w, epsilon = 2e-15);
+        }
     }
 }
