@@ -91,9 +91,10 @@ class System:
     allow_overlap: ``True`` is ``overlap="far"`` (give one of the two).
     box: ``(Lx, Ly, Lz)``: a triply periodic box of unbounded fluid (``confinement=
         "free"``), the mobility summed over every periodic image by Ewald summation
-        (F and FT, Brownian dynamics too: the drift is zero, positions unwrapped; FTS and
-        a trap raise). ``(Lx, Ly)``: periodic along a wall (``confinement="wall"``),
-        unbounded above it (F and FT; Brownian dynamics with the generated drift, each
+        (F, FT and FTS, the FTS product by direct sums; Brownian dynamics too: the drift
+        is zero, positions unwrapped; the lubricated FTS resistance and a trap raise).
+        ``(Lx, Ly)``: periodic along a wall (``confinement="wall"``), unbounded above it
+        (F and FT, FTS raises; Brownian dynamics with the generated drift, each
         sphere's height derivative of its periodic self mobility). A sphere overlapping its
         own image or another's raises.
     periodic_tolerance: relative truncation error of the periodic sums (default 1e-10).

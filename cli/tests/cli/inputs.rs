@@ -923,6 +923,16 @@ fn a_periodic_box() {
     assert_eq!(m.shape(), (12, 12));
     assert_eq!(m, want);
     fs::remove_file(&out).unwrap();
+    // the stresslets too, in the triply periodic box
+    let o = run_mobility("free", "FTS", &p, &out, &["--box", "10,11,12"]);
+    assert_ok(&o);
+    let want = System::new(Confinement::Free, 1.0, boxed_spheres(), false)
+        .unwrap()
+        .periodic(stokesian::PeriodicBox::new([10.0, 11.0, 12.0]))
+        .unwrap()
+        .mobility(Moments::FTS);
+    assert_eq!(read_npy(&out), want);
+    fs::remove_file(&out).unwrap();
     for (conf, moments, b, message) in [
         (
             "free",
@@ -943,10 +953,10 @@ fn a_periodic_box() {
             "--box: a periodic box is not available near a wall with three lengths",
         ),
         (
-            "free",
+            "wall",
             "FTS",
-            "10,11,12",
-            "--box: the stresslets (FTS): not available in a periodic box",
+            "10,11",
+            "--box: the stresslets (FTS) near a periodic wall: not available in a periodic box",
         ),
         (
             "free",

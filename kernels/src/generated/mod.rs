@@ -40,6 +40,8 @@ pub mod scene_slit_ft;
 pub mod scene_ewald_real_f;
 /// Kernels of the scene `ewald_real_ft` (`scenes/`) of the building block `ewald_real` (not a confinement: kernel_gen::physics::green::for_each_building_block).
 pub mod scene_ewald_real_ft;
+/// Kernels of the scene `ewald_real_fts` (`scenes/`) of the building block `ewald_real` (not a confinement: kernel_gen::physics::green::for_each_building_block).
+pub mod scene_ewald_real_fts;
 /// Kernels of the scene `ewald_wall_drift` (`scenes/`) of the building block `ewald_wall` (not a confinement: kernel_gen::physics::green::for_each_building_block).
 pub mod scene_ewald_wall_drift;
 /// Kernels of the scene `ewald_wall_f` (`scenes/`) of the building block `ewald_wall` (not a confinement: kernel_gen::physics::green::for_each_building_block).

@@ -26,6 +26,10 @@
 //! `r = 0` (the generated self kernel), the real images `n != 0` and the reciprocal sum
 //! at `r = 0`.
 //!
+//! The FTS blocks ([`Ewald::grand`]) take the generated FTS kernel of the real part and
+//! the reciprocal symbols of every block from the Faxén functionals at both ends
+//! ([`Ewald::reciprocal_grand`]); F and FT are their leading blocks, written out above.
+//!
 //! Truncation: both sums' errors fall like `exp(-p^2)` times a power of `p`, with `p = xi
 //! r_c` in real space and `p = k_c/(2 xi)` in reciprocal space (the leading real term is
 //! `(4 xi^3 r^2/sqrt(pi)) exp(-xi^2 r^2)`, the reciprocal `(k^4/(8 xi^4)) exp(-k^2/(4
@@ -36,7 +40,10 @@
 
 use crate::system::input::Particle;
 use kernels::generated::scene_ewald_real_ft::{ewald_real_ft_pair, ewald_real_ft_self};
-use kernels::BlocksFT;
+use kernels::generated::scene_ewald_real_fts::{ewald_real_fts_pair, ewald_real_fts_self};
+use kernels::{BlocksFT, Grand, STRAIN_BASIS};
+use nalgebra::SMatrix;
+use rustfft::num_complex::Complex64;
 use std::f64::consts::PI;
 
 /// The split and the truncation of one box at one tolerance.
@@ -173,6 +180,74 @@ impl Ewald {
         out
     }
 
+    /// The FTS blocks `M^{ab}` (all nine) of spheres `a` (field) and `b` (source) summed
+    /// over every periodic image of `b`, as [`Ewald::blocks`]: the real part from the
+    /// generated FTS kernels (`scene_ewald_real_fts`), the reciprocal part
+    /// [`Ewald::reciprocal_grand`].
+    pub fn grand(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> Grand {
+        let sigma = 1.0 / self.xi;
+        let r = if same {
+            [0.0; 3]
+        } else {
+            self.minimum_image(a.x, b.x)
+        };
+        let mut out = if same {
+            ewald_real_fts_self(a.x, a.a, eta, sigma).matrix()
+        } else {
+            SMatrix::zeros()
+        };
+        for ri in self.images(r, same) {
+            let xb = std::array::from_fn(|d| a.x[d] - ri[d]);
+            out += ewald_real_fts_pair(a.x, xb, a.a, b.a, eta, sigma).matrix();
+        }
+        self.reciprocal_grand(r, a.a, b.a, eta, &mut out);
+        Grand::from_matrix(&out)
+    }
+
+    /// The reciprocal sum of the FTS blocks at separation `r = x_a - x_b`, added to
+    /// `out` (the 11 x 11 grand block). Each block is a field functional at `x_a` times a
+    /// source functional at `x_b` of the Stokeslet (Eqs. 8, 12-15), and in Fourier space
+    /// `d/dx_a -> i k`, `d/dx_b -> -i k`: with `G(k) = phi(k) (I - khat khat)/(eta
+    /// k^2)`,
+    ///
+    /// `M(k) = A(k) G(k) A(-k)^T`, rows of `A(k)` (response or moment `alpha`, index `i`
+    /// of the velocity): `U_p: f delta_pi`; `Omega_m: (1/2) eps_mni i k_n`; `E_p: g
+    /// sum_q B_p,iq i k_q` (the strain basis `B_p`, `STRAIN_BASIS`), with `f = 1 - a^2
+    /// k^2/6`, `g = 1 - a^2 k^2/10` of the sphere at that end. The source's functionals
+    /// are the field's at `-k` (the same operators, Eq. 8 against Eqs. 12-15), which is
+    /// reciprocity. `M(-k)` is the conjugate of `M(k)`, so a pair `+-k` adds `2 Re(M(k)
+    /// exp(i k.r))`. F and FT are the leading blocks of the same sum ([`Ewald::reciprocal`]
+    /// writes them out).
+    pub fn reciprocal_grand(
+        &self,
+        r: [f64; 3],
+        aa: f64,
+        ab: f64,
+        eta: f64,
+        out: &mut SMatrix<f64, 11, 11>,
+    ) {
+        for w in &self.waves {
+            let a = functionals(w.k, w.k2, aa);
+            let b = functionals(w.k, w.k2, ab);
+            let kr = w.k[0] * r[0] + w.k[1] * r[1] + w.k[2] * r[2];
+            // 2 G(k)/V exp(i k.r), the factor 2 of the pair +-k in `w.g`
+            let phase = Complex64::from_polar(w.g / eta, kr);
+            let p: [[f64; 3]; 3] = std::array::from_fn(|i| {
+                std::array::from_fn(|j| f64::from(u8::from(i == j)) - w.k[i] * w.k[j] / w.k2)
+            });
+            // A(k) P, then times A(-k)^T = conj(A(k))^T
+            let ap: [[Complex64; 3]; 11] = std::array::from_fn(|al| {
+                std::array::from_fn(|j| (0..3).map(|i| a[al][i] * p[i][j]).sum())
+            });
+            for al in 0..11 {
+                for be in 0..11 {
+                    let m: Complex64 = (0..3).map(|j| ap[al][j] * b[be][j].conj()).sum();
+                    out[(al, be)] += (m * phase).re;
+                }
+            }
+        }
+    }
+
     /// The number of wave vectors summed (half of them, each with its opposite).
     pub fn waves(&self) -> usize {
         self.waves.len()
@@ -188,14 +263,20 @@ impl Ewald {
         mut real: impl FnMut([f64; 3]) -> BlocksFT,
         out: &mut BlocksFT,
     ) {
-        for s in &self.shifts {
-            let ri = [r[0] + s[0], r[1] + s[1], r[2] + s[2]];
-            let d2 = norm2(&ri);
-            if d2 > self.r_cut * self.r_cut || (skip_origin && d2 == 0.0) {
-                continue;
-            }
+        for ri in self.images(r, skip_origin) {
             *out += &real(ri);
         }
+    }
+
+    /// The separations `r + n L` of the images within `r_c` of the minimum-image
+    /// separation `r`, in the fixed order of the lattice vectors (the origin's own left
+    /// out when `skip_origin`).
+    fn images(&self, r: [f64; 3], skip_origin: bool) -> impl Iterator<Item = [f64; 3]> + '_ {
+        self.shifts.iter().filter_map(move |s| {
+            let ri = [r[0] + s[0], r[1] + s[1], r[2] + s[2]];
+            let d2 = norm2(&ri);
+            (d2 <= self.r_cut * self.r_cut && !(skip_origin && d2 == 0.0)).then_some(ri)
+        })
     }
 
     /// The reciprocal sum of the FT blocks of `M^{ab}` at separation `r = x_a - x_b`,
@@ -234,6 +315,33 @@ impl Ewald {
             }
         }
     }
+}
+
+/// The rows of `A(k)` of [`Ewald::reciprocal_grand`] for a sphere of radius `a`: the
+/// Faxén functionals of `U`, `Omega` and `E` (grand order) on a velocity `exp(i k.x)
+/// e_i`, index `i` last.
+fn functionals(k: [f64; 3], k2: f64, a: f64) -> [[Complex64; 3]; 11] {
+    let (f, g) = (1.0 - a * a * k2 / 6.0, 1.0 - a * a * k2 / 10.0);
+    let ik = |n: usize| Complex64::new(0.0, k[n]);
+    std::array::from_fn(|al| {
+        std::array::from_fn(|i| match al {
+            0..3 => Complex64::from(if al == i { f } else { 0.0 }),
+            3..6 => {
+                // (1/2) eps_m n i (i k_n)
+                let m = al - 3;
+                (0..3).map(|n| 0.5 * levi_civita(m, n, i) * ik(n)).sum()
+            }
+            _ => {
+                let basis = &STRAIN_BASIS[al - 6];
+                (0..3).map(|q| g * basis[i][q] * ik(q)).sum()
+            }
+        })
+    })
+}
+
+/// `eps_ijk`, right-handed.
+fn levi_civita(i: usize, j: usize, k: usize) -> f64 {
+    ((i as f64 - j as f64) * (j as f64 - k as f64) * (k as f64 - i as f64)) / 2.0
 }
 
 fn norm2(v: &[f64; 3]) -> f64 {

@@ -19,8 +19,10 @@
 //! lattice, and the far field of every image is already in the periodic mobility.
 //!
 //! Not available in a periodic box (typed errors, or panics of the infallible dense
-//! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS), the
-//! harmonic trap of Brownian dynamics (not a periodic force), the
+//! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS) near a
+//! periodic wall and the lubricated resistance with stresslets (in the triply periodic
+//! box the FTS mobility, its blocks, products and velocities are the direct sums of
+//! [`Ewald::grand`]), the harmonic trap of Brownian dynamics (not a periodic force), the
 //! overlap forms (overlapping spheres are refused, by their nearest images), the
 //! single-precision product (the periodic product is in `f64` whatever
 //! [`crate::Precision`] asks), and every confinement but free space (three lengths) and
@@ -264,6 +266,35 @@ impl Periodic {
             Lattice::Wall(w) => w.blocks(eta, &a, &b, p == q),
         }
     }
+
+    /// The block `M^{pq}` truncated to `moments`, row-major: [`Periodic::blocks`] at F
+    /// and FT, the triply periodic [`Ewald::grand`] at FTS (near a periodic wall FTS is
+    /// refused by [`System::check_periodic`] before any block is asked for).
+    pub(crate) fn block(
+        &self,
+        eta: f64,
+        ps: &[Particle],
+        p: usize,
+        q: usize,
+        moments: Moments,
+    ) -> Vec<f64> {
+        let k = moments.per_particle();
+        let m: Vec<f64> = match (&self.lattice, moments) {
+            (Lattice::Triply(e), Moments::FTS) => {
+                let wrap = |s: &Particle| Particle {
+                    x: self.bx.wrap(s.x),
+                    a: s.a,
+                };
+                let g = e.grand(eta, &wrap(&ps[p]), &wrap(&ps[q]), p == q).matrix();
+                return (0..k * k).map(|e| g[(e / k, e % k)]).collect();
+            }
+            (Lattice::Wall(_), Moments::FTS) => {
+                unreachable!("FTS near a periodic wall is refused by System::check_periodic")
+            }
+            _ => self.blocks(eta, ps, p, q).matrix().concat(),
+        };
+        (0..k * k).map(|e| m[(e / k) * 6 + e % k]).collect()
+    }
 }
 
 /// The refusal of a slit: its Green's function superposes two walls'.
@@ -370,25 +401,29 @@ impl System {
         self.periodic_ref().map(|p| p.bx)
     }
 
-    /// Whether `what` at `moments` is available: in a periodic box, not the stresslets.
+    /// Whether `moments` are available in this system's box: near a periodic wall, not
+    /// the stresslets.
     pub fn check_periodic(&self, moments: Moments) -> Result<(), PeriodicError> {
-        match (self.periodic_ref(), moments) {
-            (Some(_), Moments::FTS) => Err(PeriodicError::NotAvailable("the stresslets (FTS)")),
+        match (self.periodic_ref().map(|p| &p.lattice), moments) {
+            (Some(Lattice::Wall(_)), Moments::FTS) => Err(PeriodicError::NotAvailable(
+                "the stresslets (FTS) near a periodic wall",
+            )),
             _ => Ok(()),
         }
     }
 
-    /// The FT blocks `M^{ab}`, `b >= a`, row by row in order of `a`: `ROWS` rows at a
-    /// time evaluated in parallel (each block on its own, so the bits do not depend on
-    /// the threads), then handed to `f(a, [M^{aa}, M^{a,a+1}, ...])`.
-    fn block_rows(&self, p: &Periodic, mut f: impl FnMut(usize, &[[[f64; 6]; 6]])) {
+    /// The blocks `M^{ab}` truncated to `moments` (row-major), `b >= a`, row by row in
+    /// order of `a`: `ROWS` rows at a time evaluated in parallel (each block on its own,
+    /// so the bits do not depend on the threads), then handed to `f(a, [M^{aa},
+    /// M^{a,a+1}, ...])`.
+    fn block_rows(&self, p: &Periodic, moments: Moments, mut f: impl FnMut(usize, &[Vec<f64>])) {
         const ROWS: usize = 16;
         let n = self.len();
         let (ps, eta) = (self.particles(), self.viscosity());
         for start in (0..n).step_by(ROWS) {
-            let rows: Vec<Vec<[[f64; 6]; 6]>> = (start..(start + ROWS).min(n))
+            let rows: Vec<Vec<Vec<f64>>> = (start..(start + ROWS).min(n))
                 .into_par_iter()
-                .map(|a| (a..n).map(|b| p.blocks(eta, ps, a, b).matrix()).collect())
+                .map(|a| (a..n).map(|b| p.block(eta, ps, a, b, moments)).collect())
                 .collect();
             for (k, row) in rows.iter().enumerate() {
                 f(start + k, row);
@@ -396,29 +431,29 @@ impl System {
         }
     }
 
-    /// The periodic dense mobility at F or FT, column-major into `out` (every entry
-    /// written): each unordered pair once, `M^{ba} = (M^{ab})^T`.
+    /// The periodic dense mobility, column-major into `out` (every entry written): each
+    /// unordered pair once, `M^{ba} = (M^{ab})^T`.
     pub(crate) fn periodic_mobility_into(&self, p: &Periodic, moments: Moments, out: &mut [f64]) {
         let n = self.len();
         let k = moments.per_particle();
         let dim = k * n;
         let parts = moments.parts();
         let g = |a: usize, i: usize| crate::system::global(parts, n, a, i);
-        self.block_rows(p, |a, row| {
+        self.block_rows(p, moments, |a, row| {
             for (db, m) in row.iter().enumerate() {
                 let b = a + db;
                 for i in 0..k {
                     for j in 0..k {
                         let (gi, gj) = (g(a, i), g(b, j));
-                        out[gi + dim * gj] = m[i][j];
-                        out[gj + dim * gi] = m[i][j];
+                        out[gi + dim * gj] = m[i * k + j];
+                        out[gj + dim * gi] = m[i * k + j];
                     }
                 }
             }
         });
     }
 
-    /// The periodic block `M^{ab}` truncated to F or FT, row-major.
+    /// The periodic block `M^{ab}` truncated to `moments`, row-major.
     pub(crate) fn periodic_block(
         &self,
         p: &Periodic,
@@ -426,16 +461,44 @@ impl System {
         a: usize,
         b: usize,
     ) -> Vec<f64> {
-        let k = moments.per_particle();
-        let m = p.blocks(self.viscosity(), self.particles(), a, b).matrix();
-        (0..k * k).map(|e| m[e / k][e % k]).collect()
+        p.block(self.viscosity(), self.particles(), a, b, moments)
     }
 
-    /// The periodic product `M x` at F or FT, moment-major, to the box's tolerance: in a
+    /// The triply periodic FTS product `M x` from the direct sums of each pair's blocks
+    /// (`O(N^2)` pairs, each over its images and wave vectors: the fast product has F
+    /// and FT only), each unordered pair once; the bits do not depend on the threads.
+    fn periodic_dense_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
+        let n = self.len();
+        let k = moments.per_particle();
+        let parts = moments.parts();
+        let g = |a: usize, i: usize| crate::system::global(parts, n, a, i);
+        let mut y = vec![0.0; k * n];
+        self.block_rows(p, moments, |a, row| {
+            for (db, m) in row.iter().enumerate() {
+                let b = a + db;
+                for i in 0..k {
+                    for j in 0..k {
+                        let v = m[i * k + j];
+                        y[g(a, i)] += v * x[g(b, j)];
+                        if b != a {
+                            y[g(b, j)] += v * x[g(a, i)];
+                        }
+                    }
+                }
+            }
+        });
+        y
+    }
+
+    /// The periodic product `M x`, moment-major, to the box's tolerance: at FTS the direct
+    /// sums ([`System::periodic_dense_apply`]); at F and FT, in a
     /// triply periodic box the fast product ([`product`]: linked cells and spectral
     /// Ewald), near a wall its twin ([`wall_product`]: linked cells, spectral Ewald with
     /// the image sources, the mode `k_par = 0` interpolated in the heights).
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
+        if moments == Moments::FTS {
+            return self.periodic_dense_apply(p, moments, x);
+        }
         let tol = p.bx.tolerance;
         let ps: Vec<Particle> = (self.particles().iter())
             .map(|s| Particle {

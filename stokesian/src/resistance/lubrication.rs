@@ -512,6 +512,13 @@ impl System {
             rpy.refuse("lubrication")?;
         }
         self.check_periodic(moments)?;
+        if self.periodic_box().is_some() && moments == Moments::FTS {
+            // the pair corrections of the images are verified at FT only
+            return Err(crate::periodic::PeriodicError::NotAvailable(
+                "the lubricated resistance with stresslets (FTS)",
+            )
+            .into());
+        }
         let parts = moments.parts();
         let n = self.len();
         let eta = self.viscosity();

@@ -212,3 +212,86 @@ fn ewald_sum_equals_the_extrapolated_sum_over_replicas() {
         assert!(worst < 1e-11 * scale, "same {same}: {worst:e} of {scale:e}");
     }
 }
+
+/// The largest absolute entry of an 11 x 11 grand block.
+fn largest_grand(m: &nalgebra::SMatrix<f64, 11, 11>) -> f64 {
+    m.iter().fold(0.0f64, |acc, v| acc.max(v.abs()))
+}
+
+/// FTS: the sum does not depend on the split parameter. The real part is the generated
+/// FTS kernel of the screened Stokeslet (`scene_ewald_real_fts`), the reciprocal part the
+/// Faxén functionals in Fourier space (`Ewald::reciprocal_grand`); moving `xi` moves
+/// weight between them, so any error of a symbol (a sign, a factor, a Faxén term) shows
+/// as a change with `xi` of every block it touches (a 1% change of the strain's Faxén
+/// factor, `g + 0.01 k^2`, moves the pair by 2.4e-3 of its largest entry). Measured:
+/// 5e-15 of the largest entry at tolerance 1e-13 (pairs both ways, unequal radii, and
+/// a self block; a box that is not a cube); 1e-12, the sums' own truncation with room,
+/// as for F and FT.
+#[test]
+fn the_split_parameter_changes_nothing_fts() {
+    let (eta, lengths) = (1.1, [9.0, 11.0, 13.0]);
+    let (a, b) = (
+        Particle {
+            x: [0.4, 8.7, 2.0],
+            a: 1.0,
+        },
+        Particle {
+            x: [3.1, 1.2, 11.5],
+            a: 0.6,
+        },
+    );
+    let volume: f64 = lengths.iter().product();
+    let xi0 = PI.sqrt() / volume.cbrt();
+    for (p, q, same) in [(&a, &b, false), (&b, &a, false), (&a, &a, true)] {
+        let sums: Vec<_> = [0.6, 1.0, 1.5]
+            .iter()
+            .map(|f| {
+                Ewald::new(lengths, 1e-13, Some(f * xi0))
+                    .grand(eta, p, q, same)
+                    .matrix()
+            })
+            .collect();
+        let scale = largest_grand(&sums[1]);
+        for s in &sums {
+            let d = largest_grand(&(s - sums[1]));
+            println!("same {same}: {d:e} of {scale:e}");
+            assert!(d < 1e-12 * scale, "{d:e} of {scale:e} (same: {same})");
+        }
+    }
+}
+
+/// FTS: reciprocity, `M^{ba} = (M^{ab})^T` (the pair summed from either end: the source
+/// functionals are the field's at `-k`) and a symmetric self block; and its force and
+/// torque blocks are the FT sums (`Ewald::blocks`: another real-space kernel, the
+/// symbols written out), to 1e-13 of the largest entry (roundings of different sums).
+#[test]
+fn fts_sums_are_reciprocal_and_contain_the_ft_sums() {
+    let (eta, lengths) = (0.8, [10.0, 9.0, 12.0]);
+    let (a, b) = (
+        Particle {
+            x: [1.0, 2.0, 3.0],
+            a: 1.2,
+        },
+        Particle {
+            x: [4.0, 0.5, 9.0],
+            a: 0.5,
+        },
+    );
+    let ewald = Ewald::new(lengths, 1e-12, None);
+    let ab = ewald.grand(eta, &a, &b, false).matrix();
+    let ba = ewald.grand(eta, &b, &a, false).matrix();
+    let aa = ewald.grand(eta, &a, &a, true).matrix();
+    let scale = largest_grand(&ab);
+    assert!(largest_grand(&(ab - ba.transpose())) < 1e-13 * scale);
+    assert!(largest_grand(&(aa - aa.transpose())) < 1e-13 * largest_grand(&aa));
+    for (p, q, same, m) in [(&a, &b, false, &ab), (&a, &a, true, &aa)] {
+        let ft = ewald.blocks(eta, p, q, same).matrix();
+        let scale = largest_grand(m);
+        for i in 0..6 {
+            for j in 0..6 {
+                let d = (ft[i][j] - m[(i, j)]).abs();
+                assert!(d < 1e-13 * scale, "[{i}][{j}] {d:e} of {scale:e}");
+            }
+        }
+    }
+}

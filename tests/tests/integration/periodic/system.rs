@@ -29,12 +29,12 @@ fn max_abs(m: &DMatrix<f64>) -> f64 {
 
 /// Symmetric (to the rounding of the two orders of evaluation: each pair is evaluated
 /// once, so exactly), positive definite, the blocks the matrix's, the product (the fast
-/// one) the matrix's to the box's tolerance.
+/// one at F and FT, the direct sums at FTS) the matrix's to the box's tolerance.
 #[test]
 fn dense_product_and_blocks_agree_and_are_positive_definite() {
     let lengths = [8.0, 9.0, 10.0];
     let s = periodic(spheres(1, 12, lengths, None), lengths);
-    for moments in [Moments::F, Moments::FT] {
+    for moments in [Moments::F, Moments::FT, Moments::FTS] {
         let m = s.mobility(moments);
         assert_eq!(m, m.transpose());
         assert!(check_spd(&m).positive_definite, "{moments:?}");
@@ -53,12 +53,10 @@ fn dense_product_and_blocks_agree_and_are_positive_definite() {
         for i in 0..k {
             for j in 0..k {
                 // the moment-major index of component i of particle a
-                let g = |a: usize, i: usize| {
-                    if i < 3 {
-                        3 * a + i
-                    } else {
-                        3 * n + 3 * a + i - 3
-                    }
+                let g = |a: usize, i: usize| match i {
+                    0..3 => 3 * a + i,
+                    3..6 => 3 * n + 3 * a + i - 3,
+                    _ => 6 * n + 5 * a + i - 6,
                 };
                 assert_eq!(b[(i, j)], m[(g(3, i), g(7, j))]);
             }
@@ -86,27 +84,35 @@ fn a_box_length_changes_nothing() {
     assert_eq!(s.mobility(Moments::FT), t.mobility(Moments::FT));
     let x: Vec<f64> = (0..36).map(|i| (i as f64 * 0.37).sin()).collect();
     assert_eq!(s.apply(Moments::FT, &x), t.apply(Moments::FT, &x));
+    assert_eq!(s.mobility(Moments::FTS), t.mobility(Moments::FTS));
+    let x: Vec<f64> = (0..66).map(|i| (i as f64 * 0.37).sin()).collect();
+    assert_eq!(s.apply(Moments::FTS, &x), t.apply(Moments::FTS, &x));
 }
 
 /// In a large box the periodic mobility tends to the open one: the self mobility's
 /// leading correction is Hasimoto's `-2.8373 a/L` (relative to the isolated sphere), the
-/// pairs' `O(1/L)` too; `L M_periodic - L M_open` converges as `L` doubles.
+/// pairs' `O(1/L)` too; `L M_periodic - L M_open` converges as `L` doubles, at F and at
+/// FTS (every block).
 #[test]
 fn a_large_box_tends_to_the_open_mobility() {
     let ps = vec![p([0.0, 0.0, 0.0], 1.0), p([3.0, 1.0, -0.5], 0.8)];
-    let open = System::new(Confinement::Free, ETA, ps.clone(), false)
-        .unwrap()
-        .mobility(Moments::F);
-    let scaled: Vec<DMatrix<f64>> = [50.0, 100.0, 200.0]
-        .iter()
-        .map(|&l| (periodic(ps.clone(), [l; 3]).mobility(Moments::F) - &open) * l)
-        .collect();
-    let (d1, d2) = (
-        max_abs(&(&scaled[1] - &scaled[0])),
-        max_abs(&(&scaled[2] - &scaled[1])),
-    );
-    // the next term is O(1/L): halving L's inverse halves the change
-    assert!(d2 < 0.6 * d1, "{d1:e} {d2:e}");
+    let open = System::new(Confinement::Free, ETA, ps.clone(), false).unwrap();
+    let mut scaled = Vec::new();
+    for moments in [Moments::F, Moments::FTS] {
+        let open = open.mobility(moments);
+        let by_l: Vec<DMatrix<f64>> = [50.0, 100.0, 200.0]
+            .iter()
+            .map(|&l| (periodic(ps.clone(), [l; 3]).mobility(moments) - &open) * l)
+            .collect();
+        let (d1, d2) = (
+            max_abs(&(&by_l[1] - &by_l[0])),
+            max_abs(&(&by_l[2] - &by_l[1])),
+        );
+        // the next term is O(1/L): halving L's inverse halves the change
+        assert!(d2 < 0.6 * d1, "{moments:?}: {d1:e} {d2:e}");
+        scaled.push(by_l);
+    }
+    let scaled = &scaled[0];
     // and the self entry is Hasimoto's, to its next term (4 pi/3)(a/L)^3 L (4e-5 here)
     let want = -2.8372974794806 / (6.0 * std::f64::consts::PI * ETA);
     assert!(
@@ -186,22 +192,34 @@ fn bad_boxes_and_what_a_box_cannot_do_are_refused() {
             .unwrap_err();
         assert!(matches!(e, PeriodicError::Confinement { .. }), "{e}");
     }
-    // FTS (lubrication too) and Brownian dynamics in a trap are not available
+    // FTS is available in the triply periodic box but for the lubricated resistance;
+    // near a periodic wall it is not; nor is Brownian dynamics in a trap
     let s = free().periodic(PeriodicBox::new([10.0; 3])).unwrap();
     assert!(s.check_periodic(Moments::FT).is_ok());
-    assert!(matches!(
-        s.check_periodic(Moments::FTS),
-        Err(PeriodicError::NotAvailable(_))
-    ));
+    assert!(s.check_periodic(Moments::FTS).is_ok());
     let ft = [0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-    let v = s
-        .velocities(Moments::FTS, &ft, &[0.0; 5], None)
-        .unwrap_err();
-    assert!(matches!(v, VelocityError::Periodic(_)), "{v}");
+    assert!(s.velocities(Moments::FTS, &ft, &[0.0; 5], None).is_ok());
     let r = s
         .resistance(Moments::FTS, &Lubrication::default())
         .unwrap_err();
     assert!(matches!(r, ResistanceError::Periodic(_)), "{r}");
+    let near_wall = System::new(
+        Confinement::Wall { height: 0.0 },
+        ETA,
+        vec![p([1.0, 2.0, 3.0], 1.0), p([5.0, 2.0, 4.0], 1.0)],
+        false,
+    )
+    .unwrap()
+    .periodic(PeriodicBox::lateral([10.0, 10.0]))
+    .unwrap();
+    assert!(matches!(
+        near_wall.check_periodic(Moments::FTS),
+        Err(PeriodicError::NotAvailable(_))
+    ));
+    let v = near_wall
+        .velocities(Moments::FTS, &ft, &[0.0; 5], None)
+        .unwrap_err();
+    assert!(matches!(v, VelocityError::Periodic(_)), "{v}");
     let bd = Brownian {
         kt: 1.0,
         dt: 1e-3,
