@@ -38,6 +38,7 @@
 mod cells;
 pub mod ewald;
 mod fft;
+mod low_modes;
 mod plane_mode;
 mod product;
 mod real;
