@@ -33,7 +33,9 @@
 //! each interpolate once.
 //!
 //! A mode and its opposite are conjugate (real sources): one of each pair is summed,
-//! twice its real part taken. Every sum is in a fixed order (the spheres in their order
+//! twice its real part taken. The lateral phases `exp(i k_par . x)`, `k_par = 2 pi (n1/Lx,
+//! n2/Ly)`, are products of the powers of `exp(2 pi i x_d/L_d)` (one sine and cosine per
+//! sphere and axis), and the moments of a block of modes are accumulated together. Every sum is in a fixed order (the spheres in their order
 //! within a mode, the modes in order within a sphere): the bits do not depend on the
 //! number of threads.
 
@@ -47,15 +49,33 @@ use std::f64::consts::PI;
 
 /// The low lateral modes of one split and set of heights.
 pub(crate) struct LowModes {
-    /// One of each pair `+-k_par` with `|k_par| < K1`, and the height `Lz'` of its sum in
-    /// `k_z`.
-    modes: Vec<([f64; 2], f64)>,
+    /// One of each pair `+-k_par` with `|k_par| < K1`.
+    modes: Vec<Mode>,
+    /// The largest `|n_d|` of the modes.
+    nmax: [usize; 2],
+    lengths: [f64; 2],
     nodes: Nodes,
     k_cut: f64,
     xi: f64,
-    area: f64,
     /// The wall's plane `x3 = height`.
     height: f64,
+}
+
+/// One low mode: `k_par = 2 pi (n1/Lx, n2/Ly)` and the height `Lz'` of its sum in `k_z`.
+struct Mode {
+    n: [i64; 2],
+    k: [f64; 2],
+    lz: f64,
+}
+
+/// The modes' moments accumulated together, this many at a time (each sphere's
+/// weighted fields read once per block).
+const BLOCK: usize = 8;
+
+/// `exp(i k_par . x)` of mode `m` from the powers of `x` ([`LowModes::powers`]).
+fn phase(m: &Mode, powers: &[Vec<Complex64>; 2]) -> Complex64 {
+    let y = powers[1][m.n[1].unsigned_abs() as usize];
+    powers[0][m.n[0].unsigned_abs() as usize] * if m.n[1] < 0 { y.conj() } else { y }
 }
 
 /// The modes `0 < |k_par| < k_low` (and `<= k_cut`) of the box `lengths`, one of each pair
@@ -106,21 +126,51 @@ impl LowModes {
         let (lo, hi) = interval(lo, hi);
         let s = 2.0 * hi;
         let (k_cut, _) = wall.reciprocal_box(s);
-        let modes = low_waves(wall.lengths, k_cut, k_low)
+        let lengths = wall.lengths;
+        let modes: Vec<Mode> = low_waves(lengths, k_cut, k_low)
             .map(|k| {
                 let kp = (k[0] * k[0] + k[1] * k[1]).sqrt();
-                (k, reciprocal_box(wall.xi, wall.tolerance, s, kp).1)
+                Mode {
+                    n: std::array::from_fn(|d| (k[d] * lengths[d] / (2.0 * PI)).round() as i64),
+                    k,
+                    lz: reciprocal_box(wall.xi, wall.tolerance, s, kp).1,
+                }
             })
             .collect();
+        let nmax = std::array::from_fn(|d| {
+            modes
+                .iter()
+                .map(|m| m.n[d].unsigned_abs() as usize)
+                .max()
+                .unwrap_or(0)
+        });
         let nodes = Nodes::new(node_count(wall.xi, wall.tolerance, k_cut, lo, hi), lo, hi);
         LowModes {
             modes,
+            nmax,
+            lengths,
             nodes,
             k_cut,
             xi: wall.xi,
-            area: wall.lengths[0] * wall.lengths[1],
             height: wall.height,
         }
+    }
+
+    /// The powers `exp(i n 2 pi x_d/L_d)`, `0 <= n <= nmax_d`, of position `x`, along `x`
+    /// and along `y`: every mode's lateral phase is a product of two of them.
+    fn powers(&self, x: [f64; 3]) -> [Vec<Complex64>; 2] {
+        std::array::from_fn(|d| {
+            let (s, c) = (2.0 * PI * x[d] / self.lengths[d]).sin_cos();
+            let e = Complex64::new(c, s);
+            let mut z = Complex64::new(1.0, 0.0);
+            (0..=self.nmax[d])
+                .map(|_| {
+                    let v = z;
+                    z *= e;
+                    v
+                })
+                .collect()
+        })
     }
 
     /// Adds the modes' part of the field point's fields ([`Layout::symbol`]) of spheres
@@ -152,54 +202,56 @@ impl LowModes {
                     .collect()
             })
             .collect();
+        let powers: Vec<[Vec<Complex64>; 2]> = ps.par_iter().map(|p| self.powers(p.x)).collect();
+        // Q_j = sum_b exp(-i k_par . x_b) l_j(h_b) q_b, BLOCK modes at a time
+        let moments: Vec<Vec<Vec<Complex64>>> = self
+            .modes
+            .par_chunks(BLOCK)
+            .map(|block| {
+                let mut q = vec![vec![Complex64::default(); weighted[0].len()]; block.len()];
+                for (pw, w) in powers.iter().zip(&weighted) {
+                    for (m, qm) in block.iter().zip(q.iter_mut()) {
+                        let e = phase(m, pw).conj();
+                        for (qv, &wv) in qm.iter_mut().zip(w) {
+                            *qv += e * wv;
+                        }
+                    }
+                }
+                q
+            })
+            .collect();
+        let moments: Vec<Vec<Complex64>> = moments.into_iter().flatten().collect();
         let nodal: Vec<Vec<Complex64>> = self
             .modes
             .par_iter()
-            .map(|&(k, lz)| self.mode(eta, layout, k, lz, ps, &weighted))
+            .zip(&moments)
+            .map(|(m, q)| self.mode(eta, layout, m, q))
             .collect();
         let kn = self.nodes.t.len();
         fields
             .par_iter_mut()
-            .zip(ps.par_iter().zip(&basis))
-            .for_each(|(out, (p, l))| {
-                for (&(k, _), v) in self.modes.iter().zip(&nodal) {
-                    let (s, c) = (k[0] * p.x[0] + k[1] * p.x[1]).sin_cos();
-                    let phase = Complex64::new(c, s);
+            .zip(powers.par_iter().zip(&basis))
+            .for_each(|(out, (pw, l))| {
+                for (m, v) in self.modes.iter().zip(&nodal) {
+                    let e = phase(m, pw);
                     for (f, o) in out.iter_mut().enumerate().take(nf) {
                         let mut acc = Complex64::default();
                         for (i, li) in l.iter().enumerate().take(kn) {
                             acc += v[i * nf + f] * li;
                         }
-                        *o += 2.0 * (phase * acc).re;
+                        *o += 2.0 * (e * acc).re;
                     }
                 }
             });
     }
 
-    /// One mode `k_par = k` (its sum in `k_z` over the box of height `lz`): the field
-    /// point's fields at the virtual field points, `[i][f]`, from the spheres' `l_j(h_b)
-    /// q_b` (`weighted`, `[j][f]`).
-    fn mode(
-        &self,
-        eta: f64,
-        layout: Layout,
-        k: [f64; 2],
-        lz: f64,
-        ps: &[Particle],
-        weighted: &[Vec<f64>],
-    ) -> Vec<Complex64> {
+    /// One mode `m` (its sum in `k_z`): the field point's fields at the virtual field
+    /// points, `[i][f]`, from the virtual sources' moments `q` (`[j][f]`).
+    fn mode(&self, eta: f64, layout: Layout, m: &Mode, q: &[Complex64]) -> Vec<Complex64> {
         let nf = layout.fields();
         let t = &self.nodes.t;
         let kn = t.len();
-        // Q_j = sum_b exp(-i k . x_b) l_j(h_b) q_b
-        let mut q = vec![Complex64::default(); kn * nf];
-        for (p, w) in ps.iter().zip(weighted) {
-            let (s, c) = (k[0] * p.x[0] + k[1] * p.x[1]).sin_cos();
-            let phase = Complex64::new(c, -s);
-            for (qv, &wv) in q.iter_mut().zip(w) {
-                *qv += phase * wv;
-            }
-        }
+        let (k, lz) = (m.k, m.lz);
         let images: Vec<Vec<Complex64>> = (0..kn)
             .map(|j| layout.image(&q[j * nf..(j + 1) * nf], t[j]))
             .collect();
@@ -207,7 +259,7 @@ impl LowModes {
         let kp2 = k[0] * k[0] + k[1] * k[1];
         let mmax = (self.k_cut * lz / (2.0 * PI)).floor() as i64;
         let xi2 = self.xi * self.xi;
-        let scale = 1.0 / (eta * self.area * lz);
+        let scale = 1.0 / (eta * self.lengths[0] * self.lengths[1] * lz);
         let mut nodal = vec![Complex64::default(); kn * nf];
         let (mut sd, mut si) = ([Complex64::default(); 9], [Complex64::default(); 27]);
         for m in -mmax..=mmax {

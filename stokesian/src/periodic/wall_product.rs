@@ -52,7 +52,7 @@ const C_PAIR: [f64; 2] = [1.0, 6.8];
 const C_POINT: [f64; 2] = [8.8, 15.0];
 /// Cost of one sphere, low mode and Chebyshev point (its moments and interpolation), F
 /// and FT, in the same unit.
-const C_MODE: [f64; 2] = [0.14, 0.22];
+const C_MODE: [f64; 2] = [0.085, 0.17];
 
 /// The split of a product along a periodic wall.
 pub(crate) struct WallPlan {
