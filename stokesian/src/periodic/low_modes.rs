@@ -30,7 +30,8 @@
 //! by `(1 + q + 2 q^2) exp(-q)`, `q = k_z^2/(4 xi^2)`, and the image's grows like `(1 + 2
 //! h_max k)^2`. `K` is the fewest points whose bound times that weight is below a
 //! thousandth of the tolerance at every `|k_z| <= k_c`; the source and the field point
-//! each interpolate once.
+//! each interpolate once. Where the heights need more than [`MAX_NODES`]
+//! points, no mode is low (the grid alone, padded for `K0`).
 //!
 //! A mode and its opposite are conjugate (real sources): one of each pair is summed,
 //! twice its real part taken. The lateral phases `exp(i k_par . x)`, `k_par = 2 pi (n1/Lx,
@@ -90,8 +91,8 @@ pub(crate) fn low_waves(
 }
 
 /// The number `K` of Chebyshev points on heights `[lo, hi]` for split `xi`, tolerance
-/// `tol` and cut-off `k_cut` (module docs).
-pub(crate) fn node_count(xi: f64, tol: f64, k_cut: f64, lo: f64, hi: f64) -> usize {
+/// `tol` and cut-off `k_cut` (module docs); `None` beyond [`MAX_NODES`].
+pub(crate) fn node_count(xi: f64, tol: f64, k_cut: f64, lo: f64, hi: f64) -> Option<usize> {
     let (lo, hi) = interval(lo, hi);
     let w = 0.5 * (hi - lo);
     let samples = 64;
@@ -106,23 +107,24 @@ pub(crate) fn node_count(xi: f64, tol: f64, k_cut: f64, lo: f64, hi: f64) -> usi
         .collect();
     let bound = (1e-3 * tol).ln() - 4f64.ln();
     let mut ln_factorial = 0.0;
-    for k in 1..256 {
+    (1..=MAX_NODES).find(|&k| {
         ln_factorial += (k as f64).ln();
-        if k >= 4
+        k >= 4
             && points
                 .iter()
                 .all(|&(weight, ln_half)| weight + k as f64 * ln_half - ln_factorial <= bound)
-        {
-            return k;
-        }
-    }
-    256
+    })
 }
+
+/// The most Chebyshev points the low modes take; spheres spread over more heights than
+/// these resolve leave every mode `k_par != 0` to the grid.
+pub(crate) const MAX_NODES: usize = 255;
 
 impl LowModes {
     /// The modes `0 < |k_par| < k_low` of the split `wall` (its `xi` and tolerance) for
-    /// spheres with heights in `[lo, hi]` above the wall.
-    pub(crate) fn new(wall: &WallEwald, k_low: f64, lo: f64, hi: f64) -> LowModes {
+    /// spheres with heights in `[lo, hi]` above the wall, with `nodes` Chebyshev points
+    /// ([`node_count`]).
+    pub(crate) fn new(wall: &WallEwald, k_low: f64, lo: f64, hi: f64, nodes: usize) -> LowModes {
         let (lo, hi) = interval(lo, hi);
         let s = 2.0 * hi;
         let (k_cut, _) = wall.reciprocal_box(s);
@@ -144,7 +146,7 @@ impl LowModes {
                 .max()
                 .unwrap_or(0)
         });
-        let nodes = Nodes::new(node_count(wall.xi, wall.tolerance, k_cut, lo, hi), lo, hi);
+        let nodes = Nodes::new(nodes.max(4), lo, hi);
         LowModes {
             modes,
             nmax,

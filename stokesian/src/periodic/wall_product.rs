@@ -17,7 +17,8 @@
 //! heights, which does not depend on `xi`), the low modes about `C_mode N n_low K` (`n_low`
 //! modes, `K` Chebyshev points of the heights); `(xi, K1)` minimises the sum over a
 //! geometric scan of `xi` and a set of `K1/K0`, `K0 = 2 pi/max(Lx, Ly)` (`K1 = K0`: no low
-//! mode). The costs per unit (`C_pair`: one real-space pair-image, the generated lane
+//! mode, the only choice where the heights' span needs more than
+//! [`super::low_modes::MAX_NODES`] points). The costs per unit (`C_pair`: one real-space pair-image, the generated lane
 //! kernel at F, 841 operations, the scalar kernel lane by lane at FT ([`real::per_lane`]),
 //! 1508 operations; `C_point`: one grid point, its transforms and symbols, with the
 //! image's grids; `C_mode`: one sphere, low mode and Chebyshev point, its moments and its
@@ -93,22 +94,28 @@ impl WallPlan {
         let (short, long) = (lx.min(ly), lx.max(ly));
         let (xi_lo, xi_hi) = (p / (3.0 * long), p / (1e-3 * short));
         let steps = 200;
-        let mut best = (f64::INFINITY, xi_lo, k0);
+        let mut best = (f64::INFINITY, xi_lo, k0, 0);
         for s in 0..=steps {
             let xi = xi_lo * (xi_hi / xi_lo).powf(s as f64 / steps as f64);
             let (k_cut, _) = reciprocal_box(xi, wall.tolerance, 2.0 * hi, k0);
             let nodes = node_count(xi, wall.tolerance, k_cut, lo, hi);
-            for f in K_LOW {
+            // without enough points for the heights, no low mode
+            let ks = match nodes {
+                Some(_) => &K_LOW[..],
+                None => &K_LOW[..1],
+            };
+            let nodes = nodes.unwrap_or(0);
+            for f in ks {
                 let c = cost(xi, f * k0, nodes);
                 if c < best.0 {
-                    best = (c, xi, f * k0);
+                    best = (c, xi, f * k0, nodes);
                 }
             }
         }
-        let (_, xi, k_low) = best;
+        let (_, xi, k_low, nodes) = best;
         let wall = WallEwald::new(wall.lengths, wall.height, wall.tolerance, Some(xi));
         let spectral = WallSpectral::new(&wall, hi, k_low);
-        let low = LowModes::new(&wall, k_low, lo, hi);
+        let low = LowModes::new(&wall, k_low, lo, hi, nodes);
         WallPlan {
             wall,
             spectral,
@@ -117,7 +124,7 @@ impl WallPlan {
     }
 }
 
-/// The candidate thresholds `K1/K0` of the low modes (`1`: none).
+/// The candidate thresholds `K1/K0` of the low modes (the first, `1`: none).
 const K_LOW: [f64; 11] = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0];
 
 /// `M x` at F or FT (moment-major, as [`crate::System::apply`]) of spheres `ps` (wrapped

@@ -139,6 +139,35 @@ fn the_grid_beside_the_low_modes_is_the_dense_product_to_the_tolerance() {
     }
 }
 
+/// Spheres spread over a hundred radii above the wall in a small box: the heights need
+/// more Chebyshev points than the low modes take, so no mode is low and the grid, padded
+/// for the box's smallest wave number, holds every mode `k_par != 0`. Against the dense
+/// matrix as above.
+#[test]
+fn very_tall_spheres_in_a_small_box_are_the_dense_product_to_the_tolerance() {
+    let lengths = [3.0, 4.0];
+    let ps: Vec<Particle> = [
+        [0.3, 0.5, 1.2, 0.6],
+        [1.7, 2.9, 35.0, 1.0],
+        [2.4, 1.1, 70.0, 0.8],
+        [0.9, 3.6, 105.0, 0.5],
+    ]
+    .iter()
+    .map(|&[x, y, h, a]| Particle {
+        x: [x, y, HEIGHT + h],
+        a,
+    })
+    .collect();
+    for tol in [1e-6, 1e-10] {
+        let s = system(ps.clone(), lengths, tol);
+        for moments in [Moments::F, Moments::FT] {
+            let e = product_error(&s, moments, 5);
+            println!("tol {tol:e}, {moments:?}: {e:e}");
+            assert!(e < tol, "{e:e} at tolerance {tol:e}");
+        }
+    }
+}
+
 /// The same product on one thread and on two: identical bits (every sum in a fixed
 /// order).
 #[test]
