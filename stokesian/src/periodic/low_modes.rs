@@ -30,15 +30,16 @@
 //! by `(1 + q + 2 q^2) exp(-q)`, `q = k_z^2/(4 xi^2)`, and the image's grows like `(1 + 2
 //! h_max k)^2`. `K` is the fewest points whose bound times that weight is below a
 //! thousandth of the tolerance at every `|k_z| <= k_c`; the source and the field point
-//! each interpolate once. Where the heights need more than [`MAX_NODES`]
-//! points, no mode is low (the grid alone, padded for `K0`).
+//! each interpolate once. Where the heights need more than [`MAX_NODES`] points, no mode
+//! is low (the grid alone, padded for `K0`).
 //!
 //! A mode and its opposite are conjugate (real sources): one of each pair is summed,
-//! twice its real part taken. The lateral phases `exp(i k_par . x)`, `k_par = 2 pi (n1/Lx,
-//! n2/Ly)`, are products of the powers of `exp(2 pi i x_d/L_d)` (one sine and cosine per
-//! sphere and axis), and the moments of a block of modes are accumulated together. Every sum is in a fixed order (the spheres in their order
-//! within a mode, the modes in order within a sphere): the bits do not depend on the
-//! number of threads.
+//! twice its real part taken. The lateral phases `exp(i k_par . x)`, `k_par = 2 pi
+//! (n1/Lx, n2/Ly)`, are products of the powers of `exp(2 pi i x_d/L_d)` (one sine and
+//! cosine per sphere and axis), and the moments of a block of modes are accumulated
+//! together. Every sum is in a fixed order (the spheres in their order within a mode,
+//! the modes in order within a sphere): the bits do not depend on the number of
+//! threads.
 
 use super::plane_mode::{interval, Nodes};
 use super::wall::{lateral_waves, reciprocal_box, WallEwald};
