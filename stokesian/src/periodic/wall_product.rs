@@ -13,20 +13,20 @@
 //! The split parameter `xi` and the threshold `K1` are chosen for speed as in
 //! [`super::product`]: the real part costs about `C_pair N (N/A) pi r_c^2` (`r_c = p/xi`,
 //! a monolayer), the grid about `C_point M_x M_y M_z`, `M_d ~ k_c L_d/pi` with `k_c ~ 2
-//! xi p` and `L_z = 2 h_max + D(K1)` (the padding `D = ln(100/tol)/K1` and a term for the
-//! heights, which does not depend on `xi`), the low modes about `C_mode N n_low K` (`n_low`
-//! modes, `K` Chebyshev points of the heights); `(xi, K1)` minimises the sum over a
-//! geometric scan of `xi` and a set of `K1/K0`, `K0 = 2 pi/max(Lx, Ly)` (`K1 = K0`: no low
-//! mode, the only choice where the heights' span needs more than
-//! [`super::low_modes::MAX_NODES`] points). The costs per unit (`C_pair`: one real-space pair-image, the generated lane
-//! kernel at F, 841 operations, the scalar kernel lane by lane at FT ([`real::per_lane`]),
-//! 1508 operations; `C_point`: one grid point, its transforms and symbols, with the
-//! image's grids; `C_mode`: one sphere, low mode and Chebyshev point, its moments and its
-//! interpolation) are ratios measured at `N = 1e4` (docs/periodic.md: the time per
-//! pair-image, the slope of the grid's time in the number of its points, the low modes'
-//! time per sphere, mode and point); only their ratios matter, and the total is flat near
-//! its minimum. Spreading and interpolation, `N P^3` with `P` fixed by the tolerance, do
-//! not depend on `xi` and are left out.
+//! xi p` and `L_z = 2 h_max + D(K1)` (the padding `D = ln(100/tol)/K1` and a term for
+//! the heights, which does not depend on `xi`), the low modes about `C_mode N n_low K`
+//! (`n_low` modes, `K` Chebyshev points of the heights); `(xi, K1)` minimises the sum
+//! over a geometric scan of `xi` and a set of `K1/K0`, `K0 = 2 pi/max(Lx, Ly)` (`K1 =
+//! K0`: no low mode, the only choice where the heights' span needs more than
+//! [`super::low_modes::MAX_NODES`] points). The costs per unit (`C_pair`: one
+//! real-space pair-image, the generated lane kernel at F, 841 operations, the scalar
+//! kernel lane by lane at FT ([`real::per_lane`]), 1508 operations; `C_point`: one grid
+//! point, its transforms and symbols, with the image's grids; `C_mode`: one sphere, low
+//! mode and Chebyshev point, its moments and its interpolation) are ratios measured at
+//! `N = 1e4` (docs/periodic.md: the time per pair-image, the slope of the grid's time in
+//! the number of its points, the low modes' time per sphere, mode and point); only their
+//! ratios matter, and the total is flat near its minimum. Spreading and interpolation,
+//! `N P^3` with `P` fixed by the tolerance, do not depend on `xi` and are left out.
 //!
 //! Each sphere's real-space row is summed on its own over its images in the cells'
 //! fixed order, so the product does not depend on the number of threads.
