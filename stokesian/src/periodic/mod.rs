@@ -40,6 +40,7 @@
 mod cells;
 pub mod ewald;
 mod fft;
+mod low_modes;
 mod plane_mode;
 mod product;
 mod real;

@@ -21,14 +21,22 @@ use super::wall::WallEwald;
 use crate::system::input::Particle;
 use std::f64::consts::PI;
 
+/// The interval of heights `[lo, hi]` widened, if need be, so that Chebyshev points on
+/// it are distinct.
+pub(super) fn interval(lo: f64, hi: f64) -> (f64, f64) {
+    let width = (hi - lo).max(1e-3 * (1.0 + hi.abs()));
+    (0.5 * (lo + hi - width), 0.5 * (lo + hi + width))
+}
+
 /// Chebyshev points of the second kind on an interval, and their barycentric weights.
-struct Nodes {
-    t: Vec<f64>,
+pub(super) struct Nodes {
+    pub(super) t: Vec<f64>,
     w: Vec<f64>,
 }
 
 impl Nodes {
-    fn new(k: usize, lo: f64, hi: f64) -> Nodes {
+    /// `k` points on `[lo, hi]`.
+    pub(super) fn new(k: usize, lo: f64, hi: f64) -> Nodes {
         let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
         let t = (0..k)
             .map(|j| mid + half * (j as f64 * PI / (k - 1) as f64).cos())
@@ -47,7 +55,7 @@ impl Nodes {
     }
 
     /// The Lagrange basis `l_j(z)`.
-    fn basis(&self, z: f64) -> Vec<f64> {
+    pub(super) fn basis(&self, z: f64) -> Vec<f64> {
         if let Some(j) = self.t.iter().position(|&t| t == z) {
             let mut l = vec![0.0; self.t.len()];
             l[j] = 1.0;
@@ -77,9 +85,7 @@ impl PlaneMode {
     /// The interpolant of `wall`'s mode `k_par = 0` for heights in `[lo, hi]`, viscosity
     /// `eta`, to `wall`'s tolerance.
     pub(crate) fn new(wall: &WallEwald, lo: f64, hi: f64, eta: f64) -> PlaneMode {
-        // a wide enough interval that the nodes are distinct
-        let width = (hi - lo).max(1e-3 * (1.0 + hi.abs()));
-        let (lo, hi) = (0.5 * (lo + hi - width), 0.5 * (lo + hi + width));
+        let (lo, hi) = interval(lo, hi);
         let table = |nodes: &Nodes| -> Vec<Vec<[[f64; 3]; 3]>> {
             (nodes.t.iter())
                 .map(|&a| nodes.t.iter().map(|&b| wall.plane_kernel(a, b)).collect())

@@ -151,7 +151,7 @@ impl WallEwald {
     /// The reciprocal cut-off `k_c` and the height `Lz'` of the box periodic in `z` for a
     /// pair of heights `ha + hb = s` above the wall (module docs).
     pub fn reciprocal_box(&self, s: f64) -> (f64, f64) {
-        reciprocal_box(self.lengths, self.xi, self.tolerance, s)
+        reciprocal_box(self.xi, self.tolerance, s, smallest_wave(self.lengths))
     }
 
     /// The reciprocal sum (`k_par != 0`) of the FT blocks at lateral separation `rho`,
@@ -203,22 +203,9 @@ impl WallEwald {
         let (k_cut, lz) = self.reciprocal_box(s);
         let kc2 = k_cut * k_cut;
         let mmax = (k_cut * lz / (2.0 * PI)).floor() as i64;
-        let nmax: [i64; 2] =
-            std::array::from_fn(|d| (k_cut * self.lengths[d] / (2.0 * PI)).floor() as i64);
         let xi2 = self.xi * self.xi;
-        // one of each +-k_par: the first non-zero index positive
-        let half = (0..=nmax[0])
-            .flat_map(|n1| (-nmax[1]..=nmax[1]).map(move |n2| (n1, n2)))
-            .filter(|&(n1, n2)| n1 > 0 || (n1 == 0 && n2 > 0));
-        for (n1, n2) in half {
-            let kp = [
-                2.0 * PI * n1 as f64 / self.lengths[0],
-                2.0 * PI * n2 as f64 / self.lengths[1],
-            ];
+        for kp in lateral_waves(self.lengths, k_cut) {
             let kp2 = kp[0] * kp[0] + kp[1] * kp[1];
-            if kp2 > kc2 {
-                continue;
-            }
             for m in -mmax..=mmax {
                 let k3 = 2.0 * PI * m as f64 / lz;
                 let k2 = kp2 + k3 * k3;
@@ -343,14 +330,37 @@ impl WallEwald {
     }
 }
 
+/// The lateral wave vectors `k_par = 2 pi (n1/Lx, n2/Ly) != 0`, `|k_par| <= k_cut`, of the
+/// box `lengths`, one of each pair `+-k_par` (the first non-zero index positive), in a
+/// fixed order.
+pub(crate) fn lateral_waves(lengths: [f64; 2], k_cut: f64) -> impl Iterator<Item = [f64; 2]> {
+    let nmax: [i64; 2] = std::array::from_fn(|d| (k_cut * lengths[d] / (2.0 * PI)).floor() as i64);
+    (0..=nmax[0])
+        .flat_map(move |n1| (-nmax[1]..=nmax[1]).map(move |n2| (n1, n2)))
+        .filter(|&(n1, n2)| n1 > 0 || (n1 == 0 && n2 > 0))
+        .map(move |(n1, n2)| {
+            [
+                2.0 * PI * n1 as f64 / lengths[0],
+                2.0 * PI * n2 as f64 / lengths[1],
+            ]
+        })
+        .filter(move |k| k[0] * k[0] + k[1] * k[1] <= k_cut * k_cut)
+}
+
+/// `K0 = 2 pi/max(Lx, Ly)`, the smallest lateral wave number `k_par != 0` of the box
+/// `lengths`.
+pub(crate) fn smallest_wave(lengths: [f64; 2]) -> f64 {
+    2.0 * PI / lengths[0].max(lengths[1])
+}
+
 /// The reciprocal cut-off `k_c` and the height `Lz'` of the box periodic in `z` for a
-/// pair of heights `ha + hb = s` above the wall (module docs), of the box `lengths` at
-/// split `xi` and tolerance `tol`.
-pub(crate) fn reciprocal_box(lengths: [f64; 2], xi: f64, tol: f64, s: f64) -> (f64, f64) {
+/// pair of heights `ha + hb = s` above the wall (module docs), at
+/// split `xi` and tolerance `tol`, for lateral wave numbers at least `k_low` (`K0` for
+/// every mode `k_par != 0`: the padding is `D = (ln(100/tol) + 2 ln(1 + k_low s))/k_low`).
+pub(crate) fn reciprocal_box(xi: f64, tol: f64, s: f64, k_low: f64) -> (f64, f64) {
     let p = truncation_parameter(tol);
     let k_cut = 2.0 * xi * (p * p + 2.0 * (1.0 + 2.0 * xi * p * s).ln()).sqrt();
-    let k0 = 2.0 * PI / lengths[0].max(lengths[1]);
-    let padding = ((100.0 / tol).ln() + 2.0 * (1.0 + k0 * s).ln()) / k0;
+    let padding = ((100.0 / tol).ln() + 2.0 * (1.0 + k_low * s).ln()) / k_low;
     (k_cut, s + padding)
 }
 

@@ -1,55 +1,67 @@
 //! The reciprocal part of the Ewald sum along a periodic wall ([`super::wall`]) applied
 //! to forces and torques by spectral Ewald ([`super::spectral`]'s grid, window and
-//! transforms): the lateral wave vectors `k_par != 0` and the trapezoidal sum in `k_z`
+//! transforms): the lateral wave vectors `|k_par| >= K1` and the trapezoidal sum in `k_z`
 //! are the wave vectors of a box also periodic in `z`, of height `Lz' = 2 h_max + D`,
-//! `O(N P^3 + M log M)` for all pairs at once.
+//! `O(N P^3 + M log M)` for all pairs at once. The modes `0 < |k_par| < K1` are
+//! [`super::low_modes`]'s, the mode `k_par = 0` [`super::plane_mode`]'s.
 //!
-//! Heights `z = x_3 - H` are measured from the wall. Each sphere is two sources on the
-//! grid: the direct one at `y = (y_1, y_2, h)` and Blake's image at `y* = (y_1, y_2,
-//! -h)`, whose symbol is `Jhat^K(k) T(k, h)` ([`super::wall`]): a force `F` at `y*` acts
-//! as `T F = -F - h^2 k^2 P F - 2 i h (k . P F) e3`, `P = diag(1, 1, -1)`. `T` is
-//! quadratic in the source's own height, so the image spreads `F`, `h^2 F` and `h F` on
-//! grids of their own (multiplied in Fourier space by `-1`, `-k^2 P` and `-2 i e3 (k .
-//! P)`). The source's operators act on the image's explicit heights too (`d/dy_3` of
-//! `exp(-i k . y*) T(h)` is `i k_3 T + T'`):
+//! Heights `z = x_3 - H` are measured from the wall. Each sphere is two sources: the
+//! direct one at `y = (y_1, y_2, h)` and Blake's image at `y* = (y_1, y_2, -h)`, whose
+//! symbol is `Jhat^K(k) T(k, h)` ([`super::wall`]): a force `F` at `y*` acts as `T F = -F
+//! - h^2 k^2 P F - 2 i h (k . P F) e3`, `P = diag(1, 1, -1)`. `T` is quadratic in the
+//! source's own height, so the image carries the fields `F`, `h^2 F` and `h F`
+//! (multiplied in Fourier space by `-1`, `-k^2 P` and `-2 i e3 (k . P)`). The source's
+//! operators act on the image's explicit heights too (`d/dy_3` of `exp(-i k . y*) T(h)`
+//! is `i k_3 T + T'`):
 //!
 //! - the Faxén operator `1 + c lap_y`, `c = a^2/6`, adds `c [-k^2 T F + 2 i k_3 T' F +
 //!   T'' F]`, that is `k^2 cF + k^4 P (c h^2 F) + 2 i k^2 (k . P (c h F)) e3 - 4 i k_3
 //!   k^2 P (c h F) + 4 k_3 (k . P cF) e3 - 2 k^2 P cF` (the fields `cF`, `c h^2 F`, `c h
-//!   F` on grids of their own when the radii differ; `c` times the grids above when they
-//!   are equal);
+//!   F` of their own when the radii differ; `c` times the fields above when they are
+//!   equal);
 //! - the rotlet `(1/2) curl_y` of a torque `L` gives `T w_1 + T' w_2` with `w_1 = (i/2)
 //!   (P k x L)` and `w_2 = (1/2) (L x e3)`: the fields `L`, `h L`, `h^2 L` at `y*`.
+//!
+//! **The image spread at `y`.** The image's fields at `y*` are the mirror image in `z`
+//! of the same fields spread at `y` (the window is even and the grid's points are
+//! symmetric about `z = 0`), and a mirrored field's spectrum at `(k_par, k_z)` is the
+//! field's at `(k_par, -k_z)`. So every field is spread once, at `y`, and the image's
+//! factor-`1` fields (`F`, `cF`, `L`) are the direct source's: the stack holds the
+//! direct fields and the image's own (`h^2 F`, `h F`, ...), three times the direct
+//! fields instead of four (five complex grids at F with equal radii instead of seven).
 //!
 //! The sum of every source's symbol `s(k)` (the direct force times its Faxén factor, the
 //! direct rotlet `(i/2) k x L`, the image terms) is projected, `u = g (I - khat khat)
 //! s`, and the field point's operators are those of the triply periodic box: `U = (1 -
-//! a_a^2 k^2/6) u`, `Omega = (i/2) k x u`.
+//! a_a^2 k^2/6) u`, `Omega = (i/2) k x u` ([`Layout::symbol`], shared with
+//! [`super::low_modes`]).
 //!
-//! The modes `k_par = 0` (every `k_z`) are left out: the exact mode is
-//! [`super::plane_mode`]'s. The box's height leaves the copies of every source at least
-//! `D` from every field point, and a mode of lateral wave number `k_par` decays like
-//! `exp(-k_par |z|)`: `k_c` and `D` are [`super::wall::WallEwald::reciprocal_box`]'s
-//! for `h_a + h_b = 2 h_max`. The image's symbol carries up to `(h k_c)^2` more than the
-//! direct one, so the window is chosen for the tolerance divided by `(1 + 2 h_max
-//! k_c)^2`.
+//! The modes `|k_par| < K1` (every `k_z`) are left out. The box's height leaves the
+//! copies of every source at least `D` from every field point, and a mode of lateral
+//! wave number `k_par` decays like `exp(-k_par |z|)`: `k_c` and `D` are
+//! [`super::wall::reciprocal_box`]'s for `h_a + h_b = 2 h_max` and `k_low = K1`. The
+//! image's symbol carries up to `(h k_c)^2` more than the direct one, so the window is
+//! chosen for the tolerance divided by `(1 + 2 h_max k_c)^2`.
 //!
 //! Determinism as in [`super::spectral`]: every sum in a fixed order.
 
 use super::fft::Fft3;
 use super::spectral::{signed, Spectral, Window};
-use super::wall::WallEwald;
+use super::wall::{lateral_waves, reciprocal_box, WallEwald};
 use crate::system::input::Particle;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 use rustfft::FftDirection;
 use std::f64::consts::PI;
+use std::ops::Mul;
 
 /// The grid of the reciprocal part along a periodic wall.
 pub(crate) struct WallSpectral {
     grid: Spectral,
     /// The wall's plane `x3 = height`.
     height: f64,
+    /// The lateral wave numbers below this are left out (the mode `k_par = 0` always).
+    k_low: f64,
 }
 
 type V3 = [Complex64; 3];
@@ -80,128 +92,253 @@ fn normal(c: Complex64) -> V3 {
     [Complex64::default(), Complex64::default(), c]
 }
 
-impl WallSpectral {
-    /// The grid for the split `wall` (its `xi` and tolerance) of spheres whose heights
-    /// above the wall are at most `h_max`.
-    pub(crate) fn new(wall: &WallEwald, h_max: f64) -> WallSpectral {
-        let (k_cut, lz) = wall.reciprocal_box(2.0 * h_max);
-        let amplification = (1.0 + 2.0 * h_max * k_cut).powi(2);
-        let lengths = [wall.lengths[0], wall.lengths[1], lz];
-        WallSpectral {
-            grid: Spectral::with_cut(lengths, wall.xi, wall.tolerance / amplification, k_cut),
-            height: wall.height,
+/// The real fields a product carries (module docs): every radius the same (`equal`,
+/// the radius) or not, torques or not.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Layout {
+    pub(crate) equal: Option<f64>,
+    pub(crate) ft: bool,
+}
+
+impl Layout {
+    /// The layout of spheres `ps`, with torques if `ft`.
+    pub(crate) fn new(ps: &[Particle], ft: bool) -> Layout {
+        let a0 = ps.first().map_or(0.0, |p| p.a);
+        Layout {
+            equal: ps.iter().all(|p| p.a == a0).then_some(a0),
+            ft,
         }
     }
 
-    /// The reciprocal part (`k_par != 0`) of the velocities (and angular velocities) of
-    /// spheres `ps` in a fluid of viscosity `eta` under `forces` (and `torques`): `(U,
-    /// Omega)`, `Omega` empty without torques.
-    pub(crate) fn apply(
-        &self,
-        eta: f64,
-        ps: &[Particle],
-        forces: &[[f64; 3]],
-        torques: Option<&[[f64; 3]]>,
-    ) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
-        let n = ps.len();
-        let equal = ps.iter().all(|p| p.a == ps[0].a);
-        let ft = torques.is_some();
-        let h = |b: usize| ps[b].x[2] - self.height;
-        let times = |v: [f64; 3], c: f64| v.map(|f| c * f);
-        // the direct sources: F, [a^2 F/6], [L]
-        let direct: Vec<Vec<f64>> = (0..n)
-            .map(|b| {
-                let mut q = forces[b].to_vec();
-                if !equal {
-                    q.extend(times(forces[b], ps[b].a * ps[b].a / 6.0));
-                }
-                if let Some(t) = torques {
-                    q.extend(t[b]);
-                }
-                q
-            })
-            .collect();
-        // the image sources: F, h^2 F, h F, [c F, c h^2 F, c h F], [L, h L, h^2 L]
-        let image: Vec<Vec<f64>> = (0..n)
-            .map(|b| {
-                let (f, hb) = (forces[b], h(b));
-                let mut q = [f, times(f, hb * hb), times(f, hb)].concat();
-                if !equal {
-                    let c = ps[b].a * ps[b].a / 6.0;
-                    q.extend([times(f, c), times(f, c * hb * hb), times(f, c * hb)].concat());
-                }
-                if let Some(t) = torques {
-                    q.extend([t[b], times(t[b], hb), times(t[b], hb * hb)].concat());
-                }
-                q
-            })
-            .collect();
-        let n_direct = direct.first().map_or(0, |q| q.len());
-        let n_image = image.first().map_or(0, |q| q.len());
-        let n_out: usize = 3 + if equal { 0 } else { 3 } + if ft { 3 } else { 0 };
-        let (g_direct, g_image, g_out) =
-            (n_direct.div_ceil(2), n_image.div_ceil(2), n_out.div_ceil(2));
-        let at = |z: f64, b: usize| [ps[b].x[0], ps[b].x[1], z];
-        let direct_windows: Vec<Window> = (0..n)
-            .into_par_iter()
-            .map(|b| self.grid.window(at(h(b), b)))
-            .collect();
-        let image_windows: Vec<Window> = (0..n)
-            .into_par_iter()
-            .map(|b| self.grid.window(at(-h(b), b)))
-            .collect();
-        let mut direct_grid = self.grid.spread(&direct_windows, &direct, g_direct);
-        Fft3::new(self.grid.m, g_direct, FftDirection::Forward).process(&mut direct_grid);
-        let mut image_grid = self.grid.spread(&image_windows, &image, g_image);
-        Fft3::new(self.grid.m, g_image, FftDirection::Forward).process(&mut image_grid);
-        let a0 = ps.first().map_or(0.0, |p| p.a);
-        let mut out = self.symbols(
-            eta,
-            (&direct_grid, g_direct),
-            (&image_grid, g_image),
-            g_out,
-            equal.then_some(a0),
-            ft,
-        );
-        drop(direct_grid);
-        drop(image_grid);
-        Fft3::new(self.grid.m, g_out, FftDirection::Inverse).process(&mut out);
-        let fields: Vec<Vec<f64>> = direct_windows
-            .par_iter()
-            .map(|w| self.grid.interpolate(w, &out, g_out))
-            .collect();
-        let u = (0..n)
-            .map(|a| {
-                let f = &fields[a];
-                let a2 = ps[a].a * ps[a].a;
-                std::array::from_fn(|i| if equal { f[i] } else { f[i] + a2 * f[3 + i] })
-            })
-            .collect();
-        let omega = if ft {
-            let o = n_out - 3;
-            fields.iter().map(|f| [f[o], f[o + 1], f[o + 2]]).collect()
+    /// The number of a direct source's fields (`F`, `[a^2 F/6]`, `[L]`), which is also
+    /// the number of a field point's (`U`, `[-k^2 U/6]`, `[Omega]`).
+    pub(crate) fn fields(&self) -> usize {
+        3 + if self.equal.is_some() { 0 } else { 3 } + if self.ft { 3 } else { 0 }
+    }
+
+    /// The direct source of a sphere of radius `a` under `force` and `torque`: `F`,
+    /// `[a^2 F/6]` (unequal radii), `[L]`.
+    pub(crate) fn direct(&self, a: f64, force: [f64; 3], torque: Option<[f64; 3]>) -> Vec<f64> {
+        let mut q = force.to_vec();
+        if self.equal.is_none() {
+            q.extend(force.map(|f| a * a / 6.0 * f));
+        }
+        if let (true, Some(t)) = (self.ft, torque) {
+            q.extend(t);
+        }
+        q
+    }
+
+    /// The image source of the direct source `direct` at height `h`: `F`, `h^2 F`, `h F`,
+    /// `[c F, c h^2 F, c h F]`, `[L, h L, h^2 L]`.
+    pub(crate) fn image<T: Copy + Mul<f64, Output = T>>(&self, direct: &[T], h: f64) -> Vec<T> {
+        let group = |o: usize, powers: [f64; 3]| {
+            powers
+                .into_iter()
+                .flat_map(move |c| (0..3).map(move |d| direct[o + d] * c))
+        };
+        let mut q: Vec<T> = group(0, [1.0, h * h, h]).collect();
+        if self.equal.is_none() {
+            q.extend(group(3, [1.0, h * h, h]));
+        }
+        if self.ft {
+            q.extend(group(self.fields() - 3, [1.0, h, h * h]));
+        }
+        q
+    }
+
+    /// A sphere's velocity and angular velocity (zero without torques) from its fields
+    /// `U`, `[-k^2 U/6]`, `[Omega]` at radius `a`.
+    pub(crate) fn velocities(&self, a: f64, f: &[f64]) -> ([f64; 3], [f64; 3]) {
+        let u = std::array::from_fn(|i| match self.equal {
+            Some(_) => f[i],
+            None => f[i] + a * a * f[3 + i],
+        });
+        let o = self.fields() - 3;
+        let omega = if self.ft {
+            [f[o], f[o + 1], f[o + 2]]
         } else {
-            Vec::new()
+            [0.0; 3]
         };
         (u, omega)
     }
 
-    /// The transformed sources times the symbols (module docs): from the stacks `direct`
-    /// and `image` (each with its number of grids) the stack of `g_out` grids (`U`, `-k^2
-    /// U/6` unless `equal` gives the one radius, `Omega` if `ft`).
+    /// The field point's fields `U`, `[-k^2 U/6]`, `[Omega]` (the first
+    /// [`Layout::fields`]) at wave vector `k` from the spectra of the direct source's
+    /// fields and the image's (module docs), `g` the scalar of the projection `u = g (I -
+    /// khat khat) s`.
+    pub(crate) fn symbol(
+        &self,
+        k: [f64; 3],
+        g: f64,
+        direct: &[Complex64],
+        image: &[Complex64],
+    ) -> [Complex64; 10] {
+        let [kx, ky, kz] = k;
+        let i = Complex64::new(0.0, 1.0);
+        let re = |v: f64| Complex64::new(v, 0.0);
+        let kc = k.map(re);
+        let pk = mirror(kc);
+        let k2 = kx * kx + ky * ky + kz * kz;
+        let vector = |v: &[Complex64], f0: usize| -> V3 { [v[f0], v[f0 + 1], v[f0 + 2]] };
+        let (o_direct_torque, o_image_faxen, o_image_torque) = match self.equal {
+            Some(_) => (3, 9, 9),
+            None => (6, 9, 18),
+        };
+        // k . P v
+        let kp = |v: V3| v[0] * kx + v[1] * ky - v[2] * kz;
+        // the direct sources
+        let fd = vector(direct, 0);
+        let mut s = match self.equal {
+            Some(a) => scale(fd, re(1.0 - a * a * k2 / 6.0)),
+            None => add(fd, scale(vector(direct, 3), re(-k2))),
+        };
+        if self.ft {
+            let l = vector(direct, o_direct_torque);
+            s = add(s, scale(cross(kc, l), 0.5 * i));
+        }
+        // the image: T F
+        let (f0, f2, f1) = (vector(image, 0), vector(image, 3), vector(image, 6));
+        s = add(s, scale(f0, re(-1.0)));
+        s = add(s, scale(mirror(f2), re(-k2)));
+        s = add(s, normal(-2.0 * i * kp(f1)));
+        // its Faxén terms
+        let (x, y, z) = match self.equal {
+            Some(a) => {
+                let c = re(a * a / 6.0);
+                (scale(f0, c), scale(f2, c), scale(f1, c))
+            }
+            None => (
+                vector(image, o_image_faxen),
+                vector(image, o_image_faxen + 3),
+                vector(image, o_image_faxen + 6),
+            ),
+        };
+        s = add(s, scale(x, re(k2)));
+        s = add(s, scale(mirror(y), re(k2 * k2)));
+        s = add(s, normal(2.0 * i * k2 * kp(z)));
+        s = add(s, scale(mirror(z), -4.0 * i * kz * k2));
+        s = add(s, normal(4.0 * kz * kp(x)));
+        s = add(s, scale(mirror(x), re(-2.0 * k2)));
+        // its rotlet: T w1 + T' w2
+        if self.ft {
+            let w1 = |v: V3| scale(cross(pk, v), 0.5 * i);
+            let w2 = |v: V3| [v[1] * 0.5, v[0] * -0.5, Complex64::default()];
+            let o = o_image_torque;
+            let (l0, l1, l2) = (vector(image, o), vector(image, o + 3), vector(image, o + 6));
+            s = add(s, scale(w1(l0), re(-1.0)));
+            s = add(s, scale(mirror(w1(l2)), re(-k2)));
+            s = add(s, normal(-2.0 * i * kp(w1(l1))));
+            s = add(s, scale(mirror(w2(l1)), re(-2.0 * k2)));
+            s = add(s, normal(-2.0 * i * kp(w2(l0))));
+        }
+        let ks = (s[0] * kx + s[1] * ky + s[2] * kz) / k2;
+        let u: V3 = std::array::from_fn(|d| (s[d] - ks * k[d]) * g);
+        let mut fields = [Complex64::default(); 10];
+        for d in 0..3 {
+            match self.equal {
+                Some(a) => fields[d] = u[d] * (1.0 - a * a * k2 / 6.0),
+                None => {
+                    fields[d] = u[d];
+                    fields[3 + d] = u[d] * (-k2 / 6.0);
+                }
+            }
+        }
+        if self.ft {
+            let n_out = self.fields();
+            let omega = scale(cross(kc, u), 0.5 * i);
+            fields[n_out - 3..n_out].copy_from_slice(&omega);
+        }
+        fields
+    }
+}
+
+/// Where field `f` of the image ([`Layout::image`], groups of nine: a direct field's
+/// three components times `1` and two powers of `h`) is among the image's own fields,
+/// those that are not a direct field: `None` for the factor `1`, the direct field's.
+fn own_image_field(f: usize) -> Option<usize> {
+    let (group, r) = (f / 9, f % 9);
+    (r >= 3).then_some(6 * group + r - 3)
+}
+
+impl WallSpectral {
+    /// The grid for the split `wall` (its `xi` and tolerance) of spheres whose heights
+    /// above the wall are at most `h_max`, for the lateral wave numbers at least `k_low`;
+    /// `None` if no lattice wave vector `k_low <= |k_par| <= k_c` is left to it.
+    pub(crate) fn new(wall: &WallEwald, h_max: f64, k_low: f64) -> Option<WallSpectral> {
+        let (k_cut, lz) = reciprocal_box(wall.xi, wall.tolerance, 2.0 * h_max, k_low);
+        let any =
+            lateral_waves(wall.lengths, k_cut).any(|k| k[0] * k[0] + k[1] * k[1] >= k_low * k_low);
+        let amplification = (1.0 + 2.0 * h_max * k_cut).powi(2);
+        let lengths = [wall.lengths[0], wall.lengths[1], lz];
+        any.then(|| WallSpectral {
+            grid: Spectral::with_cut(lengths, wall.xi, wall.tolerance / amplification, k_cut),
+            height: wall.height,
+            k_low,
+        })
+    }
+
+    /// The reciprocal part (lateral wave numbers at least `k_low`) of the fields of
+    /// spheres `ps` (the field point's fields of `layout`, [`Layout::symbol`]) in a fluid
+    /// of viscosity `eta` under their direct sources `direct` ([`Layout::direct`]).
+    pub(crate) fn apply(
+        &self,
+        eta: f64,
+        ps: &[Particle],
+        layout: Layout,
+        direct: &[Vec<f64>],
+    ) -> Vec<Vec<f64>> {
+        let n = ps.len();
+        let h = |b: usize| ps[b].x[2] - self.height;
+        // the direct fields and the image's own (module docs), all spread at y
+        let sources: Vec<Vec<f64>> = (0..n)
+            .map(|b| {
+                let image = layout.image(&direct[b], h(b));
+                let own = (0..image.len()).filter(|&f| own_image_field(f).is_some());
+                direct[b]
+                    .iter()
+                    .copied()
+                    .chain(own.map(|f| image[f]))
+                    .collect()
+            })
+            .collect();
+        let n_direct = layout.fields();
+        let (g_in, g_out) = ((3 * n_direct).div_ceil(2), n_direct.div_ceil(2));
+        let windows: Vec<Window> = ps
+            .par_iter()
+            .map(|p| self.grid.window([p.x[0], p.x[1], p.x[2] - self.height]))
+            .collect();
+        let mut grid = self.grid.spread(&windows, &sources, g_in);
+        Fft3::new(self.grid.m, g_in, FftDirection::Forward).process(&mut grid);
+        let mut out = self.symbols(eta, layout, &grid, g_in, g_out);
+        drop(grid);
+        Fft3::new(self.grid.m, g_out, FftDirection::Inverse).process(&mut out);
+        windows
+            .par_iter()
+            .map(|w| {
+                let mut f = self.grid.interpolate(w, &out, g_out);
+                f.truncate(n_direct);
+                f
+            })
+            .collect()
+    }
+
+    /// The transformed sources times the symbols ([`Layout::symbol`]): from the stack
+    /// `input` of `g_in` grids (the direct fields, then the image's own, all spread at
+    /// `y`) the stack of `g_out` grids of the field point's fields.
     fn symbols(
         &self,
         eta: f64,
-        direct: (&[Complex64], usize),
-        image: (&[Complex64], usize),
+        layout: Layout,
+        input: &[Complex64],
+        g_in: usize,
         g_out: usize,
-        equal: Option<f64>,
-        ft: bool,
     ) -> Vec<Complex64> {
         let grid = &self.grid;
         let [mx, my, mz] = grid.m;
         let plane = my * mz;
-        let n_out = 3 + if equal.is_some() { 0 } else { 3 } + if ft { 3 } else { 0 };
+        let n_direct = layout.fields();
+        let n_image = 3 * n_direct;
         let volume = grid.lengths.iter().product::<f64>();
         let cell = grid.h.iter().product::<f64>();
         // h^3 for each of the two quadratures, 1/V of the Fourier series, g's norm twice
@@ -219,12 +356,7 @@ impl WallSpectral {
                 .collect()
         });
         let i = Complex64::new(0.0, 1.0);
-        let re = |v: f64| Complex64::new(v, 0.0);
-        let faxen_image = equal.map(|a| a * a / 6.0);
-        let (o_direct_torque, o_image_faxen, o_image_torque) = match equal {
-            Some(_) => (3, 9, 9),
-            None => (6, 9, 18),
-        };
+        let low2 = self.k_low * self.k_low;
         let mut out = vec![Complex64::default(); mx * g_out * plane];
         out.par_chunks_mut(g_out * plane)
             .enumerate()
@@ -236,8 +368,8 @@ impl WallSpectral {
                     let Some((ky, ey)) = axes[1][iy] else {
                         continue;
                     };
-                    if ix == 0 && iy == 0 {
-                        // k_par = 0: the exact mode is added elsewhere
+                    if kx * kx + ky * ky < low2 || (ix == 0 && iy == 0) {
+                        // k_par = 0 and the low modes are added elsewhere
                         continue;
                     }
                     for iz in 0..mz {
@@ -245,89 +377,34 @@ impl WallSpectral {
                         let Some((kz, ez)) = axes[2][iz] else {
                             continue;
                         };
-                        let k = [kx, ky, kz];
-                        let kc = k.map(re);
-                        let pk = mirror(kc);
-                        let k2 = kx * kx + ky * ky + kz * kz;
-                        // the spectrum of real field f of a stack, from grid f/2 at k
-                        // and -k
-                        let field = |(input, grids): (&[Complex64], usize), f: usize| {
+                        // the spectrum of real field f at (ix, iy, jz), from grid f/2 at
+                        // k and -k
+                        let field = |jz: usize, f: usize| {
                             let at = |x: usize, y: usize, z: usize| {
-                                input[(x * grids + f / 2) * plane + y * mz + z]
+                                input[(x * g_in + f / 2) * plane + y * mz + z]
                             };
-                            let (a, b) = (at(ix, iy, iz), at(nx, ny, nz).conj());
+                            let (a, b) = (at(ix, iy, jz), at(nx, ny, (mz - jz) % mz).conj());
                             if f.is_multiple_of(2) {
                                 (a + b) * 0.5
                             } else {
                                 (a - b) * Complex64::new(0.0, -0.5)
                             }
                         };
-                        let vector = |stack, f0: usize| -> V3 {
-                            std::array::from_fn(|d| field(stack, f0 + d))
-                        };
-                        // k . P v
-                        let kp = |v: V3| v[0] * kx + v[1] * ky - v[2] * kz;
-                        // the direct sources
-                        let fd = vector(direct, 0);
-                        let mut s = match equal {
-                            Some(a) => scale(fd, re(1.0 - a * a * k2 / 6.0)),
-                            None => add(fd, scale(vector(direct, 3), re(-k2))),
-                        };
-                        if ft {
-                            let l = vector(direct, o_direct_torque);
-                            s = add(s, scale(cross(kc, l), 0.5 * i));
+                        let mut sd = [Complex64::default(); 9];
+                        let mut si = [Complex64::default(); 27];
+                        for (f, v) in sd[..n_direct].iter_mut().enumerate() {
+                            *v = field(iz, f);
                         }
-                        // the image: T F
-                        let (f0, f2, f1) = (vector(image, 0), vector(image, 3), vector(image, 6));
-                        s = add(s, scale(f0, re(-1.0)));
-                        s = add(s, scale(mirror(f2), re(-k2)));
-                        s = add(s, normal(-2.0 * i * kp(f1)));
-                        // its Faxén terms
-                        let (x, y, z) = match faxen_image {
-                            Some(c) => (scale(f0, re(c)), scale(f2, re(c)), scale(f1, re(c))),
-                            None => (
-                                vector(image, o_image_faxen),
-                                vector(image, o_image_faxen + 3),
-                                vector(image, o_image_faxen + 6),
-                            ),
-                        };
-                        s = add(s, scale(x, re(k2)));
-                        s = add(s, scale(mirror(y), re(k2 * k2)));
-                        s = add(s, normal(2.0 * i * k2 * kp(z)));
-                        s = add(s, scale(mirror(z), -4.0 * i * kz * k2));
-                        s = add(s, normal(4.0 * kz * kp(x)));
-                        s = add(s, scale(mirror(x), re(-2.0 * k2)));
-                        // its rotlet: T w1 + T' w2
-                        if ft {
-                            let w1 = |v: V3| scale(cross(pk, v), 0.5 * i);
-                            let w2 = |v: V3| [v[1] * 0.5, v[0] * -0.5, Complex64::default()];
-                            let o = o_image_torque;
-                            let (l0, l1, l2) =
-                                (vector(image, o), vector(image, o + 3), vector(image, o + 6));
-                            s = add(s, scale(w1(l0), re(-1.0)));
-                            s = add(s, scale(mirror(w1(l2)), re(-k2)));
-                            s = add(s, normal(-2.0 * i * kp(w1(l1))));
-                            s = add(s, scale(mirror(w2(l1)), re(-2.0 * k2)));
-                            s = add(s, normal(-2.0 * i * kp(w2(l0))));
+                        // the image at y* is the mirror of its fields at y: their
+                        // spectrum at (k_par, -k_z)
+                        for (f, v) in si[..n_image].iter_mut().enumerate() {
+                            let g = own_image_field(f).map_or(f / 9 * 3 + f % 9, |o| n_direct + o);
+                            *v = field(nz, g);
                         }
+                        let k2 = kx * kx + ky * ky + kz * kz;
                         let q = k2 / (4.0 * xi2);
                         let g = norm * (1.0 + q + 2.0 * q * q) * ex * ey * ez / (eta * k2);
-                        let ks = (s[0] * kx + s[1] * ky + s[2] * kz) / k2;
-                        let u: V3 = std::array::from_fn(|d| (s[d] - ks * k[d]) * g);
-                        let mut fields = [Complex64::default(); 10];
-                        for d in 0..3 {
-                            match equal {
-                                Some(a) => fields[d] = u[d] * (1.0 - a * a * k2 / 6.0),
-                                None => {
-                                    fields[d] = u[d];
-                                    fields[3 + d] = u[d] * (-k2 / 6.0);
-                                }
-                            }
-                        }
-                        if ft {
-                            let omega = scale(cross(kc, u), 0.5 * i);
-                            fields[n_out - 3..n_out].copy_from_slice(&omega);
-                        }
+                        let fields = layout.symbol([kx, ky, kz], g, &sd, &si);
                         for gi in 0..g_out {
                             chunk[gi * plane + iy * mz + iz] =
                                 fields[2 * gi] + fields[2 * gi + 1] * i;

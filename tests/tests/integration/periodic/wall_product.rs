@@ -7,6 +7,7 @@
 
 use super::{product_error, same_bits_on_one_thread_and_two};
 use rand::{Rng, SeedableRng};
+use stokesian::periodic::wall::WallEwald;
 use stokesian::{Confinement, Moments, Overlap, Particle, PeriodicBox, System};
 
 const ETA: f64 = 0.9;
@@ -93,6 +94,80 @@ fn the_fast_product_is_the_dense_product_to_the_tolerance() {
                 );
                 assert!(e < tol, "{e:e} at tolerance {tol:e}");
             }
+        }
+    }
+}
+
+/// The grid beside the low modes: 800 spheres at area fraction 0.3 (box `91.5^2`,
+/// heights up to 5 radii), where the split takes the modes `|k_par| >= K1` on the grid
+/// and the lower ones each on its own (the small systems above take every mode on its
+/// own), equal and unequal radii, F and FT, at `1e-6` and `1e-10`. The dense matrix is
+/// `O(N^2)`: two of its rows (a sphere's FT blocks with every sphere) against the same
+/// rows of the fast product, relative to the fast product's largest entry. Its bits do
+/// not depend on the number of threads either.
+#[test]
+fn the_grid_beside_the_low_modes_is_the_dense_product_to_the_tolerance() {
+    let lengths = [91.5, 91.5];
+    for tol in [1e-6, 1e-10] {
+        for (seed, a) in [(21, Some(1.0)), (22, None)] {
+            let ps = spheres(seed, 800, lengths, (0.5, 4.0), a);
+            let n = ps.len();
+            let s = system(ps.clone(), lengths, tol);
+            if tol == 1e-6 {
+                same_bits_on_one_thread_and_two(&s);
+            }
+            let dense = WallEwald::new(lengths, HEIGHT, tol, None);
+            let rows: Vec<[[[f64; 6]; 6]; 2]> = (0..n)
+                .map(|b| [0, n / 2].map(|a| dense.blocks(ETA, &ps[a], &ps[b], a == b).matrix()))
+                .collect();
+            for moments in [Moments::F, Moments::FT] {
+                let k = moments.per_particle();
+                let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+                let x: Vec<f64> = (0..k * n).map(|_| rng.gen_range(-1.0..1.0)).collect();
+                let got = s.apply(moments, &x);
+                let scale = got.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let mut e = 0.0f64;
+                for (r, a) in [0, n / 2].into_iter().enumerate() {
+                    for i in 0..k {
+                        let want: f64 = (0..n)
+                            .flat_map(|b| (0..k).map(move |j| (b, j)))
+                            .map(|(b, j)| rows[b][r][i][j] * x[3 * (j / 3) * n + 3 * b + j % 3])
+                            .sum();
+                        e = e.max((want - got[3 * (i / 3) * n + 3 * a + i % 3]).abs() / scale);
+                    }
+                }
+                println!("tol {tol:e}, radius {a:?}, {moments:?}: {e:e}");
+                assert!(e < tol, "{e:e} at tolerance {tol:e}");
+            }
+        }
+    }
+}
+
+/// Spheres spread over a hundred radii above the wall in a small box: the heights need
+/// more Chebyshev points than the low modes take, so no mode is low and the grid, padded
+/// for the box's smallest wave number, holds every mode `k_par != 0`. Against the dense
+/// matrix as above.
+#[test]
+fn very_tall_spheres_in_a_small_box_are_the_dense_product_to_the_tolerance() {
+    let lengths = [3.0, 4.0];
+    let ps: Vec<Particle> = [
+        [0.3, 0.5, 1.2, 0.6],
+        [1.7, 2.9, 35.0, 1.0],
+        [2.4, 1.1, 70.0, 0.8],
+        [0.9, 3.6, 105.0, 0.5],
+    ]
+    .iter()
+    .map(|&[x, y, h, a]| Particle {
+        x: [x, y, HEIGHT + h],
+        a,
+    })
+    .collect();
+    for tol in [1e-6, 1e-10] {
+        let s = system(ps.clone(), lengths, tol);
+        for moments in [Moments::F, Moments::FT] {
+            let e = product_error(&s, moments, 5);
+            println!("tol {tol:e}, {moments:?}: {e:e}");
+            assert!(e < tol, "{e:e} at tolerance {tol:e}");
         }
     }
 }
