@@ -117,12 +117,24 @@ pub fn family<G: Green>(g: &G) -> GeneratedFile {
 /// The family file, and the single-precision (`f32`) self and pair kernels of the
 /// family (items of `single.rs`, [`SINGLE`]), emitted from the same traces.
 pub(super) fn family_and_single<G: Green>(g: &G) -> (GeneratedFile, TokenStream) {
+    family_file(g.name(), g.title(), &|spec| trace(g, spec))
+}
+
+/// The family file and single-precision kernels of the Green's function called `name`
+/// and titled `title`, whose kernels `trace` traces (not generic: the emission is
+/// compiled once for every Green's function).
+pub(super) fn family_file(
+    name: &str,
+    title: &str,
+    trace: &dyn Fn(&KernelSpec) -> Traced,
+) -> (GeneratedFile, TokenStream) {
+    let family = name;
     let mut items = TokenStream::new();
     let mut single = TokenStream::new();
     let mut op_counts = Vec::new();
     for v in variants() {
-        let traced = trace(g, &v.spec);
-        let name = format!("{}_{}", g.name(), v.suffix);
+        let traced = trace(&v.spec);
+        let name = format!("{}_{}", family, v.suffix);
         let what = v.what;
         let eq = match v.spec.interaction {
             Interaction::SelfTerm => "Eq. 17: the isolated sphere plus the reflected field only",
@@ -137,7 +149,7 @@ pub(super) fn family_and_single<G: Green>(g: &G) -> (GeneratedFile, TokenStream)
             }
         };
         let doc = vec![
-            format!("Grand mobility blocks, {what}: {}.", g.title()),
+            format!("Grand mobility blocks, {what}: {}.", title),
             String::new(),
             format!("{eq}. Dimensional; blocks map the force, torque and stresslet exerted on the fluid to (U, Omega, -E_inf)."),
             basis_doc.to_string(),
@@ -173,7 +185,7 @@ pub(super) fn family_and_single<G: Green>(g: &G) -> (GeneratedFile, TokenStream)
         }
     }
     let module_doc = vec![
-        format!("Kernels for {}.", g.title()),
+        format!("Kernels for {}.", title),
         String::new(),
         "Generated: see the header comment.".into(),
     ];
@@ -182,7 +194,7 @@ pub(super) fn family_and_single<G: Green>(g: &G) -> (GeneratedFile, TokenStream)
         #items
     };
     let file = GeneratedFile {
-        name: format!("{}.rs", g.name()),
+        name: format!("{}.rs", family),
         contents: emit::file(&module_doc, items),
         op_counts,
     };

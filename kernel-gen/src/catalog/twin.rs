@@ -12,12 +12,12 @@
 //! rotation folds to the same graph would be too, and one for which it does not keeps
 //! kernels of its own, as before.
 
-use super::family::family_and_single;
+use super::family::family_file;
 use super::Family;
-use crate::number::scalar::Scalar;
+use crate::kernel::trace_in_frame;
 use crate::physics::frame::strains;
-use crate::physics::green::turned::{self, Turned};
-use crate::physics::green::{clean, Boundary, Dimension, Green, ImageTerm, Mat3, Param, Plane};
+use crate::physics::green::turned;
+use crate::physics::green::{clean, Dimension, Green, Mat3};
 
 /// The family whose kernels serve a twin, and the twin's frame.
 #[derive(Clone, Debug)]
@@ -36,7 +36,6 @@ pub(super) struct Twin {
 /// The earlier family of `families` that `g` is, turned, if any (module docs).
 pub(super) fn find<G: Green>(g: &G, families: &[Family]) -> Option<Twin> {
     let q = turned::turn(g)?;
-    let turned = Turned { g, q };
     families.iter().find_map(|w| {
         let file = w.file.as_ref()?;
         let same_params = w.params.len() == g.params().len()
@@ -54,13 +53,10 @@ pub(super) fn find<G: Green>(g: &G, families: &[Family]) -> Option<Twin> {
         if !same_params {
             return None;
         }
-        let named = Renamed {
-            g: &turned,
-            name: w.name,
-            title: w.title,
-            params: w.params,
-        };
-        let (mine, _) = family_and_single(&named);
+        // the kernels traced in the frame, under `w`'s names (no generic code of `G`
+        // beyond the trace, which `trace` instantiates already)
+        let traced = |spec: &_| trace_in_frame(g, &q, spec).renamed(g.params(), w.params);
+        let (mine, _) = family_file(w.name, w.title, &traced);
         (mine.contents == file.contents).then(|| {
             let q3: Mat3<f64> = q;
             let q5 = strains(&q3);
@@ -72,58 +68,4 @@ pub(super) fn find<G: Green>(g: &G, families: &[Family]) -> Option<Twin> {
             }
         })
     })
-}
-
-/// A Green's function under another's name, title and parameters: the trace of a
-/// turned confinement emitted as the family it may be.
-struct Renamed<'g, G> {
-    g: &'g G,
-    name: &'static str,
-    title: &'static str,
-    params: &'static [Param],
-}
-
-impl<G: Green> Green for Renamed<'_, G> {
-    fn name(&self) -> &'static str {
-        self.name
-    }
-    fn title(&self) -> &'static str {
-        self.title
-    }
-    fn params(&self) -> &'static [Param] {
-        self.params
-    }
-    fn reflected<S: Scalar>(&self, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S> {
-        self.g.reflected(x, y, p)
-    }
-    fn full<S: Scalar>(&self, x: &[S; 3], y: &[S; 3], p: &[S]) -> Mat3<S> {
-        self.g.full(x, y, p)
-    }
-    fn translation_invariant(&self) -> bool {
-        self.g.translation_invariant()
-    }
-    fn image_terms(&self) -> Option<Vec<ImageTerm>> {
-        self.g.image_terms()
-    }
-    fn mirrors<S: Scalar>(&self, p: &[S]) -> Vec<Plane<S>> {
-        self.g.mirrors(p)
-    }
-    fn boundaries<S: Scalar>(&self, p: &[S]) -> Vec<Boundary<S>> {
-        self.g.boundaries(p)
-    }
-    fn weights<S: Scalar>(&self, p: &[S]) -> Vec<S> {
-        self.g.weights(p)
-    }
-    fn cancelling_image(&self) -> Option<(usize, usize)> {
-        self.g.cancelling_image()
-    }
-    fn radial<S: Scalar>(&self, m: u8, s: &S, p: &[S]) -> Option<S> {
-        self.g.radial(m, s, p)
-    }
-    fn axisymmetric(&self) -> bool {
-        self.g.axisymmetric()
-    }
-    fn image_extra_order(&self) -> usize {
-        self.g.image_extra_order()
-    }
 }

@@ -123,6 +123,13 @@ impl Graph {
         &self.inputs
     }
 
+    /// The input called `from` called `to` instead (nothing else changes).
+    pub fn rename_input(&mut self, from: &str, to: &str) {
+        for n in self.inputs.iter_mut().filter(|n| *n == from) {
+            *n = to.to_string();
+        }
+    }
+
     /// The constant value of a node, if it is a constant.
     pub fn as_const(&self, id: Id) -> Option<f64> {
         match self.nodes[id as usize] {

@@ -34,5 +34,5 @@ mod traced;
 pub use direct::evaluate_direct;
 pub use spec::{Drift, Interaction, KernelSpec, Path};
 pub use swap::Swap;
-pub use trace::trace;
+pub use trace::{trace, trace_in_frame};
 pub use traced::{Arg, ArgKind, BlockOut, FarBranch, Traced};

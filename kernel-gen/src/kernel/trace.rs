@@ -11,7 +11,7 @@ use crate::number::scalar::Scalar;
 use crate::physics::derivatives::{Collection, Differences, Form};
 use crate::physics::frame::{Frame, Turn};
 use crate::physics::green::turned::{self, Turned};
-use crate::physics::green::Green;
+use crate::physics::green::{Green, Mat3};
 use crate::physics::operators::{block_name, moment_dim, response_dim, Basis, Moment, Response};
 
 /// `(values, rows, columns)` of a row-major block to the block rotated.
@@ -49,6 +49,15 @@ pub fn trace<G: Green>(g: &G, spec: &KernelSpec) -> Traced {
         Some(q) => trace_forms(&Turned { g, q }, spec, Some(&Turn::from_frame(&q))),
         None => trace_forms(g, spec, None),
     }
+}
+
+/// The kernel `spec` of a Green's function whose planes share a normal other than `e3`,
+/// traced in its planes' frame `q` ([`turned::turn`]) and left there (points and moments
+/// of that frame in, responses and blocks of that frame out): what [`trace`] rotates into
+/// the world ([`crate::catalog`]'s twins compare it with other families). It
+/// instantiates no generic code that [`trace`] does not.
+pub fn trace_in_frame<G: Green>(g: &G, q: &Mat3<f64>, spec: &KernelSpec) -> Traced {
+    trace_forms(&Turned { g, q: *q }, spec, None)
 }
 
 fn trace_forms<G: Green>(g: &G, spec: &KernelSpec, turn: Option<&Turn>) -> Traced {

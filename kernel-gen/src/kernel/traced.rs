@@ -92,6 +92,23 @@ impl FarBranch {
 }
 
 impl Traced {
+    /// The same kernel with the run-time parameters `from` named and documented as `to`
+    /// (in order): arguments and graph inputs.
+    pub fn renamed(
+        mut self,
+        from: &[crate::physics::green::Param],
+        to: &[crate::physics::green::Param],
+    ) -> Traced {
+        for (f, t) in from.iter().zip(to) {
+            for a in self.args.iter_mut().filter(|a| a.name == f.name) {
+                a.name = t.name.into();
+                a.doc = t.doc.into();
+            }
+            self.graph.rename_input(f.name, t.name);
+        }
+        self
+    }
+
     /// The same kernel on `graph`, where `map` takes every old id to its new one.
     pub(super) fn remapped(self, graph: Graph, map: &[Id]) -> Traced {
         let Traced {
