@@ -217,42 +217,36 @@ impl Visitor for Collect<'_> {
                 serving.push((s.moments, s.name.clone()));
             }
         }
-        if let Some(t) = twin::find(g, &self.families) {
-            if let Some(s) = mine.first() {
-                self.refused.get_or_insert((s.name.clone(), g.name(), t.of));
+        let twin = twin::find(g, &self.families);
+        let (file, single, scene_files) = match &twin {
+            Some(t) => {
+                // a twin: the serving family's scenes serve it; one of its own is refused
+                if let Some(s) = mine.first() {
+                    self.refused.get_or_insert((s.name.clone(), g.name(), t.of));
+                }
+                serving = (self.families.iter())
+                    .find(|f| f.name == t.of)
+                    .map(|f| f.serving.clone())
+                    .unwrap_or_default();
+                (None, None, Vec::new())
             }
-            let serving = self
-                .families
-                .iter()
-                .find(|f| f.name == t.of)
-                .map(|f| f.serving.clone())
-                .unwrap_or_default();
-            self.families.push(Family {
-                name: g.name(),
-                title: g.title(),
-                params: g.params(),
-                exchanges,
-                boundaries,
-                file: None,
-                single: None,
-                twin: Some(t),
-                serving,
-                scene_files: Vec::new(),
-            });
-            return;
-        }
-        let (file, single) = family_and_single(g);
+            None => {
+                let (file, single) = family_and_single(g);
+                let scenes = mine.iter().map(|s| scene_file(g, s, false)).collect();
+                (Some(file), Some(single), scenes)
+            }
+        };
         self.families.push(Family {
             name: g.name(),
             title: g.title(),
             params: g.params(),
             exchanges,
             boundaries,
-            file: Some(file),
-            single: Some(single),
-            twin: None,
+            file,
+            single,
+            twin,
             serving,
-            scene_files: mine.iter().map(|s| scene_file(g, s, false)).collect(),
+            scene_files,
         });
     }
 }

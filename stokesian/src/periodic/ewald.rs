@@ -159,12 +159,7 @@ impl Ewald {
     /// periodic image of `b`; with `same`, `b` is `a` and the result its self mobility
     /// (the generated self kernel, the images `n != 0`, the reciprocal sum at `r = 0`).
     pub fn blocks(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
-        let sigma = 1.0 / self.xi;
-        let r = if same {
-            [0.0; 3]
-        } else {
-            self.minimum_image(a.x, b.x)
-        };
+        let (sigma, r) = self.pair(a, b, same);
         let mut out = if same {
             ewald_real_ft_self(a.x, a.a, eta, sigma)
         } else {
@@ -185,12 +180,7 @@ impl Ewald {
     /// generated FTS kernels (`scene_ewald_real_fts`), the reciprocal part
     /// [`Ewald::reciprocal_grand`].
     pub fn grand(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> Grand {
-        let sigma = 1.0 / self.xi;
-        let r = if same {
-            [0.0; 3]
-        } else {
-            self.minimum_image(a.x, b.x)
-        };
+        let (sigma, r) = self.pair(a, b, same);
         let mut out = if same {
             ewald_real_fts_self(a.x, a.a, eta, sigma).matrix()
         } else {
@@ -246,6 +236,17 @@ impl Ewald {
                 }
             }
         }
+    }
+
+    /// The real kernels' width `1/xi` and the minimum-image separation `x_a - x_b` of a
+    /// pair (zero for a sphere and itself).
+    fn pair(&self, a: &Particle, b: &Particle, same: bool) -> (f64, [f64; 3]) {
+        let r = if same {
+            [0.0; 3]
+        } else {
+            self.minimum_image(a.x, b.x)
+        };
+        (1.0 / self.xi, r)
     }
 
     /// The number of wave vectors summed (half of them, each with its opposite).
