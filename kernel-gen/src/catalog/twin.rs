@@ -58,8 +58,7 @@ pub(super) fn find<G: Green>(g: &G, families: &[Family]) -> Option<Twin> {
         let traced = |spec: &_| trace_in_frame(g, &q, spec).renamed(g.params(), w.params);
         let (mine, _) = family_file(w.name, w.title, &traced);
         (mine.contents == file.contents).then(|| {
-            let q3: Mat3<f64> = q;
-            let q5 = strains(&q3);
+            let q5 = strains(&q);
             Twin {
                 of: w.name,
                 of_params: w.params.iter().map(|p| p.name).collect(),

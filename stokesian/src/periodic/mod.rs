@@ -254,14 +254,18 @@ pub(crate) enum Lattice {
 }
 
 impl Periodic {
+    /// A sphere with its centre brought into the box ([`PeriodicBox::wrap`]).
+    fn wrapped(&self, s: &Particle) -> Particle {
+        Particle {
+            x: self.bx.wrap(s.x),
+            a: s.a,
+        }
+    }
+
     /// The FT blocks `M^{ab}` of particles `p` (field) and `q` (source), every image
     /// summed; `p == q` for the self mobility.
     pub(crate) fn blocks(&self, eta: f64, ps: &[Particle], p: usize, q: usize) -> BlocksFT {
-        let wrap = |s: &Particle| Particle {
-            x: self.bx.wrap(s.x),
-            a: s.a,
-        };
-        let (a, b) = (wrap(&ps[p]), wrap(&ps[q]));
+        let (a, b) = (self.wrapped(&ps[p]), self.wrapped(&ps[q]));
         match &self.lattice {
             Lattice::Triply(e) => e.blocks(eta, &a, &b, p == q),
             Lattice::Wall(w) => w.blocks(eta, &a, &b, p == q),
@@ -282,11 +286,8 @@ impl Periodic {
         let k = moments.per_particle();
         let m: Vec<f64> = match (&self.lattice, moments) {
             (Lattice::Triply(e), Moments::FTS) => {
-                let wrap = |s: &Particle| Particle {
-                    x: self.bx.wrap(s.x),
-                    a: s.a,
-                };
-                let g = e.grand(eta, &wrap(&ps[p]), &wrap(&ps[q]), p == q).matrix();
+                let (a, b) = (self.wrapped(&ps[p]), self.wrapped(&ps[q]));
+                let g = e.grand(eta, &a, &b, p == q).matrix();
                 return (0..k * k).map(|e| g[(e / k, e % k)]).collect();
             }
             (Lattice::Wall(_), Moments::FTS) => {
@@ -501,12 +502,7 @@ impl System {
             return self.periodic_dense_apply(p, moments, x);
         }
         let tol = p.bx.tolerance;
-        let ps: Vec<Particle> = (self.particles().iter())
-            .map(|s| Particle {
-                x: p.bx.wrap(s.x),
-                a: s.a,
-            })
-            .collect();
+        let ps: Vec<Particle> = self.particles().iter().map(|s| p.wrapped(s)).collect();
         match (&p.lattice, p.bx.lengths) {
             (Lattice::Wall(w), _) => wall_product::apply(w, self.viscosity(), &ps, moments, x),
             (Lattice::Triply(_), BoxLengths::Triply(lengths)) => {

@@ -62,25 +62,29 @@ fn self_mobility_in_a_cube_is_hasimotos() {
     }
 }
 
+/// The case of the split-parameter tests: viscosity, a box that is not a cube, two
+/// spheres of unequal radii, and the balanced `xi` of the box.
+fn split_case() -> (f64, [f64; 3], Particle, Particle, f64) {
+    let (eta, lengths) = (1.1, [9.0, 11.0, 13.0]);
+    let a = Particle {
+        x: [0.4, 8.7, 2.0],
+        a: 1.0,
+    };
+    let b = Particle {
+        x: [3.1, 1.2, 11.5],
+        a: 0.6,
+    };
+    let volume: f64 = lengths.iter().product();
+    (eta, lengths, a, b, PI.sqrt() / volume.cbrt())
+}
+
 /// The real and the reciprocal parts move with the split parameter in opposite
 /// directions; their sum must not: three values of `xi` a factor 2.5 apart, pairs of
 /// unequal radii in a box that is not a cube, and the self mobility, at tolerance 1e-13:
 /// 1e-12 of the largest entry.
 #[test]
 fn the_split_parameter_changes_nothing() {
-    let (eta, lengths) = (1.1, [9.0, 11.0, 13.0]);
-    let (a, b) = (
-        Particle {
-            x: [0.4, 8.7, 2.0],
-            a: 1.0,
-        },
-        Particle {
-            x: [3.1, 1.2, 11.5],
-            a: 0.6,
-        },
-    );
-    let volume: f64 = lengths.iter().product();
-    let xi0 = PI.sqrt() / volume.cbrt();
+    let (eta, lengths, a, b, xi0) = split_case();
     for (p, q, same) in [(&a, &b, false), (&b, &a, false), (&a, &a, true)] {
         let sums: Vec<BlocksFT> = [0.6, 1.0, 1.5]
             .iter()
@@ -229,19 +233,7 @@ fn largest_grand(m: &nalgebra::SMatrix<f64, 11, 11>) -> f64 {
 /// as for F and FT.
 #[test]
 fn the_split_parameter_changes_nothing_fts() {
-    let (eta, lengths) = (1.1, [9.0, 11.0, 13.0]);
-    let (a, b) = (
-        Particle {
-            x: [0.4, 8.7, 2.0],
-            a: 1.0,
-        },
-        Particle {
-            x: [3.1, 1.2, 11.5],
-            a: 0.6,
-        },
-    );
-    let volume: f64 = lengths.iter().product();
-    let xi0 = PI.sqrt() / volume.cbrt();
+    let (eta, lengths, a, b, xi0) = split_case();
     for (p, q, same) in [(&a, &b, false), (&b, &a, false), (&a, &a, true)] {
         let sums: Vec<_> = [0.6, 1.0, 1.5]
             .iter()
