@@ -566,17 +566,22 @@ impl System {
         let n = self.len();
         if let Some(p) = self.periodic_ref() {
             let mut out = vec![0.0; moments.per_particle() * n];
-            if let crate::periodic::Lattice::Wall(w) = &p.lattice {
-                let eta = self.viscosity();
-                let ps = self.particles();
-                // the kernels evaluate wrapped positions (crate::periodic)
-                let drift: Vec<[f64; 3]> = ps
-                    .par_iter()
-                    .map(|q| {
-                        let x = p.bx.wrap(q.x);
-                        w.drift(eta, &Particle { x, a: q.a })
-                    })
-                    .collect();
+            let eta = self.viscosity();
+            let ps = self.particles();
+            // the kernels evaluate wrapped positions (crate::periodic)
+            let own = |q: &Particle| -> Option<[f64; 3]> {
+                let q = Particle {
+                    x: p.bx.wrap(q.x),
+                    a: q.a,
+                };
+                match &p.lattice {
+                    crate::periodic::Lattice::Wall(w) => Some(w.drift(eta, &q)),
+                    crate::periodic::Lattice::Slit(s) => Some(s.drift(eta, &q)),
+                    crate::periodic::Lattice::Triply(_) => None,
+                }
+            };
+            if !matches!(p.lattice, crate::periodic::Lattice::Triply(_)) {
+                let drift: Vec<[f64; 3]> = ps.par_iter().filter_map(own).collect();
                 for (a, d) in drift.iter().enumerate() {
                     out[3 * a..3 * a + 3].copy_from_slice(d);
                 }

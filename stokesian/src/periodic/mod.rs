@@ -44,6 +44,7 @@ mod low_modes;
 mod plane_mode;
 mod product;
 mod real;
+pub mod slit;
 mod spectral;
 pub mod wall;
 mod wall_product;
@@ -55,6 +56,7 @@ use crate::System;
 use ewald::Ewald;
 use kernels::{BlocksFT, Condition, Confinement};
 use rayon::prelude::*;
+use slit::SlitEwald;
 use thiserror::Error;
 use wall::WallEwald;
 
@@ -73,7 +75,8 @@ pub struct PeriodicBox {
 pub enum BoxLengths {
     /// `[Lx, Ly, Lz]`: triply periodic (unbounded fluid).
     Triply([f64; 3]),
-    /// `[Lx, Ly]`: periodic along a wall normal to `e3`, unbounded above it.
+    /// `[Lx, Ly]`: periodic along a wall normal to `e3` (unbounded above it), or along
+    /// the walls of a slit.
     Lateral([f64; 2]),
 }
 
@@ -251,6 +254,8 @@ pub(crate) enum Lattice {
     Triply(Ewald),
     /// Above a wall, periodic in `x` and `y`.
     Wall(WallEwald),
+    /// Between two walls, periodic in `x` and `y`.
+    Slit(SlitEwald),
 }
 
 impl Periodic {
@@ -269,6 +274,7 @@ impl Periodic {
         match &self.lattice {
             Lattice::Triply(e) => e.blocks(eta, &a, &b, p == q),
             Lattice::Wall(w) => w.blocks(eta, &a, &b, p == q),
+            Lattice::Slit(s) => s.blocks(eta, &a, &b, p == q),
         }
     }
 
@@ -290,17 +296,14 @@ impl Periodic {
                 let g = e.grand(eta, &a, &b, p == q).matrix();
                 return (0..k * k).map(|e| g[(e / k, e % k)]).collect();
             }
-            (Lattice::Wall(_), Moments::FTS) => {
-                unreachable!("FTS near a periodic wall is refused by System::check_periodic")
+            (Lattice::Wall(_) | Lattice::Slit(_), Moments::FTS) => {
+                unreachable!("FTS near periodic walls is refused by System::check_periodic")
             }
             _ => self.blocks(eta, ps, p, q).matrix().concat(),
         };
         (0..k * k).map(|e| m[(e / k) * 6 + e % k]).collect()
     }
 }
-
-/// The refusal of a slit: its Green's function superposes two walls'.
-const SLIT: &str = "our slit's Green's function is the superposition of two walls' (Swan & Brady Sec. IV): its far field parallel to the walls tends to -J and decays like 1/rho, so the lattice sum diverges (an exact slit Green's function would be needed)";
 
 /// The Ewald sum of `bx` in `confinement`, or why there is none.
 fn lattice(confinement: &Confinement, bx: &PeriodicBox) -> Result<Lattice, PeriodicError> {
@@ -332,7 +335,26 @@ fn lattice(confinement: &Confinement, bx: &PeriodicBox) -> Result<Lattice, Perio
             "near a wall with three lengths",
             "the box is periodic along the wall only: give two lengths, Lx and Ly",
         ),
-        (_, _) => refuse("in a slit", SLIT),
+        ([bottom, top], BoxLengths::Lateral(l))
+            if bottom.normal == [0.0, 0.0, 1.0] && top.normal == [0.0, 0.0, -1.0] =>
+        {
+            let gap = -top.offset - bottom.offset;
+            Ok(Lattice::Slit(SlitEwald::new(
+                l,
+                bottom.offset,
+                gap,
+                bx.tolerance,
+                None,
+            )))
+        }
+        ([_, _], BoxLengths::Lateral(_)) => refuse(
+            "in a slit whose walls are not normal to e3",
+            "the box is periodic in x and y, along the walls of a slit normal to e3 only",
+        ),
+        (_, _) => refuse(
+            "in a slit with three lengths",
+            "the box is periodic along the walls only: give two lengths, Lx and Ly",
+        ),
     }
 }
 
@@ -366,9 +388,15 @@ impl System {
                 }
             }
         }
-        if let Lattice::Wall(w) = &lattice {
-            for (index, p) in ps.iter().enumerate() {
-                let distance = p.x[2] - w.height;
+        // the walls' planes `x3 = z0` (fluid above) and `x3 = z0 + H` (fluid below)
+        let walls: Vec<(f64, f64)> = match &lattice {
+            Lattice::Wall(w) => vec![(w.height, 1.0)],
+            Lattice::Slit(s) => vec![(s.bottom(), 1.0), (s.bottom() + s.gap, -1.0)],
+            Lattice::Triply(_) => Vec::new(),
+        };
+        for (index, p) in ps.iter().enumerate() {
+            for &(plane, side) in &walls {
+                let distance = side * (p.x[2] - plane);
                 if distance < p.a {
                     return Err(PeriodicError::CutsWall {
                         index,
@@ -409,6 +437,9 @@ impl System {
         match (self.periodic_ref().map(|p| &p.lattice), moments) {
             (Some(Lattice::Wall(_)), Moments::FTS) => Err(PeriodicError::NotAvailable(
                 "the stresslets (FTS) near a periodic wall",
+            )),
+            (Some(Lattice::Slit(_)), Moments::FTS) => Err(PeriodicError::NotAvailable(
+                "the stresslets (FTS) in a periodic slit",
             )),
             _ => Ok(()),
         }
@@ -498,7 +529,7 @@ impl System {
     /// Ewald), near a wall its twin ([`wall_product`]: linked cells, spectral Ewald with
     /// the image sources, the mode `k_par = 0` interpolated in the heights).
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
-        if moments == Moments::FTS {
+        if moments == Moments::FTS || matches!(p.lattice, Lattice::Slit(_)) {
             return self.periodic_dense_apply(p, moments, x);
         }
         let tol = p.bx.tolerance;
@@ -511,6 +542,7 @@ impl System {
             (Lattice::Triply(_), BoxLengths::Lateral(_)) => {
                 unreachable!("a triply periodic sum has three lengths")
             }
+            (Lattice::Slit(_), _) => unreachable!("the slit's product is the direct sums"),
         }
     }
 }

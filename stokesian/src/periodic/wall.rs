@@ -107,6 +107,12 @@ impl WallEwald {
         }
     }
 
+    /// The lateral lattice vectors within `r_c + ` half the box's diagonal, nearest
+    /// first.
+    pub(super) fn shifts(&self) -> &[[f64; 2]] {
+        &self.shifts
+    }
+
     /// The separation `x_a - x_b`, its lateral components brought into the box centred
     /// on the origin (each in `[-L/2, L/2]`), its normal component as it is.
     pub fn minimum_image(&self, xa: [f64; 3], xb: [f64; 3]) -> [f64; 3] {
@@ -143,8 +149,9 @@ impl WallEwald {
             out += &ewald_wall_ft_pair(a.x, xb, a.a, b.a, eta, self.height, sigma);
         }
         let (ha, hb) = (a.x[2] - self.height, b.x[2] - self.height);
-        self.reciprocal([r[0], r[1]], ha, hb, a.a, b.a, eta, &mut out);
-        self.plane_average(ha, hb, a.a, b.a, eta, &mut out);
+        self.reciprocal([r[0], r[1]], ha, hb, a.a, b.a, eta, true, &mut out);
+        let unit = 1.0 / (8.0 * PI * eta * self.lengths[0] * self.lengths[1]);
+        plane_blocks(&self.plane_kernel(ha, hb), a.a, b.a, unit, &mut out);
         out
     }
 
@@ -155,9 +162,11 @@ impl WallEwald {
     }
 
     /// The reciprocal sum (`k_par != 0`) of the FT blocks at lateral separation `rho`,
-    /// heights `ha`, `hb` above the wall, radii `aa`, `ab`, added to `out`.
+    /// heights `ha`, `hb` above the wall, radii `aa`, `ab`, added to `out`: the direct
+    /// source's, and with `image` Blake's image's (without it, the smooth part of the
+    /// Stokeslet alone, which the slit's sum shares, [`super::slit`]).
     #[allow(clippy::too_many_arguments)]
-    fn reciprocal(
+    pub(super) fn reciprocal(
         &self,
         rho: [f64; 2],
         ha: f64,
@@ -165,6 +174,7 @@ impl WallEwald {
         aa: f64,
         ab: f64,
         eta: f64,
+        image: bool,
         out: &mut BlocksFT,
     ) {
         let (ca, cb) = (aa * aa / 6.0, ab * ab / 6.0);
@@ -180,11 +190,13 @@ impl WallEwald {
                 C::unit(lateral_phase + k[2] * (ha - hb)),
                 &blocks_of(&direct, k, k2, ca, cb),
             );
-            let image = image_source(proj, k, k2, hb);
-            acc.add(
-                C::unit(lateral_phase + k[2] * (ha + hb)),
-                &blocks_of(&image, k, k2, ca, cb),
-            );
+            if image {
+                let image = image_source(proj, k, k2, hb);
+                acc.add(
+                    C::unit(lateral_phase + k[2] * (ha + hb)),
+                    &blocks_of(&image, k, k2, ca, cb),
+                );
+            }
         });
         acc.into(scale, out);
     }
@@ -304,30 +316,30 @@ impl WallEwald {
         };
         std::array::from_fn(|m| std::array::from_fn(|n| t(m, n)))
     }
+}
 
-    /// The mode `k_par = 0` (module docs) of the FT blocks at heights `ha`, `hb` above the
-    /// wall, added to `out`.
-    #[allow(clippy::too_many_arguments)]
-    fn plane_average(&self, ha: f64, hb: f64, aa: f64, ab: f64, eta: f64, out: &mut BlocksFT) {
-        let (ca, cb) = (aa * aa / 6.0, ab * ab / 6.0);
-        let table = self.plane_kernel(ha, hb);
-        let t = |m: usize, n: usize| table[m][n];
-        let unit = 1.0 / (8.0 * PI * eta * self.lengths[0] * self.lengths[1]);
-        let uf = unit * (t(0, 0) + ca * t(2, 0) + cb * t(0, 2) + ca * cb * t(2, 2));
-        let of = 0.5 * unit * (t(1, 0) + cb * t(1, 2));
-        let ul = 0.5 * unit * (t(0, 1) + ca * t(2, 1));
-        let ol = 0.25 * unit * t(1, 1);
-        for i in 0..2 {
-            out.uf[i][i] += uf;
-            out.ol[i][i] += ol;
-        }
-        // eps_m3j: (1, 2) -> -1, (2, 1) -> +1
-        out.of[0][1] -= of;
-        out.of[1][0] += of;
-        // UL_ij = (1/2) eps_j3i d_b (...) f: (i, j) = (1, 2) -> eps_231 = +1
-        out.ul[0][1] += ul;
-        out.ul[1][0] -= ul;
+/// The mode `k_par = 0` of the FT blocks from the table `t[m][n] = d_a^m d_b^n f` of its
+/// kernel `f(h_a, h_b)` (units of `1/(8 pi eta A)`, `unit`; module docs), radii `aa`, `ab`,
+/// added to `out`: `UF = (1 + c_a d_a^2)(1 + c_b d_b^2) f`, `OmegaF_mj = (1/2) eps_m3j d_a
+/// (1 + c_b d_b^2) f`, `UL_ij = (1/2) eps_j3i d_b (1 + c_a d_a^2) f`, `OmegaL = (1/4) d_a
+/// d_b f (I - e3 e3)`, `c = a^2/6`, on the lateral components.
+pub(super) fn plane_blocks(table: &[[f64; 3]; 3], aa: f64, ab: f64, unit: f64, out: &mut BlocksFT) {
+    let (ca, cb) = (aa * aa / 6.0, ab * ab / 6.0);
+    let t = |m: usize, n: usize| table[m][n];
+    let uf = unit * (t(0, 0) + ca * t(2, 0) + cb * t(0, 2) + ca * cb * t(2, 2));
+    let of = 0.5 * unit * (t(1, 0) + cb * t(1, 2));
+    let ul = 0.5 * unit * (t(0, 1) + ca * t(2, 1));
+    let ol = 0.25 * unit * t(1, 1);
+    for i in 0..2 {
+        out.uf[i][i] += uf;
+        out.ol[i][i] += ol;
     }
+    // eps_m3j: (1, 2) -> -1, (2, 1) -> +1
+    out.of[0][1] -= of;
+    out.of[1][0] += of;
+    // UL_ij = (1/2) eps_j3i d_b (...) f: (i, j) = (1, 2) -> eps_231 = +1
+    out.ul[0][1] += ul;
+    out.ul[1][0] -= ul;
 }
 
 /// The lateral wave vectors `k_par = 2 pi (n1/Lx, n2/Ly) != 0`, `|k_par| <= k_cut`, of the
@@ -368,10 +380,10 @@ pub(crate) fn reciprocal_box(xi: f64, tol: f64, s: f64, k_low: f64) -> (f64, f64
 /// sqrt(pi) xi z^2 e^{-u^2}`, `u = xi z`; `Psi' = -4 pi erf(u) + 8 sqrt(pi) (u^3 - 2 u)
 /// e^{-u^2}`; for `n >= 2`, `Psi^(n) = 8 sqrt(pi) xi^(n-1) q_(n-2)(u) e^{-u^2}` with
 /// `q_0 = -3 + 7 u^2 - 2 u^4` and `q_(j+1) = q_j' - 2 u q_j`.
-struct Psi([f64; 7]);
+pub(super) struct Psi(pub(super) [f64; 7]);
 
 impl Psi {
-    fn at(xi: f64, z: f64) -> Psi {
+    pub(super) fn at(xi: f64, z: f64) -> Psi {
         let u = xi * z;
         let gauss = (-u * u).exp();
         let root = PI.sqrt();

@@ -10,6 +10,7 @@
 
 mod ewald;
 mod lubrication;
+mod slit;
 mod spectral;
 mod system;
 mod wall;
