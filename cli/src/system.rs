@@ -74,7 +74,8 @@ pub struct SystemArgs {
     pub allow_overlap: bool,
     /// A periodic box, every periodic image summed by Ewald summation (F and FT;
     /// docs/periodic.md): LX,LY,LZ, triply periodic unbounded fluid (--confinement free),
-    /// or LX,LY, periodic along the wall (--confinement wall).
+    /// or LX,LY, periodic along the wall (--confinement wall) or the walls of a slit
+    /// (--confinement slit: its exact Green's function, not the superposed images).
     #[arg(long = "box", value_name = "LX,LY[,LZ]", allow_hyphen_values = true)]
     pub periodic_box: Option<String>,
     /// Relative truncation error of the periodic sums (with --box).
@@ -385,7 +386,7 @@ impl SystemArgs {
                             option: "--box",
                             value: text.clone(),
                             reason: format!(
-                                "needs 3 lengths lx,ly,lz (a triply periodic box) or 2 lengths lx,ly (periodic along a wall), found {}",
+                                "needs 3 lengths lx,ly,lz (a triply periodic box) or 2 lengths lx,ly (periodic along a wall or a slit's walls), found {}",
                                 v.len()
                             ),
                         })

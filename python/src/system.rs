@@ -71,7 +71,7 @@ impl PySystem {
                     [lx, ly] => BoxLengths::Lateral([lx, ly]),
                     _ => {
                         return Err(input_error(format!(
-                            "box = {b:?}: expected three lengths (Lx, Ly, Lz), a triply periodic box, or two (Lx, Ly), periodic along a wall"
+                            "box = {b:?}: expected three lengths (Lx, Ly, Lz), a triply periodic box, or two (Lx, Ly), periodic along a wall or a slit's walls"
                         )))
                     }
                 };

@@ -95,8 +95,10 @@ class System:
         is zero, positions unwrapped; the lubricated FTS resistance and a trap raise).
         ``(Lx, Ly)``: periodic along a wall (``confinement="wall"``), unbounded above it
         (F and FT, FTS raises; Brownian dynamics with the generated drift, each
-        sphere's height derivative of its periodic self mobility). A sphere overlapping its
-        own image or another's raises.
+        sphere's height derivative of its periodic self mobility); with
+        ``confinement="slit"``, periodic along both walls with the slit's exact Green's
+        function (F and FT, the product by direct sums; Brownian dynamics with its drift).
+        A sphere overlapping its own image or another's, or cutting a wall, raises.
     periodic_tolerance: relative truncation error of the periodic sums (default 1e-10).
     """
 

@@ -371,6 +371,30 @@ def test_overlap_options():
         stokesian.System(x, 1.0, overlap="soft")
 
 
+def test_a_periodic_slit():
+    # between walls at z = 0 and z = 2 in a wide square box: a small sphere on the
+    # mid-plane has Faxen's mobility 1 - 1.004 a/l (l = 1, the distance to each wall),
+    # which only the slit's exact Green's function gives (superposed images: 9/8); the
+    # box adds O(a H/L^2)
+    a = 1e-3
+    s = stokesian.System(np.array([[0.3, 0.1, 1.0]]), a, confinement="slit",
+                         boundary_height=0.0, gap=2.0, box=(120.0, 120.0))
+    m = s.mobility("F")
+    assert abs((1.0 - m[0, 0] * 6.0 * np.pi * a) / a - 1.004) < 1e-3
+    # two spheres: symmetric positive definite, the product is the matrix, the drift
+    # along the normal is not zero off the mid-plane
+    two = stokesian.System(np.array([[0.0, 0.0, 1.5], [3.0, 1.0, 3.2]]), [1.0, 0.7],
+                           confinement="slit", boundary_height=0.0, gap=5.0, box=(8.0, 9.0))
+    m = two.mobility("FT")
+    assert np.allclose(m, m.T, rtol=0.0, atol=1e-14) and np.linalg.eigvalsh(m).min() > 0.0
+    f = np.arange(12.0) / 12.0
+    assert np.allclose(two.apply("FT", f), m @ f, rtol=0.0, atol=1e-13)
+    assert abs(two.divergence("F")[2]) > 1e-3
+    with pytest.raises(ValueError, match="overlaps the boundary"):
+        stokesian.System(np.array([[0.0, 0.0, 4.5]]), 1.0, confinement="slit",
+                         boundary_height=0.0, gap=5.0, box=(8.0, 9.0))
+
+
 def test_a_triply_periodic_box():
     # one sphere in a cubic box: Hasimoto's self mobility 1 - 2.8372974794806 a/L
     # + (4 pi/3)(a/L)^3 (times 1/(6 pi eta a)), to the sums' 1e-10 and the printed
@@ -429,8 +453,8 @@ def test_a_box_periodic_along_a_wall():
     open_ = stokesian.System(one, 1.0, confinement="wall").mobility("F")
     big = stokesian.System(one, 1.0, confinement="wall", box=(400.0, 400.0)).mobility("F")
     assert np.abs(big - open_).max() < 1e-5 * np.abs(open_).max()
-    with pytest.raises(ValueError, match="superposition of two walls"):
-        stokesian.System(one, 1.0, confinement="slit", params={"gap": 5.0}, box=(8.0, 9.0))
+    with pytest.raises(ValueError, match="wall with three lengths"):
+        stokesian.System(one, 1.0, confinement="wall", box=(8.0, 9.0, 10.0))
     # Brownian dynamics with the generated drift: along the normal, and in a large box the
     # open wall's (the lattice's correction to the normal self mobility falls faster than
     # the lateral one's 6 h^2 S3 / L^3)

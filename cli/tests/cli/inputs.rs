@@ -933,12 +933,38 @@ fn a_periodic_box() {
         .mobility(Moments::FTS);
     assert_eq!(read_npy(&out), want);
     fs::remove_file(&out).unwrap();
+    // a periodic slit between x3 = -2 and x3 = 3: its exact Green's function
+    let slit = ["--box", "10,11", "--boundary-height", "-2", "--gap", "5"];
+    let o = run_mobility("slit", "FT", &p, &out, &slit);
+    assert_ok(&o);
+    let want = System::new(
+        Confinement::Slit {
+            height: -2.0,
+            gap: 5.0,
+        },
+        1.0,
+        boxed_spheres(),
+        false,
+    )
+    .unwrap()
+    .periodic(stokesian::PeriodicBox::lateral([10.0, 11.0]))
+    .unwrap()
+    .mobility(Moments::FT);
+    assert_eq!(read_npy(&out), want);
+    fs::remove_file(&out).unwrap();
+    let o = run_mobility("slit", "FTS", &p, &out, &slit);
+    assert_fails(
+        &o,
+        &["--box: the stresslets (FTS) in a periodic slit: not available in a periodic box"],
+        &dir,
+        &["particles.csv"],
+    );
     for (conf, moments, b, message) in [
         (
             "free",
             "F",
             "10",
-            "--box 10: needs 3 lengths lx,ly,lz (a triply periodic box) or 2 lengths lx,ly (periodic along a wall), found 1",
+            "--box 10: needs 3 lengths lx,ly,lz (a triply periodic box) or 2 lengths lx,ly (periodic along a wall or a slit's walls), found 1",
         ),
         (
             "free",

@@ -1,6 +1,7 @@
-//! Periodic boxes: spheres in a triply periodic box of unbounded fluid, or above a plane
-//! no-slip wall in a box periodic along it (x and y), the mobility summed over every
-//! periodic image by Ewald summation ([`ewald`], [`wall`]). A [`System`] is made periodic
+//! Periodic boxes: spheres in a triply periodic box of unbounded fluid, above a plane
+//! no-slip wall in a box periodic along it (x and y), or between two no-slip walls (a
+//! slit, with its exact Green's function) periodic along them, the mobility summed over
+//! every periodic image by Ewald summation ([`ewald`], [`wall`], [`slit`]). A [`System`] is made periodic
 //! by [`System::periodic`], which validates the box against the spheres; the dense
 //! mobility, its blocks, the product and the velocities (F and FT) then are the periodic
 //! ones, and so is Brownian dynamics: in the triply periodic box the drift is zero (each
@@ -10,7 +11,8 @@
 //! would overlap two spheres by their nearest images is redrawn like any invalid step. The dense
 //! matrix and its blocks use the direct sums; the triply periodic product is the fast
 //! one ([`product`]: real space over linked cells, reciprocal space by spectral Ewald),
-//! `O(N)`, and so is the product along a periodic wall ([`wall_product`]).
+//! `O(N)`, and so is the product along a periodic wall ([`wall_product`]); in the slit the
+//! product is the direct sums (`O(N^2)`).
 //!
 //! The resistance with lubrication ([`System::resistance`]) adds its pair corrections
 //! for every image of a sphere within the window of the correction, a sphere's own
@@ -25,13 +27,14 @@
 //! [`Ewald::grand`]), the harmonic trap of Brownian dynamics (not a periodic force), the
 //! overlap forms (overlapping spheres are refused, by their nearest images), the
 //! single-precision product (the periodic product is in `f64` whatever
-//! [`crate::Precision`] asks), and every confinement but free space (three lengths) and
-//! the wall (two lengths, the wall normal to `e3`): near a free surface or an interface
-//! the lattice sum diverges (their far field parallel to the plane decays like `1/rho`,
-//! and nothing balances a net lateral force), and so it does in the slit, whose Green's
-//! function is the superposition of two walls' (its far field tends to `-J`, `1/rho`);
-//! a wall of another normal is periodic along its normal, which is meaningless; free
-//! space with two lengths leaves a net lateral force unbalanced (`1/rho` again).
+//! [`crate::Precision`] asks), and every confinement but free space (three lengths), the
+//! wall and the slit (two lengths, walls normal to `e3`): near a free surface or an
+//! interface the lattice sum diverges (their far field parallel to the plane decays like
+//! `1/rho`, and nothing balances a net lateral force); a wall of another normal is
+//! periodic along its normal, which is meaningless; free space with two lengths leaves a
+//! net lateral force unbalanced (`1/rho` again). The periodic slit is not the open
+//! slit's kernels summed (those superpose two walls' images, whose far field tends to
+//! `-J`): it is the exact slit ([`slit`]).
 //!
 //! Positions are kept as given (unwrapped) and wrapped into the box where the kernels
 //! evaluate them ([`PeriodicBox::wrap`]): every sum is over the lattice, and a sphere
@@ -360,8 +363,9 @@ fn lattice(confinement: &Confinement, bx: &PeriodicBox) -> Result<Lattice, Perio
 
 impl System {
     /// This system in a periodic box: triply periodic unbounded fluid (confinement free,
-    /// [`PeriodicBox::new`]) or periodic along a wall normal to `e3` (confinement wall,
-    /// [`PeriodicBox::lateral`]), spheres clear of each other's and their own images. See
+    /// [`PeriodicBox::new`]) or periodic along a wall or a slit's walls normal to `e3`
+    /// (confinement wall or slit, [`PeriodicBox::lateral`]), spheres clear of each other's
+    /// and their own images and of the walls. See
     /// [`crate::periodic`] for what is available there.
     pub fn periodic(mut self, bx: PeriodicBox) -> Result<System, PeriodicError> {
         for (d, &value) in bx.lengths.as_slice().iter().enumerate() {
@@ -431,7 +435,7 @@ impl System {
         self.periodic_ref().map(|p| p.bx)
     }
 
-    /// Whether `moments` are available in this system's box: near a periodic wall, not
+    /// Whether `moments` are available in this system's box: near periodic walls, not
     /// the stresslets.
     pub fn check_periodic(&self, moments: Moments) -> Result<(), PeriodicError> {
         match (self.periodic_ref().map(|p| &p.lattice), moments) {

@@ -325,3 +325,13 @@ fn bad_slits_are_refused() {
         assert!(matches!(err, PeriodicError::CutsWall { .. }), "{err}");
     }
 }
+
+/// Brownian dynamics in a periodic slit runs with every scheme and noise, as along one
+/// wall (its statistics near one wall are in `cargo xtask report`).
+#[test]
+fn brownian_dynamics_runs_in_a_periodic_slit() {
+    super::wall::brownian_dynamics_runs(Confinement::Slit {
+        height: 0.5,
+        gap: 4.5,
+    });
+}

@@ -293,16 +293,8 @@ fn bad_boxes_near_walls_are_refused() {
         PeriodicError::Confinement { why, .. } => why,
         other => panic!("{other}"),
     };
-    // the slit (two superposed walls: 1/rho), free surfaces and interfaces (1/rho),
-    // a side wall (periodic along its normal), free space with two lengths, a wall with
-    // three
-    let slit = make(Confinement::Slit {
-        height: 0.0,
-        gap: 5.0,
-    })
-    .periodic(PeriodicBox::lateral([10.0, 10.0]))
-    .unwrap_err();
-    assert!(reason(slit).contains("superposition of two walls"));
+    // free surfaces and interfaces (1/rho), a side wall (periodic along its normal),
+    // free space with two lengths, a wall with three (the slit: `periodic::slit`)
     let surface = make(Confinement::FreeSurface { height: 0.0 })
         .periodic(PeriodicBox::lateral([10.0, 10.0]))
         .unwrap_err();
@@ -450,10 +442,16 @@ fn the_drift_is_the_divergence_of_the_periodic_mobility() {
 /// distributed) take minutes and are in `cargo xtask report`.
 #[test]
 fn brownian_dynamics_runs_near_a_periodic_wall() {
+    brownian_dynamics_runs(Confinement::Wall { height: HEIGHT });
+}
+
+/// The runs of [`brownian_dynamics_runs_near_a_periodic_wall`] in `confinement` (walls
+/// at `x3 = HEIGHT` and, for a slit, above `4.5`).
+pub(super) fn brownian_dynamics_runs(confinement: Confinement) {
     use rand::SeedableRng;
     use stokesian::{Brownian, LubricatedDynamics, Lubrication, Noise, Scheme};
     let start = System::new(
-        Confinement::Wall { height: HEIGHT },
+        confinement,
         ETA,
         vec![p([0.5, 0.5, 2.0], 1.0), p([13.0, 2.5, 3.1], 0.9)],
         Overlap::Refuse,
