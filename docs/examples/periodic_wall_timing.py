@@ -1,6 +1,7 @@
-"""Time the dense mobility of spheres above a wall in a box periodic along it
-(docs/periodic.md): a monolayer of spheres of radius 1 at area fraction about 0.3,
-centres at heights 1.5 to 3.5 above the wall, F and FT, two tolerances.
+"""Time the dense mobility of spheres above a wall in a box periodic along it, and
+between two walls (a slit of gap 5) periodic along them (docs/periodic.md): a monolayer
+of spheres of radius 1 at area fraction about 0.3, centres at heights 1.5 to 3.5 above
+the (lower) wall, F and FT, two tolerances.
 
 Run with the module built (`cargo xtask test` builds it into target/python-venv):
     target/python-venv/bin/python docs/examples/periodic_wall_timing.py
@@ -18,8 +19,10 @@ for n in (100, 400):
             if np.linalg.norm(d) < 2.05: ok = False; break
         if ok: pts.append(x)
     x = np.array(pts)
-    for tol in (1e-6, 1e-10):
-        s = stokesian.System(x, 1.0, confinement="wall", box=(L, L), periodic_tolerance=tol)
-        for mom in ("F", "FT"):
-            t = time.perf_counter(); m = s.mobility(mom); t = time.perf_counter() - t
-            print(f"N={n} L={L:.1f} tol={tol:g} {mom}: dense {t:.3f} s")
+    for conf, extra in (("wall", {}), ("slit", {"gap": 5.0})):
+        for tol in (1e-6, 1e-10):
+            s = stokesian.System(x, 1.0, confinement=conf, box=(L, L), periodic_tolerance=tol,
+                                 **extra)
+            for mom in ("F", "FT"):
+                t = time.perf_counter(); m = s.mobility(mom); t = time.perf_counter() - t
+                print(f"{conf} N={n} L={L:.1f} tol={tol:g} {mom}: dense {t:.3f} s")

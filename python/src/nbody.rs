@@ -101,10 +101,16 @@ fn batch_system(
 
 /// libMobility's `NBody` solver with our kernels: Rotne-Prager-Yamakawa in free space
 /// (`"open", "open", "open"`) and the Swan-Brady wall mobility above a no-slip wall
-/// (`"open", "open", "single_wall"`). See the stub for the interface.
+/// (`"open", "open", "single_wall"`), and the periodic boxes. See the stub for the
+/// interface.
 #[pyclass(module = "stokesian")]
 pub(crate) struct NBody {
     wall: bool,
+    /// `("periodic", "periodic", "two_walls")`: a slit periodic along its walls, at `zmin`
+    /// and `zmax` (as libMobility's DPStokes takes them); `wall` is set too (the lower).
+    two_walls: bool,
+    /// The upper wall's height, with `two_walls`.
+    top: Option<f64>,
     /// `("periodic", "periodic", "periodic")`: a triply periodic box, whose lengths
     /// `setParameters` gives (`Lx`, `Ly`, `Lz`, as libMobility's PSE takes them); with
     /// `wall`, `("periodic", "periodic", "single_wall")`: periodic along the wall (`Lx`,
@@ -251,25 +257,30 @@ impl NBody {
     #[pyo3(signature = (periodicityX, periodicityY, periodicityZ))]
     #[allow(non_snake_case)]
     fn new(periodicityX: &str, periodicityY: &str, periodicityZ: &str) -> PyResult<Self> {
-        let (wall, periodic) = match (periodicityX, periodicityY, periodicityZ) {
-            ("open", "open", "open") => (false, false),
-            ("open", "open", "single_wall") => (true, false),
-            ("periodic", "periodic", "periodic") => (false, true),
-            ("periodic", "periodic", "single_wall") => (true, true),
+        let (wall, periodic, two_walls) = match (periodicityX, periodicityY, periodicityZ) {
+            ("open", "open", "open") => (false, false, false),
+            ("open", "open", "single_wall") => (true, false, false),
+            ("periodic", "periodic", "periodic") => (false, true, false),
+            ("periodic", "periodic", "single_wall") => (true, true, false),
+            ("periodic", "periodic", "two_walls") => (true, true, true),
             _ => {
                 return Err(input_error(format!(
                     "NBody supports periodicity (\"open\", \"open\", \"open\") (free space), \
                      (\"open\", \"open\", \"single_wall\") (a no-slip wall below the \
                      particles), (\"periodic\", \"periodic\", \"periodic\") (a triply \
                      periodic box, as libMobility's PSE) and (\"periodic\", \"periodic\", \
-                     \"single_wall\") (periodic along the wall, as libMobility's DPStokes); \
-                     found ({periodicityX:?}, {periodicityY:?}, {periodicityZ:?}): two walls, \
-                     an open z with periodic x and y, and other mixes are not implemented"
+                     \"single_wall\") or (\"periodic\", \"periodic\", \"two_walls\") \
+                     (periodic along the wall or the walls, as libMobility's DPStokes); \
+                     found ({periodicityX:?}, {periodicityY:?}, {periodicityZ:?}): two walls \
+                     without periodic x and y, an open z with periodic x and y, and other \
+                     mixes are not implemented"
                 )))
             }
         };
         Ok(NBody {
             wall,
+            two_walls,
+            top: None,
             periodic,
             lengths: None,
             wall_height: None,
@@ -332,9 +343,25 @@ impl NBody {
                 ))
             }
         };
-        // DPStokes' wall at zmin (the top of its grid zmax changes nothing here, nor do
-        // its box rounding and its check of the net force in an open z)
-        let _ = (zmax, allowChangingBoxSize, allowUnsafeForces);
+        // DPStokes' wall at zmin (with one wall the top of its grid zmax changes nothing
+        // here, nor do its box rounding and its check of the net force in an open z); with
+        // two walls the upper one at zmax
+        let _ = (allowChangingBoxSize, allowUnsafeForces);
+        let top = match (self.two_walls, zmin, zmax) {
+            (true, Some(lo), Some(hi)) if lo < hi && hi.is_finite() => Some(hi),
+            (true, Some(lo), Some(hi)) => {
+                return Err(input_error(format!(
+                    "zmin = {lo}, zmax = {hi}: the walls need zmin < zmax, both finite"
+                )))
+            }
+            (true, ..) => {
+                return Err(input_error(
+                    "zmin and zmax, the walls' heights, are required with two walls: \
+                     setParameters(Lx=..., Ly=..., zmin=..., zmax=...)",
+                ))
+            }
+            (false, ..) => None,
+        };
         let wallHeight = match (self.periodic && self.wall, zmin, wallHeight) {
             (false, Some(_), _) => {
                 return Err(input_error(
@@ -391,6 +418,7 @@ impl NBody {
             _ => {}
         }
         self.wall_height = wallHeight;
+        self.top = top;
         self.lengths = lengths;
         self.batch = (Nbatch, NperBatch);
         Ok(())
@@ -482,13 +510,17 @@ impl NBody {
             ));
         }
         let lengths = self.lengths;
-        let conf = match (self.wall, self.wall_height) {
-            (false, _) => Confinement::Free,
-            (true, Some(height)) => Confinement::Wall { height },
-            (true, None) => {
+        let conf = match (self.wall, self.wall_height, self.top) {
+            (false, ..) => Confinement::Free,
+            (true, Some(height), Some(top)) => Confinement::Slit {
+                height,
+                gap: top - height,
+            },
+            (true, Some(height), None) if !self.two_walls => Confinement::Wall { height },
+            (true, ..) => {
                 return Err(input_error(
-                    "wallHeight is required for a bottom wall: call \
-                     setParameters(wallHeight=...) before setPositions",
+                    "the walls' heights are required: call setParameters(wallHeight=...) \
+                     (zmin=..., and zmax=... with two walls) before setPositions",
                 ))
             }
         };
@@ -674,11 +706,18 @@ fn wall_words(e: stokesian::InputError, offset: usize) -> String {
             index,
             distance,
             boundary,
-        } => format!(
-            "particle {}: the centre has fallen below the wall: signed distance {distance} \
-             from the boundary, {boundary}",
-            offset + index
-        ),
+        } => {
+            let side = if boundary.normal[2] < 0.0 {
+                "risen above the upper wall"
+            } else {
+                "fallen below the wall"
+            };
+            format!(
+                "particle {}: the centre has {side}: signed distance {distance} from the \
+                 boundary, {boundary}",
+                offset + index
+            )
+        }
         e if offset == 0 => e.to_string(),
         e => format!("batch of particles {offset}..: {e}"),
     }

@@ -250,8 +250,11 @@ class NBody:
     wall (``"periodic", "periodic", "single_wall"``, as libMobility's DPStokes; ``Lx, Ly``
     and the wall's height ``zmin`` through ``setParameters``): Blake's image system summed
     over the lateral images by Ewald summation, ``divM`` its generated drift (each
-    sphere's height derivative of its periodic self mobility). Two walls and an open ``z``
-    with periodic ``x, y`` raise InputError. Overlapping spheres take the RPY overlap forms and spheres
+    sphere's height derivative of its periodic self mobility). Periodic between two walls
+    (``"periodic", "periodic", "two_walls"``, as libMobility's DPStokes; the walls at
+    ``zmin`` and ``zmax``): the slit's exact Green's function, ``Mdot`` by direct sums,
+    ``divM`` its drift. Two walls without periodic ``x, y`` and an open ``z`` with
+    periodic ``x, y`` raise InputError. Overlapping spheres take the RPY overlap forms and spheres
     cutting the wall are damped, as in libMobility (``divM`` is then the exact divergence
     of the damped mobility); a
     centre below the wall raises InputError saying it has "fallen below the wall", in

@@ -682,6 +682,32 @@ def test_a_triply_periodic_box_as_libmobilitys_pse():
                                  [1.0, 1.0, 1.0], [1.0, 1.0, L - 0.5]]))
 
 
+def test_periodic_between_two_walls_as_libmobilitys_dpstokes():
+    # ("periodic", "periodic", "two_walls"), the walls at zmin and zmax: the same
+    # mobility and drift as System(confinement="slit", box=(Lx, Ly))
+    x = np.array([[0.0, 0.0, 2.0], [3.0, 1.0, 3.5]])
+    s = stokesian.NBody("periodic", "periodic", "two_walls")
+    s.setParameters(Lx=8.0, Ly=9.0, zmin=0.5, zmax=5.5)
+    s.initialize(viscosity=1.0, hydrodynamicRadius=1.0)
+    s.setPositions(x)
+    f = np.array([[1.0, 0.5, -0.3], [0.2, -1.0, 0.7]])
+    u, _ = s.Mdot(f)
+    slit = stokesian.System(x, 1.0, confinement="slit", boundary_height=0.5, gap=5.0,
+                            box=(8.0, 9.0))
+    want = slit.mobility("F") @ f.ravel()
+    assert np.abs(u.ravel() - want).max() < 1e-13 * np.abs(want).max()
+    lin, _ = s.divM()
+    assert np.array_equal(lin.ravel(), slit.divergence("F"))
+    with pytest.raises(RuntimeError, match="zmin and zmax"):
+        stokesian.NBody("periodic", "periodic", "two_walls").setParameters(
+            Lx=8.0, Ly=9.0, zmin=0.5)
+    with pytest.raises(RuntimeError, match="zmin < zmax"):
+        stokesian.NBody("periodic", "periodic", "two_walls").setParameters(
+            Lx=8.0, Ly=9.0, zmin=0.5, zmax=0.5)
+    with pytest.raises(ValueError, match="risen above the upper wall"):
+        s.setPositions(np.array([[0.0, 0.0, 2.0], [3.0, 1.0, 6.0]]))
+
+
 def test_periodic_along_a_wall_as_libmobilitys_dpstokes():
     # ("periodic", "periodic", "single_wall") with DPStokes' names: the same mobility as
     # System(confinement="wall", box=(Lx, Ly)): Mdot is the fast product (linked cells,

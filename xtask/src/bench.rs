@@ -1,5 +1,5 @@
 //! `cargo xtask bench [--quick]`: run the criterion benchmarks of the solver that the
-//! performance table reports (`stokesian/benches/mobility.rs`, filtered to the rows
+//! performance table reports (`benches/benches/mobility.rs`, filtered to the rows
 //! below), read criterion's estimates (`target/criterion/**/new/estimates.json`, the
 //! median of each benchmark) and rewrite the table between the markers
 //! `<!-- bench:begin -->` and `<!-- bench:end -->` in `README.md` and
@@ -276,7 +276,14 @@ pub fn run(root: &Path, quick: bool) -> Result<()> {
     let since = SystemTime::now();
     let mut bench = Command::new(cargo);
     bench
-        .args(["bench", "-p", "stokesian", "--bench", "mobility", "--"])
+        .args([
+            "bench",
+            "-p",
+            "stokesian-benches",
+            "--bench",
+            "mobility",
+            "--",
+        ])
         .args(quick.then_some("--quick"))
         .arg(&filter)
         .current_dir(root);

@@ -37,7 +37,7 @@ fn usage() -> &'static str {
                                write report/REPORT.md with its plots (deleted and recreated); --quick: a reduced sample\n\
      test                      every test: cargo test --workspace --release, then the Python module built into\n\
                                target/python-venv (maturin, numpy, pytest from PyPI) and its pytest tests\n\
-     bench                     run the benchmarks of the performance table (cargo bench -p stokesian) and rewrite\n\
+     bench                     run the benchmarks of the performance table (cargo bench -p stokesian-benches) and rewrite\n\
                                that table in README.md and docs/performance.md; --quick: short, provisional runs\n\
      wall-limit [--truncation N]  the sphere-plane functions as the two-sphere limit of a large second sphere\n\
                                (coefficients built to N terms, default 400; a table in Markdown on stdout)"

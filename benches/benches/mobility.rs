@@ -7,7 +7,7 @@
 //! (N = 1e4, volume fraction 0.1, tolerance 1e-6) beside the open product of the same
 //! spheres; the product along a periodic wall (N = 1e4, a monolayer at area fraction
 //! 0.3, tolerance 1e-6) beside the open wall's product of the same spheres.
-//! Run with `cargo bench -p stokesian`.
+//! Run with `cargo bench -p stokesian-benches`.
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
