@@ -515,7 +515,13 @@ impl System {
                 let b = a + db;
                 for i in 0..k {
                     for j in 0..k {
-                        let v = m[i * k + j];
+                        // a self block symmetric to its truncation: its lower triangle,
+                        // as the dense matrix keeps it
+                        let v = if b == a {
+                            m[i.max(j) * k + i.min(j)]
+                        } else {
+                            m[i * k + j]
+                        };
                         y[g(a, i)] += v * x[g(b, j)];
                         if b != a {
                             y[g(b, j)] += v * x[g(a, i)];

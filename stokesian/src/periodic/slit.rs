@@ -3,14 +3,16 @@
 //! `A`), with the slit's exact Green's function: the Stokeslet plus the flow `W` that
 //! cancels it on both walls, lateral mode by lateral mode.
 //!
-//! The Green's function is `G = J + W` (units of `1/(8 pi eta)`, `J = I/r + r r/r^3`).
-//! `J` is summed as in the triply periodic box but over the lateral lattice only
-//! (Beenakker's split `J = J^R + J^K`): its real part is the generated screened
-//! Stokeslet (`kernels::generated::scene_ewald_real_ft`, the isolated sphere in the self
-//! kernel) over the lateral images within `r_c`, its smooth part `J^K` the wall's
-//! reciprocal sum without the image ([`super::wall::WallEwald::reciprocal`]). `W` is
-//! smooth in the slit and is summed in lateral Fourier modes, each in closed form in the
-//! heights:
+//! The Green's function is `G = J + W` (units of `1/(8 pi eta)`, `J = I/r + r r/r^3`), and
+//! `W = B_0 + B_H + R`: the two walls' Blake images (each cancels `J` on its own wall) and
+//! the remainder `R`, the flow of the images' images, which decays like `e^{-kappa (2 H -
+//! |h_a - h_b|)}` in lateral wave number `kappa` (the double reflections lie at least `H
+//! + 2a` from the field point). So the mobility is the lower wall's periodic sum
+//! ([`WallEwald`]: `J` and `B_0` by Ewald summation), the upper wall's (the same in the
+//! mirror `z' = z0 + H - z`, its blocks mirrored back: velocities and forces are vectors,
+//! angular velocities and torques pseudovectors), less `J`'s sum that both hold (its real
+//! part the generated screened Stokeslet `scene_ewald_real_ft`, its smooth part the wall's
+//! reciprocal sum without the image), plus `R` in lateral modes and the mode `k_par = 0`:
 //!
 //! - **One mode of the Stokeslet.** In the frame `(khat, e3 x khat, e3)` of a lateral
 //!   wave vector `k` (`kappa = |k|`), the lateral Fourier transform of `J` at height
@@ -23,25 +25,33 @@
 //!   e^{-kappa z} + (C + D (H - z)) e^{-kappa (H - z)}`, and continuity gives the one
 //!   along `khat`, `u_1 = i w'/kappa` (`z` measured from the lower wall). The six
 //!   coefficients make `u = -Jhat(k, z_wall - y3)` on both walls (two 2 x 2 and 4 x 4
-//!   real systems, one per `kappa`: the data are complex, the matrices real).
+//!   real systems, one per `kappa`: the data are complex, the matrices real). Blake's
+//!   image of one wall alone is the same flow with the other wall's terms left out (`v =
+//!   v(0) e^{-kappa z}`, `A = w(0)`, `B = w'(0) + kappa A`); `R`'s coefficients are the
+//!   difference.
 //! - **Operators.** At the field point `i k` and `d/dz` (Faxén `1 + a^2/6 (d^2 -
 //!   kappa^2)`, rotation `(1/2) curl`); at the source `-i k` and `d/dy3`, which acts on
 //!   the walls' data (`Jhat` at `z_wall - y3`): the source's Faxén operator and rotlet
 //!   are applied to the data before the solve (the flow is linear in them).
-//! - **Truncation.** A mode of `W` decays like `e^{-kappa s}`, `s = min(h_a + h_b, 2 H -
-//!   h_a - h_b)` the distance of the field point to the nearer image of the source
-//!   (`h` the heights above the lower wall): the modes within `k_W`, the smallest
-//!   `kappa` with `e^{-kappa s} (1 + kappa H)^3 (1 + kappa^2 a^2/6)^2 <= tol/100` (the
-//!   polynomial factors of the data, of the solve and of both Faxén operators).
+//! - **Truncation.** `R`'s modes within the smallest `kappa` with `e^{-kappa s} (1 +
+//!   kappa H)^3 (1 + kappa^2 a^2/6)^2 <= tol/100`, `s = 2 H - |h_a - h_b|` (`h` the
+//!   heights above the lower wall; the polynomial factors of the data, of the solve and
+//!   of both Faxén operators); the walls' sums truncated as along one wall.
 //! - **The mode `k_par = 0`** in closed form: a force sheet `F/A` at height `h_b`
 //!   between no-slip walls drives the Couette profile `u = F (min(z, h_b) - z h_b/H)/(eta
 //!   A)` along the walls (a normal force is taken by the pressure: no flow), `8 pi
-//!   (min(h_a, h_b) - h_a h_b/H)/A` in units of `1/(8 pi eta)`; minus the plane average
-//!   of the real part, `-4 pi |h_a - h_b| - Psi(h_a - h_b)` ([`super::wall`]'s `Psi`),
-//!   it is `(I - e3 e3) f/A`, `f = Psi(h_a - h_b) + 4 pi (h_a + h_b) - 8 pi h_a h_b/H`,
-//!   entire, to which the operators in the heights give every FT block (as along one
-//!   wall). So, as along one wall, the mobility is the lattice sum itself: velocities
-//!   relative to the walls, a net lateral force drives a bounded Couette flow.
+//!   (min(h_a, h_b) - h_a h_b/H)/A` in units of `1/(8 pi eta)`. Each wall's sum holds its
+//!   own, `8 pi min(h, h')` less the plane averages of its real parts; with `J`'s plane
+//!   average `-4 pi |h_a - h_b| - Psi(h_a - h_b)` ([`super::wall`]'s `Psi`) the slit's is
+//!   reached by adding `(I - e3 e3) f/A`, `f = -Psi(h_a - h_b) + 4 pi (h_a + h_b) - 8 pi
+//!   (H + h_a h_b/H)` (entire), to which the operators in the heights give every FT
+//!   block. As along one wall the mobility is the lattice sum itself: velocities relative
+//!   to the walls, a net lateral force drives a bounded Couette flow.
+//!
+//! [`SlitEwald::blocks_by_modes`] evaluates the same sum with all of `W` in modes (no
+//! image in real space, its own mode `k_par = 0`, `f = Psi(h_a - h_b) + 4 pi (h_a + h_b) -
+//! 8 pi h_a h_b/H`): a second path for the tests, slower where a sphere is near a wall
+//! (the modes of `W` decay only like `e^{-kappa (h_a + h_b)}`).
 //!
 //! Unlike the open slit of the kernels (`kernels::generated::slit`, two walls' images
 //! superposed, Swan & Brady Sec. IV), this Green's function satisfies no slip on both
@@ -59,11 +69,16 @@ use std::f64::consts::PI;
 /// The split and truncation of a slit periodic along its walls, at one tolerance.
 #[derive(Clone, Debug)]
 pub struct SlitEwald {
-    /// The Stokeslet's lateral lattice sum: the split of the wall `x3 = z0` (its image
-    /// is not used), its shifts and its reciprocal sum of `J^K`.
-    pub(super) direct: WallEwald,
+    /// The lower wall's periodic sum (the Stokeslet and Blake's image of `x3 = z0`); its
+    /// split (`xi`, `r_c`, shifts) is the Stokeslet's too.
+    pub(super) lower: WallEwald,
+    /// The upper wall's, in the mirror `z' = z0 + H - z` (the wall at `z' = 0`).
+    upper: WallEwald,
     /// The gap `H` between the walls `x3 = z0` and `x3 = z0 + H`.
     pub gap: f64,
+    /// The lateral modes of the remainder within the largest cut-off any pair of spheres
+    /// in the gap asks for ([`SlitEwald::waves`]; radii at most `H/2`, so `s >= H`).
+    remainder_waves: Vec<([f64; 2], f64)>,
 }
 
 type C = Complex64;
@@ -71,30 +86,122 @@ type C = Complex64;
 /// `[UF, UL, OmegaF, OmegaL]` in one frame, complex.
 type Blocks = [[[C; 3]; 3]; 4];
 
+/// The Stokeslet's transform and its derivatives in the source's height, `[m][row][column]`.
+type Data<const N: usize> = [[[C; 3]; 3]; N];
+
+/// Which part of the walls' flow `W` the lateral modes sum: all of it, or what is left
+/// of it without the two walls' own Blake images (module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Part {
+    Whole,
+    Remainder,
+}
+
 impl SlitEwald {
     /// The slit between `x3 = bottom` and `x3 = bottom + gap`, periodic with lateral
     /// `lengths`, at relative tolerance `tol`; `xi` chosen as along one wall or given.
     pub fn new(lengths: [f64; 2], bottom: f64, gap: f64, tol: f64, xi: Option<f64>) -> SlitEwald {
-        SlitEwald {
-            direct: WallEwald::new(lengths, bottom, tol, xi),
+        let lower = WallEwald::new(lengths, bottom, tol, xi);
+        let upper = WallEwald::new(lengths, 0.0, tol, Some(lower.xi));
+        let mut slit = SlitEwald {
+            lower,
+            upper,
             gap,
-        }
+            remainder_waves: Vec::new(),
+        };
+        // the smallest distance `2 H - |h_a - h_b| = H` and the largest radius `H/2`
+        let widest = slit.mode_cutoff(0.0, gap, 0.5 * gap, 0.5 * gap, Part::Remainder);
+        slit.remainder_waves = slit.waves(widest);
+        slit
     }
 
     /// The lateral lengths `[Lx, Ly]`.
     pub fn lengths(&self) -> [f64; 2] {
-        self.direct.lengths
+        self.lower.lengths
     }
 
     /// The lower wall's plane `x3 = z0`.
     pub fn bottom(&self) -> f64 {
-        self.direct.height
+        self.lower.height
+    }
+
+    /// A sphere in the upper wall's mirror, `z' = z0 + H - z`.
+    fn mirrored(&self, p: &Particle) -> Particle {
+        Particle {
+            x: [p.x[0], p.x[1], self.lower.height + self.gap - p.x[2]],
+            a: p.a,
+        }
     }
 
     /// The FT blocks `M^{ab}` of spheres `a` (field) and `b` (source) summed over every
-    /// lateral image of `b`; with `same`, `b` is `a` and the result its self mobility.
+    /// lateral image of `b`; with `same`, `b` is `a` and the result its self mobility:
+    /// the lower wall's periodic sum, the upper wall's (mirrored), less the Stokeslet's
+    /// that both hold, the mode `k_par = 0` brought to the slit's, and the remainder's
+    /// modes (module docs).
     pub fn blocks(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
-        let w = &self.direct;
+        let mut out = self.lower.blocks(eta, a, b, same);
+        let upper = self
+            .upper
+            .blocks(eta, &self.mirrored(a), &self.mirrored(b), same);
+        out += &mirror(&upper);
+        let direct = self.stokeslet(eta, a, b, same);
+        for (o, d) in [
+            (&mut out.uf, &direct.uf),
+            (&mut out.ul, &direct.ul),
+            (&mut out.of, &direct.of),
+            (&mut out.ol, &direct.ol),
+        ] {
+            for i in 0..3 {
+                for j in 0..3 {
+                    o[i][j] -= d[i][j];
+                }
+            }
+        }
+        let (ha, hb) = (a.x[2] - self.lower.height, b.x[2] - self.lower.height);
+        let unit = self.unit(eta);
+        plane_blocks(
+            &self.plane_kernel(ha, hb, Part::Remainder),
+            a.a,
+            b.a,
+            unit,
+            &mut out,
+        );
+        let r = self.lower.minimum_image(a.x, b.x);
+        let rho = if same { [0.0; 2] } else { [r[0], r[1]] };
+        self.modes(rho, ha, hb, a.a, b.a, unit, Part::Remainder, &mut out);
+        out
+    }
+
+    /// The same blocks with the walls' flow `W` summed in lateral modes alone (no image
+    /// in real space): a second evaluation of the same sum, slower (the modes decay like
+    /// `e^{-kappa s}` at the distance `s` to the nearer image instead of the remainder's
+    /// `2 H - |h_a - h_b|`), which the tests compare with [`SlitEwald::blocks`].
+    pub fn blocks_by_modes(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
+        let mut out = self.stokeslet(eta, a, b, same);
+        let (ha, hb) = (a.x[2] - self.lower.height, b.x[2] - self.lower.height);
+        let unit = self.unit(eta);
+        plane_blocks(
+            &self.plane_kernel(ha, hb, Part::Whole),
+            a.a,
+            b.a,
+            unit,
+            &mut out,
+        );
+        let r = self.lower.minimum_image(a.x, b.x);
+        let rho = if same { [0.0; 2] } else { [r[0], r[1]] };
+        self.modes(rho, ha, hb, a.a, b.a, unit, Part::Whole, &mut out);
+        out
+    }
+
+    /// `1/(8 pi eta A)`.
+    fn unit(&self, eta: f64) -> f64 {
+        1.0 / (8.0 * PI * eta * self.lower.lengths[0] * self.lower.lengths[1])
+    }
+
+    /// The Stokeslet's lateral lattice sum but its mode `k_par = 0`: the real part (the
+    /// isolated sphere and `W(0)` in the self kernel) and the reciprocal sum of `J^K`.
+    fn stokeslet(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
+        let w = &self.lower;
         let sigma = 1.0 / w.xi;
         let r = if same {
             [0.0; 3]
@@ -118,41 +225,46 @@ impl SlitEwald {
         }
         let (ha, hb) = (a.x[2] - w.height, b.x[2] - w.height);
         w.reciprocal([r[0], r[1]], ha, hb, a.a, b.a, eta, false, &mut out);
-        let area = w.lengths[0] * w.lengths[1];
-        let unit = 1.0 / (8.0 * PI * eta * area);
-        plane_blocks(&self.plane_kernel(ha, hb), a.a, b.a, unit, &mut out);
-        self.walls([r[0], r[1]], ha, hb, a.a, b.a, unit, &mut out);
         out
     }
 
     /// The derivatives `d_a^m d_b^n f` (`m, n <= 2`, indexed `[m][n]`) of the mode
-    /// `k_par = 0`'s `f(h_a, h_b) = Psi(h_a - h_b) + 4 pi (h_a + h_b) - 8 pi h_a h_b/H`
-    /// (module docs).
-    pub(crate) fn plane_kernel(&self, ha: f64, hb: f64) -> [[f64; 3]; 3] {
-        let psi = Psi::at(self.direct.xi, ha - hb);
+    /// `k_par = 0`'s `f(h_a, h_b)` (module docs): with the whole of `W` in modes, `f =
+    /// Psi(h_a - h_b) + 4 pi (h_a + h_b) - 8 pi h_a h_b/H`; beside the two walls' sums,
+    /// what brings theirs to the slit's, `-Psi(h_a - h_b) + 4 pi (h_a + h_b) - 8 pi H - 8
+    /// pi h_a h_b/H`.
+    fn plane_kernel(&self, ha: f64, hb: f64, part: Part) -> [[f64; 3]; 3] {
+        let psi = Psi::at(self.lower.xi, ha - hb);
         let h = self.gap;
+        let (sign_psi, constant) = match part {
+            Part::Whole => (1.0, 0.0),
+            Part::Remainder => (-1.0, -8.0 * PI * h),
+        };
         std::array::from_fn(|m| {
             std::array::from_fn(|n| {
                 let sign = if n % 2 == 0 { 1.0 } else { -1.0 };
                 let polynomial = match (m, n) {
-                    (0, 0) => 4.0 * PI * (ha + hb) - 8.0 * PI * ha * hb / h,
+                    (0, 0) => 4.0 * PI * (ha + hb) - 8.0 * PI * ha * hb / h + constant,
                     (1, 0) => 4.0 * PI - 8.0 * PI * hb / h,
                     (0, 1) => 4.0 * PI - 8.0 * PI * ha / h,
                     (1, 1) => -8.0 * PI / h,
                     _ => 0.0,
                 };
-                sign * psi.0[m + n] + polynomial
+                sign_psi * sign * psi.0[m + n] + polynomial
             })
         })
     }
 
-    /// The cut-off `k_W` of the modes of `W` for heights `ha`, `hb` and radii `aa`, `ab`
-    /// (module docs).
-    pub fn wall_cutoff(&self, ha: f64, hb: f64, aa: f64, ab: f64) -> f64 {
+    /// The cut-off `k_W` of the modes of `W` (or of its remainder) for heights `ha`, `hb`
+    /// and radii `aa`, `ab` (module docs).
+    fn mode_cutoff(&self, ha: f64, hb: f64, aa: f64, ab: f64, part: Part) -> f64 {
         let h = self.gap;
-        let s = (ha + hb).min(2.0 * h - ha - hb);
+        let s = match part {
+            Part::Whole => (ha + hb).min(2.0 * h - ha - hb),
+            Part::Remainder => 2.0 * h - (ha - hb).abs(),
+        };
         let c = aa.max(ab).powi(2) / 6.0;
-        let target = (100.0 / self.direct.tolerance).ln();
+        let target = (100.0 / self.lower.tolerance).ln();
         // kappa s = target + 3 ln(1 + kappa H) + 2 ln(1 + kappa^2 c), by fixed point
         let mut kappa = target / s;
         for _ in 0..50 {
@@ -169,44 +281,57 @@ impl SlitEwald {
     /// The Brownian drift of sphere `p` (its translational rows), the column `d S_i3/dh`
     /// of its periodic self mobility `S(h)`, as along one wall
     /// ([`WallEwald::drift`]): the pairs of distinct spheres add nothing (the lattice sum
-    /// is a reciprocal Green's function, divergence-free in its field point), and of the
-    /// sphere's own terms only `W` depends on its height (the real part and `J^K` on
-    /// differences of heights, the mode `k_par = 0` has no third column): `sum_k (d_a +
-    /// d_b) UF_i3` of `W`'s modes at `h_a = h_b = h`.
+    /// is a reciprocal Green's function, divergence-free in its field point). Of the
+    /// sphere's own terms, the two walls' sums give their drifts (the upper one's
+    /// mirrored), the Stokeslet's none (it depends on differences of heights), the mode
+    /// `k_par = 0` none (no third column), and the remainder's modes `sum_k (d_a + d_b)
+    /// UF_i3` at `h_a = h_b = h`.
     pub fn drift(&self, eta: f64, p: &Particle) -> [f64; 3] {
-        let h = p.x[2] - self.direct.height;
-        let k_cut = self.wall_cutoff(h, h, p.a, p.a);
+        let mut out = self.lower.drift(eta, p);
+        let upper = self.upper.drift(eta, &self.mirrored(p));
+        out[0] += upper[0];
+        out[1] += upper[1];
+        out[2] -= upper[2];
+        let h = p.x[2] - self.lower.height;
+        let k_cut = self.mode_cutoff(h, h, p.a, p.a, Part::Remainder);
         let mut sum = [0.0; 3];
-        let mut waves: Vec<([f64; 2], f64)> = lateral_waves(self.direct.lengths, k_cut)
-            .map(|k| (k, (k[0] * k[0] + k[1] * k[1]).sqrt()))
-            .collect();
-        waves.sort_by(|x, y| x.1.total_cmp(&y.1));
-        let mut last: Option<(f64, [C; 3])> = None;
-        for (k, kappa) in waves {
-            let column = match &last {
-                Some((kl, col)) if *kl == kappa => *col,
-                _ => {
-                    let col = Gap::new(kappa, self.gap).drift_column(h, p.a);
-                    last = Some((kappa, col));
-                    col
-                }
-            };
+        let mut current = f64::NAN;
+        let mut column = [C::new(0.0, 0.0); 3];
+        for &(k, kappa) in self.remainder_waves.iter().take_while(|w| w.1 <= k_cut) {
+            if kappa != current {
+                column = Gap::new(kappa, self.gap).drift_column(h, p.a);
+                current = kappa;
+            }
             // column 3 of R X R^T: R X_{., 3}
             let (c, s) = (k[0] / kappa, k[1] / kappa);
             sum[0] += (column[0] * c - column[1] * s).re;
             sum[1] += (column[0] * s + column[1] * c).re;
             sum[2] += column[2].re;
         }
-        let area = self.direct.lengths[0] * self.direct.lengths[1];
-        let unit = 1.0 / (8.0 * PI * eta * area);
-        sum.map(|v| 2.0 * unit * v)
+        let unit = self.unit(eta);
+        for (o, v) in out.iter_mut().zip(sum) {
+            *o += 2.0 * unit * v;
+        }
+        out
     }
 
-    /// The modes `k_par != 0` of `W` (module docs) of the FT blocks at lateral separation
-    /// `rho`, heights `ha`, `hb` above the lower wall, radii `aa`, `ab`, times `unit =
-    /// 1/(8 pi eta A)`, added to `out`. Each `+-k_par` pair once, twice its real part.
+    /// The lateral modes `k_par != 0` within `k_cut`, one of each pair `+-k_par`, in order
+    /// of `kappa = |k_par|` (exact ties: `kappa^2` the same sum of the same squares), with
+    /// `kappa`: the blocks in a mode's frame depend on `kappa` alone.
+    fn waves(&self, k_cut: f64) -> Vec<([f64; 2], f64)> {
+        let mut waves: Vec<([f64; 2], f64)> = lateral_waves(self.lower.lengths, k_cut)
+            .map(|k| (k, (k[0] * k[0] + k[1] * k[1]).sqrt()))
+            .collect();
+        waves.sort_by(|x, y| x.1.total_cmp(&y.1));
+        waves
+    }
+
+    /// The modes `k_par != 0` of `W` or of its remainder (module docs) of the FT blocks
+    /// at lateral separation `rho`, heights `ha`, `hb` above the lower wall, radii `aa`,
+    /// `ab`, times `unit = 1/(8 pi eta A)`, added to `out`. Each `+-k_par` pair once,
+    /// twice its real part.
     #[allow(clippy::too_many_arguments)]
-    fn walls(
+    fn modes(
         &self,
         rho: [f64; 2],
         ha: f64,
@@ -214,42 +339,45 @@ impl SlitEwald {
         aa: f64,
         ab: f64,
         unit: f64,
+        part: Part,
         out: &mut BlocksFT,
     ) {
-        let k_cut = self.wall_cutoff(ha, hb, aa, ab);
+        let k_cut = self.mode_cutoff(ha, hb, aa, ab, part);
         let mut sum = [[[0.0; 3]; 3]; 4];
-        // the blocks in a mode's frame depend on `kappa` alone: the modes in order of
-        // `kappa` (exact ties, `kappa^2` the same sum of the same squares), each `kappa`'s
-        // blocks once
-        let mut waves: Vec<([f64; 2], f64)> = lateral_waves(self.direct.lengths, k_cut)
-            .map(|k| (k, (k[0] * k[0] + k[1] * k[1]).sqrt()))
-            .collect();
-        waves.sort_by(|x, y| x.1.total_cmp(&y.1));
-        let mut last: Option<(f64, Blocks)> = None;
-        for (k, kappa) in waves {
-            let frame = match &last {
-                Some((kl, b)) if *kl == kappa => *b,
-                _ => {
-                    let b = Gap::new(kappa, self.gap).blocks(ha, hb, aa, ab);
-                    last = Some((kappa, b));
-                    b
-                }
-            };
+        let all_modes;
+        let waves = match part {
+            Part::Remainder => &self.remainder_waves,
+            Part::Whole => {
+                all_modes = self.waves(k_cut);
+                &all_modes
+            }
+        };
+        let mut current = f64::NAN;
+        let mut frame: Blocks = [[[C::new(0.0, 0.0); 3]; 3]; 4];
+        for &(k, kappa) in waves.iter().take_while(|w| w.1 <= k_cut) {
+            if kappa != current {
+                frame = Gap::new(kappa, self.gap).blocks(ha, hb, aa, ab, part);
+                current = kappa;
+            }
             let phase = C::from_polar(1.0, k[0] * rho[0] + k[1] * rho[1]);
             let (c, s) = (k[0] / kappa, k[1] / kappa);
-            // R = [khat, e3 x khat, e3] as columns: X_lab = R X R^T
-            let rot = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]];
             for (acc, x) in sum.iter_mut().zip(&frame) {
-                for i in 0..3 {
-                    for j in 0..3 {
-                        let mut v = C::new(0.0, 0.0);
-                        for p in 0..3 {
-                            for q in 0..3 {
-                                v += x[p][q] * (rot[i][p] * rot[j][q]);
-                            }
-                        }
-                        acc[i][j] += (phase * v).re;
-                    }
+                // Re(phase R X R^T) = R Re(phase X) R^T, R = [khat, e3 x khat, e3] as
+                // columns ([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+                let z: [[f64; 3]; 3] =
+                    std::array::from_fn(|p| std::array::from_fn(|q| (phase * x[p][q]).re));
+                // Y = Z R^T, then R Y
+                let y: [[f64; 3]; 3] = std::array::from_fn(|p| {
+                    [
+                        c * z[p][0] - s * z[p][1],
+                        s * z[p][0] + c * z[p][1],
+                        z[p][2],
+                    ]
+                });
+                for j in 0..3 {
+                    acc[0][j] += c * y[0][j] - s * y[1][j];
+                    acc[1][j] += s * y[0][j] + c * y[1][j];
+                    acc[2][j] += y[2][j];
                 }
             }
         }
@@ -266,6 +394,23 @@ impl SlitEwald {
     }
 }
 
+/// The FT blocks of the mirror image of a system in the plane `x3 = const`, `P = diag(1,
+/// 1, -1)`: velocities and forces are vectors (`P`), angular velocities and torques
+/// pseudovectors (`-P`): `UF -> P UF P`, `UL -> -P UL P`, `OmegaF -> -P OmegaF P`,
+/// `OmegaL -> P OmegaL P`.
+fn mirror(b: &BlocksFT) -> BlocksFT {
+    let p = [1.0, 1.0, -1.0];
+    let m = |x: &[[f64; 3]; 3], sign: f64| -> [[f64; 3]; 3] {
+        std::array::from_fn(|i| std::array::from_fn(|j| sign * p[i] * p[j] * x[i][j]))
+    };
+    BlocksFT {
+        uf: m(&b.uf, 1.0),
+        ul: m(&b.ul, -1.0),
+        of: m(&b.of, -1.0),
+        ol: m(&b.ol, 1.0),
+    }
+}
+
 /// The homogeneous Stokes flows of one lateral wave number `kappa` in the gap `[0, H]`
 /// (module docs), in the frame `(khat, e3 x khat, e3)`.
 struct Gap {
@@ -273,6 +418,8 @@ struct Gap {
     h: f64,
     /// `e^{-kappa H}`.
     e: f64,
+    /// `1 - e^{-2 kappa H}`, the determinant of the 2 x 2 system.
+    det: f64,
     /// The inverse of the normal flow's 4 x 4 system, unknowns `(A, B, C, D)`.
     normal: [[f64; 4]; 4],
 }
@@ -311,6 +458,7 @@ impl Gap {
             kappa,
             h,
             e,
+            det: -(-2.0 * kappa * h).exp_m1(),
             normal: invert4(m),
         }
     }
@@ -320,9 +468,8 @@ impl Gap {
     fn flow(&self, bottom: [C; 3], top: [C; 3]) -> Flow {
         let (k, e) = (self.kappa, self.e);
         // v(0) = alpha + beta e, v(H) = alpha e + beta
-        let det = -(-2.0 * k * self.h).exp_m1();
-        let alpha = (bottom[1] - top[1] * e) / det;
-        let beta = (top[1] - bottom[1] * e) / det;
+        let alpha = (bottom[1] - top[1] * e) / self.det;
+        let beta = (top[1] - bottom[1] * e) / self.det;
         // w' = -i kappa u_1
         let minus_ik = C::new(0.0, -k);
         let rhs = [bottom[2], minus_ik * bottom[0], top[2], minus_ik * top[0]];
@@ -332,22 +479,46 @@ impl Gap {
         Flow { alpha, beta, abcd }
     }
 
-    /// `d^m w/dz^m` and `d^m v/dz^m` of `f` at height `z`.
-    fn derivatives(&self, f: &Flow, z: f64, m: i32) -> (C, C) {
+    /// The flow that takes the velocities `bottom` and `top` on the walls, or (`part`
+    /// [`Part::Remainder`]) what is left of it without the flows that take them on each
+    /// wall alone (the two walls' Blake images of the mode: `v = v(0) e^{-kappa z}`, `w =
+    /// (A + B z) e^{-kappa z}` with `A = w(0)`, `B = w'(0) + kappa A`; the upper wall's
+    /// mirrored).
+    fn part(&self, bottom: [C; 3], top: [C; 3], part: Part) -> Flow {
+        let mut f = self.flow(bottom, top);
+        if part == Part::Remainder {
+            let k = self.kappa;
+            let minus_ik = C::new(0.0, -k);
+            f.alpha -= bottom[1];
+            f.beta -= top[1];
+            // w'(0) = -i kappa u_1(0); at H, w' = -D + kappa C = -i kappa u_1(H)
+            f.abcd[0] -= bottom[2];
+            f.abcd[1] -= minus_ik * bottom[0] + bottom[2] * k;
+            f.abcd[2] -= top[2];
+            f.abcd[3] -= top[2] * k - minus_ik * top[0];
+        }
+        f
+    }
+
+    /// `(d^m w/dz^m, d^m v/dz^m)` of `f` at height `z`, `m = 0..N`.
+    fn derivatives<const N: usize>(&self, f: &Flow, z: f64) -> [(C, C); N] {
         let k = self.kappa;
         let (lo, hi) = ((-k * z).exp(), (-k * (self.h - z)).exp());
         let [a, b, c, d] = f.abcd;
-        let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
-        let w = exp_poly(k, a, b, z, m) * lo + exp_poly(k, c, d, self.h - z, m) * (hi * sign);
-        let v = f.alpha * ((-k).powi(m) * lo) + f.beta * (k.powi(m) * hi);
-        (w, v)
+        std::array::from_fn(|m| {
+            let m = m as i32;
+            let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
+            let w = exp_poly(k, a, b, z, m) * lo + exp_poly(k, c, d, self.h - z, m) * (hi * sign);
+            let v = f.alpha * ((-k).powi(m) * lo) + f.beta * (k.powi(m) * hi);
+            (w, v)
+        })
     }
 
     /// The velocity (with the Faxén operator `1 + c lap`) and the angular velocity `(1/2)
     /// curl` of `f` at height `z`.
     fn field(&self, f: &Flow, z: f64, c: f64) -> ([C; 3], [C; 3]) {
         let k = self.kappa;
-        let d: Vec<(C, C)> = (0..4).map(|m| self.derivatives(f, z, m)).collect();
+        let d: [(C, C); 4] = self.derivatives(f, z);
         let (w, v) = d[0];
         let i = C::new(0.0, 1.0);
         // u = (i w'/kappa, v, w), lap = d^2 - kappa^2
@@ -365,10 +536,10 @@ impl Gap {
         (velocity, omega)
     }
 
-    /// `d^m/dy3^m` of the lateral transform `Jhat(k, z_wall - y3)` (module docs, without
-    /// the factor `2 pi/kappa`) at the lower wall (`bottom`) or the upper one, the source
-    /// at height `y3`: `[row][column]`.
-    fn stokeslet(&self, y3: f64, bottom: bool, m: i32) -> [[C; 3]; 3] {
+    /// `d^m/dy3^m`, `m = 0..N`, of the lateral transform `Jhat(k, z_wall - y3)` (module
+    /// docs, without the factor `2 pi/kappa`) at the lower wall (`bottom`) or the upper
+    /// one, the source at height `y3`: `[m][row][column]`.
+    fn stokeslet<const N: usize>(&self, y3: f64, bottom: bool) -> Data<N> {
         let k = self.kappa;
         // s = z_wall - y3 = sgn t, t = |s|; d/dy3 = -sgn d/dt
         let (t, sgn): (f64, f64) = if bottom {
@@ -376,18 +547,22 @@ impl Gap {
         } else {
             (self.h - y3, 1.0)
         };
-        let scale = (-sgn).powi(m) * (-k * t).exp();
-        let term = |p0: C, p1: C| exp_poly(k, p0, p1, t, m) * scale;
+        let decay = (-k * t).exp();
         let r = |x: f64| C::new(x, 0.0);
-        let g11 = term(r(1.0), r(-k));
-        let g22 = term(r(2.0), r(0.0));
-        let g33 = term(r(1.0), r(k));
-        let g13 = term(r(0.0), C::new(0.0, -k * sgn));
         let zero = C::new(0.0, 0.0);
-        [[g11, zero, g13], [zero, g22, zero], [g13, zero, g33]]
+        std::array::from_fn(|m| {
+            let m = m as i32;
+            let scale = (-sgn).powi(m) * decay;
+            let term = |p0: C, p1: C| exp_poly(k, p0, p1, t, m) * scale;
+            let g11 = term(r(1.0), r(-k));
+            let g22 = term(r(2.0), r(0.0));
+            let g33 = term(r(1.0), r(k));
+            let g13 = term(r(0.0), C::new(0.0, -k * sgn));
+            [[g11, zero, g13], [zero, g22, zero], [g13, zero, g33]]
+        })
     }
 
-    /// `(d_a + d_b)` of the column `UF_i3` of this mode (frame components, as
+    /// `(d_a + d_b)` of the column `UF_i3` of this mode's remainder `R` (frame components, as
     /// [`Gap::blocks`]) at `h_a = h_b = h`, radius `a`: the field's derivative one more
     /// `d/dz`, the source's one more `d/dy3` on the walls' data.
     fn drift_column(&self, h: f64, a: f64) -> [C; 3] {
@@ -396,45 +571,42 @@ impl Gap {
         let scale = -2.0 * PI / k;
         let i = C::new(0.0, 1.0);
         // the force column along e3 from the data's derivatives `m` and `m + 2`
-        let column = |bottom: bool, m: i32| -> [C; 3] {
-            let g0 = self.stokeslet(h, bottom, m);
-            let g2 = self.stokeslet(h, bottom, m + 2);
-            std::array::from_fn(|r| (g0[r][2] * (1.0 - c * k * k) + g2[r][2] * c) * scale)
+        let (lo, hi): (Data<4>, Data<4>) = (self.stokeslet(h, true), self.stokeslet(h, false));
+        let column = |bottom: bool, m: usize| -> [C; 3] {
+            let g = if bottom { &lo } else { &hi };
+            std::array::from_fn(|r| (g[m][r][2] * (1.0 - c * k * k) + g[m + 2][r][2] * c) * scale)
         };
         // d_b: the flow of the data's first derivative, at the field point
-        let along_source = self.flow(column(true, 1), column(false, 1));
+        let along_source = self.part(column(true, 1), column(false, 1), Part::Remainder);
         let (u_b, _) = self.field(&along_source, h, c);
         // d_a: the field's derivative of the flow of the data
-        let f = self.flow(column(true, 0), column(false, 0));
-        let d: Vec<(C, C)> = (1..5).map(|m| self.derivatives(&f, h, m)).collect();
-        // d[m - 1] = (w^(m), v^(m)); u = (i w'/kappa, v, w) and lap = d^2 - kappa^2
-        let du1 = i * (d[1].0 + (d[3].0 - d[1].0 * (k * k)) * c) / k;
-        let dv = d[0].1 + (d[2].1 - d[0].1 * (k * k)) * c;
-        let dw = d[0].0 + (d[2].0 - d[0].0 * (k * k)) * c;
+        let f = self.part(column(true, 0), column(false, 0), Part::Remainder);
+        let d: [(C, C); 5] = self.derivatives(&f, h);
+        // d[m] = (w^(m), v^(m)); u = (i w'/kappa, v, w) and lap = d^2 - kappa^2
+        let du1 = i * (d[2].0 + (d[4].0 - d[2].0 * (k * k)) * c) / k;
+        let dv = d[1].1 + (d[3].1 - d[1].1 * (k * k)) * c;
+        let dw = d[1].0 + (d[3].0 - d[1].0 * (k * k)) * c;
         [u_b[0] + du1, u_b[1] + dv, u_b[2] + dw]
     }
 
     /// The FT blocks of this mode (its frame, without the phase and `1/A`, units of `1/(8
-    /// pi eta)`) of `W` between a field point at height `ha` and a source at `hb` above
+    /// pi eta)`) of `W` or of its remainder between a field point at height `ha` and a source at `hb` above
     /// the lower wall, radii `aa`, `ab`.
-    fn blocks(&self, ha: f64, hb: f64, aa: f64, ab: f64) -> Blocks {
+    fn blocks(&self, ha: f64, hb: f64, aa: f64, ab: f64, part: Part) -> Blocks {
         let k = self.kappa;
         let (ca, cb) = (aa * aa / 6.0, ab * ab / 6.0);
         let scale = -2.0 * PI / k;
         // the walls' data, d^m/dy3^m for m = 0, 1, 2
-        let data = |bottom: bool| -> [[[C; 3]; 3]; 3] {
-            std::array::from_fn(|m| self.stokeslet(hb, bottom, m as i32))
-        };
-        let (lo, hi) = (data(true), data(false));
+        let (lo, hi): (Data<3>, Data<3>) = (self.stokeslet(hb, true), self.stokeslet(hb, false));
         let zero = C::new(0.0, 0.0);
         let i = C::new(0.0, 1.0);
         // a source column (its values on both walls) from the data: Faxén for a force
         // along j, the rotlet for a torque along j: (1/2) eps_jnl D_n G_l, D = (-i kappa,
         // 0, d/dy3)
-        let force = |g: &[[[C; 3]; 3]; 3], j: usize| -> [C; 3] {
+        let force = |g: &Data<3>, j: usize| -> [C; 3] {
             std::array::from_fn(|r| (g[0][r][j] * (1.0 - cb * k * k) + g[2][r][j] * cb) * scale)
         };
-        let torque = |g: &[[[C; 3]; 3]; 3], j: usize| -> [C; 3] {
+        let torque = |g: &Data<3>, j: usize| -> [C; 3] {
             std::array::from_fn(|r| {
                 let v = match j {
                     0 => -0.5 * g[1][r][1],
@@ -446,9 +618,9 @@ impl Gap {
         };
         let mut out = [[[zero; 3]; 3]; 4];
         for j in 0..3 {
-            let f = self.flow(force(&lo, j), force(&hi, j));
+            let f = self.part(force(&lo, j), force(&hi, j), part);
             let (u, o) = self.field(&f, ha, ca);
-            let t = self.flow(torque(&lo, j), torque(&hi, j));
+            let t = self.part(torque(&lo, j), torque(&hi, j), part);
             let (ut, ot) = self.field(&t, ha, ca);
             for r in 0..3 {
                 out[0][r][j] = u[r];

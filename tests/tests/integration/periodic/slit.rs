@@ -97,6 +97,48 @@ fn the_sums_are_reciprocal() {
     }
 }
 
+/// Two evaluations of the same sum: the two walls' periodic sums (Blake's images in real
+/// space and by their symbols) with the remainder's few modes, and the Stokeslet's sum
+/// with the whole of the walls' flow in lateral modes (no image in real space; its own
+/// mode `k_par = 0`): at tolerance 1e-12 within 1e-11 of each block's largest entry (each
+/// within a few times its tolerance there, as the periodic wall's sums), and at 1e-10 and
+/// 1e-6 the blocks within the tolerance of the sum by modes at 1e-14.
+#[test]
+fn images_in_real_space_and_all_in_modes_agree() {
+    let slit = |tol| SlitEwald::new([9.0, 12.0], BOTTOM, 7.0, tol, None);
+    let reference = slit(1e-14);
+    let mut ps = spheres().to_vec();
+    // and a pair close to the lower wall, the hardest for the modes
+    ps.push(p([1.3, 2.0, BOTTOM + 1.0001], 1.0));
+    ps.push(p([3.4, 2.3, BOTTOM + 1.05], 1.0));
+    let s = slit(1e-12);
+    let mut worst = 0.0f64;
+    for i in 0..ps.len() {
+        for j in i..ps.len() {
+            let got = s.blocks(ETA, &ps[i], &ps[j], i == j);
+            let modes = s.blocks_by_modes(ETA, &ps[i], &ps[j], i == j);
+            let scale = largest(&modes.matrix());
+            worst = worst.max(difference(&got, &modes) / scale);
+        }
+    }
+    println!("two evaluations at 1e-12: {worst:.1e} of the largest entry");
+    assert!(worst < 1e-11, "{worst:e}");
+    for tol in [1e-10, 1e-6] {
+        let s = slit(tol);
+        let mut worst = 0.0f64;
+        for i in 0..ps.len() {
+            for j in i..ps.len() {
+                let want = reference.blocks_by_modes(ETA, &ps[i], &ps[j], i == j);
+                let scale = largest(&want.matrix());
+                let got = s.blocks(ETA, &ps[i], &ps[j], i == j);
+                worst = worst.max(difference(&got, &want) / scale);
+            }
+        }
+        println!("tolerance {tol:e}: worst {worst:.1e} of the largest entry");
+        assert!(worst < tol, "{tol:e}: {worst:e}");
+    }
+}
+
 /// `xi` a factor 6 apart: the real part, `J^K`'s sum and the mode `k_par = 0` trade
 /// their shares; the walls' modes do not depend on `xi`.
 #[test]
