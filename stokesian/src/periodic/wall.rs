@@ -186,16 +186,12 @@ impl WallEwald {
                 m1: None,
                 ky: k,
             };
-            acc.add(
-                C::unit(lateral_phase + k[2] * (ha - hb)),
-                &blocks_of(&direct, k, k2, ca, cb),
-            );
+            let phase = C::unit(lateral_phase + k[2] * (ha - hb));
+            add_blocks(&mut acc, phase, &direct, k, k2, ca, cb);
             if image {
                 let image = image_source(proj, k, k2, hb);
-                acc.add(
-                    C::unit(lateral_phase + k[2] * (ha + hb)),
-                    &blocks_of(&image, k, k2, ca, cb),
-                );
+                let phase = C::unit(lateral_phase + k[2] * (ha + hb));
+                add_blocks(&mut acc, phase, &image, k, k2, ca, cb);
             }
         });
         acc.into(scale, out);
@@ -508,35 +504,41 @@ fn image_source(proj: &[[f64; 3]; 3], k: [f64; 3], k2: f64, h: f64) -> Source {
     }
 }
 
-/// The FT blocks of one wave vector `k` (without its phase) from a source's symbol:
+/// `Re(phase B)` added to `acc` for the FT blocks `B` of one wave vector `k` (without its
+/// phase) from a source's symbol:
 /// `S = (1 + a_b^2/6 lap_y) M`, `UF = (1 - a_a^2 k^2/6) S`, `OmegaF_mj = (1/2) eps_mni (i
 /// k_n) S_ij`, `UL_ij = (1 - a_a^2 k^2/6) (1/2) eps_jnl (D_n M)_il`, `OmegaL_mj = (1/2)
 /// eps_mni (i k_n) (1/2) eps_jpl (D_p M)_il`, with `D_n M = -i ky_n M + delta_n3 d_h M`.
-fn blocks_of(src: &Source, k: [f64; 3], k2: f64, ca: f64, cb: f64) -> [M3; 4] {
-    let zero = [[C::default(); 3]; 3];
-    let (m1, m2) = src.m1.unwrap_or((zero, zero));
+/// Each block is added where it is made.
+fn add_blocks(acc: &mut Acc, phase: C, src: &Source, k: [f64; 3], k2: f64, ca: f64, cb: f64) {
+    const ZERO: M3 = [[C { re: 0.0, im: 0.0 }; 3]; 3];
+    let zero = ZERO;
+    let (m1, m2) = match &src.m1 {
+        Some((m1, m2)) => (m1, m2),
+        None => (&ZERO, &ZERO),
+    };
     let fa = 1.0 - ca * k2;
+    // (filled in place: arrays built by nested `from_fn` were copied, `memmove` a quarter
+    // of a dense matrix's time)
     // lap_y M = -k^2 M - 2 i ky3 M' + M''
-    let s: M3 = std::array::from_fn(|i| {
-        std::array::from_fn(|j| {
-            src.m0[i][j].scale(1.0 - cb * k2)
-                + (C::im(-2.0 * src.ky[2]) * m1[i][j] + m2[i][j]).scale(cb)
-        })
-    });
+    let mut s = ZERO;
+    for i in 0..3 {
+        for j in 0..3 {
+            s[i][j] = src.m0[i][j].scale(1.0 - cb * k2)
+                + (C::im(-2.0 * src.ky[2]) * m1[i][j] + m2[i][j]).scale(cb);
+        }
+    }
     // D_n M
-    let dm: [M3; 3] = std::array::from_fn(|n| {
-        std::array::from_fn(|i| {
-            std::array::from_fn(|l| {
+    let mut dm = [ZERO; 3];
+    for n in 0..3 {
+        for i in 0..3 {
+            for l in 0..3 {
                 let v = C::im(-src.ky[n]) * src.m0[i][l];
-                if n == 2 {
-                    v + m1[i][l]
-                } else {
-                    v
-                }
-            })
-        })
-    });
-    let uf = s.map(|row| row.map(|v| v.scale(fa)));
+                dm[n][i][l] = if n == 2 { v + m1[i][l] } else { v };
+            }
+        }
+    }
+    acc.add(0, phase, |i, j| s[i][j].scale(fa));
     let mut of = zero;
     let mut ul = zero;
     let mut ol = zero;
@@ -555,7 +557,9 @@ fn blocks_of(src: &Source, k: [f64; 3], k2: f64, ca: f64, cb: f64) -> [M3; 4] {
             ol[m][j] = ol[m][j] + C::im(0.25 * e1 * e2 * k[n]) * dm[p][i][l];
         }
     }
-    [uf, ul, of, ol]
+    acc.add(1, phase, |i, j| ul[i][j]);
+    acc.add(2, phase, |i, j| of[i][j]);
+    acc.add(3, phase, |i, j| ol[i][j]);
 }
 
 /// The non-zero `eps_abc`: `(a, b, c, eps_abc)`.
@@ -575,12 +579,13 @@ struct Acc {
 }
 
 impl Acc {
-    fn add(&mut self, phase: C, blocks: &[M3; 4]) {
-        for (sum, b) in self.sums.iter_mut().zip(blocks) {
-            for i in 0..3 {
-                for j in 0..3 {
-                    sum[i][j] += (phase * b[i][j]).re;
-                }
+    /// `Re(phase b(i, j))` added to block `which` (`[UF, UL, OmegaF, OmegaL]`).
+    #[inline(always)]
+    fn add(&mut self, which: usize, phase: C, b: impl Fn(usize, usize) -> C) {
+        let sum = &mut self.sums[which];
+        for i in 0..3 {
+            for j in 0..3 {
+                sum[i][j] += (phase * b(i, j)).re;
             }
         }
     }
