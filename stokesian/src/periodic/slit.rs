@@ -157,18 +157,7 @@ impl SlitEwald {
                 }
             }
         }
-        let (ha, hb) = (a.x[2] - self.lower.height, b.x[2] - self.lower.height);
-        let unit = self.unit(eta);
-        plane_blocks(
-            &self.plane_kernel(ha, hb, Part::Remainder),
-            a.a,
-            b.a,
-            unit,
-            &mut out,
-        );
-        let r = self.lower.minimum_image(a.x, b.x);
-        let rho = if same { [0.0; 2] } else { [r[0], r[1]] };
-        self.modes(rho, ha, hb, a.a, b.a, unit, Part::Remainder, &mut out);
+        self.walls_flow(eta, a, b, same, Part::Remainder, &mut out);
         out
     }
 
@@ -178,19 +167,27 @@ impl SlitEwald {
     /// `2 H - |h_a - h_b|`), which the tests compare with [`SlitEwald::blocks`].
     pub fn blocks_by_modes(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
         let mut out = self.stokeslet(eta, a, b, same);
+        self.walls_flow(eta, a, b, same, Part::Whole, &mut out);
+        out
+    }
+
+    /// The walls' flow `W` (or its remainder) in modes, with its mode `k_par = 0`, added
+    /// to `out`.
+    fn walls_flow(
+        &self,
+        eta: f64,
+        a: &Particle,
+        b: &Particle,
+        same: bool,
+        part: Part,
+        out: &mut BlocksFT,
+    ) {
         let (ha, hb) = (a.x[2] - self.lower.height, b.x[2] - self.lower.height);
         let unit = self.unit(eta);
-        plane_blocks(
-            &self.plane_kernel(ha, hb, Part::Whole),
-            a.a,
-            b.a,
-            unit,
-            &mut out,
-        );
+        plane_blocks(&self.plane_kernel(ha, hb, part), a.a, b.a, unit, out);
         let r = self.lower.minimum_image(a.x, b.x);
         let rho = if same { [0.0; 2] } else { [r[0], r[1]] };
-        self.modes(rho, ha, hb, a.a, b.a, unit, Part::Whole, &mut out);
-        out
+        self.modes(rho, ha, hb, a.a, b.a, unit, part, out);
     }
 
     /// `1/(8 pi eta A)`.
@@ -213,14 +210,7 @@ impl SlitEwald {
         } else {
             BlocksFT::default()
         };
-        let rc2 = w.r_cut * w.r_cut;
-        for s in w.shifts() {
-            let ri = [r[0] + s[0], r[1] + s[1]];
-            let lateral2 = ri[0] * ri[0] + ri[1] * ri[1];
-            if lateral2 + r[2] * r[2] > rc2 || (same && lateral2 == 0.0) {
-                continue;
-            }
-            let xb = [a.x[0] - ri[0], a.x[1] - ri[1], b.x[2]];
+        for xb in w.images(a, b, r, same) {
             out += &ewald_real_ft_pair(a.x, xb, a.a, b.a, eta, sigma);
         }
         let (ha, hb) = (a.x[2] - w.height, b.x[2] - w.height);

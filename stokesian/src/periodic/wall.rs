@@ -107,12 +107,6 @@ impl WallEwald {
         }
     }
 
-    /// The lateral lattice vectors within `r_c + ` half the box's diagonal, nearest
-    /// first.
-    pub(super) fn shifts(&self) -> &[[f64; 2]] {
-        &self.shifts
-    }
-
     /// The separation `x_a - x_b`, its lateral components brought into the box centred
     /// on the origin (each in `[-L/2, L/2]`), its normal component as it is.
     pub fn minimum_image(&self, xa: [f64; 3], xb: [f64; 3]) -> [f64; 3] {
@@ -137,15 +131,7 @@ impl WallEwald {
         } else {
             BlocksFT::default()
         };
-        let rc2 = self.r_cut * self.r_cut;
-        for s in &self.shifts {
-            let ri = [r[0] + s[0], r[1] + s[1]];
-            let lateral2 = ri[0] * ri[0] + ri[1] * ri[1];
-            if lateral2 + r[2] * r[2] > rc2 || (same && lateral2 == 0.0) {
-                continue;
-            }
-            // the image of the source at the lateral offset `ri` from `x_a`
-            let xb = [a.x[0] - ri[0], a.x[1] - ri[1], b.x[2]];
+        for xb in self.images(a, b, r, same) {
             out += &ewald_wall_ft_pair(a.x, xb, a.a, b.a, eta, self.height, sigma);
         }
         let (ha, hb) = (a.x[2] - self.height, b.x[2] - self.height);
@@ -153,6 +139,29 @@ impl WallEwald {
         let unit = 1.0 / (8.0 * PI * eta * self.lengths[0] * self.lengths[1]);
         plane_blocks(&self.plane_kernel(ha, hb), a.a, b.a, unit, &mut out);
         out
+    }
+
+    /// The lateral images of the source `b` within `r_c` of the field point `a` (the
+    /// separation of the nearest `r`), in the order of the shifts: each image's centre, at
+    /// the lateral offset `r + shift` from `x_a`; with `same`, `a`'s own position left
+    /// out.
+    pub(super) fn images<'a>(
+        &'a self,
+        a: &'a Particle,
+        b: &'a Particle,
+        r: [f64; 3],
+        same: bool,
+    ) -> impl Iterator<Item = [f64; 3]> + 'a {
+        let rc2 = self.r_cut * self.r_cut;
+        self.shifts.iter().filter_map(move |s| {
+            let ri = [r[0] + s[0], r[1] + s[1]];
+            let lateral2 = ri[0] * ri[0] + ri[1] * ri[1];
+            (lateral2 + r[2] * r[2] <= rc2 && !(same && lateral2 == 0.0)).then_some([
+                a.x[0] - ri[0],
+                a.x[1] - ri[1],
+                b.x[2],
+            ])
+        })
     }
 
     /// The reciprocal cut-off `k_c` and the height `Lz'` of the box periodic in `z` for a

@@ -9,7 +9,6 @@
 //! be or do is a typed error.
 
 use kernels::{BlocksFT, Confinement};
-use nalgebra::DMatrix;
 use std::f64::consts::PI;
 use stokesian::periodic::slit::SlitEwald;
 use stokesian::periodic::wall::WallEwald;
@@ -254,9 +253,8 @@ fn periodic(ps: Vec<Particle>, lengths: [f64; 2], gap: f64, tol: f64) -> System 
     .unwrap()
 }
 
-/// The drift equals the central differences of the dense FT mobility in every
-/// coordinate of every sphere (Richardson-extrapolated), lateral and rotational rows
-/// included.
+/// The drift is the divergence of the periodic mobility
+/// ([`super::wall::drift_is_the_divergence`]).
 #[test]
 fn the_drift_is_the_divergence_of_the_periodic_mobility() {
     let spheres = vec![
@@ -264,43 +262,8 @@ fn the_drift_is_the_divergence_of_the_periodic_mobility() {
         p([2.9, -1.7, 2.5], 0.8),
         p([-1.1, 4.2, 4.0], 1.2),
     ];
-    let n = spheres.len();
     let system = |ps: &[Particle]| periodic(ps.to_vec(), [9.0, 11.0], 5.5, 1e-12);
-    let drift = system(&spheres).divergence_at(Moments::FT);
-    let derivative = |b: usize, j: usize, step: f64| -> DMatrix<f64> {
-        let moved = |sign: f64| {
-            let mut ps = spheres.clone();
-            ps[b].x[j] += sign * step;
-            system(&ps).mobility(Moments::FT)
-        };
-        (moved(1.0) - moved(-1.0)) / (2.0 * step)
-    };
-    let mut want = vec![0.0; 6 * n];
-    for b in 0..n {
-        for j in 0..3 {
-            let (coarse, fine) = (derivative(b, j, 1e-3), derivative(b, j, 5e-4));
-            let d = (fine * 4.0 - coarse) / 3.0;
-            for a in 0..n {
-                for i in 0..3 {
-                    want[3 * a + i] += d[(3 * a + i, 3 * b + j)];
-                    want[3 * n + 3 * a + i] += d[(3 * n + 3 * a + i, 3 * b + j)];
-                }
-            }
-        }
-    }
-    let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let worst = drift
-        .iter()
-        .zip(&want)
-        .fold(0.0f64, |m, (g, w)| m.max((g - w).abs()));
-    println!(
-        "drift in a periodic slit: worst {:.1e} of the largest {scale:.3e}",
-        worst / scale
-    );
-    // central differences of step 5e-4, extrapolated: truncation ~1e-10, rounding
-    // ~1e-16/5e-4 of the entries
-    assert!(worst <= 1e-8 * scale, "worst {worst:e} of {scale:e}");
-    assert!(scale > 1e-3 / (8.0 * PI * ETA), "{scale:e}");
+    super::wall::drift_is_the_divergence(&spheres, system, "in a periodic slit");
 }
 
 /// The dense matrix is symmetric positive definite, equals the product, and a sphere
