@@ -1,8 +1,8 @@
 //! Spheres in a slit periodic along its walls ([`stokesian::periodic::slit`]): the Green's
 //! function vanishes on both walls (a point at either wall moves with it, whatever the
-//! source), is reciprocal, does not depend on the split parameter, tends to the periodic
-//! wall's (an independent sum: Blake's image in real space and its symbol) as the upper
-//! wall recedes, and gives Faxén's mobility of a small sphere on the mid-plane and at a
+//! source), equals its second evaluation (all of the walls' flow in lateral modes, sharing
+//! nothing with the walls' Ewald sums), is reciprocal, does not depend on the split
+//! parameter, tends to the periodic wall's as the upper wall recedes, and gives Faxén's mobility of a small sphere on the mid-plane and at a
 //! quarter of the gap (the superposition of two walls' images does not); the drift is
 //! the divergence of the mobility; the system's matrix is symmetric positive definite,
 //! agrees with its product, does not see a move by a box length; what such a box cannot
@@ -164,9 +164,10 @@ fn the_split_parameter_changes_nothing() {
     }
 }
 
-/// As the upper wall recedes, the slit is the periodic wall (Blake's image summed by its
-/// own split, in real space and by its symbol: an independent sum) plus the upper wall's
-/// share of the mode `k_par = 0`, `-8 pi h_a h_b/(H A)` on the lateral translations and
+/// As the upper wall recedes, the slit is the periodic wall plus the upper wall's share of
+/// the mode `k_par = 0` (the slit's blocks hold the lower wall's sum: this checks the
+/// upper wall's mirrored sum, the remainder and the bookkeeping of the mode `k_par = 0`
+/// against what they must add up to), `-8 pi h_a h_b/(H A)` on the lateral translations and
 /// its height derivatives on the rotations (`(1/2) eps_m3j d_a`, `(1/2) eps_j3i d_b`,
 /// `(1/4) d_a d_b`); the modes `k_par != 0` of the upper wall are `exp(-K0 (2 H - h_a -
 /// h_b))`, below 1e-30 here.
