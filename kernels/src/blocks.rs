@@ -477,6 +477,20 @@ impl core::ops::AddAssign<&BlocksFT> for BlocksFT {
     }
 }
 
+/// Block by block: a part that two sums both hold taken out once.
+impl core::ops::SubAssign<&BlocksFT> for BlocksFT {
+    fn sub_assign(&mut self, b: &BlocksFT) {
+        for i in 0..3 {
+            for j in 0..3 {
+                self.uf[i][j] -= b.uf[i][j];
+                self.ul[i][j] -= b.ul[i][j];
+                self.of[i][j] -= b.of[i][j];
+                self.ol[i][j] -= b.ol[i][j];
+            }
+        }
+    }
+}
+
 impl BlocksFT {
     /// The 6x6 block `[[UF, UL], [OF, OL]]`.
     pub fn matrix(&self) -> [[f64; 6]; 6] {

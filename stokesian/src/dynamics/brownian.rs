@@ -568,20 +568,21 @@ impl System {
             let mut out = vec![0.0; moments.per_particle() * n];
             let eta = self.viscosity();
             let ps = self.particles();
-            // the kernels evaluate wrapped positions (crate::periodic)
-            let own = |q: &Particle| -> Option<[f64; 3]> {
+            // each sphere's own images near walls; zero in a triply periodic box. The
+            // kernels evaluate wrapped positions (crate::periodic)
+            let own = |q: &Particle| -> [f64; 3] {
                 let q = Particle {
                     x: p.bx.wrap(q.x),
                     a: q.a,
                 };
                 match &p.lattice {
-                    crate::periodic::Lattice::Wall(w) => Some(w.drift(eta, &q)),
-                    crate::periodic::Lattice::Slit(s) => Some(s.drift(eta, &q)),
-                    crate::periodic::Lattice::Triply(_) => None,
+                    crate::periodic::Lattice::Wall(w) => w.drift(eta, &q),
+                    crate::periodic::Lattice::Slit(s) => s.drift(eta, &q),
+                    crate::periodic::Lattice::Triply(_) => [0.0; 3],
                 }
             };
             if !matches!(p.lattice, crate::periodic::Lattice::Triply(_)) {
-                let drift: Vec<[f64; 3]> = ps.par_iter().filter_map(own).collect();
+                let drift: Vec<[f64; 3]> = ps.par_iter().map(own).collect();
                 for (a, d) in drift.iter().enumerate() {
                     out[3 * a..3 * a + 3].copy_from_slice(d);
                 }

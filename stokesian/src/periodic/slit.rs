@@ -144,19 +144,7 @@ impl SlitEwald {
             .upper
             .blocks(eta, &self.mirrored(a), &self.mirrored(b), same);
         out += &mirror(&upper);
-        let direct = self.stokeslet(eta, a, b, same);
-        for (o, d) in [
-            (&mut out.uf, &direct.uf),
-            (&mut out.ul, &direct.ul),
-            (&mut out.of, &direct.of),
-            (&mut out.ol, &direct.ol),
-        ] {
-            for i in 0..3 {
-                for j in 0..3 {
-                    o[i][j] -= d[i][j];
-                }
-            }
-        }
+        out -= &self.stokeslet_sum(eta, a, b, same);
         self.walls_flow(eta, a, b, same, Part::Remainder, &mut out);
         out
     }
@@ -166,7 +154,7 @@ impl SlitEwald {
     /// `e^{-kappa s}` at the distance `s` to the nearer image instead of the remainder's
     /// `2 H - |h_a - h_b|`), which the tests compare with [`SlitEwald::blocks`].
     pub fn blocks_by_modes(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
-        let mut out = self.stokeslet(eta, a, b, same);
+        let mut out = self.stokeslet_sum(eta, a, b, same);
         self.walls_flow(eta, a, b, same, Part::Whole, &mut out);
         out
     }
@@ -197,7 +185,7 @@ impl SlitEwald {
 
     /// The Stokeslet's lateral lattice sum but its mode `k_par = 0`: the real part (the
     /// isolated sphere and `W(0)` in the self kernel) and the reciprocal sum of `J^K`.
-    fn stokeslet(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
+    fn stokeslet_sum(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
         let w = &self.lower;
         let sigma = 1.0 / w.xi;
         let r = if same {

@@ -141,25 +141,23 @@ fn pair_corrections_cover_every_image_and_own_images() {
     );
 }
 
+/// Three spheres in a 6 x 8 box near the plane `x3 = 0` (gaps 0.2 and 1.4 radii for the
+/// last two), the first at height `z0`.
+fn near_the_lower_wall(z0: f64) -> [Particle; 3] {
+    let sphere = |x: [f64; 3], a: f64| Particle { x, a };
+    [
+        sphere([0.3, 4.0, z0], 1.0),
+        sphere([4.45, 4.2, 0.96], 0.8),
+        sphere([3.0, 7.5, 1.44], 0.6),
+    ]
+}
+
 /// The same near a wall in a box periodic along it (6 x 8): pairs across the face x = 0
 /// and own images along the wall, and every sphere's sphere-wall correction (gaps 0.2,
 /// 0.2 and 1.4 radii).
 #[test]
 fn near_a_periodic_wall_the_corrections_cover_the_lateral_images() {
-    let ps = [
-        Particle {
-            x: [0.3, 4.0, 1.2],
-            a: 1.0,
-        },
-        Particle {
-            x: [4.45, 4.2, 0.96],
-            a: 0.8,
-        },
-        Particle {
-            x: [3.0, 7.5, 1.44],
-            a: 0.6,
-        },
-    ];
+    let ps = near_the_lower_wall(1.2);
     let wall = Confinement::Wall { height: 0.0 };
     check(
         wall,
@@ -176,20 +174,8 @@ fn near_a_periodic_wall_the_corrections_cover_the_lateral_images() {
 /// only in wide slits (gap 14 here).
 #[test]
 fn in_a_periodic_slit_the_corrections_cover_both_walls() {
-    let ps = [
-        Particle {
-            x: [0.3, 4.0, 12.6],
-            a: 1.0,
-        },
-        Particle {
-            x: [4.45, 4.2, 0.96],
-            a: 0.8,
-        },
-        Particle {
-            x: [3.0, 7.5, 1.44],
-            a: 0.6,
-        },
-    ];
+    // the first sphere 0.4 radii below the upper wall
+    let ps = near_the_lower_wall(12.6);
     let slit = Confinement::Slit {
         height: 0.0,
         gap: 14.0,

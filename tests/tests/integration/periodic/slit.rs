@@ -8,30 +8,16 @@
 //! agrees with its product, does not see a move by a box length; what such a box cannot
 //! be or do is a typed error.
 
-use kernels::{BlocksFT, Confinement};
+use kernels::Confinement;
 use std::f64::consts::PI;
 use stokesian::periodic::slit::SlitEwald;
 use stokesian::periodic::wall::WallEwald;
 use stokesian::{check_spd, Moments, Overlap, Particle, PeriodicBox, PeriodicError, System};
 
-const ETA: f64 = 0.9;
+use super::wall::{difference, largest, p, ETA};
+
 /// The lower wall's plane.
 const BOTTOM: f64 = 0.5;
-
-fn p(x: [f64; 3], a: f64) -> Particle {
-    Particle { x, a }
-}
-
-fn largest(m: &[[f64; 6]; 6]) -> f64 {
-    m.iter().flatten().fold(0.0f64, |acc, v| acc.max(v.abs()))
-}
-
-fn difference(a: &BlocksFT, b: &BlocksFT) -> f64 {
-    let (ma, mb) = (a.matrix(), b.matrix());
-    (0..36).fold(0.0f64, |acc, k| {
-        acc.max((ma[k / 6][k % 6] - mb[k / 6][k % 6]).abs())
-    })
-}
 
 /// Three spheres of unequal radii at unequal heights in a slit of gap 7.
 fn spheres() -> [Particle; 3] {
@@ -143,25 +129,10 @@ fn images_in_real_space_and_all_in_modes_agree() {
 #[test]
 fn the_split_parameter_changes_nothing() {
     let lengths = [9.0, 12.0];
-    let base = (PI / (lengths[0] * lengths[1])).sqrt();
-    let sums: Vec<SlitEwald> = [0.4, 1.0, 2.4]
-        .iter()
-        .map(|&f| SlitEwald::new(lengths, BOTTOM, 7.0, 1e-12, Some(f * base)))
-        .collect();
-    let ps = spheres();
-    for i in 0..3 {
-        for j in i..3 {
-            let blocks: Vec<BlocksFT> = sums
-                .iter()
-                .map(|e| e.blocks(ETA, &ps[i], &ps[j], i == j))
-                .collect();
-            let scale = largest(&blocks[1].matrix());
-            for other in [&blocks[0], &blocks[2]] {
-                let d = difference(other, &blocks[1]);
-                assert!(d < 1e-11 * scale, "{i} {j}: {d:e} of {scale:e}");
-            }
-        }
-    }
+    super::wall::split_changes_nothing(lengths, &spheres(), |xi| {
+        let e = SlitEwald::new(lengths, BOTTOM, 7.0, 1e-12, Some(xi));
+        move |a: &Particle, b: &Particle, same| e.blocks(ETA, a, b, same)
+    });
 }
 
 /// As the upper wall recedes, the slit is the periodic wall plus the upper wall's share of

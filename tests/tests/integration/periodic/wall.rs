@@ -13,18 +13,18 @@ use std::f64::consts::PI;
 use stokesian::periodic::wall::WallEwald;
 use stokesian::{check_spd, Moments, Overlap, Particle, PeriodicBox, PeriodicError, System};
 
-const ETA: f64 = 0.9;
+pub(super) const ETA: f64 = 0.9;
 const HEIGHT: f64 = 0.5;
 
-fn p(x: [f64; 3], a: f64) -> Particle {
+pub(super) fn p(x: [f64; 3], a: f64) -> Particle {
     Particle { x, a }
 }
 
-fn largest(m: &[[f64; 6]; 6]) -> f64 {
+pub(super) fn largest(m: &[[f64; 6]; 6]) -> f64 {
     m.iter().flatten().fold(0.0f64, |acc, v| acc.max(v.abs()))
 }
 
-fn difference(a: &BlocksFT, b: &BlocksFT) -> f64 {
+pub(super) fn difference(a: &BlocksFT, b: &BlocksFT) -> f64 {
     let (ma, mb) = (a.matrix(), b.matrix());
     (0..36).fold(0.0f64, |acc, k| {
         acc.max((ma[k / 6][k % 6] - mb[k / 6][k % 6]).abs())
@@ -139,17 +139,25 @@ fn the_split_parameter_changes_nothing() {
         p([3.1, 1.2, 2.5 + HEIGHT], 0.6),
         p([-5.0, 3.0, 9.0 + HEIGHT], 0.8),
     ];
+    split_changes_nothing(lengths, &ps, |xi| {
+        let e = WallEwald::new(lengths, HEIGHT, 1e-12, Some(xi));
+        move |a: &Particle, b: &Particle, same| e.blocks(ETA, a, b, same)
+    });
+}
+
+/// The blocks of every pair of `ps` (self blocks too) at the split parameter `xi` a
+/// factor 0.4 and 2.4 of `sqrt(pi/A)` equal those at `sqrt(pi/A)` to 1e-11 of the
+/// largest entry (sums at tolerance 1e-12): `sum(xi)` gives the blocks of one split.
+pub(super) fn split_changes_nothing<F: Fn(&Particle, &Particle, bool) -> BlocksFT>(
+    lengths: [f64; 2],
+    ps: &[Particle],
+    sum: impl Fn(f64) -> F,
+) {
     let base = (PI / (lengths[0] * lengths[1])).sqrt();
-    let sums: Vec<WallEwald> = [0.4, 1.0, 2.4]
-        .iter()
-        .map(|&f| WallEwald::new(lengths, HEIGHT, 1e-12, Some(f * base)))
-        .collect();
-    for i in 0..3 {
-        for j in i..3 {
-            let blocks: Vec<BlocksFT> = sums
-                .iter()
-                .map(|e| e.blocks(ETA, &ps[i], &ps[j], i == j))
-                .collect();
+    let sums: Vec<F> = [0.4, 1.0, 2.4].iter().map(|&f| sum(f * base)).collect();
+    for i in 0..ps.len() {
+        for j in i..ps.len() {
+            let blocks: Vec<BlocksFT> = sums.iter().map(|e| e(&ps[i], &ps[j], i == j)).collect();
             let scale = largest(&blocks[1].matrix());
             for other in [&blocks[0], &blocks[2]] {
                 let d = difference(other, &blocks[1]);
