@@ -92,7 +92,8 @@ class System:
     box: ``(Lx, Ly, Lz)``: a triply periodic box of unbounded fluid (``confinement=
         "free"``), the mobility summed over every periodic image by Ewald summation
         (F, FT and FTS, the FTS product by direct sums; Brownian dynamics too: the drift
-        is zero, positions unwrapped; the lubricated FTS resistance and a trap raise).
+        is zero, positions unwrapped; the lubricated resistance at FT and FTS; a trap
+        raises).
         ``(Lx, Ly)``: periodic along a wall (``confinement="wall"``), unbounded above it
         (F and FT, FTS raises; Brownian dynamics with the generated drift, each
         sphere's height derivative of its periodic self mobility); with

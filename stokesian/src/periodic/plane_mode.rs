@@ -85,18 +85,39 @@ impl PlaneMode {
     /// The interpolant of `wall`'s mode `k_par = 0` for heights in `[lo, hi]`, viscosity
     /// `eta`, to `wall`'s tolerance.
     pub(crate) fn new(wall: &WallEwald, lo: f64, hi: f64, eta: f64) -> PlaneMode {
+        PlaneMode::of(
+            |a, b| wall.plane_kernel(a, b),
+            wall.tolerance,
+            wall.lengths,
+            lo,
+            hi,
+            eta,
+        )
+    }
+
+    /// The interpolant of a mode `k_par = 0` whose derivatives `d_a^m d_b^n f` are
+    /// `kernel(h_a, h_b)` (indexed `[m][n]`, entire in the heights) for heights in `[lo,
+    /// hi]`, viscosity `eta`, box `lengths`, to tolerance `tol`.
+    pub(crate) fn of(
+        kernel: impl Fn(f64, f64) -> [[f64; 3]; 3],
+        tol: f64,
+        lengths: [f64; 2],
+        lo: f64,
+        hi: f64,
+        eta: f64,
+    ) -> PlaneMode {
         let (lo, hi) = interval(lo, hi);
         let table = |nodes: &Nodes| -> Vec<Vec<[[f64; 3]; 3]>> {
             (nodes.t.iter())
-                .map(|&a| nodes.t.iter().map(|&b| wall.plane_kernel(a, b)).collect())
+                .map(|&a| nodes.t.iter().map(|&b| kernel(a, b)).collect())
                 .collect()
         };
         let mut k = 9;
         loop {
             let nodes = Nodes::new(k, lo, hi);
             let values = table(&nodes);
-            if k >= 257 || converged(wall, &nodes, &values, lo, hi) {
-                let area = wall.lengths[0] * wall.lengths[1];
+            if k >= 257 || converged(&kernel, tol, &nodes, &values, lo, hi) {
+                let area = lengths[0] * lengths[1];
                 return PlaneMode {
                     nodes,
                     table: values,
@@ -176,7 +197,8 @@ impl PlaneMode {
 /// Whether the interpolant at `nodes` of every `t_mn` matches it at the next set's
 /// points along the lines `h_a` or `h_b` at `lo`, the middle and `hi` (module docs).
 fn converged(
-    wall: &WallEwald,
+    kernel: &impl Fn(f64, f64) -> [[f64; 3]; 3],
+    tol: f64,
     nodes: &Nodes,
     values: &[Vec<[[f64; 3]; 3]>],
     lo: f64,
@@ -190,16 +212,16 @@ fn converged(
         .flatten()
         .flatten()
         .fold(0.0f64, |a, v| a.max(v.abs()));
-    let bound = 1e-2 * wall.tolerance * largest;
+    let bound = 1e-2 * tol * largest;
     // the lines through the first, middle and last node (lo, mid, hi are nodes)
     for &fixed in &[0, (k - 1) / 2, k - 1] {
         for &z in &finer.t {
             let l = nodes.basis(z);
             for along_a in [true, false] {
                 let exact = if along_a {
-                    wall.plane_kernel(z, nodes.t[fixed])
+                    kernel(z, nodes.t[fixed])
                 } else {
-                    wall.plane_kernel(nodes.t[fixed], z)
+                    kernel(nodes.t[fixed], z)
                 };
                 for m in 0..3 {
                     for n in 0..3 {

@@ -6,9 +6,9 @@
 //! interpolated in the heights ([`super::plane_mode`]): `O(N)` at fixed area density and
 //! tolerance where the pair-by-pair sums of the dense matrix are `O(N^2)`.
 //!
-//! The linked cells are those of a triply periodic box whose height is the spheres'
-//! span in `z` plus `r_c` and a margin: no image along `z` is within `r_c`, so the
-//! cells visit the lateral images within `r_c` only.
+//! The linked cells are those of a slab ([`Cells::slab`]) whose height is the spheres'
+//! span in `z` plus `r_c` and a margin, periodic along the wall only: the cells visit
+//! the lateral images within `r_c`.
 //!
 //! The split parameter `xi` and the threshold `K1` are chosen for speed as in
 //! [`super::product`]: the real part costs about `C_pair N (N/A) pi r_c^2` (`r_c = p/xi`,
@@ -198,7 +198,13 @@ fn real_part(
 ) -> Vec<[f64; 6]> {
     let [lx, ly] = wall.lengths;
     let lz = (hi - lo) + wall.r_cut + 1.0;
-    let cells = Cells::new([lx, ly, lz], wall.r_cut, ps.iter().map(|p| p.x));
+    // heights from the lowest sphere's, in `[0, hi - lo]`
+    let bottom = wall.height + lo;
+    let cells = Cells::slab(
+        [lx, ly, lz],
+        wall.r_cut,
+        ps.iter().map(|p| [p.x[0], p.x[1], p.x[2] - bottom]),
+    );
     let split = Wall {
         eta,
         height: wall.height,

@@ -495,8 +495,10 @@ impl System {
     /// stresslet functions are not available), their stresslet rows and columns keep the
     /// far-field inverse. Overlapping spheres are rejected at construction unless allowed;
     /// with [`crate::Overlap::Rpy`] here ([`ResistanceError::Overlap`]). In a periodic box
-    /// (FT only) `M^-1` is the periodic mobility's and the pair corrections are added for
-    /// every image within the window ([`crate::periodic`]).
+    /// `M^-1` is the periodic mobility's and the pair corrections are added for every image
+    /// within the window ([`crate::periodic`]); a sphere and its own image move, rotate and
+    /// strain alike, so their four blocks add on its diagonal block at FTS as at FT (FTS
+    /// in the triply periodic box; near periodic walls the mobility is FT).
     pub fn resistance(
         &self,
         moments: Moments,
@@ -512,13 +514,6 @@ impl System {
             rpy.refuse("lubrication")?;
         }
         self.check_periodic(moments)?;
-        if self.periodic_box().is_some() && moments == Moments::FTS {
-            // the pair corrections of the images are verified at FT only
-            return Err(crate::periodic::PeriodicError::NotAvailable(
-                "the lubricated resistance with stresslets (FTS)",
-            )
-            .into());
-        }
         let parts = moments.parts();
         let n = self.len();
         let eta = self.viscosity();

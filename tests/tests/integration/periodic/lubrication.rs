@@ -13,12 +13,15 @@ use stokesian::{
 
 const ETA: f64 = 0.9;
 
-/// Index of component `c` (0..6: U then Omega) of sphere `a` of `n` (moment-major).
+/// Index of component `c` (0..6: U then Omega; 6..11 the strain at FTS) of sphere `a` of
+/// `n` (moment-major).
 fn at(n: usize, a: usize, c: usize) -> usize {
     if c < 3 {
         3 * a + c
-    } else {
+    } else if c < 6 {
         3 * n + 3 * a + c - 3
+    } else {
+        6 * n + 5 * a + c - 6
     }
 }
 
@@ -28,39 +31,42 @@ fn at(n: usize, a: usize, c: usize) -> usize {
 /// `R_2 - M_2^-1` less each sphere's own correction near the boundaries (`R_1 -
 /// M_1^-1`, the sphere alone), its `(a, a)` block on `a`'s diagonal block and its `(a,
 /// b)` block on `(a, b)`; and each sphere's own correction once. The window must hold
-/// more than `partners` of them (several images per pair).
+/// more than `partners` of them (several images per pair). At `moments` FT or FTS.
 fn check(
+    moments: Moments,
     confinement: Confinement,
     bx: PeriodicBox,
     lengths: [f64; 3],
     ps: &[Particle],
     partners_at_least: usize,
 ) {
-    // a pair tolerance of 1e-3: window s' <= 11.6, several images of each pair
+    // a pair tolerance of 1e-3 at FT, 5e-5 at FTS (the FTS corrections decay faster):
+    // window s' <= 11.6 and 11.5, several images of each pair
     let lub = Lubrication {
-        pair_tolerance: 1e-3,
+        pair_tolerance: if moments == Moments::FTS { 5e-5 } else { 1e-3 },
         ..Lubrication::default()
     };
     let s = System::new(confinement, ETA, ps.to_vec(), Overlap::Refuse)
         .unwrap()
         .periodic(bx)
         .unwrap();
-    let r = s.resistance(Moments::FT, &lub).unwrap();
-    let m_inv = Cholesky::new(&s.mobility(Moments::FT)).unwrap().inverse();
+    let r = s.resistance(moments, &lub).unwrap();
+    let m_inv = Cholesky::new(&s.mobility(moments)).unwrap().inverse();
     let correction = &r - &m_inv;
 
     let open = |ps: Vec<Particle>| {
         let s = System::new(confinement, ETA, ps, Overlap::Refuse).unwrap();
-        s.resistance(Moments::FT, &lub).unwrap()
-            - Cholesky::new(&s.mobility(Moments::FT)).unwrap().inverse()
+        s.resistance(moments, &lub).unwrap()
+            - Cholesky::new(&s.mobility(moments)).unwrap().inverse()
     };
+    let k = moments.per_particle();
     let n = ps.len();
     let own: Vec<_> = ps.iter().map(|p| open(vec![*p])).collect();
-    let (_, s1) = lub.pair_window(Moments::FT);
-    let mut want = nalgebra::DMatrix::<f64>::zeros(6 * n, 6 * n);
+    let (_, s1) = lub.pair_window(moments);
+    let mut want = nalgebra::DMatrix::<f64>::zeros(k * n, k * n);
     for a in 0..n {
-        for i in 0..6 {
-            for j in 0..6 {
+        for i in 0..k {
+            for j in 0..k {
                 want[(at(n, a, i), at(n, a, j))] += own[a][(i, j)];
             }
         }
@@ -84,8 +90,8 @@ fn check(
                         }
                         partners += 1;
                         let c2 = open(vec![ps[a], Particle { x: xb, a: ps[b].a }]);
-                        for i in 0..6 {
-                            for j in 0..6 {
+                        for i in 0..k {
+                            for j in 0..k {
                                 want[(at(n, a, i), at(n, a, j))] +=
                                     c2[(at(2, 0, i), at(2, 0, j))] - own[a][(i, j)];
                                 want[(at(n, a, i), at(n, b, j))] += c2[(at(2, 0, i), at(2, 1, j))];
@@ -114,7 +120,8 @@ fn check(
 
 /// Three spheres in a 6 x 8 x 9 box: the first two 0.063 apart across the face x = 0
 /// (full corrections), the first and the last with their own images within the window
-/// (the first's in full, the last's in the window's smooth fall-off).
+/// (the first's in full, the last's in the window's smooth fall-off); FT and FTS (the
+/// stresslet and strain rows and columns of every image's correction).
 #[test]
 fn pair_corrections_cover_every_image_and_own_images() {
     let lengths = [6.0, 8.0, 9.0];
@@ -132,13 +139,16 @@ fn pair_corrections_cover_every_image_and_own_images() {
             a: 0.6,
         },
     ];
-    check(
-        Confinement::Free,
-        PeriodicBox::new(lengths),
-        lengths,
-        &ps,
-        28,
-    );
+    for moments in [Moments::FT, Moments::FTS] {
+        check(
+            moments,
+            Confinement::Free,
+            PeriodicBox::new(lengths),
+            lengths,
+            &ps,
+            28,
+        );
+    }
 }
 
 /// Three spheres in a 6 x 8 box near the plane `x3 = 0` (gaps 0.2 and 1.4 radii for the
@@ -160,6 +170,7 @@ fn near_a_periodic_wall_the_corrections_cover_the_lateral_images() {
     let ps = near_the_lower_wall(1.2);
     let wall = Confinement::Wall { height: 0.0 };
     check(
+        Moments::FT,
         wall,
         PeriodicBox::lateral([6.0, 8.0]),
         [6.0, 8.0, 0.0],
@@ -182,6 +193,7 @@ fn in_a_periodic_slit_the_corrections_cover_both_walls() {
     };
     // the first sphere far from the others: its own images alone
     check(
+        Moments::FT,
         slit,
         PeriodicBox::lateral([6.0, 8.0]),
         [6.0, 8.0, 0.0],
