@@ -51,23 +51,32 @@ use std::f64::consts::PI;
 
 /// The low lateral modes of one split and set of heights.
 pub(crate) struct LowModes {
-    /// One of each pair `+-k_par` with `|k_par| < K1`.
+    sum: ModeSum,
+    /// The height `Lz'` of each mode's sum in `k_z`.
+    lz: Vec<f64>,
+    k_cut: f64,
+    xi: f64,
+}
+
+/// Lateral modes `k_par` summed each on its own, exact in the lateral phases, the
+/// heights interpolated at Chebyshev points (module docs): the part shared by the
+/// periodic wall's low modes and the periodic slit's remainder ([`super::slit`]), which
+/// differ in what one mode does to its virtual sources.
+pub(crate) struct ModeSum {
+    /// One of each pair `+-k_par`.
     modes: Vec<Mode>,
     /// The largest `|n_d|` of the modes.
     nmax: [usize; 2],
     lengths: [f64; 2],
-    nodes: Nodes,
-    k_cut: f64,
-    xi: f64,
-    /// The wall's plane `x3 = height`.
+    pub(crate) nodes: Nodes,
+    /// Heights are measured from the plane `x3 = height`.
     height: f64,
 }
 
-/// One low mode: `k_par = 2 pi (n1/Lx, n2/Ly)` and the height `Lz'` of its sum in `k_z`.
-struct Mode {
+/// One mode: `k_par = 2 pi (n1/Lx, n2/Ly)`.
+pub(crate) struct Mode {
     n: [i64; 2],
-    k: [f64; 2],
-    lz: f64,
+    pub(crate) k: [f64; 2],
 }
 
 /// The modes' moments accumulated together, this many at a time (each sphere's
@@ -129,51 +138,21 @@ impl LowModes {
         let (lo, hi) = interval(lo, hi);
         let s = 2.0 * hi;
         let (k_cut, _) = wall.reciprocal_box(s);
-        let lengths = wall.lengths;
-        let modes: Vec<Mode> = low_waves(lengths, k_cut, k_low)
+        let waves: Vec<[f64; 2]> = low_waves(wall.lengths, k_cut, k_low).collect();
+        let lz = waves
+            .iter()
             .map(|k| {
                 let kp = (k[0] * k[0] + k[1] * k[1]).sqrt();
-                Mode {
-                    n: std::array::from_fn(|d| (k[d] * lengths[d] / (2.0 * PI)).round() as i64),
-                    k,
-                    lz: reciprocal_box(wall.xi, wall.tolerance, s, kp).1,
-                }
+                reciprocal_box(wall.xi, wall.tolerance, s, kp).1
             })
             .collect();
-        let nmax = std::array::from_fn(|d| {
-            modes
-                .iter()
-                .map(|m| m.n[d].unsigned_abs() as usize)
-                .max()
-                .unwrap_or(0)
-        });
         let nodes = Nodes::new(nodes.max(4), lo, hi);
         LowModes {
-            modes,
-            nmax,
-            lengths,
-            nodes,
+            sum: ModeSum::new(wall.lengths, waves, nodes, wall.height),
+            lz,
             k_cut,
             xi: wall.xi,
-            height: wall.height,
         }
-    }
-
-    /// The powers `exp(i n 2 pi x_d/L_d)`, `0 <= n <= nmax_d`, of position `x`, along `x`
-    /// and along `y`: every mode's lateral phase is a product of two of them.
-    fn powers(&self, x: [f64; 3]) -> [Vec<Complex64>; 2] {
-        std::array::from_fn(|d| {
-            let (s, c) = (2.0 * PI * x[d] / self.lengths[d]).sin_cos();
-            let e = Complex64::new(c, s);
-            let mut z = Complex64::new(1.0, 0.0);
-            (0..=self.nmax[d])
-                .map(|_| {
-                    let v = z;
-                    z *= e;
-                    v
-                })
-                .collect()
-        })
     }
 
     /// Adds the modes' part of the field point's fields ([`Layout::symbol`]) of spheres
@@ -187,74 +166,19 @@ impl LowModes {
         direct: &[Vec<f64>],
         fields: &mut [Vec<f64>],
     ) {
-        if self.modes.is_empty() {
-            return;
-        }
-        let nf = layout.fields();
-        let basis: Vec<Vec<f64>> = ps
-            .par_iter()
-            .map(|p| self.nodes.basis(p.x[2] - self.height))
-            .collect();
-        // l_j(h_b) q_b, [j][f]
-        let weighted: Vec<Vec<f64>> = basis
-            .par_iter()
-            .zip(direct)
-            .map(|(l, q)| {
-                l.iter()
-                    .flat_map(|lj| q.iter().map(move |v| lj * v))
-                    .collect()
-            })
-            .collect();
-        let powers: Vec<[Vec<Complex64>; 2]> = ps.par_iter().map(|p| self.powers(p.x)).collect();
-        // Q_j = sum_b exp(-i k_par . x_b) l_j(h_b) q_b, BLOCK modes at a time
-        let moments: Vec<Vec<Vec<Complex64>>> = self
-            .modes
-            .par_chunks(BLOCK)
-            .map(|block| {
-                let mut q = vec![vec![Complex64::default(); weighted[0].len()]; block.len()];
-                for (pw, w) in powers.iter().zip(&weighted) {
-                    for (m, qm) in block.iter().zip(q.iter_mut()) {
-                        let e = phase(m, pw).conj();
-                        for (qv, &wv) in qm.iter_mut().zip(w) {
-                            *qv += e * wv;
-                        }
-                    }
-                }
-                q
-            })
-            .collect();
-        let moments: Vec<Vec<Complex64>> = moments.into_iter().flatten().collect();
-        let nodal: Vec<Vec<Complex64>> = self
-            .modes
-            .par_iter()
-            .zip(&moments)
-            .map(|(m, q)| self.mode(eta, layout, m, q))
-            .collect();
-        let kn = self.nodes.t.len();
-        fields
-            .par_iter_mut()
-            .zip(powers.par_iter().zip(&basis))
-            .for_each(|(out, (pw, l))| {
-                for (m, v) in self.modes.iter().zip(&nodal) {
-                    let e = phase(m, pw);
-                    for (f, o) in out.iter_mut().enumerate().take(nf) {
-                        let mut acc = Complex64::default();
-                        for (i, li) in l.iter().enumerate().take(kn) {
-                            acc += v[i * nf + f] * li;
-                        }
-                        *o += 2.0 * (e * acc).re;
-                    }
-                }
-            });
+        self.sum.add(ps, layout.fields(), direct, fields, |m, q| {
+            self.mode(eta, layout, m, q)
+        });
     }
 
     /// One mode `m` (its sum in `k_z`): the field point's fields at the virtual field
     /// points, `[i][f]`, from the virtual sources' moments `q` (`[j][f]`).
-    fn mode(&self, eta: f64, layout: Layout, m: &Mode, q: &[Complex64]) -> Vec<Complex64> {
+    fn mode(&self, eta: f64, layout: Layout, m: usize, q: &[Complex64]) -> Vec<Complex64> {
         let nf = layout.fields();
-        let t = &self.nodes.t;
+        let t = &self.sum.nodes.t;
         let kn = t.len();
-        let (k, lz) = (m.k, m.lz);
+        let (k, lz) = (self.sum.modes[m].k, self.lz[m]);
+        let lengths = self.sum.lengths;
         let images: Vec<Vec<Complex64>> = (0..kn)
             .map(|j| layout.image(&q[j * nf..(j + 1) * nf], t[j]))
             .collect();
@@ -262,7 +186,7 @@ impl LowModes {
         let kp2 = k[0] * k[0] + k[1] * k[1];
         let mmax = (self.k_cut * lz / (2.0 * PI)).floor() as i64;
         let xi2 = self.xi * self.xi;
-        let scale = 1.0 / (eta * self.lengths[0] * self.lengths[1] * lz);
+        let scale = 1.0 / (eta * lengths[0] * lengths[1] * lz);
         let mut nodal = vec![Complex64::default(); kn * nf];
         let (mut sd, mut si) = ([Complex64::default(); 9], [Complex64::default(); 27]);
         for m in -mmax..=mmax {
@@ -299,5 +223,132 @@ impl LowModes {
             }
         }
         nodal
+    }
+}
+
+impl ModeSum {
+    /// The lateral modes `waves` of the box `lengths` (one of each pair `+-k_par`, in a
+    /// fixed order) with the heights above the plane `x3 = height` interpolated at
+    /// `nodes`.
+    pub(crate) fn new(
+        lengths: [f64; 2],
+        waves: Vec<[f64; 2]>,
+        nodes: Nodes,
+        height: f64,
+    ) -> ModeSum {
+        let modes: Vec<Mode> = waves
+            .into_iter()
+            .map(|k| Mode {
+                n: std::array::from_fn(|d| (k[d] * lengths[d] / (2.0 * PI)).round() as i64),
+                k,
+            })
+            .collect();
+        let nmax = std::array::from_fn(|d| {
+            modes
+                .iter()
+                .map(|m| m.n[d].unsigned_abs() as usize)
+                .max()
+                .unwrap_or(0)
+        });
+        ModeSum {
+            modes,
+            nmax,
+            lengths,
+            nodes,
+            height,
+        }
+    }
+
+    /// The modes, in order.
+    pub(crate) fn modes(&self) -> &[Mode] {
+        &self.modes
+    }
+
+    /// The powers `exp(i n 2 pi x_d/L_d)`, `0 <= n <= nmax_d`, of position `x`, along `x`
+    /// and along `y`: every mode's lateral phase is a product of two of them.
+    fn powers(&self, x: [f64; 3]) -> [Vec<Complex64>; 2] {
+        std::array::from_fn(|d| {
+            let (s, c) = (2.0 * PI * x[d] / self.lengths[d]).sin_cos();
+            let e = Complex64::new(c, s);
+            let mut z = Complex64::new(1.0, 0.0);
+            (0..=self.nmax[d])
+                .map(|_| {
+                    let v = z;
+                    z *= e;
+                    v
+                })
+                .collect()
+        })
+    }
+
+    /// Adds the modes' part of `nf` fields at the field points of spheres `ps` under
+    /// their `nf` source fields `direct` to `fields`: `nodal(m, q)` takes mode `m`'s
+    /// virtual sources' moments `q` (`[j][f]`, node `j`) to its fields at the virtual
+    /// field points (`[i][f]`).
+    pub(crate) fn add(
+        &self,
+        ps: &[Particle],
+        nf: usize,
+        direct: &[Vec<f64>],
+        fields: &mut [Vec<f64>],
+        nodal: impl Fn(usize, &[Complex64]) -> Vec<Complex64> + Sync,
+    ) {
+        if self.modes.is_empty() {
+            return;
+        }
+        let basis: Vec<Vec<f64>> = ps
+            .par_iter()
+            .map(|p| self.nodes.basis(p.x[2] - self.height))
+            .collect();
+        // l_j(h_b) q_b, [j][f]
+        let weighted: Vec<Vec<f64>> = basis
+            .par_iter()
+            .zip(direct)
+            .map(|(l, q)| {
+                l.iter()
+                    .flat_map(|lj| q.iter().map(move |v| lj * v))
+                    .collect()
+            })
+            .collect();
+        let powers: Vec<[Vec<Complex64>; 2]> = ps.par_iter().map(|p| self.powers(p.x)).collect();
+        // Q_j = sum_b exp(-i k_par . x_b) l_j(h_b) q_b, BLOCK modes at a time
+        let moments: Vec<Vec<Vec<Complex64>>> = self
+            .modes
+            .par_chunks(BLOCK)
+            .map(|block| {
+                let mut q = vec![vec![Complex64::default(); weighted[0].len()]; block.len()];
+                for (pw, w) in powers.iter().zip(&weighted) {
+                    for (m, qm) in block.iter().zip(q.iter_mut()) {
+                        let e = phase(m, pw).conj();
+                        for (qv, &wv) in qm.iter_mut().zip(w) {
+                            *qv += e * wv;
+                        }
+                    }
+                }
+                q
+            })
+            .collect();
+        let moments: Vec<Vec<Complex64>> = moments.into_iter().flatten().collect();
+        let nodal: Vec<Vec<Complex64>> = moments
+            .par_iter()
+            .enumerate()
+            .map(|(m, q)| nodal(m, q))
+            .collect();
+        let kn = self.nodes.t.len();
+        fields
+            .par_iter_mut()
+            .zip(powers.par_iter().zip(&basis))
+            .for_each(|(out, (pw, l))| {
+                for (m, v) in self.modes.iter().zip(&nodal) {
+                    let e = phase(m, pw);
+                    for (f, o) in out.iter_mut().enumerate().take(nf) {
+                        let mut acc = Complex64::default();
+                        for (i, li) in l.iter().enumerate().take(kn) {
+                            acc += v[i * nf + f] * li;
+                        }
+                        *o += 2.0 * (e * acc).re;
+                    }
+                }
+            });
     }
 }

@@ -12,7 +12,9 @@
 //! matrix and its blocks use the direct sums; the triply periodic product is the fast
 //! one ([`product`]: real space over linked cells, reciprocal space by spectral Ewald),
 //! `O(N)`, and so is the product along a periodic wall ([`wall_product`]); in the slit the
-//! product is the direct sums (`O(N^2)`).
+//! product is the two walls' fast products less the Stokeslet's they share, plus the
+//! remainder's lateral modes each on its own ([`slit_product`]: `O(N)` in the walls'
+//! sums, `O(N n_modes)` in the remainder's, whose modes grow with the area).
 //!
 //! The resistance with lubrication ([`System::resistance`]) adds its pair corrections
 //! for every image of a sphere within the window of the correction, a sphere's own
@@ -22,9 +24,9 @@
 //!
 //! Not available in a periodic box (typed errors, or panics of the infallible dense
 //! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS) near a
-//! periodic wall and the lubricated resistance with stresslets (in the triply periodic
-//! box the FTS mobility, its blocks, products and velocities are the direct sums of
-//! [`Ewald::grand`]), the harmonic trap of Brownian dynamics (not a periodic force), the
+//! periodic wall or in a periodic slit (in the triply periodic box the FTS mobility, its
+//! blocks, products and velocities are the direct sums of [`Ewald::grand`], and the
+//! lubricated resistance takes them), the harmonic trap of Brownian dynamics (not a periodic force), the
 //! overlap forms (overlapping spheres are refused, by their nearest images), the
 //! single-precision product (the periodic product is in `f64` whatever
 //! [`crate::Precision`] asks), and every confinement but free space (three lengths), the
@@ -48,6 +50,7 @@ mod plane_mode;
 mod product;
 mod real;
 pub mod slit;
+mod slit_product;
 mod spectral;
 pub mod wall;
 mod wall_product;
@@ -62,6 +65,7 @@ use rayon::prelude::*;
 use slit::SlitEwald;
 use thiserror::Error;
 use wall::WallEwald;
+use wall_product::Sum;
 
 /// A periodic box: its lengths and the tolerance of its lattice sums.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -537,22 +541,25 @@ impl System {
     /// sums ([`System::periodic_dense_apply`]); at F and FT, in a
     /// triply periodic box the fast product ([`product`]: linked cells and spectral
     /// Ewald), near a wall its twin ([`wall_product`]: linked cells, spectral Ewald with
-    /// the image sources, the mode `k_par = 0` interpolated in the heights).
+    /// the image sources, the mode `k_par = 0` interpolated in the heights), in a slit the
+    /// walls' and the remainder's ([`slit_product`]).
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
-        if moments == Moments::FTS || matches!(p.lattice, Lattice::Slit(_)) {
+        if moments == Moments::FTS {
             return self.periodic_dense_apply(p, moments, x);
         }
         let tol = p.bx.tolerance;
         let ps: Vec<Particle> = self.particles().iter().map(|s| p.wrapped(s)).collect();
         match (&p.lattice, p.bx.lengths) {
-            (Lattice::Wall(w), _) => wall_product::apply(w, self.viscosity(), &ps, moments, x),
+            (Lattice::Wall(w), _) => {
+                wall_product::apply(w, Sum::Wall, self.viscosity(), &ps, moments, x).0
+            }
             (Lattice::Triply(_), BoxLengths::Triply(lengths)) => {
                 product::apply(lengths, tol, self.viscosity(), &ps, moments, x)
             }
             (Lattice::Triply(_), BoxLengths::Lateral(_)) => {
                 unreachable!("a triply periodic sum has three lengths")
             }
-            (Lattice::Slit(_), _) => unreachable!("the slit's product is the direct sums"),
+            (Lattice::Slit(s), _) => slit_product::apply(s, self.viscosity(), &ps, moments, x),
         }
     }
 }

@@ -120,9 +120,9 @@ pub(crate) fn apply(
 
 /// The real part of the free-space split: the lane kernels of `ewald_real_f` and
 /// `ewald_real_ft`.
-struct Free {
-    eta: f64,
-    sigma: f64,
+pub(super) struct Free {
+    pub(super) eta: f64,
+    pub(super) sigma: f64,
 }
 
 impl Split for Free {

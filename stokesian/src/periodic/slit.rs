@@ -60,6 +60,7 @@
 //! periodic slit has no open counterpart among our kernels.
 
 use super::wall::{lateral_waves, plane_blocks, Psi, WallEwald};
+use super::wall_spectral::Layout;
 use crate::system::input::Particle;
 use kernels::generated::scene_ewald_real_ft::{ewald_real_ft_pair, ewald_real_ft_self};
 use kernels::BlocksFT;
@@ -73,7 +74,7 @@ pub struct SlitEwald {
     /// split (`xi`, `r_c`, shifts) is the Stokeslet's too.
     pub(super) lower: WallEwald,
     /// The upper wall's, in the mirror `z' = z0 + H - z` (the wall at `z' = 0`).
-    upper: WallEwald,
+    pub(super) upper: WallEwald,
     /// The gap `H` between the walls `x3 = z0` and `x3 = z0 + H`.
     pub gap: f64,
     /// The lateral modes of the remainder within the largest cut-off any pair of spheres
@@ -92,7 +93,7 @@ type Data<const N: usize> = [[[C; 3]; 3]; N];
 /// Which part of the walls' flow `W` the lateral modes sum: all of it, or what is left
 /// of it without the two walls' own Blake images (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Part {
+pub(super) enum Part {
     Whole,
     Remainder,
 }
@@ -126,7 +127,7 @@ impl SlitEwald {
     }
 
     /// A sphere in the upper wall's mirror, `z' = z0 + H - z`.
-    fn mirrored(&self, p: &Particle) -> Particle {
+    pub(super) fn mirrored(&self, p: &Particle) -> Particle {
         Particle {
             x: [p.x[0], p.x[1], self.lower.height + self.gap - p.x[2]],
             a: p.a,
@@ -172,7 +173,13 @@ impl SlitEwald {
     ) {
         let (ha, hb) = (a.x[2] - self.lower.height, b.x[2] - self.lower.height);
         let unit = self.unit(eta);
-        plane_blocks(&self.plane_kernel(ha, hb, part), a.a, b.a, unit, out);
+        plane_blocks(
+            &self.plane_kernel(self.lower.xi, ha, hb, part),
+            a.a,
+            b.a,
+            unit,
+            out,
+        );
         let r = self.lower.minimum_image(a.x, b.x);
         let rho = if same { [0.0; 2] } else { [r[0], r[1]] };
         self.modes(rho, ha, hb, a.a, b.a, unit, part, out);
@@ -211,8 +218,8 @@ impl SlitEwald {
     /// Psi(h_a - h_b) + 4 pi (h_a + h_b) - 8 pi h_a h_b/H`; beside the two walls' sums,
     /// what brings theirs to the slit's, `-Psi(h_a - h_b) + 4 pi (h_a + h_b) - 8 pi H - 8
     /// pi h_a h_b/H`.
-    fn plane_kernel(&self, ha: f64, hb: f64, part: Part) -> [[f64; 3]; 3] {
-        let psi = Psi::at(self.lower.xi, ha - hb);
+    pub(super) fn plane_kernel(&self, xi: f64, ha: f64, hb: f64, part: Part) -> [[f64; 3]; 3] {
+        let psi = Psi::at(xi, ha - hb);
         let h = self.gap;
         let (sign_psi, constant) = match part {
             Part::Whole => (1.0, 0.0),
@@ -235,7 +242,7 @@ impl SlitEwald {
 
     /// The cut-off `k_W` of the modes of `W` (or of its remainder) for heights `ha`, `hb`
     /// and radii `aa`, `ab` (module docs).
-    fn mode_cutoff(&self, ha: f64, hb: f64, aa: f64, ab: f64, part: Part) -> f64 {
+    pub(super) fn mode_cutoff(&self, ha: f64, hb: f64, aa: f64, ab: f64, part: Part) -> f64 {
         let h = self.gap;
         let s = match part {
             Part::Whole => (ha + hb).min(2.0 * h - ha - hb),
@@ -289,6 +296,95 @@ impl SlitEwald {
         let unit = self.unit(eta);
         for (o, v) in out.iter_mut().zip(sum) {
             *o += 2.0 * unit * v;
+        }
+        out
+    }
+
+    /// The remainder's modes within `k_cut` (one of each pair `+-k_par`, in order of
+    /// `kappa`).
+    pub(super) fn remainder_modes(&self, k_cut: f64) -> impl Iterator<Item = [f64; 2]> + '_ {
+        (self.remainder_waves.iter())
+            .take_while(move |w| w.1 <= k_cut)
+            .map(|w| w.0)
+    }
+
+    /// One mode `k` of the remainder `R` in a product (as [`SlitEwald::modes`], for the
+    /// product's mode sum, [`super::low_modes::ModeSum`]): from the moments `q` (`[j][f]`,
+    /// the fields of `layout`: `F`, `[a^2 F/6]`, `[L]`) of virtual sources at heights
+    /// `t_j` above the lower wall, the field point's fields (`U`, `[lap U/6]`, `[Omega]`)
+    /// at the same heights, `[i][f]`, times `1/(8 pi eta A)`. The flow is linear in the
+    /// walls' data, so the sources' data are summed before the one solve.
+    pub(super) fn remainder_nodal(
+        &self,
+        eta: f64,
+        layout: Layout,
+        k: [f64; 2],
+        t: &[f64],
+        q: &[C],
+    ) -> Vec<C> {
+        let nf = layout.fields();
+        let kappa = (k[0] * k[0] + k[1] * k[1]).sqrt();
+        let (c, s) = (k[0] / kappa, k[1] / kappa);
+        let gap = Gap::new(kappa, self.gap);
+        let scale = -2.0 * PI / kappa;
+        let i = C::new(0.0, 1.0);
+        let k2 = kappa * kappa;
+        // frame components (khat, e3 x khat, e3) of a lateral-frame vector, and back
+        let to_frame = |v: &[C]| [v[0] * c + v[1] * s, v[1] * c - v[0] * s, v[2]];
+        let to_lab = |v: [C; 3]| [v[0] * c - v[1] * s, v[0] * s + v[1] * c, v[2]];
+        let (o_cf, o_torque) = match layout.equal {
+            Some(_) => (None, 3),
+            None => (Some(3), 6),
+        };
+        let zero = C::new(0.0, 0.0);
+        let (mut bottom, mut top) = ([zero; 3], [zero; 3]);
+        for (j, &tj) in t.iter().enumerate() {
+            let qj = &q[j * nf..(j + 1) * nf];
+            let f = to_frame(&qj[0..3]);
+            // the force's Faxén factor: (1 - c kappa^2) g0 + c g2, c a^2/6 (equal radii)
+            // or the field a^2 F/6
+            let cf = match (layout.equal, o_cf) {
+                (Some(a), _) => f.map(|v| v * (a * a / 6.0)),
+                (None, Some(o)) => to_frame(&qj[o..o + 3]),
+                (None, None) => unreachable!("unequal radii carry a^2 F/6"),
+            };
+            let l = layout.ft.then(|| to_frame(&qj[o_torque..o_torque + 3]));
+            let (lo, hi): (Data<3>, Data<3>) = (gap.stokeslet(tj, true), gap.stokeslet(tj, false));
+            for (g, wall) in [(&lo, &mut bottom), (&hi, &mut top)] {
+                for (r, w) in wall.iter_mut().enumerate() {
+                    let mut v = zero;
+                    for n in 0..3 {
+                        v += g[0][r][n] * f[n] + (g[2][r][n] - g[0][r][n] * k2) * cf[n];
+                    }
+                    if let Some(l) = l {
+                        // (1/2) eps_jnl D_n G_l, D = (-i kappa, 0, d/dy3) ([`Gap::blocks`])
+                        v += -0.5 * g[1][r][1] * l[0]
+                            + 0.5 * (g[1][r][0] + i * kappa * g[0][r][2]) * l[1]
+                            - 0.5 * i * kappa * g[0][r][1] * l[2];
+                    }
+                    *w += v * scale;
+                }
+            }
+        }
+        let flow = gap.part(bottom, top, Part::Remainder);
+        let unit = self.unit(eta);
+        let mut out = vec![zero; t.len() * nf];
+        for (ti, o) in t.iter().zip(out.chunks_mut(nf)) {
+            let (u0, omega) = gap.field(&flow, *ti, 0.0);
+            let (u1, _) = gap.field(&flow, *ti, 1.0);
+            // lap u = (u + 1 lap u) - u
+            let lap: [C; 3] = std::array::from_fn(|d| u1[d] - u0[d]);
+            let u = match layout.equal {
+                Some(a) => std::array::from_fn(|d| u0[d] + lap[d] * (a * a / 6.0)),
+                None => u0,
+            };
+            o[0..3].copy_from_slice(&to_lab(u).map(|v| v * unit));
+            if layout.equal.is_none() {
+                o[3..6].copy_from_slice(&to_lab(lap).map(|v| v * (unit / 6.0)));
+            }
+            if layout.ft {
+                o[nf - 3..nf].copy_from_slice(&to_lab(omega).map(|v| v * unit));
+            }
         }
         out
     }

@@ -35,6 +35,7 @@ use super::cells::Cells;
 use super::ewald::truncation_parameter;
 use super::low_modes::{low_waves, node_count, LowModes};
 use super::plane_mode::PlaneMode;
+use super::product::Free;
 use super::real::per_lane;
 use super::real::{self, Split};
 use super::wall::{lateral_waves, reciprocal_box, smallest_wave, WallEwald};
@@ -55,6 +56,15 @@ const C_POINT: [f64; 2] = [8.8, 15.0];
 /// and FT, in the same unit.
 const C_MODE: [f64; 2] = [0.085, 0.17];
 
+/// Which lattice sum a product along a periodic wall applies: the wall's (the Stokeslet
+/// and Blake's image), or the Stokeslet's alone but its mode `k_par = 0`, the sum the
+/// periodic slit's two walls share ([`super::slit`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Sum {
+    Wall,
+    Stokeslet,
+}
+
 /// The split of a product along a periodic wall.
 pub(crate) struct WallPlan {
     /// The split at the chosen `xi`.
@@ -67,8 +77,16 @@ pub(crate) struct WallPlan {
 
 impl WallPlan {
     /// The cheapest split of `wall`'s box and tolerance for `n` spheres at heights in
-    /// `[lo, hi]` above the wall, `moments` F or FT (module docs).
-    pub(crate) fn new(wall: &WallEwald, n: usize, lo: f64, hi: f64, moments: Moments) -> WallPlan {
+    /// `[lo, hi]` above the wall, `moments` F or FT, of the lattice sum `sum` (module
+    /// docs; the costs are the wall's for both sums).
+    pub(crate) fn new(
+        wall: &WallEwald,
+        n: usize,
+        lo: f64,
+        hi: f64,
+        moments: Moments,
+        sum: Sum,
+    ) -> WallPlan {
         let p = truncation_parameter(wall.tolerance);
         let [lx, ly] = wall.lengths;
         let area = lx * ly;
@@ -114,7 +132,7 @@ impl WallPlan {
         }
         let (_, xi, k_low, nodes) = best;
         let wall = WallEwald::new(wall.lengths, wall.height, wall.tolerance, Some(xi));
-        let spectral = WallSpectral::new(&wall, hi, k_low);
+        let spectral = WallSpectral::new(&wall, hi, k_low, sum == Sum::Wall);
         let low = LowModes::new(&wall, k_low, lo, hi, nodes);
         WallPlan {
             wall,
@@ -129,14 +147,16 @@ const K_LOW: [f64; 11] = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.
 
 /// `M x` at F or FT (moment-major, as [`crate::System::apply`]) of spheres `ps` (wrapped
 /// into the box laterally) above the wall of `wall` (its box and tolerance), viscosity
-/// `eta`.
+/// `eta`, of the lattice sum `sum`; and the split parameter `xi` it chose (the
+/// Stokeslet's sum without its mode `k_par = 0` depends on it, [`super::slit_product`]).
 pub(crate) fn apply(
     wall: &WallEwald,
+    sum: Sum,
     eta: f64,
     ps: &[Particle],
     moments: Moments,
     x: &[f64],
-) -> Vec<f64> {
+) -> (Vec<f64>, f64) {
     let n = ps.len();
     let ft = match moments {
         Moments::F => false,
@@ -146,9 +166,12 @@ pub(crate) fn apply(
     let heights: Vec<f64> = ps.iter().map(|p| p.x[2] - wall.height).collect();
     let lo = heights.iter().fold(f64::INFINITY, |a, &b| a.min(b));
     let hi = heights.iter().fold(0.0f64, |a, &b| a.max(b));
-    let plan = WallPlan::new(wall, n, lo, hi, moments);
+    let plan = WallPlan::new(wall, n, lo, hi, moments, sum);
     let (forces, torques) = real::forces_and_torques(x, n, ft);
-    let layout = Layout::new(ps, ft);
+    let layout = Layout {
+        image: sum == Sum::Wall,
+        ..Layout::new(ps, ft)
+    };
     let direct: Vec<Vec<f64>> = (0..n)
         .map(|b| layout.direct(ps[b].a, forces[b], torques.as_ref().map(|t| t[b])))
         .collect();
@@ -162,15 +185,26 @@ pub(crate) fn apply(
         .zip(&fields)
         .map(|(p, f)| layout.velocities(p.a, f))
         .unzip();
-    PlaneMode::new(&plan.wall, lo, hi, eta).add(
+    if sum == Sum::Wall {
+        PlaneMode::new(&plan.wall, lo, hi, eta).add(
+            ps,
+            &heights,
+            &forces,
+            torques.as_deref(),
+            &mut u,
+            &mut omega,
+        );
+    }
+    let real = real_part(
+        &plan.wall,
+        sum,
+        eta,
         ps,
-        &heights,
         &forces,
         torques.as_deref(),
-        &mut u,
-        &mut omega,
+        lo,
+        hi,
     );
-    let real = real_part(&plan.wall, eta, ps, &forces, torques.as_deref(), lo, hi);
     let k = moments.per_particle();
     let mut out = vec![0.0; k * n];
     for a in 0..n {
@@ -181,14 +215,16 @@ pub(crate) fn apply(
             }
         }
     }
-    out
+    (out, plan.wall.xi)
 }
 
-/// The real part of the product: each sphere's own screened kernel and the lateral
-/// images within `r_c` of every sphere, over linked cells (module docs), `[U, Omega]`
-/// per sphere (`Omega` zero without torques).
+/// The real part of the product of the lattice sum `sum`: each sphere's own screened
+/// kernel and the lateral images within `r_c` of every sphere, over linked cells (module
+/// docs), `[U, Omega]` per sphere (`Omega` zero without torques).
+#[allow(clippy::too_many_arguments)]
 fn real_part(
     wall: &WallEwald,
+    sum: Sum,
     eta: f64,
     ps: &[Particle],
     forces: &[[f64; 3]],
@@ -205,12 +241,18 @@ fn real_part(
         wall.r_cut,
         ps.iter().map(|p| [p.x[0], p.x[1], p.x[2] - bottom]),
     );
-    let split = Wall {
-        eta,
-        height: wall.height,
-        sigma: 1.0 / wall.xi,
-    };
-    real::real_part(&split, &cells, ps, forces, torques)
+    let sigma = 1.0 / wall.xi;
+    match sum {
+        Sum::Wall => {
+            let split = Wall {
+                eta,
+                height: wall.height,
+                sigma,
+            };
+            real::real_part(&split, &cells, ps, forces, torques)
+        }
+        Sum::Stokeslet => real::real_part(&Free { eta, sigma }, &cells, ps, forces, torques),
+    }
 }
 
 /// The real part of the wall's split: the lane kernel of `ewald_wall_f`, and

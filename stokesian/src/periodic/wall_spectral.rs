@@ -93,11 +93,13 @@ fn normal(c: Complex64) -> V3 {
 }
 
 /// The real fields a product carries (module docs): every radius the same (`equal`,
-/// the radius) or not, torques or not.
+/// the radius) or not, torques or not, Blake's image or the Stokeslet alone (`image`,
+/// the sum the periodic slit's two walls share, [`super::slit`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Layout {
     pub(crate) equal: Option<f64>,
     pub(crate) ft: bool,
+    pub(crate) image: bool,
 }
 
 impl Layout {
@@ -107,6 +109,7 @@ impl Layout {
         Layout {
             equal: ps.iter().all(|p| p.a == a0).then_some(a0),
             ft,
+            image: true,
         }
     }
 
@@ -130,8 +133,11 @@ impl Layout {
     }
 
     /// The image source of the direct source `direct` at height `h`: `F`, `h^2 F`, `h F`,
-    /// `[c F, c h^2 F, c h F]`, `[L, h L, h^2 L]`.
+    /// `[c F, c h^2 F, c h F]`, `[L, h L, h^2 L]`; none without the image.
     pub(crate) fn image<T: Copy + Mul<f64, Output = T>>(&self, direct: &[T], h: f64) -> Vec<T> {
+        if !self.image {
+            return Vec::new();
+        }
         let group = |o: usize, powers: [f64; 3]| {
             powers
                 .into_iter()
@@ -197,6 +203,9 @@ impl Layout {
             let l = vector(direct, o_direct_torque);
             s = add(s, scale(cross(kc, l), 0.5 * i));
         }
+        if !self.image {
+            return self.field_point(k, g, s);
+        }
         // the image: T F
         let (f0, f2, f1) = (vector(image, 0), vector(image, 3), vector(image, 6));
         s = add(s, scale(f0, re(-1.0)));
@@ -232,6 +241,15 @@ impl Layout {
             s = add(s, scale(mirror(w2(l1)), re(-2.0 * k2)));
             s = add(s, normal(-2.0 * i * kp(w2(l0))));
         }
+        self.field_point(k, g, s)
+    }
+
+    /// The field point's fields from the sources' symbol `s` (module docs).
+    fn field_point(&self, k: [f64; 3], g: f64, s: V3) -> [Complex64; 10] {
+        let [kx, ky, kz] = k;
+        let i = Complex64::new(0.0, 1.0);
+        let kc = k.map(|v| Complex64::new(v, 0.0));
+        let k2 = kx * kx + ky * ky + kz * kz;
         let ks = (s[0] * kx + s[1] * ky + s[2] * kz) / k2;
         let u: V3 = std::array::from_fn(|d| (s[d] - ks * k[d]) * g);
         let mut fields = [Complex64::default(); 10];
@@ -263,13 +281,23 @@ fn own_image_field(f: usize) -> Option<usize> {
 
 impl WallSpectral {
     /// The grid for the split `wall` (its `xi` and tolerance) of spheres whose heights
-    /// above the wall are at most `h_max`, for the lateral wave numbers at least `k_low`;
-    /// `None` if no lattice wave vector `k_low <= |k_par| <= k_c` is left to it.
-    pub(crate) fn new(wall: &WallEwald, h_max: f64, k_low: f64) -> Option<WallSpectral> {
+    /// above the wall are at most `h_max`, for the lateral wave numbers at least `k_low`,
+    /// with Blake's image or without it (`image`, [`Layout::image`]); `None` if no lattice
+    /// wave vector `k_low <= |k_par| <= k_c` is left to it.
+    pub(crate) fn new(
+        wall: &WallEwald,
+        h_max: f64,
+        k_low: f64,
+        image: bool,
+    ) -> Option<WallSpectral> {
         let (k_cut, lz) = reciprocal_box(wall.xi, wall.tolerance, 2.0 * h_max, k_low);
         let any =
             lateral_waves(wall.lengths, k_cut).any(|k| k[0] * k[0] + k[1] * k[1] >= k_low * k_low);
-        let amplification = (1.0 + 2.0 * h_max * k_cut).powi(2);
+        let amplification = if image {
+            (1.0 + 2.0 * h_max * k_cut).powi(2)
+        } else {
+            1.0
+        };
         let lengths = [wall.lengths[0], wall.lengths[1], lz];
         any.then(|| WallSpectral {
             grid: Spectral::with_cut(lengths, wall.xi, wall.tolerance / amplification, k_cut),
@@ -303,7 +331,8 @@ impl WallSpectral {
             })
             .collect();
         let n_direct = layout.fields();
-        let (g_in, g_out) = ((3 * n_direct).div_ceil(2), n_direct.div_ceil(2));
+        let n_in = sources.first().map_or(n_direct, Vec::len);
+        let (g_in, g_out) = (n_in.div_ceil(2), n_direct.div_ceil(2));
         let windows: Vec<Window> = ps
             .par_iter()
             .map(|p| self.grid.window([p.x[0], p.x[1], p.x[2] - self.height]))
@@ -338,7 +367,7 @@ impl WallSpectral {
         let [mx, my, mz] = grid.m;
         let plane = my * mz;
         let n_direct = layout.fields();
-        let n_image = 3 * n_direct;
+        let n_image = if layout.image { 3 * n_direct } else { 0 };
         let volume = grid.lengths.iter().product::<f64>();
         let cell = grid.h.iter().product::<f64>();
         // h^3 for each of the two quadratures, 1/V of the Fourier series, g's norm twice

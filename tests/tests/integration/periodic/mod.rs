@@ -6,11 +6,13 @@
 //! matrix, and its bits whatever the threads (`spectral`).
 //! Boxes periodic along a wall: the Ewald sums against the brute-force sum over shells
 //! of the open wall's images, and the system (`wall`); the fast product along the wall
-//! against the dense matrix (`wall_product`).
+//! against the dense matrix (`wall_product`). The periodic slit: its Green's function
+//! (`slit`) and its fast product against the dense matrix (`slit_product`).
 
 mod ewald;
 mod lubrication;
 mod slit;
+mod slit_product;
 mod spectral;
 mod system;
 mod wall;

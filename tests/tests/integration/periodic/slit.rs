@@ -238,8 +238,9 @@ fn the_drift_is_the_divergence_of_the_periodic_mobility() {
     super::wall::drift_is_the_divergence(&spheres, system, "in a periodic slit");
 }
 
-/// The dense matrix is symmetric positive definite, equals the product, and a sphere
-/// moved by box lengths changes no bit of it (dyadic coordinates: the moves are exact).
+/// The dense matrix is symmetric positive definite, its product is the fast product's
+/// to the tolerance (`slit_product` for more), and a sphere moved by box lengths changes
+/// no bit of it (dyadic coordinates: the moves are exact).
 #[test]
 fn dense_matrix_is_positive_definite_and_periodic() {
     let lengths = [8.0, 8.0];
@@ -262,7 +263,8 @@ fn dense_matrix_is_positive_definite_and_periodic() {
         let y = system.apply(moments, &x);
         let want = &m * nalgebra::DVector::from_column_slice(&x);
         let worst = (0..dim).fold(0.0f64, |acc, k| acc.max((y[k] - want[k]).abs()));
-        assert!(worst <= 1e-13 * scale, "{worst:e}");
+        // the fast product, to the box's tolerance 1e-10 of the largest entry
+        assert!(worst <= 1e-10 * scale, "{worst:e}");
         let mut moved = ps.clone();
         moved[2].x[0] += 2.0 * lengths[0];
         moved[1].x[1] -= lengths[1];

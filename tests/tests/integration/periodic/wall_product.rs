@@ -38,6 +38,21 @@ fn spheres(
     gaps: (f64, f64),
     a: Option<f64>,
 ) -> Vec<Particle> {
+    laterally_periodic_spheres(seed, n, lengths, a, |rng, a| {
+        HEIGHT + a + rng.gen_range(gaps.0..gaps.1)
+    })
+}
+
+/// `n` spheres of radius `a` or, without it, radii in `[0.5, 1]`, at random laterally
+/// in the box `lengths`, each at the height `height(rng, radius)`, clear of each other
+/// (by `0.05`) by their nearest lateral images.
+pub(super) fn laterally_periodic_spheres(
+    seed: u64,
+    n: usize,
+    lengths: [f64; 2],
+    a: Option<f64>,
+    mut height: impl FnMut(&mut rand_chacha::ChaCha8Rng, f64) -> f64,
+) -> Vec<Particle> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     let mut out: Vec<Particle> = Vec::new();
     while out.len() < n {
@@ -46,7 +61,7 @@ fn spheres(
             x: [
                 rng.gen_range(0.0..lengths[0]),
                 rng.gen_range(0.0..lengths[1]),
-                HEIGHT + a + rng.gen_range(gaps.0..gaps.1),
+                height(&mut rng, a),
             ],
             a,
         };
