@@ -98,7 +98,7 @@ class System:
         (F and FT, FTS raises; Brownian dynamics with the generated drift, each
         sphere's height derivative of its periodic self mobility); with
         ``confinement="slit"``, periodic along both walls with the slit's exact Green's
-        function (F and FT, the product by direct sums; Brownian dynamics with its drift).
+        function (F and FT, the fast product; Brownian dynamics with its drift).
         A sphere overlapping its own image or another's, or cutting a wall, raises.
     periodic_tolerance: relative truncation error of the periodic sums (default 1e-10).
     """
@@ -253,7 +253,7 @@ class NBody:
     over the lateral images by Ewald summation, ``divM`` its generated drift (each
     sphere's height derivative of its periodic self mobility). Periodic between two walls
     (``"periodic", "periodic", "two_walls"``, as libMobility's DPStokes; the walls at
-    ``zmin`` and ``zmax``): the slit's exact Green's function, ``Mdot`` by direct sums,
+    ``zmin`` and ``zmax``): the slit's exact Green's function, ``Mdot`` the fast product,
     ``divM`` its drift. Two walls without periodic ``x, y`` and an open ``z`` with
     periodic ``x, y`` raise InputError. Overlapping spheres take the RPY overlap forms and spheres
     cutting the wall are damped, as in libMobility (``divM`` is then the exact divergence

@@ -25,14 +25,20 @@
 //!
 //! Every part sums in a fixed order: the bits do not depend on the number of threads.
 
+use super::fft::Fft3;
 use super::low_modes::ModeSum;
 use super::plane_mode::{interval, Nodes, PlaneMode};
 use super::real::forces_and_torques;
 use super::slit::{Part, SlitEwald};
+use super::spectral::{signed, Spectral, Window};
 use super::wall_product::{self, Sum};
 use super::wall_spectral::Layout;
 use crate::system::input::Particle;
 use crate::system::Moments;
+use rayon::prelude::*;
+use rustfft::num_complex::Complex64;
+use rustfft::FftDirection;
+use std::f64::consts::PI;
 
 /// The most Chebyshev points of the remainder's heights.
 const MAX_NODES: usize = 64;
@@ -125,16 +131,27 @@ pub(super) fn remainder(
     let mut fields = vec![vec![0.0; layout.fields()]; n];
     let (lo, hi) = interval(lo, hi);
     let nodes = Nodes::new(node_count(slit, lo, hi, a_max, k_cut), lo, hi);
-    let modes = ModeSum::new(
-        slit.lengths(),
-        slit.remainder_modes(k_cut).collect(),
-        nodes,
-        slit.bottom(),
-    );
-    let t = modes.nodes.t.clone();
-    modes.add(ps, layout.fields(), &direct, &mut fields, |m, q| {
-        slit.remainder_nodal(eta, layout, modes.modes()[m].k, &t, q)
-    });
+    let waves: Vec<[f64; 2]> = slit.remainder_modes(k_cut).collect();
+    let grid = Spectral::lateral(slit.lengths(), slit.lower.tolerance, k_cut);
+    if by_grid(&grid, n, waves.len()) {
+        let t = nodes.t.clone();
+        remainder_by_grid(
+            &grid,
+            k_cut,
+            ps,
+            slit.bottom(),
+            &nodes,
+            &direct,
+            &mut fields,
+            |k, q| slit.remainder_nodal(eta, layout, k, &t, q),
+        );
+    } else {
+        let modes = ModeSum::new(slit.lengths(), waves, nodes, slit.bottom());
+        let t = modes.nodes.t.clone();
+        modes.add(ps, layout.fields(), &direct, &mut fields, |m, q| {
+            slit.remainder_nodal(eta, layout, modes.modes()[m].k, &t, q)
+        });
+    }
     for (a, p) in ps.iter().enumerate() {
         let (v, w) = layout.velocities(p.a, &fields[a]);
         for i in 0..3 {
@@ -188,4 +205,116 @@ fn node_count(slit: &SlitEwald, lo: f64, hi: f64, a_max: f64, k_cut: f64) -> usi
                     .all(|&(weight, ln_half)| weight + k as f64 * ln_half - ln_factorial <= bound)
         })
         .unwrap_or(MAX_NODES)
+}
+
+/// Whether the remainder's modes are cheaper on the grid (`2 N P^2` spreading and
+/// interpolation and `5 M log2 M` transforms per virtual source's field) than one by one
+/// (`C N n_modes`, `C = 3` measured: a monolayer of 1000 spheres at area fraction 0.3 in
+/// a gap of 5, tolerance `1e-6`, where the estimates were equal, took 0.06 s on the grid
+/// and 0.17 s one by one); never where the window would cover the whole grid.
+fn by_grid(grid: &Spectral, n: usize, modes: usize) -> bool {
+    let [mx, my, _] = grid.m;
+    let p = grid.window([0.0; 3]).points();
+    let points = (mx * my) as f64;
+    let cost = 2.0 * (n * p) as f64 + 5.0 * points * points.log2();
+    p < mx * my / 4 && cost < 3.0 * (n * modes) as f64
+}
+
+/// The remainder's modes `0 < |k| <= k_cut` on the lateral grid `grid` ([`Spectral::lateral`]):
+/// each sphere's virtual sources `l_j(h_b) q_b` (`[j][f]`, [`Nodes::basis`] of its height
+/// above `bottom`) spread, transformed, divided by the window's transform, taken by
+/// `nodal(k, Q)` (as one by one, [`ModeSum`]) to the fields at the virtual field points,
+/// divided by the window's transform again, transformed back and interpolated, and
+/// added to `fields` weighted by `l_i(h_a)`. Every wave vector of the grid is summed
+/// (both of each pair `+-k`: no factor 2).
+#[allow(clippy::too_many_arguments)]
+fn remainder_by_grid(
+    grid: &Spectral,
+    k_cut: f64,
+    ps: &[Particle],
+    bottom: f64,
+    nodes: &Nodes,
+    direct: &[Vec<f64>],
+    fields: &mut [Vec<f64>],
+    nodal: impl Fn([f64; 2], &[Complex64]) -> Vec<Complex64> + Sync,
+) {
+    let nf = direct.first().map_or(0, Vec::len);
+    let kn = nodes.t.len();
+    let nv = kn * nf;
+    let basis: Vec<Vec<f64>> = ps
+        .par_iter()
+        .map(|p| nodes.basis(p.x[2] - bottom))
+        .collect();
+    let sources: Vec<Vec<f64>> = basis
+        .par_iter()
+        .zip(direct)
+        .map(|(l, q)| {
+            l.iter()
+                .flat_map(|lj| q.iter().map(move |v| lj * v))
+                .collect()
+        })
+        .collect();
+    let windows: Vec<Window> = ps
+        .par_iter()
+        .map(|p| grid.window([p.x[0], p.x[1], 0.0]))
+        .collect();
+    let g = nv.div_ceil(2);
+    let mut input = grid.spread(&windows, &sources, g);
+    let [mx, my, _] = grid.m;
+    Fft3::new(grid.m, g, FftDirection::Forward).process(&mut input);
+    // per side: the window's normalisation times the cell (h_x h_y/(2 pi s^2)) over its
+    // transform exp(-s^2 k^2/2)
+    let cell = grid.h[0] * grid.h[1] / (2.0 * PI * grid.s2);
+    let kc2 = k_cut * k_cut;
+    let wave = |i: usize, d: usize| signed(i, grid.m[d]).map(|s| 2.0 * PI * s / grid.lengths[d]);
+    let mut output = vec![Complex64::default(); mx * g * my];
+    output
+        .par_chunks_mut(g * my)
+        .enumerate()
+        .for_each(|(ix, chunk)| {
+            let nx = (mx - ix) % mx;
+            let Some(kx) = wave(ix, 0) else { return };
+            for iy in 0..my {
+                let ny = (my - iy) % my;
+                let Some(ky) = wave(iy, 1) else { continue };
+                let k2 = kx * kx + ky * ky;
+                if k2 > kc2 || k2 == 0.0 {
+                    continue;
+                }
+                let side = cell * (0.5 * grid.s2 * k2).exp();
+                // the spectrum of real field f at (ix, iy), from grid f/2 at k and -k
+                let q: Vec<Complex64> = (0..nv)
+                    .map(|f| {
+                        let at = |x: usize, y: usize| input[(x * g + f / 2) * my + y];
+                        let (a, b) = (at(ix, iy), at(nx, ny).conj());
+                        let v = if f.is_multiple_of(2) {
+                            (a + b) * 0.5
+                        } else {
+                            (a - b) * Complex64::new(0.0, -0.5)
+                        };
+                        v * side
+                    })
+                    .collect();
+                let v = nodal([kx, ky], &q);
+                for c in 0..g {
+                    let im = v.get(2 * c + 1).copied().unwrap_or_default();
+                    chunk[c * my + iy] = (v[2 * c] + im * Complex64::new(0.0, 1.0)) * side;
+                }
+            }
+        });
+    drop(input);
+    Fft3::new(grid.m, g, FftDirection::Inverse).process(&mut output);
+    fields
+        .par_iter_mut()
+        .zip(windows.par_iter().zip(&basis))
+        .for_each(|(out, (w, l))| {
+            let v = grid.interpolate(w, &output, g);
+            for (f, o) in out.iter_mut().enumerate() {
+                *o += l
+                    .iter()
+                    .enumerate()
+                    .map(|(i, li)| li * v[i * nf + f])
+                    .sum::<f64>();
+            }
+        });
 }

@@ -127,6 +127,13 @@ pub(crate) struct Window {
     weights: [Vec<f64>; 3],
 }
 
+impl Window {
+    /// The number of grid points it covers.
+    pub(crate) fn points(&self) -> usize {
+        self.index.iter().map(Vec::len).product()
+    }
+}
+
 /// The contiguous runs `(first grid index, first window point, length)` of a window of
 /// `p` points from grid index `first` on a periodic axis of `m` points.
 fn runs(first: usize, p: usize, m: usize) -> impl Iterator<Item = (usize, usize, usize)> {
@@ -185,6 +192,42 @@ impl Spectral {
             support,
             s2,
             split,
+        }
+    }
+
+    /// A grid along `x` and `y` only (one point along `z`, where a window is one point of
+    /// weight 1 at `x3 = 0`): the Gaussian gridding of a two-dimensional non-uniform
+    /// Fourier transform of the wave vectors `|k| <= k_cut` of the box `lengths` to
+    /// relative error `tol`, oversampled twice (`2 pi/h >= 4 k_cut`). Its Gaussian
+    /// `exp(-|x|^2/(2 s^2))`, `s = h sqrt(ln(100/tol))/pi`, aliases `exp(-s^2 (2 pi/h)^2/4)
+    /// = tol/100` at `k_cut` once divided by its transform, and is cut where it is
+    /// `(tol/100)^(3/2)` (the division amplifies the cut by up to `(100/tol)^(1/4)`):
+    /// `P = (2 sqrt(3)/pi) ln(100/tol)` points. `xi` and `split` are not used.
+    pub(crate) fn lateral(lengths: [f64; 2], tol: f64, k_cut: f64) -> Spectral {
+        let m: [usize; 3] = [
+            smooth((4.0 * k_cut * lengths[0] / (2.0 * PI)).ceil() as usize + 2),
+            smooth((4.0 * k_cut * lengths[1] / (2.0 * PI)).ceil() as usize + 2),
+            1,
+        ];
+        let lengths = [lengths[0], lengths[1], 1.0];
+        let h: [f64; 3] = std::array::from_fn(|d| lengths[d] / m[d] as f64);
+        let widest = h[0].max(h[1]);
+        let log = (100.0 / tol).ln();
+        let s = widest * log.sqrt() / PI;
+        let w = s * (3.0 * log).sqrt();
+        let support = [
+            ((2.0 * w / h[0]).ceil() as usize).min(m[0]),
+            ((2.0 * w / h[1]).ceil() as usize).min(m[1]),
+            1,
+        ];
+        Spectral {
+            lengths,
+            xi: 0.0,
+            m,
+            h,
+            support,
+            s2: s * s,
+            split: 0.0,
         }
     }
 

@@ -6,9 +6,10 @@
 //! than the real-space cut-off, at the tolerances asked; its bits do not depend on the
 //! number of threads nor on moves by box lengths.
 
-use super::wall_product::laterally_periodic_spheres;
+use super::wall_product::{laterally_periodic_spheres, rows_error};
 use super::{product_error, same_bits_on_one_thread_and_two};
 use rand::Rng;
+use stokesian::periodic::slit::SlitEwald;
 use stokesian::{Confinement, Moments, Overlap, Particle, PeriodicBox, System};
 
 const ETA: f64 = 0.9;
@@ -71,6 +72,34 @@ fn the_fast_product_is_the_dense_product_to_the_tolerance() {
                 );
                 assert!(e < tol, "{e:e} at tolerance {tol:e}");
             }
+        }
+    }
+}
+
+/// A monolayer of 1000 spheres at area fraction 0.3 (box `102.3^2`, gap 5): the
+/// remainder's modes (thousands) are cheaper on the lateral grid than one by one, which
+/// the small systems above take. Two rows of the dense matrix against the same rows of
+/// the fast product (as along one wall, `wall_product`), F and FT, at `1e-6` and `1e-10`,
+/// unequal radii; its bits do not depend on the number of threads either.
+#[test]
+fn the_remainder_on_the_grid_is_the_dense_product_to_the_tolerance() {
+    let n = 1000;
+    let side = (n as f64 * std::f64::consts::PI / 0.3).sqrt();
+    let lengths = [side, side];
+    let gap = 5.0;
+    let ps = spheres(31, n, lengths, gap, 0.05, None);
+    for tol in [1e-6, 1e-10] {
+        let s = system(ps.clone(), lengths, gap, tol);
+        if tol == 1e-6 {
+            same_bits_on_one_thread_and_two(&s);
+        }
+        let dense = SlitEwald::new(lengths, BOTTOM, gap, tol, None);
+        for moments in [Moments::F, Moments::FT] {
+            let e = rows_error(&s, moments, 7, |a, b| {
+                dense.blocks(ETA, &ps[a], &ps[b], a == b)
+            });
+            println!("tol {tol:e}, {moments:?}: {e:e}");
+            assert!(e < tol, "{e:e} at tolerance {tol:e}");
         }
     }
 }

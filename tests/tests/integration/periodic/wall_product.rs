@@ -6,7 +6,9 @@
 //! asked; its bits do not depend on the number of threads nor on moves by box lengths.
 
 use super::{product_error, same_bits_on_one_thread_and_two};
+use kernels::BlocksFT;
 use rand::{Rng, SeedableRng};
+use rayon::prelude::*;
 use stokesian::periodic::wall::WallEwald;
 use stokesian::{Confinement, Moments, Overlap, Particle, PeriodicBox, System};
 
@@ -126,36 +128,53 @@ fn the_grid_beside_the_low_modes_is_the_dense_product_to_the_tolerance() {
     for tol in [1e-6, 1e-10] {
         for (seed, a) in [(21, Some(1.0)), (22, None)] {
             let ps = spheres(seed, 800, lengths, (0.5, 4.0), a);
-            let n = ps.len();
             let s = system(ps.clone(), lengths, tol);
             if tol == 1e-6 {
                 same_bits_on_one_thread_and_two(&s);
             }
             let dense = WallEwald::new(lengths, HEIGHT, tol, None);
-            let rows: Vec<[[[f64; 6]; 6]; 2]> = (0..n)
-                .map(|b| [0, n / 2].map(|a| dense.blocks(ETA, &ps[a], &ps[b], a == b).matrix()))
-                .collect();
             for moments in [Moments::F, Moments::FT] {
-                let k = moments.per_particle();
-                let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-                let x: Vec<f64> = (0..k * n).map(|_| rng.gen_range(-1.0..1.0)).collect();
-                let got = s.apply(moments, &x);
-                let scale = got.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                let mut e = 0.0f64;
-                for (r, a) in [0, n / 2].into_iter().enumerate() {
-                    for i in 0..k {
-                        let want: f64 = (0..n)
-                            .flat_map(|b| (0..k).map(move |j| (b, j)))
-                            .map(|(b, j)| rows[b][r][i][j] * x[3 * (j / 3) * n + 3 * b + j % 3])
-                            .sum();
-                        e = e.max((want - got[3 * (i / 3) * n + 3 * a + i % 3]).abs() / scale);
-                    }
-                }
+                let e = rows_error(&s, moments, seed, |a, b| {
+                    dense.blocks(ETA, &ps[a], &ps[b], a == b)
+                });
                 println!("tol {tol:e}, radius {a:?}, {moments:?}: {e:e}");
                 assert!(e < tol, "{e:e} at tolerance {tol:e}");
             }
         }
     }
+}
+
+/// The largest difference of two rows of the fast product of `s` at `moments` (its
+/// first sphere's and its middle one's) from the same rows of the dense matrix, whose
+/// FT blocks are `block(a, b)`, times a random vector (`seed`), relative to the fast
+/// product's largest entry.
+pub(super) fn rows_error(
+    s: &System,
+    moments: Moments,
+    seed: u64,
+    block: impl Fn(usize, usize) -> BlocksFT + Sync,
+) -> f64 {
+    let n = s.len();
+    let k = moments.per_particle();
+    let rows: Vec<[[[f64; 6]; 6]; 2]> = (0..n)
+        .into_par_iter()
+        .map(|b| [0, n / 2].map(|a| block(a, b).matrix()))
+        .collect();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let x: Vec<f64> = (0..k * n).map(|_| rng.gen_range(-1.0..1.0)).collect();
+    let got = s.apply(moments, &x);
+    let scale = got.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut e = 0.0f64;
+    for (r, a) in [0, n / 2].into_iter().enumerate() {
+        for i in 0..k {
+            let want: f64 = (0..n)
+                .flat_map(|b| (0..k).map(move |j| (b, j)))
+                .map(|(b, j)| rows[b][r][i][j] * x[3 * (j / 3) * n + 3 * b + j % 3])
+                .sum();
+            e = e.max((want - got[3 * (i / 3) * n + 3 * a + i % 3]).abs() / scale);
+        }
+    }
+    e
 }
 
 /// Spheres spread over a hundred radii above the wall in a small box: the heights need
