@@ -91,7 +91,7 @@ class System:
     allow_overlap: ``True`` is ``overlap="far"`` (give one of the two).
     box: ``(Lx, Ly, Lz)``: a triply periodic box of unbounded fluid (``confinement=
         "free"``), the mobility summed over every periodic image by Ewald summation
-        (F, FT and FTS, the FTS product by direct sums; Brownian dynamics too: the drift
+        (F, FT and FTS, each with its fast product; Brownian dynamics too: the drift
         is zero, positions unwrapped; the lubricated resistance at FT and FTS; a trap
         raises).
         ``(Lx, Ly)``: periodic along a wall (``confinement="wall"``), unbounded above it

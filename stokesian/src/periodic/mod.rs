@@ -24,8 +24,8 @@
 //!
 //! Not available in a periodic box (typed errors, or panics of the infallible dense
 //! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS) near a
-//! periodic wall or in a periodic slit (in the triply periodic box the FTS mobility, its
-//! blocks, products and velocities are the direct sums of [`Ewald::grand`], and the
+//! periodic wall or in a periodic slit (in the triply periodic box the FTS mobility and
+//! its blocks are the direct sums of [`Ewald::grand`], its product the fast one, and the
 //! lubricated resistance takes them), the harmonic trap of Brownian dynamics (not a periodic force), the
 //! overlap forms (overlapping spheres are refused, by their nearest images), the
 //! single-precision product (the periodic product is in `f64` whatever
@@ -505,48 +505,13 @@ impl System {
         p.block(self.viscosity(), self.particles(), a, b, moments)
     }
 
-    /// The triply periodic FTS product `M x` from the direct sums of each pair's blocks
-    /// (`O(N^2)` pairs, each over its images and wave vectors: the fast product has F
-    /// and FT only), each unordered pair once; the bits do not depend on the threads.
-    fn periodic_dense_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
-        let n = self.len();
-        let k = moments.per_particle();
-        let parts = moments.parts();
-        let g = |a: usize, i: usize| crate::system::global(parts, n, a, i);
-        let mut y = vec![0.0; k * n];
-        self.block_rows(p, moments, |a, row| {
-            for (db, m) in row.iter().enumerate() {
-                let b = a + db;
-                for i in 0..k {
-                    for j in 0..k {
-                        // a self block symmetric to its truncation: its lower triangle,
-                        // as the dense matrix keeps it
-                        let v = if b == a {
-                            m[i.max(j) * k + i.min(j)]
-                        } else {
-                            m[i * k + j]
-                        };
-                        y[g(a, i)] += v * x[g(b, j)];
-                        if b != a {
-                            y[g(b, j)] += v * x[g(a, i)];
-                        }
-                    }
-                }
-            }
-        });
-        y
-    }
-
-    /// The periodic product `M x`, moment-major, to the box's tolerance: at FTS the direct
-    /// sums ([`System::periodic_dense_apply`]); at F and FT, in a
-    /// triply periodic box the fast product ([`product`]: linked cells and spectral
-    /// Ewald), near a wall its twin ([`wall_product`]: linked cells, spectral Ewald with
+    /// The periodic product `M x`, moment-major, to the box's tolerance: in a triply
+    /// periodic box the fast product ([`product`]: linked cells and spectral Ewald; F, FT
+    /// and FTS), near a wall its twin ([`wall_product`]: linked cells, spectral Ewald with
     /// the image sources, the mode `k_par = 0` interpolated in the heights), in a slit the
-    /// walls' and the remainder's ([`slit_product`]).
+    /// walls' and the remainder's ([`slit_product`]); F and FT near walls (FTS there is
+    /// refused by [`System::check_periodic`]).
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
-        if moments == Moments::FTS {
-            return self.periodic_dense_apply(p, moments, x);
-        }
         let tol = p.bx.tolerance;
         let ps: Vec<Particle> = self.particles().iter().map(|s| p.wrapped(s)).collect();
         match (&p.lattice, p.bx.lengths) {

@@ -1,8 +1,9 @@
 //! The real part of a fast periodic product ([`super::product`], [`super::wall_product`]):
 //! each sphere's own screened kernel and the images within `r_c` of every sphere over
 //! linked cells ([`super::cells`]), `WIDTH` pair-images at a time with the generated lane
-//! kernels of the split's building block ([`Split`]: F, or FT with torques), or its scalar
-//! kernel lane by lane ([`per_lane`]) where the lane kernel costs too much to build.
+//! kernels of the split's building block ([`Split`]: F, FT with torques, FTS with
+//! stresslets), or its scalar kernel lane by lane ([`per_lane`]) where the lane kernel
+//! costs too much to build.
 //!
 //! Each field sphere's images are gathered in the cells' fixed order, evaluated lane by
 //! lane and summed per lane, the lanes summed in order at the end; tasks of `ROWS` field
@@ -11,7 +12,7 @@
 use super::cells::Cells;
 use crate::system::input::Particle;
 use kernels::lanes::{self, Lane, WithLanes};
-use kernels::{BlocksF, BlocksFT};
+use kernels::{BlocksF, BlocksFT, Grand};
 use rayon::prelude::*;
 use std::ops::Range;
 
@@ -25,10 +26,20 @@ pub(crate) trait Split: Sync {
     fn pair_f<L: Lane<Elem = f64>>(&self, xa: [L; 3], xb: [L; 3], aa: L, ab: L) -> [L; 9];
     /// The FT blocks `UF, UL, OmegaF, OmegaL`, each row-major.
     fn pair_ft<L: Lane<Elem = f64>>(&self, xa: [L; 3], xb: [L; 3], aa: L, ab: L) -> [L; 36];
+    /// The grand FTS block, rows `(U, Omega, E)`, columns `(F, L, S)`, row-major.
+    fn pair_fts<L: Lane<Elem = f64>>(&self, xa: [L; 3], xb: [L; 3], aa: L, ab: L) -> [L; 121];
     /// A sphere's own F blocks.
     fn self_f(&self, x: [f64; 3], a: f64) -> BlocksF;
     /// A sphere's own FT blocks.
     fn self_ft(&self, x: [f64; 3], a: f64) -> BlocksFT;
+    /// A sphere's own grand FTS block.
+    fn self_fts(&self, x: [f64; 3], a: f64) -> Grand;
+}
+
+/// The grand FTS block as a row-major array (the layout of [`Split::pair_fts`]).
+pub(crate) fn grand_rows(g: &Grand) -> [f64; 121] {
+    let m = g.matrix();
+    std::array::from_fn(|k| m[(k / 11, k % 11)])
 }
 
 /// The forces and, with `ft`, the torques of `n` spheres in a moment-major vector `x`
@@ -49,17 +60,19 @@ pub(crate) fn forces_and_torques(
     (forces, torques)
 }
 
-/// `[U, Omega]` of every sphere from the real part (`Omega` zero without torques).
+/// `[U, Omega, E]` of every sphere from the real part (`Omega` zero without torques,
+/// `E` without stresslets, which come with torques).
 pub(crate) fn real_part<K: Split>(
     kernel: &K,
     cells: &Cells,
     ps: &[Particle],
     forces: &[[f64; 3]],
     torques: Option<&[[f64; 3]]>,
-) -> Vec<[f64; 6]> {
+    stresslets: Option<&[[f64; 5]]>,
+) -> Vec<[f64; 11]> {
     let n = ps.len();
     let chunks: Vec<usize> = (0..n.div_ceil(ROWS)).collect();
-    let parts: Vec<Vec<[f64; 6]>> = chunks
+    let parts: Vec<Vec<[f64; 11]>> = chunks
         .par_iter()
         .map(|&c| {
             lanes::dispatch(Rows {
@@ -68,6 +81,7 @@ pub(crate) fn real_part<K: Split>(
                 ps,
                 forces,
                 torques,
+                stresslets,
                 rows: c * ROWS..((c + 1) * ROWS).min(n),
             })
         })
@@ -82,21 +96,27 @@ struct Rows<'a, K> {
     ps: &'a [Particle],
     forces: &'a [[f64; 3]],
     torques: Option<&'a [[f64; 3]]>,
+    stresslets: Option<&'a [[f64; 5]]>,
     rows: Range<usize>,
 }
 
 impl<K: Split> WithLanes for Rows<'_, K> {
     type Elem = f64;
-    type Output = Vec<[f64; 6]>;
+    type Output = Vec<[f64; 11]>;
 
     #[inline(always)]
-    fn run<L: Lane<Elem = f64>>(self) -> Vec<[f64; 6]> {
+    fn run<L: Lane<Elem = f64>>(self) -> Vec<[f64; 11]> {
         let w = L::WIDTH;
-        // the images of one row: source position, source radius, force, torque
-        let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::new());
+        // the images of one row: source position, source radius, force, torque, stresslet
+        let mut cols: [Vec<f64>; 15] = std::array::from_fn(|_| Vec::new());
         let none = [0.0; 3];
-        // the torques' columns only with torques
-        let used = if self.torques.is_some() { 10 } else { 7 };
+        let no_stresslet = [0.0; 5];
+        // the torques' columns only with torques, the stresslets' only with stresslets
+        let used = match (self.torques, self.stresslets) {
+            (_, Some(_)) => 15,
+            (Some(_), None) => 10,
+            (None, None) => 7,
+        };
         let mut out = Vec::with_capacity(self.rows.len());
         for a in self.rows {
             let pa = &self.ps[a];
@@ -106,6 +126,7 @@ impl<K: Split> WithLanes for Rows<'_, K> {
             self.cells.for_each_image(a, |b, r| {
                 let f = &self.forces[b];
                 let l = self.torques.map_or(&none, |t| &t[b]);
+                let st = self.stresslets.map_or(&no_stresslet, |s| &s[b]);
                 let xb: [f64; 3] = std::array::from_fn(|d| pa.x[d] - r[d]);
                 let v = [
                     xb[0],
@@ -118,33 +139,28 @@ impl<K: Split> WithLanes for Rows<'_, K> {
                     l[0],
                     l[1],
                     l[2],
+                    st[0],
+                    st[1],
+                    st[2],
+                    st[3],
+                    st[4],
                 ];
                 for (c, v) in cols[..used].iter_mut().zip(v) {
                     c.push(v);
                 }
             });
             // padding: a source one length unit along x, of unit radius, unloaded
-            let pad = [
-                pa.x[0] + 1.0,
-                pa.x[1],
-                pa.x[2],
-                1.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ];
+            let mut pad = [0.0; 15];
+            pad[..4].copy_from_slice(&[pa.x[0] + 1.0, pa.x[1], pa.x[2], 1.0]);
             while !cols[0].len().is_multiple_of(w) {
                 for (c, v) in cols[..used].iter_mut().zip(pad) {
                     c.push(v);
                 }
             }
             let (xa, aa) = (pa.x.map(L::splat), L::splat(pa.a));
-            let mut acc = [L::splat(0.0); 6];
+            let mut acc = [L::splat(0.0); 11];
             for s in (0..cols[0].len()).step_by(w) {
-                let v: [L; 10] = std::array::from_fn(|k| match k < used {
+                let v: [L; 15] = std::array::from_fn(|k| match k < used {
                     true => L::load(&cols[k][s..s + w]),
                     false => L::splat(0.0),
                 });
@@ -157,7 +173,15 @@ impl<K: Split> WithLanes for Rows<'_, K> {
                         }
                     }
                 };
-                if self.torques.is_none() {
+                if self.stresslets.is_some() {
+                    // the grand block: row r, columns (F, L, S) from v[4]
+                    let m = self.kernel.pair_fts(xa, xb, aa, v[3]);
+                    for (r, acc) in acc.iter_mut().enumerate() {
+                        for c in 0..11 {
+                            *acc = m[11 * r + c].mul_add(v[4 + c], *acc);
+                        }
+                    }
+                } else if self.torques.is_none() {
                     mul(&self.kernel.pair_f(xa, xb, aa, v[3]), 0, 0..3, 4);
                 } else {
                     let m = self.kernel.pair_ft(xa, xb, aa, v[3]);
@@ -168,15 +192,22 @@ impl<K: Split> WithLanes for Rows<'_, K> {
                 }
             }
             let f = &self.forces[a];
-            let mut row: [f64; 6] = std::array::from_fn(|i| acc[i].sum());
-            match self.torques {
-                None => {
+            let mut row: [f64; 11] = std::array::from_fn(|i| acc[i].sum());
+            match (self.torques, self.stresslets) {
+                (Some(t), Some(st)) => {
+                    let own = grand_rows(&self.kernel.self_fts(pa.x, pa.a));
+                    let q: Vec<f64> = f.iter().chain(&t[a]).chain(&st[a]).copied().collect();
+                    for (r, row) in row.iter_mut().enumerate() {
+                        *row += (0..11).map(|c| own[11 * r + c] * q[c]).sum::<f64>();
+                    }
+                }
+                (None, _) => {
                     let own = self.kernel.self_f(pa.x, pa.a);
                     for (i, row) in row.iter_mut().take(3).enumerate() {
                         *row += (0..3).map(|j| own.uf[i][j] * f[j]).sum::<f64>();
                     }
                 }
-                Some(t) => {
+                (Some(t), None) => {
                     let own = self.kernel.self_ft(pa.x, pa.a);
                     let l = &t[a];
                     for i in 0..3 {

@@ -48,10 +48,14 @@
 use super::ewald::truncation_parameter;
 use super::fft::Fft3;
 use crate::system::input::Particle;
+use kernels::STRAIN_BASIS;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 use rustfft::FftDirection;
 use std::f64::consts::PI;
+
+/// Each sphere's velocity, angular velocity and strain rate (five components).
+pub(crate) type Responses = (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[f64; 5]>);
 
 /// The grid and window of one box at one split and tolerance.
 #[derive(Clone, Debug)]
@@ -313,6 +317,210 @@ impl Spectral {
             Vec::new()
         };
         (u, omega)
+    }
+
+    /// The reciprocal part of the FTS product: `(U, Omega, E)` of spheres `ps` in a fluid
+    /// of viscosity `eta` under `forces`, `torques` and `stresslets` (the strain rates'
+    /// and stresslets' five components in the basis of `kernels::STRAIN_BASIS`). Each
+    /// sphere spreads `F`, `L`, `S` (and `a^2 F/6`, `a^2 S/10` where the radii differ);
+    /// the sources' symbol is the field point's functionals at `-k` applied to them
+    /// ([`super::ewald::Ewald::reciprocal_grand`]), `s = f_b F + (i/2) k x L - i g_b sum_p
+    /// S_p B_p k`, `u = g (I - khat khat) s`, and the field point's fields `U = f_a u`,
+    /// `Omega = (1/2) i k x u`, `E_p = i g_a (B_p k) . u` (`f = 1 - a^2 k^2/6`, `g = 1 -
+    /// a^2 k^2/10`; where the radii differ, `U`'s and `E`'s parts without and with the
+    /// `-k^2` factor, weighted by `a^2/6` and `a^2/10` at interpolation).
+    pub(crate) fn apply_fts(
+        &self,
+        eta: f64,
+        ps: &[Particle],
+        forces: &[[f64; 3]],
+        torques: &[[f64; 3]],
+        stresslets: &[[f64; 5]],
+    ) -> Responses {
+        let n = ps.len();
+        let a0 = ps.first().map_or(0.0, |p| p.a);
+        let equal = ps.iter().all(|p| p.a == a0).then_some(a0);
+        // F, L, S, [a^2 F/6, a^2 S/10]
+        let sources: Vec<Vec<f64>> = (0..n)
+            .map(|b| {
+                let a2 = ps[b].a * ps[b].a;
+                let mut q: Vec<f64> = forces[b]
+                    .iter()
+                    .chain(&torques[b])
+                    .chain(&stresslets[b])
+                    .copied()
+                    .collect();
+                if equal.is_none() {
+                    q.extend(forces[b].map(|f| a2 * f / 6.0));
+                    q.extend(stresslets[b].map(|v| a2 * v / 10.0));
+                }
+                q
+            })
+            .collect();
+        // U, Omega, E, [-k^2 U/6, -k^2 E/10]
+        let (n_in, n_out): (usize, usize) = match equal {
+            Some(_) => (11, 11),
+            None => (19, 19),
+        };
+        let (g_in, g_out) = (n_in.div_ceil(2), n_out.div_ceil(2));
+        let windows: Vec<Window> = ps.par_iter().map(|p| self.window(p.x)).collect();
+        let mut grid = self.spread(&windows, &sources, g_in);
+        Fft3::new(self.m, g_in, FftDirection::Forward).process(&mut grid);
+        let mut out = self.symbols_fts(eta, &grid, g_in, g_out, equal);
+        drop(grid);
+        Fft3::new(self.m, g_out, FftDirection::Inverse).process(&mut out);
+        let fields: Vec<Vec<f64>> = windows
+            .par_iter()
+            .map(|w| self.interpolate(w, &out, g_out))
+            .collect();
+        let mut u = Vec::with_capacity(n);
+        let mut omega = Vec::with_capacity(n);
+        let mut e = Vec::with_capacity(n);
+        for (p, f) in ps.iter().zip(&fields) {
+            let a2 = p.a * p.a;
+            let extra = |o: usize| if equal.is_some() { 0.0 } else { a2 * f[o] };
+            u.push(std::array::from_fn(|d| f[d] + extra(11 + d)));
+            omega.push(std::array::from_fn(|d| f[3 + d]));
+            e.push(std::array::from_fn(|q| f[6 + q] + extra(14 + q)));
+        }
+        (u, omega, e)
+    }
+
+    /// The FTS symbols ([`Spectral::apply_fts`]): from the stack `input` of `g_in` grids
+    /// the stack of `g_out` grids of the field point's fields.
+    fn symbols_fts(
+        &self,
+        eta: f64,
+        input: &[Complex64],
+        g_in: usize,
+        g_out: usize,
+        equal: Option<f64>,
+    ) -> Vec<Complex64> {
+        let [mx, my, mz] = self.m;
+        let plane = my * mz;
+        let volume = self.lengths.iter().product::<f64>();
+        let cell = self.h.iter().product::<f64>();
+        // h^3 for each of the two quadratures, 1/V of the Fourier series, g's norm twice
+        let scale = cell * cell / volume / (2.0 * PI * self.s2).powi(3);
+        let c = (1.0 - self.split) / (4.0 * self.xi * self.xi);
+        let axes: [Vec<Option<(f64, f64)>>; 3] = std::array::from_fn(|d| {
+            (0..self.m[d])
+                .map(|i| {
+                    signed(i, self.m[d]).map(|s| {
+                        let k = 2.0 * PI * s / self.lengths[d];
+                        (k, (-c * k * k).exp())
+                    })
+                })
+                .collect()
+        });
+        let at = |ix: usize, g: usize, iy: usize, iz: usize| {
+            input[(ix * g_in + g) * plane + iy * mz + iz]
+        };
+        let i = Complex64::new(0.0, 1.0);
+        let mut out = vec![Complex64::default(); mx * g_out * plane];
+        out.par_chunks_mut(g_out * plane)
+            .enumerate()
+            .for_each(|(ix, chunk)| {
+                let nx = (mx - ix) % mx;
+                let Some((kx, ex)) = axes[0][ix] else { return };
+                for iy in 0..my {
+                    let ny = (my - iy) % my;
+                    let Some((ky, ey)) = axes[1][iy] else {
+                        continue;
+                    };
+                    for iz in 0..mz {
+                        let nz = (mz - iz) % mz;
+                        let Some((kz, ez)) = axes[2][iz] else {
+                            continue;
+                        };
+                        let k = [kx, ky, kz];
+                        let k2 = kx * kx + ky * ky + kz * kz;
+                        if k2 == 0.0 {
+                            continue;
+                        }
+                        let field = |f: usize| {
+                            let (a, b) = (at(ix, f / 2, iy, iz), at(nx, f / 2, ny, nz).conj());
+                            if f.is_multiple_of(2) {
+                                (a + b) * 0.5
+                            } else {
+                                (a - b) * Complex64::new(0.0, -0.5)
+                            }
+                        };
+                        // B_p k for each strain basis element
+                        let bk: [[f64; 3]; 5] = std::array::from_fn(|p| {
+                            let b = &STRAIN_BASIS[p];
+                            std::array::from_fn(|r| (0..3).map(|q| b[r][q] * k[q]).sum())
+                        });
+                        // the sources' symbol
+                        let mut src = [Complex64::default(); 3];
+                        for d in 0..3 {
+                            let (f, s_part) = match equal {
+                                Some(a) => {
+                                    (field(d) * (1.0 - a * a * k2 / 6.0), 1.0 - a * a * k2 / 10.0)
+                                }
+                                None => (field(d) - field(11 + d) * k2, 1.0),
+                            };
+                            src[d] += f;
+                            // -i g_b sum_p S_p (B_p k)_d
+                            let mut st = Complex64::default();
+                            for (p, b) in bk.iter().enumerate() {
+                                st += match equal {
+                                    Some(_) => field(6 + p) * s_part,
+                                    None => field(6 + p) - field(14 + p) * k2,
+                                } * b[d];
+                            }
+                            src[d] -= i * st;
+                        }
+                        let l: [Complex64; 3] = std::array::from_fn(|d| field(3 + d));
+                        let kl = [
+                            l[2] * k[1] - l[1] * k[2],
+                            l[0] * k[2] - l[2] * k[0],
+                            l[1] * k[0] - l[0] * k[1],
+                        ];
+                        for d in 0..3 {
+                            // (i/2) k x L
+                            src[d] += kl[d] * (0.5 * i);
+                        }
+                        let q = k2 / (4.0 * self.xi * self.xi);
+                        let g = scale * (1.0 + q + 2.0 * q * q) * ex * ey * ez / (eta * k2);
+                        let ks = (src[0] * kx + src[1] * ky + src[2] * kz) / k2;
+                        let u: [Complex64; 3] = std::array::from_fn(|d| (src[d] - ks * k[d]) * g);
+                        let mut fields = [Complex64::default(); 20];
+                        let (fa, ga) = match equal {
+                            Some(a) => (1.0 - a * a * k2 / 6.0, 1.0 - a * a * k2 / 10.0),
+                            None => (1.0, 1.0),
+                        };
+                        for d in 0..3 {
+                            fields[d] = u[d] * fa;
+                        }
+                        let ku = [
+                            u[2] * k[1] - u[1] * k[2],
+                            u[0] * k[2] - u[2] * k[0],
+                            u[1] * k[0] - u[0] * k[1],
+                        ];
+                        for d in 0..3 {
+                            fields[3 + d] = ku[d] * (0.5 * i);
+                        }
+                        for (p, b) in bk.iter().enumerate() {
+                            let bu: Complex64 = (0..3).map(|r| u[r] * b[r]).sum();
+                            fields[6 + p] = bu * i * ga;
+                        }
+                        if equal.is_none() {
+                            for d in 0..3 {
+                                fields[11 + d] = u[d] * (-k2 / 6.0);
+                            }
+                            for p in 0..5 {
+                                fields[14 + p] = fields[6 + p] * (-k2 / 10.0);
+                            }
+                        }
+                        for gi in 0..g_out {
+                            chunk[gi * plane + iy * mz + iz] =
+                                fields[2 * gi] + fields[2 * gi + 1] * i;
+                        }
+                    }
+                }
+            });
+        out
     }
 
     /// The stack of `grids` complex grids holding the real fields `sources[b][f]`

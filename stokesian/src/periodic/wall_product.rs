@@ -45,7 +45,7 @@ use crate::system::Moments;
 use kernels::generated::scene_ewald_wall_f::{ewald_wall_f_pair_lanes, ewald_wall_f_self};
 use kernels::generated::scene_ewald_wall_ft::{ewald_wall_ft_pair, ewald_wall_ft_self};
 use kernels::lanes::Lane;
-use kernels::{BlocksF, BlocksFT};
+use kernels::{BlocksF, BlocksFT, Grand};
 use std::f64::consts::PI;
 
 /// Cost of one real-space pair-image, F and FT (the scalar FT kernel for both).
@@ -231,7 +231,7 @@ fn real_part(
     torques: Option<&[[f64; 3]]>,
     lo: f64,
     hi: f64,
-) -> Vec<[f64; 6]> {
+) -> Vec<[f64; 11]> {
     let [lx, ly] = wall.lengths;
     let lz = (hi - lo) + wall.r_cut + 1.0;
     // heights from the lowest sphere's, in `[0, hi - lo]`
@@ -249,9 +249,9 @@ fn real_part(
                 height: wall.height,
                 sigma,
             };
-            real::real_part(&split, &cells, ps, forces, torques)
+            real::real_part(&split, &cells, ps, forces, torques, None)
         }
-        Sum::Stokeslet => real::real_part(&Free { eta, sigma }, &cells, ps, forces, torques),
+        Sum::Stokeslet => real::real_part(&Free { eta, sigma }, &cells, ps, forces, torques, None),
     }
 }
 
@@ -283,8 +283,14 @@ impl Split for Wall {
             out
         })
     }
+    fn pair_fts<L: Lane<Elem = f64>>(&self, _: [L; 3], _: [L; 3], _: L, _: L) -> [L; 121] {
+        unreachable!("FTS near a periodic wall is refused by System::check_periodic")
+    }
     fn self_f(&self, x: [f64; 3], a: f64) -> BlocksF {
         ewald_wall_f_self(x, a, self.eta, self.height, self.sigma)
+    }
+    fn self_fts(&self, _: [f64; 3], _: f64) -> Grand {
+        unreachable!("FTS near a periodic wall is refused by System::check_periodic")
     }
     fn self_ft(&self, x: [f64; 3], a: f64) -> BlocksFT {
         ewald_wall_ft_self(x, a, self.eta, self.height, self.sigma)

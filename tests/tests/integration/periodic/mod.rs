@@ -65,9 +65,10 @@ fn product_error(s: &System, moments: Moments, seed: u64) -> f64 {
     diff / scale
 }
 
-/// The fast product `M x` of `s` at F and FT on one thread and on two: identical bits.
-fn same_bits_on_one_thread_and_two(s: &System) {
-    for moments in [Moments::F, Moments::FT] {
+/// The fast product `M x` of `s` at each of `moments` on one thread and on two:
+/// identical bits.
+fn same_bits_on_one_thread_and_two(s: &System, moments: &[Moments]) {
+    for &moments in moments {
         let x: Vec<f64> = (0..moments.per_particle() * s.len())
             .map(|i| (i as f64 * 0.61).cos())
             .collect();

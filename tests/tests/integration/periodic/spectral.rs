@@ -1,6 +1,6 @@
 //! The fast periodic product (linked cells and spectral Ewald) against the dense
-//! matrix of the direct sums: F and FT, unequal radii, a box that is not a cube, at the
-//! tolerances asked; its bits do not depend on the number of threads.
+//! matrix of the direct sums: F, FT and FTS, unequal radii, a box that is not a cube, at
+//! the tolerances asked; its bits do not depend on the number of threads.
 
 use super::{product_error, same_bits_on_one_thread_and_two, spheres};
 use stokesian::{Confinement, Moments, Overlap, Particle, PeriodicBox, System};
@@ -18,7 +18,8 @@ fn system(ps: Vec<Particle>, lengths: [f64; 3], tolerance: f64) -> System {
 }
 
 /// The fast product is the dense matrix's product to the tolerance asked, `1e-6` and
-/// `1e-10`, F and FT: equal radii in a cube, unequal radii (the Faxén factors on grids
+/// `1e-10`, F, FT and FTS (the stresslets and strain rates through the same grid and
+/// cells): equal radii in a cube, unequal radii (the Faxén factors on grids
 /// of their own) in a box that is not a cube, and three spheres in a small box (the
 /// real-space cut-off beyond the box: images of a sphere's own cell). Both sums are
 /// truncated at `tol` of each block's largest pair entry; a product adds `N` blocks'
@@ -35,7 +36,7 @@ fn the_fast_product_is_the_dense_product_to_the_tolerance() {
     for tol in [1e-6, 1e-10] {
         for (seed, &(lengths, n, a)) in cases.iter().enumerate() {
             let s = system(spheres(seed as u64, n, lengths, a), lengths, tol);
-            for moments in [Moments::F, Moments::FT] {
+            for moments in [Moments::F, Moments::FT, Moments::FTS] {
                 let e = product_error(&s, moments, 3);
                 println!("tol {tol:e}, box {lengths:?}, radius {a:?}, {moments:?}: {e:e}");
                 assert!(e < tol, "{e:e} at tolerance {tol:e}");
@@ -51,7 +52,7 @@ fn the_fast_product_is_the_dense_product_to_the_tolerance() {
 fn the_fast_product_does_not_depend_on_the_threads() {
     let lengths = [14.0, 15.0, 16.0];
     let s = system(spheres(11, 150, lengths, None), lengths, 1e-6);
-    same_bits_on_one_thread_and_two(&s);
+    same_bits_on_one_thread_and_two(&s, &[Moments::F, Moments::FT, Moments::FTS]);
 }
 
 /// One sphere in a cube through the fast product: Hasimoto's self mobility `(1 -
