@@ -13,8 +13,8 @@
 //! one ([`product`]: real space over linked cells, reciprocal space by spectral Ewald),
 //! `O(N)`, and so is the product along a periodic wall ([`wall_product`]); in the slit the
 //! product is the two walls' fast products less the Stokeslet's they share, plus the
-//! remainder's lateral modes each on its own ([`slit_product`]: `O(N)` in the walls'
-//! sums, `O(N n_modes)` in the remainder's, whose modes grow with the area).
+//! remainder's lateral modes ([`slit_product`]: one by one in a small box, on a lateral
+//! grid by FFTs in a wide one).
 //!
 //! The resistance with lubrication ([`System::resistance`]) adds its pair corrections
 //! for every image of a sphere within the window of the correction, a sphere's own

@@ -19,9 +19,10 @@
 //! beside the `O(N K)` of its moments and interpolation.
 //!
 //! The modes are summed one by one over the spheres (`O(N n_modes K)`, `n_modes ~
-//! kappa_c^2 A/(4 pi)` grows with the area): fast where the box is a few gaps wide, the
-//! spheres' own lateral FFT (spreading the virtual sources) being what would make it
-//! `O(N log N)` in a wide box.
+//! kappa_c^2 A/(8 pi)` grows with the area) where the box is a few gaps wide, and on a
+//! lateral grid otherwise ([`remainder_by_grid`]: the virtual sources spread with a
+//! Gaussian, transformed, each mode taken to its virtual field points, transformed back
+//! and interpolated, `O(K (N P^2 + M log M))`), whichever [`by_grid`] finds cheaper.
 //!
 //! Every part sums in a fixed order: the bits do not depend on the number of threads.
 
