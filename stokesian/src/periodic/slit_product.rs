@@ -65,7 +65,7 @@ pub(crate) fn apply(
 
 /// The upper wall's periodic sum, in its mirror: forces `P F`, torques `-P L`, and the
 /// velocities mirrored back alike.
-pub(super) fn upper_wall(
+fn upper_wall(
     slit: &SlitEwald,
     eta: f64,
     ps: &[Particle],
@@ -88,7 +88,7 @@ pub(super) fn upper_wall(
 /// The remainder `R`: its mode `k_par = 0` and its modes `k_par != 0` (module docs); the
 /// mode `k_par = 0` brings the walls' and the Stokeslet's to the slit's, the Stokeslet's
 /// sum split at `xi` ([`super::slit`]).
-pub(super) fn remainder(
+fn remainder(
     slit: &SlitEwald,
     eta: f64,
     ps: &[Particle],
