@@ -296,20 +296,8 @@ impl ModeSum {
         if self.modes.is_empty() {
             return;
         }
-        let basis: Vec<Vec<f64>> = ps
-            .par_iter()
-            .map(|p| self.nodes.basis(p.x[2] - self.height))
-            .collect();
-        // l_j(h_b) q_b, [j][f]
-        let weighted: Vec<Vec<f64>> = basis
-            .par_iter()
-            .zip(direct)
-            .map(|(l, q)| {
-                l.iter()
-                    .flat_map(|lj| q.iter().map(move |v| lj * v))
-                    .collect()
-            })
-            .collect();
+        // l_j(h_b) and l_j(h_b) q_b, [j][f]
+        let (basis, weighted) = self.nodes.virtual_sources(ps, self.height, direct);
         let powers: Vec<[Vec<Complex64>; 2]> = ps.par_iter().map(|p| self.powers(p.x)).collect();
         // Q_j = sum_b exp(-i k_par . x_b) l_j(h_b) q_b, BLOCK modes at a time
         let moments: Vec<Vec<Vec<Complex64>>> = self

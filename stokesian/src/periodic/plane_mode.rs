@@ -54,6 +54,27 @@ impl Nodes {
         Nodes { t, w }
     }
 
+    /// Each sphere's basis `l_j(h)` at its height `h` above the plane `x3 = height`, and
+    /// its virtual sources `l_j(h) q` (`[j][f]`) of its fields `q` (`direct`).
+    pub(super) fn virtual_sources(
+        &self,
+        ps: &[Particle],
+        height: f64,
+        direct: &[Vec<f64>],
+    ) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+        let basis: Vec<Vec<f64>> = ps.iter().map(|p| self.basis(p.x[2] - height)).collect();
+        let sources = basis
+            .iter()
+            .zip(direct)
+            .map(|(l, q)| {
+                l.iter()
+                    .flat_map(|lj| q.iter().map(move |v| lj * v))
+                    .collect()
+            })
+            .collect();
+        (basis, sources)
+    }
+
     /// The Lagrange basis `l_j(z)`.
     pub(super) fn basis(&self, z: f64) -> Vec<f64> {
         if let Some(j) = self.t.iter().position(|&t| t == z) {

@@ -242,19 +242,7 @@ fn remainder_by_grid(
     let nf = direct.first().map_or(0, Vec::len);
     let kn = nodes.t.len();
     let nv = kn * nf;
-    let basis: Vec<Vec<f64>> = ps
-        .par_iter()
-        .map(|p| nodes.basis(p.x[2] - bottom))
-        .collect();
-    let sources: Vec<Vec<f64>> = basis
-        .par_iter()
-        .zip(direct)
-        .map(|(l, q)| {
-            l.iter()
-                .flat_map(|lj| q.iter().map(move |v| lj * v))
-                .collect()
-        })
-        .collect();
+    let (basis, sources) = nodes.virtual_sources(ps, bottom, direct);
     let windows: Vec<Window> = ps
         .par_iter()
         .map(|p| grid.window([p.x[0], p.x[1], 0.0]))

@@ -386,23 +386,30 @@ impl Spectral {
         (u, omega, e)
     }
 
-    /// The FTS symbols ([`Spectral::apply_fts`]): from the stack `input` of `g_in` grids
-    /// the stack of `g_out` grids of the field point's fields.
-    fn symbols_fts(
+    /// The stack of `g_out` grids of output fields from the stack `input` of `g_in` grids,
+    /// wave vector by wave vector (x-plane by x-plane in parallel, each point on its own):
+    /// at every `k != 0` of the grid, neither of whose components is a Nyquist mode, that
+    /// `keep(k_x, k_y)` accepts, `point(k, k^2, g, spectrum, fields)` writes the `2 g_out`
+    /// real output fields' spectra into `fields` (packed two per grid), where `g` is the
+    /// quadratures' and the Fourier series' normalisation times the middle Gaussian
+    /// `exp(-(1 - e) k^2/(4 xi^2))` and `spectrum(f, mirrored)` the spectrum of real input
+    /// field `f` (from grid `f/2` at `k` and `-k`) at `k`, or at `(k_x, k_y, -k_z)`.
+    pub(crate) fn each_wave(
         &self,
-        eta: f64,
         input: &[Complex64],
         g_in: usize,
         g_out: usize,
-        equal: Option<f64>,
+        keep: impl Fn(f64, f64) -> bool + Sync,
+        point: impl Fn([f64; 3], f64, f64, &dyn Fn(usize, bool) -> Complex64, &mut [Complex64]) + Sync,
     ) -> Vec<Complex64> {
         let [mx, my, mz] = self.m;
         let plane = my * mz;
         let volume = self.lengths.iter().product::<f64>();
         let cell = self.h.iter().product::<f64>();
         // h^3 for each of the two quadratures, 1/V of the Fourier series, g's norm twice
-        let scale = cell * cell / volume / (2.0 * PI * self.s2).powi(3);
+        let norm = cell * cell / volume / (2.0 * PI * self.s2).powi(3);
         let c = (1.0 - self.split) / (4.0 * self.xi * self.xi);
+        // per-axis wave numbers and screenings (`None`: Nyquist)
         let axes: [Vec<Option<(f64, f64)>>; 3] = std::array::from_fn(|d| {
             (0..self.m[d])
                 .map(|i| {
@@ -423,96 +430,43 @@ impl Spectral {
             .for_each(|(ix, chunk)| {
                 let nx = (mx - ix) % mx;
                 let Some((kx, ex)) = axes[0][ix] else { return };
+                let mut fields = vec![Complex64::default(); 2 * g_out];
                 for iy in 0..my {
                     let ny = (my - iy) % my;
                     let Some((ky, ey)) = axes[1][iy] else {
                         continue;
                     };
+                    if !keep(kx, ky) {
+                        continue;
+                    }
                     for iz in 0..mz {
                         let nz = (mz - iz) % mz;
                         let Some((kz, ez)) = axes[2][iz] else {
                             continue;
                         };
-                        let k = [kx, ky, kz];
                         let k2 = kx * kx + ky * ky + kz * kz;
                         if k2 == 0.0 {
                             continue;
                         }
-                        let field = |f: usize| {
-                            let (a, b) = (at(ix, f / 2, iy, iz), at(nx, f / 2, ny, nz).conj());
+                        // the spectrum of real field f at (ix, iy, jz), from grid f/2 at k
+                        // and -k
+                        let spectrum = |f: usize, mirrored: bool| {
+                            let (jz, mjz) = if mirrored { (nz, iz) } else { (iz, nz) };
+                            let (a, b) = (at(ix, f / 2, iy, jz), at(nx, f / 2, ny, mjz).conj());
                             if f.is_multiple_of(2) {
                                 (a + b) * 0.5
                             } else {
                                 (a - b) * Complex64::new(0.0, -0.5)
                             }
                         };
-                        // B_p k for each strain basis element
-                        let bk: [[f64; 3]; 5] = std::array::from_fn(|p| {
-                            let b = &STRAIN_BASIS[p];
-                            std::array::from_fn(|r| (0..3).map(|q| b[r][q] * k[q]).sum())
-                        });
-                        // the sources' symbol
-                        let mut src = [Complex64::default(); 3];
-                        for d in 0..3 {
-                            let (f, s_part) = match equal {
-                                Some(a) => {
-                                    (field(d) * (1.0 - a * a * k2 / 6.0), 1.0 - a * a * k2 / 10.0)
-                                }
-                                None => (field(d) - field(11 + d) * k2, 1.0),
-                            };
-                            src[d] += f;
-                            // -i g_b sum_p S_p (B_p k)_d
-                            let mut st = Complex64::default();
-                            for (p, b) in bk.iter().enumerate() {
-                                st += match equal {
-                                    Some(_) => field(6 + p) * s_part,
-                                    None => field(6 + p) - field(14 + p) * k2,
-                                } * b[d];
-                            }
-                            src[d] -= i * st;
-                        }
-                        let l: [Complex64; 3] = std::array::from_fn(|d| field(3 + d));
-                        let kl = [
-                            l[2] * k[1] - l[1] * k[2],
-                            l[0] * k[2] - l[2] * k[0],
-                            l[1] * k[0] - l[0] * k[1],
-                        ];
-                        for d in 0..3 {
-                            // (i/2) k x L
-                            src[d] += kl[d] * (0.5 * i);
-                        }
-                        let q = k2 / (4.0 * self.xi * self.xi);
-                        let g = scale * (1.0 + q + 2.0 * q * q) * ex * ey * ez / (eta * k2);
-                        let ks = (src[0] * kx + src[1] * ky + src[2] * kz) / k2;
-                        let u: [Complex64; 3] = std::array::from_fn(|d| (src[d] - ks * k[d]) * g);
-                        let mut fields = [Complex64::default(); 20];
-                        let (fa, ga) = match equal {
-                            Some(a) => (1.0 - a * a * k2 / 6.0, 1.0 - a * a * k2 / 10.0),
-                            None => (1.0, 1.0),
-                        };
-                        for d in 0..3 {
-                            fields[d] = u[d] * fa;
-                        }
-                        let ku = [
-                            u[2] * k[1] - u[1] * k[2],
-                            u[0] * k[2] - u[2] * k[0],
-                            u[1] * k[0] - u[0] * k[1],
-                        ];
-                        for d in 0..3 {
-                            fields[3 + d] = ku[d] * (0.5 * i);
-                        }
-                        for (p, b) in bk.iter().enumerate() {
-                            let bu: Complex64 = (0..3).map(|r| u[r] * b[r]).sum();
-                            fields[6 + p] = bu * i * ga;
-                        }
-                        if equal.is_none() {
-                            for d in 0..3 {
-                                fields[11 + d] = u[d] * (-k2 / 6.0);
-                            }
-                            for p in 0..5 {
-                                fields[14 + p] = fields[6 + p] * (-k2 / 10.0);
-                            }
-                        }
+                        fields.fill(Complex64::default());
+                        point(
+                            [kx, ky, kz],
+                            k2,
+                            norm * ex * ey * ez,
+                            &spectrum,
+                            &mut fields,
+                        );
                         for gi in 0..g_out {
                             chunk[gi * plane + iy * mz + iz] =
                                 fields[2 * gi] + fields[2 * gi + 1] * i;
@@ -521,6 +475,88 @@ impl Spectral {
                 }
             });
         out
+    }
+
+    /// The FTS symbols ([`Spectral::apply_fts`]): from the stack `input` of `g_in` grids
+    /// the stack of `g_out` grids of the field point's fields.
+    fn symbols_fts(
+        &self,
+        eta: f64,
+        input: &[Complex64],
+        g_in: usize,
+        g_out: usize,
+        equal: Option<f64>,
+    ) -> Vec<Complex64> {
+        let i = Complex64::new(0.0, 1.0);
+        let xi2 = self.xi * self.xi;
+        let keep = |_: f64, _: f64| true;
+        self.each_wave(input, g_in, g_out, keep, |k, k2, norm, spectrum, fields| {
+            let field = |f: usize| spectrum(f, false);
+            // B_p k for each strain basis element
+            let bk: [[f64; 3]; 5] = std::array::from_fn(|p| {
+                let b = &STRAIN_BASIS[p];
+                std::array::from_fn(|r| (0..3).map(|q| b[r][q] * k[q]).sum())
+            });
+            // the sources' symbol
+            let mut src = [Complex64::default(); 3];
+            for d in 0..3 {
+                let (f, s_part) = match equal {
+                    Some(a) => (field(d) * (1.0 - a * a * k2 / 6.0), 1.0 - a * a * k2 / 10.0),
+                    None => (field(d) - field(11 + d) * k2, 1.0),
+                };
+                src[d] += f;
+                // -i g_b sum_p S_p (B_p k)_d
+                let mut st = Complex64::default();
+                for (p, b) in bk.iter().enumerate() {
+                    st += match equal {
+                        Some(_) => field(6 + p) * s_part,
+                        None => field(6 + p) - field(14 + p) * k2,
+                    } * b[d];
+                }
+                src[d] -= i * st;
+            }
+            let l: [Complex64; 3] = std::array::from_fn(|d| field(3 + d));
+            let kl = [
+                l[2] * k[1] - l[1] * k[2],
+                l[0] * k[2] - l[2] * k[0],
+                l[1] * k[0] - l[0] * k[1],
+            ];
+            for d in 0..3 {
+                // (i/2) k x L
+                src[d] += kl[d] * (0.5 * i);
+            }
+            let q = k2 / (4.0 * xi2);
+            let g = norm * (1.0 + q + 2.0 * q * q) / (eta * k2);
+            let ks = (src[0] * k[0] + src[1] * k[1] + src[2] * k[2]) / k2;
+            let u: [Complex64; 3] = std::array::from_fn(|d| (src[d] - ks * k[d]) * g);
+            let (fa, ga) = match equal {
+                Some(a) => (1.0 - a * a * k2 / 6.0, 1.0 - a * a * k2 / 10.0),
+                None => (1.0, 1.0),
+            };
+            for d in 0..3 {
+                fields[d] = u[d] * fa;
+            }
+            let ku = [
+                u[2] * k[1] - u[1] * k[2],
+                u[0] * k[2] - u[2] * k[0],
+                u[1] * k[0] - u[0] * k[1],
+            ];
+            for d in 0..3 {
+                fields[3 + d] = ku[d] * (0.5 * i);
+            }
+            for (p, b) in bk.iter().enumerate() {
+                let bu: Complex64 = (0..3).map(|r| u[r] * b[r]).sum();
+                fields[6 + p] = bu * i * ga;
+            }
+            if equal.is_none() {
+                for d in 0..3 {
+                    fields[11 + d] = u[d] * (-k2 / 6.0);
+                }
+                for p in 0..5 {
+                    fields[14 + p] = fields[6 + p] * (-k2 / 10.0);
+                }
+            }
+        })
     }
 
     /// The stack of `grids` complex grids holding the real fields `sources[b][f]`
@@ -606,107 +642,50 @@ impl Spectral {
         equal: Option<f64>,
         ft: bool,
     ) -> Vec<Complex64> {
-        let [mx, my, mz] = self.m;
-        let plane = my * mz;
         let n_out = 3 + if equal.is_some() { 0 } else { 3 } + if ft { 3 } else { 0 };
-        let volume = self.lengths.iter().product::<f64>();
-        let cell = self.h.iter().product::<f64>();
-        // h^3 for each of the two quadratures, 1/V of the Fourier series, g's norm twice
-        let scale = cell * cell / volume / (2.0 * PI * self.s2).powi(3);
-        let c = (1.0 - self.split) / (4.0 * self.xi * self.xi);
-        // per-axis wave numbers and screenings (`None`: Nyquist)
-        let axes: [Vec<Option<(f64, f64)>>; 3] = std::array::from_fn(|d| {
-            (0..self.m[d])
-                .map(|i| {
-                    signed(i, self.m[d]).map(|s| {
-                        let k = 2.0 * PI * s / self.lengths[d];
-                        (k, (-c * k * k).exp())
-                    })
-                })
-                .collect()
-        });
-        let at = |ix: usize, g: usize, iy: usize, iz: usize| {
-            input[(ix * g_in + g) * plane + iy * mz + iz]
-        };
-        let mut out = vec![Complex64::default(); mx * g_out * plane];
         let i = Complex64::new(0.0, 1.0);
-        out.par_chunks_mut(g_out * plane)
-            .enumerate()
-            .for_each(|(ix, chunk)| {
-                let nx = (mx - ix) % mx;
-                let Some((kx, ex)) = axes[0][ix] else { return };
-                for iy in 0..my {
-                    let ny = (my - iy) % my;
-                    let Some((ky, ey)) = axes[1][iy] else {
-                        continue;
-                    };
-                    for iz in 0..mz {
-                        let nz = (mz - iz) % mz;
-                        let Some((kz, ez)) = axes[2][iz] else {
-                            continue;
-                        };
-                        let k = [kx, ky, kz];
-                        let k2 = kx * kx + ky * ky + kz * kz;
-                        if k2 == 0.0 {
-                            continue;
-                        }
-                        // the spectrum of real field f, from grid f/2 at k and -k
-                        let field = |f: usize| {
-                            let (a, b) = (at(ix, f / 2, iy, iz), at(nx, f / 2, ny, nz).conj());
-                            if f.is_multiple_of(2) {
-                                (a + b) * 0.5
-                            } else {
-                                (a - b) * Complex64::new(0.0, -0.5)
-                            }
-                        };
-                        let faxen = equal.map(|a| 1.0 - a * a * k2 / 6.0);
-                        let force: [Complex64; 3] = std::array::from_fn(|d| match faxen {
-                            Some(f) => field(d) * f,
-                            None => field(d) - field(3 + d) * k2,
-                        });
-                        let q = k2 / (4.0 * self.xi * self.xi);
-                        let g = scale * (1.0 + q + 2.0 * q * q) * ex * ey * ez / (eta * k2);
-                        let project = |v: [Complex64; 3]| {
-                            let kv = (v[0] * k[0] + v[1] * k[1] + v[2] * k[2]) / k2;
-                            [v[0] - kv * k[0], v[1] - kv * k[1], v[2] - kv * k[2]]
-                        };
-                        let curl = |v: [Complex64; 3]| {
-                            [
-                                (v[2] * k[1] - v[1] * k[2]) * i,
-                                (v[0] * k[2] - v[2] * k[0]) * i,
-                                (v[1] * k[0] - v[0] * k[1]) * i,
-                            ]
-                        };
-                        let pf = project(force);
-                        let mut u: [Complex64; 3] = std::array::from_fn(|d| pf[d] * g);
-                        // U (times the field point's Faxén factor, or with -k^2 U/6),
-                        // then Omega
-                        let mut fields = [Complex64::default(); 10];
-                        if ft {
-                            let o = if equal.is_some() { 3 } else { 6 };
-                            let torque: [Complex64; 3] = std::array::from_fn(|d| field(o + d));
-                            let (ct, cf, pt) = (curl(torque), curl(force), project(torque));
-                            for d in 0..3 {
-                                u[d] += ct[d] * (0.5 * g);
-                                fields[n_out - 3 + d] = cf[d] * (0.5 * g) + pt[d] * (0.25 * g * k2);
-                            }
-                        }
-                        for d in 0..3 {
-                            match faxen {
-                                Some(f) => fields[d] = u[d] * f,
-                                None => {
-                                    fields[d] = u[d];
-                                    fields[3 + d] = u[d] * (-k2 / 6.0);
-                                }
-                            }
-                        }
-                        for gi in 0..g_out {
-                            chunk[gi * plane + iy * mz + iz] =
-                                fields[2 * gi] + fields[2 * gi + 1] * i;
-                        }
+        let keep = |_: f64, _: f64| true;
+        self.each_wave(input, g_in, g_out, keep, |k, k2, norm, spectrum, fields| {
+            let field = |f: usize| spectrum(f, false);
+            let faxen = equal.map(|a| 1.0 - a * a * k2 / 6.0);
+            let force: [Complex64; 3] = std::array::from_fn(|d| match faxen {
+                Some(f) => field(d) * f,
+                None => field(d) - field(3 + d) * k2,
+            });
+            let q = k2 / (4.0 * self.xi * self.xi);
+            let g = norm * (1.0 + q + 2.0 * q * q) / (eta * k2);
+            let project = |v: [Complex64; 3]| {
+                let kv = (v[0] * k[0] + v[1] * k[1] + v[2] * k[2]) / k2;
+                [v[0] - kv * k[0], v[1] - kv * k[1], v[2] - kv * k[2]]
+            };
+            let curl = |v: [Complex64; 3]| {
+                [
+                    (v[2] * k[1] - v[1] * k[2]) * i,
+                    (v[0] * k[2] - v[2] * k[0]) * i,
+                    (v[1] * k[0] - v[0] * k[1]) * i,
+                ]
+            };
+            let pf = project(force);
+            let mut u: [Complex64; 3] = std::array::from_fn(|d| pf[d] * g);
+            // U (times the field point's Faxén factor, or with -k^2 U/6), then Omega
+            if ft {
+                let o = if equal.is_some() { 3 } else { 6 };
+                let torque: [Complex64; 3] = std::array::from_fn(|d| field(o + d));
+                let (ct, cf, pt) = (curl(torque), curl(force), project(torque));
+                for d in 0..3 {
+                    u[d] += ct[d] * (0.5 * g);
+                    fields[n_out - 3 + d] = cf[d] * (0.5 * g) + pt[d] * (0.25 * g * k2);
+                }
+            }
+            for d in 0..3 {
+                match faxen {
+                    Some(f) => fields[d] = u[d] * f,
+                    None => {
+                        fields[d] = u[d];
+                        fields[3 + d] = u[d] * (-k2 / 6.0);
                     }
                 }
-            });
-        out
+            }
+        })
     }
 }

@@ -46,13 +46,12 @@
 //! Determinism as in [`super::spectral`]: every sum in a fixed order.
 
 use super::fft::Fft3;
-use super::spectral::{signed, Spectral, Window};
+use super::spectral::{Spectral, Window};
 use super::wall::{lateral_waves, reciprocal_box, WallEwald};
 use crate::system::input::Particle;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 use rustfft::FftDirection;
-use std::f64::consts::PI;
 use std::ops::Mul;
 
 /// The grid of the reciprocal part along a periodic wall.
@@ -363,84 +362,30 @@ impl WallSpectral {
         g_in: usize,
         g_out: usize,
     ) -> Vec<Complex64> {
-        let grid = &self.grid;
-        let [mx, my, mz] = grid.m;
-        let plane = my * mz;
         let n_direct = layout.fields();
         let n_image = if layout.image { 3 * n_direct } else { 0 };
-        let volume = grid.lengths.iter().product::<f64>();
-        let cell = grid.h.iter().product::<f64>();
-        // h^3 for each of the two quadratures, 1/V of the Fourier series, g's norm twice
-        let norm = cell * cell / volume / (2.0 * PI * grid.s2).powi(3);
-        let xi2 = grid.xi * grid.xi;
-        let c = (1.0 - grid.split) / (4.0 * xi2);
-        let axes: [Vec<Option<(f64, f64)>>; 3] = std::array::from_fn(|d| {
-            (0..grid.m[d])
-                .map(|i| {
-                    signed(i, grid.m[d]).map(|s| {
-                        let k = 2.0 * PI * s / grid.lengths[d];
-                        (k, (-c * k * k).exp())
-                    })
-                })
-                .collect()
-        });
-        let i = Complex64::new(0.0, 1.0);
+        let xi2 = self.grid.xi * self.grid.xi;
         let low2 = self.k_low * self.k_low;
-        let mut out = vec![Complex64::default(); mx * g_out * plane];
-        out.par_chunks_mut(g_out * plane)
-            .enumerate()
-            .for_each(|(ix, chunk)| {
-                let nx = (mx - ix) % mx;
-                let Some((kx, ex)) = axes[0][ix] else { return };
-                for iy in 0..my {
-                    let ny = (my - iy) % my;
-                    let Some((ky, ey)) = axes[1][iy] else {
-                        continue;
-                    };
-                    if kx * kx + ky * ky < low2 || (ix == 0 && iy == 0) {
-                        // k_par = 0 and the low modes are added elsewhere
-                        continue;
-                    }
-                    for iz in 0..mz {
-                        let nz = (mz - iz) % mz;
-                        let Some((kz, ez)) = axes[2][iz] else {
-                            continue;
-                        };
-                        // the spectrum of real field f at (ix, iy, jz), from grid f/2 at
-                        // k and -k
-                        let field = |jz: usize, f: usize| {
-                            let at = |x: usize, y: usize, z: usize| {
-                                input[(x * g_in + f / 2) * plane + y * mz + z]
-                            };
-                            let (a, b) = (at(ix, iy, jz), at(nx, ny, (mz - jz) % mz).conj());
-                            if f.is_multiple_of(2) {
-                                (a + b) * 0.5
-                            } else {
-                                (a - b) * Complex64::new(0.0, -0.5)
-                            }
-                        };
-                        let mut sd = [Complex64::default(); 9];
-                        let mut si = [Complex64::default(); 27];
-                        for (f, v) in sd[..n_direct].iter_mut().enumerate() {
-                            *v = field(iz, f);
-                        }
-                        // the image at y* is the mirror of its fields at y: their
-                        // spectrum at (k_par, -k_z)
-                        for (f, v) in si[..n_image].iter_mut().enumerate() {
-                            let g = own_image_field(f).map_or(f / 9 * 3 + f % 9, |o| n_direct + o);
-                            *v = field(nz, g);
-                        }
-                        let k2 = kx * kx + ky * ky + kz * kz;
-                        let q = k2 / (4.0 * xi2);
-                        let g = norm * (1.0 + q + 2.0 * q * q) * ex * ey * ez / (eta * k2);
-                        let fields = layout.symbol([kx, ky, kz], g, &sd, &si);
-                        for gi in 0..g_out {
-                            chunk[gi * plane + iy * mz + iz] =
-                                fields[2 * gi] + fields[2 * gi + 1] * i;
-                        }
-                    }
-                }
-            });
-        out
+        // k_par = 0 and the low modes are added elsewhere
+        let keep = |kx: f64, ky: f64| kx * kx + ky * ky >= low2 && (kx, ky) != (0.0, 0.0);
+        let grid = &self.grid;
+        grid.each_wave(input, g_in, g_out, keep, |k, k2, norm, spectrum, fields| {
+            let mut sd = [Complex64::default(); 9];
+            let mut si = [Complex64::default(); 27];
+            for (f, v) in sd[..n_direct].iter_mut().enumerate() {
+                *v = spectrum(f, false);
+            }
+            // the image at y* is the mirror of its fields at y: their spectrum at (k_par,
+            // -k_z)
+            for (f, v) in si[..n_image].iter_mut().enumerate() {
+                let g = own_image_field(f).map_or(f / 9 * 3 + f % 9, |o| n_direct + o);
+                *v = spectrum(g, true);
+            }
+            let q = k2 / (4.0 * xi2);
+            let g = norm * (1.0 + q + 2.0 * q * q) / (eta * k2);
+            let out = layout.symbol(k, g, &sd, &si);
+            let n = fields.len();
+            fields.copy_from_slice(&out[..n]);
+        })
     }
 }

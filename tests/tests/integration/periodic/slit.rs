@@ -17,7 +17,7 @@ use stokesian::{check_spd, Moments, Overlap, Particle, PeriodicBox, PeriodicErro
 use super::wall::{difference, largest, p, ETA};
 
 /// The lower wall's plane.
-const BOTTOM: f64 = 0.5;
+pub(super) const BOTTOM: f64 = 0.5;
 
 /// Three spheres of unequal radii at unequal heights in a slit of gap 7.
 fn spheres() -> [Particle; 3] {
@@ -207,7 +207,9 @@ fn a_small_sphere_has_faxens_mobility() {
     }
 }
 
-fn periodic(ps: Vec<Particle>, lengths: [f64; 2], gap: f64, tol: f64) -> System {
+/// Spheres `ps` in the slit of gap `gap` above `BOTTOM`, periodic with lateral `lengths`
+/// at tolerance `tol`.
+pub(super) fn periodic(ps: Vec<Particle>, lengths: [f64; 2], gap: f64, tol: f64) -> System {
     System::new(
         Confinement::Slit {
             height: BOTTOM,

@@ -6,33 +6,13 @@
 //! than the real-space cut-off, at the tolerances asked; its bits do not depend on the
 //! number of threads nor on moves by box lengths.
 
+use super::slit::{periodic as system, BOTTOM};
+use super::wall::ETA;
 use super::wall_product::{laterally_periodic_spheres, rows_error};
 use super::{product_error, same_bits_on_one_thread_and_two};
 use rand::Rng;
 use stokesian::periodic::slit::SlitEwald;
-use stokesian::{Confinement, Moments, Overlap, Particle, PeriodicBox, System};
-
-const ETA: f64 = 0.9;
-/// The lower wall's plane.
-const BOTTOM: f64 = -0.5;
-
-fn system(ps: Vec<Particle>, lengths: [f64; 2], gap: f64, tolerance: f64) -> System {
-    System::new(
-        Confinement::Slit {
-            height: BOTTOM,
-            gap,
-        },
-        ETA,
-        ps,
-        Overlap::Refuse,
-    )
-    .unwrap()
-    .periodic(PeriodicBox {
-        tolerance,
-        ..PeriodicBox::lateral(lengths)
-    })
-    .unwrap()
-}
+use stokesian::{Moments, Particle};
 
 /// `n` spheres at random in the slit of gap `gap`, each at least `clear` from both walls.
 fn spheres(
