@@ -56,14 +56,14 @@ fn the_fast_product_is_the_dense_product_to_the_tolerance() {
     }
 }
 
-/// A monolayer of 700 spheres at area fraction 0.3 (box `85.6^2`, gap 5): the
-/// remainder's modes (about 8000 and 14000) are cheaper on the lateral grid than one by one, which
+/// A monolayer of 500 spheres at area fraction 0.3 (box `72.4^2`, gap 5): the
+/// remainder's modes (about 5500 and 10000) are cheaper on the lateral grid than one by one, which
 /// the small systems above take. Two rows of the dense matrix against the same rows of
 /// the fast product (as along one wall, `wall_product`), F and FT, at `1e-6` and `1e-10`,
 /// unequal radii; its bits do not depend on the number of threads either.
 #[test]
 fn the_remainder_on_the_grid_is_the_dense_product_to_the_tolerance() {
-    let n = 700;
+    let n = 500;
     let side = (n as f64 * std::f64::consts::PI / 0.3).sqrt();
     let lengths = [side, side];
     let gap = 5.0;
