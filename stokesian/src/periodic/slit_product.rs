@@ -210,9 +210,11 @@ fn node_count(slit: &SlitEwald, lo: f64, hi: f64, a_max: f64, k_cut: f64) -> usi
 
 /// Whether the remainder's modes are cheaper on the grid (`2 N P^2` spreading and
 /// interpolation and `5 M log2 M` transforms per virtual source's field) than one by one
-/// (`C N n_modes`, `C = 3` measured: a monolayer of 1000 spheres at area fraction 0.3 in
-/// a gap of 5, tolerance `1e-6`, where the estimates were equal, took 0.06 s on the grid
-/// and 0.17 s one by one); never where the window would cover the whole grid.
+/// (`C N n_modes`, `C = 3` from one measurement: a monolayer of 1000 spheres at area
+/// fraction 0.3 in a gap of 5, tolerance `1e-6`, where the two estimates were equal; the
+/// whole F product took 0.209 s with the grid and 0.316 s one by one, the three wall
+/// products about 0.15 s of either, docs/periodic.md), so the grid about a third of the
+/// time; never where the window would cover the whole grid.
 fn by_grid(grid: &Spectral, n: usize, modes: usize) -> bool {
     let [mx, my, _] = grid.m;
     let p = grid.window([0.0; 3]).points();
