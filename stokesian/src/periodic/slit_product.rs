@@ -26,7 +26,6 @@
 //!
 //! Every part sums in a fixed order: the bits do not depend on the number of threads.
 
-use super::fft::Fft3;
 use super::low_modes::ModeSum;
 use super::plane_mode::{interval, Nodes, PlaneMode};
 use super::real::forces_and_torques;
@@ -38,7 +37,6 @@ use crate::system::input::Particle;
 use crate::system::Moments;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
-use rustfft::FftDirection;
 use std::f64::consts::PI;
 
 /// The most Chebyshev points of the remainder's heights.
@@ -250,56 +248,55 @@ fn remainder_by_grid(
         .map(|p| grid.window([p.x[0], p.x[1], 0.0]))
         .collect();
     let g = nv.div_ceil(2);
-    let mut input = grid.spread(&windows, &sources, g);
     let [mx, my, _] = grid.m;
-    Fft3::new(grid.m, g, FftDirection::Forward).process(&mut input);
     // per side: the window's normalisation times the cell (h_x h_y/(2 pi s^2)) over its
     // transform exp(-s^2 k^2/2)
     let cell = grid.h[0] * grid.h[1] / (2.0 * PI * grid.s2);
     let kc2 = k_cut * k_cut;
     let wave = |i: usize, d: usize| signed(i, grid.m[d]).map(|s| 2.0 * PI * s / grid.lengths[d]);
-    let mut output = vec![Complex64::default(); mx * g * my];
-    output
-        .par_chunks_mut(g * my)
-        .enumerate()
-        .for_each(|(ix, chunk)| {
-            let nx = (mx - ix) % mx;
-            let Some(kx) = wave(ix, 0) else { return };
-            for iy in 0..my {
-                let ny = (my - iy) % my;
-                let Some(ky) = wave(iy, 1) else { continue };
-                let k2 = kx * kx + ky * ky;
-                if k2 > kc2 || k2 == 0.0 {
-                    continue;
+    let modes = |input: &[Complex64]| {
+        let mut output = vec![Complex64::default(); mx * g * my];
+        output
+            .par_chunks_mut(g * my)
+            .enumerate()
+            .for_each(|(ix, chunk)| {
+                let nx = (mx - ix) % mx;
+                let Some(kx) = wave(ix, 0) else { return };
+                for iy in 0..my {
+                    let ny = (my - iy) % my;
+                    let Some(ky) = wave(iy, 1) else { continue };
+                    let k2 = kx * kx + ky * ky;
+                    if k2 > kc2 || k2 == 0.0 {
+                        continue;
+                    }
+                    let side = cell * (0.5 * grid.s2 * k2).exp();
+                    // the spectrum of real field f at (ix, iy), from grid f/2 at k and -k
+                    let q: Vec<Complex64> = (0..nv)
+                        .map(|f| {
+                            let at = |x: usize, y: usize| input[(x * g + f / 2) * my + y];
+                            let (a, b) = (at(ix, iy), at(nx, ny).conj());
+                            let v = if f.is_multiple_of(2) {
+                                (a + b) * 0.5
+                            } else {
+                                (a - b) * Complex64::new(0.0, -0.5)
+                            };
+                            v * side
+                        })
+                        .collect();
+                    let v = nodal([kx, ky], &q);
+                    for c in 0..g {
+                        let im = v.get(2 * c + 1).copied().unwrap_or_default();
+                        chunk[c * my + iy] = (v[2 * c] + im * Complex64::new(0.0, 1.0)) * side;
+                    }
                 }
-                let side = cell * (0.5 * grid.s2 * k2).exp();
-                // the spectrum of real field f at (ix, iy), from grid f/2 at k and -k
-                let q: Vec<Complex64> = (0..nv)
-                    .map(|f| {
-                        let at = |x: usize, y: usize| input[(x * g + f / 2) * my + y];
-                        let (a, b) = (at(ix, iy), at(nx, ny).conj());
-                        let v = if f.is_multiple_of(2) {
-                            (a + b) * 0.5
-                        } else {
-                            (a - b) * Complex64::new(0.0, -0.5)
-                        };
-                        v * side
-                    })
-                    .collect();
-                let v = nodal([kx, ky], &q);
-                for c in 0..g {
-                    let im = v.get(2 * c + 1).copied().unwrap_or_default();
-                    chunk[c * my + iy] = (v[2 * c] + im * Complex64::new(0.0, 1.0)) * side;
-                }
-            }
-        });
-    drop(input);
-    Fft3::new(grid.m, g, FftDirection::Inverse).process(&mut output);
+            });
+        output
+    };
+    let nodal_fields = grid.convolve(&windows, &sources, g, g, modes);
     fields
         .par_iter_mut()
-        .zip(windows.par_iter().zip(&basis))
-        .for_each(|(out, (w, l))| {
-            let v = grid.interpolate(w, &output, g);
+        .zip(nodal_fields.par_iter().zip(&basis))
+        .for_each(|(out, (v, l))| {
             for (f, o) in out.iter_mut().enumerate() {
                 *o += l
                     .iter()

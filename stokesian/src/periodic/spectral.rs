@@ -286,23 +286,11 @@ impl Spectral {
         let n_out: usize = 3 + if equal { 0 } else { 3 } + if ft { 3 } else { 0 };
         let (g_in, g_out) = (n_in.div_ceil(2), n_out.div_ceil(2));
         let windows: Vec<Window> = ps.par_iter().map(|p| self.window(p.x)).collect();
-        let mut grid = self.spread(&windows, &sources, g_in);
-        Fft3::new(self.m, g_in, FftDirection::Forward).process(&mut grid);
         let a0 = ps.first().map_or(0.0, |p| p.a);
-        let mut out = self.symbols(
-            eta,
-            &grid,
-            g_in,
-            g_out,
-            if equal { Some(a0) } else { None },
-            ft,
-        );
-        drop(grid);
-        Fft3::new(self.m, g_out, FftDirection::Inverse).process(&mut out);
-        let fields: Vec<Vec<f64>> = windows
-            .par_iter()
-            .map(|w| self.interpolate(w, &out, g_out))
-            .collect();
+        let radius = if equal { Some(a0) } else { None };
+        let fields = self.convolve(&windows, &sources, g_in, g_out, |grid| {
+            self.symbols(eta, grid, g_in, g_out, radius, ft)
+        });
         let u = (0..n)
             .map(|a| {
                 let f = &fields[a];
@@ -364,15 +352,9 @@ impl Spectral {
         };
         let (g_in, g_out) = (n_in.div_ceil(2), n_out.div_ceil(2));
         let windows: Vec<Window> = ps.par_iter().map(|p| self.window(p.x)).collect();
-        let mut grid = self.spread(&windows, &sources, g_in);
-        Fft3::new(self.m, g_in, FftDirection::Forward).process(&mut grid);
-        let mut out = self.symbols_fts(eta, &grid, g_in, g_out, equal);
-        drop(grid);
-        Fft3::new(self.m, g_out, FftDirection::Inverse).process(&mut out);
-        let fields: Vec<Vec<f64>> = windows
-            .par_iter()
-            .map(|w| self.interpolate(w, &out, g_out))
-            .collect();
+        let fields = self.convolve(&windows, &sources, g_in, g_out, |grid| {
+            self.symbols_fts(eta, grid, g_in, g_out, equal)
+        });
         let mut u = Vec::with_capacity(n);
         let mut omega = Vec::with_capacity(n);
         let mut e = Vec::with_capacity(n);
@@ -557,6 +539,28 @@ impl Spectral {
                 }
             }
         })
+    }
+
+    /// Spectral Ewald's pipeline: the real fields `sources[b]` spread with the spheres'
+    /// `windows` onto `g_in` grids, transformed, taken by `symbols` to `g_out` grids,
+    /// transformed back, and each sphere's `2 g_out` real fields interpolated.
+    pub(crate) fn convolve(
+        &self,
+        windows: &[Window],
+        sources: &[Vec<f64>],
+        g_in: usize,
+        g_out: usize,
+        symbols: impl FnOnce(&[Complex64]) -> Vec<Complex64>,
+    ) -> Vec<Vec<f64>> {
+        let mut grid = self.spread(windows, sources, g_in);
+        Fft3::new(self.m, g_in, FftDirection::Forward).process(&mut grid);
+        let mut out = symbols(&grid);
+        drop(grid);
+        Fft3::new(self.m, g_out, FftDirection::Inverse).process(&mut out);
+        windows
+            .par_iter()
+            .map(|w| self.interpolate(w, &out, g_out))
+            .collect()
     }
 
     /// The stack of `grids` complex grids holding the real fields `sources[b][f]`

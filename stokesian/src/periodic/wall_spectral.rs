@@ -45,13 +45,11 @@
 //!
 //! Determinism as in [`super::spectral`]: every sum in a fixed order.
 
-use super::fft::Fft3;
 use super::spectral::{Spectral, Window};
 use super::wall::{lateral_waves, reciprocal_box, WallEwald};
 use crate::system::input::Particle;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
-use rustfft::FftDirection;
 use std::ops::Mul;
 
 /// The grid of the reciprocal part along a periodic wall.
@@ -336,19 +334,13 @@ impl WallSpectral {
             .par_iter()
             .map(|p| self.grid.window([p.x[0], p.x[1], p.x[2] - self.height]))
             .collect();
-        let mut grid = self.grid.spread(&windows, &sources, g_in);
-        Fft3::new(self.grid.m, g_in, FftDirection::Forward).process(&mut grid);
-        let mut out = self.symbols(eta, layout, &grid, g_in, g_out);
-        drop(grid);
-        Fft3::new(self.grid.m, g_out, FftDirection::Inverse).process(&mut out);
-        windows
-            .par_iter()
-            .map(|w| {
-                let mut f = self.grid.interpolate(w, &out, g_out);
-                f.truncate(n_direct);
-                f
-            })
-            .collect()
+        let mut fields = self.grid.convolve(&windows, &sources, g_in, g_out, |grid| {
+            self.symbols(eta, layout, grid, g_in, g_out)
+        });
+        for f in &mut fields {
+            f.truncate(n_direct);
+        }
+        fields
     }
 
     /// The transformed sources times the symbols ([`Layout::symbol`]): from the stack
