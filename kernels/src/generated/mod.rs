@@ -48,6 +48,8 @@ pub mod scene_ewald_wall_drift;
 pub mod scene_ewald_wall_f;
 /// Kernels of the scene `ewald_wall_ft` (`scenes/`) of the building block `ewald_wall` (not a confinement: kernel_gen::physics::green::for_each_building_block).
 pub mod scene_ewald_wall_ft;
+/// Kernels of the scene `ewald_wall_fts` (`scenes/`) of the building block `ewald_wall` (not a confinement: kernel_gen::physics::green::for_each_building_block).
+pub mod scene_ewald_wall_fts;
 /// The RPY overlap corrections (kernel_gen::physics::overlap).
 pub mod overlap;
 use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};

@@ -321,7 +321,7 @@ impl Ewald {
 /// The rows of `A(k)` of [`Ewald::reciprocal_grand`] for a sphere of radius `a`: the
 /// Faxén functionals of `U`, `Omega` and `E` (grand order) on a velocity `exp(i k.x)
 /// e_i`, index `i` last.
-fn functionals(k: [f64; 3], k2: f64, a: f64) -> [[Complex64; 3]; 11] {
+pub(super) fn functionals(k: [f64; 3], k2: f64, a: f64) -> [[Complex64; 3]; 11] {
     let (f, g) = (1.0 - a * a * k2 / 6.0, 1.0 - a * a * k2 / 10.0);
     let ik = |n: usize| Complex64::new(0.0, k[n]);
     std::array::from_fn(|al| {
@@ -341,7 +341,7 @@ fn functionals(k: [f64; 3], k2: f64, a: f64) -> [[Complex64; 3]; 11] {
 }
 
 /// `eps_ijk`, right-handed.
-fn levi_civita(i: usize, j: usize, k: usize) -> f64 {
+pub(super) fn levi_civita(i: usize, j: usize, k: usize) -> f64 {
     ((i as f64 - j as f64) * (j as f64 - k as f64) * (k as f64 - i as f64)) / 2.0
 }
 

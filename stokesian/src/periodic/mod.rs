@@ -23,10 +23,11 @@
 //! lattice, and the far field of every image is already in the periodic mobility.
 //!
 //! Not available in a periodic box (typed errors, or panics of the infallible dense
-//! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS) near a
-//! periodic wall or in a periodic slit (in the triply periodic box the FTS mobility and
-//! its blocks are the direct sums of [`Ewald::grand`], its product the fast one, and the
-//! lubricated resistance takes them), the harmonic trap of Brownian dynamics (not a periodic force), the
+//! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS) in a
+//! periodic slit (in the triply periodic box the FTS mobility and its blocks are the
+//! direct sums of [`Ewald::grand`], its product the fast one; near a periodic wall the
+//! direct sums of [`wall::WallEwald::grand`], its product too; the lubricated resistance takes
+//! them), the harmonic trap of Brownian dynamics (not a periodic force), the
 //! overlap forms (overlapping spheres are refused, by their nearest images), the
 //! single-precision product (the periodic product is in `f64` whatever
 //! [`crate::Precision`] asks), and every confinement but free space (three lengths), the
@@ -286,8 +287,8 @@ impl Periodic {
     }
 
     /// The block `M^{pq}` truncated to `moments`, row-major: [`Periodic::blocks`] at F
-    /// and FT, the triply periodic [`Ewald::grand`] at FTS (near a periodic wall FTS is
-    /// refused by [`System::check_periodic`] before any block is asked for).
+    /// and FT, [`Ewald::grand`] or [`wall::WallEwald::grand`] at FTS (in a periodic slit FTS
+    /// is refused by [`System::check_periodic`] before any block is asked for).
     pub(crate) fn block(
         &self,
         eta: f64,
@@ -298,13 +299,18 @@ impl Periodic {
     ) -> Vec<f64> {
         let k = moments.per_particle();
         let m: Vec<f64> = match (&self.lattice, moments) {
-            (Lattice::Triply(e), Moments::FTS) => {
+            (Lattice::Triply(_) | Lattice::Wall(_), Moments::FTS) => {
                 let (a, b) = (self.wrapped(&ps[p]), self.wrapped(&ps[q]));
-                let g = e.grand(eta, &a, &b, p == q).matrix();
+                let g = match &self.lattice {
+                    Lattice::Triply(e) => e.grand(eta, &a, &b, p == q),
+                    Lattice::Wall(w) => w.grand(eta, &a, &b, p == q),
+                    Lattice::Slit(_) => unreachable!("matched above"),
+                }
+                .matrix();
                 return (0..k * k).map(|e| g[(e / k, e % k)]).collect();
             }
-            (Lattice::Wall(_) | Lattice::Slit(_), Moments::FTS) => {
-                unreachable!("FTS near periodic walls is refused by System::check_periodic")
+            (Lattice::Slit(_), Moments::FTS) => {
+                unreachable!("FTS in a periodic slit is refused by System::check_periodic")
             }
             _ => self.blocks(eta, ps, p, q).matrix().concat(),
         };
@@ -443,9 +449,6 @@ impl System {
     /// the stresslets.
     pub fn check_periodic(&self, moments: Moments) -> Result<(), PeriodicError> {
         match (self.periodic_ref().map(|p| &p.lattice), moments) {
-            (Some(Lattice::Wall(_)), Moments::FTS) => Err(PeriodicError::NotAvailable(
-                "the stresslets (FTS) near a periodic wall",
-            )),
             (Some(Lattice::Slit(_)), Moments::FTS) => Err(PeriodicError::NotAvailable(
                 "the stresslets (FTS) in a periodic slit",
             )),
@@ -505,13 +508,50 @@ impl System {
         p.block(self.viscosity(), self.particles(), a, b, moments)
     }
 
+    /// The periodic product `M x` from the direct sums of each pair's blocks (`O(N^2)`
+    /// pairs, each over its images and wave vectors: the FTS product near a periodic wall,
+    /// which the fast product does not have), each unordered pair once; the bits do not
+    /// depend on the threads.
+    fn periodic_dense_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
+        let n = self.len();
+        let k = moments.per_particle();
+        let parts = moments.parts();
+        let g = |a: usize, i: usize| crate::system::global(parts, n, a, i);
+        let mut y = vec![0.0; k * n];
+        self.block_rows(p, moments, |a, row| {
+            for (db, m) in row.iter().enumerate() {
+                let b = a + db;
+                for i in 0..k {
+                    for j in 0..k {
+                        // a self block symmetric to its truncation: its lower triangle,
+                        // as the dense matrix keeps it
+                        let v = if b == a {
+                            m[i.max(j) * k + i.min(j)]
+                        } else {
+                            m[i * k + j]
+                        };
+                        y[g(a, i)] += v * x[g(b, j)];
+                        if b != a {
+                            y[g(b, j)] += v * x[g(a, i)];
+                        }
+                    }
+                }
+            }
+        });
+        y
+    }
+
     /// The periodic product `M x`, moment-major, to the box's tolerance: in a triply
     /// periodic box the fast product ([`product`]: linked cells and spectral Ewald; F, FT
     /// and FTS), near a wall its twin ([`wall_product`]: linked cells, spectral Ewald with
     /// the image sources, the mode `k_par = 0` interpolated in the heights), in a slit the
-    /// walls' and the remainder's ([`slit_product`]); F and FT near walls (FTS there is
-    /// refused by [`System::check_periodic`]).
+    /// walls' and the remainder's ([`slit_product`]); FTS near a wall by the direct sums
+    /// ([`System::periodic_dense_apply`]), in a slit refused by
+    /// [`System::check_periodic`].
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
+        if let (Lattice::Wall(_), Moments::FTS) = (&p.lattice, moments) {
+            return self.periodic_dense_apply(p, moments, x);
+        }
         let tol = p.bx.tolerance;
         let ps: Vec<Particle> = self.particles().iter().map(|s| p.wrapped(s)).collect();
         match (&p.lattice, p.bx.lengths) {

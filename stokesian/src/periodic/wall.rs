@@ -50,13 +50,16 @@
 //! (`tests/tests/integration/periodic/wall.rs`), the blocks are good to the tolerance of
 //! their largest entry.
 
-use super::ewald::truncation_parameter;
+use super::ewald::{functionals, levi_civita, truncation_parameter};
 use crate::system::input::Particle;
 use kernels::generated::scene_ewald_wall_drift::{
     ewald_wall_drift_pair_together, ewald_wall_drift_self_along,
 };
 use kernels::generated::scene_ewald_wall_ft::{ewald_wall_ft_pair, ewald_wall_ft_self};
-use kernels::BlocksFT;
+use kernels::generated::scene_ewald_wall_fts::{ewald_wall_fts_pair, ewald_wall_fts_self};
+use kernels::{BlocksFT, Grand, STRAIN_BASIS};
+use nalgebra::SMatrix;
+use rustfft::num_complex::Complex64;
 use std::f64::consts::PI;
 
 /// The split and truncation of one box periodic along a wall, at one tolerance.
@@ -141,6 +144,32 @@ impl WallEwald {
         out
     }
 
+    /// The FTS blocks (all nine, the 11 x 11 grand block) of spheres `a` (field) and `b`
+    /// (source) summed over every lateral image of `b`, as [`WallEwald::blocks`]: the real
+    /// part from the generated FTS kernels (`scene_ewald_wall_fts`), the reciprocal part
+    /// [`WallEwald::reciprocal_grand`], the mode `k_par = 0` [`plane_grand`].
+    pub fn grand(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> Grand {
+        let sigma = 1.0 / self.xi;
+        let r = if same {
+            [0.0; 3]
+        } else {
+            self.minimum_image(a.x, b.x)
+        };
+        let mut out = if same {
+            ewald_wall_fts_self(a.x, a.a, eta, self.height, sigma).matrix()
+        } else {
+            SMatrix::zeros()
+        };
+        for xb in self.images(a, b, r, same) {
+            out += ewald_wall_fts_pair(a.x, xb, a.a, b.a, eta, self.height, sigma).matrix();
+        }
+        let (ha, hb) = (a.x[2] - self.height, b.x[2] - self.height);
+        self.reciprocal_grand([r[0], r[1]], ha, hb, a.a, b.a, eta, true, &mut out);
+        let unit = 1.0 / (8.0 * PI * eta * self.lengths[0] * self.lengths[1]);
+        plane_grand(&self.plane_kernel(ha, hb), a.a, b.a, unit, &mut out);
+        Grand::from_matrix(&out)
+    }
+
     /// The lateral images of the source `b` within `r_c` of the field point `a` (the
     /// separation of the nearest `r`), in the order of the shifts: each image's centre, at
     /// the lateral offset `r + shift` from `x_a`; with `same`, `a`'s own position left
@@ -191,19 +220,56 @@ impl WallEwald {
         let scale = self.for_each_wave(ha + hb, eta, |k, k2, proj| {
             let lateral_phase = k[0] * rho[0] + k[1] * rho[1];
             let direct = Source {
-                m0: proj.map(|row| row.map(C::re)),
+                m0: proj.map(|row| row.map(|v| C::new(v, 0.0))),
                 m1: None,
                 ky: k,
             };
-            let phase = C::unit(lateral_phase + k[2] * (ha - hb));
+            let phase = unit(lateral_phase + k[2] * (ha - hb));
             add_blocks(&mut acc, phase, &direct, k, k2, ca, cb);
             if image {
                 let image = image_source(proj, k, k2, hb);
-                let phase = C::unit(lateral_phase + k[2] * (ha + hb));
+                let phase = unit(lateral_phase + k[2] * (ha + hb));
                 add_blocks(&mut acc, phase, &image, k, k2, ca, cb);
             }
         });
         acc.into(scale, out);
+    }
+
+    /// The reciprocal sum (`k_par != 0`) of the FTS blocks (the 11 x 11 grand block) at
+    /// lateral separation `rho`, heights `ha`, `hb`, radii `aa`, `ab`, added to `out`, as
+    /// [`WallEwald::reciprocal`]: the direct source's and, with `image`, Blake's image's,
+    /// each block a field functional of a source functional of the symbol
+    /// ([`add_grand`]).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn reciprocal_grand(
+        &self,
+        rho: [f64; 2],
+        ha: f64,
+        hb: f64,
+        aa: f64,
+        ab: f64,
+        eta: f64,
+        image: bool,
+        out: &mut SMatrix<f64, 11, 11>,
+    ) {
+        let mut acc = SMatrix::<f64, 11, 11>::zeros();
+        let scale = self.for_each_wave(ha + hb, eta, |k, k2, proj| {
+            let field = functionals(k, k2, aa);
+            let lateral_phase = k[0] * rho[0] + k[1] * rho[1];
+            let direct = Source {
+                m0: proj.map(|row| row.map(|v| C::new(v, 0.0))),
+                m1: None,
+                ky: k,
+            };
+            let phase = unit(lateral_phase + k[2] * (ha - hb));
+            add_grand(&mut acc, phase, &field, &direct, ab);
+            if image {
+                let image = image_source(proj, k, k2, hb);
+                let phase = unit(lateral_phase + k[2] * (ha + hb));
+                add_grand(&mut acc, phase, &field, &image, ab);
+            }
+        });
+        *out += acc * scale;
     }
 
     /// Calls `f(k, k^2, g (I - khat khat))` for one of each pair `+-k_par != 0` of the
@@ -283,13 +349,13 @@ impl WallEwald {
             let image = image_source(proj, k, k2, h);
             let (m1, m2) = image.m1.expect("the image's symbol depends on its height");
             let fa = 1.0 - c * k2;
-            let phase = C::unit(2.0 * k[2] * h);
+            let phase = unit(2.0 * k[2] * h);
             for (i, v) in sum.iter_mut().enumerate() {
                 let s0 = image.m0[i][2].scale(1.0 - c * k2)
-                    + (C::im(-2.0 * image.ky[2]) * m1[i][2] + m2[i][2]).scale(c);
-                let s1 =
-                    m1[i][2].scale(1.0 - c * k2) + (C::im(-2.0 * image.ky[2]) * m2[i][2]).scale(c);
-                *v += (phase * (C::im(2.0 * k[2]) * s0 + s1)).re * fa;
+                    + (imaginary(-2.0 * image.ky[2]) * m1[i][2] + m2[i][2]).scale(c);
+                let s1 = m1[i][2].scale(1.0 - c * k2)
+                    + (imaginary(-2.0 * image.ky[2]) * m2[i][2]).scale(c);
+                *v += (phase * (imaginary(2.0 * k[2]) * s0 + s1)).re * fa;
             }
         });
         for i in 0..3 {
@@ -298,9 +364,10 @@ impl WallEwald {
         out
     }
 
-    /// The derivatives `d_a^m d_b^n f` (`m, n <= 2`, indexed `[m][n]`) of the mode
-    /// `k_par = 0`'s `f(h_a, h_b)` (module docs) at heights `ha`, `hb` above the wall.
-    pub(crate) fn plane_kernel(&self, ha: f64, hb: f64) -> [[f64; 3]; 3] {
+    /// The derivatives `d_a^m d_b^n f` (`m, n < N <= 4`, indexed `[m][n]`: `N = 3` for
+    /// the F and FT blocks, 4 for FTS) of the mode `k_par = 0`'s `f(h_a, h_b)` (module
+    /// docs) at heights `ha`, `hb` above the wall.
+    pub(crate) fn plane_kernel<const N: usize>(&self, ha: f64, hb: f64) -> [[f64; N]; N] {
         let (d, s) = (ha - hb, ha + hb);
         let psi_d = Psi::at(self.xi, d);
         let psi_s = Psi::at(self.xi, s);
@@ -347,6 +414,51 @@ pub(super) fn plane_blocks(table: &[[f64; 3]; 3], aa: f64, ab: f64, unit: f64, o
     out.ul[1][0] -= ul;
 }
 
+/// The mode `k_par = 0` of the FTS blocks (the 11 x 11 grand block) from the table
+/// `t[m][n] = d_a^m d_b^n f` (`m, n <= 3`) of its kernel, as [`plane_blocks`]: its flow is
+/// lateral and depends on the height alone, so each functional is a polynomial in the
+/// height's derivative acting on a lateral component `i`: at the field point `U_j: delta_ij
+/// (1 + c_a d_a^2)`, `Omega_m: (1/2) eps_m3i d_a`, `E_p: B_p,i3 (d_a + g_a d_a^3)` (of
+/// `(1 + g lap) B_p,iq d_q` only `q = 3` is left; `c = a^2/6`, `g = a^2/10`), at the source
+/// the same in `d_b`: `M_ab = unit sum_i sum_mn A_a,i,m B_b,i,n t[m][n]`.
+pub(super) fn plane_grand(
+    table: &[[f64; 4]; 4],
+    aa: f64,
+    ab: f64,
+    unit: f64,
+    out: &mut SMatrix<f64, 11, 11>,
+) {
+    // [functional][lateral component][power of the derivative]
+    let functionals = |a: f64| -> [[[f64; 4]; 2]; 11] {
+        let (c, g) = (a * a / 6.0, a * a / 10.0);
+        std::array::from_fn(|al| {
+            std::array::from_fn(|i| match al {
+                0..3 if al == i => [1.0, 0.0, c, 0.0],
+                0..3 => [0.0; 4],
+                3..6 => [0.0, 0.5 * levi_civita(al - 3, 2, i), 0.0, 0.0],
+                _ => {
+                    let b = STRAIN_BASIS[al - 6][i][2];
+                    [0.0, b, 0.0, g * b]
+                }
+            })
+        })
+    };
+    let (fa, fb) = (functionals(aa), functionals(ab));
+    for al in 0..11 {
+        for be in 0..11 {
+            let mut v = 0.0;
+            for i in 0..2 {
+                for (m, row) in table.iter().enumerate() {
+                    for (n, t) in row.iter().enumerate() {
+                        v += fa[al][i][m] * fb[be][i][n] * t;
+                    }
+                }
+            }
+            out[(al, be)] += unit * v;
+        }
+    }
+}
+
 /// The lateral wave vectors `k_par = 2 pi (n1/Lx, n2/Ly) != 0`, `|k_par| <= k_cut`, of the
 /// box `lengths`, one of each pair `+-k_par` (the first non-zero index positive), in a
 /// fixed order.
@@ -381,18 +493,18 @@ pub(crate) fn reciprocal_box(xi: f64, tol: f64, s: f64, k_low: f64) -> (f64, f64
     (k_cut, s + padding)
 }
 
-/// `Psi` and its derivatives to the sixth at one point: `Psi(z) = -4 pi z erf(u) - 4
+/// `Psi` and its derivatives to the eighth at one point: `Psi(z) = -4 pi z erf(u) - 4
 /// sqrt(pi) xi z^2 e^{-u^2}`, `u = xi z`; `Psi' = -4 pi erf(u) + 8 sqrt(pi) (u^3 - 2 u)
 /// e^{-u^2}`; for `n >= 2`, `Psi^(n) = 8 sqrt(pi) xi^(n-1) q_(n-2)(u) e^{-u^2}` with
 /// `q_0 = -3 + 7 u^2 - 2 u^4` and `q_(j+1) = q_j' - 2 u q_j`.
-pub(super) struct Psi(pub(super) [f64; 7]);
+pub(super) struct Psi(pub(super) [f64; 9]);
 
 impl Psi {
     pub(super) fn at(xi: f64, z: f64) -> Psi {
         let u = xi * z;
         let gauss = (-u * u).exp();
         let root = PI.sqrt();
-        let mut v = [0.0; 7];
+        let mut v = [0.0; 9];
         v[0] = -4.0 * PI * z * libm::erf(u) - 4.0 * root * xi * z * z * gauss;
         v[1] = -4.0 * PI * libm::erf(u) + 8.0 * root * (u * u * u - 2.0 * u) * gauss;
         // q as coefficients of powers of u
@@ -416,51 +528,18 @@ impl Psi {
     }
 }
 
-/// A complex number (the reciprocal sums' phases and symbols).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct C {
-    re: f64,
-    im: f64,
+/// The reciprocal sums' phases and symbols.
+type C = Complex64;
+
+/// `exp(i t)`.
+fn unit(t: f64) -> C {
+    let (s, c) = t.sin_cos();
+    C::new(c, s)
 }
 
-impl C {
-    fn re(re: f64) -> C {
-        C { re, im: 0.0 }
-    }
-    fn im(im: f64) -> C {
-        C { re: 0.0, im }
-    }
-    /// `exp(i t)`.
-    fn unit(t: f64) -> C {
-        let (s, c) = t.sin_cos();
-        C { re: c, im: s }
-    }
-    fn scale(self, s: f64) -> C {
-        C {
-            re: s * self.re,
-            im: s * self.im,
-        }
-    }
-}
-
-impl std::ops::Add for C {
-    type Output = C;
-    fn add(self, o: C) -> C {
-        C {
-            re: self.re + o.re,
-            im: self.im + o.im,
-        }
-    }
-}
-
-impl std::ops::Mul for C {
-    type Output = C;
-    fn mul(self, o: C) -> C {
-        C {
-            re: self.re * o.re - self.im * o.im,
-            im: self.re * o.im + self.im * o.re,
-        }
-    }
+/// `i t`.
+fn imaginary(t: f64) -> C {
+    C::new(0.0, t)
 }
 
 type M3 = [[C; 3]; 3];
@@ -495,7 +574,7 @@ fn image_source(proj: &[[f64; 3]; 3], k: [f64; 3], k2: f64, h: f64) -> Source {
             1 => n,
             _ => 0.0,
         };
-        C { re: diag, im: n }
+        C::new(diag, n)
     };
     let product = |deriv: usize| -> M3 {
         std::array::from_fn(|i| {
@@ -520,7 +599,7 @@ fn image_source(proj: &[[f64; 3]; 3], k: [f64; 3], k2: f64, h: f64) -> Source {
 /// eps_mni (i k_n) (1/2) eps_jpl (D_p M)_il`, with `D_n M = -i ky_n M + delta_n3 d_h M`.
 /// Each block is added where it is made.
 fn add_blocks(acc: &mut Acc, phase: C, src: &Source, k: [f64; 3], k2: f64, ca: f64, cb: f64) {
-    const ZERO: M3 = [[C { re: 0.0, im: 0.0 }; 3]; 3];
+    const ZERO: M3 = [[C::new(0.0, 0.0); 3]; 3];
     let zero = ZERO;
     let (m1, m2) = match &src.m1 {
         Some((m1, m2)) => (m1, m2),
@@ -534,7 +613,7 @@ fn add_blocks(acc: &mut Acc, phase: C, src: &Source, k: [f64; 3], k2: f64, ca: f
     for i in 0..3 {
         for j in 0..3 {
             s[i][j] = src.m0[i][j].scale(1.0 - cb * k2)
-                + (C::im(-2.0 * src.ky[2]) * m1[i][j] + m2[i][j]).scale(cb);
+                + (imaginary(-2.0 * src.ky[2]) * m1[i][j] + m2[i][j]).scale(cb);
         }
     }
     // D_n M
@@ -542,7 +621,7 @@ fn add_blocks(acc: &mut Acc, phase: C, src: &Source, k: [f64; 3], k2: f64, ca: f
     for n in 0..3 {
         for i in 0..3 {
             for l in 0..3 {
-                let v = C::im(-src.ky[n]) * src.m0[i][l];
+                let v = imaginary(-src.ky[n]) * src.m0[i][l];
                 dm[n][i][l] = if n == 2 { v + m1[i][l] } else { v };
             }
         }
@@ -554,21 +633,113 @@ fn add_blocks(acc: &mut Acc, phase: C, src: &Source, k: [f64; 3], k2: f64, ca: f
     for (a, b, c, e) in LEVI_CIVITA {
         // eps_abc = e: OmegaF_aj += (1/2) e (i k_b) S_cj
         for j in 0..3 {
-            of[a][j] = of[a][j] + (C::im(0.5 * e * k[b]) * s[c][j]);
+            of[a][j] += imaginary(0.5 * e * k[b]) * s[c][j];
         }
         // UL_ia += (1/2) e (D_b M)_ic, fa
         for i in 0..3 {
-            ul[i][a] = ul[i][a] + dm[b][i][c].scale(0.5 * e * fa);
+            ul[i][a] += dm[b][i][c].scale(0.5 * e * fa);
         }
     }
     for (m, n, i, e1) in LEVI_CIVITA {
         for (j, p, l, e2) in LEVI_CIVITA {
-            ol[m][j] = ol[m][j] + C::im(0.25 * e1 * e2 * k[n]) * dm[p][i][l];
+            ol[m][j] += imaginary(0.25 * e1 * e2 * k[n]) * dm[p][i][l];
         }
     }
     acc.add(1, phase, |i, j| ul[i][j]);
     acc.add(2, phase, |i, j| of[i][j]);
     acc.add(3, phase, |i, j| ol[i][j]);
+}
+
+/// `Re(phase M)` added to `acc` for the grand block `M` of one wave vector (without its
+/// phase): the field's functionals `field` (`A(k)` of
+/// [`super::ewald::Ewald::reciprocal_grand`], rows `U`, `Omega`, `E` on the velocity's
+/// index `i`) of the source's functionals of the symbol, which are the same operators in
+/// `y` (Eq. 8 against Eqs. 12-15): `(1 + a_b^2/6 lap_y) delta_lj` on the force,
+/// `(1/2) eps_jnl D_n` on the torque, `(1 + a_b^2/10 lap_y) B_p,lq D_q` on the stresslet
+/// (`l` the symbol's column), where `D_n`, the derivative in `y_n`, acts on the symbol's
+/// jet in the source's height: `(D_n M)^(d) = -i ky_n M^(d) + delta_n3 M^(d+1)` (`M` is
+/// quadratic in the height, so `[M, M', M'']` is closed; the direct symbol does not
+/// depend on it).
+fn add_grand(
+    acc: &mut SMatrix<f64, 11, 11>,
+    phase: C,
+    field: &[[C; 3]; 11],
+    src: &Source,
+    ab: f64,
+) {
+    const ZERO: M3 = [[C::new(0.0, 0.0); 3]; 3];
+    type Jet = [M3; 3];
+    let jet: Jet = match &src.m1 {
+        Some((m1, m2)) => [src.m0, *m1, *m2],
+        None => [src.m0, ZERO, ZERO],
+    };
+    let derivative = |n: usize, j: &Jet| -> Jet {
+        let mut out = [ZERO; 3];
+        for (o, m) in out.iter_mut().enumerate() {
+            for i in 0..3 {
+                for l in 0..3 {
+                    let v = imaginary(-src.ky[n]) * j[o][i][l];
+                    m[i][l] = if n == 2 && o < 2 {
+                        v + j[o + 1][i][l]
+                    } else {
+                        v
+                    };
+                }
+            }
+        }
+        out
+    };
+    // (1 + c lap_y) M for the force's (c = a^2/6) and the stresslet's (a^2/10) Faxén laws
+    let mut lap = [ZERO; 3];
+    for n in 0..3 {
+        let dd = derivative(n, &derivative(n, &jet));
+        for (o, m) in lap.iter_mut().enumerate() {
+            for i in 0..3 {
+                for l in 0..3 {
+                    m[i][l] += dd[o][i][l];
+                }
+            }
+        }
+    }
+    let faxen = |c: f64| -> Jet {
+        let mut out = jet;
+        for (o, m) in out.iter_mut().enumerate() {
+            for i in 0..3 {
+                for l in 0..3 {
+                    m[i][l] += lap[o][i][l].scale(c);
+                }
+            }
+        }
+        out
+    };
+    let (force, strain) = (faxen(ab * ab / 6.0), faxen(ab * ab / 10.0));
+    let rotlet: [Jet; 3] = std::array::from_fn(|n| derivative(n, &jet));
+    let stresslet: [Jet; 3] = std::array::from_fn(|q| derivative(q, &strain));
+    // the source's functionals, [column][velocity index]
+    let mut s = [[C::new(0.0, 0.0); 3]; 11];
+    for i in 0..3 {
+        for j in 0..3 {
+            s[j][i] = force[0][i][j];
+        }
+        for (m, n, l, e) in LEVI_CIVITA {
+            s[3 + m][i] += rotlet[n][0][i][l].scale(0.5 * e);
+        }
+        for (p, basis) in STRAIN_BASIS.iter().enumerate() {
+            for l in 0..3 {
+                for q in 0..3 {
+                    if basis[l][q] != 0.0 {
+                        s[6 + p][i] += stresslet[q][0][i][l].scale(basis[l][q]);
+                    }
+                }
+            }
+        }
+    }
+    for (al, f) in field.iter().enumerate() {
+        for (be, column) in s.iter().enumerate() {
+            let m = f[0] * column[0] + f[1] * column[1] + f[2] * column[2];
+            acc[(al, be)] += (phase * m).re;
+        }
+    }
 }
 
 /// The non-zero `eps_abc`: `(a, b, c, eps_abc)`.

@@ -284,13 +284,13 @@ impl Split for Wall {
         })
     }
     fn pair_fts<L: Lane<Elem = f64>>(&self, _: [L; 3], _: [L; 3], _: L, _: L) -> [L; 121] {
-        unreachable!("FTS near a periodic wall is refused by System::check_periodic")
+        unreachable!("FTS near a periodic wall takes the direct sums (System::periodic_apply)")
     }
     fn self_f(&self, x: [f64; 3], a: f64) -> BlocksF {
         ewald_wall_f_self(x, a, self.eta, self.height, self.sigma)
     }
     fn self_fts(&self, _: [f64; 3], _: f64) -> Grand {
-        unreachable!("FTS near a periodic wall is refused by System::check_periodic")
+        unreachable!("FTS near a periodic wall takes the direct sums (System::periodic_apply)")
     }
     fn self_ft(&self, x: [f64; 3], a: f64) -> BlocksFT {
         ewald_wall_ft_self(x, a, self.eta, self.height, self.sigma)

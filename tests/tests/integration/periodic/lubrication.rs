@@ -164,19 +164,21 @@ fn near_the_lower_wall(z0: f64) -> [Particle; 3] {
 
 /// The same near a wall in a box periodic along it (6 x 8): pairs across the face x = 0
 /// and own images along the wall, and every sphere's sphere-wall correction (gaps 0.2,
-/// 0.2 and 1.4 radii).
+/// 0.2 and 1.4 radii); FT and FTS.
 #[test]
 fn near_a_periodic_wall_the_corrections_cover_the_lateral_images() {
     let ps = near_the_lower_wall(1.2);
     let wall = Confinement::Wall { height: 0.0 };
-    check(
-        Moments::FT,
-        wall,
-        PeriodicBox::lateral([6.0, 8.0]),
-        [6.0, 8.0, 0.0],
-        &ps,
-        28,
-    );
+    for moments in [Moments::FT, Moments::FTS] {
+        check(
+            moments,
+            wall,
+            PeriodicBox::lateral([6.0, 8.0]),
+            [6.0, 8.0, 0.0],
+            &ps,
+            28,
+        );
+    }
 }
 
 /// The same in a periodic slit: sphere-wall corrections at both walls (the first sphere

@@ -131,7 +131,7 @@ fn the_split_parameter_changes_nothing() {
     let lengths = [9.0, 12.0];
     super::wall::split_changes_nothing(lengths, &spheres(), |xi| {
         let e = SlitEwald::new(lengths, BOTTOM, 7.0, 1e-12, Some(xi));
-        move |a: &Particle, b: &Particle, same| e.blocks(ETA, a, b, same)
+        move |a: &Particle, b: &Particle, same| e.blocks(ETA, a, b, same).flat().to_vec()
     });
 }
 

@@ -192,8 +192,9 @@ fn bad_boxes_and_what_a_box_cannot_do_are_refused() {
             .unwrap_err();
         assert!(matches!(e, PeriodicError::Confinement { .. }), "{e}");
     }
-    // FTS is available in the triply periodic box, the lubricated resistance too; near a
-    // periodic wall it is not; nor is Brownian dynamics in a trap
+    // FTS is available in the triply periodic box and near a periodic wall, the
+    // lubricated resistance too; in a periodic slit it is not; nor is Brownian dynamics
+    // in a trap
     let s = free().periodic(PeriodicBox::new([10.0; 3])).unwrap();
     assert!(s.check_periodic(Moments::FT).is_ok());
     assert!(s.check_periodic(Moments::FTS).is_ok());
@@ -209,11 +210,26 @@ fn bad_boxes_and_what_a_box_cannot_do_are_refused() {
     .unwrap()
     .periodic(PeriodicBox::lateral([10.0, 10.0]))
     .unwrap();
-    assert!(matches!(
-        near_wall.check_periodic(Moments::FTS),
-        Err(PeriodicError::NotAvailable(_))
-    ));
-    let v = near_wall
+    assert!(near_wall.check_periodic(Moments::FTS).is_ok());
+    assert!(near_wall
+        .velocities(Moments::FTS, &ft, &[0.0; 5], None)
+        .is_ok());
+    assert!(near_wall
+        .resistance(Moments::FTS, &Lubrication::default())
+        .is_ok());
+    let slit = System::new(
+        Confinement::Slit {
+            height: 0.0,
+            gap: 6.0,
+        },
+        ETA,
+        vec![p([1.0, 2.0, 3.0], 1.0), p([5.0, 2.0, 2.5], 1.0)],
+        false,
+    )
+    .unwrap()
+    .periodic(PeriodicBox::lateral([10.0, 10.0]))
+    .unwrap();
+    let v = slit
         .velocities(Moments::FTS, &ft, &[0.0; 5], None)
         .unwrap_err();
     assert!(matches!(v, VelocityError::Periodic(_)), "{v}");

@@ -1,14 +1,15 @@
 //! Spheres above a wall in a box periodic along it ([`stokesian::periodic::wall`]): the
 //! Ewald sums against the brute-force sum over square shells of lateral images of the
-//! open wall's kernels (`kernels::pair_ft`, `kernels::self_ft` with `Confinement::Wall`:
+//! open wall's kernels (`kernels::pair`, `kernels::self_mobility` with `Confinement::Wall`:
 //! independent of the split), extrapolated in the shells' size; the split parameter
 //! changes nothing; a large box tends to the open wall with the lattice sum of the wall's
 //! far field; the system's matrix is symmetric positive definite, agrees with its product
 //! and with a doubled box, and does not see a move by a box length; what such a box
 //! cannot be or do is a typed error.
 
-use kernels::{pair_ft, self_ft, BlocksFT, Confinement};
+use kernels::{pair, self_ft, self_mobility, BlocksFT, Confinement};
 use nalgebra::DMatrix;
+use nalgebra::SMatrix;
 use std::f64::consts::PI;
 use stokesian::periodic::wall::WallEwald;
 use stokesian::{check_spd, Moments, Overlap, Particle, PeriodicBox, PeriodicError, System};
@@ -31,21 +32,21 @@ pub(super) fn difference(a: &BlocksFT, b: &BlocksFT) -> f64 {
     })
 }
 
-/// `sum_{|n|_inf <= N}` of the open wall's FT blocks of `q`'s lateral images acting on
-/// `p` (with `same`, the self block for `n = 0`), for each `N` of `sizes` (increasing):
-/// shells added in order, Neumaier-compensated.
+/// `sum_{|n|_inf <= N}` of the open wall's grand blocks (FTS, 11 x 11 row-major) of
+/// `q`'s lateral images acting on `p` (with `same`, the self block for `n = 0`), for each
+/// `N` of `sizes` (increasing): shells added in order, Neumaier-compensated.
 fn shells(
     wall: &Confinement,
     lengths: [f64; 2],
     (p, q): (&Particle, &Particle),
     same: bool,
     sizes: &[i64],
-) -> Vec<[f64; 36]> {
-    let mut sum = [0.0; 36];
-    let mut carry = [0.0; 36];
-    let add = |sum: &mut [f64; 36], carry: &mut [f64; 36], m: [[f64; 6]; 6]| {
-        for k in 0..36 {
-            let v = m[k / 6][k % 6];
+) -> Vec<[f64; 121]> {
+    let mut sum = [0.0; 121];
+    let mut carry = [0.0; 121];
+    let add = |sum: &mut [f64; 121], carry: &mut [f64; 121], m: SMatrix<f64, 11, 11>| {
+        for k in 0..121 {
+            let v = m[(k / 11, k % 11)];
             let t = sum[k] + v;
             carry[k] += if sum[k].abs() >= v.abs() {
                 (sum[k] - t) + v
@@ -68,9 +69,9 @@ fn shells(
                     q.x[2],
                 ];
                 let m = if same && n == 0 {
-                    self_ft(wall, ETA, p.x, p.a)
+                    self_mobility(wall, ETA, p.x, p.a)
                 } else {
-                    pair_ft(wall, ETA, p.x, p.a, xb, q.a)
+                    pair(wall, ETA, p.x, p.a, xb, q.a)
                 };
                 add(&mut sum, &mut carry, m.matrix());
             }
@@ -83,7 +84,7 @@ fn shells(
 }
 
 /// `S(N) = S + c1/N + ... + c4/N^4` solved for `S`, entry by entry.
-fn extrapolate(sizes: &[i64], sums: &[[f64; 36]]) -> [f64; 36] {
+fn extrapolate(sizes: &[i64], sums: &[[f64; 121]]) -> [f64; 121] {
     let m = DMatrix::from_fn(sizes.len(), sizes.len(), |i, j| {
         (sizes[i] as f64).powi(-(j as i32))
     });
@@ -100,9 +101,11 @@ fn extrapolate(sizes: &[i64], sums: &[[f64; 36]]) -> [f64; 36] {
 /// against the same from `N = 24 ... 96` (one order worse), moves by 1e-10 of the largest
 /// entry (measured; asserted below 5e-10). The Ewald sums at tolerance 1e-12 agree with
 /// it to 1e-9 of the largest entry, the reference's own uncertainty with a margin
-/// (measured 2e-11 and less): a pair of unequal spheres
-/// at different heights and the self mobility, every FT block (translation, rotation and
-/// their couplings, so the image's source operators and the mode `k_par = 0` of each).
+/// (measured 2e-11 and less): a pair of unequal spheres at different heights and the
+/// self mobility, every FTS block ([`WallEwald::grand`]: translation, rotation, strain
+/// and their couplings, so the image's source operators to the third derivative and the
+/// mode `k_par = 0` of each) and the FT blocks ([`WallEwald::blocks`], their own sums)
+/// against the same reference's leading 6 x 6.
 #[test]
 fn ewald_sum_equals_the_extrapolated_sum_over_shells() {
     let lengths = [10.0, 13.0];
@@ -115,22 +118,31 @@ fn ewald_sum_equals_the_extrapolated_sum_over_shells() {
         let sums = shells(&wall, lengths, (p, q), same, &sizes);
         let reference = extrapolate(&sizes[1..], &sums[1..]);
         let other = extrapolate(&sizes[..5], &sums[..5]);
-        let got = ewald.blocks(ETA, p, q, same).matrix();
-        let scale = largest(&got);
-        let spread = (0..36).fold(0.0f64, |acc, k| acc.max((reference[k] - other[k]).abs()));
-        let worst = (0..36).fold(0.0f64, |acc, k| {
-            acc.max((reference[k] - got[k / 6][k % 6]).abs())
+        let grand = ewald.grand(ETA, p, q, same).matrix();
+        let ft = ewald.blocks(ETA, p, q, same).matrix();
+        let scale = grand.iter().fold(0.0f64, |acc, v| acc.max(v.abs()));
+        let spread = (0..121).fold(0.0f64, |acc, k| acc.max((reference[k] - other[k]).abs()));
+        let worst = (0..121).fold(0.0f64, |acc, k| {
+            acc.max((reference[k] - grand[(k / 11, k % 11)]).abs())
         });
-        println!("same {same}: worst {worst:e}, spread {spread:e} of {scale:e}");
+        let worst_ft = (0..36).fold(0.0f64, |acc, k| {
+            acc.max((reference[(k / 6) * 11 + k % 6] - ft[k / 6][k % 6]).abs())
+        });
+        println!("same {same}: FTS worst {worst:e}, FT worst {worst_ft:e}, spread {spread:e} of {scale:e}");
         assert!(spread < 5e-10 * scale, "same {same}: spread {spread:e}");
         assert!(worst < 1e-9 * scale, "same {same}: {worst:e} of {scale:e}");
+        assert!(
+            worst_ft < 1e-9 * scale,
+            "same {same}: FT {worst_ft:e} of {scale:e}"
+        );
     }
 }
 
 /// The real part and the reciprocal part (with its mode `k_par = 0`) move with the split
 /// parameter in opposite directions; their sum must not: `xi` a factor 6 apart, a box
 /// that is not a square, unequal radii, pairs near the wall and high above it, the self
-/// mobility; at tolerance 1e-12, to 1e-11 of the largest entry (measured 2e-13).
+/// mobility, FT and FTS blocks; at tolerance 1e-12, to 1e-11 of the largest entry
+/// (measured 2e-13).
 #[test]
 fn the_split_parameter_changes_nothing() {
     let lengths = [9.0, 12.0];
@@ -141,26 +153,38 @@ fn the_split_parameter_changes_nothing() {
     ];
     split_changes_nothing(lengths, &ps, |xi| {
         let e = WallEwald::new(lengths, HEIGHT, 1e-12, Some(xi));
-        move |a: &Particle, b: &Particle, same| e.blocks(ETA, a, b, same)
+        move |a: &Particle, b: &Particle, same| e.blocks(ETA, a, b, same).flat().to_vec()
+    });
+    split_changes_nothing(lengths, &ps, |xi| {
+        let e = WallEwald::new(lengths, HEIGHT, 1e-12, Some(xi));
+        move |a: &Particle, b: &Particle, same| e.grand(ETA, a, b, same).flat().to_vec()
     });
 }
 
 /// The blocks of every pair of `ps` (self blocks too) at the split parameter `xi` a
 /// factor 0.4 and 2.4 of `sqrt(pi/A)` equal those at `sqrt(pi/A)` to 1e-11 of the
-/// largest entry (sums at tolerance 1e-12): `sum(xi)` gives the blocks of one split.
-pub(super) fn split_changes_nothing<F: Fn(&Particle, &Particle, bool) -> BlocksFT>(
+/// largest entry (sums at tolerance 1e-12): `sum(xi)` gives the blocks of one split,
+/// flattened.
+pub(super) fn split_changes_nothing<F: Fn(&Particle, &Particle, bool) -> Vec<f64>>(
     lengths: [f64; 2],
     ps: &[Particle],
     sum: impl Fn(f64) -> F,
 ) {
     let base = (PI / (lengths[0] * lengths[1])).sqrt();
     let sums: Vec<F> = [0.4, 1.0, 2.4].iter().map(|&f| sum(f * base)).collect();
+    let largest = |v: &[f64]| v.iter().fold(0.0f64, |acc, x| acc.max(x.abs()));
     for i in 0..ps.len() {
         for j in i..ps.len() {
-            let blocks: Vec<BlocksFT> = sums.iter().map(|e| e(&ps[i], &ps[j], i == j)).collect();
-            let scale = largest(&blocks[1].matrix());
+            let blocks: Vec<Vec<f64>> = sums.iter().map(|e| e(&ps[i], &ps[j], i == j)).collect();
+            let scale = largest(&blocks[1]);
             for other in [&blocks[0], &blocks[2]] {
-                let d = difference(other, &blocks[1]);
+                let d = largest(
+                    &other
+                        .iter()
+                        .zip(&blocks[1])
+                        .map(|(x, y)| x - y)
+                        .collect::<Vec<_>>(),
+                );
                 assert!(d < 1e-11 * scale, "{i} {j}: {d:e} of {scale:e}");
             }
         }
@@ -221,13 +245,13 @@ fn spheres() -> Vec<Particle> {
 }
 
 /// The dense matrix is symmetric (each pair evaluated once: exactly) and positive
-/// definite, its product agrees with it; moving spheres
-/// by box lengths changes no bit.
+/// definite at F, FT and FTS, its product agrees with it (the fast product at F and FT,
+/// the direct sums at FTS); moving spheres by box lengths changes no bit.
 #[test]
 fn dense_matrix_is_positive_definite_and_periodic() {
     let lengths = [8.0, 8.0];
     let s = periodic(spheres(), lengths);
-    for moments in [Moments::F, Moments::FT] {
+    for moments in [Moments::F, Moments::FT, Moments::FTS] {
         let m = s.mobility(moments);
         assert_eq!(m, m.transpose());
         assert!(check_spd(&m).positive_definite, "{moments:?}");
