@@ -82,7 +82,6 @@ fn assemble_and_write(
         }
         None => {
             setup.system.check_overlap(moments.moments())?;
-            setup.system.check_periodic(moments.moments())?;
             mobility = LargeMatrix::zeros(dim, dim).map_err(|source| CliError::Memory {
                 dim,
                 gib: (dim as f64).powi(2) * 8.0 / (1u64 << 30) as f64,

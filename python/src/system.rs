@@ -132,7 +132,6 @@ impl PySystem {
         let m = self::moments(moments)?;
         let s = &self.system;
         s.check_overlap(m).map_err(input_error)?;
-        s.check_periodic(m).map_err(input_error)?;
         // assembled straight into NumPy's array (column-major: Fortran order), whose
         // allocator asks for transparent huge pages for large arrays, as
         // `stokesian::linalg::LargeMatrix` does for the command line
@@ -159,7 +158,6 @@ impl PySystem {
         let m = self::moments(moments)?;
         let p = self::precision(precision)?;
         self.system.check_overlap(m).map_err(input_error)?;
-        self.system.check_periodic(m).map_err(input_error)?;
         let expected = m.per_particle() * self.system.len();
         let x = x.values();
         if x.len() != expected {

@@ -95,10 +95,11 @@ class System:
         is zero, positions unwrapped; the lubricated resistance at FT and FTS; a trap
         raises).
         ``(Lx, Ly)``: periodic along a wall (``confinement="wall"``), unbounded above it
-        (F and FT, FTS raises; Brownian dynamics with the generated drift, each
-        sphere's height derivative of its periodic self mobility); with
-        ``confinement="slit"``, periodic along both walls with the slit's exact Green's
-        function (F and FT, the fast product; Brownian dynamics with its drift).
+        (F, FT and FTS, the fast product at F and FT, the direct sums at FTS; Brownian
+        dynamics with the generated drift, each sphere's height derivative of its
+        periodic self mobility); with ``confinement="slit"``, periodic along both walls
+        with the slit's exact Green's function (the same; Brownian dynamics with its
+        drift).
         A sphere overlapping its own image or another's, or cutting a wall, raises.
     periodic_tolerance: relative truncation error of the periodic sums (default 1e-10).
     """

@@ -189,7 +189,6 @@ impl System {
             return Err(VelocityError::StrainWithoutStresslets(moments));
         }
         self.check_overlap(moments)?;
-        self.check_periodic(moments)?;
         let mut out = Velocities {
             u: Vec::new(),
             condition: None,

@@ -22,12 +22,14 @@
 //! near field of a pair is the same two-body problem wherever the pair sits in the
 //! lattice, and the far field of every image is already in the periodic mobility.
 //!
+//! The stresslets (FTS) are available in every box: the dense mobility and its blocks
+//! are the direct sums of [`Ewald::grand`], [`wall::WallEwald::grand`] or
+//! [`slit::SlitEwald::grand`]; the product is the fast one in the triply periodic box,
+//! the direct sums near walls; the lubricated resistance takes them.
+//!
 //! Not available in a periodic box (typed errors, or panics of the infallible dense
-//! matrix and product, as for [`crate::Overlap::Rpy`]): the stresslets (FTS) in a
-//! periodic slit (in the triply periodic box the FTS mobility and its blocks are the
-//! direct sums of [`Ewald::grand`], its product the fast one; near a periodic wall the
-//! direct sums of [`wall::WallEwald::grand`], its product too; the lubricated resistance takes
-//! them), the harmonic trap of Brownian dynamics (not a periodic force), the
+//! matrix and product, as for [`crate::Overlap::Rpy`]): the harmonic trap of Brownian
+//! dynamics (not a periodic force), the
 //! overlap forms (overlapping spheres are refused, by their nearest images), the
 //! single-precision product (the periodic product is in `f64` whatever
 //! [`crate::Precision`] asks), and every confinement but free space (three lengths), the
@@ -287,8 +289,8 @@ impl Periodic {
     }
 
     /// The block `M^{pq}` truncated to `moments`, row-major: [`Periodic::blocks`] at F
-    /// and FT, [`Ewald::grand`] or [`wall::WallEwald::grand`] at FTS (in a periodic slit FTS
-    /// is refused by [`System::check_periodic`] before any block is asked for).
+    /// and FT, [`Ewald::grand`], [`wall::WallEwald::grand`] or [`slit::SlitEwald::grand`]
+    /// at FTS.
     pub(crate) fn block(
         &self,
         eta: f64,
@@ -299,18 +301,15 @@ impl Periodic {
     ) -> Vec<f64> {
         let k = moments.per_particle();
         let m: Vec<f64> = match (&self.lattice, moments) {
-            (Lattice::Triply(_) | Lattice::Wall(_), Moments::FTS) => {
+            (_, Moments::FTS) => {
                 let (a, b) = (self.wrapped(&ps[p]), self.wrapped(&ps[q]));
                 let g = match &self.lattice {
                     Lattice::Triply(e) => e.grand(eta, &a, &b, p == q),
                     Lattice::Wall(w) => w.grand(eta, &a, &b, p == q),
-                    Lattice::Slit(_) => unreachable!("matched above"),
+                    Lattice::Slit(s) => s.grand(eta, &a, &b, p == q),
                 }
                 .matrix();
                 return (0..k * k).map(|e| g[(e / k, e % k)]).collect();
-            }
-            (Lattice::Slit(_), Moments::FTS) => {
-                unreachable!("FTS in a periodic slit is refused by System::check_periodic")
             }
             _ => self.blocks(eta, ps, p, q).matrix().concat(),
         };
@@ -445,17 +444,6 @@ impl System {
         self.periodic_ref().map(|p| p.bx)
     }
 
-    /// Whether `moments` are available in this system's box: near periodic walls, not
-    /// the stresslets.
-    pub fn check_periodic(&self, moments: Moments) -> Result<(), PeriodicError> {
-        match (self.periodic_ref().map(|p| &p.lattice), moments) {
-            (Some(Lattice::Slit(_)), Moments::FTS) => Err(PeriodicError::NotAvailable(
-                "the stresslets (FTS) in a periodic slit",
-            )),
-            _ => Ok(()),
-        }
-    }
-
     /// The blocks `M^{ab}` truncated to `moments` (row-major), `b >= a`, row by row in
     /// order of `a`: `ROWS` rows at a time evaluated in parallel (each block on its own,
     /// so the bits do not depend on the threads), then handed to `f(a, [M^{aa},
@@ -509,8 +497,8 @@ impl System {
     }
 
     /// The periodic product `M x` from the direct sums of each pair's blocks (`O(N^2)`
-    /// pairs, each over its images and wave vectors: the FTS product near a periodic wall,
-    /// which the fast product does not have), each unordered pair once; the bits do not
+    /// pairs, each over its images and wave vectors: the FTS product near periodic walls,
+    /// which the fast products do not have), each unordered pair once; the bits do not
     /// depend on the threads.
     fn periodic_dense_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
         let n = self.len();
@@ -545,11 +533,10 @@ impl System {
     /// periodic box the fast product ([`product`]: linked cells and spectral Ewald; F, FT
     /// and FTS), near a wall its twin ([`wall_product`]: linked cells, spectral Ewald with
     /// the image sources, the mode `k_par = 0` interpolated in the heights), in a slit the
-    /// walls' and the remainder's ([`slit_product`]); FTS near a wall by the direct sums
-    /// ([`System::periodic_dense_apply`]), in a slit refused by
-    /// [`System::check_periodic`].
+    /// walls' and the remainder's ([`slit_product`]); FTS near walls by the direct sums
+    /// ([`System::periodic_dense_apply`]).
     pub(crate) fn periodic_apply(&self, p: &Periodic, moments: Moments, x: &[f64]) -> Vec<f64> {
-        if let (Lattice::Wall(_), Moments::FTS) = (&p.lattice, moments) {
+        if let (Lattice::Wall(_) | Lattice::Slit(_), Moments::FTS) = (&p.lattice, moments) {
             return self.periodic_dense_apply(p, moments, x);
         }
         let tol = p.bx.tolerance;

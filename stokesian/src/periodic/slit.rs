@@ -59,12 +59,15 @@
 //! lattice sum only the Fourier modes define (the mode `k_par = 0` above), and so the
 //! periodic slit has no open counterpart among our kernels.
 
-use super::wall::{lateral_waves, plane_blocks, Psi, WallEwald};
+use super::wall::{lateral_waves, plane_blocks, plane_grand, Psi, WallEwald};
 use super::wall_spectral::Layout;
 use crate::system::input::Particle;
 use kernels::generated::scene_ewald_real_ft::{ewald_real_ft_pair, ewald_real_ft_self};
-use kernels::BlocksFT;
+use kernels::generated::scene_ewald_real_fts::{ewald_real_fts_pair, ewald_real_fts_self};
+use kernels::{BlocksFT, Grand, STRAIN_BASIS};
+use nalgebra::SMatrix;
 use rustfft::num_complex::Complex64;
+use std::borrow::Cow;
 use std::f64::consts::PI;
 
 /// The split and truncation of a slit periodic along its walls, at one tolerance.
@@ -111,7 +114,7 @@ impl SlitEwald {
             remainder_waves: Vec::new(),
         };
         // the smallest distance `2 H - |h_a - h_b| = H` and the largest radius `H/2`
-        let widest = slit.mode_cutoff(0.0, gap, 0.5 * gap, 0.5 * gap, Part::Remainder);
+        let widest = slit.mode_cutoff(0.0, gap, 0.5 * gap, 0.5 * gap, Part::Remainder, true);
         slit.remainder_waves = slit.waves(widest);
         slit
     }
@@ -157,6 +160,84 @@ impl SlitEwald {
     pub fn blocks_by_modes(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
         let mut out = self.stokeslet_sum(eta, a, b, same);
         self.walls_flow(eta, a, b, same, Part::Whole, &mut out);
+        out
+    }
+
+    /// The FTS blocks (all nine, the 11 x 11 grand block) of spheres `a` (field) and `b`
+    /// (source), as [`SlitEwald::blocks`]: the two walls' [`WallEwald::grand`] (the upper
+    /// one mirrored, [`mirror_grand`]), less the Stokeslet's sum, the mode `k_par = 0` and
+    /// the remainder's modes with their strain rows and stresslet columns
+    /// ([`Gap::grand`]).
+    pub fn grand(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> Grand {
+        let mut out = self.lower.grand(eta, a, b, same).matrix();
+        let upper = self
+            .upper
+            .grand(eta, &self.mirrored(a), &self.mirrored(b), same);
+        out += mirror_grand(&upper.matrix());
+        out -= self.stokeslet_sum_grand(eta, a, b, same);
+        self.walls_flow_grand(eta, a, b, same, Part::Remainder, &mut out);
+        Grand::from_matrix(&out)
+    }
+
+    /// The FTS blocks with the walls' flow `W` summed in lateral modes alone, as
+    /// [`SlitEwald::blocks_by_modes`]: the tests' second evaluation of
+    /// [`SlitEwald::grand`].
+    pub fn grand_by_modes(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> Grand {
+        let mut out = self.stokeslet_sum_grand(eta, a, b, same);
+        self.walls_flow_grand(eta, a, b, same, Part::Whole, &mut out);
+        Grand::from_matrix(&out)
+    }
+
+    /// [`SlitEwald::walls_flow`] of the FTS blocks.
+    fn walls_flow_grand(
+        &self,
+        eta: f64,
+        a: &Particle,
+        b: &Particle,
+        same: bool,
+        part: Part,
+        out: &mut SMatrix<f64, 11, 11>,
+    ) {
+        let (ha, hb) = (a.x[2] - self.lower.height, b.x[2] - self.lower.height);
+        let unit = self.unit(eta);
+        plane_grand(
+            &self.plane_kernel(self.lower.xi, ha, hb, part),
+            a.a,
+            b.a,
+            unit,
+            out,
+        );
+        let r = self.lower.minimum_image(a.x, b.x);
+        let rho = if same { [0.0; 2] } else { [r[0], r[1]] };
+        self.modes_grand(rho, ha, hb, a.a, b.a, unit, part, out);
+    }
+
+    /// [`SlitEwald::stokeslet_sum`] of the FTS blocks: the generated FTS kernels of the
+    /// screened Stokeslet, the wall's reciprocal sum without its image.
+    fn stokeslet_sum_grand(
+        &self,
+        eta: f64,
+        a: &Particle,
+        b: &Particle,
+        same: bool,
+    ) -> SMatrix<f64, 11, 11> {
+        let w = &self.lower;
+        let sigma = 1.0 / w.xi;
+        let r = if same {
+            [0.0; 3]
+        } else {
+            w.minimum_image(a.x, b.x)
+        };
+        let mut out = if same {
+            ewald_real_fts_self(a.x, a.a, eta, sigma).matrix()
+        } else {
+            SMatrix::zeros()
+        };
+        for xb in w.images(a, b, r, same) {
+            out += ewald_real_fts_pair(a.x, xb, a.a, b.a, eta, sigma).matrix();
+        }
+        let (ha, hb) = (a.x[2] - w.height, b.x[2] - w.height);
+        w.reciprocal_grand([r[0], r[1]], ha, hb, a.a, b.a, eta, false, &mut out);
         out
     }
 
@@ -213,12 +294,18 @@ impl SlitEwald {
         out
     }
 
-    /// The derivatives `d_a^m d_b^n f` (`m, n <= 2`, indexed `[m][n]`) of the mode
+    /// The derivatives `d_a^m d_b^n f` (`m, n < N <= 4`, indexed `[m][n]`) of the mode
     /// `k_par = 0`'s `f(h_a, h_b)` (module docs): with the whole of `W` in modes, `f =
     /// Psi(h_a - h_b) + 4 pi (h_a + h_b) - 8 pi h_a h_b/H`; beside the two walls' sums,
     /// what brings theirs to the slit's, `-Psi(h_a - h_b) + 4 pi (h_a + h_b) - 8 pi H - 8
     /// pi h_a h_b/H`.
-    pub(super) fn plane_kernel(&self, xi: f64, ha: f64, hb: f64, part: Part) -> [[f64; 3]; 3] {
+    pub(super) fn plane_kernel<const N: usize>(
+        &self,
+        xi: f64,
+        ha: f64,
+        hb: f64,
+        part: Part,
+    ) -> [[f64; N]; N] {
         let psi = Psi::at(xi, ha - hb);
         let h = self.gap;
         let (sign_psi, constant) = match part {
@@ -241,20 +328,36 @@ impl SlitEwald {
     }
 
     /// The cut-off `k_W` of the modes of `W` (or of its remainder) for heights `ha`, `hb`
-    /// and radii `aa`, `ab` (module docs).
-    pub(super) fn mode_cutoff(&self, ha: f64, hb: f64, aa: f64, ab: f64, part: Part) -> f64 {
+    /// and radii `aa`, `ab` (module docs), of the F and FT blocks; with `strains`, of the
+    /// FTS blocks too, whose strain rows and stresslet columns carry one more derivative
+    /// at each end (a factor `(1 + kappa a)^2` more).
+    pub(super) fn mode_cutoff(
+        &self,
+        ha: f64,
+        hb: f64,
+        aa: f64,
+        ab: f64,
+        part: Part,
+        strains: bool,
+    ) -> f64 {
         let h = self.gap;
         let s = match part {
             Part::Whole => (ha + hb).min(2.0 * h - ha - hb),
             Part::Remainder => 2.0 * h - (ha - hb).abs(),
         };
-        let c = aa.max(ab).powi(2) / 6.0;
+        let a = aa.max(ab);
+        let c = a * a / 6.0;
         let target = (100.0 / self.lower.tolerance).ln();
-        // kappa s = target + 3 ln(1 + kappa H) + 2 ln(1 + kappa^2 c), by fixed point
+        let strain = if strains { 2.0 } else { 0.0 };
+        // kappa s = target + 3 ln(1 + kappa H) + 2 ln(1 + kappa^2 c) (+ 2 ln(1 + kappa a)),
+        // by fixed point
         let mut kappa = target / s;
         for _ in 0..50 {
-            let next =
-                (target + 3.0 * (1.0 + kappa * h).ln() + 2.0 * (1.0 + kappa * kappa * c).ln()) / s;
+            let next = (target
+                + 3.0 * (1.0 + kappa * h).ln()
+                + 2.0 * (1.0 + kappa * kappa * c).ln()
+                + strain * (1.0 + kappa * a).ln())
+                / s;
             if (next - kappa).abs() <= 1e-12 * next {
                 return next;
             }
@@ -278,7 +381,7 @@ impl SlitEwald {
         out[1] += upper[1];
         out[2] -= upper[2];
         let h = p.x[2] - self.lower.height;
-        let k_cut = self.mode_cutoff(h, h, p.a, p.a, Part::Remainder);
+        let k_cut = self.mode_cutoff(h, h, p.a, p.a, Part::Remainder, false);
         let mut sum = [0.0; 3];
         let mut current = f64::NAN;
         let mut column = [C::new(0.0, 0.0); 3];
@@ -416,19 +519,12 @@ impl SlitEwald {
         part: Part,
         out: &mut BlocksFT,
     ) {
-        let k_cut = self.mode_cutoff(ha, hb, aa, ab, part);
+        let k_cut = self.mode_cutoff(ha, hb, aa, ab, part, false);
         let mut sum = [[[0.0; 3]; 3]; 4];
-        let all_modes;
-        let waves = match part {
-            Part::Remainder => &self.remainder_waves,
-            Part::Whole => {
-                all_modes = self.waves(k_cut);
-                &all_modes
-            }
-        };
+        let waves = self.mode_waves(k_cut, part);
         let mut current = f64::NAN;
         let mut frame: Blocks = [[[C::new(0.0, 0.0); 3]; 3]; 4];
-        for &(k, kappa) in waves.iter().take_while(|w| w.1 <= k_cut) {
+        for &(k, kappa) in waves.iter() {
             if kappa != current {
                 frame = Gap::new(kappa, self.gap).blocks(ha, hb, aa, ab, part);
                 current = kappa;
@@ -466,6 +562,97 @@ impl SlitEwald {
             }
         }
     }
+}
+
+impl SlitEwald {
+    /// The modes within `k_cut` of `W` (`part` [`Part::Whole`]) or of its remainder, in
+    /// order of `kappa`, with `kappa`.
+    fn mode_waves(&self, k_cut: f64, part: Part) -> Cow<'_, [([f64; 2], f64)]> {
+        let waves = match part {
+            Part::Remainder => Cow::Borrowed(self.remainder_waves.as_slice()),
+            Part::Whole => Cow::Owned(self.waves(k_cut)),
+        };
+        let within = waves.iter().take_while(|w| w.1 <= k_cut).count();
+        match waves {
+            Cow::Borrowed(w) => Cow::Borrowed(&w[..within]),
+            Cow::Owned(mut w) => {
+                w.truncate(within);
+                Cow::Owned(w)
+            }
+        }
+    }
+
+    /// [`SlitEwald::modes`] of the FTS blocks: each mode's grand block in its frame
+    /// ([`Gap::grand`], once per `kappa`) brought to the lab's by [`frame_to_lab`].
+    #[allow(clippy::too_many_arguments)]
+    fn modes_grand(
+        &self,
+        rho: [f64; 2],
+        ha: f64,
+        hb: f64,
+        aa: f64,
+        ab: f64,
+        unit: f64,
+        part: Part,
+        out: &mut SMatrix<f64, 11, 11>,
+    ) {
+        let k_cut = self.mode_cutoff(ha, hb, aa, ab, part, true);
+        let mut sum = SMatrix::<f64, 11, 11>::zeros();
+        let mut current = f64::NAN;
+        let mut frame = [[C::new(0.0, 0.0); 11]; 11];
+        for &(k, kappa) in self.mode_waves(k_cut, part).iter() {
+            if kappa != current {
+                frame = Gap::new(kappa, self.gap).grand(ha, hb, aa, ab, part, &STRAIN_BASIS);
+                current = kappa;
+            }
+            let phase = C::from_polar(1.0, k[0] * rho[0] + k[1] * rho[1]);
+            let t = frame_to_lab(k[0] / kappa, k[1] / kappa);
+            let z = SMatrix::<f64, 11, 11>::from_fn(|p, q| (phase * frame[p][q]).re);
+            sum += t * z * t.transpose();
+        }
+        *out += sum * (2.0 * unit);
+    }
+}
+
+/// `blockdiag(R, R, Q_5)`, a mode's frame `(khat, e3 x khat, e3)` to the lab's for the
+/// grand block's rows (and, transposed, its columns), `khat = (c, s, 0)`: `R` on vectors
+/// and pseudovectors, `Q_5,pq = B_p : (R B_q R^T)` on strains and stresslets in the
+/// strain basis `B`.
+fn frame_to_lab(c: f64, s: f64) -> SMatrix<f64, 11, 11> {
+    let r = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]];
+    let mut t = SMatrix::<f64, 11, 11>::zeros();
+    for i in 0..3 {
+        for j in 0..3 {
+            t[(i, j)] = r[i][j];
+            t[(3 + i, 3 + j)] = r[i][j];
+        }
+    }
+    for (q, bq) in STRAIN_BASIS.iter().enumerate() {
+        // R B_q R^T
+        let rotated: [[f64; 3]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                (0..3)
+                    .flat_map(|m| (0..3).map(move |n| (m, n)))
+                    .map(|(m, n)| r[i][m] * bq[m][n] * r[j][n])
+                    .sum()
+            })
+        });
+        for (p, bp) in STRAIN_BASIS.iter().enumerate() {
+            t[(6 + p, 6 + q)] = (0..9)
+                .map(|e| bp[e / 3][e % 3] * rotated[e / 3][e % 3])
+                .sum();
+        }
+    }
+    t
+}
+
+/// The grand block of the mirror image of a system in the plane `x3 = const`, as
+/// [`mirror`]: vectors `P`, pseudovectors `-P`, strains and stresslets `P E P`, which in
+/// the strain basis keeps `B_1` (`xy`), `B_4`, `B_5` and flips `B_2` (`xz`), `B_3` (`yz`):
+/// `M -> S M S` with `S` the diagonal of those signs.
+fn mirror_grand(m: &SMatrix<f64, 11, 11>) -> SMatrix<f64, 11, 11> {
+    const SIGN: [f64; 11] = [1.0, 1.0, -1.0, -1.0, -1.0, 1.0, 1.0, -1.0, -1.0, 1.0, 1.0];
+    SMatrix::from_fn(|i, j| SIGN[i] * SIGN[j] * m[(i, j)])
 }
 
 /// The FT blocks of the mirror image of a system in the plane `x3 = const`, `P = diag(1,
@@ -673,23 +860,8 @@ impl Gap {
         // the walls' data, d^m/dy3^m for m = 0, 1, 2
         let (lo, hi): (Data<3>, Data<3>) = (self.stokeslet(hb, true), self.stokeslet(hb, false));
         let zero = C::new(0.0, 0.0);
-        let i = C::new(0.0, 1.0);
-        // a source column (its values on both walls) from the data: Faxén for a force
-        // along j, the rotlet for a torque along j: (1/2) eps_jnl D_n G_l, D = (-i kappa,
-        // 0, d/dy3)
-        let force = |g: &Data<3>, j: usize| -> [C; 3] {
-            std::array::from_fn(|r| (g[0][r][j] * (1.0 - cb * k * k) + g[2][r][j] * cb) * scale)
-        };
-        let torque = |g: &Data<3>, j: usize| -> [C; 3] {
-            std::array::from_fn(|r| {
-                let v = match j {
-                    0 => -0.5 * g[1][r][1],
-                    1 => 0.5 * (g[1][r][0] + i * k * g[0][r][2]),
-                    _ => -0.5 * i * k * g[0][r][1],
-                };
-                v * scale
-            })
-        };
+        let force = |g: &Data<3>, j: usize| force_column(g, j, k, cb, scale);
+        let torque = |g: &Data<3>, j: usize| torque_column(g, j, k, scale);
         let mut out = [[[zero; 3]; 3]; 4];
         for j in 0..3 {
             let f = self.part(force(&lo, j), force(&hi, j), part);
@@ -701,6 +873,116 @@ impl Gap {
                 out[1][r][j] = ut[r];
                 out[2][r][j] = o[r];
                 out[3][r][j] = ot[r];
+            }
+        }
+        out
+    }
+}
+
+/// A force column of a mode (its values on both walls' rows `r`, frame components) from
+/// the walls' data `g` (`d^m/dy3^m`, `m >= 0..=2`): the Faxén operator `1 + c_b lap_y`,
+/// `lap_y = d^2/dy3^2 - kappa^2`, on the force along `j`, times `scale`.
+fn force_column<const N: usize>(g: &Data<N>, j: usize, k: f64, cb: f64, scale: f64) -> [C; 3] {
+    std::array::from_fn(|r| (g[0][r][j] * (1.0 - cb * k * k) + g[2][r][j] * cb) * scale)
+}
+
+/// A torque column of a mode from the walls' data `g`: the rotlet `(1/2) eps_jnl D_n G_l`,
+/// `D = (-i kappa, 0, d/dy3)`, of the torque along `j`, times `scale`.
+fn torque_column<const N: usize>(g: &Data<N>, j: usize, k: f64, scale: f64) -> [C; 3] {
+    let i = C::new(0.0, 1.0);
+    std::array::from_fn(|r| {
+        let v = match j {
+            0 => -0.5 * g[1][r][1],
+            1 => 0.5 * (g[1][r][0] + i * k * g[0][r][2]),
+            _ => -0.5 * i * k * g[0][r][1],
+        };
+        v * scale
+    })
+}
+
+/// A stresslet column of a mode from the walls' data `g` (`m` to 3): `(1 + g_b lap_y)
+/// sum_lq B_lq D_q G_l` for the symmetric traceless `basis` `B` in the mode's frame
+/// (`g_b = a_b^2/10`), times `scale`.
+fn stresslet_column(g: &Data<4>, basis: &[[f64; 3]; 3], k: f64, gb: f64, scale: f64) -> [C; 3] {
+    let i = C::new(0.0, 1.0);
+    std::array::from_fn(|r| {
+        let mut v = C::new(0.0, 0.0);
+        for (l, row) in basis.iter().enumerate() {
+            // (1 + g_b lap_y) of the data's m-th derivative
+            let faxen = |m: usize| g[m][r][l] * (1.0 - gb * k * k) + g[m + 2][r][l] * gb;
+            // D_1 = -i kappa, D_2 = 0, D_3 = d/dy3
+            v += (-i * k) * faxen(0) * row[0] + faxen(1) * row[2];
+        }
+        v * scale
+    })
+}
+
+impl Gap {
+    /// The strain rate `(1 + g lap) B : grad u` of the flow `f` at height `z` for each
+    /// symmetric traceless `basis` tensor in the mode's frame, `grad = (i kappa, 0,
+    /// d/dz)`, `u = (i w'/kappa, v, w)`.
+    fn strain(&self, f: &Flow, z: f64, g: f64, basis: &[[[f64; 3]; 3]; 5]) -> [C; 5] {
+        let k = self.kappa;
+        let d: [(C, C); 5] = self.derivatives(f, z);
+        let i = C::new(0.0, 1.0);
+        // the velocity's m-th derivative in z with the Faxén operator 1 + g (d^2 - kappa^2)
+        let u = |m: usize| -> [C; 3] {
+            let at = |n: usize| [i * d[n + 1].0 / k, d[n].1, d[n].0];
+            let (a, b) = (at(m), at(m + 2));
+            std::array::from_fn(|c| a[c] * (1.0 - g * k * k) + b[c] * g)
+        };
+        let (u0, u1) = (u(0), u(1));
+        // grad_q u_i: q = 1 i kappa u_i, q = 2 zero, q = 3 u_i'
+        std::array::from_fn(|p| {
+            (0..3).fold(C::new(0.0, 0.0), |acc, c| {
+                acc + (i * k) * u0[c] * basis[p][c][0] + u1[c] * basis[p][c][2]
+            })
+        })
+    }
+
+    /// The FTS blocks of this mode (the 11 x 11 grand block in its frame: vectors and
+    /// pseudovectors in frame components, strains and stresslets in the strain basis
+    /// rotated into the frame, `basis`), as [`Gap::blocks`].
+    #[allow(clippy::too_many_arguments)]
+    fn grand(
+        &self,
+        ha: f64,
+        hb: f64,
+        aa: f64,
+        ab: f64,
+        part: Part,
+        basis: &[[[f64; 3]; 3]; 5],
+    ) -> [[C; 11]; 11] {
+        let k = self.kappa;
+        let (ca, cb) = (aa * aa / 6.0, ab * ab / 6.0);
+        let (ga, gb) = (aa * aa / 10.0, ab * ab / 10.0);
+        let scale = -2.0 * PI / k;
+        let (lo, hi): (Data<4>, Data<4>) = (self.stokeslet(hb, true), self.stokeslet(hb, false));
+        let mut out = [[C::new(0.0, 0.0); 11]; 11];
+        for j in 0..11 {
+            let (bottom, top) = match j {
+                0..3 => (
+                    force_column(&lo, j, k, cb, scale),
+                    force_column(&hi, j, k, cb, scale),
+                ),
+                3..6 => (
+                    torque_column(&lo, j - 3, k, scale),
+                    torque_column(&hi, j - 3, k, scale),
+                ),
+                _ => (
+                    stresslet_column(&lo, &basis[j - 6], k, gb, scale),
+                    stresslet_column(&hi, &basis[j - 6], k, gb, scale),
+                ),
+            };
+            let f = self.part(bottom, top, part);
+            let (u, o) = self.field(&f, ha, ca);
+            let e = self.strain(&f, ha, ga, basis);
+            for r in 0..3 {
+                out[r][j] = u[r];
+                out[3 + r][j] = o[r];
+            }
+            for r in 0..5 {
+                out[6 + r][j] = e[r];
             }
         }
         out

@@ -119,7 +119,7 @@ fn remainder(
         &mut omega,
     );
     let a_max = ps.iter().fold(0.0f64, |m, p| m.max(p.a));
-    let k_cut = slit.mode_cutoff(lo, hi, a_max, a_max, Part::Remainder);
+    let k_cut = slit.mode_cutoff(lo, hi, a_max, a_max, Part::Remainder, false);
     let layout = Layout {
         image: false,
         ..Layout::new(ps, ft)

@@ -513,7 +513,6 @@ impl System {
         if let Some(rpy) = self.rpy() {
             rpy.refuse("lubrication")?;
         }
-        self.check_periodic(moments)?;
         let parts = moments.parts();
         let n = self.len();
         let eta = self.viscosity();

@@ -9,7 +9,7 @@
 //! | methods | module |
 //! |---|---|
 //! | `new`, `with_precision`, `precision`, `particles`, `confinement`, `viscosity`, `len`, `is_empty`, `overlap`, `check_overlap`, `check_drift`, `sqrt_apply` | here |
-//! | `periodic`, `periodic_box`, `check_periodic` (a triply periodic box) | [`crate::periodic`] |
+//! | `periodic`, `periodic_box` (a periodic box) | [`crate::periodic`] |
 //! | `block`, `mobility`, `mobility_into` (the dense grand mobility) | [`crate::mobility::assembly`] |
 //! | `apply`, `apply_with` (the matrix-free product) | [`crate::mobility::tiled`] |
 //! | `velocities` (the mobility problem) | [`crate::mobility::velocity`] |
@@ -212,13 +212,10 @@ impl System {
         }
     }
 
-    /// Panics where [`System::check_overlap`] or [`System::check_periodic`] fails.
+    /// Panics where [`System::check_overlap`] fails.
     pub(crate) fn assert_overlap(&self, moments: Moments) {
         if let Err(e) = self.check_overlap(moments) {
             panic!("{e} (System::check_overlap)");
-        }
-        if let Err(e) = self.check_periodic(moments) {
-            panic!("{e} (System::check_periodic)");
         }
     }
 

@@ -184,7 +184,7 @@ fn near_a_periodic_wall_the_corrections_cover_the_lateral_images() {
 /// The same in a periodic slit: sphere-wall corrections at both walls (the first sphere
 /// 0.4 radii below the upper wall), the periodic slit's exact Green's function in `M`.
 /// The reference's open systems superpose two walls' images, which are positive definite
-/// only in wide slits (gap 14 here).
+/// only in wide slits (gap 14 here). FT and FTS.
 #[test]
 fn in_a_periodic_slit_the_corrections_cover_both_walls() {
     // the first sphere 0.4 radii below the upper wall
@@ -194,14 +194,16 @@ fn in_a_periodic_slit_the_corrections_cover_both_walls() {
         gap: 14.0,
     };
     // the first sphere far from the others: its own images alone
-    check(
-        Moments::FT,
-        slit,
-        PeriodicBox::lateral([6.0, 8.0]),
-        [6.0, 8.0, 0.0],
-        &ps,
-        20,
-    );
+    for moments in [Moments::FT, Moments::FTS] {
+        check(
+            moments,
+            slit,
+            PeriodicBox::lateral([6.0, 8.0]),
+            [6.0, 8.0, 0.0],
+            &ps,
+            20,
+        );
+    }
 }
 
 /// A lubricated Brownian increment in a box is available and does not change when a

@@ -28,8 +28,8 @@ fn spheres() -> [Particle; 3] {
     ]
 }
 
-/// No slip on both walls: the velocity of a point (radius 0) on either wall from a force
-/// or a torque on any sphere, and its own images, is zero to the tolerance of the
+/// No slip on both walls: the velocity of a point (radius 0) on either wall from a force,
+/// a torque or a stresslet on any sphere, and its own images, is zero to the tolerance of the
 /// velocity scale, the free Stokeslet's `1/(8 pi eta d)` at the smallest distance `d`
 /// from the source's lateral images (the largest term the walls' flow cancels).
 #[test]
@@ -49,11 +49,21 @@ fn the_flow_vanishes_on_both_walls() {
                         .chain(&b.ul)
                         .flatten()
                         .fold(0.0f64, |m, v| m.max(v.abs()));
-                println!("no slip at x3 = {z}, {lateral:?}: {:.1e}", worst / scale);
-                assert!(
-                    worst < 1e-11 * scale,
-                    "{z} {lateral:?}: {worst:e} of {scale:e}"
+                // the FTS blocks: the stresslet's flow too (`US`)
+                let g = slit.grand(ETA, &point, &q, false);
+                let worst_fts = (g.uf.iter().chain(&g.ul).flatten())
+                    .chain(g.us.iter().flatten())
+                    .fold(0.0f64, |m, v| m.max(v.abs()));
+                println!(
+                    "no slip at x3 = {z}, {lateral:?}: FT {:.1e}, FTS {:.1e}",
+                    worst / scale,
+                    worst_fts / scale
                 );
+                assert!(
+                    worst < 1e-11 * scale && worst_fts < 1e-11 * scale,
+                    "{z} {lateral:?}: {worst:e}, {worst_fts:e} of {scale:e}"
+                );
+                assert!(g.es.iter().flatten().any(|v| v.abs() > 1e-3 * scale));
                 // the wall's shear rotates the point: the test is not empty
                 assert!(b.of.iter().flatten().any(|v| v.abs() > 1e-3 * scale));
             }
@@ -62,7 +72,7 @@ fn the_flow_vanishes_on_both_walls() {
 }
 
 /// `M^{ab} = (M^{ba})^T`: the walls' flow applied with the source's operators at one end
-/// and the field point's at the other, both ways.
+/// and the field point's at the other, both ways; FT and FTS blocks.
 #[test]
 fn the_sums_are_reciprocal() {
     let slit = SlitEwald::new([9.0, 12.0], BOTTOM, 7.0, 1e-12, None);
@@ -78,6 +88,14 @@ fn the_sums_are_reciprocal() {
                     assert!(d < 1e-12 * scale, "{i} {j} ({r}, {c}): {d:e} of {scale:e}");
                 }
             }
+            let ab = slit.grand(ETA, &ps[i], &ps[j], i == j).matrix();
+            let ba = slit.grand(ETA, &ps[j], &ps[i], i == j).matrix();
+            let d = (ab - ba.transpose()).amax();
+            assert!(
+                d < 1e-12 * ab.amax(),
+                "FTS {i} {j}: {d:e} of {:e}",
+                ab.amax()
+            );
         }
     }
 }
@@ -97,17 +115,23 @@ fn images_in_real_space_and_all_in_modes_agree() {
     ps.push(p([1.3, 2.0, BOTTOM + 1.0001], 1.0));
     ps.push(p([3.4, 2.3, BOTTOM + 1.05], 1.0));
     let s = slit(1e-12);
-    let mut worst = 0.0f64;
+    let (mut worst, mut worst_fts) = (0.0f64, 0.0f64);
     for i in 0..ps.len() {
         for j in i..ps.len() {
             let got = s.blocks(ETA, &ps[i], &ps[j], i == j);
             let modes = s.blocks_by_modes(ETA, &ps[i], &ps[j], i == j);
             let scale = largest(&modes.matrix());
             worst = worst.max(difference(&got, &modes) / scale);
+            let got = s.grand(ETA, &ps[i], &ps[j], i == j).matrix();
+            let modes = s.grand_by_modes(ETA, &ps[i], &ps[j], i == j).matrix();
+            worst_fts = worst_fts.max((got - modes).amax() / modes.amax());
         }
     }
-    println!("two evaluations at 1e-12: {worst:.1e} of the largest entry");
+    println!(
+        "two evaluations at 1e-12: {worst:.1e} (FT), {worst_fts:.1e} (FTS) of the largest entry"
+    );
     assert!(worst < 1e-11, "{worst:e}");
+    assert!(worst_fts < 1e-11, "FTS {worst_fts:e}");
     for tol in [1e-10, 1e-6] {
         let s = slit(tol);
         let mut worst = 0.0f64;
@@ -125,13 +149,17 @@ fn images_in_real_space_and_all_in_modes_agree() {
 }
 
 /// `xi` a factor 6 apart: the real part, `J^K`'s sum and the mode `k_par = 0` trade
-/// their shares; the walls' modes do not depend on `xi`.
+/// their shares; the walls' modes do not depend on `xi`. FT and FTS.
 #[test]
 fn the_split_parameter_changes_nothing() {
     let lengths = [9.0, 12.0];
     super::wall::split_changes_nothing(lengths, &spheres(), |xi| {
         let e = SlitEwald::new(lengths, BOTTOM, 7.0, 1e-12, Some(xi));
         move |a: &Particle, b: &Particle, same| e.blocks(ETA, a, b, same).flat().to_vec()
+    });
+    super::wall::split_changes_nothing(lengths, &spheres(), |xi| {
+        let e = SlitEwald::new(lengths, BOTTOM, 7.0, 1e-12, Some(xi));
+        move |a: &Particle, b: &Particle, same| e.grand(ETA, a, b, same).flat().to_vec()
     });
 }
 
@@ -240,8 +268,8 @@ fn the_drift_is_the_divergence_of_the_periodic_mobility() {
     super::wall::drift_is_the_divergence(&spheres, system, "in a periodic slit");
 }
 
-/// The dense matrix is symmetric positive definite, its product is the fast product's
-/// to the tolerance (`slit_product` for more), and a sphere moved by box lengths changes
+/// The dense matrix is symmetric positive definite at F, FT and FTS, its product is the
+/// fast product's to the tolerance (`slit_product` for more), and a sphere moved by box lengths changes
 /// no bit of it (dyadic coordinates: the moves are exact).
 #[test]
 fn dense_matrix_is_positive_definite_and_periodic() {
@@ -253,7 +281,7 @@ fn dense_matrix_is_positive_definite_and_periodic() {
         p([1.5, 4.5, 4.3], 1.0),
     ];
     let system = periodic(ps.clone(), lengths, 5.0, 1e-10);
-    for moments in [Moments::F, Moments::FT] {
+    for moments in [Moments::F, Moments::FT, Moments::FTS] {
         let m = system.mobility(moments);
         let dim = m.nrows();
         let scale = m.iter().fold(0.0f64, |a, v| a.max(v.abs()));
@@ -265,7 +293,8 @@ fn dense_matrix_is_positive_definite_and_periodic() {
         let y = system.apply(moments, &x);
         let want = &m * nalgebra::DVector::from_column_slice(&x);
         let worst = (0..dim).fold(0.0f64, |acc, k| acc.max((y[k] - want[k]).abs()));
-        // the fast product, to the box's tolerance 1e-10 of the largest entry
+        // the fast product (the direct sums at FTS), to the box's tolerance 1e-10 of the
+        // largest entry
         assert!(worst <= 1e-10 * scale, "{worst:e}");
         let mut moved = ps.clone();
         moved[2].x[0] += 2.0 * lengths[0];
@@ -275,7 +304,7 @@ fn dense_matrix_is_positive_definite_and_periodic() {
     }
 }
 
-/// Stresslets, a sphere cutting either wall, three lengths: typed errors.
+/// A sphere cutting either wall, three lengths: typed errors.
 #[test]
 fn bad_slits_are_refused() {
     let slit = Confinement::Slit {
@@ -284,14 +313,6 @@ fn bad_slits_are_refused() {
     };
     let make = |ps: Vec<Particle>| System::new(slit, ETA, ps, Overlap::Refuse);
     let inside = vec![p([0.0, 0.0, 2.0], 1.0), p([3.0, 0.0, 3.0], 1.0)];
-    let s = make(inside.clone())
-        .unwrap()
-        .periodic(PeriodicBox::lateral([8.0, 8.0]))
-        .unwrap();
-    assert!(matches!(
-        s.check_periodic(Moments::FTS),
-        Err(PeriodicError::NotAvailable(_))
-    ));
     let err = make(inside)
         .unwrap()
         .periodic(PeriodicBox::new([8.0, 8.0, 8.0]))
