@@ -75,7 +75,8 @@
 //! }
 //! ```
 
-pub mod blocks;
+/// The blocks the kernels return, their layouts and conversions (crate `kernel-blocks`).
+pub use kernel_blocks as blocks;
 pub mod declare;
 pub mod turn;
 #[rustfmt::skip]

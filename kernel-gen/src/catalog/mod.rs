@@ -89,21 +89,24 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
         files: Vec::new(),
     };
     green::for_each_building_block(&mut blocks);
-    let mut mods: Vec<TokenStream> = Vec::new();
+    // (module, doc) of every file of kernels (the families', the scenes', the overlap
+    // corrections'): declared in `bodies.rs` (the crate `kernel-bodies`), re-exported by
+    // `mod.rs` (the crate `kernels`)
+    let mut mods: Vec<(proc_macro2::Ident, String)> = Vec::new();
     if let Some((scene, green, of)) = c.refused {
         return Err(green::DeclarationError::SceneOfTwin { scene, green, of });
     }
     for f in c.families.iter().filter(|f| f.file.is_some()) {
         let n = ident(f.name);
         let d = format!(" Kernels of the `{}` family.", f.name);
-        mods.push(quote!(#[doc = #d] pub mod #n;));
+        mods.push((n, d));
         for sf in &f.scene_files {
             let m = ident(sf.name.trim_end_matches(".rs"));
             let d = format!(
                 " Kernels of the scene `{}` (`scenes/`).",
                 sf.name.trim_start_matches("scene_").trim_end_matches(".rs")
             );
-            mods.push(quote!(#[doc = #d] pub mod #m;));
+            mods.push((m, d));
         }
     }
     for (green, sf) in &blocks.files {
@@ -112,12 +115,16 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
             " Kernels of the scene `{}` (`scenes/`) of the building block `{green}` (not a confinement: kernel_gen::physics::green::for_each_building_block).",
             sf.name.trim_start_matches("scene_").trim_end_matches(".rs")
         );
-        mods.push(quote!(#[doc = #d] pub mod #m;));
+        mods.push((m, d));
     }
-    mods.push(quote!(
-        #[doc = " The RPY overlap corrections (kernel_gen::physics::overlap)."]
-        pub mod overlap;
+    mods.push((
+        ident("overlap"),
+        " The RPY overlap corrections (kernel_gen::physics::overlap).".to_string(),
     ));
+    let declared = mods.iter().map(|(m, d)| quote!(#[doc = #d] pub mod #m;));
+    let reexported = mods
+        .iter()
+        .map(|(m, d)| quote!(#[doc = #d] pub use kernel_bodies::#m;));
     let dispatch = dispatch(&c.families);
     let single_entry = dispatch::single_dispatch(&c.families);
     let module_doc = vec![
@@ -125,11 +132,22 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
         String::new(),
         "Regenerate with `cargo xtask gen`.".to_string(),
     ];
-    let mut files = vec![GeneratedFile {
-        name: "mod.rs".into(),
-        contents: emit::file(&module_doc, quote!(#(#mods)* #dispatch)),
-        op_counts: Vec::new(),
-    }];
+    let bodies_doc = vec![
+        "The generated kernels' modules, compiled in the crate `kernel-bodies` (its".to_string(),
+        "`lib.rs` includes this file) and re-exported by `mod.rs`.".to_string(),
+    ];
+    let mut files = vec![
+        GeneratedFile {
+            name: "mod.rs".into(),
+            contents: emit::file(&module_doc, quote!(#(#reexported)* #dispatch)),
+            op_counts: Vec::new(),
+        },
+        GeneratedFile {
+            name: "bodies.rs".into(),
+            contents: emit::file(&bodies_doc, quote!(#(#declared)*)),
+            op_counts: Vec::new(),
+        },
+    ];
     let mut single = vec![single_entry];
     for f in c.families {
         files.extend(f.file);

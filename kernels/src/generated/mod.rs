@@ -5,53 +5,53 @@
 //!
 //! Regenerate with `cargo xtask gen`.
 /// Kernels of the `free` family.
-pub mod free;
+pub use kernel_bodies::free;
 /// Kernels of the scene `free_f` (`scenes/`).
-pub mod scene_free_f;
+pub use kernel_bodies::scene_free_f;
 /// Kernels of the scene `free_ft` (`scenes/`).
-pub mod scene_free_ft;
+pub use kernel_bodies::scene_free_ft;
 /// Kernels of the `wall` family.
-pub mod wall;
+pub use kernel_bodies::wall;
 /// Kernels of the scene `wall_f` (`scenes/`).
-pub mod scene_wall_f;
+pub use kernel_bodies::scene_wall_f;
 /// Kernels of the scene `wall_f_monolayer` (`scenes/`).
-pub mod scene_wall_f_monolayer;
+pub use kernel_bodies::scene_wall_f_monolayer;
 /// Kernels of the scene `wall_ft` (`scenes/`).
-pub mod scene_wall_ft;
+pub use kernel_bodies::scene_wall_ft;
 /// Kernels of the `free_surface` family.
-pub mod free_surface;
+pub use kernel_bodies::free_surface;
 /// Kernels of the scene `free_surface_f` (`scenes/`).
-pub mod scene_free_surface_f;
+pub use kernel_bodies::scene_free_surface_f;
 /// Kernels of the scene `free_surface_ft` (`scenes/`).
-pub mod scene_free_surface_ft;
+pub use kernel_bodies::scene_free_surface_ft;
 /// Kernels of the `interface` family.
-pub mod interface;
+pub use kernel_bodies::interface;
 /// Kernels of the scene `interface_f` (`scenes/`).
-pub mod scene_interface_f;
+pub use kernel_bodies::scene_interface_f;
 /// Kernels of the scene `interface_ft` (`scenes/`).
-pub mod scene_interface_ft;
+pub use kernel_bodies::scene_interface_ft;
 /// Kernels of the `slit` family.
-pub mod slit;
+pub use kernel_bodies::slit;
 /// Kernels of the scene `slit_f` (`scenes/`).
-pub mod scene_slit_f;
+pub use kernel_bodies::scene_slit_f;
 /// Kernels of the scene `slit_ft` (`scenes/`).
-pub mod scene_slit_ft;
+pub use kernel_bodies::scene_slit_ft;
 /// Kernels of the scene `ewald_real_f` (`scenes/`) of the building block `ewald_real` (not a confinement: kernel_gen::physics::green::for_each_building_block).
-pub mod scene_ewald_real_f;
+pub use kernel_bodies::scene_ewald_real_f;
 /// Kernels of the scene `ewald_real_ft` (`scenes/`) of the building block `ewald_real` (not a confinement: kernel_gen::physics::green::for_each_building_block).
-pub mod scene_ewald_real_ft;
+pub use kernel_bodies::scene_ewald_real_ft;
 /// Kernels of the scene `ewald_real_fts` (`scenes/`) of the building block `ewald_real` (not a confinement: kernel_gen::physics::green::for_each_building_block).
-pub mod scene_ewald_real_fts;
+pub use kernel_bodies::scene_ewald_real_fts;
 /// Kernels of the scene `ewald_wall_drift` (`scenes/`) of the building block `ewald_wall` (not a confinement: kernel_gen::physics::green::for_each_building_block).
-pub mod scene_ewald_wall_drift;
+pub use kernel_bodies::scene_ewald_wall_drift;
 /// Kernels of the scene `ewald_wall_f` (`scenes/`) of the building block `ewald_wall` (not a confinement: kernel_gen::physics::green::for_each_building_block).
-pub mod scene_ewald_wall_f;
+pub use kernel_bodies::scene_ewald_wall_f;
 /// Kernels of the scene `ewald_wall_ft` (`scenes/`) of the building block `ewald_wall` (not a confinement: kernel_gen::physics::green::for_each_building_block).
-pub mod scene_ewald_wall_ft;
+pub use kernel_bodies::scene_ewald_wall_ft;
 /// Kernels of the scene `ewald_wall_fts` (`scenes/`) of the building block `ewald_wall` (not a confinement: kernel_gen::physics::green::for_each_building_block).
-pub mod scene_ewald_wall_fts;
+pub use kernel_bodies::scene_ewald_wall_fts;
 /// The RPY overlap corrections (kernel_gen::physics::overlap).
-pub mod overlap;
+pub use kernel_bodies::overlap;
 use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};
 /// `side_wall` in the frame of its planes, where it is `wall` (kernel_gen `catalog::twin`).
 static SIDE_WALL_TURN: crate::turn::Turn = crate::turn::Turn {

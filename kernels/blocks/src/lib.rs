@@ -374,15 +374,15 @@ impl Grand {
 
 /// Where entry `(i, j)` of [`Grand::matrix`] sits among [`Grand`]'s fields flattened in
 /// their order (`uf`, `ul`, `us`, `of`, `ol`, `os`, `ef`, `el`, `es`, each row-major): the
-/// layout of the lane kernels' outputs ([`crate::pair_lanes_ordered`]).
+/// layout of the lane kernels' outputs (`kernels::pair_lanes_ordered`).
 pub const GRAND_FLAT: [[usize; 11]; 11] = flat();
 
 /// [`GRAND_FLAT`] for [`BlocksFT`] (`uf`, `ul`, `of`, `ol`; [`BlocksFT::matrix`]): the
-/// layout of [`crate::pair_ft_lanes_ordered`].
+/// layout of `kernels::pair_ft_lanes_ordered`.
 pub const FT_FLAT: [[usize; 6]; 6] = flat();
 
 /// [`GRAND_FLAT`] for [`BlocksF`] (`uf`, row-major): the layout of
-/// [`crate::pair_f_lanes_ordered`].
+/// `kernels::pair_f_lanes_ordered`.
 pub const F_FLAT: [[usize; 3]; 3] = flat();
 
 /// Where entry `(i, j)` of the `K x K` matrix in grand order (`K` = 3, 6, 11: rows
@@ -421,7 +421,7 @@ const fn flat<const K: usize>() -> [[usize; K]; K] {
 }
 
 /// The F or FT blocks (`K` = 3 or 6, `N = K^2`), flattened as [`F_FLAT`] or [`FT_FLAT`]
-/// say, from the flattened FTS blocks of [`crate::pair_lanes_ordered`]: the truncation
+/// say, from the flattened FTS blocks of `kernels::pair_lanes_ordered`: the truncation
 /// for a confinement without F or FT lane kernels of its own.
 #[inline(always)]
 pub fn truncate_lanes<L: lanes::Lane, const K: usize, const N: usize>(
@@ -438,7 +438,7 @@ pub fn truncate_lanes<L: lanes::Lane, const K: usize, const N: usize>(
 }
 
 /// The pair product of [`Grand::product`] on lanes, from the flattened blocks of
-/// [`crate::pair_lanes_ordered`]: `a = M^{ab} vb`, `b = (M^{ab})^T va`.
+/// `kernels::pair_lanes_ordered`: `a = M^{ab} vb`, `b = (M^{ab})^T va`.
 #[inline(always)]
 pub fn grand_lanes_product<L: lanes::Lane>(
     m: &[L; 121],
