@@ -201,13 +201,20 @@ pub(super) fn family_file(
     (file, single)
 }
 
-/// Name of the file of single-precision kernels, which the `kernels` crate compiles
+/// Name of the file of the single-precision dispatch, which the `kernels` crate compiles
 /// only with its cargo feature `f32` (as `kernels::single`).
 pub const SINGLE: &str = "single.rs";
 
-/// `single.rs`: the FTS self and pair kernels of every family in `f32` (the same traces
-/// as the `f64` kernels, emitted with [`Float::F32`]), returning `Grand32`.
-pub(super) fn single_file(items: Vec<TokenStream>) -> GeneratedFile {
+/// Name of the file of single-precision kernels, compiled in the crate `kernel-bodies`
+/// with its feature `f32` (as `kernel_bodies::single_kernels`, re-exported by
+/// [`SINGLE`]).
+pub const SINGLE_KERNELS: &str = "single_kernels.rs";
+
+/// [`SINGLE`] (the dispatch `entry` on the confinement, and the kernels re-exported)
+/// and [`SINGLE_KERNELS`]: the FTS self and pair kernels of every family in `f32`
+/// (`items`: the same traces as the `f64` kernels, emitted with [`Float::F32`]),
+/// returning `Grand32`.
+pub(super) fn single_files(entry: TokenStream, items: Vec<TokenStream>) -> [GeneratedFile; 2] {
     let fields: Vec<TokenStream> = BLOCKS
         .iter()
         .map(|&(r, m)| {
@@ -223,6 +230,11 @@ pub(super) fn single_file(items: Vec<TokenStream>) -> GeneratedFile {
     let module_doc = vec![
         "Single-precision (f32) FTS self and pair kernels of every family, for accuracy and speed comparisons (`cargo xtask report`).".to_string(),
         String::new(),
+        "Compiled only with the cargo feature `f32` of the kernel-bodies crate. Regenerate with `cargo xtask gen`.".to_string(),
+    ];
+    let dispatch_doc = vec![
+        "Single-precision (f32) FTS self and pair kernels of every family (`kernel_bodies::single_kernels`), dispatched on the confinement.".to_string(),
+        String::new(),
         "Compiled only with the cargo feature `f32` of the kernels crate. Regenerate with `cargo xtask gen`.".to_string(),
     ];
     let names: Vec<proc_macro2::Ident> = BLOCKS
@@ -230,11 +242,11 @@ pub(super) fn single_file(items: Vec<TokenStream>) -> GeneratedFile {
         .map(|&(r, m)| ident(&crate::physics::operators::block_name(r, m)))
         .collect();
     let body = quote! {
-        /// The nine blocks of [`crate::Grand`] in single precision (same layout and basis).
+        /// The nine blocks of [`crate::blocks::Grand`] in single precision (same layout and basis).
         #[derive(Clone, Copy, Debug, PartialEq, Default)]
         pub struct Grand32 { #(#fields),* }
         impl Grand32 {
-            /// The fields flattened in their order, each row-major (as [`crate::Grand::flat`]).
+            /// The fields flattened in their order, each row-major (as [`crate::blocks::Grand::flat`]).
             pub fn flat(&self) -> [f32; 121] {
                 let v: Vec<f32> = [#(self.#names.iter().flatten().copied().collect::<Vec<f32>>()),*].concat();
                 std::array::from_fn(|i| v[i])
@@ -253,9 +265,19 @@ pub(super) fn single_file(items: Vec<TokenStream>) -> GeneratedFile {
         }
         #(#items)*
     };
-    GeneratedFile {
-        name: SINGLE.into(),
-        contents: emit::file(&module_doc, body),
-        op_counts: Vec::new(),
-    }
+    [
+        GeneratedFile {
+            name: SINGLE.into(),
+            contents: emit::file(
+                &dispatch_doc,
+                quote!(pub use kernel_bodies::single_kernels::*; #entry),
+            ),
+            op_counts: Vec::new(),
+        },
+        GeneratedFile {
+            name: SINGLE_KERNELS.into(),
+            contents: emit::file(&module_doc, body),
+            op_counts: Vec::new(),
+        },
+    ]
 }

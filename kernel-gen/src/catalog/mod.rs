@@ -32,7 +32,7 @@ use crate::emit::{self, ident};
 use crate::graph::{Ex, Id, Trace};
 use crate::physics::green::{self, Green, Visitor};
 use dispatch::dispatch;
-use family::{family_and_single, single_file};
+use family::{family_and_single, single_files};
 use proc_macro2::TokenStream;
 use quote::quote;
 
@@ -122,6 +122,7 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
         " The RPY overlap corrections (kernel_gen::physics::overlap).".to_string(),
     ));
     let declared = mods.iter().map(|(m, d)| quote!(#[doc = #d] pub mod #m;));
+    let single_kernels = ident(family::SINGLE_KERNELS.trim_end_matches(".rs"));
     let reexported = mods
         .iter()
         .map(|(m, d)| quote!(#[doc = #d] pub use kernel_bodies::#m;));
@@ -144,18 +145,26 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
         },
         GeneratedFile {
             name: "bodies.rs".into(),
-            contents: emit::file(&bodies_doc, quote!(#(#declared)*)),
+            contents: emit::file(
+                &bodies_doc,
+                quote!(
+                    #(#declared)*
+                    #[doc = " Single-precision FTS kernels of every family (the feature `f32`)."]
+                    #[cfg(feature = "f32")]
+                    pub mod #single_kernels;
+                ),
+            ),
             op_counts: Vec::new(),
         },
     ];
-    let mut single = vec![single_entry];
+    let mut single = Vec::new();
     for f in c.families {
         files.extend(f.file);
         files.extend(f.scene_files);
         single.extend(f.single);
     }
     files.extend(blocks.files.into_iter().map(|(_, f)| f));
-    files.push(single_file(single));
+    files.extend(single_files(single_entry, single));
     files.push(overlap::overlap_file());
     Ok(files)
 }

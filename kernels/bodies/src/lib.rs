@@ -1,7 +1,7 @@
 //! The generated kernels' bodies: the self, pair and product kernels of every family
-//! (one per registered Green's function) and scene (`scenes/`), and the RPY overlap
-//! corrections, written by `cargo xtask gen` into `kernels/src/generated/` and compiled
-//! here. Use them through the `kernels` crate, which re-exports each module under
+//! (one per registered Green's function) and scene (`scenes/`), the RPY overlap
+//! corrections and (feature `f32`) the single-precision kernels, written by `cargo xtask
+//! gen` into `kernels/src/generated/` and compiled here. Use them through the `kernels` crate, which re-exports each module under
 //! `kernels::generated` and dispatches on its `Confinement`.
 //!
 //! A crate of their own so that their lints can be allowed crate-wide: the compiler then

@@ -51,3 +51,6 @@ pub mod scene_ewald_wall_ft;
 pub mod scene_ewald_wall_fts;
 /// The RPY overlap corrections (kernel_gen::physics::overlap).
 pub mod overlap;
+/// Single-precision FTS kernels of every family (the feature `f32`).
+#[cfg(feature = "f32")]
+pub mod single_kernels;
