@@ -223,11 +223,7 @@ impl SlitEwald {
     ) -> SMatrix<f64, 11, 11> {
         let w = &self.lower;
         let sigma = 1.0 / w.xi;
-        let r = if same {
-            [0.0; 3]
-        } else {
-            w.minimum_image(a.x, b.x)
-        };
+        let r = w.separation(a, b, same);
         let mut out = if same {
             ewald_real_fts_self(a.x, a.a, eta, sigma).matrix()
         } else {
@@ -276,11 +272,7 @@ impl SlitEwald {
     fn stokeslet_sum(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
         let w = &self.lower;
         let sigma = 1.0 / w.xi;
-        let r = if same {
-            [0.0; 3]
-        } else {
-            w.minimum_image(a.x, b.x)
-        };
+        let r = w.separation(a, b, same);
         let mut out = if same {
             ewald_real_ft_self(a.x, a.a, eta, sigma)
         } else {

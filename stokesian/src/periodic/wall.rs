@@ -120,15 +120,21 @@ impl WallEwald {
         [lateral(0), lateral(1), xa[2] - xb[2]]
     }
 
+    /// The separation `x_a - x_b` of the nearest lateral image ([`WallEwald::minimum_image`]),
+    /// zero for a sphere and itself (`same`).
+    pub(super) fn separation(&self, a: &Particle, b: &Particle, same: bool) -> [f64; 3] {
+        if same {
+            [0.0; 3]
+        } else {
+            self.minimum_image(a.x, b.x)
+        }
+    }
+
     /// The FT blocks `M^{ab}` of spheres `a` (field) and `b` (source) summed over every
     /// lateral image of `b`; with `same`, `b` is `a` and the result its self mobility.
     pub fn blocks(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
         let sigma = 1.0 / self.xi;
-        let r = if same {
-            [0.0; 3]
-        } else {
-            self.minimum_image(a.x, b.x)
-        };
+        let r = self.separation(a, b, same);
         let mut out = if same {
             ewald_wall_ft_self(a.x, a.a, eta, self.height, sigma)
         } else {
@@ -150,11 +156,7 @@ impl WallEwald {
     /// [`WallEwald::reciprocal_grand`], the mode `k_par = 0` [`plane_grand`].
     pub fn grand(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> Grand {
         let sigma = 1.0 / self.xi;
-        let r = if same {
-            [0.0; 3]
-        } else {
-            self.minimum_image(a.x, b.x)
-        };
+        let r = self.separation(a, b, same);
         let mut out = if same {
             ewald_wall_fts_self(a.x, a.a, eta, self.height, sigma).matrix()
         } else {
