@@ -199,7 +199,7 @@ impl SlitEwald {
         out: &mut SMatrix<f64, 11, 11>,
     ) {
         let (ha, hb) = (a.x[2] - self.lower.height, b.x[2] - self.lower.height);
-        let unit = self.unit(eta);
+        let unit = self.lower.unit(eta);
         plane_grand(
             &self.plane_kernel(self.lower.xi, ha, hb, part),
             a.a,
@@ -222,16 +222,14 @@ impl SlitEwald {
         same: bool,
     ) -> SMatrix<f64, 11, 11> {
         let w = &self.lower;
-        let sigma = 1.0 / w.xi;
-        let r = w.separation(a, b, same);
-        let mut out = if same {
-            ewald_real_fts_self(a.x, a.a, eta, sigma).matrix()
-        } else {
-            SMatrix::zeros()
-        };
-        for xb in w.images(a, b, r, same) {
-            out += ewald_real_fts_pair(a.x, xb, a.a, b.a, eta, sigma).matrix();
-        }
+        let (mut out, r) = w.real_part(
+            a,
+            b,
+            same,
+            SMatrix::zeros(),
+            |sigma| ewald_real_fts_self(a.x, a.a, eta, sigma).matrix(),
+            |xb, sigma| ewald_real_fts_pair(a.x, xb, a.a, b.a, eta, sigma).matrix(),
+        );
         let (ha, hb) = (a.x[2] - w.height, b.x[2] - w.height);
         w.reciprocal_grand([r[0], r[1]], ha, hb, a.a, b.a, eta, false, &mut out);
         out
@@ -249,7 +247,7 @@ impl SlitEwald {
         out: &mut BlocksFT,
     ) {
         let (ha, hb) = (a.x[2] - self.lower.height, b.x[2] - self.lower.height);
-        let unit = self.unit(eta);
+        let unit = self.lower.unit(eta);
         plane_blocks(
             &self.plane_kernel(self.lower.xi, ha, hb, part),
             a.a,
@@ -262,25 +260,18 @@ impl SlitEwald {
         self.modes(rho, ha, hb, a.a, b.a, unit, part, out);
     }
 
-    /// `1/(8 pi eta A)`.
-    fn unit(&self, eta: f64) -> f64 {
-        1.0 / (8.0 * PI * eta * self.lower.lengths[0] * self.lower.lengths[1])
-    }
-
     /// The Stokeslet's lateral lattice sum but its mode `k_par = 0`: the real part (the
     /// isolated sphere and `W(0)` in the self kernel) and the reciprocal sum of `J^K`.
     fn stokeslet_sum(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
         let w = &self.lower;
-        let sigma = 1.0 / w.xi;
-        let r = w.separation(a, b, same);
-        let mut out = if same {
-            ewald_real_ft_self(a.x, a.a, eta, sigma)
-        } else {
-            BlocksFT::default()
-        };
-        for xb in w.images(a, b, r, same) {
-            out += &ewald_real_ft_pair(a.x, xb, a.a, b.a, eta, sigma);
-        }
+        let (mut out, r) = w.real_part(
+            a,
+            b,
+            same,
+            BlocksFT::default(),
+            |sigma| ewald_real_ft_self(a.x, a.a, eta, sigma),
+            |xb, sigma| ewald_real_ft_pair(a.x, xb, a.a, b.a, eta, sigma),
+        );
         let (ha, hb) = (a.x[2] - w.height, b.x[2] - w.height);
         w.reciprocal([r[0], r[1]], ha, hb, a.a, b.a, eta, false, &mut out);
         out
@@ -388,7 +379,7 @@ impl SlitEwald {
             sum[1] += (column[0] * s + column[1] * c).re;
             sum[2] += column[2].re;
         }
-        let unit = self.unit(eta);
+        let unit = self.lower.unit(eta);
         for (o, v) in out.iter_mut().zip(sum) {
             *o += 2.0 * unit * v;
         }
@@ -462,7 +453,7 @@ impl SlitEwald {
             }
         }
         let flow = gap.part(bottom, top, Part::Remainder);
-        let unit = self.unit(eta);
+        let unit = self.lower.unit(eta);
         let mut out = vec![zero; t.len() * nf];
         for (ti, o) in t.iter().zip(out.chunks_mut(nf)) {
             let (u0, omega) = gap.field(&flow, *ti, 0.0);

@@ -61,6 +61,7 @@ use kernels::{BlocksFT, Grand, STRAIN_BASIS};
 use nalgebra::SMatrix;
 use rustfft::num_complex::Complex64;
 use std::f64::consts::PI;
+use std::ops::AddAssign;
 
 /// The split and truncation of one box periodic along a wall, at one tolerance.
 #[derive(Clone, Debug)]
@@ -133,20 +134,23 @@ impl WallEwald {
     /// The FT blocks `M^{ab}` of spheres `a` (field) and `b` (source) summed over every
     /// lateral image of `b`; with `same`, `b` is `a` and the result its self mobility.
     pub fn blocks(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> BlocksFT {
-        let sigma = 1.0 / self.xi;
-        let r = self.separation(a, b, same);
-        let mut out = if same {
-            ewald_wall_ft_self(a.x, a.a, eta, self.height, sigma)
-        } else {
-            BlocksFT::default()
-        };
-        for xb in self.images(a, b, r, same) {
-            out += &ewald_wall_ft_pair(a.x, xb, a.a, b.a, eta, self.height, sigma);
-        }
+        let (mut out, r) = self.real_part(
+            a,
+            b,
+            same,
+            BlocksFT::default(),
+            |sigma| ewald_wall_ft_self(a.x, a.a, eta, self.height, sigma),
+            |xb, sigma| ewald_wall_ft_pair(a.x, xb, a.a, b.a, eta, self.height, sigma),
+        );
         let (ha, hb) = (a.x[2] - self.height, b.x[2] - self.height);
         self.reciprocal([r[0], r[1]], ha, hb, a.a, b.a, eta, true, &mut out);
-        let unit = 1.0 / (8.0 * PI * eta * self.lengths[0] * self.lengths[1]);
-        plane_blocks(&self.plane_kernel(ha, hb), a.a, b.a, unit, &mut out);
+        plane_blocks(
+            &self.plane_kernel(ha, hb),
+            a.a,
+            b.a,
+            self.unit(eta),
+            &mut out,
+        );
         out
     }
 
@@ -155,21 +159,52 @@ impl WallEwald {
     /// part from the generated FTS kernels (`scene_ewald_wall_fts`), the reciprocal part
     /// [`WallEwald::reciprocal_grand`], the mode `k_par = 0` [`plane_grand`].
     pub fn grand(&self, eta: f64, a: &Particle, b: &Particle, same: bool) -> Grand {
-        let sigma = 1.0 / self.xi;
-        let r = self.separation(a, b, same);
-        let mut out = if same {
-            ewald_wall_fts_self(a.x, a.a, eta, self.height, sigma).matrix()
-        } else {
-            SMatrix::zeros()
-        };
-        for xb in self.images(a, b, r, same) {
-            out += ewald_wall_fts_pair(a.x, xb, a.a, b.a, eta, self.height, sigma).matrix();
-        }
+        let (mut out, r) = self.real_part(
+            a,
+            b,
+            same,
+            SMatrix::zeros(),
+            |sigma| ewald_wall_fts_self(a.x, a.a, eta, self.height, sigma).matrix(),
+            |xb, sigma| ewald_wall_fts_pair(a.x, xb, a.a, b.a, eta, self.height, sigma).matrix(),
+        );
         let (ha, hb) = (a.x[2] - self.height, b.x[2] - self.height);
         self.reciprocal_grand([r[0], r[1]], ha, hb, a.a, b.a, eta, true, &mut out);
-        let unit = 1.0 / (8.0 * PI * eta * self.lengths[0] * self.lengths[1]);
-        plane_grand(&self.plane_kernel(ha, hb), a.a, b.a, unit, &mut out);
+        plane_grand(
+            &self.plane_kernel(ha, hb),
+            a.a,
+            b.a,
+            self.unit(eta),
+            &mut out,
+        );
         Grand::from_matrix(&out)
+    }
+
+    /// The real part of a pair's lateral lattice sum with one truncation's kernels (their
+    /// width `sigma = 1/xi` the last argument): `own` at `x_a` for a sphere and itself
+    /// (`same`), else `zero`, plus `pair` at each lateral image of `b` within `r_c`
+    /// ([`WallEwald::images`]); and the separation of the nearest image
+    /// ([`WallEwald::separation`]), which the reciprocal sum takes.
+    pub(super) fn real_part<T: for<'x> AddAssign<&'x T>>(
+        &self,
+        a: &Particle,
+        b: &Particle,
+        same: bool,
+        zero: T,
+        own: impl FnOnce(f64) -> T,
+        mut pair: impl FnMut([f64; 3], f64) -> T,
+    ) -> (T, [f64; 3]) {
+        let sigma = 1.0 / self.xi;
+        let r = self.separation(a, b, same);
+        let mut out = if same { own(sigma) } else { zero };
+        for xb in self.images(a, b, r, same) {
+            out += &pair(xb, sigma);
+        }
+        (out, r)
+    }
+
+    /// `1/(8 pi eta A)`, the unit of the modes' kernels.
+    pub(super) fn unit(&self, eta: f64) -> f64 {
+        1.0 / (8.0 * PI * eta * self.lengths[0] * self.lengths[1])
     }
 
     /// The lateral images of the source `b` within `r_c` of the field point `a` (the
@@ -226,11 +261,11 @@ impl WallEwald {
                 m1: None,
                 ky: k,
             };
-            let phase = unit(lateral_phase + k[2] * (ha - hb));
+            let phase = cis(lateral_phase + k[2] * (ha - hb));
             add_blocks(&mut acc, phase, &direct, k, k2, ca, cb);
             if image {
                 let image = image_source(proj, k, k2, hb);
-                let phase = unit(lateral_phase + k[2] * (ha + hb));
+                let phase = cis(lateral_phase + k[2] * (ha + hb));
                 add_blocks(&mut acc, phase, &image, k, k2, ca, cb);
             }
         });
@@ -263,11 +298,11 @@ impl WallEwald {
                 m1: None,
                 ky: k,
             };
-            let phase = unit(lateral_phase + k[2] * (ha - hb));
+            let phase = cis(lateral_phase + k[2] * (ha - hb));
             add_grand(&mut acc, phase, &field, &direct, ab);
             if image {
                 let image = image_source(proj, k, k2, hb);
-                let phase = unit(lateral_phase + k[2] * (ha + hb));
+                let phase = cis(lateral_phase + k[2] * (ha + hb));
                 add_grand(&mut acc, phase, &field, &image, ab);
             }
         });
@@ -351,7 +386,7 @@ impl WallEwald {
             let image = image_source(proj, k, k2, h);
             let (m1, m2) = image.m1.expect("the image's symbol depends on its height");
             let fa = 1.0 - c * k2;
-            let phase = unit(2.0 * k[2] * h);
+            let phase = cis(2.0 * k[2] * h);
             for (i, v) in sum.iter_mut().enumerate() {
                 let s0 = image.m0[i][2].scale(1.0 - c * k2)
                     + (imaginary(-2.0 * image.ky[2]) * m1[i][2] + m2[i][2]).scale(c);
@@ -534,7 +569,7 @@ impl Psi {
 type C = Complex64;
 
 /// `exp(i t)`.
-fn unit(t: f64) -> C {
+fn cis(t: f64) -> C {
     let (s, c) = t.sin_cos();
     C::new(c, s)
 }
