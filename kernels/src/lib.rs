@@ -78,6 +78,7 @@
 /// The blocks the kernels return, their layouts and conversions (crate `kernel-blocks`).
 pub use kernel_blocks as blocks;
 pub mod declare;
+pub mod expansion;
 pub mod turn;
 #[rustfmt::skip]
 #[allow(clippy::all, missing_docs)]

@@ -114,6 +114,7 @@
 //! The types most callers need are re-exported here.
 
 pub mod dynamics;
+pub mod fmm;
 pub mod linalg;
 pub mod mobility;
 pub mod periodic;
@@ -125,6 +126,7 @@ pub use dynamics::{
     rotate, Brownian, BrownianError, ExternalForces, LubricatedDynamics, Noise, Run, RunTally,
     Scheme, Step,
 };
+pub use fmm::{FastProduct, FmmError};
 pub use kernels::lanes::Isa;
 pub use kernels::{
     declaration, Boundary, Condition, Confinement, Declaration, Dimension, Param, ParamError,

@@ -14,7 +14,7 @@ fn lit(v: f64) -> proc_macro2::Literal {
 }
 
 /// `[n0, n1, n2]` as tokens.
-fn vector(n: [f64; 3]) -> TokenStream {
+pub(super) fn vector(n: [f64; 3]) -> TokenStream {
     let [a, b, c] = n.map(lit);
     quote!([#a, #b, #c])
 }
@@ -62,7 +62,7 @@ fn param_decl(p: &green::Param) -> TokenStream {
     quote!(crate::declare::Param { name: #name, doc: #doc, dimension: #dimension, default: #default, example: #example })
 }
 
-fn camel(snake: &str) -> String {
+pub(super) fn camel(snake: &str) -> String {
     snake
         .split('_')
         .map(|w| {

@@ -15,9 +15,12 @@
 //! - `twin`: a confinement that is an earlier one turned, served by its kernels (no file
 //!   of its own);
 //! - `dispatch`: the generated `mod.rs`, the `Confinement` enum and its entry points;
-//! - `overlap`: the RPY overlap corrections of any confinement (`overlap.rs`).
+//! - `overlap`: the RPY overlap corrections of any confinement (`overlap.rs`);
+//! - `expansion`: each confinement's far field as derivative sources of one potential,
+//!   its mirrors and image weights, for a fast multipole method (`potential.rs`).
 
 mod dispatch;
+mod expansion;
 mod family;
 mod overlap;
 mod scene;
@@ -31,6 +34,8 @@ pub use scene_file::scene_file;
 use crate::emit::{self, ident};
 use crate::graph::{Ex, Id, Trace};
 use crate::physics::green::{self, Green, Visitor};
+use crate::physics::operators::Moment;
+use crate::physics::potential;
 use dispatch::dispatch;
 use family::{family_and_single, single_files};
 use proc_macro2::TokenStream;
@@ -127,6 +132,7 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
         .iter()
         .map(|(m, d)| quote!(#[doc = #d] pub use kernel_bodies::#m;));
     let dispatch = dispatch(&c.families);
+    let potential = expansion::potential_file(&c.families);
     let single_entry = dispatch::single_dispatch(&c.families);
     let module_doc = vec![
         "Generated kernels, one module per Green's function.".to_string(),
@@ -140,7 +146,15 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
     let mut files = vec![
         GeneratedFile {
             name: "mod.rs".into(),
-            contents: emit::file(&module_doc, quote!(#(#reexported)* #dispatch)),
+            contents: emit::file(
+                &module_doc,
+                quote!(
+                    #(#reexported)*
+                    #[doc = " Each confinement's far field as derivative sources of the potential `|r|`, its mirrors and image weights (kernel_gen::physics::potential)."]
+                    pub mod potential;
+                    #dispatch
+                ),
+            ),
             op_counts: Vec::new(),
         },
         GeneratedFile {
@@ -166,6 +180,17 @@ pub fn generate(scenes: &[Scene]) -> Result<Vec<GeneratedFile>, green::Declarati
     files.extend(blocks.files.into_iter().map(|(_, f)| f));
     files.extend(single_files(single_entry, single));
     files.push(overlap::overlap_file());
+    files.push(GeneratedFile {
+        name: "potential.rs".into(),
+        contents: emit::file(
+            &[
+                "Each confinement's far field as derivative sources of the potential `|r|`, its mirrors".to_string(),
+                "and image weights, for a fast multipole method (kernel_gen::physics::potential).".to_string(),
+            ],
+            potential,
+        ),
+        op_counts: Vec::new(),
+    });
     Ok(files)
 }
 
@@ -189,6 +214,8 @@ struct Family {
     /// those with unequal radii and both outputs.
     serving: Vec<(Moments, String)>,
     scene_files: Vec<GeneratedFile>,
+    /// Its far field for a fast multipole method.
+    expansion: expansion::Expansion,
 }
 
 struct Collect<'a> {
@@ -215,7 +242,25 @@ impl Visitor for Collect<'_> {
                 exact: b.exact,
             })
             .collect();
+        let mirrors: Vec<([f64; 3], Id)> = g
+            .mirrors(&p)
+            .into_iter()
+            .map(|m| (m.normal, m.offset.0))
+            .collect();
+        let weights: Vec<Id> = g.weights(&p).into_iter().map(|w| w.0).collect();
         let graph = t.finish();
+        let expansion = expansion::Expansion {
+            sources: potential::potential_sources(g, &[Moment::F])
+                .and_then(|f| Ok([f, potential::potential_sources(g, &[Moment::F, Moment::L])?])),
+            mirrors: mirrors
+                .into_iter()
+                .map(|(n, o)| (n, emit::inline(&graph, o)))
+                .collect(),
+            weights: weights
+                .into_iter()
+                .map(|w| emit::inline(&graph, w))
+                .collect(),
+        };
         let boundaries = b
             .into_iter()
             .map(|b| green::Boundary {
@@ -274,6 +319,7 @@ impl Visitor for Collect<'_> {
             twin,
             serving,
             scene_files,
+            expansion,
         });
     }
 }

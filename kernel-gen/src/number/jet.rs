@@ -182,11 +182,13 @@ impl<S: Scalar> Jet<S> {
         }
     }
 
-    /// The partial derivative `d^m f` at the expansion point: `m! c_m`.
+    /// The partial derivative `d^m f` at the expansion point: `m! c_m` (the factorials
+    /// in `f64`: exact to `22!`, correctly rounded products beyond, where an integer
+    /// product would overflow).
     pub fn derivative(&self, m: &[u8]) -> S {
         let fact: f64 = m
             .iter()
-            .map(|&e| (1..=e as u64).product::<u64>() as f64)
+            .map(|&e| (1..=e).map(f64::from).product::<f64>())
             .product();
         let c = self.coeff(m);
         if fact == 1.0 {

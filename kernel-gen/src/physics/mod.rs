@@ -22,4 +22,5 @@ pub mod frame;
 pub mod green;
 pub mod operators;
 pub mod overlap;
+pub mod potential;
 pub mod self_image;

@@ -52,6 +52,8 @@ pub use kernel_bodies::scene_ewald_wall_ft;
 pub use kernel_bodies::scene_ewald_wall_fts;
 /// The RPY overlap corrections (kernel_gen::physics::overlap).
 pub use kernel_bodies::overlap;
+/// Each confinement's far field as derivative sources of the potential `|r|`, its mirrors and image weights (kernel_gen::physics::potential).
+pub mod potential;
 use crate::blocks::{BlocksF, BlocksFT, Drift, Grand, Product};
 /// `side_wall` in the frame of its planes, where it is `wall` (kernel_gen `catalog::twin`).
 static SIDE_WALL_TURN: crate::turn::Turn = crate::turn::Turn {

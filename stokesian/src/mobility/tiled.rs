@@ -677,7 +677,6 @@ impl System {
     ) -> Vec<f64> {
         let n = self.len();
         let k = moments.per_particle();
-        let parts = moments.parts();
         assert_eq!(
             x.len(),
             k * n,
@@ -688,6 +687,34 @@ impl System {
         if let Some(p) = self.periodic_ref() {
             return self.periodic_apply(p, moments, x);
         }
+        let (conf, eta) = (self.confinement(), self.viscosity());
+        self.with_overlaps(moments, x, |ps, xs| {
+            apply_moments(
+                conf,
+                eta,
+                moments,
+                ps,
+                xs,
+                isa,
+                precision,
+                ps.len() >= PARALLEL_MIN,
+            )
+        })
+    }
+
+    /// A product `core(particles, xs)` of the pair kernels' far form (`xs`: `k` moments
+    /// per particle, particle-major; the result likewise) made the system's product in
+    /// the layout of [`System::mobility`]: with [`crate::Overlap::Rpy`], the damping
+    /// around it and the overlapping pairs' corrections added after it.
+    pub(crate) fn with_overlaps(
+        &self,
+        moments: Moments,
+        x: &[f64],
+        core: impl FnOnce(&[([f64; 3], f64)], &[f64]) -> Vec<f64>,
+    ) -> Vec<f64> {
+        let n = self.len();
+        let k = moments.per_particle();
+        let parts = moments.parts();
         let rpy = self.rpy();
         let damping = rpy.and_then(|r| r.damping.as_ref());
         let b = |a: usize| damping.map_or(1.0, |d| d.b[a]);
@@ -696,16 +723,7 @@ impl System {
             .map(|(a, i)| b(a) * x[global(parts, n, a, i)])
             .collect();
         let ps: Vec<([f64; 3], f64)> = self.evaluated().iter().map(|p| (p.x, p.a)).collect();
-        let mut acc = apply_moments(
-            self.confinement(),
-            self.viscosity(),
-            moments,
-            &ps,
-            &xs,
-            isa,
-            precision,
-            n >= PARALLEL_MIN,
-        );
+        let mut acc = core(&ps, &xs);
         if let Some(rpy) = rpy {
             let ps = self.evaluated();
             let mut c = [0.0; 36];

@@ -12,6 +12,7 @@
 
 mod bad_input;
 mod brownian;
+mod fmm;
 mod generated;
 mod linalg;
 mod lubrication;

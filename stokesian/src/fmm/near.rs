@@ -1,0 +1,185 @@
+//! The near field of the fast product: the exact pair kernels (every image, the stiff
+//! cases' stable forms; `kernels::product_f_lanes`, `kernels::product_ft_lanes`, which
+//! exchange the roles of the particles where a kernel wants the lower one as the
+//! source) between the particles of a leaf and those of the leaves near it, on SIMD
+//! lanes, one target leaf at a time (only the target's half of each pair's product is
+//! kept: every target leaf sums in its own fixed order, whatever the threads), and the
+//! self terms.
+
+use kernels::lanes::{self, Isa, Lane, WithLanes};
+use kernels::Confinement;
+
+/// The particles in the tree's order as structure of arrays, padded by the widest lane
+/// (copies of the last particle, never counted).
+pub(super) struct Soa<const K: usize> {
+    pub x: [Vec<f64>; 3],
+    pub a: Vec<f64>,
+    pub v: [Vec<f64>; K],
+}
+
+/// The widest lane of any instruction set (AVX-512, `f64`).
+const PAD: usize = 8;
+
+impl<const K: usize> Soa<K> {
+    pub fn new(particles: &[([f64; 3], f64)], xs: &[[f64; K]]) -> Soa<K> {
+        let n = particles.len();
+        let at = |j: usize| j.min(n - 1);
+        let len = n + PAD;
+        Soa {
+            x: std::array::from_fn(|k| (0..len).map(|j| particles[at(j)].0[k]).collect()),
+            a: (0..len).map(|j| particles[at(j)].1).collect(),
+            v: std::array::from_fn(|c| {
+                (0..len)
+                    .map(|j| if j < n { xs[j][c] } else { 0.0 })
+                    .collect()
+            }),
+        }
+    }
+}
+
+/// A pair product on lanes keeping the target's half, `M^{ab} v_b`.
+pub(super) trait Near<const K: usize>: Sync {
+    fn eval<L: Lane<Elem = f64>>(
+        &self,
+        xa: [L; 3],
+        aa: L,
+        xb: [L; 3],
+        ab: L,
+        va: [L; K],
+        vb: [L; K],
+    ) -> [L; K];
+    /// `M^{aa} v` of particle `a` alone.
+    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; K]) -> [f64; K];
+}
+
+/// The F products.
+pub(super) struct NearF<'a> {
+    pub conf: &'a Confinement,
+    pub eta: f64,
+}
+
+impl Near<3> for NearF<'_> {
+    #[inline(always)]
+    fn eval<L: Lane<Elem = f64>>(
+        &self,
+        xa: [L; 3],
+        aa: L,
+        xb: [L; 3],
+        ab: L,
+        va: [L; 3],
+        vb: [L; 3],
+    ) -> [L; 3] {
+        let o = kernels::product_f_lanes(self.conf, self.eta, xa, aa, xb, ab, va, vb);
+        std::array::from_fn(|i| o[i])
+    }
+    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; 3]) -> [f64; 3] {
+        kernels::self_f(self.conf, self.eta, x, a).product(v, v).a
+    }
+}
+
+/// The FT products.
+pub(super) struct NearFT<'a> {
+    pub conf: &'a Confinement,
+    pub eta: f64,
+}
+
+impl Near<6> for NearFT<'_> {
+    #[inline(always)]
+    fn eval<L: Lane<Elem = f64>>(
+        &self,
+        xa: [L; 3],
+        aa: L,
+        xb: [L; 3],
+        ab: L,
+        va: [L; 6],
+        vb: [L; 6],
+    ) -> [L; 6] {
+        let o = kernels::product_ft_lanes(self.conf, self.eta, xa, aa, xb, ab, va, vb);
+        std::array::from_fn(|i| o[i])
+    }
+    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; 6]) -> [f64; 6] {
+        kernels::self_ft(self.conf, self.eta, x, a).product(v, v).a
+    }
+}
+
+/// One target leaf against its near leaves on the lanes of the instruction set it is
+/// dispatched to.
+struct Row<'a, P, const K: usize> {
+    soa: &'a Soa<K>,
+    product: &'a P,
+    target: (usize, usize),
+    sources: &'a [(usize, usize)],
+    out: &'a mut [[f64; K]],
+}
+
+impl<P: Near<K>, const K: usize> WithLanes for Row<'_, P, K> {
+    type Elem = f64;
+    type Output = ();
+    #[inline(always)]
+    fn run<L: Lane<Elem = f64>>(self) {
+        let Row {
+            soa,
+            product,
+            target,
+            sources,
+            out,
+        } = self;
+        let w = L::WIDTH;
+        for (slot, i) in out.iter_mut().zip(target.0..target.1) {
+            let xa: [L; 3] = std::array::from_fn(|k| L::splat(soa.x[k][i]));
+            let aa = L::splat(soa.a[i]);
+            let va: [L; K] = std::array::from_fn(|c| L::splat(soa.v[c][i]));
+            let own = L::splat(i as f64);
+            let mut acc = [L::splat(0.0); K];
+            for &(s0, s1) in sources {
+                let end = L::splat(s1 as f64);
+                let mut j = s0;
+                while j < s1 {
+                    let index = L::iota() + L::splat(j as f64);
+                    let inside = end.gt(index);
+                    // j != i: above it or below it
+                    let (above, below) =
+                        (L::and(inside, index.gt(own)), L::and(inside, own.gt(index)));
+                    let xb: [L; 3] = std::array::from_fn(|k| L::load(&soa.x[k][j..]));
+                    let ab = L::load(&soa.a[j..]);
+                    let vb: [L; K] = std::array::from_fn(|c| L::load(&soa.v[c][j..]));
+                    let p = product.eval(xa, aa, xb, ab, va, vb);
+                    let zero = L::splat(0.0);
+                    for c in 0..K {
+                        acc[c] =
+                            acc[c] + L::select(above, p[c], zero) + L::select(below, p[c], zero);
+                    }
+                    j += w;
+                }
+            }
+            let d = product.diagonal(
+                [soa.x[0][i], soa.x[1][i], soa.x[2][i]],
+                soa.a[i],
+                std::array::from_fn(|c| soa.v[c][i]),
+            );
+            *slot = std::array::from_fn(|c| d[c] + acc[c].sum());
+        }
+    }
+}
+
+/// The near field and self terms of the particles `target` (a range of the tree's
+/// order) from the particles of `sources` (ranges), into `out` (one per target).
+pub(super) fn near_row<P: Near<K>, const K: usize>(
+    soa: &Soa<K>,
+    product: &P,
+    target: (usize, usize),
+    sources: &[(usize, usize)],
+    isa: Isa,
+    out: &mut [[f64; K]],
+) {
+    let row = Row {
+        soa,
+        product,
+        target,
+        sources,
+        out,
+    };
+    if lanes::dispatch_with(isa, row).is_err() {
+        panic!("the instruction set {isa:?} is not available on this processor");
+    }
+}

@@ -1,0 +1,208 @@
+//! Cartesian Taylor expansions of fields made of derivatives of the potential
+//! `phi(r) = |r|` (`kernels::expansion`): multipole and local expansions, their
+//! translations, and the potential's derivatives.
+//!
+//! Multi-indices `nu = (nu_1, nu_2, nu_3)` of total order `|nu| <= p`, graded then
+//! lexicographic; `nu! = nu_1! nu_2! nu_3!`, `x^nu = x_1^nu_1 x_2^nu_2 x_3^nu_3`.
+//!
+//! - Multipole about `c`: `Psi(x) = sum_nu M_nu d^nu phi(x - c)`. A derivative source
+//!   `s d^alpha phi(x - y)`, `y = c + delta`, has `M_{alpha + mu} += s (-delta)^mu / mu!`
+//!   (Taylor's theorem in `y`); a multipole about `c` moved to `c'` has
+//!   `M'_{nu + mu} += M_nu (c' - c)^mu / mu!` (the same with `delta = c - c'`).
+//! - Local about `t`: `Psi(t + xi) = sum_beta L_beta xi^beta`. From a multipole (M2L):
+//!   `L_beta = sum_nu M_nu D_{nu + beta}(t - c) / beta!`, `D_gamma = d^gamma phi`,
+//!   `|nu| + |beta| <= p`; moved to `t'` (L2L): `L'_beta = sum_{gamma >= beta} L_gamma
+//!   C(gamma, beta) (t' - t)^(gamma - beta)`; derivatives at `t + xi`:
+//!   `d^kappa Psi = sum_{beta >= kappa} L_beta beta!/(beta - kappa)! xi^(beta - kappa)`.
+//! - The potential's derivatives by the chain rule for a function of `s = R.R`:
+//!   `T^(n)_gamma = d^gamma [f^(n)(s)]` with `T^(n)_0 = f^(n)(s) = RADIAL[n] s^(1/2 - n)`
+//!   (generated, `kernels::expansion::RADIAL`) and, for `gamma_i > 0`,
+//!   `T^(n)_gamma = 2 R_i T^(n+1)_{gamma - e_i} + 2 (gamma_i - 1) T^(n+1)_{gamma - 2 e_i}`
+//!   (`d_i f^(n) = 2 R_i f^(n+1)` and Leibniz's rule); `D = T^(0)`.
+
+use kernels::expansion::RADIAL;
+
+/// The multi-indices of total order `<= p` and the index tables of the expansions'
+/// operators, built once per order.
+#[derive(Debug)]
+pub(crate) struct Indices {
+    /// The order `p`.
+    pub p: usize,
+    /// The multi-indices, graded then lexicographic.
+    pub nu: Vec<[u8; 3]>,
+    /// `1/nu!` of each.
+    pub inv_factorial: Vec<f64>,
+    /// The index of `nu` in a `(p+1)^3` cube (`usize::MAX` beyond order `p`).
+    cube: Vec<usize>,
+    /// For each `nu`: the pairs `(mu, nu + mu)` with `|nu + mu| <= p` (shifts).
+    pub shift: Vec<Vec<(u32, u32)>>,
+    /// The M2L triples `(nu, beta, nu + beta)` with `|nu| + |beta| <= p`.
+    pub m2l: Vec<(u32, u32, u32)>,
+    /// For each `(gamma, i)`, `gamma_i > 0`: the index of `gamma - e_i`, and of
+    /// `gamma - 2 e_i` where `gamma_i > 1`; the first `i` with `gamma_i > 0`.
+    recurrence: Vec<(usize, u8, Option<usize>)>,
+}
+
+impl Indices {
+    /// The tables of order `p`.
+    pub fn new(p: usize) -> Indices {
+        let mut nu = Vec::new();
+        for order in 0..=p {
+            for a in (0..=order).rev() {
+                for b in (0..=order - a).rev() {
+                    nu.push([a as u8, b as u8, (order - a - b) as u8]);
+                }
+            }
+        }
+        let side = p + 1;
+        let mut cube = vec![usize::MAX; side * side * side];
+        for (k, n) in nu.iter().enumerate() {
+            cube[(n[0] as usize * side + n[1] as usize) * side + n[2] as usize] = k;
+        }
+        let fact = |n: u8| (1..=n).map(f64::from).product::<f64>();
+        let inv_factorial = nu
+            .iter()
+            .map(|n| 1.0 / (fact(n[0]) * fact(n[1]) * fact(n[2])))
+            .collect();
+        let mut me = Indices {
+            p,
+            nu,
+            inv_factorial,
+            cube,
+            shift: Vec::new(),
+            m2l: Vec::new(),
+            recurrence: Vec::new(),
+        };
+        let order = |n: &[u8; 3]| n.iter().map(|&e| e as usize).sum::<usize>();
+        me.shift = (0..me.nu.len())
+            .map(|a| {
+                let na = me.nu[a];
+                (0..me.nu.len())
+                    .filter(|&m| order(&na) + order(&me.nu[m]) <= p)
+                    .map(|m| {
+                        let nm = me.nu[m];
+                        let sum = [na[0] + nm[0], na[1] + nm[1], na[2] + nm[2]];
+                        (m as u32, me.index(sum) as u32)
+                    })
+                    .collect()
+            })
+            .collect();
+        me.m2l = (0..me.nu.len())
+            .flat_map(|a| me.shift[a].iter().map(move |&(b, s)| (a as u32, b, s)))
+            .collect();
+        me.recurrence = me
+            .nu
+            .iter()
+            .map(|g| match (0..3).find(|&i| g[i] > 0) {
+                None => (usize::MAX, 0, None),
+                Some(i) => {
+                    let mut one = *g;
+                    one[i] -= 1;
+                    let two = (g[i] > 1).then(|| {
+                        let mut t = one;
+                        t[i] -= 1;
+                        me.index(t)
+                    });
+                    (me.index(one), i as u8, two)
+                }
+            })
+            .collect();
+        me
+    }
+
+    /// The number of multi-indices.
+    pub fn len(&self) -> usize {
+        self.nu.len()
+    }
+
+    /// The index of `nu` (`|nu| <= p`).
+    pub fn index(&self, n: [u8; 3]) -> usize {
+        let side = self.p + 1;
+        self.cube[(n[0] as usize * side + n[1] as usize) * side + n[2] as usize]
+    }
+
+    /// `v^mu / mu!` for every `mu`, into `out`.
+    pub fn monomials(&self, v: [f64; 3], out: &mut [f64]) {
+        out[0] = 1.0;
+        for k in 1..self.len() {
+            let (prev, i, _) = self.recurrence[k];
+            // nu = prev + e_i: v^nu / nu! = v^prev / prev! * v_i / nu_i
+            out[k] = out[prev] * v[i as usize] / self.nu[k][i as usize] as f64;
+        }
+    }
+
+    /// `D_gamma(r) = d^gamma |r|` for every `|gamma| <= p`, into `out`; `work` holds
+    /// `len()` values.
+    pub fn potential_derivatives(&self, r: [f64; 3], out: &mut [f64], work: &mut [f64]) {
+        let s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+        let inv_s = 1.0 / s;
+        // T^(n) for n = p down to 0 over |gamma| <= p - n, held in `out` (this n) and
+        // `work` (n + 1); f^(n)(s) = RADIAL[n] s^(1/2 - n)
+        let mut radial = s.sqrt() * inv_s.powi(self.p as i32);
+        let count = |order: usize| (order + 1) * (order + 2) * (order + 3) / 6;
+        for n in (0..=self.p).rev() {
+            let len = count(self.p - n);
+            out[0] = RADIAL[n] * radial;
+            for k in 1..len {
+                let (one, i, two) = self.recurrence[k];
+                let i = i as usize;
+                let mut v = 2.0 * r[i] * work[one];
+                if let Some(two) = two {
+                    v += 2.0 * (self.nu[k][i] as f64 - 1.0) * work[two];
+                }
+                out[k] = v;
+            }
+            work[..len].copy_from_slice(&out[..len]);
+            radial *= s;
+        }
+    }
+}
+
+/// `M_{alpha + mu} += s (-delta)^mu / mu!` for every `mu` (a derivative source
+/// `s d^alpha phi(x - c - delta)`), `mono` holding `(-delta)^mu / mu!`.
+#[inline]
+pub(crate) fn add_source(ix: &Indices, alpha: usize, s: f64, mono: &[f64], m: &mut [f64]) {
+    for &(mu, sum) in &ix.shift[alpha] {
+        m[sum as usize] += s * mono[mu as usize];
+    }
+}
+
+/// A multipole moved by `(c' - c)`: `M'_{nu + mu} += M_nu (c' - c)^mu / mu!`, `mono`
+/// holding `(c' - c)^mu / mu!`.
+pub(crate) fn translate_multipole(ix: &Indices, m: &[f64], mono: &[f64], out: &mut [f64]) {
+    for (nu, &v) in m.iter().enumerate() {
+        if v != 0.0 {
+            add_source(ix, nu, v, mono, out);
+        }
+    }
+}
+
+/// `L_beta += sum_nu M_nu D_{nu + beta} / beta!`.
+pub(crate) fn multipole_to_local(ix: &Indices, m: &[f64], d: &[f64], l: &mut [f64]) {
+    for &(nu, beta, sum) in &ix.m2l {
+        l[beta as usize] += m[nu as usize] * d[sum as usize] * ix.inv_factorial[beta as usize];
+    }
+}
+
+/// A local expansion moved by `v = t' - t`: `L'_beta += sum_{gamma >= beta} L_gamma
+/// C(gamma, beta) v^(gamma - beta)`, `mono` holding `v^mu / mu!`:
+/// `C(gamma, beta) v^mu = gamma!/beta! (v^mu/mu!)`.
+pub(crate) fn translate_local(ix: &Indices, l: &[f64], mono: &[f64], out: &mut [f64]) {
+    for (beta, pairs) in ix.shift.iter().enumerate() {
+        let mut acc = 0.0;
+        for &(mu, gamma) in pairs {
+            acc += l[gamma as usize] * mono[mu as usize] / ix.inv_factorial[gamma as usize];
+        }
+        out[beta] += acc * ix.inv_factorial[beta];
+    }
+}
+
+/// `d^kappa Psi(t + xi) = sum_{beta >= kappa} L_beta beta!/(beta - kappa)! xi^(beta -
+/// kappa)`, `mono` holding `xi^mu / mu!`: `beta!/(beta-kappa)! xi^mu = beta! (xi^mu/mu!)`.
+pub(crate) fn local_derivative(ix: &Indices, l: &[f64], kappa: usize, mono: &[f64]) -> f64 {
+    let mut acc = 0.0;
+    for &(mu, beta) in &ix.shift[kappa] {
+        acc += l[beta as usize] * mono[mu as usize] / ix.inv_factorial[beta as usize];
+    }
+    acc
+}

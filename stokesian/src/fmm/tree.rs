@@ -1,0 +1,177 @@
+//! The adaptive octree of the fast product and its interaction lists.
+//!
+//! Cubes split into octants until a cell holds at most `leaf` particles (empty octants
+//! are dropped, so a monolayer fills a thin layer of cells); the particles are reordered
+//! so that every cell's are contiguous. A cell's expansions are about its cube's centre,
+//! its radius the largest distance of one of its particles from it (an image cell's:
+//! the same about the mirrored centre). A dual traversal from the root pair lists, for
+//! every target cell, the source cells whose multipoles reach it (the multipole
+//! acceptance criterion `r_t + r_s < theta |c_t - c_s|`, for the source cell and for each
+//! of its images), and for every leaf the leaves whose particles it meets through the
+//! exact pair kernels. Everything is fixed by the positions alone.
+
+use kernels::expansion::Mirror;
+
+/// A cell of the octree.
+#[derive(Clone, Debug)]
+pub(super) struct Cell {
+    pub centre: [f64; 3],
+    pub radius: f64,
+    /// Its particles: `order[start..end]`.
+    pub start: usize,
+    pub end: usize,
+    pub children: Vec<usize>,
+    pub level: usize,
+}
+
+impl Cell {
+    pub fn is_leaf(&self) -> bool {
+        self.children.is_empty()
+    }
+}
+
+/// The octree, its particle order and its lists.
+pub(super) struct Tree {
+    pub cells: Vec<Cell>,
+    /// Tree order -> input index.
+    pub order: Vec<usize>,
+    /// Per cell, the source cells whose multipoles it takes.
+    pub far: Vec<Vec<usize>>,
+    /// Per leaf (cell index), the leaves met through the pair kernels (itself included).
+    pub near: Vec<Vec<usize>>,
+    /// The cells of each level.
+    pub levels: Vec<Vec<usize>>,
+}
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+impl Tree {
+    /// The tree of `points` with at most `leaf` per leaf, and its lists for the
+    /// acceptance parameter `theta` and the mirrors `mirrors`.
+    pub fn new(points: &[[f64; 3]], leaf: usize, theta: f64, mirrors: &[Mirror]) -> Tree {
+        let n = points.len();
+        let mut lo = points[0];
+        let mut hi = points[0];
+        for p in points {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let half = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max) / 2.0 * (1.0 + 1e-12)
+            + f64::MIN_POSITIVE;
+        let centre = std::array::from_fn(|k| (lo[k] + hi[k]) / 2.0);
+        let mut tree = Tree {
+            cells: Vec::new(),
+            order: (0..n).collect(),
+            far: Vec::new(),
+            near: Vec::new(),
+            levels: Vec::new(),
+        };
+        tree.build(points, centre, half, 0, n, 0, leaf);
+        for (c, cell) in tree.cells.iter().enumerate() {
+            if tree.levels.len() <= cell.level {
+                tree.levels.resize(cell.level + 1, Vec::new());
+            }
+            tree.levels[cell.level].push(c);
+        }
+        tree.far = vec![Vec::new(); tree.cells.len()];
+        tree.near = vec![Vec::new(); tree.cells.len()];
+        tree.traverse(0, 0, theta, mirrors);
+        tree
+    }
+
+    /// Cell of `order[start..end]` (preorder: a parent before its children).
+    #[allow(clippy::too_many_arguments)]
+    fn build(
+        &mut self,
+        points: &[[f64; 3]],
+        centre: [f64; 3],
+        half: f64,
+        start: usize,
+        end: usize,
+        level: usize,
+        leaf: usize,
+    ) -> usize {
+        let radius = self.order[start..end]
+            .iter()
+            .map(|&i| distance(points[i], centre))
+            .fold(0.0, f64::max);
+        let me = self.cells.len();
+        self.cells.push(Cell {
+            centre,
+            radius,
+            start,
+            end,
+            children: Vec::new(),
+            level,
+        });
+        // cells of coincident points would split forever: a depth of 48 halves the root
+        // to 4e-15 of itself
+        if end - start <= leaf || level >= 48 {
+            return me;
+        }
+        let octant =
+            |p: [f64; 3]| (0..3).fold(0usize, |o, k| o | (((p[k] >= centre[k]) as usize) << k));
+        // stable partition of this cell's particles by octant
+        let mut by: Vec<Vec<usize>> = vec![Vec::new(); 8];
+        for &i in &self.order[start..end] {
+            by[octant(points[i])].push(i);
+        }
+        let mut at = start;
+        let mut children = Vec::new();
+        for (o, members) in by.into_iter().enumerate() {
+            if members.is_empty() {
+                continue;
+            }
+            let len = members.len();
+            self.order[at..at + len].copy_from_slice(&members);
+            let c: [f64; 3] = std::array::from_fn(|k| {
+                centre[k]
+                    + if (o >> k) & 1 == 1 {
+                        half / 2.0
+                    } else {
+                        -half / 2.0
+                    }
+            });
+            children.push(self.build(points, c, half / 2.0, at, at + len, level + 1, leaf));
+            at += len;
+        }
+        self.cells[me].children = children;
+        me
+    }
+
+    /// Whether the multipoles of `s` (and of each of its images) reach `t`.
+    fn accepts(&self, t: usize, s: usize, theta: f64, mirrors: &[Mirror]) -> bool {
+        let (ct, cs) = (&self.cells[t], &self.cells[s]);
+        let reach = ct.radius + cs.radius;
+        reach < theta * distance(ct.centre, cs.centre)
+            && mirrors
+                .iter()
+                .all(|m| reach < theta * distance(ct.centre, m.image(cs.centre)))
+    }
+
+    fn traverse(&mut self, t: usize, s: usize, theta: f64, mirrors: &[Mirror]) {
+        if t != s && self.accepts(t, s, theta, mirrors) {
+            self.far[t].push(s);
+            return;
+        }
+        let (lt, ls) = (self.cells[t].is_leaf(), self.cells[s].is_leaf());
+        if lt && ls {
+            self.near[t].push(s);
+            return;
+        }
+        let split_source = !ls && (lt || self.cells[s].radius >= self.cells[t].radius);
+        if split_source {
+            for c in self.cells[s].children.clone() {
+                self.traverse(t, c, theta, mirrors);
+            }
+        } else {
+            for c in self.cells[t].children.clone() {
+                self.traverse(c, s, theta, mirrors);
+            }
+        }
+    }
+}
