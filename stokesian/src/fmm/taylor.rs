@@ -177,10 +177,26 @@ pub(crate) fn translate_multipole(ix: &Indices, m: &[f64], mono: &[f64], out: &m
     }
 }
 
-/// `L_beta += sum_nu M_nu D_{nu + beta} / beta!`.
+/// `L_beta += sum_nu M_nu D_{nu + beta} / beta!` for the three channels of `m` and `l`
+/// (each `len()` long, one after the other), which share `D`. For each `beta` the `nu`
+/// with `|nu| <= p - |beta|` are a prefix of the graded order, so each sum is a dot
+/// product of that prefix of `M` with `D` gathered at `nu + beta` ([`Indices::shift`]).
 pub(crate) fn multipole_to_local(ix: &Indices, m: &[f64], d: &[f64], l: &mut [f64]) {
-    for &(nu, beta, sum) in &ix.m2l {
-        l[beta as usize] += m[nu as usize] * d[sum as usize] * ix.inv_factorial[beta as usize];
+    let len = ix.len();
+    let (m0, rest) = m.split_at(len);
+    let (m1, m2) = rest.split_at(len);
+    for (beta, pairs) in ix.shift.iter().enumerate() {
+        let (mut a0, mut a1, mut a2) = (0.0, 0.0, 0.0);
+        for (k, &(_, sum)) in pairs.iter().enumerate() {
+            let dv = d[sum as usize];
+            a0 += m0[k] * dv;
+            a1 += m1[k] * dv;
+            a2 += m2[k] * dv;
+        }
+        let w = ix.inv_factorial[beta];
+        l[beta] += a0 * w;
+        l[len + beta] += a1 * w;
+        l[2 * len + beta] += a2 * w;
     }
 }
 

@@ -1,7 +1,9 @@
 //! The adaptive octree of the fast product and its interaction lists.
 //!
-//! Cubes split into octants until a cell holds at most `leaf` particles (empty octants
-//! are dropped, so a monolayer fills a thin layer of cells); the particles are reordered
+//! Boxes split in halves along their long axes (every axis at least half as long as the
+//! longest) until a cell holds at most `leaf` particles, and empty parts are dropped: a
+//! monolayer's boxes split in the plane only until they are as wide as the layer is
+//! thick, then in all three (an octree in the bulk, a quadtree in a layer); the particles are reordered
 //! so that every cell's are contiguous. A cell's expansions are about its cube's centre,
 //! its radius the largest distance of one of its particles from it (an image cell's:
 //! the same about the mirrored centre). A dual traversal from the root pair lists, for
@@ -60,8 +62,8 @@ impl Tree {
                 hi[k] = hi[k].max(p[k]);
             }
         }
-        let half = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max) / 2.0 * (1.0 + 1e-12)
-            + f64::MIN_POSITIVE;
+        let half: [f64; 3] =
+            std::array::from_fn(|k| (hi[k] - lo[k]) / 2.0 * (1.0 + 1e-12) + f64::MIN_POSITIVE);
         let centre = std::array::from_fn(|k| (lo[k] + hi[k]) / 2.0);
         let mut tree = Tree {
             cells: Vec::new(),
@@ -89,7 +91,7 @@ impl Tree {
         &mut self,
         points: &[[f64; 3]],
         centre: [f64; 3],
-        half: f64,
+        half: [f64; 3],
         start: usize,
         end: usize,
         level: usize,
@@ -113,8 +115,15 @@ impl Tree {
         if end - start <= leaf || level >= 48 {
             return me;
         }
-        let octant =
-            |p: [f64; 3]| (0..3).fold(0usize, |o, k| o | (((p[k] >= centre[k]) as usize) << k));
+        let longest = half.iter().copied().fold(0.0, f64::max);
+        let split: [bool; 3] = std::array::from_fn(|k| half[k] >= longest / 2.0);
+        let octant = |p: [f64; 3]| {
+            (0..3).fold(0usize, |o, k| {
+                o | (((split[k] && p[k] >= centre[k]) as usize) << k)
+            })
+        };
+        let child_half: [f64; 3] =
+            std::array::from_fn(|k| if split[k] { half[k] / 2.0 } else { half[k] });
         // stable partition of this cell's particles by octant
         let mut by: Vec<Vec<usize>> = vec![Vec::new(); 8];
         for &i in &self.order[start..end] {
@@ -128,15 +137,12 @@ impl Tree {
             }
             let len = members.len();
             self.order[at..at + len].copy_from_slice(&members);
-            let c: [f64; 3] = std::array::from_fn(|k| {
-                centre[k]
-                    + if (o >> k) & 1 == 1 {
-                        half / 2.0
-                    } else {
-                        -half / 2.0
-                    }
+            let c: [f64; 3] = std::array::from_fn(|k| match (split[k], (o >> k) & 1 == 1) {
+                (false, _) => centre[k],
+                (true, true) => centre[k] + half[k] / 2.0,
+                (true, false) => centre[k] - half[k] / 2.0,
             });
-            children.push(self.build(points, c, half / 2.0, at, at + len, level + 1, leaf));
+            children.push(self.build(points, c, child_half, at, at + len, level + 1, leaf));
             at += len;
         }
         self.cells[me].children = children;

@@ -1,63 +1,159 @@
-//! The fast product (`stokesian::fmm`) against the direct one: the relative 2-norm error
-//! within the tolerance asked for, for every confinement with an expansion, F and FT.
+//! The fast product (`stokesian::fmm`) against the direct one (`System::apply`): the
+//! relative 2-norm error within the tolerance asked for, for every confinement (all have
+//! image structure), F and FT, in 3-D boxes and in monolayers touching a wall; the same
+//! bits on any number of threads; typed errors for what it does not cover.
 
 use integration_tests::{all_confinements, norm, random_spheres, rel_diff};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use stokesian::{Confinement, FmmError, Moments, Particle, System};
+use stokesian::{Confinement, FmmError, Moments, Particle, PeriodicBox, System};
 
-/// Forces and torques of unit size in random directions.
+/// Moments of order one in random directions.
 fn moments(rng: &mut ChaCha8Rng, n: usize, m: Moments) -> Vec<f64> {
     (0..n * m.per_particle())
         .map(|_| rng.gen_range(-1.0..1.0))
         .collect()
 }
 
-/// The relative errors of the fast product at each tolerance.
-fn errors(system: &System, m: Moments, tolerances: &[f64], seed: u64) -> Vec<f64> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+/// The fast product's error at each tolerance, printed, and asserted below it.
+fn check(label: &str, system: &System, m: Moments, tolerances: &[f64]) {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
     let x = moments(&mut rng, system.len(), m);
     let direct = system.apply(m, &x);
     assert!(norm(&direct) > 0.0);
-    tolerances
-        .iter()
-        .map(|&eps| rel_diff(&system.apply_fmm(m, &x, eps).unwrap(), &direct))
+    for &eps in tolerances {
+        let e = rel_diff(&system.apply_fmm(m, &x, eps).unwrap(), &direct);
+        println!("{label:<28} {m:?} eps {eps:.0e}: error {e:.1e}");
+        assert!(e <= eps, "{label} {m:?}: {e:e} > {eps:e}");
+    }
+}
+
+/// A monolayer of `n` spheres on a jittered square lattice of area fraction 0.3 above the
+/// plane `x3 = 0`, radii in `radii`, gaps to the plane from `gap.0` to `gap.1` radii.
+fn monolayer(n: usize, radii: (f64, f64), gap: (f64, f64), seed: u64) -> Vec<Particle> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let amax = radii.1;
+    let side = amax * (std::f64::consts::PI / 0.3).sqrt();
+    let k = (n as f64).sqrt().ceil() as usize;
+    let jitter = (side - 2.05 * amax) / 2.0;
+    (0..n)
+        .map(|i| {
+            let a = rng.gen_range(radii.0..=radii.1);
+            let (u, v) = ((i % k) as f64, (i / k) as f64);
+            Particle {
+                x: [
+                    u * side + rng.gen_range(-jitter..jitter),
+                    v * side + rng.gen_range(-jitter..jitter),
+                    a * (1.0 + rng.gen_range(gap.0..gap.1)),
+                ],
+                a,
+            }
+        })
         .collect()
 }
 
+/// Every confinement, 600 spheres of radii 0.5 to 1 in a box of 40 (3-D), F and FT, at
+/// 1e-3 and 1e-6; the wall also at 1e-9.
 #[test]
-fn every_confinement_keeps_the_tolerance() {
-    let tolerances = [1e-3, 1e-6];
+fn every_confinement_keeps_the_tolerance_in_a_box() {
     for (name, conf) in all_confinements() {
         let mut rng = ChaCha8Rng::seed_from_u64(7);
-        let ps: Vec<Particle> = random_spheres(&mut rng, &conf, 600, (0.5, 1.0), 0.05, 40.0);
+        let ps = random_spheres(&mut rng, &conf, 600, (0.5, 1.0), 0.05, 40.0);
         let system = System::new(conf, 1.3, ps, false).unwrap();
+        let tolerances: &[f64] = if name == "wall" {
+            &[1e-3, 1e-6, 1e-9]
+        } else {
+            &[1e-3, 1e-6]
+        };
         for m in [Moments::F, Moments::FT] {
-            let e = errors(&system, m, &tolerances, 11);
-            println!(
-                "{name:<13} {m:?}: {:?}",
-                e.iter().map(|v| format!("{v:.1e}")).collect::<Vec<_>>()
-            );
-            for (eps, e) in tolerances.iter().zip(&e) {
-                assert!(e <= eps, "{name} {m:?}: {e:e} > {eps:e}");
+            check(name, &system, m, tolerances);
+        }
+    }
+}
+
+/// Monolayers above a wall, a free surface and an interface: 3000 equal spheres at
+/// heights 1.5 to 5 radii, and 2000 spheres of radii 0.5 to 1 within 1e-3 to 0.1 radii
+/// of the plane (near contact, where the image's terms are largest).
+#[test]
+fn monolayers_near_planes_keep_the_tolerance() {
+    let planes = [
+        ("wall", Confinement::Wall { height: 0.0 }),
+        ("free_surface", Confinement::FreeSurface { height: 0.0 }),
+        (
+            "interface",
+            Confinement::Interface {
+                height: 0.0,
+                lambda: 0.5,
+            },
+        ),
+    ];
+    for (name, conf) in planes {
+        let layers = [
+            ("monolayer", monolayer(3000, (1.0, 1.0), (0.5, 4.0), 5)),
+            ("near contact", monolayer(2000, (0.5, 1.0), (1e-3, 0.1), 6)),
+        ];
+        for (label, ps) in layers {
+            let system = System::new(conf, 1.0, ps, false).unwrap();
+            for m in [Moments::F, Moments::FT] {
+                check(&format!("{name} {label}"), &system, m, &[1e-3, 1e-6]);
             }
         }
     }
 }
 
+/// The same bits on 1, 2 and 3 threads: the tree and every sum's order are fixed by the
+/// positions alone.
 #[test]
-fn bad_tolerances_and_truncations_are_errors() {
+fn the_fast_product_does_not_depend_on_the_threads() {
+    let ps = monolayer(1500, (0.5, 1.0), (0.1, 3.0), 8);
+    let system = System::new(Confinement::Wall { height: 0.0 }, 1.0, ps, false).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(2);
+    let x = moments(&mut rng, system.len(), Moments::FT);
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| system.apply_fmm(Moments::FT, &x, 1e-6).unwrap())
+    };
+    let one = run(1);
+    for threads in [2, 3] {
+        let other = run(threads);
+        assert!(
+            one.iter()
+                .zip(&other)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{threads} threads"
+        );
+    }
+}
+
+#[test]
+fn what_the_fast_product_does_not_cover_is_an_error() {
     let ps = vec![Particle {
         x: [0.0, 0.0, 2.0],
         a: 1.0,
     }];
     let system = System::new(Confinement::Wall { height: 0.0 }, 1.0, ps, false).unwrap();
-    assert_eq!(
-        system.apply_fmm(Moments::F, &[0.0; 3], 1e-2),
-        Err(FmmError::Tolerance(1e-2))
-    );
+    for eps in [1e-2, 1e-11, f64::NAN, 0.0] {
+        assert!(matches!(
+            system.apply_fmm(Moments::F, &[0.0; 3], eps),
+            Err(FmmError::Tolerance(_))
+        ));
+    }
     assert_eq!(
         system.apply_fmm(Moments::FTS, &[0.0; 11], 1e-6),
         Err(FmmError::Moments(Moments::FTS))
+    );
+    let mut fast = stokesian::FastProduct::new(1e-6).unwrap();
+    fast.order = 40;
+    assert!(matches!(
+        system.apply_fast(Moments::F, &[0.0; 3], &fast),
+        Err(FmmError::Order { order: 40, .. })
+    ));
+    let periodic = system.periodic(PeriodicBox::lateral([20.0, 20.0])).unwrap();
+    assert_eq!(
+        periodic.apply_fmm(Moments::F, &[0.0; 3], 1e-6),
+        Err(FmmError::Periodic)
     );
 }
