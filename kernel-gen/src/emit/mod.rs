@@ -20,7 +20,7 @@ pub use function::function;
 pub use fusion::Fusion;
 pub use lanes::lane_function;
 pub(crate) use tokens::ident;
-pub use tokens::{file, inline};
+pub use tokens::{file, inline, literal};
 
 use crate::kernel::Traced;
 use proc_macro2::TokenStream;

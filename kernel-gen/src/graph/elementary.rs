@@ -11,7 +11,7 @@
 //!   `e^{-1/2}`), by Horner's rule. Above [`EXP_ZERO`] the value is 0 (`e^{-64} = 1.6e-28`
 //!   absolute). No squaring magnifies the error: about 7 roundings of the factors and the
 //!   polynomial's own; measured against double-double on a dense grid of `[0, 64]`:
-//!   at most 5.8e-16 relative (test below).
+//!   at most 5.8e-16 relative (test in `tests/unit/graph_elementary.rs`).
 //! - `erfc x`: for `|x| <= 1/2` ([`SERIES_END`]), `1 - x P(x^2)`, `P` the Taylor series of
 //!   `erf(x)/x` to degree [`SERIES_DEGREE`] in `x^2` (truncation `5e-18`); above,
 //!   `e^{-x^2} R(|x|)` with `R` a polynomial of degree [`FIT_DEGREE`] in `u = 1.8 t + 0.4`,
@@ -22,7 +22,7 @@
 //!   branches computed and one chosen per lane. Beyond `|x| = 8` the exponential is 0
 //!   (`erfc 8 = 1.1e-29`). Measured on a dense grid of `[-8, 8]`: relative error at
 //!   most `(x^2 + 4.5) 2^-53` (4.2e-15 at `x = 6.9`), of which `x^2 2^-53` is the
-//!   rounding of `x^2` in the argument of the exponential (test below).
+//!   rounding of `x^2` in the argument of the exponential (same test file).
 //!
 //! The `e^{-x^2}` of `erfc x` is the node of `exp(-(x x))`, so the jet rule of `erfc`,
 //! which forms that exponential itself, shares it.
@@ -168,67 +168,4 @@ pub fn erfc(x: Ex) -> Ex {
     let far = exp(-x2) * horner(u, fit_coefficients());
     let far = Ex::select_gt(x, zero, far, Ex::cst(2.0) - far);
     Ex::select_gt(ax, Ex::cst(SERIES_END), far, series)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::graph::Trace;
-
-    /// The lowered function of one input, evaluated by the interpreter in `f64` (the
-    /// operations of the emitted code) at every point of `xs`.
-    fn lowered(f: fn(Ex) -> Ex, xs: &[f64]) -> Vec<f64> {
-        let t = Trace::begin();
-        let x = t.input("x");
-        let y = f(x);
-        let g = t.finish();
-        xs.iter().map(|&v| g.eval(&[v], &[y.0])[0]).collect()
-    }
-
-    /// `e^{-t}` on 64001 points of `[0, 64]` against double-double: 1e-15 relative
-    /// (9 units of round-off `u = 2^-53`) bounds the seven rounded factors and the Horner
-    /// sum (measured 5.8e-16); past 64 the value is 0, within `e^{-64}` absolute.
-    #[test]
-    fn exp_against_double_double() {
-        let neg: Vec<f64> = (0..=64000).map(|k| k as f64 * -1e-3).collect();
-        let got = lowered(|a| a.exp(), &neg);
-        let mut worst: f64 = 0.0;
-        for (&a, g) in neg.iter().zip(got) {
-            let want = Dd::new(a).exp();
-            worst = worst.max(((Dd::new(g) - want).to_f64() / want.to_f64()).abs());
-        }
-        assert!(worst < 1e-15, "worst relative error {worst:e}");
-        for v in lowered(|a| a.exp(), &[-64.5, -100.0, -1e300]) {
-            assert_eq!(v, 0.0);
-        }
-    }
-
-    /// `erfc` on 32001 points of `[-8, 8]` against double-double, relative error at most
-    /// `(x^2 + 8) u`, `u = 2^-53`: the rounding of `x^2` alone changes `e^{-x^2}` by
-    /// `x^2 u` (the function's own condition, 5.4e-15 at `x = 7`), and the rest (the
-    /// exponential, `t`, Horner's sums) was measured at most `4.5 u`.
-    #[test]
-    fn erfc_against_double_double() {
-        let u = f64::EPSILON / 2.0;
-        let xs: Vec<f64> = (-16000..=16000).map(|k| k as f64 * 5e-4).collect();
-        let got = lowered(|a| a.erfc(), &xs);
-        for (&x, g) in xs.iter().zip(got) {
-            let want = Dd::new(x).erfc();
-            let err = ((Dd::new(g) - want).to_f64() / want.to_f64()).abs();
-            assert!(
-                err <= (x * x + 8.0) * u,
-                "erfc({x}): relative error {err:e}"
-            );
-        }
-    }
-
-    /// Constants fold, `exp(0) = erfc(0) = 1` among them.
-    #[test]
-    fn constants_fold() {
-        let t = Trace::begin();
-        assert_eq!(Ex::cst(0.0).exp().as_const(), Some(1.0));
-        assert_eq!(Ex::cst(0.0).erfc().as_const(), Some(1.0));
-        assert_eq!(Ex::cst(-1.0).exp().as_const(), Some((-1f64).exp()));
-        drop(t);
-    }
 }

@@ -1,0 +1,30 @@
+//! The tests of the generator, one binary with a module per module of `kernel-gen`
+//! (`number_jet` tests `kernel_gen::number::jet`, and so on), linking the library that
+//! the rest of the workspace uses: as unit tests (`#[cfg(test)]` modules) they made
+//! `cargo test` compile the whole generator a second time with `cfg(test)`, for tests
+//! that run in a second (`kernel-gen/Cargo.toml`). Run one module or test by its path,
+//! e.g. `cargo test --release -p kernel-gen -- number_jet::layout_counts`.
+
+mod catalog;
+mod catalog_scene;
+mod catalog_scene_file;
+mod emit_fusion;
+mod emit_tokens;
+mod graph;
+mod graph_elementary;
+mod graph_folding;
+mod graph_interpret;
+mod graph_lane_form;
+mod graph_powers_of_two;
+mod graph_squares;
+mod number_dd;
+mod number_jet;
+mod number_poly;
+mod physics_derivatives;
+mod physics_derivatives_generic;
+mod physics_derivatives_structured;
+mod physics_fd;
+mod physics_green_ewald;
+mod physics_green_ewald_wall;
+mod physics_operators;
+mod physics_overlap;
