@@ -28,3 +28,4 @@ mod physics_green_ewald;
 mod physics_green_ewald_wall;
 mod physics_operators;
 mod physics_overlap;
+mod physics_potential;
