@@ -155,6 +155,9 @@ pub enum CliError {
     /// What a periodic box cannot be or do (`--box`).
     #[error("--box: {0}; nothing written")]
     Periodic(#[from] stokesian::PeriodicError),
+    /// What the fast product cannot do (`--fmm`).
+    #[error("--fmm: {0}; nothing written")]
+    Fmm(#[from] stokesian::FmmError),
     /// Brownian dynamics failed for another reason.
     #[error("{0}; nothing written")]
     Brownian(stokesian::BrownianError),

@@ -44,6 +44,11 @@ pub struct VelocityArgs {
     /// instruction, about 1e-7 relative to the largest velocity; any units of input).
     #[arg(long, value_enum, default_value = "double")]
     pub precision: PrecisionArg,
+    /// F and FT without --lubrication: the product by the fast multipole method to the
+    /// relative tolerance EPS (in [1e-10, 1e-3]) on the 2-norm of the velocities, instead
+    /// of the exact O(N^2) sum (in double precision; docs/fmm.md).
+    #[arg(long, value_name = "EPS")]
+    pub fmm: Option<f64>,
     /// Output file, its format by the extension: .csv with columns ux,uy,uz (F) or
     /// ux,uy,uz,wx,wy,wz (FT, FTS), one line per particle, or .npy (a float64 array of
     /// shape (N, 3) or (N, 6), the same columns).
@@ -106,6 +111,14 @@ pub fn run(args: &VelocityArgs) -> Result<(), CliError> {
             option: "--precision single",
             context: "single precision is for the matrix-free product (F or FT without \
                       --lubrication); resistances and the FTS solve are in double precision"
+                .to_string(),
+        });
+    }
+    if args.fmm.is_some() && (args.lubrication || moments == MomentsArg::Fts) {
+        return Err(CliError::Inapplicable {
+            option: "--fmm",
+            context: "the fast product is the matrix-free product (F or FT without \
+                      --lubrication)"
                 .to_string(),
         });
     }
@@ -187,20 +200,26 @@ fn velocity(
             "assembling the {dim} x {dim} FTS grand mobility of {n} spheres and solving for \
              the stresslets"
         ),
-        _ => format!(
-            "computing velocities of {n} spheres (matrix-free, {} pairs)",
-            n * (n + 1) / 2
-        ),
+        _ => match args.fmm {
+            Some(eps) => {
+                format!("computing velocities of {n} spheres (fast multipole method to {eps:e})")
+            }
+            None => format!(
+                "computing velocities of {n} spheres (matrix-free, {} pairs)",
+                n * (n + 1) / 2
+            ),
+        },
     });
     let precision = match args.precision {
         PrecisionArg::Double => Precision::Double,
         PrecisionArg::Single => Precision::Single,
     };
+    let mut system = setup.system.clone().with_precision(precision);
+    if let Some(eps) = args.fmm {
+        system = system.with_fmm(eps)?;
+    }
     // the library's call; its numerical failures get the causes only the command knows
-    let v = setup
-        .system
-        .clone()
-        .with_precision(precision)
+    let v = system
         .velocities(moments.moments(), &x, &strain, lubrication)
         .map_err(|e| match e {
             VelocityError::NotFinite(what) => setup.non_finite(what),

@@ -326,3 +326,121 @@ fn velocity_refuses_other_extensions() {
         );
     }
 }
+
+/// `--fmm EPS`: the library's fast product (`System::with_fmm`) bit for bit, within EPS
+/// of the direct product for 400 spheres in a layer above the wall (F and FT); refused
+/// with --lubrication and for a tolerance outside [1e-10, 1e-3].
+#[test]
+fn velocity_fmm_is_the_librarys_fast_product() {
+    let dir = Dir::new("velocity_fmm");
+    let n = 400;
+    // a square lattice of unit spheres 3 apart, heights 1.5 to 3.5 above the wall
+    let ps: Vec<stokesian::Particle> = (0..n)
+        .map(|i| stokesian::Particle {
+            x: [
+                3.0 * (i % 20) as f64,
+                3.0 * (i / 20) as f64,
+                0.25 + 1.5 + (i % 7) as f64 / 3.0,
+            ],
+            a: 1.0,
+        })
+        .collect();
+    let particles: String = std::iter::once("x,y,z,radius".to_string())
+        .chain(
+            ps.iter()
+                .map(|p| format!("{:?},{:?},{:?},1.0", p.x[0], p.x[1], p.x[2])),
+        )
+        .collect::<Vec<_>>()
+        .join("\n");
+    let p = dir.file("particles.csv", &particles);
+    let forces: Vec<f64> = (0..6 * n)
+        .map(|k| ((k * 37 % 101) as f64 - 50.0) / 50.0)
+        .collect();
+    let f6: String = std::iter::once("fx,fy,fz,tx,ty,tz".to_string())
+        .chain((0..n).map(|a| {
+            let r: Vec<String> = (0..6).map(|c| format!("{:?}", forces[6 * a + c])).collect();
+            r.join(",")
+        }))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let f6 = dir.file("forces6.csv", &f6);
+    let system = stokesian::System::new(WALL, ETA, ps, false).unwrap();
+    for (moments, header) in [(Moments::F, "ux,uy,uz"), (Moments::FT, "ux,uy,uz,wx,wy,wz")] {
+        let k = moments.per_particle();
+        let out = dir.path(&format!("U_{}.csv", moments_name(moments)));
+        let mut args = vec!["velocity"];
+        args.extend(SYSTEM_ARGS);
+        args.extend([
+            "--moments",
+            moments_name(moments),
+            "--particles",
+            s(&p),
+            "--forces",
+            s(&f6),
+            "--fmm",
+            "1e-6",
+            "--out",
+            s(&out),
+        ]);
+        if moments == Moments::F {
+            // the torque columns refused at F: the forces alone
+            let f3: String = std::iter::once("fx,fy,fz".to_string())
+                .chain((0..n).map(|a| {
+                    let r: Vec<String> =
+                        (0..3).map(|c| format!("{:?}", forces[6 * a + c])).collect();
+                    r.join(",")
+                }))
+                .collect::<Vec<_>>()
+                .join("\n");
+            let f3 = dir.file("forces3.csv", &f3);
+            let at = args.iter().position(|a| *a == s(&f6)).unwrap();
+            args[at] = s(&f3);
+            assert_ok(&run(&args));
+        } else {
+            assert_ok(&run(&args));
+        }
+        let got = velocity_vector(&read_csv(&out, header));
+        // the library's layout: all forces (particle-major), then all torques
+        let mut x = vec![0.0; k * n];
+        for part in 0..k / 3 {
+            for a in 0..n {
+                for comp in 0..3 {
+                    x[part * 3 * n + 3 * a + comp] = forces[6 * a + 3 * part + comp];
+                }
+            }
+        }
+        let fast = system.clone().with_fmm(1e-6).unwrap().apply(moments, &x);
+        assert!(
+            got.iter()
+                .zip(&fast)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{}: not the library's fast product",
+            moments_name(moments)
+        );
+        let direct = system.apply(moments, &x);
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let d: Vec<f64> = got.iter().zip(&direct).map(|(a, b)| a - b).collect();
+        let e = norm(&d) / norm(&direct);
+        assert!(e <= 1e-6, "{}: {e:e}", moments_name(moments));
+    }
+    let out = dir.path("U_refused.csv");
+    for (extra, needle) in [
+        (
+            &["--moments", "FT", "--lubrication", "--fmm", "1e-6"][..],
+            "--fmm",
+        ),
+        (&["--moments", "FT", "--fmm", "1e-2"][..], "[1e-10, 1e-3]"),
+    ] {
+        let mut args = vec!["velocity"];
+        args.extend(SYSTEM_ARGS);
+        args.extend(["--particles", s(&p), "--forces", s(&f6), "--out", s(&out)]);
+        args.extend(extra);
+        let o = run(&args);
+        assert!(
+            !o.status.success() && stderr(&o).contains(needle),
+            "{}",
+            stderr(&o)
+        );
+        assert!(!out.exists());
+    }
+}

@@ -126,6 +126,18 @@ fn groups(table: &[PotentialSource], ix: &Indices) -> Vec<Group> {
     out
 }
 
+/// Whether the potential's generated derivatives serve `settings`' order for `table`.
+fn check_order(settings: &FastProduct, table: &[PotentialSource]) -> Result<(), FmmError> {
+    let max = kernels::expansion::RADIAL.len() - 1 - highest(table);
+    if settings.order > max {
+        return Err(FmmError::Order {
+            order: settings.order,
+            max,
+        });
+    }
+    Ok(())
+}
+
 /// The highest derivative of a table's sources.
 fn highest(table: &[PotentialSource]) -> usize {
     table
@@ -413,6 +425,41 @@ pub(crate) fn apply_moments(
 }
 
 impl System {
+    /// The same system with [`System::apply`] (and with it the far-field F and FT
+    /// velocities, [`System::velocities`]) by the fast multipole method to the relative
+    /// tolerance `eps` ([`System::apply_fmm`]); FTS products, dense matrices,
+    /// resistances and Brownian dynamics stay as they are. The fast product runs in
+    /// double precision whatever [`System::with_precision`] says. Refused for a tolerance
+    /// outside `[1e-10, 1e-3]`, a periodic box, or a confinement without an expansion (a
+    /// box given later, [`System::periodic`], takes its own products instead).
+    pub fn with_fmm(mut self, eps: f64) -> Result<System, FmmError> {
+        let settings = FastProduct::new(eps)?;
+        if self.periodic_ref().is_some() {
+            return Err(FmmError::Periodic);
+        }
+        for torques in [false, true] {
+            let table = self.table(torques)?;
+            check_order(&settings, table)?;
+        }
+        self.set_fast(Some(settings));
+        Ok(self)
+    }
+
+    /// The fast product's parameters if [`System::apply`] takes it.
+    pub fn fmm(&self) -> Option<FastProduct> {
+        self.fast()
+    }
+
+    /// The confinement's derivative sources (forces, or forces and torques).
+    fn table(&self, torques: bool) -> Result<&'static [PotentialSource], FmmError> {
+        self.confinement()
+            .potential_sources(torques)
+            .map_err(|reason| FmmError::NoExpansion {
+                confinement: self.confinement().name(),
+                reason,
+            })
+    }
+
     /// `M x` by the fast multipole method to the relative tolerance `eps` in the 2-norm
     /// (module docs): F and FT, any confinement whose Green's function has image
     /// structure. `x` and the result in the layout of [`System::apply`]; the same
@@ -443,20 +490,7 @@ impl System {
             k * n
         );
         self.assert_overlap(moments);
-        let table = self
-            .confinement()
-            .potential_sources(moments == Moments::FT)
-            .map_err(|reason| FmmError::NoExpansion {
-                confinement: self.confinement().name(),
-                reason,
-            })?;
-        let max = kernels::expansion::RADIAL.len() - 1 - highest(table);
-        if settings.order > max {
-            return Err(FmmError::Order {
-                order: settings.order,
-                max,
-            });
-        }
+        check_order(settings, self.table(moments == Moments::FT)?)?;
         let (conf, eta) = (self.confinement(), self.viscosity());
         Ok(self.with_overlaps(moments, x, |ps, xs| {
             apply_moments(conf, eta, moments, ps, xs, settings, Isa::best()).expect("checked above")

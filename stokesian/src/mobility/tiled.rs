@@ -660,9 +660,15 @@ impl System {
     /// `M^{ba} x_a` together, by the lane kernels on the widest instruction set this
     /// processor has, in tiles whose schedule alone fixes the order of every sum: the
     /// result does not depend on the number of threads (module docs).
-    /// In the system's precision ([`System::with_precision`]; double by default).
+    /// In the system's precision ([`System::with_precision`]; double by default); F and
+    /// FT by the fast multipole method where [`System::with_fmm`] asked for it.
     pub fn apply(&self, moments: Moments, x: &[f64]) -> Vec<f64> {
-        self.apply_with(moments, x, Isa::best(), self.precision())
+        match self.fast() {
+            Some(fast) if moments != Moments::FTS && self.periodic_ref().is_none() => self
+                .apply_fast(moments, x, &fast)
+                .expect("with_fmm checked the confinement, the box and the order"),
+            _ => self.apply_with(moments, x, Isa::best(), self.precision()),
+        }
     }
 
     /// [`System::apply`] on the lanes of `isa` (`Isa::all_available()` lists this

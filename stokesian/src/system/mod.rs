@@ -8,6 +8,7 @@
 //!
 //! | methods | module |
 //! |---|---|
+//! | `with_fmm`, `fmm`, `apply_fmm`, `apply_fast` (the fast product) | [`crate::fmm`] |
 //! | `new`, `with_precision`, `precision`, `particles`, `confinement`, `viscosity`, `len`, `is_empty`, `overlap`, `check_overlap`, `check_drift`, `sqrt_apply` | here |
 //! | `periodic`, `periodic_box` (a periodic box) | [`crate::periodic`] |
 //! | `block`, `mobility`, `mobility_into` (the dense grand mobility) | [`crate::mobility::assembly`] |
@@ -91,6 +92,9 @@ pub struct System {
     rpy: Option<Rpy>,
     /// The periodic box, if any ([`System::periodic`]).
     periodic: Option<Periodic>,
+    /// The fast product's parameters, if [`System::apply`] takes it
+    /// ([`System::with_fmm`]).
+    fast: Option<crate::FastProduct>,
 }
 
 impl System {
@@ -114,6 +118,7 @@ impl System {
             overlap,
             rpy,
             periodic: None,
+            fast: None,
         })
     }
 
@@ -225,6 +230,15 @@ impl System {
     pub fn with_precision(mut self, precision: Precision) -> System {
         self.precision = precision;
         self
+    }
+
+    /// The fast product's parameters ([`System::with_fmm`]).
+    pub(crate) fn fast(&self) -> Option<crate::FastProduct> {
+        self.fast
+    }
+
+    pub(crate) fn set_fast(&mut self, fast: Option<crate::FastProduct>) {
+        self.fast = fast;
     }
 
     /// The precision of [`System::apply`].
