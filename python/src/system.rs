@@ -147,13 +147,14 @@ impl PySystem {
 
     /// `M x` without forming `M`: `x` of length kN, moment-major; `precision`
     /// `"single"` runs the `f32` lanes.
-    #[pyo3(signature = (moments, x, *, precision = "double"))]
+    #[pyo3(signature = (moments, x, *, precision = "double", fmm = None))]
     fn apply<'py>(
         &self,
         py: Python<'py>,
         moments: &str,
         x: Floats,
         precision: &str,
+        fmm: Option<f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let m = self::moments(moments)?;
         let p = self::precision(precision)?;
@@ -169,15 +170,17 @@ impl PySystem {
         }
         let s = &self.system;
         let x: &[f64] = &x;
-        Ok(PyArray1::from_vec(
-            py,
-            py.detach(|| s.apply_with(m, x, Isa::best(), p)),
-        ))
+        let out = match fmm {
+            Some(eps) => py.detach(|| s.apply_fmm(m, x, eps)).map_err(input_error)?,
+            None => py.detach(|| s.apply_with(m, x, Isa::best(), p)),
+        };
+        Ok(PyArray1::from_vec(py, out))
     }
 
     /// Velocities `(N, 3)` and rotation rates `(N, 3)` (None at the F level) of spheres
     /// under `forces` and `torques` (`(N, 3)` or `(3N,)`) and the imposed strain.
-    #[pyo3(signature = (forces, torques = None, strain = None, lubrication = false, pair_tolerance = None))]
+    #[pyo3(signature = (forces, torques = None, strain = None, lubrication = false, pair_tolerance = None, fmm = None))]
+    #[allow(clippy::too_many_arguments)]
     fn velocities<'py>(
         &self,
         py: Python<'py>,
@@ -186,6 +189,7 @@ impl PySystem {
         strain: Option<Floats>,
         lubrication: bool,
         pair_tolerance: Option<f64>,
+        fmm: Option<f64>,
     ) -> PyResult<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>)> {
         let n = self.system.len();
         let m = match (&strain, &torques) {
@@ -205,7 +209,17 @@ impl PySystem {
             Some(s) => strain_basis(s)?,
         };
         let lub = lubrication_settings(lubrication, pair_tolerance)?;
-        let s = &self.system;
+        if fmm.is_some() && (lubrication || m == Moments::FTS) {
+            return Err(input_error(
+                "fmm: the fast product is the far-field product of forces and torques \
+                 (without lubrication or strain)",
+            ));
+        }
+        let fast = match fmm {
+            Some(eps) => Some(self.system.clone().with_fmm(eps).map_err(input_error)?),
+            None => None,
+        };
+        let s = fast.as_ref().unwrap_or(&self.system);
         let v = py
             .detach(|| s.velocities(m, &x, &e, lubrication.then_some(&lub)))
             .map_err(input_error)?;

@@ -146,12 +146,16 @@ class System:
         x: ArrayLike,
         *,
         precision: Literal["double", "single"] = "double",
+        fmm: Optional[float] = None,
     ) -> npt.NDArray[np.float64]:
         """``M x`` without forming M: x has kN entries, moment-major (forces, then
         torques, then stresslets); the result likewise (U, Omega, -E_inf). Bit for bit
         independent of the number of threads. ``precision="single"`` runs the f32
         lanes (twice the pairs per instruction, about 1e-7 relative to the result's
-        norm, any units of input) for F and FT; FTS runs in double precision."""
+        norm, any units of input) for F and FT; FTS runs in double precision.
+        ``fmm=EPS`` (F and FT, EPS in [1e-10, 1e-3]): the fast multipole method to the
+        relative tolerance EPS on the result's 2-norm, in double precision; ValueError
+        at FTS, in a periodic box, or for EPS outside the range."""
     def velocities(
         self,
         forces: ArrayLike,
@@ -159,6 +163,7 @@ class System:
         strain: Optional[ArrayLike] = None,
         lubrication: bool = False,
         pair_tolerance: Optional[float] = None,
+        fmm: Optional[float] = None,
     ) -> Tuple[npt.NDArray[np.float64], Optional[npt.NDArray[np.float64]]]:
         """Velocities (N, 3) and rotation rates (N, 3) of the spheres under ``forces``
         and ``torques`` (on the fluid = on the particles; shape (N, 3) or (3N,)) in a
@@ -170,7 +175,9 @@ class System:
         for, velocities relative to the ambient flow at each centre). ``lubrication``:
         the resistance of Eq. 19 (exact sphere-wall and two-sphere functions) solved by
         Cholesky; ValueError above a condition estimate of 1e14. ``pair_tolerance``
-        (with ``lubrication``; default 1e-6): as in ``resistance``."""
+        (with ``lubrication``; default 1e-6): as in ``resistance``. ``fmm=EPS`` (F and
+        FT without lubrication): the product by the fast multipole method, as in
+        ``apply``."""
     def resistance(
         self,
         moments: Moments = "FT",

@@ -53,6 +53,29 @@ def test_apply_equals_mobility_times_x(moments):
     assert np.linalg.norm(got - want) <= 1e-13 * np.linalg.norm(want)
 
 
+@pytest.mark.parametrize("moments", ["F", "FT"])
+def test_fast_product_within_its_tolerance(moments):
+    # 900 spheres on a jittered lattice above the wall, heights 1.5 to 4.5
+    rng = np.random.default_rng(5)
+    g = np.stack(np.meshgrid(np.arange(30.0), np.arange(30.0)), -1).reshape(-1, 2) * 3.5
+    positions = np.column_stack([g + rng.uniform(-0.6, 0.6, g.shape), rng.uniform(1.5, 4.5, len(g))])
+    s = stokesian.System(positions, 1.0)
+    k = {"F": 3, "FT": 6}[moments]
+    x = rng.normal(size=len(g) * k)
+    direct = s.apply(moments, x)
+    for eps in (1e-3, 1e-6):
+        fast = s.apply(moments, x, fmm=eps)
+        assert np.linalg.norm(fast - direct) <= eps * np.linalg.norm(direct)
+    forces = x[: 3 * len(g)].reshape(-1, 3)
+    torques = x[3 * len(g):].reshape(-1, 3) if moments == "FT" else None
+    u, w = s.velocities(forces, torques, fmm=1e-6)
+    assert np.array_equal(u.ravel(), s.apply(moments, x, fmm=1e-6)[: 3 * len(g)])
+    with pytest.raises(ValueError, match="1e-10"):
+        s.apply(moments, x, fmm=1e-2)
+    with pytest.raises(ValueError, match="FTS"):
+        s.apply("FTS", np.zeros(11 * len(g)), fmm=1e-6)
+
+
 @pytest.mark.parametrize("moments", ["F", "FT", "FTS"])
 def test_single_precision_apply_in_si_units(moments):
     # radii of 1 um in water, pN forces: the f32 lanes run in their own units
