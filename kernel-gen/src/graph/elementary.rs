@@ -11,7 +11,7 @@
 //!   `e^{-1/2}`), by Horner's rule. Above [`EXP_ZERO`] the value is 0 (`e^{-64} = 1.6e-28`
 //!   absolute). No squaring magnifies the error: about 7 roundings of the factors and the
 //!   polynomial's own; measured against double-double on a dense grid of `[0, 64]`:
-//!   at most 5.8e-16 relative (test in `tests/unit/graph_elementary.rs`).
+//!   at most 5.8e-16 relative (test in `tests/tests/integration/generator/graph_elementary.rs`).
 //! - `erfc x`: for `|x| <= 1/2` ([`SERIES_END`]), `1 - x P(x^2)`, `P` the Taylor series of
 //!   `erf(x)/x` to degree [`SERIES_DEGREE`] in `x^2` (truncation `5e-18`); above,
 //!   `e^{-x^2} R(|x|)` with `R` a polynomial of degree [`FIT_DEGREE`] in `u = 1.8 t + 0.4`,

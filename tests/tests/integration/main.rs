@@ -14,6 +14,7 @@ mod bad_input;
 mod brownian;
 mod fmm;
 mod generated;
+mod generator;
 mod linalg;
 mod lubrication;
 mod overlap;

@@ -108,7 +108,7 @@ fn derivatives_equal_finite_differences() {
 /// image cancel).
 #[test]
 fn structured_terms_equal_the_generic_jets() {
-    use crate::physics_derivatives::path_differences;
+    use crate::generator::physics_derivatives::path_differences;
     let p = [Dd::new(0.3), Dd::new(1.3)];
     for (x, y) in [
         ([0.1, -0.2, 1.5], [0.4, 0.1, 1.8]),

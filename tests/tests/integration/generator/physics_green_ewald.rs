@@ -1,4 +1,4 @@
-use crate::physics_derivatives::path_differences;
+use crate::generator::physics_derivatives::path_differences;
 use kernel_gen::kernel::{evaluate_direct, trace, Interaction, KernelSpec, Path};
 use kernel_gen::number::dd::Dd;
 use kernel_gen::number::scalar::Scalar;
