@@ -145,6 +145,12 @@ pub struct BrownianArgs {
     /// N. Not with --scheme fixman.
     #[arg(long, value_name = "TOL")]
     lanczos: Option<f64>,
+    /// With --lanczos: the matrix-free products (the noise's and M F) by the fast
+    /// multipole method to the relative tolerance EPS in [1e-10, 1e-3] (docs/fmm.md);
+    /// keep TOL above EPS (the fast product is symmetric to about EPS). The drift kT
+    /// div M stays the direct sum.
+    #[arg(long, value_name = "EPS", requires = "lanczos")]
+    fmm: Option<f64>,
     /// Leave out the drift kT div M. WRONG near a boundary (wrong equilibrium
     /// distribution); for comparison only. Only with --scheme euler-maruyama.
     #[arg(long)]
@@ -311,6 +317,16 @@ pub fn run(args: &BrownianArgs) -> Result<(), CliError> {
         }
     };
     let n = setup.system.len();
+    let system = match args.fmm {
+        Some(eps) => match setup.system.with_fmm(eps) {
+            Ok(s) => s,
+            Err(e) => {
+                pb.finish_and_clear();
+                return Err(e.into());
+            }
+        },
+        None => setup.system,
+    };
     let bd = Brownian {
         noise,
         hydrodynamics: true,
@@ -338,7 +354,7 @@ pub fn run(args: &BrownianArgs) -> Result<(), CliError> {
     let mut tally = Tally::default();
     let mut failure = None;
     let result = write_atomically(&args.out, |w| {
-        match simulate(w, setup.system, &bd, args, npy, pb, &mut tally) {
+        match simulate(w, system.clone(), &bd, args, npy, pb, &mut tally) {
             Ok(()) => Ok(()),
             Err(e) => {
                 failure = Some(e);

@@ -277,7 +277,7 @@ impl PySystem {
     /// Overdamped Brownian dynamics (see the stub for the options); returns the frames,
     /// `(frames, N, 3)` at F and `(frames, N, 7)` at FT (centre, then orientation
     /// quaternion w, x, y, z).
-    #[pyo3(signature = (steps, dt, kt = 1.0, seed = 0, *, moments = "F", weight = 0.0, repulsion_strength = 0.0, debye_length = 1.0, torque = None, trap = 0.0, scheme = "euler-maruyama", lanczos = None, drift = true, lubrication = false, rfd_step = 1e-3, pair_tolerance = None, every = 1, max_rejections = 1000, hydrodynamics = true))]
+    #[pyo3(signature = (steps, dt, kt = 1.0, seed = 0, *, moments = "F", weight = 0.0, repulsion_strength = 0.0, debye_length = 1.0, torque = None, trap = 0.0, scheme = "euler-maruyama", lanczos = None, fmm = None, drift = true, lubrication = false, rfd_step = 1e-3, pair_tolerance = None, every = 1, max_rejections = 1000, hydrodynamics = true))]
     #[allow(clippy::too_many_arguments)]
     fn brownian<'py>(
         &self,
@@ -294,6 +294,7 @@ impl PySystem {
         trap: f64,
         scheme: &str,
         lanczos: Option<f64>,
+        fmm: Option<f64>,
         drift: bool,
         lubrication: bool,
         rfd_step: f64,
@@ -344,7 +345,14 @@ impl PySystem {
         };
         let n = self.system.len();
         let width = if m == Moments::FT { 7 } else { 3 };
-        let system = self.system.clone();
+        let system =
+            match fmm {
+                Some(_) if lanczos.is_none() => return Err(input_error(
+                    "fmm: the fast product serves the Lanczos noise's products (give lanczos=TOL)",
+                )),
+                Some(eps) => self.system.clone().with_fmm(eps).map_err(input_error)?,
+                None => self.system.clone(),
+            };
         let frames = py
             .detach(|| {
                 let mut out = Vec::with_capacity((steps / every.max(1) + 1) * n * width);

@@ -211,6 +211,7 @@ class System:
         trap: float = 0.0,
         scheme: Literal["euler-maruyama", "fixman"] = "euler-maruyama",
         lanczos: Optional[float] = None,
+        fmm: Optional[float] = None,
         drift: bool = True,
         lubrication: bool = False,
         rfd_step: float = 1e-3,
@@ -238,7 +239,9 @@ class System:
         ``pair_tolerance`` as in ``resistance``);
         every: keep every K-th step (step 0 always); max_rejections: invalid steps (a
         sphere through a boundary or another) are redrawn, at most this many;
-        hydrodynamics: False gives each sphere its isolated Stokes mobility.
+        hydrodynamics: False gives each sphere its isolated Stokes mobility; fmm=EPS
+        (with lanczos): the Lanczos noise's products and M F by the fast multipole
+        method to EPS (keep lanczos above EPS; the drift stays the direct sum).
 
         Returns the frames: shape (frames, N, 3) at F, (frames, N, 7) at FT (centre,
         then the orientation quaternion w, x, y, z)."""

@@ -74,6 +74,12 @@ def test_fast_product_within_its_tolerance(moments):
         s.apply(moments, x, fmm=1e-2)
     with pytest.raises(ValueError, match="FTS"):
         s.apply("FTS", np.zeros(11 * len(g)), fmm=1e-6)
+    # Brownian dynamics with Lanczos noise from the fast product: runs, and needs lanczos
+    few = stokesian.System(positions[:300], 1.0)
+    frames = few.brownian(1, 1e-4, weight=1.0, lanczos=1e-5, fmm=1e-7)
+    assert frames.shape == (2, 300, 3) and np.all(np.isfinite(frames))
+    with pytest.raises(ValueError, match="lanczos"):
+        s.brownian(1, 1e-4, fmm=1e-6)
 
 
 @pytest.mark.parametrize("moments", ["F", "FT", "FTS"])

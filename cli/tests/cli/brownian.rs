@@ -405,6 +405,11 @@ fn brownian_bad_inputs_fail_without_output() {
         &["--no-drift does not apply", "--scheme fixman"],
     );
     extra(&["--lanczos", "0"], &["--lanczos", "positive"]);
+    extra(&["--fmm", "1e-6"], &["--lanczos"]);
+    extra(
+        &["--lanczos", "1e-6", "--fmm", "1e-2"],
+        &["--fmm", "[1e-10, 1e-3]"],
+    );
     extra(
         &["--lubrication", "--lanczos", "1e-6"],
         &["--lanczos does not apply", "--lubrication"],

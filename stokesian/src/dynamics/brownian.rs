@@ -263,6 +263,18 @@ impl System {
         }
     }
 
+    /// The products of the Lanczos noise and its `M F`: the fast product where
+    /// [`System::with_fmm`] asked for it (F and FT; docs/fmm.md), the direct one in
+    /// double precision otherwise.
+    fn lanczos_product(&self, moments: Moments, x: &[f64]) -> Vec<f64> {
+        match self.fmm() {
+            Some(fast) if self.periodic_ref().is_none() => self
+                .apply_fast(moments, x, &fast)
+                .expect("with_fmm checked the confinement, the box and the order"),
+            _ => self.apply_with(moments, x, Isa::best(), Precision::Double),
+        }
+    }
+
     /// Euler-Maruyama: `dx = (M F + kT div M) dt + sqrt(2 kT dt) B W`, `B B^T = M`.
     fn euler_maruyama(
         &self,
@@ -291,16 +303,11 @@ impl System {
                 (mul_vec(&m, &f), noise)
             }
             Noise::Lanczos { tol } => {
-                let (y, k) = lanczos_sqrt(
-                    |x| self.apply_with(bd.moments, x, Isa::best(), Precision::Double),
-                    w,
-                    tol,
-                    w.len(),
-                )
-                .map_err(|source| BrownianError::Lanczos { step, source })?;
+                let (y, k) = lanczos_sqrt(|x| self.lanczos_product(bd.moments, x), w, tol, w.len())
+                    .map_err(|source| BrownianError::Lanczos { step, source })?;
                 iterations = Some(k);
                 (
-                    self.apply_with(bd.moments, &f, Isa::best(), Precision::Double),
+                    self.lanczos_product(bd.moments, &f),
                     y.iter().map(|v| v * scale).collect(),
                 )
             }
@@ -501,8 +508,10 @@ impl System {
             Overlap::Rpy => Overlap::Rpy,
             Overlap::Refuse | Overlap::Far => Overlap::Refuse,
         };
-        let system = System::new(*self.confinement(), self.viscosity(), ps, overlap)
+        let mut system = System::new(*self.confinement(), self.viscosity(), ps, overlap)
             .map_err(|source| BrownianError::Invalid { step, source })?;
+        // the fast product's setting moves with the spheres ([`System::with_fmm`])
+        system.set_fast(self.fast());
         // in a periodic box the positions stay unwrapped (every sum is over the lattice);
         // spheres overlapping by their nearest images are an invalid step, as in open
         // space (the box itself was validated before)

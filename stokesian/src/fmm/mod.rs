@@ -481,15 +481,7 @@ impl System {
         if moments == Moments::FTS {
             return Err(FmmError::Moments(moments));
         }
-        let n = self.len();
-        let k = moments.per_particle();
-        assert_eq!(
-            x.len(),
-            k * n,
-            "vector length must be {} for {n} particles",
-            k * n
-        );
-        self.assert_overlap(moments);
+        self.assert_product(moments, x);
         check_order(settings, self.table(moments == Moments::FT)?)?;
         let (conf, eta) = (self.confinement(), self.viscosity());
         Ok(self.with_overlaps(moments, x, |ps, xs| {

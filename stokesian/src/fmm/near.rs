@@ -52,55 +52,51 @@ pub(super) trait Near<const K: usize>: Sync {
     fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; K]) -> [f64; K];
 }
 
-/// The F products.
-pub(super) struct NearF<'a> {
-    pub conf: &'a Confinement,
-    pub eta: f64,
+/// A truncation's near products: the generated exchanging lane kernel (its target half)
+/// and self kernel.
+macro_rules! near_lanes {
+    ($(#[$doc:meta])* $name:ident, $k:literal, $lanes:ident, $self_kernel:ident) => {
+        $(#[$doc])*
+        pub(super) struct $name<'a> {
+            pub conf: &'a Confinement,
+            pub eta: f64,
+        }
+
+        impl Near<$k> for $name<'_> {
+            #[inline(always)]
+            fn eval<L: Lane<Elem = f64>>(
+                &self,
+                xa: [L; 3],
+                aa: L,
+                xb: [L; 3],
+                ab: L,
+                va: [L; $k],
+                vb: [L; $k],
+            ) -> [L; $k] {
+                let o = kernels::$lanes(self.conf, self.eta, xa, aa, xb, ab, va, vb);
+                std::array::from_fn(|i| o[i])
+            }
+            fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; $k]) -> [f64; $k] {
+                kernels::$self_kernel(self.conf, self.eta, x, a).product(v, v).a
+            }
+        }
+    };
 }
 
-impl Near<3> for NearF<'_> {
-    #[inline(always)]
-    fn eval<L: Lane<Elem = f64>>(
-        &self,
-        xa: [L; 3],
-        aa: L,
-        xb: [L; 3],
-        ab: L,
-        va: [L; 3],
-        vb: [L; 3],
-    ) -> [L; 3] {
-        let o = kernels::product_f_lanes(self.conf, self.eta, xa, aa, xb, ab, va, vb);
-        std::array::from_fn(|i| o[i])
-    }
-    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; 3]) -> [f64; 3] {
-        kernels::self_f(self.conf, self.eta, x, a).product(v, v).a
-    }
-}
-
-/// The FT products.
-pub(super) struct NearFT<'a> {
-    pub conf: &'a Confinement,
-    pub eta: f64,
-}
-
-impl Near<6> for NearFT<'_> {
-    #[inline(always)]
-    fn eval<L: Lane<Elem = f64>>(
-        &self,
-        xa: [L; 3],
-        aa: L,
-        xb: [L; 3],
-        ab: L,
-        va: [L; 6],
-        vb: [L; 6],
-    ) -> [L; 6] {
-        let o = kernels::product_ft_lanes(self.conf, self.eta, xa, aa, xb, ab, va, vb);
-        std::array::from_fn(|i| o[i])
-    }
-    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; 6]) -> [f64; 6] {
-        kernels::self_ft(self.conf, self.eta, x, a).product(v, v).a
-    }
-}
+near_lanes!(
+    /// The F products.
+    NearF,
+    3,
+    product_f_lanes,
+    self_f
+);
+near_lanes!(
+    /// The FT products.
+    NearFT,
+    6,
+    product_ft_lanes,
+    self_ft
+);
 
 /// One target leaf against its near leaves on the lanes of the instruction set it is
 /// dispatched to.

@@ -681,15 +681,7 @@ impl System {
         isa: Isa,
         precision: Precision,
     ) -> Vec<f64> {
-        let n = self.len();
-        let k = moments.per_particle();
-        assert_eq!(
-            x.len(),
-            k * n,
-            "vector length must be {} for {n} particles",
-            k * n
-        );
-        self.assert_overlap(moments);
+        self.assert_product(moments, x);
         if let Some(p) = self.periodic_ref() {
             return self.periodic_apply(p, moments, x);
         }
@@ -706,6 +698,21 @@ impl System {
                 ps.len() >= PARALLEL_MIN,
             )
         })
+    }
+
+    /// The checks of every product: `x` has `k` entries per particle, and the overlaps
+    /// are ones the truncation's forms cover ([`System::check_overlap`]); panics
+    /// otherwise.
+    pub(crate) fn assert_product(&self, moments: Moments, x: &[f64]) {
+        let n = self.len();
+        let k = moments.per_particle();
+        assert_eq!(
+            x.len(),
+            k * n,
+            "vector length must be {} for {n} particles",
+            k * n
+        );
+        self.assert_overlap(moments);
     }
 
     /// A product `core(particles, xs)` of the pair kernels' far form (`xs`: `k` moments

@@ -157,3 +157,62 @@ fn what_the_fast_product_does_not_cover_is_an_error() {
         Err(FmmError::Periodic)
     );
 }
+
+/// The fast product is symmetric to its tolerance: with `|M_fast v - M v| <= eps |M v|`,
+/// `|x.M_fast y - y.M_fast x| <= eps (|x| |M y| + |y| |M x|)` (M symmetric), measured and
+/// printed. Lanczos noise and `M F` of a Brownian step take it (`with_fmm`), and the step
+/// equals the direct one's to the tolerances (the same random numbers): Lanczos to
+/// `tol = 1e-6` of `|M^(1/2) w|` either way, the products to 1e-8; 1e-5 of the step's
+/// norm bounds both with room (the drift is the direct sum in both).
+#[test]
+fn lanczos_noise_takes_the_fast_product() {
+    use stokesian::{Brownian, ExternalForces, Noise, Scheme};
+    let ps = monolayer(300, (1.0, 1.0), (0.5, 3.0), 9);
+    let system = System::new(Confinement::Wall { height: 0.0 }, 1.0, ps, false).unwrap();
+    let eps = 1e-8;
+    let fast = system.clone().with_fmm(eps).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    let (x, y) = (
+        moments(&mut rng, system.len(), Moments::F),
+        moments(&mut rng, system.len(), Moments::F),
+    );
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
+    let (fx, fy) = (fast.apply(Moments::F, &x), fast.apply(Moments::F, &y));
+    let (dx, dy) = (system.apply(Moments::F, &x), system.apply(Moments::F, &y));
+    let asymmetry = (dot(&x, &fy) - dot(&y, &fx)).abs();
+    let bound = eps * (norm(&x) * norm(&dy) + norm(&y) * norm(&dx));
+    println!(
+        "asymmetry of the fast product at {eps:e}: {:.1e} of |x| |M y|",
+        asymmetry / (norm(&x) * norm(&dy))
+    );
+    assert!(asymmetry <= bound, "{asymmetry:e} > {bound:e}");
+    let bd = Brownian {
+        kt: 1.0,
+        dt: 1e-3,
+        drift: true,
+        forces: ExternalForces {
+            weight: 1.0,
+            strength: 0.0,
+            debye: 1.0,
+            trap: 0.0,
+            torque: [0.0; 3],
+        },
+        noise: Noise::Lanczos { tol: 1e-6 },
+        hydrodynamics: true,
+        moments: Moments::F,
+        scheme: Scheme::EulerMaruyama,
+        lubrication: None,
+    };
+    let w: Vec<f64> = (0..3 * system.len())
+        .map(|_| rng.gen_range(-1.7..1.7))
+        .collect();
+    let direct = system.brownian_increment(&bd, &w, 0).unwrap();
+    let step = fast.brownian_increment(&bd, &w, 0).unwrap();
+    let e = rel_diff(&step, &direct);
+    println!("Brownian step with the fast product: {e:.1e} of the direct one's");
+    assert!(e <= 1e-5, "{e:e}");
+    // the setting moves with the spheres
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let next = fast.brownian_step(&bd, &mut rng, 0).unwrap().system;
+    assert_eq!(next.fmm(), fast.fmm());
+}
