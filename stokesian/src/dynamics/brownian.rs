@@ -11,7 +11,6 @@ use crate::periodic::PeriodicError;
 use crate::system::input::{InputError, Particle};
 use crate::system::overlap::Overlap;
 use crate::system::{Moments, Precision, System, PARALLEL_MIN};
-use kernels::lanes::Isa;
 use rand::Rng;
 use rand_distr::StandardNormal;
 use rayon::prelude::*;
@@ -263,18 +262,6 @@ impl System {
         }
     }
 
-    /// The products of the Lanczos noise and its `M F`: the fast product where
-    /// [`System::with_fmm`] asked for it (F and FT; docs/fmm.md), the direct one in
-    /// double precision otherwise.
-    fn lanczos_product(&self, moments: Moments, x: &[f64]) -> Vec<f64> {
-        match self.fmm() {
-            Some(fast) if self.periodic_ref().is_none() => self
-                .apply_fast(moments, x, &fast)
-                .expect("with_fmm checked the confinement, the box and the order"),
-            _ => self.apply_with(moments, x, Isa::best(), Precision::Double),
-        }
-    }
-
     /// Euler-Maruyama: `dx = (M F + kT div M) dt + sqrt(2 kT dt) B W`, `B B^T = M`.
     fn euler_maruyama(
         &self,
@@ -303,11 +290,16 @@ impl System {
                 (mul_vec(&m, &f), noise)
             }
             Noise::Lanczos { tol } => {
-                let (y, k) = lanczos_sqrt(|x| self.lanczos_product(bd.moments, x), w, tol, w.len())
-                    .map_err(|source| BrownianError::Lanczos { step, source })?;
+                let (y, k) = lanczos_sqrt(
+                    |x| self.apply_in(bd.moments, x, Precision::Double),
+                    w,
+                    tol,
+                    w.len(),
+                )
+                .map_err(|source| BrownianError::Lanczos { step, source })?;
                 iterations = Some(k);
                 (
-                    self.lanczos_product(bd.moments, &f),
+                    self.apply_in(bd.moments, &f, Precision::Double),
                     y.iter().map(|v| v * scale).collect(),
                 )
             }

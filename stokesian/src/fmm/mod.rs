@@ -362,17 +362,19 @@ fn product<P: Near<K>, const K: usize>(
     res
 }
 
-/// The fast product for a truncation (F or FT) of `xs` (`k` per particle,
-/// particle-major).
-pub(crate) fn apply_moments(
+/// The fast product for a truncation (F: `torques` false, 3 per particle; FT: 6) of `xs`
+/// (particle-major) with the confinement's checked `table`.
+#[allow(clippy::too_many_arguments)]
+fn apply_moments(
     conf: &Confinement,
     eta: f64,
-    moments: Moments,
+    torques: bool,
+    table: &[PotentialSource],
     particles: &[([f64; 3], f64)],
     xs: &[f64],
     settings: &FastProduct,
     isa: Isa,
-) -> Result<Vec<f64>, FmmError> {
+) -> Vec<f64> {
     fn run<P: Near<K>, const K: usize>(
         conf: &Confinement,
         eta: f64,
@@ -389,29 +391,8 @@ pub(crate) fn apply_moments(
             .collect();
         product::<P, K>(conf, eta, near, table, ps, &v, settings, isa).concat()
     }
-    let torques = match moments {
-        Moments::F => false,
-        Moments::FT => true,
-        Moments::FTS => return Err(FmmError::Moments(moments)),
-    };
-    let table = conf
-        .potential_sources(torques)
-        .map_err(|reason| FmmError::NoExpansion {
-            confinement: conf.name(),
-            reason,
-        })?;
-    Ok(match moments {
-        Moments::F => run(
-            conf,
-            eta,
-            &NearF { conf, eta },
-            table,
-            particles,
-            xs,
-            settings,
-            isa,
-        ),
-        _ => run(
+    if torques {
+        run(
             conf,
             eta,
             &NearFT { conf, eta },
@@ -420,15 +401,27 @@ pub(crate) fn apply_moments(
             xs,
             settings,
             isa,
-        ),
-    })
+        )
+    } else {
+        run(
+            conf,
+            eta,
+            &NearF { conf, eta },
+            table,
+            particles,
+            xs,
+            settings,
+            isa,
+        )
+    }
 }
 
 impl System {
     /// The same system with [`System::apply`] (and with it the far-field F and FT
     /// velocities, [`System::velocities`]) by the fast multipole method to the relative
-    /// tolerance `eps` ([`System::apply_fmm`]); FTS products, dense matrices,
-    /// resistances and Brownian dynamics stay as they are. The fast product runs in
+    /// tolerance `eps` ([`System::apply_fmm`]), and with it the Lanczos noise and `M F` of
+    /// Brownian dynamics; FTS products, dense matrices, resistances, Cholesky noise and
+    /// the drift stay as they are. The fast product runs in
     /// double precision whatever [`System::with_precision`] says. Refused for a tolerance
     /// outside `[1e-10, 1e-3]`, a periodic box, or a confinement without an expansion (a
     /// box given later, [`System::periodic`], takes its own products instead).
@@ -482,10 +475,12 @@ impl System {
             return Err(FmmError::Moments(moments));
         }
         self.assert_product(moments, x);
-        check_order(settings, self.table(moments == Moments::FT)?)?;
+        let torques = moments == Moments::FT;
+        let table = self.table(torques)?;
+        check_order(settings, table)?;
         let (conf, eta) = (self.confinement(), self.viscosity());
         Ok(self.with_overlaps(moments, x, |ps, xs| {
-            apply_moments(conf, eta, moments, ps, xs, settings, Isa::best()).expect("checked above")
+            apply_moments(conf, eta, torques, table, ps, xs, settings, Isa::best())
         }))
     }
 }

@@ -663,11 +663,17 @@ impl System {
     /// In the system's precision ([`System::with_precision`]; double by default); F and
     /// FT by the fast multipole method where [`System::with_fmm`] asked for it.
     pub fn apply(&self, moments: Moments, x: &[f64]) -> Vec<f64> {
+        self.apply_in(moments, x, self.precision())
+    }
+
+    /// [`System::apply`] with the direct product in `precision` (the fast product, where
+    /// [`System::with_fmm`] asked for it, is in double precision anyway).
+    pub(crate) fn apply_in(&self, moments: Moments, x: &[f64], precision: Precision) -> Vec<f64> {
         match self.fast() {
             Some(fast) if moments != Moments::FTS && self.periodic_ref().is_none() => self
                 .apply_fast(moments, x, &fast)
                 .expect("with_fmm checked the confinement, the box and the order"),
-            _ => self.apply_with(moments, x, Isa::best(), self.precision()),
+            _ => self.apply_with(moments, x, Isa::best(), precision),
         }
     }
 
