@@ -50,9 +50,9 @@ fn main() {
     if let Some(v) = std::env::var("FMM_ORDER").ok().and_then(|s| s.parse().ok()) {
         settings.order = v;
     }
-    let fast = system.apply_fast(m, &x, &settings).unwrap();
+    let (fast, phases) = system.apply_fast_timed(m, &x, &settings).unwrap();
     println!(
-        "fast {n} {m:?} eps {eps:e}: {:.3} s",
+        "fast {n} {m:?} eps {eps:e}: {:.3} s ({phases:.3?})",
         t.elapsed().as_secs_f64()
     );
     if direct {

@@ -126,7 +126,7 @@ pub use dynamics::{
     rotate, Brownian, BrownianError, ExternalForces, LubricatedDynamics, Noise, Run, RunTally,
     Scheme, Step,
 };
-pub use fmm::{FastProduct, FmmError};
+pub use fmm::{FastProduct, FmmError, Phases};
 pub use kernels::lanes::Isa;
 pub use kernels::{
     declaration, Boundary, Condition, Confinement, Declaration, Dimension, Param, ParamError,

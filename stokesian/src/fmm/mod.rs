@@ -21,9 +21,9 @@ mod tree;
 
 use crate::system::{Moments, System};
 use kernels::expansion::{Mirror, NoExpansion, PotentialSource};
-use kernels::lanes::Isa;
+use kernels::lanes::{self, Isa, Lane, WithLanes};
 use kernels::Confinement;
-use near::{near_row, Near, NearF, NearFT, Soa};
+use near::{near_block, near_row, Near, NearF, NearFT, Soa};
 use rayon::prelude::*;
 use taylor::Indices;
 use tree::Tree;
@@ -64,7 +64,9 @@ pub enum FmmError {
 pub struct FastProduct {
     /// The tolerance on `|u_fast - u_direct|_2 / |u_direct|_2`.
     pub eps: f64,
-    /// The expansions' order.
+    /// The expansions' order `p`: the multipoles carry `p + degree` orders (`degree`:
+    /// the largest `|d| - 2 a2` of the confinement's rows, 2 to 5), the local expansions
+    /// `p` (`p + 1` for FT, whose rotation takes their gradient).
     pub order: usize,
     /// The acceptance parameter: a source cell's multipole reaches a target cell when
     /// `r_t + r_s < theta |c_t - c_s|`.
@@ -75,60 +77,88 @@ pub struct FastProduct {
 
 impl FastProduct {
     /// The parameters for a tolerance `eps` in `[1e-10, 1e-3]`: `theta = 0.4`, leaves of
-    /// at most 64 and the order `p = 2 log10(1/eps) - 4` (at least 2) beyond the
-    /// sources' highest derivative. Measured against the direct product (the `fmm::`
-    /// tests, docs/fmm.md): the error falls by seven to ten for every two orders (a wall,
-    /// F: 2.6e-6, 3.7e-7 and 5.3e-8 at `p = 4, 6, 8` for a monolayer of 10^4 spheres),
-    /// and stays below `eps` for every confinement, F and FT.
+    /// at most 128 and the order `p = ceil(2 log10(1/eps) - 1.7)` (5, 11, 17 and 19 at
+    /// 1e-3, 1e-6, 1e-9 and 1e-10) beyond the sources' degree (`degree`). Calibrated on the
+    /// hardest case measured, a 3-D suspension whose far field carries most of the norm
+    /// (2x10^4 spheres of radii 0.5-1 in a box of 75 above a wall, F; docs/fmm.md): the
+    /// error falls by about ten for every two orders, `0.047 * 0.317^p`, and `p` keeps it
+    /// below `eps/3`. The `fmm::` tests measure every confinement, F and FT, with these
+    /// leaves and with leaves of 16 (whose far field is as large a share).
     pub fn new(eps: f64) -> Result<FastProduct, FmmError> {
         if !(1e-10..=1e-3).contains(&eps) {
             return Err(FmmError::Tolerance(eps));
         }
-        let order = ((2.0 * (1.0 / eps).log10()).ceil() as usize)
-            .saturating_sub(4)
-            .max(2);
+        let order = (2.0 * (1.0 / eps).log10() - 1.7).ceil() as usize;
         Ok(FastProduct {
             eps,
             order,
             theta: 0.4,
-            leaf: 64,
+            leaf: 128,
         })
     }
 }
 
-/// The rows of a table grouped by `(point, channel, d)`: one derivative source per
-/// group and particle.
-struct Group {
-    point: usize,
-    channel: usize,
-    alpha: usize,
-    rows: Vec<PotentialSource>,
+/// A leaf's near field from the first pass: its own velocities, and the halves it
+/// keeps for the higher leaves near it (`(leaf, velocities)`).
+type NearHalves<const K: usize> = (Vec<[f64; K]>, Vec<(usize, Vec<[f64; K]>)>);
+
+/// The wall-clock seconds of each phase of one fast product.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Phases {
+    /// The tree and its lists.
+    pub tree: f64,
+    /// The multipoles: the leaves' from their particles, then their parents'.
+    pub upward: f64,
+    /// The local expansions from the multipoles that reach each cell.
+    pub across: f64,
+    /// The local expansions moved into the cells' children.
+    pub downward: f64,
+    /// The leaves: the near field by the pair kernels and the local expansions at the
+    /// particles.
+    pub leaves: f64,
 }
 
-fn groups(table: &[PotentialSource], ix: &Indices) -> Vec<Group> {
-    let mut out: Vec<Group> = Vec::new();
-    let mut sorted: Vec<PotentialSource> = table.to_vec();
-    sorted.sort_by_key(|s| (s.point, s.channel, s.d));
-    for s in sorted {
-        let alpha = ix.index(s.d);
-        match out.last_mut() {
-            Some(g) if g.point == s.point && g.channel == s.channel && g.alpha == alpha => {
-                g.rows.push(s)
-            }
-            _ => out.push(Group {
-                point: s.point,
-                channel: s.channel,
-                alpha,
-                rows: vec![s],
-            }),
+/// The weight of a row at one particle, up to its coefficient: `h^h_power a^(2 a2)
+/// m[moment]` at `point`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Key {
+    point: usize,
+    h_power: u8,
+    a2: u8,
+    moment: usize,
+}
+
+/// A table's rows as the multipoles' sources: every key, and for each key the rows that
+/// carry it (`(channel, alpha, coef w)`, `alpha` the index of `d`).
+struct Rows {
+    keys: Vec<Key>,
+    rows: Vec<Vec<(usize, usize, f64)>>,
+}
+
+impl Rows {
+    fn new(table: &[PotentialSource], weights: &[f64], ix: &Indices) -> Rows {
+        let key = |s: &PotentialSource| Key {
+            point: s.point,
+            h_power: s.h_power,
+            a2: s.a2,
+            moment: s.moment,
+        };
+        let mut keys: Vec<Key> = table.iter().map(key).collect();
+        keys.sort();
+        keys.dedup();
+        let mut rows = vec![Vec::new(); keys.len()];
+        for s in table {
+            let k = keys.binary_search(&key(s)).expect("listed above");
+            let w = if s.point == 0 { 1.0 } else { weights[s.weight] };
+            rows[k].push((s.channel, ix.index(s.d), s.coef * w));
         }
+        Rows { keys, rows }
     }
-    out
 }
 
 /// Whether the potential's generated derivatives serve `settings`' order for `table`.
 fn check_order(settings: &FastProduct, table: &[PotentialSource]) -> Result<(), FmmError> {
-    let max = kernels::expansion::RADIAL.len() - 1 - highest(table);
+    let max = kernels::expansion::RADIAL.len() - 1 - degree(table);
     if settings.order > max {
         return Err(FmmError::Order {
             order: settings.order,
@@ -138,17 +168,91 @@ fn check_order(settings: &FastProduct, table: &[PotentialSource]) -> Result<(), 
     Ok(())
 }
 
-/// The highest derivative of a table's sources.
-fn highest(table: &[PotentialSource]) -> usize {
+/// The orders the expansions carry beyond the fast product's `order`: the largest `|d|
+/// - 2 a2` of a table's rows.
+///
+/// A row's terms in the multipole-to-local sum are `d^(d + mu + beta) phi`, `mu` the
+/// source's offset from its cell's centre and `beta` the target's: relative to the
+/// Stokeslet's `1/R` they are `(rho/R)^(|mu| + |beta|)` times `(h/R)^h_power (a/R)^(2
+/// a2)` (`h < R` for an image, `a < R` for a cell pair the tree accepts). Truncating
+/// `|d + mu| + |beta|` at `order + degree` keeps every row to `|mu| + |beta| <= order`
+/// at least (the rows whose `a^2` makes them smaller by `(a/R)^2`, to `order - 2`).
+fn degree(table: &[PotentialSource]) -> usize {
+    table
+        .iter()
+        .map(|s| s.d.iter().map(|&e| e as usize).sum::<usize>() - 2 * s.a2 as usize)
+        .max()
+        .unwrap_or(0)
+}
+
+/// The lowest derivative of a table's rows.
+fn lowest(table: &[PotentialSource]) -> usize {
     table
         .iter()
         .map(|s| s.d.iter().map(|&e| e as usize).sum::<usize>())
-        .max()
+        .min()
         .unwrap_or(0)
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// A target cell's local expansion from the multipoles that reach it, on lanes: the
+/// pairs `(source cell, point)` of its list `W` at a time, one per lane, each lane
+/// summing its pairs in the list's order and the lanes added last (a fixed order for
+/// a given instruction set, whatever the threads).
+struct Across<'a, F: Fn(usize, usize) -> [f64; 3]> {
+    ix: &'a Indices,
+    /// The local expansion's length per channel.
+    llen: usize,
+    target: [f64; 3],
+    /// `(source cell, point)` pairs.
+    pairs: &'a [(usize, usize)],
+    multipoles: &'a [Vec<f64>],
+    /// `3 len` per point.
+    block: usize,
+    centre: &'a F,
+}
+
+impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
+    type Elem = f64;
+    type Output = Vec<f64>;
+    #[inline(always)]
+    fn run<L: Lane<Elem = f64>>(self) -> Vec<f64> {
+        let ix = self.ix;
+        let (len, llen, w) = (ix.len(), self.llen, L::WIDTH);
+        let zero = L::splat(0.0);
+        let mut l = vec![zero; 3 * llen];
+        let mut m = vec![zero; 3 * len];
+        let mut d = vec![zero; len];
+        let mut work = vec![zero; len];
+        let mut lane = vec![0.0; w];
+        for chunk in self.pairs.chunks(w) {
+            // a short chunk's empty lanes repeat its first pair with a zero multipole
+            let r: [L; 3] = std::array::from_fn(|k| {
+                for (j, slot) in lane.iter_mut().enumerate() {
+                    let (s, point) = chunk[j.min(chunk.len() - 1)];
+                    *slot = self.target[k] - (self.centre)(s, point)[k];
+                }
+                L::load(&lane)
+            });
+            for (q, slot) in m.iter_mut().enumerate() {
+                for (j, v) in lane.iter_mut().enumerate() {
+                    *v = match chunk.get(j) {
+                        Some(&(s, point)) => self.multipoles[s][point * self.block + q],
+                        None => 0.0,
+                    };
+                }
+                *slot = L::load(&lane);
+            }
+            ix.potential_derivatives(r, &mut d, &mut work);
+            taylor::multipole_to_local(ix, &m, &d, &mut l);
+        }
+        (0..3 * llen)
+            .map(|q| l[q].sum() * ix.inv_factorial[q % llen])
+            .collect()
+    }
 }
 
 /// The fast product of `K` moments per particle (`K = 3`: forces; 6: forces and
@@ -163,18 +267,34 @@ fn product<P: Near<K>, const K: usize>(
     xs: &[[f64; K]],
     settings: &FastProduct,
     isa: Isa,
-) -> Vec<[f64; K]> {
+) -> (Vec<[f64; K]>, Phases) {
     let mirrors: Vec<Mirror> = conf.mirrors();
     let weights = conf.image_weights();
+    let clock = std::time::Instant::now();
+    let mut phases = Phases::default();
+    let mark = |slot: &mut f64, since: &mut f64| {
+        let now = clock.elapsed().as_secs_f64();
+        *slot = now - *since;
+        *since = now;
+    };
+    let mut since = 0.0;
     let points: Vec<[f64; 3]> = particles.iter().map(|p| p.0).collect();
     let tree = Tree::new(&points, settings.leaf, settings.theta, &mirrors);
+    mark(&mut phases.tree, &mut since);
     let sorted: Vec<([f64; 3], f64)> = tree.order.iter().map(|&i| particles[i]).collect();
     let moments: Vec<[f64; K]> = tree.order.iter().map(|&i| xs[i]).collect();
-    // the expansions carry `order` orders beyond the sources' highest derivative
-    let ix = Indices::new(settings.order + highest(table));
-    let len = ix.len();
     let kinds = 1 + mirrors.len();
-    let groups = groups(table, &ix);
+    // the multipoles to `order + degree` (`degree`); the local expansions to `order`,
+    // one more where the rotation takes their gradient (the Laplacian of the Faxén law
+    // is smaller by `(a/R)^2`)
+    let ix = Indices::new(settings.order + degree(table));
+    let lx = Indices::new(settings.order + usize::from(K == 6));
+    // the sources' moments about their leaf's centre: to the order their lowest
+    // derivative leaves
+    let mx = Indices::new(ix.p - lowest(table));
+    let (len, llen, mlen) = (ix.len(), lx.len(), mx.len());
+    let block = 3 * len;
+    let rows = Rows::new(table, &weights, &ix);
     let centre = |c: usize, point: usize| {
         let c = tree.cells[c].centre;
         if point == 0 {
@@ -183,8 +303,8 @@ fn product<P: Near<K>, const K: usize>(
             mirrors[point - 1].image(c)
         }
     };
-    // upward: the leaves' multipoles, then their parents' (3 channels per point)
-    let block = kinds * 3 * len;
+    // upward: the leaves' multipoles from the moments of each key's weights, then
+    // their parents'
     let mut multipoles: Vec<Vec<f64>> = vec![Vec::new(); tree.cells.len()];
     let leaves: Vec<usize> = (0..tree.cells.len())
         .filter(|&c| tree.cells[c].is_leaf())
@@ -193,35 +313,38 @@ fn product<P: Near<K>, const K: usize>(
         .par_iter()
         .map(|&c| {
             let cell = &tree.cells[c];
-            let mut m = vec![0.0; block];
-            let mut mono = vec![0.0; len];
+            let mut sums = vec![0.0; rows.keys.len() * mlen];
+            let mut mono = vec![0.0; kinds * mlen];
             for s in cell.start..cell.end {
                 let (y, a) = sorted[s];
                 let v = &moments[s];
+                let mut h = [0.0; 8];
                 for point in 0..kinds {
-                    let (at, h) = if point == 0 {
-                        (y, 0.0)
+                    let at = if point == 0 {
+                        y
                     } else {
                         let mirror = &mirrors[point - 1];
-                        (mirror.image(y), mirror.distance(y))
+                        h[point] = mirror.distance(y);
+                        mirror.image(y)
                     };
-                    ix.monomials(sub(centre(c, point), at), &mut mono);
-                    for g in groups.iter().filter(|g| g.point == point) {
-                        let strength: f64 = g
-                            .rows
-                            .iter()
-                            .map(|r| {
-                                let w = if point == 0 { 1.0 } else { weights[r.weight] };
-                                r.coef
-                                    * w
-                                    * h.powi(r.h_power as i32)
-                                    * (a * a).powi(r.a2 as i32)
-                                    * v[r.moment]
-                            })
-                            .sum();
-                        let off = (point * 3 + g.channel) * len;
-                        taylor::add_source(&ix, g.alpha, strength, &mono, &mut m[off..off + len]);
+                    let slot = &mut mono[point * mlen..(point + 1) * mlen];
+                    mx.monomials(sub(centre(c, point), at), slot);
+                }
+                for (key, sum) in rows.keys.iter().zip(sums.chunks_mut(mlen)) {
+                    let weight = h[key.point].powi(key.h_power as i32)
+                        * (a * a).powi(key.a2 as i32)
+                        * v[key.moment];
+                    let mono = &mono[key.point * mlen..(key.point + 1) * mlen];
+                    for (t, &q) in sum.iter_mut().zip(mono) {
+                        *t += weight * q;
                     }
+                }
+            }
+            let mut m = vec![0.0; kinds * block];
+            for ((key, sum), rows) in rows.keys.iter().zip(sums.chunks(mlen)).zip(&rows.rows) {
+                for &(channel, alpha, coef) in rows {
+                    let off = key.point * block + channel * len;
+                    taylor::add_source(&ix, alpha, coef, sum, &mut m[off..off + len]);
                 }
             }
             (c, m)
@@ -235,14 +358,13 @@ fn product<P: Near<K>, const K: usize>(
             .par_iter()
             .filter(|&&c| !tree.cells[c].is_leaf())
             .map(|&c| {
-                let mut m = vec![0.0; block];
+                let mut m = vec![0.0; kinds * block];
                 let mut mono = vec![0.0; len];
                 for &child in &tree.cells[c].children {
                     for point in 0..kinds {
                         ix.monomials(sub(centre(c, point), centre(child, point)), &mut mono);
-                        let off = point * 3 * len;
                         for ch in 0..3 {
-                            let r = off + ch * len..off + (ch + 1) * len;
+                            let r = point * block + ch * len..point * block + (ch + 1) * len;
                             taylor::translate_multipole(
                                 &ix,
                                 &multipoles[child][r.clone()],
@@ -259,27 +381,34 @@ fn product<P: Near<K>, const K: usize>(
             multipoles[c] = m;
         }
     }
+    mark(&mut phases.upward, &mut since);
     // across: each cell's local expansion from the multipoles that reach it
     let mut locals: Vec<Vec<f64>> = (0..tree.cells.len())
         .into_par_iter()
         .map(|t| {
-            let mut l = vec![0.0; 3 * len];
             if tree.far[t].is_empty() {
-                return l;
+                return vec![0.0; 3 * llen];
             }
-            let mut d = vec![0.0; len];
-            let mut work = vec![0.0; len];
-            let ct = tree.cells[t].centre;
-            for &s in &tree.far[t] {
-                for point in 0..kinds {
-                    ix.potential_derivatives(sub(ct, centre(s, point)), &mut d, &mut work);
-                    let off = point * 3 * len;
-                    taylor::multipole_to_local(&ix, &multipoles[s][off..off + 3 * len], &d, &mut l);
-                }
+            let pairs: Vec<(usize, usize)> = tree.far[t]
+                .iter()
+                .flat_map(|&s| (0..kinds).map(move |point| (s, point)))
+                .collect();
+            let across = Across {
+                ix: &ix,
+                llen,
+                target: tree.cells[t].centre,
+                pairs: &pairs,
+                multipoles: &multipoles,
+                block,
+                centre: &centre,
+            };
+            match lanes::dispatch_with(isa, across) {
+                Ok(l) => l,
+                Err(_) => panic!("the instruction set {isa:?} is not available on this processor"),
             }
-            l
         })
         .collect();
+    mark(&mut phases.across, &mut since);
     // downward: each cell's local expansion moved into its children
     for level in &tree.levels {
         let moved: Vec<(usize, Vec<f64>)> = level
@@ -287,14 +416,14 @@ fn product<P: Near<K>, const K: usize>(
             .flat_map_iter(|&c| {
                 let parent = &locals[c];
                 let cell = &tree.cells[c];
-                let mut mono = vec![0.0; len];
+                let mut mono = vec![0.0; llen];
                 let mut moved = Vec::with_capacity(cell.children.len());
                 for &child in &cell.children {
-                    ix.monomials(sub(tree.cells[child].centre, cell.centre), &mut mono);
-                    let mut add = vec![0.0; 3 * len];
+                    lx.monomials(sub(tree.cells[child].centre, cell.centre), &mut mono);
+                    let mut add = vec![0.0; 3 * llen];
                     for ch in 0..3 {
-                        let r = ch * len..(ch + 1) * len;
-                        taylor::translate_local(&ix, &parent[r.clone()], &mono, &mut add[r]);
+                        let r = ch * llen..(ch + 1) * llen;
+                        taylor::translate_local(&lx, &parent[r.clone()], &mono, &mut add[r]);
                     }
                     moved.push((child, add));
                 }
@@ -307,36 +436,75 @@ fn product<P: Near<K>, const K: usize>(
             }
         }
     }
+    mark(&mut phases.downward, &mut since);
     // the leaves: the local expansions' Faxén functional and the near field
     let soa = Soa::new(&sorted, &moments);
     let unit = 1.0 / (8.0 * std::f64::consts::PI * eta);
     let lap = [
-        ix.index([2, 0, 0]),
-        ix.index([0, 2, 0]),
-        ix.index([0, 0, 2]),
+        lx.index([2, 0, 0]),
+        lx.index([0, 2, 0]),
+        lx.index([0, 0, 2]),
     ];
     let grad = [
-        ix.index([1, 0, 0]),
-        ix.index([0, 1, 0]),
-        ix.index([0, 0, 1]),
+        lx.index([1, 0, 0]),
+        lx.index([0, 1, 0]),
+        lx.index([0, 0, 1]),
     ];
+    // the near field: a pair of leaves near each other both ways is evaluated once, by
+    // the lower leaf, which keeps the higher one's halves for it; the others (a leaf
+    // with itself, a leaf whose partner takes it through a multipole) by the target
+    let range = |c: usize| (tree.cells[c].start, tree.cells[c].end);
+    let mutual = |t: usize, s: usize| s != t && tree.near[s].contains(&t);
+    let first: Vec<NearHalves<K>> = leaves
+        .par_iter()
+        .map(|&t| {
+            let (t0, t1) = range(t);
+            let mut out = vec![[0.0; K]; t1 - t0];
+            let alone: Vec<(usize, usize)> = tree.near[t]
+                .iter()
+                .filter(|&&s| !mutual(t, s))
+                .map(|&s| range(s))
+                .collect();
+            near_row(&soa, near, (t0, t1), &alone, isa, &mut out);
+            let mut kept = Vec::new();
+            for &s in tree.near[t].iter().filter(|&&s| s > t && mutual(t, s)) {
+                let (s0, s1) = range(s);
+                let mut back = vec![[0.0; K]; s1 - s0];
+                near_block(&soa, near, (t0, t1), (s0, s1), isa, &mut out, &mut back);
+                kept.push((s, back));
+            }
+            (out, kept)
+        })
+        .collect();
+    let mut position = vec![usize::MAX; tree.cells.len()];
+    for (k, &c) in leaves.iter().enumerate() {
+        position[c] = k;
+    }
     let rows: Vec<(usize, Vec<[f64; K]>)> = leaves
         .par_iter()
-        .map(|&c| {
+        .zip(&first)
+        .map(|(&c, (out, _))| {
             let cell = &tree.cells[c];
-            let mut out = vec![[0.0; K]; cell.end - cell.start];
-            let sources: Vec<(usize, usize)> = tree.near[c]
-                .iter()
-                .map(|&s| (tree.cells[s].start, tree.cells[s].end))
-                .collect();
-            near_row(&soa, near, (cell.start, cell.end), &sources, isa, &mut out);
+            let mut out = out.clone();
+            for &s in tree.near[c].iter().filter(|&&s| s < c && mutual(c, s)) {
+                let kept = &first[position[s]].1;
+                let (_, back) = kept
+                    .iter()
+                    .find(|(t, _)| *t == c)
+                    .expect("kept by the lower leaf");
+                for (o, b) in out.iter_mut().zip(back) {
+                    for k in 0..K {
+                        o[k] += b[k];
+                    }
+                }
+            }
             let l = &locals[c];
-            let mut mono = vec![0.0; len];
+            let mut mono = vec![0.0; llen];
             for (o, s) in out.iter_mut().zip(cell.start..cell.end) {
                 let (x, a) = sorted[s];
-                ix.monomials(sub(x, cell.centre), &mut mono);
+                lx.monomials(sub(x, cell.centre), &mut mono);
                 let at = |ch: usize, k: usize| {
-                    taylor::local_derivative(&ix, &l[ch * len..(ch + 1) * len], k, &mono)
+                    taylor::local_derivative(&lx, &l[ch * llen..(ch + 1) * llen], k, &mono)
                 };
                 for k in 0..3 {
                     let laplacian: f64 = lap.iter().map(|&q| at(k, q)).sum();
@@ -353,13 +521,14 @@ fn product<P: Near<K>, const K: usize>(
             (cell.start, out)
         })
         .collect();
+    mark(&mut phases.leaves, &mut since);
     let mut res = vec![[0.0; K]; particles.len()];
     for (start, out) in rows {
         for (k, o) in out.into_iter().enumerate() {
             res[tree.order[start + k]] = o;
         }
     }
-    res
+    (res, phases)
 }
 
 /// The fast product for a truncation (F: `torques` false, 3 per particle; FT: 6) of `xs`
@@ -374,7 +543,7 @@ fn apply_moments(
     xs: &[f64],
     settings: &FastProduct,
     isa: Isa,
-) -> Vec<f64> {
+) -> (Vec<f64>, Phases) {
     fn run<P: Near<K>, const K: usize>(
         conf: &Confinement,
         eta: f64,
@@ -384,12 +553,13 @@ fn apply_moments(
         xs: &[f64],
         settings: &FastProduct,
         isa: Isa,
-    ) -> Vec<f64> {
+    ) -> (Vec<f64>, Phases) {
         let v: Vec<[f64; K]> = xs
             .chunks(K)
             .map(|c| std::array::from_fn(|i| c[i]))
             .collect();
-        product::<P, K>(conf, eta, near, table, ps, &v, settings, isa).concat()
+        let (u, phases) = product::<P, K>(conf, eta, near, table, ps, &v, settings, isa);
+        (u.concat(), phases)
     }
     if torques {
         run(
@@ -468,6 +638,16 @@ impl System {
         x: &[f64],
         settings: &FastProduct,
     ) -> Result<Vec<f64>, FmmError> {
+        Ok(self.apply_fast_timed(moments, x, settings)?.0)
+    }
+
+    /// [`System::apply_fast`] and the time each of its phases took ([`Phases`]).
+    pub fn apply_fast_timed(
+        &self,
+        moments: Moments,
+        x: &[f64],
+        settings: &FastProduct,
+    ) -> Result<(Vec<f64>, Phases), FmmError> {
         if self.periodic_ref().is_some() {
             return Err(FmmError::Periodic);
         }
@@ -479,8 +659,12 @@ impl System {
         let table = self.table(torques)?;
         check_order(settings, table)?;
         let (conf, eta) = (self.confinement(), self.viscosity());
-        Ok(self.with_overlaps(moments, x, |ps, xs| {
-            apply_moments(conf, eta, torques, table, ps, xs, settings, Isa::best())
-        }))
+        let mut phases = Phases::default();
+        let u = self.with_overlaps(moments, x, |ps, xs| {
+            let (u, p) = apply_moments(conf, eta, torques, table, ps, xs, settings, Isa::best());
+            phases = p;
+            u
+        });
+        Ok((u, phases))
     }
 }

@@ -37,7 +37,7 @@ impl<const K: usize> Soa<K> {
     }
 }
 
-/// A pair product on lanes keeping the target's half, `M^{ab} v_b`.
+/// A pair product on lanes: `M^{ab} v_b` and `M^{ba} v_a`.
 pub(super) trait Near<const K: usize>: Sync {
     fn eval<L: Lane<Elem = f64>>(
         &self,
@@ -47,7 +47,7 @@ pub(super) trait Near<const K: usize>: Sync {
         ab: L,
         va: [L; K],
         vb: [L; K],
-    ) -> [L; K];
+    ) -> ([L; K], [L; K]);
     /// `M^{aa} v` of particle `a` alone.
     fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; K]) -> [f64; K];
 }
@@ -72,9 +72,9 @@ macro_rules! near_lanes {
                 ab: L,
                 va: [L; $k],
                 vb: [L; $k],
-            ) -> [L; $k] {
+            ) -> ([L; $k], [L; $k]) {
                 let o = kernels::$lanes(self.conf, self.eta, xa, aa, xb, ab, va, vb);
-                std::array::from_fn(|i| o[i])
+                (std::array::from_fn(|i| o[i]), std::array::from_fn(|i| o[$k + i]))
             }
             fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; $k]) -> [f64; $k] {
                 kernels::$self_kernel(self.conf, self.eta, x, a).product(v, v).a
@@ -139,7 +139,7 @@ impl<P: Near<K>, const K: usize> WithLanes for Row<'_, P, K> {
                     let xb: [L; 3] = std::array::from_fn(|k| L::load(&soa.x[k][j..]));
                     let ab = L::load(&soa.a[j..]);
                     let vb: [L; K] = std::array::from_fn(|c| L::load(&soa.v[c][j..]));
-                    let p = product.eval(xa, aa, xb, ab, va, vb);
+                    let (p, _) = product.eval(xa, aa, xb, ab, va, vb);
                     let zero = L::splat(0.0);
                     for c in 0..K {
                         acc[c] =
@@ -176,6 +176,95 @@ pub(super) fn near_row<P: Near<K>, const K: usize>(
         out,
     };
     if lanes::dispatch_with(isa, row).is_err() {
+        panic!("the instruction set {isa:?} is not available on this processor");
+    }
+}
+
+/// The pairs between two distinct leaves, both halves: each pair's kernel once.
+struct Block<'a, P, const K: usize> {
+    soa: &'a Soa<K>,
+    product: &'a P,
+    target: (usize, usize),
+    source: (usize, usize),
+    out_target: &'a mut [[f64; K]],
+    out_source: &'a mut [[f64; K]],
+}
+
+impl<P: Near<K>, const K: usize> WithLanes for Block<'_, P, K> {
+    type Elem = f64;
+    type Output = ();
+    #[inline(always)]
+    fn run<L: Lane<Elem = f64>>(self) {
+        let Block {
+            soa,
+            product,
+            target,
+            source,
+            out_target,
+            out_source,
+        } = self;
+        let w = L::WIDTH;
+        let zero = L::splat(0.0);
+        let end = L::splat(source.1 as f64);
+        // the source particles' halves, one lane vector per chunk of `w` of them, each
+        // summed over the targets in their order
+        let chunks = (source.1 - source.0).div_ceil(w);
+        let mut back = vec![[zero; K]; chunks];
+        for (slot, i) in out_target.iter_mut().zip(target.0..target.1) {
+            let xa: [L; 3] = std::array::from_fn(|k| L::splat(soa.x[k][i]));
+            let aa = L::splat(soa.a[i]);
+            let va: [L; K] = std::array::from_fn(|c| L::splat(soa.v[c][i]));
+            let mut acc = [zero; K];
+            for (chunk, b) in back.iter_mut().enumerate() {
+                let j = source.0 + chunk * w;
+                let inside = end.gt(L::iota() + L::splat(j as f64));
+                let xb: [L; 3] = std::array::from_fn(|k| L::load(&soa.x[k][j..]));
+                let ab = L::load(&soa.a[j..]);
+                let vb: [L; K] = std::array::from_fn(|c| L::load(&soa.v[c][j..]));
+                let (pa, pb) = product.eval(xa, aa, xb, ab, va, vb);
+                for c in 0..K {
+                    acc[c] = acc[c] + L::select(inside, pa[c], zero);
+                    b[c] = b[c] + L::select(inside, pb[c], zero);
+                }
+            }
+            for c in 0..K {
+                slot[c] += acc[c].sum();
+            }
+        }
+        let mut lane = vec![0.0; w];
+        for (chunk, b) in back.iter().enumerate() {
+            for c in 0..K {
+                b[c].store(&mut lane);
+                for (u, &v) in lane.iter().enumerate() {
+                    if let Some(slot) = out_source.get_mut(chunk * w + u) {
+                        slot[c] += v;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The pairs between the particles `target` and `source` (ranges of the tree's order,
+/// disjoint): their halves added to `out_target` and `out_source`.
+pub(super) fn near_block<P: Near<K>, const K: usize>(
+    soa: &Soa<K>,
+    product: &P,
+    target: (usize, usize),
+    source: (usize, usize),
+    isa: Isa,
+    out_target: &mut [[f64; K]],
+    out_source: &mut [[f64; K]],
+) {
+    let block = Block {
+        soa,
+        product,
+        target,
+        source,
+        out_target,
+        out_source,
+    };
+    if lanes::dispatch_with(isa, block).is_err() {
         panic!("the instruction set {isa:?} is not available on this processor");
     }
 }

@@ -21,6 +21,7 @@
 //!   (`d_i f^(n) = 2 R_i f^(n+1)` and Leibniz's rule); `D = T^(0)`.
 
 use kernels::expansion::RADIAL;
+use kernels::lanes::Lane;
 
 /// The multi-indices of total order `<= p` and the index tables of the expansions'
 /// operators, built once per order.
@@ -131,29 +132,36 @@ impl Indices {
         }
     }
 
-    /// `D_gamma(r) = d^gamma |r|` for every `|gamma| <= p`, into `out`; `work` holds
-    /// `len()` values.
-    pub fn potential_derivatives(&self, r: [f64; 3], out: &mut [f64], work: &mut [f64]) {
+    /// `D_gamma(r) = d^gamma |r|` for every `|gamma| <= p`, into `out`, on lanes (one
+    /// `r` per lane); `work` holds `len()` values.
+    #[inline(always)]
+    pub fn potential_derivatives<L: Lane<Elem = f64>>(
+        &self,
+        r: [L; 3],
+        out: &mut [L],
+        work: &mut [L],
+    ) {
         let s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-        let inv_s = 1.0 / s;
+        let inv_s = L::splat(1.0) / s;
         // T^(n) for n = p down to 0 over |gamma| <= p - n, held in `out` (this n) and
         // `work` (n + 1); f^(n)(s) = RADIAL[n] s^(1/2 - n)
         let mut radial = s.sqrt() * inv_s.powi(self.p as i32);
         let count = |order: usize| (order + 1) * (order + 2) * (order + 3) / 6;
+        let two = L::splat(2.0);
         for n in (0..=self.p).rev() {
             let len = count(self.p - n);
-            out[0] = RADIAL[n] * radial;
+            out[0] = L::splat(RADIAL[n]) * radial;
             for k in 1..len {
-                let (one, i, two) = self.recurrence[k];
+                let (one, i, second) = self.recurrence[k];
                 let i = i as usize;
-                let mut v = 2.0 * r[i] * work[one];
-                if let Some(two) = two {
-                    v += 2.0 * (self.nu[k][i] as f64 - 1.0) * work[two];
+                let mut v = two * r[i] * work[one];
+                if let Some(second) = second {
+                    v = L::splat(2.0 * (self.nu[k][i] as f64 - 1.0)).mul_add(work[second], v);
                 }
                 out[k] = v;
             }
             work[..len].copy_from_slice(&out[..len]);
-            radial *= s;
+            radial = radial * s;
         }
     }
 }
@@ -177,26 +185,43 @@ pub(crate) fn translate_multipole(ix: &Indices, m: &[f64], mono: &[f64], out: &m
     }
 }
 
-/// `L_beta += sum_nu M_nu D_{nu + beta} / beta!` for the three channels of `m` and `l`
-/// (each `len()` long, one after the other), which share `D`. For each `beta` the `nu`
-/// with `|nu| <= p - |beta|` are a prefix of the graded order, so each sum is a dot
-/// product of that prefix of `M` with `D` gathered at `nu + beta` ([`Indices::shift`]).
-pub(crate) fn multipole_to_local(ix: &Indices, m: &[f64], d: &[f64], l: &mut [f64]) {
+/// `L_beta += sum_nu M_nu D_{nu + beta}` (without the `1/beta!` of the local
+/// expansion, which the caller applies once) for the three channels of `m` (each
+/// `len()` long, one after the other) and of `l` (each a third of `l`, a local
+/// expansion of order at most `p`), which share `D`; one multipole per lane. For each
+/// `beta` the `nu` with `|nu| <= p - |beta|` are a prefix of the graded order, so each
+/// sum is a dot product of that prefix of `M` with `D` gathered at `nu + beta`
+/// ([`Indices::shift`]): the same indices in every lane.
+#[inline(always)]
+pub(crate) fn multipole_to_local<L: Lane<Elem = f64>>(ix: &Indices, m: &[L], d: &[L], l: &mut [L]) {
     let len = ix.len();
+    let llen = l.len() / 3;
+    debug_assert!(llen <= len);
     let (m0, rest) = m.split_at(len);
     let (m1, m2) = rest.split_at(len);
-    for (beta, pairs) in ix.shift.iter().enumerate() {
-        let (mut a0, mut a1, mut a2) = (0.0, 0.0, 0.0);
-        for (k, &(_, sum)) in pairs.iter().enumerate() {
-            let dv = d[sum as usize];
-            a0 += m0[k] * dv;
-            a1 += m1[k] * dv;
-            a2 += m2[k] * dv;
+    let zero = L::splat(0.0);
+    for (beta, pairs) in ix.shift[..llen].iter().enumerate() {
+        // four partial sums per channel, so that the fused multiply-adds do not wait
+        // on each other
+        let mut acc = [[zero; 3]; 4];
+        let whole = pairs.len() / 4 * 4;
+        for (k, quad) in pairs[..whole].chunks_exact(4).enumerate() {
+            for (u, &(_, sum)) in quad.iter().enumerate() {
+                let (k, dv) = (4 * k + u, d[sum as usize]);
+                acc[u][0] = m0[k].mul_add(dv, acc[u][0]);
+                acc[u][1] = m1[k].mul_add(dv, acc[u][1]);
+                acc[u][2] = m2[k].mul_add(dv, acc[u][2]);
+            }
         }
-        let w = ix.inv_factorial[beta];
-        l[beta] += a0 * w;
-        l[len + beta] += a1 * w;
-        l[2 * len + beta] += a2 * w;
+        for (k, &(_, sum)) in pairs.iter().enumerate().skip(whole) {
+            let dv = d[sum as usize];
+            acc[0][0] = m0[k].mul_add(dv, acc[0][0]);
+            acc[0][1] = m1[k].mul_add(dv, acc[0][1]);
+            acc[0][2] = m2[k].mul_add(dv, acc[0][2]);
+        }
+        for (c, slot) in [beta, llen + beta, 2 * llen + beta].into_iter().enumerate() {
+            l[slot] = l[slot] + ((acc[0][c] + acc[1][c]) + (acc[2][c] + acc[3][c]));
+        }
     }
 }
 

@@ -1,20 +1,22 @@
-//! The adaptive octree of the fast product and its interaction lists.
+//! The adaptive binary tree of the fast product and its interaction lists.
 //!
-//! Boxes split in halves along their long axes (every axis at least half as long as the
-//! longest) until a cell holds at most `leaf` particles, and empty parts are dropped: a
-//! monolayer's boxes split in the plane only until they are as wide as the layer is
-//! thick, then in all three (an octree in the bulk, a quadtree in a layer); the particles are reordered
-//! so that every cell's are contiguous. A cell's expansions are about its cube's centre,
-//! its radius the largest distance of one of its particles from it (an image cell's:
-//! the same about the mirrored centre). A dual traversal from the root pair lists, for
-//! every target cell, the source cells whose multipoles reach it (the multipole
-//! acceptance criterion `r_t + r_s < theta |c_t - c_s|`, for the source cell and for each
-//! of its images), and for every leaf the leaves whose particles it meets through the
-//! exact pair kernels. Everything is fixed by the positions alone.
+//! A box splits in halves across its longest side until a cell holds at most `leaf`
+//! particles, and empty halves are dropped: a monolayer's boxes split in the plane
+//! only until they are as wide as the layer is thick (a quadtree in a layer, an octree
+//! in the bulk, one axis per level), and the leaves of a uniform suspension hold
+//! between `leaf/2` and `leaf` (a split into four or eight at once leaves them a
+//! quarter or an eighth full where the count falls just past a level). The particles
+//! are reordered so that every cell's are contiguous. A cell's expansions are about its
+//! box's centre, its radius the largest distance of one of its particles from it (an
+//! image cell's: the same about the mirrored centre). A dual traversal from the root
+//! pair lists, for every target cell, the source cells whose multipoles reach it (the
+//! multipole acceptance criterion `r_t + r_s < theta |c_t - c_s|`, for the source cell
+//! and for each of its images), and for every leaf the leaves whose particles it meets
+//! through the exact pair kernels. Everything is fixed by the positions alone.
 
 use kernels::expansion::Mirror;
 
-/// A cell of the octree.
+/// A cell of the tree.
 #[derive(Clone, Debug)]
 pub(super) struct Cell {
     pub centre: [f64; 3],
@@ -32,7 +34,7 @@ impl Cell {
     }
 }
 
-/// The octree, its particle order and its lists.
+/// The tree, its particle order and its lists.
 pub(super) struct Tree {
     pub cells: Vec<Cell>,
     /// Tree order -> input index.
@@ -110,24 +112,19 @@ impl Tree {
             children: Vec::new(),
             level,
         });
-        // cells of coincident points would split forever: a depth of 48 halves the root
-        // to 4e-15 of itself
-        if end - start <= leaf || level >= 48 {
+        // cells of coincident points would split forever: a depth of 144 halves each
+        // side of the root 48 times, to 4e-15 of itself
+        if end - start <= leaf || level >= 144 {
             return me;
         }
         let longest = half.iter().copied().fold(0.0, f64::max);
-        let split: [bool; 3] = std::array::from_fn(|k| half[k] >= longest / 2.0);
-        let octant = |p: [f64; 3]| {
-            (0..3).fold(0usize, |o, k| {
-                o | (((split[k] && p[k] >= centre[k]) as usize) << k)
-            })
-        };
+        let axis = (0..3).find(|&k| half[k] == longest).unwrap_or(0);
         let child_half: [f64; 3] =
-            std::array::from_fn(|k| if split[k] { half[k] / 2.0 } else { half[k] });
-        // stable partition of this cell's particles by octant
-        let mut by: Vec<Vec<usize>> = vec![Vec::new(); 8];
+            std::array::from_fn(|k| if k == axis { half[k] / 2.0 } else { half[k] });
+        // stable partition of this cell's particles by half
+        let mut by: Vec<Vec<usize>> = vec![Vec::new(); 2];
         for &i in &self.order[start..end] {
-            by[octant(points[i])].push(i);
+            by[usize::from(points[i][axis] >= centre[axis])].push(i);
         }
         let mut at = start;
         let mut children = Vec::new();
@@ -137,7 +134,7 @@ impl Tree {
             }
             let len = members.len();
             self.order[at..at + len].copy_from_slice(&members);
-            let c: [f64; 3] = std::array::from_fn(|k| match (split[k], (o >> k) & 1 == 1) {
+            let c: [f64; 3] = std::array::from_fn(|k| match (k == axis, o == 1) {
                 (false, _) => centre[k],
                 (true, true) => centre[k] + half[k] / 2.0,
                 (true, false) => centre[k] - half[k] / 2.0,
