@@ -121,6 +121,9 @@ pub(crate) struct NBody {
     wall_height: Option<f64>,
     /// `Nbatch` and `NperBatch` as given (negative: libMobility's default).
     batch: (i64, i64),
+    /// The fast product's tolerance (`setParameters(fmm_tolerance=...)`): `Mdot` and the
+    /// Lanczos products of `sqrtMdotW` by `System::with_fmm`.
+    fmm: Option<f64>,
     viscosity: Option<f64>,
     radius: Option<Vec<f64>>,
     angular: bool,
@@ -284,6 +287,7 @@ impl NBody {
             periodic,
             lengths: None,
             wall_height: None,
+            fmm: None,
             batch: (-1, -1),
             viscosity: None,
             radius: None,
@@ -299,7 +303,7 @@ impl NBody {
     /// libMobility's NBody parameters: the wall's height (required with a wall, refused
     /// without), the batches (checked against the number of particles by
     /// `setPositions`); the algorithm and `delta` are accepted for libMobility's scripts.
-    #[pyo3(signature = (algorithm = "advise", Nbatch = -1, NperBatch = -1, wallHeight = None, delta = 1e-3, *, Lx = None, Ly = None, Lz = None, psi = None, shearStrain = None, zmin = None, zmax = None, allowChangingBoxSize = false, allowUnsafeForces = false))]
+    #[pyo3(signature = (algorithm = "advise", Nbatch = -1, NperBatch = -1, wallHeight = None, delta = 1e-3, *, Lx = None, Ly = None, Lz = None, psi = None, shearStrain = None, zmin = None, zmax = None, allowChangingBoxSize = false, allowUnsafeForces = false, fmm_tolerance = None))]
     #[allow(non_snake_case, clippy::too_many_arguments)]
     fn setParameters(
         &mut self,
@@ -317,7 +321,18 @@ impl NBody {
         zmax: Option<f64>,
         allowChangingBoxSize: bool,
         allowUnsafeForces: bool,
+        fmm_tolerance: Option<f64>,
     ) -> PyResult<()> {
+        // the fast product (open boundaries only): its tolerance checked here
+        if let Some(eps) = fmm_tolerance {
+            if self.periodic {
+                return Err(input_error(
+                    "fmm_tolerance applies to open boundaries (free space, a single wall); \
+                     the periodic solvers sum their lattices by Ewald's method",
+                ));
+            }
+            stokesian::FastProduct::new(eps).map_err(input_error)?;
+        }
         // the box: libMobility's PSE names for a triply periodic one, DPStokes' along a
         // wall; required there, refused otherwise
         let lengths = match (self.periodic, self.wall, Lx, Ly, Lz) {
@@ -421,6 +436,7 @@ impl NBody {
         self.top = top;
         self.lengths = lengths;
         self.batch = (Nbatch, NperBatch);
+        self.fmm = fmm_tolerance;
         Ok(())
     }
 
@@ -510,6 +526,7 @@ impl NBody {
             ));
         }
         let lengths = self.lengths;
+        let fmm = self.fmm;
         let conf = match (self.wall, self.wall_height, self.top) {
             (false, ..) => Confinement::Free,
             (true, Some(height), Some(top)) => Confinement::Slit {
@@ -552,7 +569,10 @@ impl NBody {
                                     tolerance: stokesian::PeriodicBox::TOLERANCE,
                                 })
                                 .map_err(|e| periodic_words(e, b * size)),
-                            None => Ok(s),
+                            None => match fmm {
+                                Some(eps) => s.with_fmm(eps).map_err(|e| e.to_string()),
+                                None => Ok(s),
+                            },
                         }
                     })
                     .collect::<Result<Vec<_>, _>>()

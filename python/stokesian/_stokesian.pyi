@@ -301,6 +301,7 @@ class NBody:
         zmax: Optional[float] = None,
         allowChangingBoxSize: bool = False,
         allowUnsafeForces: bool = False,
+        fmm_tolerance: Optional[float] = None,
     ) -> None:
         """``wallHeight``: the height of the wall; required with ``"single_wall"`` (also
         when ``setParameters`` is not called: ``setPositions`` then raises) and refused
@@ -316,7 +317,11 @@ class NBody:
         ``shearStrain`` other than 0 raises. Periodic along a wall (DPStokes' names):
         ``Lx, Ly`` (required, ``Lz`` refused) and ``zmin``, the wall's height (or
         ``wallHeight``; both must agree); ``zmax``, ``allowChangingBoxSize`` and
-        ``allowUnsafeForces`` are accepted and change nothing (no grid here)."""
+        ``allowUnsafeForces`` are accepted and change nothing (no grid here).
+        ``fmm_tolerance`` (beyond libMobility; open boundaries only): ``Mdot`` and the
+        Lanczos products of ``sqrtMdotW`` by the fast multipole method to this relative
+        2-norm tolerance in ``[1e-10, 1e-3]`` (``System.apply(..., fmm=)``); ``divM``
+        stays exact."""
     def initialize(
         self,
         viscosity: float,

@@ -741,3 +741,37 @@ def test_periodic_along_a_wall_as_libmobilitys_dpstokes():
             Lx=8.0, Ly=9.0, zmin=0.0, wallHeight=1.0)
     with pytest.raises(RuntimeError, match="zmin applies only"):
         stokesian.NBody("open", "open", "single_wall").setParameters(zmin=0.0)
+
+
+@pytest.mark.parametrize("wall", [True, False])
+def test_fmm_tolerance_takes_the_fast_product(wall):
+    # 1500 spheres in a slab above the wall: Mdot by the fast product within its
+    # tolerance of the direct one (relative 2-norm, the fast product's own measure), and
+    # identical to the library's fast product; refused for a periodic box and out of range
+    rng = np.random.default_rng(5)
+    side = 60.0
+    positions = np.column_stack([rng.uniform(0, side, 1500), rng.uniform(0, side, 1500),
+                                 rng.uniform(1.5, 12.0, 1500)])
+    forces = rng.normal(size=(1500, 3))
+    for eps in (1e-3, 1e-6):
+        fast = stokesian.NBody("open", "open", "single_wall" if wall else "open")
+        exact = stokesian.NBody("open", "open", "single_wall" if wall else "open")
+        if wall:
+            fast.setParameters(wallHeight=0.0, fmm_tolerance=eps)
+            exact.setParameters(wallHeight=0.0)
+        else:
+            fast.setParameters(fmm_tolerance=eps)
+        for s in (fast, exact):
+            s.initialize(viscosity=1.0, hydrodynamicRadius=0.5)
+            s.setPositions(positions)
+        u, _ = fast.Mdot(forces)
+        v, _ = exact.Mdot(forces)
+        assert np.linalg.norm(u - v) <= eps * np.linalg.norm(v)
+        system = stokesian.System(positions, 0.5, confinement="wall" if wall else "free",
+                                  overlap="rpy")
+        assert np.array_equal(u.ravel(), system.apply("F", forces.ravel(), fmm=eps))
+    periodic = stokesian.NBody("periodic", "periodic", "periodic")
+    with pytest.raises(stokesian.InputError, match="open boundaries"):
+        periodic.setParameters(Lx=10.0, Ly=10.0, Lz=10.0, fmm_tolerance=1e-6)
+    with pytest.raises(stokesian.InputError, match="tolerance"):
+        stokesian.NBody("open", "open", "open").setParameters(fmm_tolerance=1e-2)
