@@ -175,7 +175,7 @@ pub fn format_time(ns: f64) -> String {
 }
 
 /// The processor, its logical cores and the compiler.
-fn machine() -> String {
+pub fn machine() -> String {
     use crate::report::{cpu_model, logical_cpus, rustc_version};
     format!(
         "{}, {} cores, {}",
@@ -246,15 +246,20 @@ fn table(
 
 /// Replace what lies between the markers of `path` by `body`.
 pub fn rewrite(path: &Path, body: &str) -> Result<()> {
+    rewrite_between(path, BEGIN, END, body)
+}
+
+/// Replace what lies between the lines `begin` and `end` of `path` by `body`.
+pub fn rewrite_between(path: &Path, begin: &str, end: &str, body: &str) -> Result<()> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let (Some(b), Some(e)) = (text.find(BEGIN), text.find(END)) else {
-        bail!("{} has no `{BEGIN}` ... `{END}` markers", path.display());
+    let (Some(b), Some(e)) = (text.find(begin), text.find(end)) else {
+        bail!("{} has no `{begin}` ... `{end}` markers", path.display());
     };
     if e < b {
-        bail!("{}: `{END}` comes before `{BEGIN}`", path.display());
+        bail!("{}: `{end}` comes before `{begin}`", path.display());
     }
-    let out = format!("{}{BEGIN}\n{body}{}", &text[..b], &text[e..]);
+    let out = format!("{}{begin}\n{body}{}", &text[..b], &text[e..]);
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
 }
 

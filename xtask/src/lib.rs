@@ -13,6 +13,7 @@ use std::process::Command;
 pub mod bench;
 pub mod budget;
 pub mod check_green;
+pub mod fmm;
 pub mod report;
 pub mod wall_limit;
 

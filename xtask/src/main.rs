@@ -16,12 +16,12 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-use xtask::{bench, budget, check_green, read_scene, report, root, run, scenes, wall_limit};
+use xtask::{bench, budget, check_green, fmm, read_scene, report, root, run, scenes, wall_limit};
 
 fn usage() -> &'static str {
     "usage: cargo xtask gen [--check] | cargo xtask gen --scene FILE [--out PATH] | cargo xtask report [--quick]\n\
      | cargo xtask check-green FILE.rs [--name NAME] | cargo xtask check-green --registered NAME\n\
-     | cargo xtask test | cargo xtask bench [--quick] | cargo xtask wall-limit [--truncation N]\n\
+     | cargo xtask test | cargo xtask bench [--quick] | cargo xtask fmm [--quick] | cargo xtask wall-limit [--truncation N]\n\
      \n\
      gen                       regenerate kernels/src/generated/ from kernel-gen and scenes/*.toml; prints each\n\
                                kernel's operations and bytes, and writes nothing if a file is over the size budget\n\
@@ -39,6 +39,9 @@ fn usage() -> &'static str {
                                target/python-venv (maturin, numpy, pytest from PyPI) and its pytest tests\n\
      bench                     run the benchmarks of the performance table (cargo bench -p stokesian-benches) and rewrite\n\
                                that table in README.md and docs/performance.md; --quick: short, provisional runs\n\
+     fmm                       time the fast multipole product and measure its error and memory for monolayers of\n\
+                               10^3 to 10^6 spheres (wall F and FT, free space F) and rewrite its table in docs/fmm.md;\n\
+                               --quick: up to 10^4 spheres, provisional\n\
      wall-limit [--truncation N]  the sphere-plane functions as the two-sphere limit of a large second sphere\n\
                                (coefficients built to N terms, default 400; a table in Markdown on stdout)"
 }
@@ -325,6 +328,8 @@ fn main() -> Result<()> {
         ["test"] => test(),
         ["bench"] => bench::run(&root(), false),
         ["bench", "--quick"] => bench::run(&root(), true),
+        ["fmm"] => fmm::run(&root(), false),
+        ["fmm", "--quick"] => fmm::run(&root(), true),
         ["wall-limit", rest @ ..] => wall_limit::run(rest),
         ["check-green", rest @ ..] => check_green::run(&root(), rest),
         ["help"] | ["--help"] | ["-h"] | [] => {
