@@ -4,7 +4,9 @@
 //! of side `(18 N)^(1/3)` above the plane (a 3-D suspension, volume fraction about 0.1:
 //! what calibrates the order, docs/fmm.md).
 //!
-//! `cargo run --release -p stokesian --example fmm_timing -- N EPS [F|FT] [wall|free] [box] [direct]`
+//! `cargo run --release -p stokesian --example fmm_timing -- N EPS [F|FT] [wall|free] [box] [direct] [untimed]`
+//!
+//! (`untimed`: the fast product once, without the error: for a profiler.)
 //!
 //! Prints the fast product's time (the median of five runs below 10^5 spheres, else
 //! one) and phases, its relative 2-norm error against the direct sum (over every target
@@ -129,6 +131,7 @@ fn main() {
         _ => ("wall", Confinement::Wall { height: 0.0 }),
     };
     let direct = args.iter().any(|s| s == "direct");
+    let untimed = args.iter().any(|s| s == "untimed");
     let bulk = args.iter().any(|s| s == "box");
     let mut rng = ChaCha8Rng::seed_from_u64(12345);
     let ps = if bulk {
@@ -151,7 +154,7 @@ fn main() {
     if let Some(v) = var("FMM_ORDER").and_then(|s| s.parse().ok()) {
         settings.order = v;
     }
-    let runs = if n < 100_000 { 5 } else { 1 };
+    let runs = if n < 100_000 && !untimed { 5 } else { 1 };
     let mut times = Vec::new();
     let mut out = None;
     for _ in 0..runs {
@@ -164,6 +167,9 @@ fn main() {
     let time = times[runs / 2];
     let (fast, phases) = out.expect("one run at least");
     println!("fast {n} {name} {m:?} eps {eps:e}: {time:.3} s ({phases:.3?}), {settings:?}");
+    if untimed {
+        return;
+    }
     let direct_time = direct.then(|| {
         let t = Instant::now();
         let d = system.apply(m, &x);

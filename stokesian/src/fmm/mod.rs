@@ -64,9 +64,10 @@ pub enum FmmError {
 pub struct FastProduct {
     /// The tolerance on `|u_fast - u_direct|_2 / |u_direct|_2`.
     pub eps: f64,
-    /// The expansions' order `p`: the multipoles carry `p + degree` orders (`degree`:
-    /// the largest `|d| - 2 a2` of the confinement's rows, 2 to 5), the local expansions
-    /// `p` (`p + 1` for FT, whose rotation takes their gradient).
+    /// The expansions' order `p`: the multipoles about each point carry `p + degree`
+    /// orders (`degree`: the largest `|d| - 2 a2` of the point's rows, 2 or 3 at the
+    /// sphere, up to 5 at an image), the local expansions `p` (`p + 1` for FT, whose
+    /// rotation takes their gradient).
     pub order: usize,
     /// The acceptance parameter: a source cell's multipole reaches a target cell when
     /// `r_t + r_s < theta |c_t - c_s|`.
@@ -158,7 +159,7 @@ impl Rows {
 
 /// Whether the potential's generated derivatives serve `settings`' order for `table`.
 fn check_order(settings: &FastProduct, table: &[PotentialSource]) -> Result<(), FmmError> {
-    let max = kernels::expansion::RADIAL.len() - 1 - degree(table);
+    let max = kernels::expansion::RADIAL.len() - 1 - degree(table, None);
     if settings.order > max {
         return Err(FmmError::Order {
             order: settings.order,
@@ -168,8 +169,8 @@ fn check_order(settings: &FastProduct, table: &[PotentialSource]) -> Result<(), 
     Ok(())
 }
 
-/// The orders the expansions carry beyond the fast product's `order`: the largest `|d|
-/// - 2 a2` of a table's rows.
+/// The orders the expansions about `point` (every point: `None`) carry beyond the fast
+/// product's `order`: the largest `|d| - 2 a2` of its rows.
 ///
 /// A row's terms in the multipole-to-local sum are `d^(d + mu + beta) phi`, `mu` the
 /// source's offset from its cell's centre and `beta` the target's: relative to the
@@ -177,9 +178,10 @@ fn check_order(settings: &FastProduct, table: &[PotentialSource]) -> Result<(), 
 /// a2)` (`h < R` for an image, `a < R` for a cell pair the tree accepts). Truncating
 /// `|d + mu| + |beta|` at `order + degree` keeps every row to `|mu| + |beta| <= order`
 /// at least (the rows whose `a^2` makes them smaller by `(a/R)^2`, to `order - 2`).
-fn degree(table: &[PotentialSource]) -> usize {
+fn degree(table: &[PotentialSource], point: Option<usize>) -> usize {
     table
         .iter()
+        .filter(|s| point.is_none_or(|p| s.point == p))
         .map(|s| s.d.iter().map(|&e| e as usize).sum::<usize>() - 2 * s.a2 as usize)
         .max()
         .unwrap_or(0)
@@ -199,16 +201,19 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 /// A target cell's local expansion from the multipoles that reach it, on lanes: the
-/// pairs `(source cell, point)` of its list `W` at a time, one per lane, each lane
-/// summing its pairs in the list's order and the lanes added last (a fixed order for
-/// a given instruction set, whatever the threads).
+/// pairs `(source cell, point)` of its list `W` at a time, one per lane (a chunk's pairs
+/// share their point, and with it the order `tops[point]`), each lane summing its pairs
+/// in the list's order and the lanes added last (a fixed order for a given instruction
+/// set, whatever the threads).
 struct Across<'a, F: Fn(usize, usize) -> [f64; 3]> {
     ix: &'a Indices,
     /// The local expansion's length per channel.
     llen: usize,
     target: [f64; 3],
-    /// `(source cell, point)` pairs.
+    /// `(source cell, point)` pairs, point by point.
     pairs: &'a [(usize, usize)],
+    /// The multipoles' order about each point.
+    tops: &'a [usize],
     multipoles: &'a [Vec<f64>],
     /// `3 len` per point.
     block: usize,
@@ -228,26 +233,34 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
         let mut d = vec![zero; len];
         let mut work = vec![zero; len];
         let mut lane = vec![0.0; w];
-        for chunk in self.pairs.chunks(w) {
-            // a short chunk's empty lanes repeat its first pair with a zero multipole
-            let r: [L; 3] = std::array::from_fn(|k| {
-                for (j, slot) in lane.iter_mut().enumerate() {
-                    let (s, point) = chunk[j.min(chunk.len() - 1)];
-                    *slot = self.target[k] - (self.centre)(s, point)[k];
+        let mut rest = self.pairs;
+        while let Some(&(_, point)) = rest.first() {
+            let same = rest.iter().take_while(|p| p.1 == point).count();
+            let (group, after) = rest.split_at(same);
+            rest = after;
+            let top = self.tops[point];
+            let used = taylor::count(top);
+            for chunk in group.chunks(w) {
+                // a short chunk's empty lanes repeat its first pair with a zero multipole
+                let r: [L; 3] = std::array::from_fn(|k| {
+                    for (j, slot) in lane.iter_mut().enumerate() {
+                        let (s, _) = chunk[j.min(chunk.len() - 1)];
+                        *slot = self.target[k] - (self.centre)(s, point)[k];
+                    }
+                    L::load(&lane)
+                });
+                for ch in 0..3 {
+                    for q in 0..used {
+                        let at = point * self.block + ch * len + q;
+                        for (j, v) in lane.iter_mut().enumerate() {
+                            *v = chunk.get(j).map_or(0.0, |&(s, _)| self.multipoles[s][at]);
+                        }
+                        m[ch * len + q] = L::load(&lane);
+                    }
                 }
-                L::load(&lane)
-            });
-            for (q, slot) in m.iter_mut().enumerate() {
-                for (j, v) in lane.iter_mut().enumerate() {
-                    *v = match chunk.get(j) {
-                        Some(&(s, point)) => self.multipoles[s][point * self.block + q],
-                        None => 0.0,
-                    };
-                }
-                *slot = L::load(&lane);
+                ix.potential_derivatives(r, top, &mut d, &mut work);
+                taylor::multipole_to_local(ix, top, &m, &d, &mut l);
             }
-            ix.potential_derivatives(r, &mut d, &mut work);
-            taylor::multipole_to_local(ix, &m, &d, &mut l);
         }
         (0..3 * llen)
             .map(|q| l[q].sum() * ix.inv_factorial[q % llen])
@@ -287,7 +300,10 @@ fn product<P: Near<K>, const K: usize>(
     // the multipoles to `order + degree` (`degree`); the local expansions to `order`,
     // one more where the rotation takes their gradient (the Laplacian of the Faxén law
     // is smaller by `(a/R)^2`)
-    let ix = Indices::new(settings.order + degree(table));
+    let tops: Vec<usize> = (0..kinds)
+        .map(|k| settings.order + degree(table, Some(k)))
+        .collect();
+    let ix = Indices::new(settings.order + degree(table, None));
     let lx = Indices::new(settings.order + usize::from(K == 6));
     // the sources' moments about their leaf's centre: to the order their lowest
     // derivative leaves
@@ -344,7 +360,8 @@ fn product<P: Near<K>, const K: usize>(
             for ((key, sum), rows) in rows.keys.iter().zip(sums.chunks(mlen)).zip(&rows.rows) {
                 for &(channel, alpha, coef) in rows {
                     let off = key.point * block + channel * len;
-                    taylor::add_source(&ix, alpha, coef, sum, &mut m[off..off + len]);
+                    let top = tops[key.point];
+                    taylor::add_source(&ix, top, alpha, coef, sum, &mut m[off..off + len]);
                 }
             }
             (c, m)
@@ -363,15 +380,14 @@ fn product<P: Near<K>, const K: usize>(
                 for &child in &tree.cells[c].children {
                     for point in 0..kinds {
                         ix.monomials(sub(centre(c, point), centre(child, point)), &mut mono);
-                        for ch in 0..3 {
-                            let r = point * block + ch * len..point * block + (ch + 1) * len;
-                            taylor::translate_multipole(
-                                &ix,
-                                &multipoles[child][r.clone()],
-                                &mono,
-                                &mut m[r],
-                            );
-                        }
+                        let r = point * block..(point + 1) * block;
+                        taylor::translate_multipole(
+                            &ix,
+                            tops[point],
+                            &multipoles[child][r.clone()],
+                            &mono,
+                            &mut m[r],
+                        );
                     }
                 }
                 (c, m)
@@ -389,15 +405,15 @@ fn product<P: Near<K>, const K: usize>(
             if tree.far[t].is_empty() {
                 return vec![0.0; 3 * llen];
             }
-            let pairs: Vec<(usize, usize)> = tree.far[t]
-                .iter()
-                .flat_map(|&s| (0..kinds).map(move |point| (s, point)))
+            let pairs: Vec<(usize, usize)> = (0..kinds)
+                .flat_map(|point| tree.far[t].iter().map(move |&s| (s, point)))
                 .collect();
             let across = Across {
                 ix: &ix,
                 llen,
                 target: tree.cells[t].centre,
                 pairs: &pairs,
+                tops: &tops,
                 multipoles: &multipoles,
                 block,
                 centre: &centre,
@@ -440,16 +456,6 @@ fn product<P: Near<K>, const K: usize>(
     // the leaves: the local expansions' Faxén functional and the near field
     let soa = Soa::new(&sorted, &moments);
     let unit = 1.0 / (8.0 * std::f64::consts::PI * eta);
-    let lap = [
-        lx.index([2, 0, 0]),
-        lx.index([0, 2, 0]),
-        lx.index([0, 0, 2]),
-    ];
-    let grad = [
-        lx.index([1, 0, 0]),
-        lx.index([0, 1, 0]),
-        lx.index([0, 0, 1]),
-    ];
     // the near field: a pair of leaves near each other both ways is evaluated once, by
     // the lower leaf, which keeps the higher one's halves for it; the others (a leaf
     // with itself, a leaf whose partner takes it through a multipole) by the target
@@ -498,23 +504,21 @@ fn product<P: Near<K>, const K: usize>(
                     }
                 }
             }
-            let l = &locals[c];
+            let polys = taylor::faxen_polynomials(&lx, &locals[c], K == 6);
             let mut mono = vec![0.0; llen];
             for (o, s) in out.iter_mut().zip(cell.start..cell.end) {
                 let (x, a) = sorted[s];
                 lx.monomials(sub(x, cell.centre), &mut mono);
-                let at = |ch: usize, k: usize| {
-                    taylor::local_derivative(&lx, &l[ch * llen..(ch + 1) * llen], k, &mono)
+                let at = |k: usize| -> f64 {
+                    let poly = &polys[k * llen..(k + 1) * llen];
+                    poly.iter().zip(&mono).map(|(p, m)| p * m).sum()
                 };
                 for k in 0..3 {
-                    let laplacian: f64 = lap.iter().map(|&q| at(k, q)).sum();
-                    o[k] += unit * (at(k, 0) + a * a / 6.0 * laplacian);
+                    o[k] += unit * (at(k) + a * a / 6.0 * at(3 + k));
                 }
                 if K == 6 {
                     for m in 0..3 {
-                        let (j, k) = ((m + 1) % 3, (m + 2) % 3);
-                        // 1/2 (d_j Psi_k - d_k Psi_j), (m, j, k) cyclic
-                        o[3 + m] += unit * 0.5 * (at(k, grad[j]) - at(j, grad[k]));
+                        o[3 + m] += unit * at(6 + m);
                     }
                 }
             }

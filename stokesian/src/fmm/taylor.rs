@@ -33,6 +33,8 @@ pub(crate) struct Indices {
     pub nu: Vec<[u8; 3]>,
     /// `1/nu!` of each.
     pub inv_factorial: Vec<f64>,
+    /// `nu!` of each.
+    pub factorial: Vec<f64>,
     /// The index of `nu` in a `(p+1)^3` cube (`usize::MAX` beyond order `p`).
     cube: Vec<usize>,
     /// For each `nu`: the pairs `(mu, nu + mu)` with `|nu + mu| <= p` (shifts).
@@ -61,14 +63,16 @@ impl Indices {
             cube[(n[0] as usize * side + n[1] as usize) * side + n[2] as usize] = k;
         }
         let fact = |n: u8| (1..=n).map(f64::from).product::<f64>();
-        let inv_factorial = nu
+        let factorial: Vec<f64> = nu
             .iter()
-            .map(|n| 1.0 / (fact(n[0]) * fact(n[1]) * fact(n[2])))
+            .map(|n| fact(n[0]) * fact(n[1]) * fact(n[2]))
             .collect();
+        let inv_factorial = factorial.iter().map(|f| 1.0 / f).collect();
         let mut me = Indices {
             p,
             nu,
             inv_factorial,
+            factorial,
             cube,
             shift: Vec::new(),
             m2l: Vec::new(),
@@ -111,6 +115,11 @@ impl Indices {
         me
     }
 
+    /// The total order `|nu|` of the multi-index at `k`.
+    pub fn order(&self, k: usize) -> usize {
+        self.nu[k].iter().map(|&e| e as usize).sum()
+    }
+
     /// The number of multi-indices.
     pub fn len(&self) -> usize {
         self.nu.len()
@@ -132,24 +141,26 @@ impl Indices {
         }
     }
 
-    /// `D_gamma(r) = d^gamma |r|` for every `|gamma| <= p`, into `out`, on lanes (one
-    /// `r` per lane); `work` holds `len()` values.
+    /// `D_gamma(r) = d^gamma |r|` for every `|gamma| <= top` (`top <= p`: a prefix of
+    /// the graded order), into `out`, on lanes (one `r` per lane); `work` holds `len()`
+    /// values.
     #[inline(always)]
     pub fn potential_derivatives<L: Lane<Elem = f64>>(
         &self,
         r: [L; 3],
+        top: usize,
         out: &mut [L],
         work: &mut [L],
     ) {
+        debug_assert!(top <= self.p);
         let s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
         let inv_s = L::splat(1.0) / s;
         // T^(n) for n = p down to 0 over |gamma| <= p - n, held in `out` (this n) and
         // `work` (n + 1); f^(n)(s) = RADIAL[n] s^(1/2 - n)
-        let mut radial = s.sqrt() * inv_s.powi(self.p as i32);
-        let count = |order: usize| (order + 1) * (order + 2) * (order + 3) / 6;
+        let mut radial = s.sqrt() * inv_s.powi(top as i32);
         let two = L::splat(2.0);
-        for n in (0..=self.p).rev() {
-            let len = count(self.p - n);
+        for n in (0..=top).rev() {
+            let len = count(top - n);
             out[0] = L::splat(RADIAL[n]) * radial;
             for k in 1..len {
                 let (one, i, second) = self.recurrence[k];
@@ -166,41 +177,81 @@ impl Indices {
     }
 }
 
-/// `M_{alpha + mu} += s (-delta)^mu / mu!` for every `mu` (a derivative source
-/// `s d^alpha phi(x - c - delta)`), `mono` holding `(-delta)^mu / mu!`.
+/// The number of multi-indices of total order at most `order`.
+pub(crate) fn count(order: usize) -> usize {
+    (order + 1) * (order + 2) * (order + 3) / 6
+}
+
+/// `M_{alpha + mu} += s (-delta)^mu / mu!` for every `mu` with `|alpha + mu| <= top`
+/// (a derivative source `s d^alpha phi(x - c - delta)`), `mono` holding `(-delta)^mu /
+/// mu!`.
 #[inline]
-pub(crate) fn add_source(ix: &Indices, alpha: usize, s: f64, mono: &[f64], m: &mut [f64]) {
-    for &(mu, sum) in &ix.shift[alpha] {
+pub(crate) fn add_source(
+    ix: &Indices,
+    top: usize,
+    alpha: usize,
+    s: f64,
+    mono: &[f64],
+    m: &mut [f64],
+) {
+    for &(mu, sum) in &ix.shift[alpha][..count(top - ix.order(alpha))] {
         m[sum as usize] += s * mono[mu as usize];
     }
 }
 
-/// A multipole moved by `(c' - c)`: `M'_{nu + mu} += M_nu (c' - c)^mu / mu!`, `mono`
-/// holding `(c' - c)^mu / mu!`.
-pub(crate) fn translate_multipole(ix: &Indices, m: &[f64], mono: &[f64], out: &mut [f64]) {
-    for (nu, &v) in m.iter().enumerate() {
-        if v != 0.0 {
-            add_source(ix, nu, v, mono, out);
+/// Three multipoles of order `top` (channels of `len()` each, one after the other)
+/// moved by `(c' - c)`: `M'_{nu + mu} += M_nu (c' - c)^mu / mu!` for `|nu + mu| <= top`,
+/// `mono` holding `(c' - c)^mu / mu!`; the channels share each index.
+pub(crate) fn translate_multipole(
+    ix: &Indices,
+    top: usize,
+    m: &[f64],
+    mono: &[f64],
+    out: &mut [f64],
+) {
+    let len = ix.len();
+    let (m0, rest) = m.split_at(len);
+    let (m1, m2) = rest.split_at(len);
+    let (o0, rest) = out.split_at_mut(len);
+    let (o1, o2) = rest.split_at_mut(len);
+    for (nu, pairs) in ix.shift[..count(top)].iter().enumerate() {
+        let (v0, v1, v2) = (m0[nu], m1[nu], m2[nu]);
+        if v0 == 0.0 && v1 == 0.0 && v2 == 0.0 {
+            continue;
+        }
+        for &(mu, sum) in &pairs[..count(top - ix.order(nu))] {
+            let (w, sum) = (mono[mu as usize], sum as usize);
+            o0[sum] += v0 * w;
+            o1[sum] += v1 * w;
+            o2[sum] += v2 * w;
         }
     }
 }
 
-/// `L_beta += sum_nu M_nu D_{nu + beta}` (without the `1/beta!` of the local
-/// expansion, which the caller applies once) for the three channels of `m` (each
-/// `len()` long, one after the other) and of `l` (each a third of `l`, a local
-/// expansion of order at most `p`), which share `D`; one multipole per lane. For each
-/// `beta` the `nu` with `|nu| <= p - |beta|` are a prefix of the graded order, so each
-/// sum is a dot product of that prefix of `M` with `D` gathered at `nu + beta`
-/// ([`Indices::shift`]): the same indices in every lane.
+/// `L_beta += sum_nu M_nu D_{nu + beta}` over `|nu| + |beta| <= top` (without the
+/// `1/beta!` of the local expansion, which the caller applies once) for the three
+/// channels of `m` (each `len()` long, one after the other) and of `l` (each a third of
+/// `l`, a local expansion of order at most `p`), which share `D`; one multipole per
+/// lane. For each `beta` the `nu` with `|nu| <= top - |beta|` are a prefix of the graded
+/// order, so each sum is a dot product of that prefix of `M` with `D` gathered at `nu +
+/// beta` ([`Indices::shift`]): the same indices in every lane.
 #[inline(always)]
-pub(crate) fn multipole_to_local<L: Lane<Elem = f64>>(ix: &Indices, m: &[L], d: &[L], l: &mut [L]) {
+pub(crate) fn multipole_to_local<L: Lane<Elem = f64>>(
+    ix: &Indices,
+    top: usize,
+    m: &[L],
+    d: &[L],
+    l: &mut [L],
+) {
     let len = ix.len();
     let llen = l.len() / 3;
-    debug_assert!(llen <= len);
+    debug_assert!(llen <= len && top <= ix.p);
     let (m0, rest) = m.split_at(len);
     let (m1, m2) = rest.split_at(len);
+    let betas = llen.min(count(top));
     let zero = L::splat(0.0);
-    for (beta, pairs) in ix.shift[..llen].iter().enumerate() {
+    for (beta, pairs) in ix.shift[..betas].iter().enumerate() {
+        let pairs = &pairs[..count(top - ix.order(beta))];
         // four partial sums per channel, so that the fused multiply-adds do not wait
         // on each other
         let mut acc = [[zero; 3]; 4];
@@ -232,18 +283,48 @@ pub(crate) fn translate_local(ix: &Indices, l: &[f64], mono: &[f64], out: &mut [
     for (beta, pairs) in ix.shift.iter().enumerate() {
         let mut acc = 0.0;
         for &(mu, gamma) in pairs {
-            acc += l[gamma as usize] * mono[mu as usize] / ix.inv_factorial[gamma as usize];
+            acc += l[gamma as usize] * mono[mu as usize] * ix.factorial[gamma as usize];
         }
         out[beta] += acc * ix.inv_factorial[beta];
     }
 }
 
-/// `d^kappa Psi(t + xi) = sum_{beta >= kappa} L_beta beta!/(beta - kappa)! xi^(beta -
-/// kappa)`, `mono` holding `xi^mu / mu!`: `beta!/(beta-kappa)! xi^mu = beta! (xi^mu/mu!)`.
-pub(crate) fn local_derivative(ix: &Indices, l: &[f64], kappa: usize, mono: &[f64]) -> f64 {
-    let mut acc = 0.0;
-    for &(mu, beta) in &ix.shift[kappa] {
-        acc += l[beta as usize] * mono[mu as usize] / ix.inv_factorial[beta as usize];
+/// The polynomials in `xi^mu / mu!` whose values at a target `t + xi` are the Faxén
+/// functional's parts, from the three channels' local expansions `l` about `t`: `Psi_k`
+/// (`k < 3`), `lap Psi_k` (`3 + k`), and with `curl`, `1/2 (d_j Psi_k - d_k Psi_j)`
+/// (`6 + m`, `(m, j, k)` cyclic), one after the other, `len()` coefficients each. In
+/// that basis `Psi = sum_beta c_beta xi^beta / beta!` with `c_beta = beta! L_beta`, and
+/// a derivative `d_i` moves the coefficients, `(d_i c)_gamma = c_{gamma + e_i}` (zero
+/// beyond the order).
+pub(crate) fn faxen_polynomials(ix: &Indices, l: &[f64], curl: bool) -> Vec<f64> {
+    let len = ix.len();
+    let c: Vec<f64> = (0..3 * len).map(|q| l[q] * ix.factorial[q % len]).collect();
+    let up = |gamma: usize, i: usize| -> Option<usize> {
+        let mut n = ix.nu[gamma];
+        (n.iter().map(|&e| e as usize).sum::<usize>() < ix.p).then(|| {
+            n[i] += 1;
+            ix.index(n)
+        })
+    };
+    let mut out = vec![0.0; if curl { 9 } else { 6 } * len];
+    out[..3 * len].copy_from_slice(&c);
+    for k in 0..3 {
+        let ck = &c[k * len..(k + 1) * len];
+        for gamma in 0..len {
+            out[(3 + k) * len + gamma] = (0..3)
+                .filter_map(|i| up(gamma, i).and_then(|once| up(once, i)))
+                .map(|twice| ck[twice])
+                .sum();
+        }
     }
-    acc
+    if curl {
+        for m in 0..3 {
+            let (j, k) = ((m + 1) % 3, (m + 2) % 3);
+            for gamma in 0..len {
+                let d = |ch: usize, i: usize| up(gamma, i).map_or(0.0, |g| c[ch * len + g]);
+                out[(6 + m) * len + gamma] = 0.5 * (d(k, j) - d(j, k));
+            }
+        }
+    }
+    out
 }
