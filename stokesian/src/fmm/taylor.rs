@@ -250,28 +250,58 @@ pub(crate) fn multipole_to_local<L: Lane<Elem = f64>>(
     let (m1, m2) = rest.split_at(len);
     let betas = llen.min(count(top));
     let zero = L::splat(0.0);
-    for (beta, pairs) in ix.shift[..betas].iter().enumerate() {
-        let pairs = &pairs[..count(top - ix.order(beta))];
-        // four partial sums per channel, so that the fused multiply-adds do not wait
-        // on each other
-        let mut acc = [[zero; 3]; 4];
-        let whole = pairs.len() / 4 * 4;
-        for (k, quad) in pairs[..whole].chunks_exact(4).enumerate() {
-            for (u, &(_, sum)) in quad.iter().enumerate() {
-                let (k, dv) = (4 * k + u, d[sum as usize]);
-                acc[u][0] = m0[k].mul_add(dv, acc[u][0]);
-                acc[u][1] = m1[k].mul_add(dv, acc[u][1]);
-                acc[u][2] = m2[k].mul_add(dv, acc[u][2]);
+    // four `beta` of one order at a time share each load of `M` (their prefixes are as
+    // long): twelve independent sums, and a quarter of the multipoles' traffic
+    let mut beta = 0;
+    while beta < betas {
+        let order = ix.order(beta);
+        let end = betas.min(count(order));
+        let n = count(top - order);
+        while beta + 4 <= end {
+            let p: [&[(u32, u32)]; 4] = std::array::from_fn(|u| &ix.shift[beta + u][..n]);
+            let mut acc = [[zero; 3]; 4];
+            for k in 0..n {
+                let (a, b, c) = (m0[k], m1[k], m2[k]);
+                for u in 0..4 {
+                    let dv = d[p[u][k].1 as usize];
+                    acc[u][0] = a.mul_add(dv, acc[u][0]);
+                    acc[u][1] = b.mul_add(dv, acc[u][1]);
+                    acc[u][2] = c.mul_add(dv, acc[u][2]);
+                }
             }
+            for (u, sums) in acc.iter().enumerate() {
+                for (c, &v) in sums.iter().enumerate() {
+                    let slot = c * llen + beta + u;
+                    l[slot] = l[slot] + v;
+                }
+            }
+            beta += 4;
         }
-        for (k, &(_, sum)) in pairs.iter().enumerate().skip(whole) {
-            let dv = d[sum as usize];
-            acc[0][0] = m0[k].mul_add(dv, acc[0][0]);
-            acc[0][1] = m1[k].mul_add(dv, acc[0][1]);
-            acc[0][2] = m2[k].mul_add(dv, acc[0][2]);
-        }
-        for (c, slot) in [beta, llen + beta, 2 * llen + beta].into_iter().enumerate() {
-            l[slot] = l[slot] + ((acc[0][c] + acc[1][c]) + (acc[2][c] + acc[3][c]));
+        while beta < end {
+            let pairs = &ix.shift[beta][..n];
+            // four partial sums per channel, so that the fused multiply-adds do not
+            // wait on each other
+            let mut acc = [[zero; 3]; 4];
+            let whole = n / 4 * 4;
+            for (k, quad) in pairs[..whole].chunks_exact(4).enumerate() {
+                for (u, &(_, sum)) in quad.iter().enumerate() {
+                    let (k, dv) = (4 * k + u, d[sum as usize]);
+                    acc[u][0] = m0[k].mul_add(dv, acc[u][0]);
+                    acc[u][1] = m1[k].mul_add(dv, acc[u][1]);
+                    acc[u][2] = m2[k].mul_add(dv, acc[u][2]);
+                }
+            }
+            for (k, &(_, sum)) in pairs.iter().enumerate().skip(whole) {
+                let dv = d[sum as usize];
+                acc[0][0] = m0[k].mul_add(dv, acc[0][0]);
+                acc[0][1] = m1[k].mul_add(dv, acc[0][1]);
+                acc[0][2] = m2[k].mul_add(dv, acc[0][2]);
+            }
+            for c in 0..3 {
+                let slot = c * llen + beta;
+                l[slot] = l[slot] + ((acc[0][c] + acc[1][c]) + (acc[2][c] + acc[3][c]));
+            }
+            beta += 1;
         }
     }
 }
