@@ -6,7 +6,8 @@
 //! two-sphere resistance functions of a pair, near and far; the triply periodic product
 //! (N = 1e4, volume fraction 0.1, tolerance 1e-6) beside the open product of the same
 //! spheres; the product along a periodic wall (N = 1e4, a monolayer at area fraction
-//! 0.3, tolerance 1e-6) beside the open wall's product of the same spheres.
+//! 0.3, tolerance 1e-6) beside the open wall's product of the same spheres; the fast
+//! multipole product beside the direct one (monolayers of N = 1e3 to 1e5, eps = 1e-6).
 //! Run with `cargo bench -p stokesian-benches`.
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 
@@ -675,8 +676,65 @@ fn pair_functions(c: &mut Criterion) {
     g.finish();
 }
 
+/// A monolayer of `n` unit spheres at area fraction 0.3 (a jittered square lattice,
+/// heights 1.5 to 5 a), as `cargo xtask fmm` times.
+fn monolayer(n: usize, seed: u64) -> Vec<Particle> {
+    let side = (std::f64::consts::PI / 0.3).sqrt();
+    let per = (n as f64).sqrt().ceil() as usize;
+    let jitter = (side - 2.05) / 2.0;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..n)
+        .map(|i| Particle {
+            x: [
+                side * (i % per) as f64 + rng.gen_range(-jitter..jitter),
+                side * (i / per) as f64 + rng.gen_range(-jitter..jitter),
+                rng.gen_range(1.5..5.0),
+            ],
+            a: 1.0,
+        })
+        .collect()
+}
+
+/// The fast multipole product at `eps = 1e-6` beside the direct one, a monolayer of `N =
+/// 1e3, 1e4, 1e5` unit spheres (wall F and FT, free space F; the direct product up to
+/// 1e4): issue 37's targets. `cargo xtask fmm` tabulates the same with its error and
+/// memory, up to 1e6.
+fn fmm_products(c: &mut Criterion) {
+    let mut g = c.benchmark_group("fmm product M x");
+    g.sample_size(10).measurement_time(Duration::from_secs(20));
+    for n in [1000usize, 10000, 100000] {
+        let ps = monolayer(n, 3);
+        for (name, conf) in [
+            ("wall", Confinement::Wall { height: 0.0 }),
+            ("free", Confinement::Free),
+        ] {
+            let direct = System::new(conf, 1.0, ps.clone(), false).unwrap();
+            let fast = direct.clone().with_fmm(1e-6).unwrap();
+            for moments in [Moments::F, Moments::FT] {
+                if name == "free" && moments == Moments::FT {
+                    continue;
+                }
+                let x: Vec<f64> = (0..moments.per_particle() * n)
+                    .map(|k| (k % 7) as f64 - 3.0)
+                    .collect();
+                let id = |kind: &str| BenchmarkId::new(format!("{name} {moments:?} {kind}"), n);
+                g.bench_with_input(id("fmm 1e-6"), &x, |b, x| {
+                    b.iter(|| fast.apply(moments, black_box(x)))
+                });
+                if n <= 10000 {
+                    g.bench_with_input(id("direct"), &x, |b, x| {
+                        b.iter(|| direct.apply(moments, black_box(x)))
+                    });
+                }
+            }
+        }
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
+    fmm_products,
     pair_functions,
     per_pair,
     per_pair_lanes,
