@@ -37,6 +37,28 @@ impl<const K: usize> Soa<K> {
     }
 }
 
+impl<const K: usize> Soa<K> {
+    /// Particle `i` in every lane: position, radius, moments.
+    #[inline(always)]
+    fn splat<L: Lane<Elem = f64>>(&self, i: usize) -> ([L; 3], L, [L; K]) {
+        (
+            std::array::from_fn(|k| L::splat(self.x[k][i])),
+            L::splat(self.a[i]),
+            std::array::from_fn(|c| L::splat(self.v[c][i])),
+        )
+    }
+
+    /// Particles `j..j + WIDTH`, one per lane (the padding past the last one).
+    #[inline(always)]
+    fn load<L: Lane<Elem = f64>>(&self, j: usize) -> ([L; 3], L, [L; K]) {
+        (
+            std::array::from_fn(|k| L::load(&self.x[k][j..])),
+            L::load(&self.a[j..]),
+            std::array::from_fn(|c| L::load(&self.v[c][j..])),
+        )
+    }
+}
+
 /// A pair product on lanes: `M^{ab} v_b` and `M^{ba} v_a`.
 pub(super) trait Near<const K: usize>: Sync {
     fn eval<L: Lane<Elem = f64>>(
@@ -122,9 +144,7 @@ impl<P: Near<K>, const K: usize> WithLanes for Row<'_, P, K> {
         } = self;
         let w = L::WIDTH;
         for (slot, i) in out.iter_mut().zip(target.0..target.1) {
-            let xa: [L; 3] = std::array::from_fn(|k| L::splat(soa.x[k][i]));
-            let aa = L::splat(soa.a[i]);
-            let va: [L; K] = std::array::from_fn(|c| L::splat(soa.v[c][i]));
+            let (xa, aa, va) = soa.splat::<L>(i);
             let own = L::splat(i as f64);
             let mut acc = [L::splat(0.0); K];
             for &(s0, s1) in sources {
@@ -136,9 +156,7 @@ impl<P: Near<K>, const K: usize> WithLanes for Row<'_, P, K> {
                     // j != i: above it or below it
                     let (above, below) =
                         (L::and(inside, index.gt(own)), L::and(inside, own.gt(index)));
-                    let xb: [L; 3] = std::array::from_fn(|k| L::load(&soa.x[k][j..]));
-                    let ab = L::load(&soa.a[j..]);
-                    let vb: [L; K] = std::array::from_fn(|c| L::load(&soa.v[c][j..]));
+                    let (xb, ab, vb) = soa.load::<L>(j);
                     let (p, _) = product.eval(xa, aa, xb, ab, va, vb);
                     let zero = L::splat(0.0);
                     for c in 0..K {
@@ -211,16 +229,12 @@ impl<P: Near<K>, const K: usize> WithLanes for Block<'_, P, K> {
         let chunks = (source.1 - source.0).div_ceil(w);
         let mut back = vec![[zero; K]; chunks];
         for (slot, i) in out_target.iter_mut().zip(target.0..target.1) {
-            let xa: [L; 3] = std::array::from_fn(|k| L::splat(soa.x[k][i]));
-            let aa = L::splat(soa.a[i]);
-            let va: [L; K] = std::array::from_fn(|c| L::splat(soa.v[c][i]));
+            let (xa, aa, va) = soa.splat::<L>(i);
             let mut acc = [zero; K];
             for (chunk, b) in back.iter_mut().enumerate() {
                 let j = source.0 + chunk * w;
                 let inside = end.gt(L::iota() + L::splat(j as f64));
-                let xb: [L; 3] = std::array::from_fn(|k| L::load(&soa.x[k][j..]));
-                let ab = L::load(&soa.a[j..]);
-                let vb: [L; K] = std::array::from_fn(|c| L::load(&soa.v[c][j..]));
+                let (xb, ab, vb) = soa.load::<L>(j);
                 let (pa, pb) = product.eval(xa, aa, xb, ab, va, vb);
                 for c in 0..K {
                     acc[c] = acc[c] + L::select(inside, pa[c], zero);
