@@ -134,10 +134,12 @@ struct Key {
 struct Rows {
     keys: Vec<Key>,
     rows: Vec<Vec<(usize, usize, f64)>>,
+    /// The keys of each point: a range of `keys` (sorted by point first).
+    span: Vec<std::ops::Range<usize>>,
 }
 
 impl Rows {
-    fn new(table: &[PotentialSource], weights: &[f64], ix: &Indices) -> Rows {
+    fn new(table: &[PotentialSource], weights: &[f64], ix: &Indices, kinds: usize) -> Rows {
         let key = |s: &PotentialSource| Key {
             point: s.point,
             h_power: s.h_power,
@@ -153,7 +155,13 @@ impl Rows {
             let w = if s.point == 0 { 1.0 } else { weights[s.weight] };
             rows[k].push((s.channel, ix.index(s.d), s.coef * w));
         }
-        Rows { keys, rows }
+        let span = (0..kinds)
+            .map(|p| {
+                let start = keys.partition_point(|k| k.point < p);
+                start..keys.partition_point(|k| k.point <= p)
+            })
+            .collect();
+        Rows { keys, rows, span }
     }
 }
 
@@ -310,7 +318,7 @@ fn product<P: Near<K>, const K: usize>(
     let mx = Indices::new(ix.p - lowest(table));
     let (len, llen, mlen) = (ix.len(), lx.len(), mx.len());
     let block = 3 * len;
-    let rows = Rows::new(table, &weights, &ix);
+    let rows = Rows::new(table, &weights, &ix, kinds);
     let centre = |c: usize, point: usize| {
         let c = tree.cells[c].centre;
         if point == 0 {
@@ -329,13 +337,19 @@ fn product<P: Near<K>, const K: usize>(
         .par_iter()
         .map(|&c| {
             let cell = &tree.cells[c];
-            let mut sums = vec![0.0; rows.keys.len() * mlen];
-            let mut mono = vec![0.0; kinds * mlen];
-            for s in cell.start..cell.end {
+            let np = cell.end - cell.start;
+            // each point's monomials (one column per particle) and its keys' weights
+            // (one column per key): their product is the moments of each key's weights,
+            // one matrix product per point
+            let mut monos: Vec<Vec<f64>> = vec![vec![0.0; mlen * np]; kinds];
+            let mut w: Vec<Vec<f64>> = (0..kinds)
+                .map(|p| vec![0.0; np * rows.span[p].len()])
+                .collect();
+            let mut h = vec![0.0; kinds];
+            for (col, s) in (cell.start..cell.end).enumerate() {
                 let (y, a) = sorted[s];
                 let v = &moments[s];
-                let mut h = [0.0; 8];
-                for point in 0..kinds {
+                for (point, mono) in monos.iter_mut().enumerate() {
                     let at = if point == 0 {
                         y
                     } else {
@@ -343,25 +357,35 @@ fn product<P: Near<K>, const K: usize>(
                         h[point] = mirror.distance(y);
                         mirror.image(y)
                     };
-                    let slot = &mut mono[point * mlen..(point + 1) * mlen];
+                    let slot = &mut mono[col * mlen..(col + 1) * mlen];
                     mx.monomials(sub(centre(c, point), at), slot);
                 }
-                for (key, sum) in rows.keys.iter().zip(sums.chunks_mut(mlen)) {
-                    let weight = h[key.point].powi(key.h_power as i32)
-                        * (a * a).powi(key.a2 as i32)
-                        * v[key.moment];
-                    let mono = &mono[key.point * mlen..(key.point + 1) * mlen];
-                    for (t, &q) in sum.iter_mut().zip(mono) {
-                        *t += weight * q;
-                    }
+                for (k, key) in rows.keys.iter().enumerate() {
+                    let p = key.point;
+                    w[p][(k - rows.span[p].start) * np + col] =
+                        h[p].powi(key.h_power as i32) * (a * a).powi(key.a2 as i32) * v[key.moment];
                 }
             }
+            let sums: Vec<nalgebra::DMatrix<f64>> = monos
+                .into_iter()
+                .zip(w)
+                .enumerate()
+                .map(|(p, (mono, w))| {
+                    let mono = nalgebra::DMatrix::from_vec(mlen, np, mono);
+                    mono * nalgebra::DMatrix::from_vec(np, rows.span[p].len(), w)
+                })
+                .collect();
+            let sum = |k: usize| {
+                let p = rows.keys[k].point;
+                let at = k - rows.span[p].start;
+                &sums[p].as_slice()[at * mlen..(at + 1) * mlen]
+            };
             let mut m = vec![0.0; kinds * block];
-            for ((key, sum), rows) in rows.keys.iter().zip(sums.chunks(mlen)).zip(&rows.rows) {
+            for (k, (key, rows)) in rows.keys.iter().zip(&rows.rows).enumerate() {
                 for &(channel, alpha, coef) in rows {
                     let off = key.point * block + channel * len;
                     let top = tops[key.point];
-                    taylor::add_source(&ix, top, alpha, coef, sum, &mut m[off..off + len]);
+                    taylor::add_source(&ix, top, alpha, coef, sum(k), &mut m[off..off + len]);
                 }
             }
             (c, m)
