@@ -82,7 +82,7 @@ impl FastProduct {
     /// 1e-3, 1e-6, 1e-9 and 1e-10) beyond the sources' degree (`degree`). Calibrated on the
     /// hardest case measured, a 3-D suspension whose far field carries most of the norm
     /// (2x10^4 spheres of radii 0.5-1 in a box of 75 above a wall, F; docs/fmm.md): the
-    /// error falls by about ten for every two orders, `0.047 * 0.317^p`, and `p` keeps it
+    /// error falls by about ten for every two orders, `0.046 * 0.33^p`, and `p` keeps it
     /// below `eps/3`. The `fmm::` tests measure every confinement, F and FT, with these
     /// leaves and with leaves of 16 (whose far field is as large a share).
     pub fn new(eps: f64) -> Result<FastProduct, FmmError> {
