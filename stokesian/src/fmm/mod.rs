@@ -19,11 +19,12 @@ mod near;
 mod taylor;
 mod tree;
 
+use crate::mobility::tiled::{ExchangingF, ExchangingFT, LaneProduct};
 use crate::system::{Moments, System};
 use kernels::expansion::{Mirror, NoExpansion, PotentialSource};
 use kernels::lanes::{self, Isa, Lane, WithLanes};
 use kernels::Confinement;
-use near::{near_block, near_row, Near, NearF, NearFT, Soa};
+use near::{near_block, near_row, Soa};
 use rayon::prelude::*;
 use taylor::Indices;
 use tree::Tree;
@@ -279,7 +280,7 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
 /// The fast product of `K` moments per particle (`K = 3`: forces; 6: forces and
 /// torques), particle-major, in the particles' order.
 #[allow(clippy::too_many_arguments)]
-fn product<P: Near<K>, const K: usize>(
+fn product<P: LaneProduct<K>, const K: usize>(
     conf: &Confinement,
     eta: f64,
     near: &P,
@@ -572,7 +573,7 @@ fn apply_moments(
     settings: &FastProduct,
     isa: Isa,
 ) -> (Vec<f64>, Phases) {
-    fn run<P: Near<K>, const K: usize>(
+    fn run<P: LaneProduct<K>, const K: usize>(
         conf: &Confinement,
         eta: f64,
         near: &P,
@@ -593,7 +594,7 @@ fn apply_moments(
         run(
             conf,
             eta,
-            &NearFT { conf, eta },
+            &ExchangingFT { conf, eta },
             table,
             particles,
             xs,
@@ -604,7 +605,7 @@ fn apply_moments(
         run(
             conf,
             eta,
-            &NearF { conf, eta },
+            &ExchangingF { conf, eta },
             table,
             particles,
             xs,

@@ -6,8 +6,8 @@
 //! kept: every target leaf sums in its own fixed order, whatever the threads), and the
 //! self terms.
 
+use crate::mobility::tiled::LaneProduct;
 use kernels::lanes::{self, Isa, Lane, WithLanes};
-use kernels::Confinement;
 
 /// The particles in the tree's order as structure of arrays, padded by the widest lane
 /// (copies of the last particle, never counted).
@@ -59,67 +59,6 @@ impl<const K: usize> Soa<K> {
     }
 }
 
-/// A pair product on lanes: `M^{ab} v_b` and `M^{ba} v_a`.
-pub(super) trait Near<const K: usize>: Sync {
-    fn eval<L: Lane<Elem = f64>>(
-        &self,
-        xa: [L; 3],
-        aa: L,
-        xb: [L; 3],
-        ab: L,
-        va: [L; K],
-        vb: [L; K],
-    ) -> ([L; K], [L; K]);
-    /// `M^{aa} v` of particle `a` alone.
-    fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; K]) -> [f64; K];
-}
-
-/// A truncation's near products: the generated exchanging lane kernel (its target half)
-/// and self kernel.
-macro_rules! near_lanes {
-    ($(#[$doc:meta])* $name:ident, $k:literal, $lanes:ident, $self_kernel:ident) => {
-        $(#[$doc])*
-        pub(super) struct $name<'a> {
-            pub conf: &'a Confinement,
-            pub eta: f64,
-        }
-
-        impl Near<$k> for $name<'_> {
-            #[inline(always)]
-            fn eval<L: Lane<Elem = f64>>(
-                &self,
-                xa: [L; 3],
-                aa: L,
-                xb: [L; 3],
-                ab: L,
-                va: [L; $k],
-                vb: [L; $k],
-            ) -> ([L; $k], [L; $k]) {
-                let o = kernels::$lanes(self.conf, self.eta, xa, aa, xb, ab, va, vb);
-                (std::array::from_fn(|i| o[i]), std::array::from_fn(|i| o[$k + i]))
-            }
-            fn diagonal(&self, x: [f64; 3], a: f64, v: [f64; $k]) -> [f64; $k] {
-                kernels::$self_kernel(self.conf, self.eta, x, a).product(v, v).a
-            }
-        }
-    };
-}
-
-near_lanes!(
-    /// The F products.
-    NearF,
-    3,
-    product_f_lanes,
-    self_f
-);
-near_lanes!(
-    /// The FT products.
-    NearFT,
-    6,
-    product_ft_lanes,
-    self_ft
-);
-
 /// One target leaf against its near leaves on the lanes of the instruction set it is
 /// dispatched to.
 struct Row<'a, P, const K: usize> {
@@ -130,7 +69,7 @@ struct Row<'a, P, const K: usize> {
     out: &'a mut [[f64; K]],
 }
 
-impl<P: Near<K>, const K: usize> WithLanes for Row<'_, P, K> {
+impl<P: LaneProduct<K>, const K: usize> WithLanes for Row<'_, P, K> {
     type Elem = f64;
     type Output = ();
     #[inline(always)]
@@ -178,7 +117,7 @@ impl<P: Near<K>, const K: usize> WithLanes for Row<'_, P, K> {
 
 /// The near field and self terms of the particles `target` (a range of the tree's
 /// order) from the particles of `sources` (ranges), into `out` (one per target).
-pub(super) fn near_row<P: Near<K>, const K: usize>(
+pub(super) fn near_row<P: LaneProduct<K>, const K: usize>(
     soa: &Soa<K>,
     product: &P,
     target: (usize, usize),
@@ -208,7 +147,7 @@ struct Block<'a, P, const K: usize> {
     out_source: &'a mut [[f64; K]],
 }
 
-impl<P: Near<K>, const K: usize> WithLanes for Block<'_, P, K> {
+impl<P: LaneProduct<K>, const K: usize> WithLanes for Block<'_, P, K> {
     type Elem = f64;
     type Output = ();
     #[inline(always)]
@@ -261,7 +200,7 @@ impl<P: Near<K>, const K: usize> WithLanes for Block<'_, P, K> {
 
 /// The pairs between the particles `target` and `source` (ranges of the tree's order,
 /// disjoint): their halves added to `out_target` and `out_source`.
-pub(super) fn near_block<P: Near<K>, const K: usize>(
+pub(super) fn near_block<P: LaneProduct<K>, const K: usize>(
     soa: &Soa<K>,
     product: &P,
     target: (usize, usize),

@@ -78,9 +78,11 @@ fn halves<L: Lane, const K: usize, const K2: usize>(o: [L; K2]) -> ([L; K], [L; 
 }
 
 /// A truncation whose pair products have generated lane kernels: the lane kernel and
-/// the self kernel of the `kernels` crate's dispatch.
+/// the self kernel of the `kernels` crate's dispatch; `ordered`: the lane kernel wants
+/// the particles ordered along the confinement's exchange normal (else it exchanges the
+/// roles itself, and takes any order).
 macro_rules! generated_lanes {
-    ($(#[$doc:meta])* $name:ident, $k:literal, $lanes:ident, $self_kernel:ident) => {
+    ($(#[$doc:meta])* $name:ident, $k:literal, $lanes:ident, $self_kernel:ident, $ordered:literal) => {
         $(#[$doc])*
         pub(crate) struct $name<'a> {
             pub conf: &'a Confinement,
@@ -89,7 +91,7 @@ macro_rules! generated_lanes {
 
         impl LaneProduct<$k> for $name<'_> {
             fn by_height(&self) -> Option<[f64; 3]> {
-                self.conf.exchange_normal()
+                self.conf.exchange_normal().filter(|_| $ordered)
             }
             #[inline(always)]
             fn eval<L: Lane>(
@@ -115,14 +117,33 @@ generated_lanes!(
     ProductF,
     3,
     product_f_lanes_ordered,
-    self_f
+    self_f,
+    true
 );
 generated_lanes!(
     /// The FT products of a confinement (generated lane kernels).
     ProductFT,
     6,
     product_ft_lanes_ordered,
-    self_ft
+    self_ft,
+    true
+);
+generated_lanes!(
+    /// The F products in any order of the particles (the kernels exchange the roles
+    /// where they want the lower particle as the source): the fast product's near field.
+    ExchangingF,
+    3,
+    product_f_lanes,
+    self_f,
+    false
+);
+generated_lanes!(
+    /// The FT products in any order of the particles.
+    ExchangingFT,
+    6,
+    product_ft_lanes,
+    self_ft,
+    false
 );
 
 /// The FTS products of a confinement: the lane twins of the generated FTS pair blocks
