@@ -511,14 +511,14 @@ fn product<P: LaneProduct<K>, const K: usize>(
     for (k, &c) in leaves.iter().enumerate() {
         position[c] = k;
     }
+    let (outs, kept): (Vec<_>, Vec<_>) = first.into_iter().unzip();
     let rows: Vec<(usize, Vec<[f64; K]>)> = leaves
         .par_iter()
-        .zip(&first)
-        .map(|(&c, (out, _))| {
+        .zip(outs)
+        .map(|(&c, mut out)| {
             let cell = &tree.cells[c];
-            let mut out = out.clone();
             for &s in tree.near[c].iter().filter(|&&s| s < c && mutual(c, s)) {
-                let kept = &first[position[s]].1;
+                let kept = &kept[position[s]];
                 let (_, back) = kept
                     .iter()
                     .find(|(t, _)| *t == c)
