@@ -20,8 +20,9 @@ pub const MAX_DERIVATIVE: usize = 32;
 
 /// A family's expansion, from its Green's function (`Collect::visit`).
 pub(super) struct Expansion {
-    /// The sources of the forces and of forces and torques, or why there are none.
-    pub sources: Result<[Vec<PotentialSource>; 2], NoExpansion>,
+    /// The sources of the forces, of forces and torques, and of the divergence over the
+    /// source's position, or why there are none.
+    pub sources: Result<[Vec<PotentialSource>; 3], NoExpansion>,
     /// Each mirror: its normal and its offset as an expression of the parameters.
     pub mirrors: Vec<([f64; 3], TokenStream)>,
     /// The weights of the image terms as expressions of the parameters.
@@ -53,6 +54,7 @@ fn source_literal(s: &PotentialSource) -> TokenStream {
 pub(super) fn potential_file(families: &[Family]) -> TokenStream {
     let mut tables = Vec::new();
     let mut source_arms = Vec::new();
+    let mut divergence_arms = Vec::new();
     let mut mirror_arms = Vec::new();
     let mut weight_arms = Vec::new();
     for f in families {
@@ -70,10 +72,16 @@ pub(super) fn potential_file(families: &[Family]) -> TokenStream {
         };
         let e = &f.expansion;
         match &e.sources {
-            Ok([forces, torques]) => {
+            Ok([forces, torques, divergence]) => {
                 let upper = f.name.to_uppercase();
                 let (nf, nt) = (ident(&format!("{upper}_F")), ident(&format!("{upper}_FT")));
-                let (lf, lt) = (forces.len(), torques.len());
+                let nd = ident(&format!("{upper}_DIVERGENCE"));
+                let (lf, lt, ld) = (forces.len(), torques.len(), divergence.len());
+                let dd = format!(
+                    " The far field of the divergence of `{}`'s mobility over the source's position (unit sources).",
+                    f.name
+                );
+                let sd = divergence.iter().map(source_literal);
                 let (df, dt) = (
                     format!(" The far field of `{}`'s forces.", f.name),
                     format!(" The far field of `{}`'s forces and torques.", f.name),
@@ -87,8 +95,11 @@ pub(super) fn potential_file(families: &[Family]) -> TokenStream {
                     static #nf: [S; #lf] = [#(#sf),*];
                     #[doc = #dt]
                     static #nt: [S; #lt] = [#(#st),*];
+                    #[doc = #dd]
+                    static #nd: [S; #ld] = [#(#sd),*];
                 });
                 source_arms.push(quote!(#any => Ok(if torques { &#nt } else { &#nf })));
+                divergence_arms.push(quote!(#any => Ok(&#nd)));
             }
             Err(why) => {
                 let why = ident(match why {
@@ -96,6 +107,7 @@ pub(super) fn potential_file(families: &[Family]) -> TokenStream {
                     NoExpansion::OtherPotential => "OtherPotential",
                 });
                 source_arms.push(quote!(#any => Err(crate::expansion::NoExpansion::#why)));
+                divergence_arms.push(quote!(#any => Err(crate::expansion::NoExpansion::#why)));
             }
         }
         let mirrors = e.mirrors.iter().map(|(n, offset)| {
@@ -132,6 +144,16 @@ pub(super) fn potential_file(families: &[Family]) -> TokenStream {
                 let _ = torques;
                 match *self {
                     #(#source_arms),*
+                }
+            }
+
+            /// The far field of the divergence of the mobility over the source's position
+            /// (`sum_l d M_kl / d y_l`, the Brownian drift's pair terms) as derivative
+            /// sources of `|r|` ([`crate::expansion`]), every row `moment = 0`: a unit
+            /// source.
+            pub fn divergence_sources(&self) -> Result<&'static [S], crate::expansion::NoExpansion> {
+                match *self {
+                    #(#divergence_arms),*
                 }
             }
 

@@ -250,8 +250,13 @@ impl Visitor for Collect<'_> {
         let weights: Vec<Id> = g.weights(&p).into_iter().map(|w| w.0).collect();
         let graph = t.finish();
         let expansion = expansion::Expansion {
-            sources: potential::potential_sources(g, &[Moment::F])
-                .and_then(|f| Ok([f, potential::potential_sources(g, &[Moment::F, Moment::L])?])),
+            sources: potential::potential_sources(g, &[Moment::F]).and_then(|f| {
+                Ok([
+                    f,
+                    potential::potential_sources(g, &[Moment::F, Moment::L])?,
+                    potential::divergence_sources(g)?,
+                ])
+            }),
             mirrors: mirrors
                 .into_iter()
                 .map(|(n, o)| (n, emit::inline(&graph, o)))

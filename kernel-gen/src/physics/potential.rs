@@ -106,12 +106,6 @@ impl Field {
         }
     }
 
-    fn scaled(&self, scale: f64) -> Field {
-        let mut f = Field::default();
-        f.add(self, scale);
-        f
-    }
-
     /// `d_{x_m}`.
     fn dx(&self, m: usize) -> Field {
         Field(
@@ -217,13 +211,14 @@ fn green_fields(terms: &[ImageTerm], frames: &[Mat3<f64>]) -> [[Field; 3]; 3] {
     g
 }
 
-/// The derivative sources of `g`'s far field for the source moments `moments` (forces;
-/// forces and torques), in the order of [`PotentialSource`]'s fields, with every
-/// coefficient that cancels dropped.
-pub fn potential_sources<G: Green>(
+/// Row `k` of the far field of each source moment component `l`, `G` under the
+/// multipole functional at the source (Eq. 8), as derivatives of `phi` (keyed `(k, l)`),
+/// and the mirrors' normals.
+#[allow(clippy::type_complexity)]
+fn moment_fields<G: Green>(
     g: &G,
     moments: &[Moment],
-) -> Result<Vec<PotentialSource>, NoExpansion> {
+) -> Result<(BTreeMap<(usize, usize), Field>, Vec<[f64; 3]>), NoExpansion> {
     let terms = g.image_terms().ok_or(NoExpansion::NoImageTerms)?;
     if super::green::is_radial(g) {
         return Err(NoExpansion::OtherPotential);
@@ -233,7 +228,7 @@ pub fn potential_sources<G: Green>(
     let frames: Vec<Mat3<f64>> = mirrors.iter().map(|m| m.frame()).collect();
     let normals: Vec<[f64; 3]> = mirrors.iter().map(|m| m.normal).collect();
     let gk = green_fields(&terms, &frames);
-    let mut out: BTreeMap<(usize, usize, Key), f64> = BTreeMap::new();
+    let mut out: BTreeMap<(usize, usize), Field> = BTreeMap::new();
     let mut offset = 0;
     for &m in moments {
         let fb = operators::faxen(match m {
@@ -258,16 +253,40 @@ pub fn potential_sources<G: Green>(
                     );
                     f.add(&d, s.coef * fb.powi(s.a2 as i32));
                 }
-                for (key, c) in f.scaled(1.0).0 {
-                    *out.entry((k, offset + l, key)).or_insert(0.0) += c;
-                }
+                out.entry((k, offset + l)).or_default().add(&f, 1.0);
             }
         }
         offset += operators::moment_dim(m, Basis::Orthonormal);
     }
-    Ok(out
-        .into_iter()
-        .filter(|(_, c)| *c != 0.0)
+    Ok((out, normals))
+}
+
+/// Below this fraction of the largest coefficient of the far field's own sources, a
+/// coefficient is the round-off of terms that cancel (the coefficients are sums of
+/// products of small rationals, image weights' factors and frames' entries, all of size
+/// one).
+const CANCELLED: f64 = 1e-12;
+
+/// The largest coefficient of `fields`.
+fn largest(fields: &BTreeMap<(usize, usize), Field>) -> f64 {
+    fields
+        .values()
+        .flat_map(|f| f.0.values())
+        .fold(0.0f64, |m, c| m.max(c.abs()))
+}
+
+/// The rows of `fields` (keyed `(channel, moment)`), every coefficient that cancels
+/// dropped (below [`CANCELLED`] times `scale`, the size of the terms they were summed
+/// from), in the order of [`PotentialSource`]'s fields.
+fn rows(fields: BTreeMap<(usize, usize), Field>, scale: f64) -> Vec<PotentialSource> {
+    let mut out: BTreeMap<(usize, usize, Key), f64> = BTreeMap::new();
+    for ((k, l), f) in fields {
+        for (key, c) in f.0 {
+            *out.entry((k, l, key)).or_insert(0.0) += c;
+        }
+    }
+    out.into_iter()
+        .filter(|(_, c)| c.abs() > CANCELLED * scale)
         .map(
             |((channel, moment, (point, weight, h_power, a2, d)), coef)| PotentialSource {
                 channel,
@@ -280,5 +299,33 @@ pub fn potential_sources<G: Green>(
                 coef,
             },
         )
-        .collect())
+        .collect()
+}
+
+/// The derivative sources of `g`'s far field for the source moments `moments` (forces;
+/// forces and torques), in the order of [`PotentialSource`]'s fields, with every
+/// coefficient that cancels dropped.
+pub fn potential_sources<G: Green>(
+    g: &G,
+    moments: &[Moment],
+) -> Result<Vec<PotentialSource>, NoExpansion> {
+    let fields = moment_fields(g, moments)?.0;
+    let scale = largest(&fields);
+    Ok(rows(fields, scale))
+}
+
+/// The derivative sources of the far field's divergence over the source's position,
+/// `sum_l d_{y_l} Psi_k[m_l = 1]` (the Brownian drift's pair terms, `sum_l d M_kl /
+/// d y_l`): each force column's field differentiated by Eq. 10 and summed. Every row
+/// has `moment = 0` and stands for a unit source (a sphere's own weight, such as a
+/// damping factor, goes there). The free-space Stokeslet is divergence-free in `y`, so
+/// what remains are image terms.
+pub fn divergence_sources<G: Green>(g: &G) -> Result<Vec<PotentialSource>, NoExpansion> {
+    let (fields, normals) = moment_fields(g, &[Moment::F])?;
+    let scale = largest(&fields);
+    let mut div: BTreeMap<(usize, usize), Field> = BTreeMap::new();
+    for ((k, l), f) in fields {
+        div.entry((k, 0)).or_default().add(&f.dy(l, &normals), 1.0);
+    }
+    Ok(rows(div, scale))
 }

@@ -503,6 +503,8 @@ static FREE_FT: [S; 63usize] = [
     s(2usize, 4usize, 0usize, 0usize, 0u8, 0u8, [1u8, 2u8, 0u8], 0.5f64),
     s(2usize, 4usize, 0usize, 0usize, 0u8, 0u8, [3u8, 0u8, 0u8], 0.5f64),
 ];
+/// The far field of the divergence of `free`'s mobility over the source's position (unit sources).
+static FREE_DIVERGENCE: [S; 0usize] = [];
 /// The far field of `wall`'s forces.
 static WALL_F: [S; 239usize] = [
     s(0usize, 0usize, 0usize, 0usize, 0u8, 0u8, [0u8, 0u8, 2u8], 1f64),
@@ -1830,6 +1832,8 @@ static WALL_FT: [S; 335usize] = [
     s(2usize, 4usize, 1usize, 0usize, 2u8, 0u8, [3u8, 2u8, 0u8], -1f64),
     s(2usize, 4usize, 1usize, 0usize, 2u8, 0u8, [5u8, 0u8, 0u8], -0.5f64),
 ];
+/// The far field of the divergence of `wall`'s mobility over the source's position (unit sources).
+static WALL_DIVERGENCE: [S; 0usize] = [];
 /// The far field of `free_surface`'s forces.
 static FREE_SURFACE_F: [S; 90usize] = [
     s(0usize, 0usize, 0usize, 0usize, 0u8, 0u8, [0u8, 0u8, 2u8], 1f64),
@@ -2655,6 +2659,8 @@ static FREE_SURFACE_FT: [S; 126usize] = [
     s(2usize, 4usize, 1usize, 0usize, 0u8, 0u8, [1u8, 2u8, 0u8], -0.5f64),
     s(2usize, 4usize, 1usize, 0usize, 0u8, 0u8, [3u8, 0u8, 0u8], -0.5f64),
 ];
+/// The far field of the divergence of `free_surface`'s mobility over the source's position (unit sources).
+static FREE_SURFACE_DIVERGENCE: [S; 0usize] = [];
 /// The far field of `interface`'s forces.
 static INTERFACE_F: [S; 284usize] = [
     s(0usize, 0usize, 0usize, 0usize, 0u8, 0u8, [0u8, 0u8, 2u8], 1f64),
@@ -4378,6 +4384,8 @@ static INTERFACE_FT: [S; 398usize] = [
     s(2usize, 4usize, 1usize, 1usize, 2u8, 0u8, [3u8, 2u8, 0u8], -1f64),
     s(2usize, 4usize, 1usize, 1usize, 2u8, 0u8, [5u8, 0u8, 0u8], -0.5f64),
 ];
+/// The far field of the divergence of `interface`'s mobility over the source's position (unit sources).
+static INTERFACE_DIVERGENCE: [S; 0usize] = [];
 /// The far field of `slit`'s forces.
 static SLIT_F: [S; 433usize] = [
     s(0usize, 0usize, 0usize, 0usize, 0u8, 0u8, [0u8, 0u8, 2u8], 1f64),
@@ -6603,6 +6611,8 @@ static SLIT_FT: [S; 607usize] = [
     s(2usize, 4usize, 2usize, 0usize, 2u8, 0u8, [3u8, 2u8, 0u8], -1f64),
     s(2usize, 4usize, 2usize, 0usize, 2u8, 0u8, [5u8, 0u8, 0u8], -0.5f64),
 ];
+/// The far field of the divergence of `slit`'s mobility over the source's position (unit sources).
+static SLIT_DIVERGENCE: [S; 0usize] = [];
 /// The far field of `side_wall`'s forces.
 static SIDE_WALL_F: [S; 239usize] = [
     s(0usize, 0usize, 0usize, 0usize, 0u8, 0u8, [0u8, 0u8, 2u8], 1f64),
@@ -7939,6 +7949,8 @@ static SIDE_WALL_FT: [S; 335usize] = [
     s(2usize, 5usize, 1usize, 0usize, 1u8, 0u8, [0u8, 3u8, 1u8], -1f64),
     s(2usize, 5usize, 1usize, 0usize, 1u8, 0u8, [2u8, 1u8, 1u8], -1f64),
 ];
+/// The far field of the divergence of `side_wall`'s mobility over the source's position (unit sources).
+static SIDE_WALL_DIVERGENCE: [S; 0usize] = [];
 impl Confinement {
     /// The far field as derivative sources of the potential `|r|`
     /// ([`crate::expansion`]): of the forces, or (`torques`) of forces and torques.
@@ -7960,6 +7972,22 @@ impl Confinement {
             Confinement::SideWall { .. } => {
                 Ok(if torques { &SIDE_WALL_FT } else { &SIDE_WALL_F })
             }
+        }
+    }
+    /// The far field of the divergence of the mobility over the source's position
+    /// (`sum_l d M_kl / d y_l`, the Brownian drift's pair terms) as derivative
+    /// sources of `|r|` ([`crate::expansion`]), every row `moment = 0`: a unit
+    /// source.
+    pub fn divergence_sources(
+        &self,
+    ) -> Result<&'static [S], crate::expansion::NoExpansion> {
+        match *self {
+            Confinement::Free => Ok(&FREE_DIVERGENCE),
+            Confinement::Wall { .. } => Ok(&WALL_DIVERGENCE),
+            Confinement::FreeSurface { .. } => Ok(&FREE_SURFACE_DIVERGENCE),
+            Confinement::Interface { .. } => Ok(&INTERFACE_DIVERGENCE),
+            Confinement::Slit { .. } => Ok(&SLIT_DIVERGENCE),
+            Confinement::SideWall { .. } => Ok(&SIDE_WALL_DIVERGENCE),
         }
     }
     /// The mirrors of the image points, in the order of

@@ -7,6 +7,7 @@ use super::settings::{
     Brownian, BrownianError, ExternalForces, LubricatedDynamics, Noise, Run, RunTally, Scheme, Step,
 };
 use crate::linalg::{lanczos_sqrt, mul_vec, Cholesky};
+use crate::mobility::tiled::LaneProduct;
 use crate::periodic::PeriodicError;
 use crate::system::input::{InputError, Particle};
 use crate::system::overlap::Overlap;
@@ -163,14 +164,29 @@ impl System {
         let weights: Vec<[f64; 6]> = (0..n)
             .map(|q| [damping.map_or(1.0, |d| d.b[q]), 0.0, 0.0, 0.0, 0.0, 0.0])
             .collect();
-        // each unordered pair once, in tiles: the same bits with any number of threads
-        let mut acc = crate::mobility::tiled::apply::<_, f64, 6>(
-            &div,
-            &ps,
-            &weights,
-            kernels::lanes::Isa::best(),
-            n >= PARALLEL_MIN,
-        );
+        // with the fast product, and where the far field of the pair terms cancels (the
+        // confinement's divergence table is empty: the reciprocal theorem, module
+        // `crate::fmm`), each sphere's own term alone: `O(N)`; otherwise each unordered
+        // pair once, in tiles: the same bits with any number of threads
+        let pairs_cancel = self.fmm().is_some()
+            && self
+                .confinement()
+                .divergence_sources()
+                .is_ok_and(|t| t.is_empty());
+        let mut acc = if pairs_cancel {
+            ps.par_iter()
+                .zip(&weights)
+                .map(|(&(x, a), &v)| div.diagonal(x, a, v))
+                .collect()
+        } else {
+            crate::mobility::tiled::apply::<_, f64, 6>(
+                &div,
+                &ps,
+                &weights,
+                kernels::lanes::Isa::best(),
+                n >= PARALLEL_MIN,
+            )
+        };
         if let (Some(rpy), Some(d)) = (rpy, damping) {
             d.drift(self.confinement(), self.viscosity(), &rpy.pairs, &mut acc);
             for (v, b) in acc.iter_mut().zip(&d.b) {

@@ -110,6 +110,42 @@ fn monolayers_near_planes_keep_the_tolerance() {
     }
 }
 
+/// With the fast product the drift is each sphere's own term: the pair terms, whose far
+/// field cancels for every confinement (the generated divergence tables are empty), are
+/// round-off in the generated pair kernels too. 600 spheres in a box for every
+/// confinement, and 2000 near contact with a wall, F and FT rows.
+#[test]
+fn the_drift_with_the_fast_product_is_each_spheres_own_term() {
+    let mut rng = ChaCha8Rng::seed_from_u64(8);
+    let mut cases: Vec<(String, System)> = all_confinements()
+        .into_iter()
+        .map(|(name, conf)| {
+            let ps = random_spheres(&mut rng, &conf, 600, (0.5, 1.0), 0.05, 40.0);
+            (name.to_string(), System::new(conf, 1.3, ps, false).unwrap())
+        })
+        .collect();
+    let wall = Confinement::Wall { height: 0.0 };
+    let layer = monolayer(2000, (0.5, 1.0), (1e-3, 0.1), 6);
+    cases.push(("wall near contact".into(), System::new(wall, 1.0, layer, false).unwrap()));
+    for (label, system) in cases {
+        assert!(system.confinement().divergence_sources().unwrap().is_empty());
+        let fast = system.clone().with_fmm(1e-6).unwrap();
+        let (direct, own) = (
+            system.divergence_at(Moments::FT),
+            fast.divergence_at(Moments::FT),
+        );
+        // free space has no drift at all (both exactly zero); elsewhere each pair term
+        // is ~1e-16 of a self term, and the sum of a few hundred of them at most ~1e-13
+        if norm(&direct) == 0.0 {
+            assert!(own.iter().all(|&o| o == 0.0), "{label}");
+            continue;
+        }
+        let e = rel_diff(&own, &direct);
+        println!("{label:<28} drift with the fast product: {e:.1e} of the direct sum's");
+        assert!(e <= 1e-13, "{label}: {e:e}");
+    }
+}
+
 /// The same bits on 1, 2 and 3 threads: the tree and every sum's order are fixed by the
 /// positions alone.
 #[test]
