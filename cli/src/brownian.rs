@@ -148,7 +148,7 @@ pub struct BrownianArgs {
     /// With --lanczos: the matrix-free products (the noise's and M F) by the fast
     /// multipole method to the relative tolerance EPS in [1e-10, 1e-3] (docs/fmm.md);
     /// keep TOL above EPS (the fast product is symmetric to about EPS). The drift kT
-    /// div M stays the direct sum.
+    /// div M is then each sphere's own terms, O(N): its pair terms cancel.
     #[arg(long, value_name = "EPS", requires = "lanczos")]
     fmm: Option<f64>,
     /// Leave out the drift kT div M. WRONG near a boundary (wrong equilibrium

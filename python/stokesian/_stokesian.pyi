@@ -241,7 +241,8 @@ class System:
         sphere through a boundary or another) are redrawn, at most this many;
         hydrodynamics: False gives each sphere its isolated Stokes mobility; fmm=EPS
         (with lanczos): the Lanczos noise's products and M F by the fast multipole
-        method to EPS (keep lanczos above EPS; the drift stays the direct sum).
+        method to EPS (keep lanczos above EPS), and the drift each sphere's own
+        terms, O(N) (its pair terms cancel: the direct sum's to round-off).
 
         Returns the frames: shape (frames, N, 3) at F, (frames, N, 7) at FT (centre,
         then the orientation quaternion w, x, y, z)."""
@@ -321,7 +322,8 @@ class NBody:
         ``fmm_tolerance`` (beyond libMobility; open boundaries only): ``Mdot`` and the
         Lanczos products of ``sqrtMdotW`` by the fast multipole method to this relative
         2-norm tolerance in ``[1e-10, 1e-3]`` (``System.apply(..., fmm=)``); ``divM``
-        stays exact."""
+        each sphere's own terms, ``O(N)`` (the pair terms cancel: equal to the direct
+        sum to round-off)."""
     def initialize(
         self,
         viscosity: float,

@@ -4,9 +4,12 @@
 //! of side `(18 N)^(1/3)` above the plane (a 3-D suspension, volume fraction about 0.1:
 //! what calibrates the order, docs/fmm.md).
 //!
-//! `cargo run --release -p stokesian --example fmm_timing -- N EPS [F|FT] [wall|free] [box] [direct] [untimed]`
+//! `cargo run --release -p stokesian --example fmm_timing -- N EPS [F|FT] [wall|free] [box] [direct] [untimed] [brownian]`
 //!
-//! (`untimed`: the fast product once, without the error: for a profiler.)
+//! (`untimed`: the fast product once, without the error: for a profiler. `brownian`:
+//! instead, one Euler-Maruyama step with Lanczos noise to `1e-4` and the fast product
+//! to `EPS` (`stokesian brownian --lanczos 1e-4 --fmm EPS`: gravity, unit `kT`, `dt =
+//! 1e-3`), timed whole and its drift alone, with the Lanczos iterations.)
 //!
 //! Prints the fast product's time (the median of five runs below 10^5 spheres, else
 //! one) and phases, its relative 2-norm error against the direct sum (over every target
@@ -143,6 +146,10 @@ fn main() {
     let x: Vec<f64> = (0..n * m.per_particle())
         .map(|_| rng.gen_range(-0.5..0.5))
         .collect();
+    if args.iter().any(|s| s == "brownian") {
+        brownian(system, m, eps, name);
+        return;
+    }
     let mut settings = stokesian::FastProduct::new(eps).expect("a tolerance in range");
     let var = |k: &str| std::env::var(k).ok();
     if let Some(v) = var("FMM_LEAF").and_then(|s| s.parse().ok()) {
@@ -213,5 +220,45 @@ fn main() {
         phases.across,
         phases.downward,
         phases.leaves
+    );
+}
+
+/// One Brownian step of `system` with the fast product to `eps` (module docs).
+fn brownian(system: System, m: Moments, eps: f64, name: &str) {
+    use stokesian::{Brownian, ExternalForces, Noise, Scheme};
+    let n = system.len();
+    let fast = system.with_fmm(eps).expect("a tolerance in range");
+    let bd = Brownian {
+        kt: 1.0,
+        dt: 1e-3,
+        drift: true,
+        forces: ExternalForces {
+            weight: 1.0,
+            strength: 0.0,
+            debye: 1.0,
+            trap: 0.0,
+            torque: [0.0; 3],
+        },
+        noise: Noise::Lanczos { tol: 1e-4 },
+        hydrodynamics: true,
+        moments: m,
+        scheme: Scheme::EulerMaruyama,
+        lubrication: None,
+    };
+    let t = Instant::now();
+    let drift = fast.divergence_at(m);
+    let drift_time = t.elapsed().as_secs_f64();
+    assert_eq!(drift.len(), n * m.per_particle());
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let t = Instant::now();
+    let step = fast.brownian_step(&bd, &mut rng, 0).expect("a step");
+    let time = t.elapsed().as_secs_f64();
+    let iterations = step.lanczos_iterations.expect("Lanczos noise");
+    println!(
+        "Brownian step {n} {name} {m:?} fmm {eps:e}: {time:.3} s, {iterations} Lanczos iterations, drift {drift_time:.4} s"
+    );
+    println!(
+        "result n={n} confinement={name} moments={m:?} eps={eps:e} step={time:.4} lanczos={iterations} drift={drift_time:.4} peak_mib={:.0}",
+        peak_mib()
     );
 }

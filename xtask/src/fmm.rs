@@ -2,8 +2,10 @@
 //! error and memory for monolayers of 10^3 to 10^6 spheres (the example
 //! `stokesian/examples/fmm_timing.rs`, one process per row, so that each row's peak
 //! memory is its own), and rewrite the table between `<!-- fmm:begin -->` and
-//! `<!-- fmm:end -->` in docs/fmm.md. `--quick`: up to 10^4 spheres, marked
-//! provisional. No number in that table is written by hand.
+//! `<!-- fmm:end -->` in docs/fmm.md; then one Brownian step with the fast product and
+//! Lanczos noise (the example's `brownian`) for 10^3 to 10^5 spheres, the table between
+//! `<!-- fmm-brownian:begin -->` and `<!-- fmm-brownian:end -->`. `--quick`: up to 10^4
+//! spheres, marked provisional. No number in these tables is written by hand.
 
 use anyhow::{bail, Context, Result};
 use kernels::lanes::Isa;
@@ -13,6 +15,8 @@ use std::process::Command;
 
 const BEGIN: &str = "<!-- fmm:begin -->";
 const END: &str = "<!-- fmm:end -->";
+const BROWNIAN_BEGIN: &str = "<!-- fmm-brownian:begin -->";
+const BROWNIAN_END: &str = "<!-- fmm-brownian:end -->";
 const FILE: &str = "docs/fmm.md";
 
 /// The tolerance of every row.
@@ -24,13 +28,18 @@ const CASES: [(&str, &str); 3] = [("wall", "F"), ("wall", "FT"), ("free", "F")];
 /// The direct product is timed up to this size.
 const DIRECT_UP_TO: usize = 10_000;
 
-/// One row's `result` line as `key -> value`.
-fn measure(binary: &Path, n: usize, conf: &str, moments: &str) -> Result<BTreeMap<String, String>> {
+/// One row's `result` line as `key -> value`: the example run with `N EPS moments conf`
+/// and `extra`.
+fn measure(
+    binary: &Path,
+    n: usize,
+    conf: &str,
+    moments: &str,
+    extra: &[&str],
+) -> Result<BTreeMap<String, String>> {
     let mut cmd = Command::new(binary);
     cmd.args([n.to_string().as_str(), EPS, moments, conf]);
-    if n <= DIRECT_UP_TO {
-        cmd.arg("direct");
-    }
+    cmd.args(extra);
     let out = cmd
         .output()
         .with_context(|| format!("running {}", binary.display()))?;
@@ -104,7 +113,8 @@ pub fn run(root: &Path, quick: bool) -> Result<()> {
     );
     for (conf, moments) in CASES {
         for &n in sizes {
-            let r = measure(&binary, n, conf, moments)?;
+            let direct: &[&str] = if n <= DIRECT_UP_TO { &["direct"] } else { &[] };
+            let r = measure(&binary, n, conf, moments, direct)?;
             let get = |k: &str| r.get(k).cloned().unwrap_or_else(|| "-".into());
             let seconds = |k: &str| match r.get(k).and_then(|v| v.parse::<f64>().ok()) {
                 Some(t) => format!("{t:.3} s"),
@@ -133,5 +143,30 @@ pub fn run(root: &Path, quick: bool) -> Result<()> {
     crate::bench::rewrite_between(&root.join(FILE), BEGIN, END, &s)?;
     println!("wrote the table of {FILE}");
     print!("{s}");
+    let mut b = format!(
+        "Written by `{command}` on {} ({}; lanes: {}; release build). One Euler-Maruyama \
+         step (`stokesian brownian --lanczos 1e-4 --fmm {EPS}`: the same monolayer above a \
+         wall, gravity, `kT = 1`, `dt = 1e-3`): the Lanczos iteration's products, `M F` and \
+         the drift, from the positions to the displaced system; the drift alone timed \
+         apart.\n\n| N | step | Lanczos iterations | drift | peak memory |\n|---|---|---|---|---|\n",
+        crate::report::today(),
+        crate::bench::machine(),
+        Isa::best().name()
+    );
+    let sizes = &sizes[..sizes.len().min(3)];
+    for &n in sizes {
+        let r = measure(&binary, n, "wall", "F", &["brownian"])?;
+        let get = |k: &str| r.get(k).cloned().unwrap_or_else(|| "-".into());
+        b.push_str(&format!(
+            "| {n} | {} s | {} | {} s | {} MiB |\n",
+            get("step"),
+            get("lanczos"),
+            get("drift"),
+            get("peak_mib")
+        ));
+        println!("measured a Brownian step, N = {n}");
+    }
+    crate::bench::rewrite_between(&root.join(FILE), BROWNIAN_BEGIN, BROWNIAN_END, &b)?;
+    print!("{b}");
     Ok(())
 }

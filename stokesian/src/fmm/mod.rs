@@ -619,8 +619,10 @@ impl System {
     /// The same system with [`System::apply`] (and with it the far-field F and FT
     /// velocities, [`System::velocities`]) by the fast multipole method to the relative
     /// tolerance `eps` ([`System::apply_fmm`]), and with it the Lanczos noise and `M F` of
-    /// Brownian dynamics; FTS products, dense matrices, resistances, Cholesky noise and
-    /// the drift stay as they are. The fast product runs in
+    /// Brownian dynamics; the drift then takes each sphere's own terms alone (`O(N)`:
+    /// where the confinement's divergence table is empty, its pair terms have no far
+    /// field and are round-off, docs/fmm.md); FTS products, dense matrices, resistances
+    /// and Cholesky noise stay as they are. The fast product runs in
     /// double precision whatever [`System::with_precision`] says. Refused for a tolerance
     /// outside `[1e-10, 1e-3]`, a periodic box, or a confinement without an expansion (a
     /// box given later, [`System::periodic`], takes its own products instead).

@@ -126,9 +126,16 @@ fn the_drift_with_the_fast_product_is_each_spheres_own_term() {
         .collect();
     let wall = Confinement::Wall { height: 0.0 };
     let layer = monolayer(2000, (0.5, 1.0), (1e-3, 0.1), 6);
-    cases.push(("wall near contact".into(), System::new(wall, 1.0, layer, false).unwrap()));
+    cases.push((
+        "wall near contact".into(),
+        System::new(wall, 1.0, layer, false).unwrap(),
+    ));
     for (label, system) in cases {
-        assert!(system.confinement().divergence_sources().unwrap().is_empty());
+        assert!(system
+            .confinement()
+            .divergence_sources()
+            .unwrap()
+            .is_empty());
         let fast = system.clone().with_fmm(1e-6).unwrap();
         let (direct, own) = (
             system.divergence_at(Moments::FT),

@@ -112,8 +112,9 @@ fn divergence_by_jets<G: Green>(g: &G, x: [f64; 3], y: [f64; 3], a: f64) -> ([f6
             for s in sides {
                 let mut d = s.d;
                 d[l] += 1;
-                let term =
-                    s.coef * (fb * a * a).powi(s.a2 as i32) * full[k][s.comp].derivative(&d).to_f64();
+                let term = s.coef
+                    * (fb * a * a).powi(s.a2 as i32)
+                    * full[k][s.comp].derivative(&d).to_f64();
                 size = size.max(term.abs());
                 sum += term;
             }
