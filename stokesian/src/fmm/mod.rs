@@ -168,7 +168,7 @@ impl Rows {
 
 /// Whether the potential's generated derivatives serve `settings`' order for `table`.
 fn check_order(settings: &FastProduct, table: &[PotentialSource]) -> Result<(), FmmError> {
-    let max = kernels::expansion::RADIAL.len() - 1 - degree(table, None);
+    let max = kernels::expansion::RADIAL.len() - 1 - degree(table, None, false);
     if settings.order > max {
         return Err(FmmError::Order {
             order: settings.order,
@@ -179,7 +179,9 @@ fn check_order(settings: &FastProduct, table: &[PotentialSource]) -> Result<(), 
 }
 
 /// The orders the expansions about `point` (every point: `None`) carry beyond the fast
-/// product's `order`: the largest `|d| - 2 a2` of its rows.
+/// product's `order`: the largest `|d| - 2 a2` of its rows (with `heights`, `|d| - 2 a2
+/// - h_power`: where the image's sources lie within the expansion's radius of the
+/// mirror, `h <= rho`, its rows' `(h/R)^h_power` count as orders of `rho/R`).
 ///
 /// A row's terms in the multipole-to-local sum are `d^(d + mu + beta) phi`, `mu` the
 /// source's offset from its cell's centre and `beta` the target's: relative to the
@@ -187,11 +189,14 @@ fn check_order(settings: &FastProduct, table: &[PotentialSource]) -> Result<(), 
 /// a2)` (`h < R` for an image, `a < R` for a cell pair the tree accepts). Truncating
 /// `|d + mu| + |beta|` at `order + degree` keeps every row to `|mu| + |beta| <= order`
 /// at least (the rows whose `a^2` makes them smaller by `(a/R)^2`, to `order - 2`).
-fn degree(table: &[PotentialSource], point: Option<usize>) -> usize {
+fn degree(table: &[PotentialSource], point: Option<usize>, heights: bool) -> usize {
     table
         .iter()
         .filter(|s| point.is_none_or(|p| s.point == p))
-        .map(|s| s.d.iter().map(|&e| e as usize).sum::<usize>() - 2 * s.a2 as usize)
+        .map(|s| {
+            let h = if heights { s.h_power as usize } else { 0 };
+            (s.d.iter().map(|&e| e as usize).sum::<usize>() - 2 * s.a2 as usize).saturating_sub(h)
+        })
         .max()
         .unwrap_or(0)
 }
@@ -210,19 +215,17 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 /// A target cell's local expansion from the multipoles that reach it, on lanes: the
-/// pairs `(source cell, point)` of its list `W` at a time, one per lane (a chunk's pairs
-/// share their point, and with it the order `tops[point]`), each lane summing its pairs
-/// in the list's order and the lanes added last (a fixed order for a given instruction
+/// triples `(source cell, point, order)` of its list `W` at a time, one per lane (a
+/// chunk's share their point and the multipoles' order), each lane summing its pairs in
+/// the list's order and the lanes added last (a fixed order for a given instruction
 /// set, whatever the threads).
 struct Across<'a, F: Fn(usize, usize) -> [f64; 3]> {
     ix: &'a Indices,
     /// The local expansion's length per channel.
     llen: usize,
     target: [f64; 3],
-    /// `(source cell, point)` pairs, point by point.
-    pairs: &'a [(usize, usize)],
-    /// The multipoles' order about each point.
-    tops: &'a [usize],
+    /// `(source cell, point, order)`, sorted by point and order.
+    pairs: &'a [(usize, usize, usize)],
     multipoles: &'a [Vec<f64>],
     /// `3 len` per point.
     block: usize,
@@ -243,17 +246,19 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
         let mut work = vec![zero; len];
         let mut lane = vec![0.0; w];
         let mut rest = self.pairs;
-        while let Some(&(_, point)) = rest.first() {
-            let same = rest.iter().take_while(|p| p.1 == point).count();
+        while let Some(&(_, point, top)) = rest.first() {
+            let same = rest
+                .iter()
+                .take_while(|p| (p.1, p.2) == (point, top))
+                .count();
             let (group, after) = rest.split_at(same);
             rest = after;
-            let top = self.tops[point];
             let used = taylor::count(top);
             for chunk in group.chunks(w) {
                 // a short chunk's empty lanes repeat its first pair with a zero multipole
                 let r: [L; 3] = std::array::from_fn(|k| {
                     for (j, slot) in lane.iter_mut().enumerate() {
-                        let (s, _) = chunk[j.min(chunk.len() - 1)];
+                        let (s, _, _) = chunk[j.min(chunk.len() - 1)];
                         *slot = self.target[k] - (self.centre)(s, point)[k];
                     }
                     L::load(&lane)
@@ -262,7 +267,9 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
                     for q in 0..used {
                         let at = point * self.block + ch * len + q;
                         for (j, v) in lane.iter_mut().enumerate() {
-                            *v = chunk.get(j).map_or(0.0, |&(s, _)| self.multipoles[s][at]);
+                            *v = chunk
+                                .get(j)
+                                .map_or(0.0, |&(s, _, _)| self.multipoles[s][at]);
                         }
                         m[ch * len + q] = L::load(&lane);
                     }
@@ -310,9 +317,18 @@ fn product<P: LaneProduct<K>, const K: usize>(
     // one more where the rotation takes their gradient (the Laplacian of the Faxén law
     // is smaller by `(a/R)^2`)
     let tops: Vec<usize> = (0..kinds)
-        .map(|k| settings.order + degree(table, Some(k)))
+        .map(|k| settings.order + degree(table, Some(k), false))
         .collect();
-    let ix = Indices::new(settings.order + degree(table, None));
+    // a cell's sources and their images in mirror `k` about one centre (`tree::Merged`):
+    // where the sources lie within half the shared radius of the mirror (`low`), the
+    // image's rows need the orders they have with `h` counted as such a length
+    // (`degree`), and the sum the larger of these and the sphere's; elsewhere the
+    // image's
+    let image_tops: Vec<usize> = (0..mirrors.len())
+        .map(|k| settings.order + degree(table, Some(k + 1), true))
+        .collect();
+
+    let ix = Indices::new(settings.order + degree(table, None, false));
     let lx = Indices::new(settings.order + usize::from(K == 6));
     // the sources' moments about their leaf's centre: to the order their lowest
     // derivative leaves
@@ -320,13 +336,36 @@ fn product<P: LaneProduct<K>, const K: usize>(
     let (len, llen, mlen) = (ix.len(), lx.len(), mx.len());
     let block = 3 * len;
     let rows = Rows::new(table, &weights, &ix, kinds);
+    // each point's expansion centre: the cell's, its image's, or the one its sources
+    // and their images in one mirror share
     let centre = |c: usize, point: usize| {
-        let c = tree.cells[c].centre;
-        if point == 0 {
-            c
-        } else {
-            mirrors[point - 1].image(c)
+        let cell = &tree.cells[c];
+        match cell.merged {
+            Some(m) if point == 0 || point == m.mirror + 1 => m.centre,
+            _ if point == 0 => cell.centre,
+            _ => mirrors[point - 1].image(cell.centre),
         }
+    };
+    // the image multipoles of a shared expansion need only its orders where every
+    // ancestor's image expansion is shared with the same mirror too (a parent takes
+    // its children's multipoles to its own order)
+    let mirror_of = |c: usize| tree.cells[c].merged.map(|m| m.mirror);
+    let low: Vec<bool> = tree
+        .cells
+        .iter()
+        .map(|c| c.merged.is_some_and(|m| 2.0 * m.height <= m.radius))
+        .collect();
+    let mut reduced = vec![false; tree.cells.len()];
+    reduced[0] = low[0];
+    // preorder: a parent before its children
+    for (c, cell) in tree.cells.iter().enumerate() {
+        for &child in &cell.children {
+            reduced[child] = reduced[c] && low[child] && mirror_of(child) == mirror_of(c);
+        }
+    }
+    let top_of = |c: usize, point: usize| match tree.cells[c].merged {
+        Some(m) if reduced[c] && point == m.mirror + 1 => image_tops[m.mirror],
+        _ => tops[point],
     };
     // upward: the leaves' multipoles from the moments of each key's weights, then
     // their parents'
@@ -385,7 +424,7 @@ fn product<P: LaneProduct<K>, const K: usize>(
             for (k, (key, rows)) in rows.keys.iter().zip(&rows.rows).enumerate() {
                 for &(channel, alpha, coef) in rows {
                     let off = key.point * block + channel * len;
-                    let top = tops[key.point];
+                    let top = top_of(c, key.point);
                     taylor::add_source(&ix, top, alpha, coef, sum(k), &mut m[off..off + len]);
                 }
             }
@@ -408,7 +447,7 @@ fn product<P: LaneProduct<K>, const K: usize>(
                         let r = point * block..(point + 1) * block;
                         taylor::translate_multipole(
                             &ix,
-                            tops[point],
+                            top_of(c, point),
                             &multipoles[child][r.clone()],
                             &mono,
                             &mut m[r],
@@ -422,6 +461,20 @@ fn product<P: LaneProduct<K>, const K: usize>(
             multipoles[c] = m;
         }
     }
+    // the shared expansions: the images' multipoles added to the sources' (about the
+    // same centre), to be translated once
+    multipoles
+        .par_iter_mut()
+        .zip(&tree.cells)
+        .for_each(|(m, cell)| {
+            if let Some(merged) = cell.merged {
+                let (own, rest) = m.split_at_mut(block);
+                let image = &rest[merged.mirror * block..(merged.mirror + 1) * block];
+                for (o, i) in own.iter_mut().zip(image) {
+                    *o += i;
+                }
+            }
+        });
     mark(&mut phases.upward, &mut since);
     // across: each cell's local expansion from the multipoles that reach it
     let mut locals: Vec<Vec<f64>> = (0..tree.cells.len())
@@ -430,15 +483,27 @@ fn product<P: LaneProduct<K>, const K: usize>(
             if tree.far[t].is_empty() {
                 return vec![0.0; 3 * llen];
             }
-            let pairs: Vec<(usize, usize)> = (0..kinds)
-                .flat_map(|point| tree.far[t].iter().map(move |&s| (s, point)))
-                .collect();
+            let mut pairs: Vec<(usize, usize, usize)> = Vec::new();
+            for &s in &tree.far[t] {
+                let shared = tree.cells[s].merged.map(|m| m.mirror);
+                for point in 0..kinds {
+                    match shared {
+                        Some(k) if point == k + 1 => {}
+                        Some(k) if point == 0 => {
+                            let image = if low[s] { image_tops[k] } else { tops[k + 1] };
+                            pairs.push((s, 0, tops[0].max(image)));
+                        }
+                        _ => pairs.push((s, point, tops[point])),
+                    }
+                }
+            }
+            // stable: the list's order within each group
+            pairs.sort_by_key(|&(_, point, top)| (point, top));
             let across = Across {
                 ix: &ix,
                 llen,
                 target: tree.cells[t].centre,
                 pairs: &pairs,
-                tops: &tops,
                 multipoles: &multipoles,
                 block,
                 centre: &centre,

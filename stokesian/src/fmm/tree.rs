@@ -8,19 +8,47 @@
 //! quarter or an eighth full where the count falls just past a level). The particles
 //! are reordered so that every cell's are contiguous. A cell's expansions are about its
 //! box's centre, its radius the largest distance of one of its particles from it (an
-//! image cell's: the same about the mirrored centre). A dual traversal from the root
-//! pair lists, for every target cell, the source cells whose multipoles reach it (the
-//! multipole acceptance criterion `r_t + r_s < theta |c_t - c_s|`, for the source cell
-//! and for each of its images), and for every leaf the leaves whose particles it meets
-//! through the exact pair kernels. Everything is fixed by the positions alone.
+//! image cell's: the same about the mirrored centre), except where a cell lies so close
+//! to a mirror that its particles and their images fit within [`MERGE`] times its
+//! radius of the centre's projection on the mirror: there the two share one expansion
+//! about that projection ([`Merged`]; a layer of spheres near a wall, whose images
+//! would otherwise take a second multipole-to-local translation per cell pair from a
+//! centre only the layer's thickness away). A dual traversal from the root pair lists,
+//! for every target cell, the source cells whose multipoles reach it (the multipole
+//! acceptance criterion `r_t + r_s < theta |c_t - c_s|`, for the source cell and for
+//! each of its images, or for their shared expansion), and for every leaf the leaves
+//! whose particles it meets through the exact pair kernels. Everything is fixed by the
+//! positions alone.
 
 use kernels::expansion::Mirror;
+
+/// A cell's particles and their images in a mirror share one expansion when they lie
+/// within this many times the cell's radius of the centre's projection on the mirror
+/// ([`Merged`]): one multipole-to-local translation instead of two, for a slightly
+/// larger radius.
+const MERGE: f64 = 1.1;
+
+/// A cell whose sources and their images in one mirror share one expansion: about the
+/// centre's projection on the mirror, where the particles and their images lie within
+/// the same distance.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Merged {
+    /// The mirror's index.
+    pub mirror: usize,
+    pub centre: [f64; 3],
+    /// The largest distance of a particle (and so of its image) from `centre`.
+    pub radius: f64,
+    /// The largest distance of a particle from the mirror.
+    pub height: f64,
+}
 
 /// A cell of the tree.
 #[derive(Clone, Debug)]
 pub(super) struct Cell {
     pub centre: [f64; 3],
     pub radius: f64,
+    /// Its particles' and their images' shared expansion, if it has one.
+    pub merged: Option<Merged>,
     /// Its particles: `order[start..end]`.
     pub start: usize,
     pub end: usize,
@@ -74,7 +102,7 @@ impl Tree {
             near: Vec::new(),
             levels: Vec::new(),
         };
-        tree.build(points, centre, half, 0, n, 0, leaf);
+        tree.build(points, mirrors, centre, half, 0, n, 0, leaf);
         for (c, cell) in tree.cells.iter().enumerate() {
             if tree.levels.len() <= cell.level {
                 tree.levels.resize(cell.level + 1, Vec::new());
@@ -92,6 +120,7 @@ impl Tree {
     fn build(
         &mut self,
         points: &[[f64; 3]],
+        mirrors: &[Mirror],
         centre: [f64; 3],
         half: [f64; 3],
         start: usize,
@@ -103,10 +132,35 @@ impl Tree {
             .iter()
             .map(|&i| distance(points[i], centre))
             .fold(0.0, f64::max);
+        let members = &self.order[start..end];
+        let merged = mirrors
+            .iter()
+            .enumerate()
+            .map(|(mirror, m)| {
+                let h = m.distance(centre);
+                let centre: [f64; 3] = std::array::from_fn(|k| centre[k] - h * m.normal[k]);
+                let radius = members
+                    .iter()
+                    .map(|&i| distance(points[i], centre))
+                    .fold(0.0, f64::max);
+                let height = members
+                    .iter()
+                    .map(|&i| m.distance(points[i]).abs())
+                    .fold(0.0, f64::max);
+                Merged {
+                    mirror,
+                    centre,
+                    radius,
+                    height,
+                }
+            })
+            .filter(|m| m.radius <= MERGE * radius)
+            .min_by(|a, b| a.radius.total_cmp(&b.radius));
         let me = self.cells.len();
         self.cells.push(Cell {
             centre,
             radius,
+            merged,
             start,
             end,
             children: Vec::new(),
@@ -139,21 +193,37 @@ impl Tree {
                 (true, true) => centre[k] + half[k] / 2.0,
                 (true, false) => centre[k] - half[k] / 2.0,
             });
-            children.push(self.build(points, c, child_half, at, at + len, level + 1, leaf));
+            children.push(self.build(
+                points,
+                mirrors,
+                c,
+                child_half,
+                at,
+                at + len,
+                level + 1,
+                leaf,
+            ));
             at += len;
         }
         self.cells[me].children = children;
         me
     }
 
-    /// Whether the multipoles of `s` (and of each of its images) reach `t`.
+    /// Whether the multipoles of `s` (and of each of its images, or their shared
+    /// expansion) reach `t`.
     fn accepts(&self, t: usize, s: usize, theta: f64, mirrors: &[Mirror]) -> bool {
         let (ct, cs) = (&self.cells[t], &self.cells[s]);
-        let reach = ct.radius + cs.radius;
-        reach < theta * distance(ct.centre, cs.centre)
-            && mirrors
-                .iter()
-                .all(|m| reach < theta * distance(ct.centre, m.image(cs.centre)))
+        let reaches = |centre: [f64; 3], radius: f64| {
+            ct.radius + radius < theta * distance(ct.centre, centre)
+        };
+        let shared = cs.merged.map(|m| m.mirror);
+        cs.merged.map_or(reaches(cs.centre, cs.radius), |m| {
+            reaches(m.centre, m.radius)
+        }) && mirrors
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| Some(k) != shared)
+            .all(|(_, m)| reaches(m.image(cs.centre), cs.radius))
     }
 
     fn traverse(&mut self, t: usize, s: usize, theta: f64, mirrors: &[Mirror]) {
