@@ -79,7 +79,7 @@ pub struct FastProduct {
 
 impl FastProduct {
     /// The parameters for a tolerance `eps` in `[1e-10, 1e-3]`: `theta = 0.4`, leaves of
-    /// at most 128 and the order `p = ceil(2 log10(1/eps) - 1.7)` (5, 11, 17 and 19 at
+    /// at most 100 and the order `p = ceil(2 log10(1/eps) - 1.7)` (5, 11, 17 and 19 at
     /// 1e-3, 1e-6, 1e-9 and 1e-10) beyond the sources' degree (`degree`). Calibrated on the
     /// hardest case measured, a 3-D suspension whose far field carries most of the norm
     /// (2x10^4 spheres of radii 0.5-1 in a box of 75 above a wall, F; docs/fmm.md): the
@@ -95,7 +95,7 @@ impl FastProduct {
             eps,
             order,
             theta: 0.4,
-            leaf: 128,
+            leaf: 100,
         })
     }
 }
