@@ -333,6 +333,13 @@ fn product<P: LaneProduct<K>, const K: usize>(
     // the sources' moments about their leaf's centre: to the order their lowest
     // derivative leaves
     let mx = Indices::new(ix.p - lowest(table));
+    let lowests: Vec<usize> = (0..kinds)
+        .map(|p| {
+            let rows: Vec<PotentialSource> =
+                table.iter().filter(|s| s.point == p).copied().collect();
+            lowest(&rows)
+        })
+        .collect();
     let (len, llen, mlen) = (ix.len(), lx.len(), mx.len());
     let block = 3 * len;
     let rows = Rows::new(table, &weights, &ix, kinds);
@@ -381,7 +388,12 @@ fn product<P: LaneProduct<K>, const K: usize>(
             // each point's monomials (one column per particle) and its keys' weights
             // (one column per key): their product is the moments of each key's weights,
             // one matrix product per point
-            let mut monos: Vec<Vec<f64>> = vec![vec![0.0; mlen * np]; kinds];
+            // each point's moments to the order its rows need here: the multipoles' order
+            // less the point's lowest derivative
+            let mlens: Vec<usize> = (0..kinds)
+                .map(|p| taylor::count(top_of(c, p).saturating_sub(lowests[p])).min(mlen))
+                .collect();
+            let mut monos: Vec<Vec<f64>> = mlens.iter().map(|&l| vec![0.0; l * np]).collect();
             let mut w: Vec<Vec<f64>> = (0..kinds)
                 .map(|p| vec![0.0; np * rows.span[p].len()])
                 .collect();
@@ -397,8 +409,13 @@ fn product<P: LaneProduct<K>, const K: usize>(
                         h[point] = mirror.distance(y);
                         mirror.image(y)
                     };
-                    let slot = &mut mono[col * mlen..(col + 1) * mlen];
-                    mx.monomials(sub(centre(c, point), at), slot);
+                    let ml = mlens[point];
+                    let slot = &mut mono[col * ml..(col + 1) * ml];
+                    mx.monomials_to(
+                        top_of(c, point).saturating_sub(lowests[point]).min(mx.p),
+                        sub(centre(c, point), at),
+                        slot,
+                    );
                 }
                 for (k, key) in rows.keys.iter().enumerate() {
                     let p = key.point;
@@ -411,14 +428,14 @@ fn product<P: LaneProduct<K>, const K: usize>(
                 .zip(w)
                 .enumerate()
                 .map(|(p, (mono, w))| {
-                    let mono = nalgebra::DMatrix::from_vec(mlen, np, mono);
+                    let mono = nalgebra::DMatrix::from_vec(mlens[p], np, mono);
                     mono * nalgebra::DMatrix::from_vec(np, rows.span[p].len(), w)
                 })
                 .collect();
             let sum = |k: usize| {
                 let p = rows.keys[k].point;
                 let at = k - rows.span[p].start;
-                &sums[p].as_slice()[at * mlen..(at + 1) * mlen]
+                &sums[p].as_slice()[at * mlens[p]..(at + 1) * mlens[p]]
             };
             let mut m = vec![0.0; kinds * block];
             for (k, (key, rows)) in rows.keys.iter().zip(&rows.rows).enumerate() {

@@ -44,6 +44,8 @@ pub(crate) struct Indices {
     /// For each `(gamma, i)`, `gamma_i > 0`: the index of `gamma - e_i`, and of
     /// `gamma - 2 e_i` where `gamma_i > 1`; the first `i` with `gamma_i > 0`.
     recurrence: Vec<(usize, u8, Option<usize>)>,
+    /// `1/nu_i` of each `nu` for its recurrence's `i` (no divisions in the monomials).
+    inv_index: Vec<f64>,
 }
 
 impl Indices {
@@ -77,6 +79,7 @@ impl Indices {
             shift: Vec::new(),
             m2l: Vec::new(),
             recurrence: Vec::new(),
+            inv_index: Vec::new(),
         };
         let order = |n: &[u8; 3]| n.iter().map(|&e| e as usize).sum::<usize>();
         me.shift = (0..me.nu.len())
@@ -112,6 +115,12 @@ impl Indices {
                 }
             })
             .collect();
+        me.inv_index = me
+            .recurrence
+            .iter()
+            .zip(&me.nu)
+            .map(|(&(_, i, _), n)| 1.0 / f64::from(n[i as usize].max(1)))
+            .collect();
         me
     }
 
@@ -133,11 +142,16 @@ impl Indices {
 
     /// `v^mu / mu!` for every `mu`, into `out`.
     pub fn monomials(&self, v: [f64; 3], out: &mut [f64]) {
+        self.monomials_to(self.p, v, out);
+    }
+
+    /// `v^mu / mu!` for every `|mu| <= order` (a prefix of the graded order), into `out`.
+    pub fn monomials_to(&self, order: usize, v: [f64; 3], out: &mut [f64]) {
         out[0] = 1.0;
-        for k in 1..self.len() {
+        for k in 1..count(order) {
             let (prev, i, _) = self.recurrence[k];
             // nu = prev + e_i: v^nu / nu! = v^prev / prev! * v_i / nu_i
-            out[k] = out[prev] * v[i as usize] / self.nu[k][i as usize] as f64;
+            out[k] = out[prev] * v[i as usize] * self.inv_index[k];
         }
     }
 
