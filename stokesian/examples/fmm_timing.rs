@@ -234,10 +234,7 @@ fn brownian(system: System, m: Moments, eps: f64, name: &str) {
         drift: true,
         forces: ExternalForces {
             weight: 1.0,
-            strength: 0.0,
-            debye: 1.0,
-            trap: 0.0,
-            torque: [0.0; 3],
+            ..ExternalForces::NONE
         },
         noise: Noise::Lanczos { tol: 1e-4 },
         hydrodynamics: true,

@@ -24,13 +24,7 @@ use rand::Rng;
 pub const WALL: Confinement = Confinement::Wall { height: 0.0 };
 
 /// No external force, torque or trap (Brownian motion alone).
-pub const NO_FORCES: stokesian::ExternalForces = stokesian::ExternalForces {
-    weight: 0.0,
-    strength: 0.0,
-    debye: 1.0,
-    trap: 0.0,
-    torque: [0.0; 3],
-};
+pub const NO_FORCES: stokesian::ExternalForces = stokesian::ExternalForces::NONE;
 
 /// A sedimented colloid's forces: buoyant weight 1 kT/a (the gravitational length is a),
 /// a wall repulsion of 50 kT/a with screening length 0.1 a, no trap or torque (kT = 1,

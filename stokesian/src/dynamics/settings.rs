@@ -29,6 +29,15 @@ pub struct ExternalForces {
 }
 
 impl ExternalForces {
+    /// No external force or torque (the repulsion's screening length 1, unused).
+    pub const NONE: ExternalForces = ExternalForces {
+        weight: 0.0,
+        strength: 0.0,
+        debye: 1.0,
+        trap: 0.0,
+        torque: [0.0; 3],
+    };
+
     /// The potential energy of one sphere of radius `a` at centre height `z` above a
     /// single lower boundary at `z0` (for tests and for the Boltzmann distribution).
     pub fn potential_above(&self, z: f64, a: f64, z0: f64) -> f64 {

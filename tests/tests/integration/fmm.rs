@@ -244,10 +244,7 @@ fn lanczos_noise_takes_the_fast_product() {
         drift: true,
         forces: ExternalForces {
             weight: 1.0,
-            strength: 0.0,
-            debye: 1.0,
-            trap: 0.0,
-            torque: [0.0; 3],
+            ..ExternalForces::NONE
         },
         noise: Noise::Lanczos { tol: 1e-6 },
         hydrodynamics: true,
