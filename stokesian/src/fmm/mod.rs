@@ -201,10 +201,11 @@ fn degree(table: &[PotentialSource], point: Option<usize>, heights: bool) -> usi
         .unwrap_or(0)
 }
 
-/// The lowest derivative of a table's rows.
-fn lowest(table: &[PotentialSource]) -> usize {
+/// The lowest derivative of a table's rows about `point` (every point: `None`).
+fn lowest(table: &[PotentialSource], point: Option<usize>) -> usize {
     table
         .iter()
+        .filter(|s| point.is_none_or(|p| s.point == p))
         .map(|s| s.d.iter().map(|&e| e as usize).sum::<usize>())
         .min()
         .unwrap_or(0)
@@ -323,24 +324,16 @@ fn product<P: LaneProduct<K>, const K: usize>(
     // where the sources lie within half the shared radius of the mirror (`low`), the
     // image's rows need the orders they have with `h` counted as such a length
     // (`degree`), and the sum the larger of these and the sphere's; elsewhere the
-    // image's
+    // image's own (`tops`)
     let image_tops: Vec<usize> = (0..mirrors.len())
         .map(|k| settings.order + degree(table, Some(k + 1), true))
         .collect();
-
     let ix = Indices::new(settings.order + degree(table, None, false));
     let lx = Indices::new(settings.order + usize::from(K == 6));
     // the sources' moments about their leaf's centre: to the order their lowest
     // derivative leaves
-    let mx = Indices::new(ix.p - lowest(table));
-    let lowests: Vec<usize> = (0..kinds)
-        .map(|p| {
-            let rows: Vec<PotentialSource> =
-                table.iter().filter(|s| s.point == p).copied().collect();
-            lowest(&rows)
-        })
-        .collect();
-    let (len, llen, mlen) = (ix.len(), lx.len(), mx.len());
+    let mx = Indices::new(ix.p - lowest(table, None));
+    let (len, llen) = (ix.len(), lx.len());
     let block = 3 * len;
     let rows = Rows::new(table, &weights, &ix, kinds);
     // each point's expansion centre: the cell's, its image's, or the one its sources
@@ -390,9 +383,14 @@ fn product<P: LaneProduct<K>, const K: usize>(
             // one matrix product per point
             // each point's moments to the order its rows need here: the multipoles' order
             // less the point's lowest derivative
-            let mlens: Vec<usize> = (0..kinds)
-                .map(|p| taylor::count(top_of(c, p).saturating_sub(lowests[p])).min(mlen))
+            let orders: Vec<usize> = (0..kinds)
+                .map(|p| {
+                    top_of(c, p)
+                        .saturating_sub(lowest(table, Some(p)))
+                        .min(mx.p)
+                })
                 .collect();
+            let mlens: Vec<usize> = orders.iter().map(|&o| taylor::count(o)).collect();
             let mut monos: Vec<Vec<f64>> = mlens.iter().map(|&l| vec![0.0; l * np]).collect();
             let mut w: Vec<Vec<f64>> = (0..kinds)
                 .map(|p| vec![0.0; np * rows.span[p].len()])
@@ -411,11 +409,7 @@ fn product<P: LaneProduct<K>, const K: usize>(
                     };
                     let ml = mlens[point];
                     let slot = &mut mono[col * ml..(col + 1) * ml];
-                    mx.monomials_to(
-                        top_of(c, point).saturating_sub(lowests[point]).min(mx.p),
-                        sub(centre(c, point), at),
-                        slot,
-                    );
+                    mx.monomials_to(orders[point], sub(centre(c, point), at), slot);
                 }
                 for (k, key) in rows.keys.iter().enumerate() {
                     let p = key.point;
