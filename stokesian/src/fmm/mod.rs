@@ -353,7 +353,7 @@ fn product<P: LaneProduct<K>, const K: usize>(
     let low: Vec<bool> = tree
         .cells
         .iter()
-        .map(|c| c.merged.is_some_and(|m| 2.0 * m.height <= m.radius))
+        .map(|c| c.merged.is_some_and(|m| m.low()))
         .collect();
     let mut reduced = vec![false; tree.cells.len()];
     reduced[0] = low[0];

@@ -42,6 +42,15 @@ pub(super) struct Merged {
     pub height: f64,
 }
 
+impl Merged {
+    /// Whether the particles lie within half the shared radius of the mirror, where the
+    /// image's rows `h^h_power d^(2 + h_power + 2 a2)` need no more orders than the
+    /// Stokeslet's (`(h/R)^h_power` counts as orders of `rho/R`).
+    pub fn low(&self) -> bool {
+        2.0 * self.height <= self.radius
+    }
+}
+
 /// A cell of the tree.
 #[derive(Clone, Debug)]
 pub(super) struct Cell {
