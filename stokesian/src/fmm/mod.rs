@@ -26,7 +26,7 @@ use kernels::lanes::{self, Isa, Lane, WithLanes};
 use kernels::Confinement;
 use near::{near_block, near_row, Soa};
 use rayon::prelude::*;
-use taylor::Indices;
+use taylor::{Biharmonic, Indices};
 use tree::Tree;
 
 /// Why the fast product cannot run.
@@ -221,15 +221,14 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 /// the list's order and the lanes added last (a fixed order for a given instruction
 /// set, whatever the threads).
 struct Across<'a, F: Fn(usize, usize) -> [f64; 3]> {
-    ix: &'a Indices,
-    /// The local expansion's length per channel.
-    llen: usize,
+    bh: &'a Biharmonic,
+    /// The local expansions' full basis.
+    lx: &'a Indices,
     target: [f64; 3],
     /// `(source cell, point, order)`, sorted by point and order.
     pairs: &'a [(usize, usize, usize)],
+    /// In the reduced basis (`bh.m`), `3 bh.m.len()` per point.
     multipoles: &'a [Vec<f64>],
-    /// `3 len` per point.
-    block: usize,
     centre: &'a F,
 }
 
@@ -238,13 +237,14 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
     type Output = Vec<f64>;
     #[inline(always)]
     fn run<L: Lane<Elem = f64>>(self) -> Vec<f64> {
-        let ix = self.ix;
-        let (len, llen, w) = (ix.len(), self.llen, L::WIDTH);
+        let bh = self.bh;
+        let (len, rlen, w) = (bh.m.len(), bh.l.len(), L::WIDTH);
+        let block = 3 * len;
         let zero = L::splat(0.0);
-        let mut l = vec![zero; 3 * llen];
-        let mut m = vec![zero; 3 * len];
-        let mut d = vec![zero; len];
-        let mut work = vec![zero; len];
+        let mut l = vec![zero; 3 * rlen];
+        let mut m = vec![zero; block];
+        let mut d = vec![zero; bh.d.len()];
+        let mut work = vec![zero; bh.d.len()];
         let mut lane = vec![0.0; w];
         let mut rest = self.pairs;
         while let Some(&(_, point, top)) = rest.first() {
@@ -254,7 +254,7 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
                 .count();
             let (group, after) = rest.split_at(same);
             rest = after;
-            let used = taylor::count(top);
+            let used = bh.m.count(top);
             for chunk in group.chunks(w) {
                 // a short chunk's empty lanes repeat its first pair with a zero multipole
                 let r: [L; 3] = std::array::from_fn(|k| {
@@ -266,7 +266,7 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
                 });
                 for ch in 0..3 {
                     for q in 0..used {
-                        let at = point * self.block + ch * len + q;
+                        let at = point * block + ch * len + q;
                         for (j, v) in lane.iter_mut().enumerate() {
                             *v = chunk
                                 .get(j)
@@ -275,13 +275,21 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
                         m[ch * len + q] = L::load(&lane);
                     }
                 }
-                ix.potential_derivatives(r, top, &mut d, &mut work);
-                taylor::multipole_to_local(ix, top, &m, &d, &mut l);
+                bh.d.potential_derivatives(r, top, &mut d, &mut work);
+                taylor::multipole_to_local(bh, top, &m, &d, &mut l);
             }
         }
-        (0..3 * llen)
-            .map(|q| l[q].sum() * ix.inv_factorial[q % llen])
-            .collect()
+        // the lanes' sums, the coefficients with `beta_1 >= 4`, and the `1/beta!`
+        let lx = self.lx;
+        let reduced: Vec<f64> = l.iter().map(|v| v.sum()).collect();
+        let mut out = vec![0.0; 3 * lx.len()];
+        for (ch, full) in out.chunks_exact_mut(lx.len()).enumerate() {
+            bh.expand(&reduced[ch * rlen..(ch + 1) * rlen], full);
+            for (v, f) in full.iter_mut().zip(&lx.inv_factorial) {
+                *v *= f;
+            }
+        }
+        out
     }
 }
 
@@ -486,6 +494,22 @@ fn product<P: LaneProduct<K>, const K: usize>(
                 }
             }
         });
+    // in the reduced basis of the multipole-to-local translation
+    let bh = Biharmonic::new(&ix, &lx);
+    let rblock = 3 * bh.m.len();
+    let multipoles: Vec<Vec<f64>> = multipoles
+        .into_par_iter()
+        .map(|mut full| {
+            let mut out = vec![0.0; kinds * rblock];
+            for (f, o) in full
+                .chunks_exact_mut(len)
+                .zip(out.chunks_exact_mut(bh.m.len()))
+            {
+                bh.reduce(f, o);
+            }
+            out
+        })
+        .collect();
     mark(&mut phases.upward, &mut since);
     // across: each cell's local expansion from the multipoles that reach it
     let mut locals: Vec<Vec<f64>> = (0..tree.cells.len())
@@ -511,12 +535,11 @@ fn product<P: LaneProduct<K>, const K: usize>(
             // stable: the list's order within each group
             pairs.sort_by_key(|&(_, point, top)| (point, top));
             let across = Across {
-                ix: &ix,
-                llen,
+                bh: &bh,
+                lx: &lx,
                 target: tree.cells[t].centre,
                 pairs: &pairs,
                 multipoles: &multipoles,
-                block,
                 centre: &centre,
             };
             match lanes::dispatch_with(isa, across) {

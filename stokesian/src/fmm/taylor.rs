@@ -23,8 +23,9 @@
 use kernels::expansion::RADIAL;
 use kernels::lanes::Lane;
 
-/// The multi-indices of total order `<= p` and the index tables of the expansions'
-/// operators, built once per order.
+/// The multi-indices of total order `<= p` (those with `nu_1 <= cap` where a cap is
+/// given, [`Indices::capped`]) and the index tables of the expansions' operators, built
+/// once per order.
 #[derive(Debug)]
 pub(crate) struct Indices {
     /// The order `p`.
@@ -35,12 +36,13 @@ pub(crate) struct Indices {
     pub inv_factorial: Vec<f64>,
     /// `nu!` of each.
     pub factorial: Vec<f64>,
-    /// The index of `nu` in a `(p+1)^3` cube (`usize::MAX` beyond order `p`).
+    /// The number of multi-indices of total order at most `o`, for each `o <= p`.
+    prefix: Vec<usize>,
+    /// The index of `nu` in a `(p+1)^3` cube (`usize::MAX` beyond order `p` or the cap).
     cube: Vec<usize>,
-    /// For each `nu`: the pairs `(mu, nu + mu)` with `|nu + mu| <= p` (shifts).
+    /// For each `nu`: the pairs `(mu, nu + mu)` with `|nu + mu| <= p` (shifts; without
+    /// a cap only).
     pub shift: Vec<Vec<(u32, u32)>>,
-    /// The M2L triples `(nu, beta, nu + beta)` with `|nu| + |beta| <= p`.
-    pub m2l: Vec<(u32, u32, u32)>,
     /// For each `(gamma, i)`, `gamma_i > 0`: the index of `gamma - e_i`, and of
     /// `gamma - 2 e_i` where `gamma_i > 1`; the first `i` with `gamma_i > 0`.
     recurrence: Vec<(usize, u8, Option<usize>)>,
@@ -51,13 +53,22 @@ pub(crate) struct Indices {
 impl Indices {
     /// The tables of order `p`.
     pub fn new(p: usize) -> Indices {
+        Indices::capped(p, p)
+    }
+
+    /// The tables of the multi-indices of order `<= p` with `nu_1 <= cap`: a set that
+    /// holds `nu - e_1` and `nu - 2 e_1` with `nu`, so that the recurrences (which lower
+    /// the first non-zero index) stay in it. With `cap < p` the shifts are not built.
+    pub fn capped(p: usize, cap: usize) -> Indices {
         let mut nu = Vec::new();
+        let mut prefix = Vec::new();
         for order in 0..=p {
-            for a in (0..=order).rev() {
+            for a in (0..=order.min(cap)).rev() {
                 for b in (0..=order - a).rev() {
                     nu.push([a as u8, b as u8, (order - a - b) as u8]);
                 }
             }
+            prefix.push(nu.len());
         }
         let side = p + 1;
         let mut cube = vec![usize::MAX; side * side * side];
@@ -75,29 +86,28 @@ impl Indices {
             nu,
             inv_factorial,
             factorial,
+            prefix,
             cube,
             shift: Vec::new(),
-            m2l: Vec::new(),
             recurrence: Vec::new(),
             inv_index: Vec::new(),
         };
         let order = |n: &[u8; 3]| n.iter().map(|&e| e as usize).sum::<usize>();
-        me.shift = (0..me.nu.len())
-            .map(|a| {
-                let na = me.nu[a];
-                (0..me.nu.len())
-                    .filter(|&m| order(&na) + order(&me.nu[m]) <= p)
-                    .map(|m| {
-                        let nm = me.nu[m];
-                        let sum = [na[0] + nm[0], na[1] + nm[1], na[2] + nm[2]];
-                        (m as u32, me.index(sum) as u32)
-                    })
-                    .collect()
-            })
-            .collect();
-        me.m2l = (0..me.nu.len())
-            .flat_map(|a| me.shift[a].iter().map(move |&(b, s)| (a as u32, b, s)))
-            .collect();
+        if cap >= p {
+            me.shift = (0..me.nu.len())
+                .map(|a| {
+                    let na = me.nu[a];
+                    (0..me.nu.len())
+                        .filter(|&m| order(&na) + order(&me.nu[m]) <= p)
+                        .map(|m| {
+                            let nm = me.nu[m];
+                            let sum = [na[0] + nm[0], na[1] + nm[1], na[2] + nm[2]];
+                            (m as u32, me.index(sum) as u32)
+                        })
+                        .collect()
+                })
+                .collect();
+        }
         me.recurrence = me
             .nu
             .iter()
@@ -124,6 +134,11 @@ impl Indices {
         me
     }
 
+    /// The number of multi-indices of total order at most `order` (`<= p`).
+    pub fn count(&self, order: usize) -> usize {
+        self.prefix[order]
+    }
+
     /// The total order `|nu|` of the multi-index at `k`.
     pub fn order(&self, k: usize) -> usize {
         self.nu[k].iter().map(|&e| e as usize).sum()
@@ -134,7 +149,7 @@ impl Indices {
         self.nu.len()
     }
 
-    /// The index of `nu` (`|nu| <= p`).
+    /// The index of `nu` (`|nu| <= p`; `usize::MAX` beyond the cap).
     pub fn index(&self, n: [u8; 3]) -> usize {
         let side = self.p + 1;
         self.cube[(n[0] as usize * side + n[1] as usize) * side + n[2] as usize]
@@ -148,7 +163,7 @@ impl Indices {
     /// `v^mu / mu!` for every `|mu| <= order` (a prefix of the graded order), into `out`.
     pub fn monomials_to(&self, order: usize, v: [f64; 3], out: &mut [f64]) {
         out[0] = 1.0;
-        for k in 1..count(order) {
+        for k in 1..self.count(order) {
             let (prev, i, _) = self.recurrence[k];
             // nu = prev + e_i: v^nu / nu! = v^prev / prev! * v_i / nu_i
             out[k] = out[prev] * v[i as usize] * self.inv_index[k];
@@ -174,7 +189,7 @@ impl Indices {
         let mut radial = s.sqrt() * inv_s.powi(top as i32);
         let two = L::splat(2.0);
         for n in (0..=top).rev() {
-            let len = count(top - n);
+            let len = self.count(top - n);
             out[0] = L::splat(RADIAL[n]) * radial;
             for k in 1..len {
                 let (one, i, second) = self.recurrence[k];
@@ -242,42 +257,161 @@ pub(crate) fn translate_multipole(
     }
 }
 
-/// `L_beta += sum_nu M_nu D_{nu + beta}` over `|nu| + |beta| <= top` (without the
-/// `1/beta!` of the local expansion, which the caller applies once) for the three
-/// channels of `m` (each `len()` long, one after the other) and of `l` (each a third of
-/// `l`, a local expansion of order at most `p`), which share `D`; one multipole per
+/// The five multi-indices and coefficients of the biharmonic relation that gives the
+/// derivative `nu` (`nu_1 >= 4`) of a biharmonic function (`lap^2 f = 0`) from those
+/// with `nu_1` lower by two or four, of the same order:
+/// `f_nu = -f_{nu - 4e1 + 4e2} - f_{nu - 4e1 + 4e3} - 2 f_{nu - 2e1 + 2e2}
+/// - 2 f_{nu - 2e1 + 2e3} - 2 f_{nu - 4e1 + 2e2 + 2e3}` (`d^(nu - 4 e1)` of
+/// `lap^2 = d1^4 + d2^4 + d3^4 + 2 d1^2 d2^2 + 2 d1^2 d3^2 + 2 d2^2 d3^2`).
+fn biharmonic_partners(n: [u8; 3]) -> [([u8; 3], f64); 5] {
+    let [a, b, c] = n;
+    debug_assert!(a >= 4);
+    [
+        ([a - 4, b + 4, c], -1.0),
+        ([a - 4, b, c + 4], -1.0),
+        ([a - 2, b + 2, c], -2.0),
+        ([a - 2, b, c + 2], -2.0),
+        ([a - 4, b + 2, c + 2], -2.0),
+    ]
+}
+
+/// The multipole-to-local translation in reduced bases. The potential `phi = |r|` is
+/// biharmonic away from `r = 0`, and so is every field made of its derivatives: the
+/// derivatives `D_nu` with `nu_1 >= 4` are sums of those with `nu_1` lower
+/// ([`biharmonic_partners`]), so a multipole `sum_nu M_nu D_nu` equals one with
+/// `nu_1 <= 3` alone (each `M_nu`, `nu_1 >= 4`, folded into its partners, the highest
+/// `nu_1` first), and a local expansion's coefficients with `beta_1 >= 4` follow from
+/// those with `beta_1 <= 3` (the lowest first). The translation then sums over
+/// `4n - 2` multi-indices of each order `n >= 3` on both sides instead of
+/// `(n + 1)(n + 2)/2`, and needs the derivatives with `gamma_1 <= 6` alone; each
+/// truncation `|nu| + |beta| <= top` holds the relation order by order, so the result is
+/// the full sum's.
+#[derive(Debug)]
+pub(crate) struct Biharmonic {
+    /// The multipoles' reduced basis: `nu_1 <= 3`, to the multipoles' order.
+    pub m: Indices,
+    /// The derivatives the translation takes: `gamma_1 <= 6`.
+    pub d: Indices,
+    /// The local expansions' reduced basis: `beta_1 <= 3`, to their order.
+    pub l: Indices,
+    /// For each `beta` of `l`: the index in `d` of `nu + beta` for the `nu` of `m` with
+    /// `|nu| + |beta| <= m.p` (a prefix of `m`).
+    pairs: Vec<Vec<u32>>,
+    /// The folds of a full multipole (indices of the full basis), highest `nu_1` first.
+    fold: Vec<(usize, [(usize, f64); 5])>,
+    /// The full basis' index of each of `m`.
+    gather: Vec<usize>,
+    /// The local coefficients with `beta_1 >= 4` from their partners (indices of the
+    /// full basis), lowest `beta_1` first.
+    unfold: Vec<(usize, [(usize, f64); 5])>,
+    /// The full basis' index of each of `l`.
+    scatter: Vec<usize>,
+}
+
+impl Biharmonic {
+    /// The tables for multipoles in the basis `full` and local expansions in `local`.
+    pub fn new(full: &Indices, local: &Indices) -> Biharmonic {
+        let m = Indices::capped(full.p, 3);
+        let d = Indices::capped(full.p, 6);
+        let l = Indices::capped(local.p, 3);
+        let order = |n: [u8; 3]| n.iter().map(|&e| e as usize).sum::<usize>();
+        let pairs =
+            l.nu.iter()
+                .map(|&b| {
+                    m.nu[..m.count(m.p - order(b))]
+                        .iter()
+                        .map(|&n| d.index([n[0] + b[0], n[1] + b[1], n[2] + b[2]]) as u32)
+                        .collect()
+                })
+                .collect();
+        let relations = |ix: &Indices, highest_first: bool| {
+            let mut at: Vec<usize> = (0..ix.len()).filter(|&k| ix.nu[k][0] >= 4).collect();
+            at.sort_by_key(|&k| ix.nu[k][0]);
+            if highest_first {
+                at.reverse();
+            }
+            at.into_iter()
+                .map(|k| {
+                    let partners = biharmonic_partners(ix.nu[k]).map(|(n, c)| (ix.index(n), c));
+                    (k, partners)
+                })
+                .collect::<Vec<_>>()
+        };
+        Biharmonic {
+            pairs,
+            fold: relations(full, true),
+            gather: m.nu.iter().map(|&n| full.index(n)).collect(),
+            unfold: relations(local, false),
+            scatter: l.nu.iter().map(|&n| local.index(n)).collect(),
+            m,
+            d,
+            l,
+        }
+    }
+
+    /// One channel of a multipole in the full basis (`full`, folded in place) in the
+    /// reduced basis (`out`, `m.len()`).
+    pub fn reduce(&self, full: &mut [f64], out: &mut [f64]) {
+        for &(k, partners) in &self.fold {
+            let v = full[k];
+            if v != 0.0 {
+                for (j, c) in partners {
+                    full[j] += c * v;
+                }
+            }
+        }
+        for (o, &k) in out.iter_mut().zip(&self.gather) {
+            *o = full[k];
+        }
+    }
+
+    /// One channel of a local expansion's coefficients in the reduced basis (`reduced`)
+    /// in the full basis (`out`: every coefficient).
+    pub fn expand(&self, reduced: &[f64], out: &mut [f64]) {
+        for (&k, &v) in self.scatter.iter().zip(reduced) {
+            out[k] = v;
+        }
+        for &(k, partners) in &self.unfold {
+            out[k] = partners.iter().map(|&(j, c)| c * out[j]).sum();
+        }
+    }
+}
+
+/// `L_beta += sum_nu M_nu D_{nu + beta}` over `|nu| + |beta| <= top` in the reduced
+/// bases ([`Biharmonic`]; without the `1/beta!` of the local expansion, which the caller
+/// applies once) for the three channels of `m` (each `bh.m.len()` long, one after the
+/// other) and of `l` (each `bh.l.len()`), which share `D` (`bh.d`); one multipole per
 /// lane. For each `beta` the `nu` with `|nu| <= top - |beta|` are a prefix of the graded
 /// order, so each sum is a dot product of that prefix of `M` with `D` gathered at `nu +
-/// beta` ([`Indices::shift`]): the same indices in every lane.
+/// beta`: the same indices in every lane.
 #[inline(always)]
 pub(crate) fn multipole_to_local<L: Lane<Elem = f64>>(
-    ix: &Indices,
+    bh: &Biharmonic,
     top: usize,
     m: &[L],
     d: &[L],
     l: &mut [L],
 ) {
-    let len = ix.len();
-    let llen = l.len() / 3;
-    debug_assert!(llen <= len && top <= ix.p);
+    let (len, llen) = (bh.m.len(), bh.l.len());
+    debug_assert!(top <= bh.m.p && l.len() == 3 * llen);
     let (m0, rest) = m.split_at(len);
     let (m1, m2) = rest.split_at(len);
-    let betas = llen.min(count(top));
+    let betas = bh.l.count(top.min(bh.l.p));
     let zero = L::splat(0.0);
     // four `beta` of one order at a time share each load of `M` (their prefixes are as
     // long): twelve independent sums, and a quarter of the multipoles' traffic
     let mut beta = 0;
     while beta < betas {
-        let order = ix.order(beta);
-        let end = betas.min(count(order));
-        let n = count(top - order);
+        let order = bh.l.order(beta);
+        let end = betas.min(bh.l.count(order));
+        let n = bh.m.count(top - order);
         while beta + 4 <= end {
-            let p: [&[(u32, u32)]; 4] = std::array::from_fn(|u| &ix.shift[beta + u][..n]);
+            let p: [&[u32]; 4] = std::array::from_fn(|u| &bh.pairs[beta + u][..n]);
             let mut acc = [[zero; 3]; 4];
             for k in 0..n {
                 let (a, b, c) = (m0[k], m1[k], m2[k]);
                 for u in 0..4 {
-                    let dv = d[p[u][k].1 as usize];
+                    let dv = d[p[u][k] as usize];
                     acc[u][0] = a.mul_add(dv, acc[u][0]);
                     acc[u][1] = b.mul_add(dv, acc[u][1]);
                     acc[u][2] = c.mul_add(dv, acc[u][2]);
@@ -292,20 +426,20 @@ pub(crate) fn multipole_to_local<L: Lane<Elem = f64>>(
             beta += 4;
         }
         while beta < end {
-            let pairs = &ix.shift[beta][..n];
+            let pairs = &bh.pairs[beta][..n];
             // four partial sums per channel, so that the fused multiply-adds do not
             // wait on each other
             let mut acc = [[zero; 3]; 4];
             let whole = n / 4 * 4;
             for (k, quad) in pairs[..whole].chunks_exact(4).enumerate() {
-                for (u, &(_, sum)) in quad.iter().enumerate() {
+                for (u, &sum) in quad.iter().enumerate() {
                     let (k, dv) = (4 * k + u, d[sum as usize]);
                     acc[u][0] = m0[k].mul_add(dv, acc[u][0]);
                     acc[u][1] = m1[k].mul_add(dv, acc[u][1]);
                     acc[u][2] = m2[k].mul_add(dv, acc[u][2]);
                 }
             }
-            for (k, &(_, sum)) in pairs.iter().enumerate().skip(whole) {
+            for (k, &sum) in pairs.iter().enumerate().skip(whole) {
                 let dv = d[sum as usize];
                 acc[0][0] = m0[k].mul_add(dv, acc[0][0]);
                 acc[0][1] = m1[k].mul_add(dv, acc[0][1]);
