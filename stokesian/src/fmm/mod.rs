@@ -628,21 +628,25 @@ fn product<P: LaneProduct<K>, const K: usize>(
                     }
                 }
             }
+            // the Faxén functional's polynomials (one column each) at every particle
+            // (one column of monomials each): one matrix product per leaf
             let polys = taylor::faxen_polynomials(&lx, &locals[c], K == 6);
-            let mut mono = vec![0.0; llen];
-            for (o, s) in out.iter_mut().zip(cell.start..cell.end) {
-                let (x, a) = sorted[s];
-                lx.monomials(sub(x, cell.centre), &mut mono);
-                let at = |k: usize| -> f64 {
-                    let poly = &polys[k * llen..(k + 1) * llen];
-                    poly.iter().zip(&mono).map(|(p, m)| p * m).sum()
-                };
+            let parts = polys.len() / llen;
+            let np = cell.end - cell.start;
+            let mut monos = vec![0.0; llen * np];
+            for (mono, s) in monos.chunks_exact_mut(llen).zip(cell.start..cell.end) {
+                lx.monomials(sub(sorted[s].0, cell.centre), mono);
+            }
+            let polys = nalgebra::DMatrix::from_vec(llen, parts, polys);
+            let at = polys.transpose() * nalgebra::DMatrix::from_vec(llen, np, monos);
+            for (col, (o, s)) in out.iter_mut().zip(cell.start..cell.end).enumerate() {
+                let a = sorted[s].1;
                 for k in 0..3 {
-                    o[k] += unit * (at(k) + a * a / 6.0 * at(3 + k));
+                    o[k] += unit * (at[(k, col)] + a * a / 6.0 * at[(3 + k, col)]);
                 }
                 if K == 6 {
                     for m in 0..3 {
-                        o[3 + m] += unit * at(6 + m);
+                        o[3 + m] += unit * at[(6 + m, col)];
                     }
                 }
             }

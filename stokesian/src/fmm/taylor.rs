@@ -230,7 +230,11 @@ pub(crate) fn add_source(
 
 /// Three multipoles of order `top` (channels of `len()` each, one after the other)
 /// moved by `(c' - c)`: `M'_{nu + mu} += M_nu (c' - c)^mu / mu!` for `|nu + mu| <= top`,
-/// `mono` holding `(c' - c)^mu / mu!`; the channels share each index.
+/// `mono` holding `(c' - c)^mu / mu!`; the channels share each index. Only the `mu` whose
+/// monomial is not zero take part: a binary tree's child lies along one axis from its
+/// parent (its box's centre, that centre's image in a mirror normal to an axis, or its
+/// projection on such a mirror), and a monomial with a power of another axis is exactly
+/// zero, so the sum is the same to the last bit with a twelfth of the terms.
 pub(crate) fn translate_multipole(
     ix: &Indices,
     top: usize,
@@ -243,13 +247,18 @@ pub(crate) fn translate_multipole(
     let (m1, m2) = rest.split_at(len);
     let (o0, rest) = out.split_at_mut(len);
     let (o1, o2) = rest.split_at_mut(len);
-    for (nu, pairs) in ix.shift[..count(top)].iter().enumerate() {
+    let shifts: Vec<(usize, usize, f64)> = (0..ix.count(top))
+        .filter(|&mu| mono[mu] != 0.0)
+        .map(|mu| (mu, ix.order(mu), mono[mu]))
+        .collect();
+    for (nu, pairs) in ix.shift[..ix.count(top)].iter().enumerate() {
         let (v0, v1, v2) = (m0[nu], m1[nu], m2[nu]);
         if v0 == 0.0 && v1 == 0.0 && v2 == 0.0 {
             continue;
         }
-        for &(mu, sum) in &pairs[..count(top - ix.order(nu))] {
-            let (w, sum) = (mono[mu as usize], sum as usize);
+        let rest = top - ix.order(nu);
+        for &(mu, _, w) in shifts.iter().take_while(|s| s.1 <= rest) {
+            let sum = pairs[mu].1 as usize;
             o0[sum] += v0 * w;
             o1[sum] += v1 * w;
             o2[sum] += v2 * w;
@@ -456,12 +465,19 @@ pub(crate) fn multipole_to_local<L: Lane<Elem = f64>>(
 
 /// A local expansion moved by `v = t' - t`: `L'_beta += sum_{gamma >= beta} L_gamma
 /// C(gamma, beta) v^(gamma - beta)`, `mono` holding `v^mu / mu!`:
-/// `C(gamma, beta) v^mu = gamma!/beta! (v^mu/mu!)`.
+/// `C(gamma, beta) v^mu = gamma!/beta! (v^mu/mu!)`. Only the `mu` whose monomial is not
+/// zero take part ([`translate_multipole`]).
 pub(crate) fn translate_local(ix: &Indices, l: &[f64], mono: &[f64], out: &mut [f64]) {
+    let shifts: Vec<(usize, usize, f64)> = (0..ix.len())
+        .filter(|&mu| mono[mu] != 0.0)
+        .map(|mu| (mu, ix.order(mu), mono[mu]))
+        .collect();
     for (beta, pairs) in ix.shift.iter().enumerate() {
+        let rest = ix.p - ix.order(beta);
         let mut acc = 0.0;
-        for &(mu, gamma) in pairs {
-            acc += l[gamma as usize] * mono[mu as usize] * ix.factorial[gamma as usize];
+        for &(mu, _, w) in shifts.iter().take_while(|s| s.1 <= rest) {
+            let gamma = pairs[mu].1 as usize;
+            acc += l[gamma] * w * ix.factorial[gamma];
         }
         out[beta] += acc * ix.inv_factorial[beta];
     }
