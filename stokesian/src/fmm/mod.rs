@@ -26,7 +26,7 @@ use kernels::lanes::{self, Isa, Lane, WithLanes};
 use kernels::Confinement;
 use near::{near_block, near_row, Soa};
 use rayon::prelude::*;
-use taylor::{Biharmonic, Indices};
+use taylor::{Bases, Biharmonic, Indices};
 use tree::Tree;
 
 /// Why the fast product cannot run.
@@ -58,6 +58,10 @@ pub enum FmmError {
     /// A periodic system.
     #[error("the fast product does not cover periodic boxes; use the Ewald product")]
     Periodic,
+    /// Parameters given by hand ([`System::with_fast`], [`System::apply_fast`]) out of
+    /// range.
+    #[error("the fast product's {0}")]
+    Settings(&'static str),
 }
 
 /// The parameters of the fast product for a tolerance.
@@ -97,6 +101,22 @@ impl FastProduct {
             theta: 0.4,
             leaf: 100,
         })
+    }
+
+    /// Whether parameters given by hand are in range: the tolerance as in
+    /// [`FastProduct::new`], at least one particle per leaf, `0 < theta < 1` (the
+    /// expansions converge for `r_t + r_s < |c_t - c_s|`).
+    fn check(&self) -> Result<(), FmmError> {
+        if !(1e-10..=1e-3).contains(&self.eps) {
+            return Err(FmmError::Tolerance(self.eps));
+        }
+        if self.leaf == 0 {
+            return Err(FmmError::Settings("leaf must hold at least one particle"));
+        }
+        if !(self.theta > 0.0 && self.theta < 1.0) {
+            return Err(FmmError::Settings("theta must lie in (0, 1)"));
+        }
+        Ok(())
     }
 }
 
@@ -215,19 +235,29 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
+/// A multipole that reaches a target cell: the source cell's, about one of its points,
+/// to an order; where it starts in the cell's reduced multipoles (three channels of
+/// `bh.m.count(top)` each).
+#[derive(Clone, Copy, Debug)]
+struct Pair {
+    cell: usize,
+    point: usize,
+    top: usize,
+    offset: usize,
+}
+
 /// A target cell's local expansion from the multipoles that reach it, on lanes: the
-/// triples `(source cell, point, order)` of its list `W` at a time, one per lane (a
-/// chunk's share their point and the multipoles' order), each lane summing its pairs in
-/// the list's order and the lanes added last (a fixed order for a given instruction
-/// set, whatever the threads).
+/// pairs of its list `W` at a time, one per lane (a chunk's share their point and the
+/// multipoles' order), each lane summing its pairs in the list's order and the lanes
+/// added last (a fixed order for a given instruction set, whatever the threads).
 struct Across<'a, F: Fn(usize, usize) -> [f64; 3]> {
     bh: &'a Biharmonic,
     /// The local expansions' full basis.
     lx: &'a Indices,
     target: [f64; 3],
-    /// `(source cell, point, order)`, sorted by point and order.
-    pairs: &'a [(usize, usize, usize)],
-    /// In the reduced basis (`bh.m`), `3 bh.m.len()` per point.
+    /// Sorted by point and order.
+    pairs: &'a [Pair],
+    /// Each cell's, in the reduced basis (`bh.m`).
     multipoles: &'a [Vec<f64>],
     centre: &'a F,
 }
@@ -239,18 +269,17 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
     fn run<L: Lane<Elem = f64>>(self) -> Vec<f64> {
         let bh = self.bh;
         let (len, rlen, w) = (bh.m.len(), bh.l.len(), L::WIDTH);
-        let block = 3 * len;
         let zero = L::splat(0.0);
         let mut l = vec![zero; 3 * rlen];
-        let mut m = vec![zero; block];
+        let mut m = vec![zero; 3 * len];
         let mut d = vec![zero; bh.d.len()];
         let mut work = vec![zero; bh.d.len()];
         let mut lane = vec![0.0; w];
         let mut rest = self.pairs;
-        while let Some(&(_, point, top)) = rest.first() {
+        while let Some(&Pair { point, top, .. }) = rest.first() {
             let same = rest
                 .iter()
-                .take_while(|p| (p.1, p.2) == (point, top))
+                .take_while(|p| (p.point, p.top) == (point, top))
                 .count();
             let (group, after) = rest.split_at(same);
             rest = after;
@@ -259,18 +288,17 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
                 // a short chunk's empty lanes repeat its first pair with a zero multipole
                 let r: [L; 3] = std::array::from_fn(|k| {
                     for (j, slot) in lane.iter_mut().enumerate() {
-                        let (s, _, _) = chunk[j.min(chunk.len() - 1)];
+                        let s = chunk[j.min(chunk.len() - 1)].cell;
                         *slot = self.target[k] - (self.centre)(s, point)[k];
                     }
                     L::load(&lane)
                 });
                 for ch in 0..3 {
                     for q in 0..used {
-                        let at = point * block + ch * len + q;
                         for (j, v) in lane.iter_mut().enumerate() {
                             *v = chunk
                                 .get(j)
-                                .map_or(0.0, |&(s, _, _)| self.multipoles[s][at]);
+                                .map_or(0.0, |p| self.multipoles[p.cell][p.offset + ch * used + q]);
                         }
                         m[ch * len + q] = L::load(&lane);
                     }
@@ -336,14 +364,17 @@ fn product<P: LaneProduct<K>, const K: usize>(
     let image_tops: Vec<usize> = (0..mirrors.len())
         .map(|k| settings.order + degree(table, Some(k + 1), true))
         .collect();
-    let ix = Indices::new(settings.order + degree(table, None, false));
-    let lx = Indices::new(settings.order + usize::from(K == 6));
-    // the sources' moments about their leaf's centre: to the order their lowest
-    // derivative leaves
-    let mx = Indices::new(ix.p - lowest(table, None));
-    let (len, llen) = (ix.len(), lx.len());
-    let block = 3 * len;
-    let rows = Rows::new(table, &weights, &ix, kinds);
+    // the multipoles' and the local expansions' orders, and the sources' moments about
+    // their leaf's centre: to the order their lowest derivative leaves
+    let top = settings.order + degree(table, None, false);
+    let bases = Bases::of((
+        top,
+        settings.order + usize::from(K == 6),
+        top - lowest(table, None),
+    ));
+    let (ix, lx, mx, bh) = (&bases.ix, &bases.lx, &bases.mx, &bases.bh);
+    let llen = lx.len();
+    let rows = Rows::new(table, &weights, ix, kinds);
     // each point's expansion centre: the cell's, its image's, or the one its sources
     // and their images in one mirror share
     let centre = |c: usize, point: usize| {
@@ -375,6 +406,31 @@ fn product<P: LaneProduct<K>, const K: usize>(
         Some(m) if reduced[c] && point == m.mirror + 1 => image_tops[m.mirror],
         _ => tops[point],
     };
+    // the order each point's multipole reaches the cells it is translated to with (none
+    // for an image whose multipole joins the spheres' in a shared expansion)
+    let m2l_top = |c: usize, point: usize| match tree.cells[c].merged {
+        Some(m) if point == m.mirror + 1 => None,
+        Some(m) if point == 0 => {
+            let image = if low[c] {
+                image_tops[m.mirror]
+            } else {
+                tops[point + 1 + m.mirror]
+            };
+            Some(tops[0].max(image))
+        }
+        _ => Some(tops[point]),
+    };
+    // a cell's multipoles, one point after the other, three channels each: each channel
+    // as long as the point's order needs (the spheres' of a shared expansion as long as
+    // the sum with the images' needs)
+    let width = |c: usize, point: usize| {
+        let top = match tree.cells[c].merged {
+            Some(m) if point == 0 => tops[0].max(top_of(c, m.mirror + 1)),
+            _ => top_of(c, point),
+        };
+        ix.count(top)
+    };
+    let offset = |c: usize, point: usize| (0..point).map(|q| 3 * width(c, q)).sum::<usize>();
     // upward: the leaves' multipoles from the moments of each key's weights, then
     // their parents'
     let mut multipoles: Vec<Vec<f64>> = vec![Vec::new(); tree.cells.len()];
@@ -398,7 +454,7 @@ fn product<P: LaneProduct<K>, const K: usize>(
                         .min(mx.p)
                 })
                 .collect();
-            let mlens: Vec<usize> = orders.iter().map(|&o| taylor::count(o)).collect();
+            let mlens: Vec<usize> = orders.iter().map(|&o| mx.count(o)).collect();
             let mut monos: Vec<Vec<f64>> = mlens.iter().map(|&l| vec![0.0; l * np]).collect();
             let mut w: Vec<Vec<f64>> = (0..kinds)
                 .map(|p| vec![0.0; np * rows.span[p].len()])
@@ -439,12 +495,12 @@ fn product<P: LaneProduct<K>, const K: usize>(
                 let at = k - rows.span[p].start;
                 &sums[p].as_slice()[at * mlens[p]..(at + 1) * mlens[p]]
             };
-            let mut m = vec![0.0; kinds * block];
+            let mut m = vec![0.0; offset(c, kinds)];
             for (k, (key, rows)) in rows.keys.iter().zip(&rows.rows).enumerate() {
+                let (top, w) = (top_of(c, key.point), width(c, key.point));
                 for &(channel, alpha, coef) in rows {
-                    let off = key.point * block + channel * len;
-                    let top = top_of(c, key.point);
-                    taylor::add_source(&ix, top, alpha, coef, sum(k), &mut m[off..off + len]);
+                    let off = offset(c, key.point) + channel * w;
+                    taylor::add_source(ix, top, alpha, coef, sum(k), &mut m[off..off + w]);
                 }
             }
             (c, m)
@@ -458,18 +514,19 @@ fn product<P: LaneProduct<K>, const K: usize>(
             .par_iter()
             .filter(|&&c| !tree.cells[c].is_leaf())
             .map(|&c| {
-                let mut m = vec![0.0; kinds * block];
-                let mut mono = vec![0.0; len];
+                let mut m = vec![0.0; offset(c, kinds)];
+                let mut mono = vec![0.0; ix.len()];
                 for &child in &tree.cells[c].children {
                     for point in 0..kinds {
                         ix.monomials(sub(centre(c, point), centre(child, point)), &mut mono);
-                        let r = point * block..(point + 1) * block;
+                        let (from, to) = (offset(child, point), offset(c, point));
+                        let (wf, wt) = (width(child, point), width(c, point));
                         taylor::translate_multipole(
-                            &ix,
+                            ix,
                             top_of(c, point),
-                            &multipoles[child][r.clone()],
+                            (&multipoles[child][from..from + 3 * wf], wf),
                             &mono,
-                            &mut m[r],
+                            (&mut m[to..to + 3 * wt], wt),
                         );
                     }
                 }
@@ -485,27 +542,43 @@ fn product<P: LaneProduct<K>, const K: usize>(
     multipoles
         .par_iter_mut()
         .zip(&tree.cells)
-        .for_each(|(m, cell)| {
+        .enumerate()
+        .for_each(|(c, (m, cell))| {
             if let Some(merged) = cell.merged {
-                let (own, rest) = m.split_at_mut(block);
-                let image = &rest[merged.mirror * block..(merged.mirror + 1) * block];
-                for (o, i) in own.iter_mut().zip(image) {
-                    *o += i;
+                let point = merged.mirror + 1;
+                let (wo, wi) = (width(c, 0), width(c, point));
+                let (own, rest) = m.split_at_mut(3 * wo);
+                let at = offset(c, point) - 3 * wo;
+                let image = &rest[at..at + 3 * wi];
+                for (o, i) in own.chunks_exact_mut(wo).zip(image.chunks_exact(wi)) {
+                    for (o, i) in o.iter_mut().zip(i) {
+                        *o += i;
+                    }
                 }
             }
         });
     // in the reduced basis of the multipole-to-local translation
-    let bh = Biharmonic::new(&ix, &lx);
-    let rblock = 3 * bh.m.len();
+    // (each point the translations take, its channels as long as their order needs)
+    let reduced_width = |c: usize, point: usize| m2l_top(c, point).map_or(0, |t| bh.m.count(t));
+    let reduced_offset =
+        |c: usize, point: usize| (0..point).map(|q| 3 * reduced_width(c, q)).sum::<usize>();
     let multipoles: Vec<Vec<f64>> = multipoles
         .into_par_iter()
-        .map(|mut full| {
-            let mut out = vec![0.0; kinds * rblock];
-            for (f, o) in full
-                .chunks_exact_mut(len)
-                .zip(out.chunks_exact_mut(bh.m.len()))
-            {
-                bh.reduce(f, o);
+        .enumerate()
+        .map(|(c, mut full)| {
+            let mut out = vec![0.0; reduced_offset(c, kinds)];
+            for point in 0..kinds {
+                let (w, rw) = (width(c, point), reduced_width(c, point));
+                if rw == 0 {
+                    continue;
+                }
+                let (f, r) = (offset(c, point), reduced_offset(c, point));
+                for (f, o) in full[f..f + 3 * w]
+                    .chunks_exact_mut(w)
+                    .zip(out[r..r + 3 * rw].chunks_exact_mut(rw))
+                {
+                    bh.reduce(f, o);
+                }
             }
             out
         })
@@ -518,25 +591,24 @@ fn product<P: LaneProduct<K>, const K: usize>(
             if tree.far[t].is_empty() {
                 return vec![0.0; 3 * llen];
             }
-            let mut pairs: Vec<(usize, usize, usize)> = Vec::new();
+            let mut pairs: Vec<Pair> = Vec::new();
             for &s in &tree.far[t] {
-                let shared = tree.cells[s].merged.map(|m| m.mirror);
                 for point in 0..kinds {
-                    match shared {
-                        Some(k) if point == k + 1 => {}
-                        Some(k) if point == 0 => {
-                            let image = if low[s] { image_tops[k] } else { tops[k + 1] };
-                            pairs.push((s, 0, tops[0].max(image)));
-                        }
-                        _ => pairs.push((s, point, tops[point])),
+                    if let Some(top) = m2l_top(s, point) {
+                        pairs.push(Pair {
+                            cell: s,
+                            point,
+                            top,
+                            offset: reduced_offset(s, point),
+                        });
                     }
                 }
             }
             // stable: the list's order within each group
-            pairs.sort_by_key(|&(_, point, top)| (point, top));
+            pairs.sort_by_key(|p| (p.point, p.top));
             let across = Across {
-                bh: &bh,
-                lx: &lx,
+                bh,
+                lx,
                 target: tree.cells[t].centre,
                 pairs: &pairs,
                 multipoles: &multipoles,
@@ -563,7 +635,7 @@ fn product<P: LaneProduct<K>, const K: usize>(
                     let mut add = vec![0.0; 3 * llen];
                     for ch in 0..3 {
                         let r = ch * llen..(ch + 1) * llen;
-                        taylor::translate_local(&lx, &parent[r.clone()], &mono, &mut add[r]);
+                        taylor::translate_local(lx, &parent[r.clone()], &mono, &mut add[r]);
                     }
                     moved.push((child, add));
                 }
@@ -630,7 +702,7 @@ fn product<P: LaneProduct<K>, const K: usize>(
             }
             // the Faxén functional's polynomials (one column each) at every particle
             // (one column of monomials each): one matrix product per leaf
-            let polys = taylor::faxen_polynomials(&lx, &locals[c], K == 6);
+            let polys = taylor::faxen_polynomials(lx, &locals[c], K == 6);
             let parts = polys.len() / llen;
             let np = cell.end - cell.start;
             let mut monos = vec![0.0; llen * np];
@@ -729,8 +801,13 @@ impl System {
     /// double precision whatever [`System::with_precision`] says. Refused for a tolerance
     /// outside `[1e-10, 1e-3]`, a periodic box, or a confinement without an expansion (a
     /// box given later, [`System::periodic`], takes its own products instead).
-    pub fn with_fmm(mut self, eps: f64) -> Result<System, FmmError> {
-        let settings = FastProduct::new(eps)?;
+    pub fn with_fmm(self, eps: f64) -> Result<System, FmmError> {
+        self.with_fast(FastProduct::new(eps)?)
+    }
+
+    /// [`System::with_fmm`] with the method's parameters given ([`FastProduct`]).
+    pub fn with_fast(mut self, settings: FastProduct) -> Result<System, FmmError> {
+        settings.check()?;
         if self.periodic_ref().is_some() {
             return Err(FmmError::Periodic);
         }
@@ -782,6 +859,7 @@ impl System {
         x: &[f64],
         settings: &FastProduct,
     ) -> Result<(Vec<f64>, Phases), FmmError> {
+        settings.check()?;
         if self.periodic_ref().is_some() {
             return Err(FmmError::Periodic);
         }

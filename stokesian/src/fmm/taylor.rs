@@ -206,11 +206,6 @@ impl Indices {
     }
 }
 
-/// The number of multi-indices of total order at most `order`.
-pub(crate) fn count(order: usize) -> usize {
-    (order + 1) * (order + 2) * (order + 3) / 6
-}
-
 /// `M_{alpha + mu} += s (-delta)^mu / mu!` for every `mu` with `|alpha + mu| <= top`
 /// (a derivative source `s d^alpha phi(x - c - delta)`), `mono` holding `(-delta)^mu /
 /// mu!`.
@@ -223,14 +218,14 @@ pub(crate) fn add_source(
     mono: &[f64],
     m: &mut [f64],
 ) {
-    for &(mu, sum) in &ix.shift[alpha][..count(top - ix.order(alpha))] {
+    for &(mu, sum) in &ix.shift[alpha][..ix.count(top - ix.order(alpha))] {
         m[sum as usize] += s * mono[mu as usize];
     }
 }
 
-/// Three multipoles of order `top` (channels of `len()` each, one after the other)
-/// moved by `(c' - c)`: `M'_{nu + mu} += M_nu (c' - c)^mu / mu!` for `|nu + mu| <= top`,
-/// `mono` holding `(c' - c)^mu / mu!`; the channels share each index. Only the `mu` whose
+/// Three multipoles (channels of `m.1` and `out.1` coefficients, one after the other, at
+/// least `count(top)`) moved by `(c' - c)`: `M'_{nu + mu} += M_nu (c' - c)^mu / mu!` for
+/// `|nu + mu| <= top`, `mono` holding `(c' - c)^mu / mu!`; the channels share each index. Only the `mu` whose
 /// monomial is not zero take part: a binary tree's child lies along one axis from its
 /// parent (its box's centre, that centre's image in a mirror normal to an axis, or its
 /// projection on such a mirror), and a monomial with a power of another axis is exactly
@@ -238,15 +233,14 @@ pub(crate) fn add_source(
 pub(crate) fn translate_multipole(
     ix: &Indices,
     top: usize,
-    m: &[f64],
+    (m, from): (&[f64], usize),
     mono: &[f64],
-    out: &mut [f64],
+    (out, to): (&mut [f64], usize),
 ) {
-    let len = ix.len();
-    let (m0, rest) = m.split_at(len);
-    let (m1, m2) = rest.split_at(len);
-    let (o0, rest) = out.split_at_mut(len);
-    let (o1, o2) = rest.split_at_mut(len);
+    let (m0, rest) = m.split_at(from);
+    let (m1, m2) = rest.split_at(from);
+    let (o0, rest) = out.split_at_mut(to);
+    let (o1, o2) = rest.split_at_mut(to);
     let shifts: Vec<(usize, usize, f64)> = (0..ix.count(top))
         .filter(|&mu| mono[mu] != 0.0)
         .map(|mu| (mu, ix.order(mu), mono[mu]))
@@ -263,6 +257,46 @@ pub(crate) fn translate_multipole(
             o1[sum] += v1 * w;
             o2[sum] += v2 * w;
         }
+    }
+}
+
+/// The index tables one fast product takes: the multipoles' (`ix`), the local
+/// expansions' (`lx`), the particles' moments' (`mx`) and the translation's reduced
+/// bases (`bh`), built once per process for each set of orders ([`Bases::of`]: a small
+/// product, of a few hundred spheres in a Brownian step, would otherwise spend most of
+/// its time building them).
+#[derive(Debug)]
+pub(crate) struct Bases {
+    pub ix: Indices,
+    pub lx: Indices,
+    pub mx: Indices,
+    pub bh: Biharmonic,
+}
+
+impl Bases {
+    /// The tables of the orders `(ix, lx, mx)`, shared.
+    pub fn of(orders: (usize, usize, usize)) -> std::sync::Arc<Bases> {
+        use std::collections::HashMap;
+        use std::sync::{Arc, Mutex, OnceLock};
+        type Built = HashMap<(usize, usize, usize), Arc<Bases>>;
+        static BUILT: OnceLock<Mutex<Built>> = OnceLock::new();
+        let built = BUILT.get_or_init(|| Mutex::new(HashMap::new()));
+        let mut built = built
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        built
+            .entry(orders)
+            .or_insert_with(|| {
+                let (ix, lx) = (Indices::new(orders.0), Indices::new(orders.1));
+                let bh = Biharmonic::new(&ix, &lx);
+                Arc::new(Bases {
+                    mx: Indices::new(orders.2),
+                    ix,
+                    lx,
+                    bh,
+                })
+            })
+            .clone()
     }
 }
 
@@ -358,10 +392,13 @@ impl Biharmonic {
         }
     }
 
-    /// One channel of a multipole in the full basis (`full`, folded in place) in the
-    /// reduced basis (`out`, `m.len()`).
+    /// One channel of a multipole in the full basis (`full`, folded in place: the
+    /// orders it holds, a prefix of the graded order) in the reduced basis (`out`: the
+    /// orders it holds).
     pub fn reduce(&self, full: &mut [f64], out: &mut [f64]) {
-        for &(k, partners) in &self.fold {
+        // a partner has its multi-index's order, so lies in the prefix with it
+        let len = full.len();
+        for &(k, partners) in self.fold.iter().filter(|f| f.0 < len) {
             let v = full[k];
             if v != 0.0 {
                 for (j, c) in partners {
