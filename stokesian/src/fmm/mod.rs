@@ -246,17 +246,17 @@ struct Pair {
     offset: usize,
 }
 
-/// A target cell's local expansion from the multipoles that reach it, on lanes: the
-/// pairs of its list `W` at a time, one per lane (a chunk's share their point and the
-/// multipoles' order), each lane summing its pairs in the list's order and the lanes
-/// added last (a fixed order for a given instruction set, whatever the threads).
+/// Target cells' local expansions from the multipoles that reach them, on lanes, one
+/// target after the other (sharing the lanes' scratch): the pairs of a target's list `W`
+/// at a time, one per lane (a chunk's share their point and the multipoles' order), each
+/// lane summing its pairs in the list's order and the lanes added last (a fixed order
+/// for a given instruction set, whatever the threads).
 struct Across<'a, F: Fn(usize, usize) -> [f64; 3]> {
     bh: &'a Biharmonic,
     /// The local expansions' full basis.
     lx: &'a Indices,
-    target: [f64; 3],
-    /// Sorted by point and order.
-    pairs: &'a [Pair],
+    /// Each target's centre and pairs (sorted by point and order).
+    targets: &'a [([f64; 3], Vec<Pair>)],
     /// Each cell's, in the reduced basis (`bh.m`).
     multipoles: &'a [Vec<f64>],
     centre: &'a F,
@@ -264,9 +264,9 @@ struct Across<'a, F: Fn(usize, usize) -> [f64; 3]> {
 
 impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
     type Elem = f64;
-    type Output = Vec<f64>;
+    type Output = Vec<Vec<f64>>;
     #[inline(always)]
-    fn run<L: Lane<Elem = f64>>(self) -> Vec<f64> {
+    fn run<L: Lane<Elem = f64>>(self) -> Vec<Vec<f64>> {
         let bh = self.bh;
         let (len, rlen, w) = (bh.m.len(), bh.l.len(), L::WIDTH);
         let zero = L::splat(0.0);
@@ -275,49 +275,54 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
         let mut d = vec![zero; bh.d.len()];
         let mut work = vec![zero; bh.d.len()];
         let mut lane = vec![0.0; w];
-        let mut rest = self.pairs;
-        while let Some(&Pair { point, top, .. }) = rest.first() {
-            let same = rest
-                .iter()
-                .take_while(|p| (p.point, p.top) == (point, top))
-                .count();
-            let (group, after) = rest.split_at(same);
-            rest = after;
-            let used = bh.m.count(top);
-            for chunk in group.chunks(w) {
-                // a short chunk's empty lanes repeat its first pair with a zero multipole
-                let r: [L; 3] = std::array::from_fn(|k| {
-                    for (j, slot) in lane.iter_mut().enumerate() {
-                        let s = chunk[j.min(chunk.len() - 1)].cell;
-                        *slot = self.target[k] - (self.centre)(s, point)[k];
-                    }
-                    L::load(&lane)
-                });
-                for ch in 0..3 {
-                    for q in 0..used {
-                        for (j, v) in lane.iter_mut().enumerate() {
-                            *v = chunk
-                                .get(j)
-                                .map_or(0.0, |p| self.multipoles[p.cell][p.offset + ch * used + q]);
+        let mut locals = Vec::with_capacity(self.targets.len());
+        for (target, pairs) in self.targets {
+            l.fill(zero);
+            let mut rest = &pairs[..];
+            while let Some(&Pair { point, top, .. }) = rest.first() {
+                let same = rest
+                    .iter()
+                    .take_while(|p| (p.point, p.top) == (point, top))
+                    .count();
+                let (group, after) = rest.split_at(same);
+                rest = after;
+                let used = bh.m.count(top);
+                for chunk in group.chunks(w) {
+                    // a short chunk's empty lanes repeat its first pair with a zero multipole
+                    let r: [L; 3] = std::array::from_fn(|k| {
+                        for (j, slot) in lane.iter_mut().enumerate() {
+                            let s = chunk[j.min(chunk.len() - 1)].cell;
+                            *slot = target[k] - (self.centre)(s, point)[k];
                         }
-                        m[ch * len + q] = L::load(&lane);
+                        L::load(&lane)
+                    });
+                    for ch in 0..3 {
+                        for q in 0..used {
+                            for (j, v) in lane.iter_mut().enumerate() {
+                                *v = chunk.get(j).map_or(0.0, |p| {
+                                    self.multipoles[p.cell][p.offset + ch * used + q]
+                                });
+                            }
+                            m[ch * len + q] = L::load(&lane);
+                        }
                     }
+                    bh.d.potential_derivatives(r, top, &mut d, &mut work);
+                    taylor::multipole_to_local(bh, top, &m, &d, &mut l);
                 }
-                bh.d.potential_derivatives(r, top, &mut d, &mut work);
-                taylor::multipole_to_local(bh, top, &m, &d, &mut l);
             }
-        }
-        // the lanes' sums, the coefficients with `beta_1 >= 4`, and the `1/beta!`
-        let lx = self.lx;
-        let reduced: Vec<f64> = l.iter().map(|v| v.sum()).collect();
-        let mut out = vec![0.0; 3 * lx.len()];
-        for (ch, full) in out.chunks_exact_mut(lx.len()).enumerate() {
-            bh.expand(&reduced[ch * rlen..(ch + 1) * rlen], full);
-            for (v, f) in full.iter_mut().zip(&lx.inv_factorial) {
-                *v *= f;
+            // the lanes' sums, the coefficients with `beta_1 >= 4`, and the `1/beta!`
+            let lx = self.lx;
+            let reduced: Vec<f64> = l.iter().map(|v| v.sum()).collect();
+            let mut out = vec![0.0; 3 * lx.len()];
+            for (ch, full) in out.chunks_exact_mut(lx.len()).enumerate() {
+                bh.expand(&reduced[ch * rlen..(ch + 1) * rlen], full);
+                for (v, f) in full.iter_mut().zip(&lx.inv_factorial) {
+                    *v *= f;
+                }
             }
+            locals.push(out);
         }
-        out
+        locals
     }
 }
 
@@ -585,32 +590,34 @@ fn product<P: LaneProduct<K>, const K: usize>(
         .collect();
     mark(&mut phases.upward, &mut since);
     // across: each cell's local expansion from the multipoles that reach it
-    let mut locals: Vec<Vec<f64>> = (0..tree.cells.len())
-        .into_par_iter()
-        .map(|t| {
-            if tree.far[t].is_empty() {
-                return vec![0.0; 3 * llen];
-            }
-            let mut pairs: Vec<Pair> = Vec::new();
-            for &s in &tree.far[t] {
-                for point in 0..kinds {
-                    if let Some(top) = m2l_top(s, point) {
-                        pairs.push(Pair {
-                            cell: s,
-                            point,
-                            top,
-                            offset: reduced_offset(s, point),
-                        });
-                    }
+    // (the cells in batches that share the lanes' scratch)
+    let cells: Vec<usize> = (0..tree.cells.len()).collect();
+    let pairs_of = |t: usize| {
+        let mut pairs: Vec<Pair> = Vec::new();
+        for &s in &tree.far[t] {
+            for point in 0..kinds {
+                if let Some(top) = m2l_top(s, point) {
+                    pairs.push(Pair {
+                        cell: s,
+                        point,
+                        top,
+                        offset: reduced_offset(s, point),
+                    });
                 }
             }
-            // stable: the list's order within each group
-            pairs.sort_by_key(|p| (p.point, p.top));
+        }
+        // stable: the list's order within each group
+        pairs.sort_by_key(|p| (p.point, p.top));
+        (tree.cells[t].centre, pairs)
+    };
+    let mut locals: Vec<Vec<f64>> = cells
+        .par_chunks(16)
+        .flat_map_iter(|batch| {
+            let targets: Vec<([f64; 3], Vec<Pair>)> = batch.iter().map(|&t| pairs_of(t)).collect();
             let across = Across {
                 bh,
                 lx,
-                target: tree.cells[t].centre,
-                pairs: &pairs,
+                targets: &targets,
                 multipoles: &multipoles,
                 centre: &centre,
             };
