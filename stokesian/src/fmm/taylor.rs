@@ -1,6 +1,7 @@
 //! Cartesian Taylor expansions of fields made of derivatives of the potential
 //! `phi(r) = |r|` (`kernels::expansion`): multipole and local expansions, their
-//! translations, and the potential's derivatives.
+//! translations (M2L in the reduced bases the biharmonic `phi` allows, [`Biharmonic`]),
+//! the potential's derivatives, and the index tables of a set of orders ([`Bases`]).
 //!
 //! Multi-indices `nu = (nu_1, nu_2, nu_3)` of total order `|nu| <= p`, graded then
 //! lexicographic; `nu! = nu_1! nu_2! nu_3!`, `x^nu = x_1^nu_1 x_2^nu_2 x_3^nu_3`.
