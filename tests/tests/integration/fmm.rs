@@ -302,7 +302,8 @@ fn lanczos_noise_takes_the_fast_product() {
 /// apart above a wall, started from that distribution (independent heights by the
 /// inverse of its distribution function: without a pair potential the equilibrium is
 /// the product of one sphere's), Lanczos noise and the drift with the fast product
-/// (`eps = 1e-4`, leaves of at most 8, so that most pairs are far field). A chain that
+/// (`eps = 1e-4`, leaves of at most 8: the pairs some 80 radii apart and more, a third to
+/// a half of them, through the expansions). A chain that
 /// did not keep the distribution (no drift, a wrong one, noise of another covariance)
 /// moves it within the height's correlation time (about 35 time units, 1750 steps at
 /// `dt = 0.02`; without the drift, towards `exp(-U/kT) / mu_perp`, 0.116 from it in
@@ -310,11 +311,12 @@ fn lanczos_noise_takes_the_fast_product() {
 /// and 6000 steps (768 samples, each sphere's 40 time units apart) against Boltzmann's:
 /// Kolmogorov-Smirnov at the 1% level (critical value `1.628 / sqrt(n)`). A step is
 /// redrawn when a sphere crosses into the wall: fewer than 0.1% of the spheres' steps, as
-/// for one sphere in `brownian::dynamics`. About six minutes on two cores (1.5 million
-/// sphere-steps, each a Lanczos iteration of fast products): outside CI, run by hand
+/// for one sphere in `brownian::dynamics`. About two and a half minutes on two cores (1.5
+/// million sphere-steps, each a Lanczos iteration of fast products): outside CI, whose
+/// ten minutes it would overrun, run by hand
 /// (`cargo test --release -p integration-tests --test integration -- --ignored fmm::heights`).
 #[test]
-#[ignore = "six minutes: run by hand (docs/fmm.md)"]
+#[ignore = "two and a half minutes: run by hand (docs/fmm.md)"]
 fn heights_stay_boltzmann_distributed_with_the_fast_product() {
     use integration_tests::statistics::{boltzmann_height_cdf, ks, sample};
     use integration_tests::SEDIMENTED;
