@@ -288,7 +288,7 @@ impl<F: Fn(usize, usize) -> [f64; 3]> WithLanes for Across<'_, F> {
                 rest = after;
                 let used = bh.m.count(top);
                 for chunk in group.chunks(w) {
-                    // a short chunk's empty lanes repeat its first pair with a zero multipole
+                    // a short chunk's empty lanes repeat its last pair with a zero multipole
                     let r: [L; 3] = std::array::from_fn(|k| {
                         for (j, slot) in lane.iter_mut().enumerate() {
                             let s = chunk[j.min(chunk.len() - 1)].cell;
