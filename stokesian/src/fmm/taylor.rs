@@ -224,6 +224,15 @@ pub(crate) fn add_source(
     }
 }
 
+/// The monomials `mono[mu]` of order `<= top` that are not zero, with their index and
+/// order, in the graded order (a translation along one axis: [`translate_multipole`]).
+fn nonzero(ix: &Indices, top: usize, mono: &[f64]) -> Vec<(usize, usize, f64)> {
+    (0..ix.count(top))
+        .filter(|&mu| mono[mu] != 0.0)
+        .map(|mu| (mu, ix.order(mu), mono[mu]))
+        .collect()
+}
+
 /// Three multipoles (channels of `m.1` and `out.1` coefficients, one after the other, at
 /// least `count(top)`) moved by `(c' - c)`: `M'_{nu + mu} += M_nu (c' - c)^mu / mu!` for
 /// `|nu + mu| <= top`, `mono` holding `(c' - c)^mu / mu!`; the channels share each index. Only the `mu` whose
@@ -242,10 +251,7 @@ pub(crate) fn translate_multipole(
     let (m1, m2) = rest.split_at(from);
     let (o0, rest) = out.split_at_mut(to);
     let (o1, o2) = rest.split_at_mut(to);
-    let shifts: Vec<(usize, usize, f64)> = (0..ix.count(top))
-        .filter(|&mu| mono[mu] != 0.0)
-        .map(|mu| (mu, ix.order(mu), mono[mu]))
-        .collect();
+    let shifts = nonzero(ix, top, mono);
     for (nu, pairs) in ix.shift[..ix.count(top)].iter().enumerate() {
         let (v0, v1, v2) = (m0[nu], m1[nu], m2[nu]);
         if v0 == 0.0 && v1 == 0.0 && v2 == 0.0 {
@@ -506,10 +512,7 @@ pub(crate) fn multipole_to_local<L: Lane<Elem = f64>>(
 /// `C(gamma, beta) v^mu = gamma!/beta! (v^mu/mu!)`. Only the `mu` whose monomial is not
 /// zero take part ([`translate_multipole`]).
 pub(crate) fn translate_local(ix: &Indices, l: &[f64], mono: &[f64], out: &mut [f64]) {
-    let shifts: Vec<(usize, usize, f64)> = (0..ix.len())
-        .filter(|&mu| mono[mu] != 0.0)
-        .map(|mu| (mu, ix.order(mu), mono[mu]))
-        .collect();
+    let shifts = nonzero(ix, ix.p, mono);
     for (beta, pairs) in ix.shift.iter().enumerate() {
         let rest = ix.p - ix.order(beta);
         let mut acc = 0.0;
