@@ -46,7 +46,8 @@ pub struct VelocityArgs {
     pub precision: PrecisionArg,
     /// F and FT without --lubrication: the product by the fast multipole method to the
     /// relative tolerance EPS (in [1e-10, 1e-3]) on the 2-norm of the velocities, instead
-    /// of the exact O(N^2) sum (in double precision; docs/fmm.md).
+    /// of the exact O(N^2) sum (in double precision; docs/fmm.md); with --box, the box's
+    /// own fast product with its lattice sums to EPS.
     #[arg(long, value_name = "EPS")]
     pub fmm: Option<f64>,
     /// Output file, its format by the extension: .csv with columns ux,uy,uz (F) or

@@ -323,14 +323,9 @@ impl NBody {
         allowUnsafeForces: bool,
         fmm_tolerance: Option<f64>,
     ) -> PyResult<()> {
-        // the fast product (open boundaries only): its tolerance checked here
+        // the fast product (in a periodic box, the box's own fast product with its
+        // lattice sums to the tolerance: `System::with_fmm`): its tolerance checked here
         if let Some(eps) = fmm_tolerance {
-            if self.periodic {
-                return Err(input_error(
-                    "fmm_tolerance applies to open boundaries (free space, a single wall); \
-                     the periodic solvers sum their lattices by Ewald's method",
-                ));
-            }
             stokesian::FastProduct::new(eps).map_err(input_error)?;
         }
         // the box: libMobility's PSE names for a triply periodic one, DPStokes' along a
@@ -562,17 +557,18 @@ impl NBody {
                     .map(|(b, batch)| {
                         let s = batch_system(conf, eta, batch.to_vec())
                             .map_err(|e| wall_words(e, b * size))?;
-                        match lengths {
+                        let s = match lengths {
                             Some(lengths) => s
                                 .periodic(stokesian::PeriodicBox {
                                     lengths,
                                     tolerance: stokesian::PeriodicBox::TOLERANCE,
                                 })
-                                .map_err(|e| periodic_words(e, b * size)),
-                            None => match fmm {
-                                Some(eps) => s.with_fmm(eps).map_err(|e| e.to_string()),
-                                None => Ok(s),
-                            },
+                                .map_err(|e| periodic_words(e, b * size))?,
+                            None => s,
+                        };
+                        match fmm {
+                            Some(eps) => s.with_fmm(eps).map_err(|e| e.to_string()),
+                            None => Ok(s),
                         }
                     })
                     .collect::<Result<Vec<_>, _>>()

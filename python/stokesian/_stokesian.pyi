@@ -319,11 +319,11 @@ class NBody:
         ``Lx, Ly`` (required, ``Lz`` refused) and ``zmin``, the wall's height (or
         ``wallHeight``; both must agree); ``zmax``, ``allowChangingBoxSize`` and
         ``allowUnsafeForces`` are accepted and change nothing (no grid here).
-        ``fmm_tolerance`` (beyond libMobility; open boundaries only): ``Mdot`` and the
-        Lanczos products of ``sqrtMdotW`` by the fast multipole method to this relative
-        2-norm tolerance in ``[1e-10, 1e-3]`` (``System.apply(..., fmm=)``); ``divM``
-        each sphere's own terms, ``O(N)`` (the pair terms cancel: equal to the direct
-        sum to round-off)."""
+        ``fmm_tolerance`` (beyond libMobility): ``Mdot`` and the Lanczos products of
+        ``sqrtMdotW`` by the fast multipole method to this relative 2-norm tolerance in
+        ``[1e-10, 1e-3]`` (``System.apply(..., fmm=)``; in a periodic box, the box's own
+        fast product with its lattice sums to it); ``divM`` each sphere's own terms,
+        ``O(N)`` (the pair terms cancel: equal to the direct sum to round-off)."""
     def initialize(
         self,
         viscosity: float,

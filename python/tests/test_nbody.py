@@ -747,7 +747,8 @@ def test_periodic_along_a_wall_as_libmobilitys_dpstokes():
 def test_fmm_tolerance_takes_the_fast_product(wall):
     # 1500 spheres in a slab above the wall: Mdot by the fast product within its
     # tolerance of the direct one (relative 2-norm, the fast product's own measure), and
-    # identical to the library's fast product; refused for a periodic box and out of range
+    # identical to the library's fast product; in a periodic box the box's own at the
+    # tolerance; refused out of range
     rng = np.random.default_rng(5)
     side = 60.0
     positions = np.column_stack([rng.uniform(0, side, 1500), rng.uniform(0, side, 1500),
@@ -770,8 +771,20 @@ def test_fmm_tolerance_takes_the_fast_product(wall):
         system = stokesian.System(positions, 0.5, confinement="wall" if wall else "free",
                                   overlap="rpy")
         assert np.array_equal(u.ravel(), system.apply("F", forces.ravel(), fmm=eps))
+    # in a periodic box: the box's own fast product, its lattice sums to the tolerance
+    grid = np.stack(np.meshgrid(*[np.arange(4.0)] * 3, indexing="ij"), -1).reshape(-1, 3)
+    box = 10.0 * grid + rng.uniform(-2.0, 2.0, grid.shape)
+    box_forces = rng.normal(size=grid.shape)
     periodic = stokesian.NBody("periodic", "periodic", "periodic")
-    with pytest.raises(stokesian.InputError, match="open boundaries"):
-        periodic.setParameters(Lx=10.0, Ly=10.0, Lz=10.0, fmm_tolerance=1e-6)
+    periodic.setParameters(Lx=40.0, Ly=40.0, Lz=40.0, fmm_tolerance=1e-3)
+    exact = stokesian.NBody("periodic", "periodic", "periodic")
+    exact.setParameters(Lx=40.0, Ly=40.0, Lz=40.0)
+    for s in (periodic, exact):
+        s.initialize(viscosity=1.0, hydrodynamicRadius=0.5)
+        s.setPositions(box)
+    u, _ = periodic.Mdot(box_forces)
+    v, _ = exact.Mdot(box_forces)
+    assert not np.array_equal(u, v)
+    assert np.linalg.norm(u - v) <= 1e-3 * np.linalg.norm(v)
     with pytest.raises(stokesian.InputError, match="tolerance"):
         stokesian.NBody("open", "open", "open").setParameters(fmm_tolerance=1e-2)

@@ -55,9 +55,6 @@ pub enum FmmError {
         /// The highest for this confinement and truncation.
         max: usize,
     },
-    /// A periodic system.
-    #[error("the fast product does not cover periodic boxes; use the Ewald product")]
-    Periodic,
     /// Parameters given by hand ([`System::with_fast`], [`System::apply_fast`]) out of
     /// range.
     #[error("the fast product's {0}")]
@@ -806,18 +803,21 @@ impl System {
     /// field and are round-off, docs/fmm.md); FTS products, dense matrices, resistances
     /// and Cholesky noise stay as they are. The fast product runs in
     /// double precision whatever [`System::with_precision`] says. Refused for a tolerance
-    /// outside `[1e-10, 1e-3]`, a periodic box, or a confinement without an expansion (a
-    /// box given later, [`System::periodic`], takes its own products instead).
+    /// outside `[1e-10, 1e-3]` or a confinement without an expansion.
+    ///
+    /// In a periodic box (given before or after, [`System::periodic`]) the fast product
+    /// is the box's own `O(N)` product (linked cells and spectral Ewald,
+    /// [`crate::periodic`]) with its lattice sums to the tolerance `eps`, which keeps the
+    /// product within `eps` in the same norm (the `fmm::periodic` tests); its dense
+    /// matrices keep the box's tolerance.
     pub fn with_fmm(self, eps: f64) -> Result<System, FmmError> {
         self.with_fast(FastProduct::new(eps)?)
     }
 
-    /// [`System::with_fmm`] with the method's parameters given ([`FastProduct`]).
+    /// [`System::with_fmm`] with the method's parameters given ([`FastProduct`]; in a
+    /// periodic box its tolerance alone counts).
     pub fn with_fast(mut self, settings: FastProduct) -> Result<System, FmmError> {
         settings.check()?;
-        if self.periodic_ref().is_some() {
-            return Err(FmmError::Periodic);
-        }
         for torques in [false, true] {
             let table = self.table(torques)?;
             check_order(&settings, table)?;
@@ -859,7 +859,8 @@ impl System {
         Ok(self.apply_fast_timed(moments, x, settings)?.0)
     }
 
-    /// [`System::apply_fast`] and the time each of its phases took ([`Phases`]).
+    /// [`System::apply_fast`] and the time each of its phases took ([`Phases`]; all
+    /// zero in a periodic box, whose fast product is its own, [`System::with_fmm`]).
     pub fn apply_fast_timed(
         &self,
         moments: Moments,
@@ -867,13 +868,20 @@ impl System {
         settings: &FastProduct,
     ) -> Result<(Vec<f64>, Phases), FmmError> {
         settings.check()?;
-        if self.periodic_ref().is_some() {
-            return Err(FmmError::Periodic);
-        }
         if moments == Moments::FTS {
             return Err(FmmError::Moments(moments));
         }
         self.assert_product(moments, x);
+        if let Some(p) = self.periodic_ref() {
+            let u = match self.fast_periodic() {
+                Some(q) if q.bx.tolerance == settings.eps => self.periodic_apply(q, moments, x),
+                _ => {
+                    let q = p.at_tolerance(self.confinement(), settings.eps);
+                    self.periodic_apply(&q, moments, x)
+                }
+            };
+            return Ok((u, Phases::default()));
+        }
         let torques = moments == Moments::FT;
         let table = self.table(torques)?;
         check_order(settings, table)?;

@@ -690,10 +690,14 @@ impl System {
     /// [`System::apply`] with the direct product in `precision` (the fast product, where
     /// [`System::with_fmm`] asked for it, is in double precision anyway).
     pub(crate) fn apply_in(&self, moments: Moments, x: &[f64], precision: Precision) -> Vec<f64> {
-        match self.fast() {
-            Some(fast) if moments != Moments::FTS && self.periodic_ref().is_none() => self
+        match (self.fast(), self.fast_periodic()) {
+            (Some(_), Some(p)) if moments != Moments::FTS => {
+                self.assert_product(moments, x);
+                self.periodic_apply(p, moments, x)
+            }
+            (Some(fast), None) if moments != Moments::FTS => self
                 .apply_fast(moments, x, &fast)
-                .expect("with_fmm checked the confinement, the box and the order"),
+                .expect("with_fmm checked the confinement and the order"),
             _ => self.apply_with(moments, x, Isa::best(), precision),
         }
     }

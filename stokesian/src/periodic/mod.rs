@@ -269,6 +269,19 @@ pub(crate) enum Lattice {
 }
 
 impl Periodic {
+    /// The same box's split at the lattice tolerance `tolerance`: what
+    /// [`System::with_fmm`]'s fast product takes in a periodic box (its own fast product
+    /// at the fast product's tolerance, [`System::apply`]).
+    pub(crate) fn at_tolerance(&self, confinement: &Confinement, tolerance: f64) -> Periodic {
+        let bx = PeriodicBox {
+            tolerance,
+            ..self.bx
+        };
+        let lattice =
+            lattice(confinement, &bx).expect("the box was validated with this confinement");
+        Periodic { bx, lattice }
+    }
+
     /// A sphere with its centre brought into the box ([`PeriodicBox::wrap`]).
     fn wrapped(&self, s: &Particle) -> Particle {
         Particle {

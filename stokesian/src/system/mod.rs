@@ -95,6 +95,9 @@ pub struct System {
     /// The fast product's parameters, if [`System::apply`] takes it
     /// ([`System::with_fmm`]).
     fast: Option<crate::FastProduct>,
+    /// In a periodic box with the fast product: the box's split at the fast product's
+    /// tolerance, whose own fast product [`System::apply`] then takes.
+    fast_periodic: Option<Periodic>,
 }
 
 impl System {
@@ -119,6 +122,7 @@ impl System {
             rpy,
             periodic: None,
             fast: None,
+            fast_periodic: None,
         })
     }
 
@@ -161,6 +165,7 @@ impl System {
 
     pub(crate) fn set_periodic(&mut self, p: Option<Periodic>) {
         self.periodic = p;
+        self.sync_fast_periodic();
     }
 
     /// With [`Overlap::Rpy`], where something overlaps: the pairs and the damping.
@@ -239,6 +244,19 @@ impl System {
 
     pub(crate) fn set_fast(&mut self, fast: Option<crate::FastProduct>) {
         self.fast = fast;
+        self.sync_fast_periodic();
+    }
+
+    /// The periodic box's split at the fast product's tolerance, if both are set.
+    pub(crate) fn fast_periodic(&self) -> Option<&Periodic> {
+        self.fast_periodic.as_ref()
+    }
+
+    fn sync_fast_periodic(&mut self) {
+        self.fast_periodic = match (&self.periodic, self.fast) {
+            (Some(p), Some(f)) => Some(p.at_tolerance(&self.confinement, f.eps)),
+            _ => None,
+        };
     }
 
     /// The precision of [`System::apply`].

@@ -6,7 +6,7 @@
 use integration_tests::{all_confinements, norm, random_spheres, rel_diff};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use stokesian::{Confinement, FastProduct, FmmError, Moments, Particle, PeriodicBox, System};
+use stokesian::{Confinement, FastProduct, FmmError, Moments, Particle, System};
 
 /// Moments of order one in random directions.
 fn moments(rng: &mut ChaCha8Rng, n: usize, m: Moments) -> Vec<f64> {
@@ -233,11 +233,6 @@ fn what_the_fast_product_does_not_cover_is_an_error() {
     assert_eq!(
         system.clone().with_fast(settings).unwrap().fmm(),
         Some(settings)
-    );
-    let periodic = system.periodic(PeriodicBox::lateral([20.0, 20.0])).unwrap();
-    assert_eq!(
-        periodic.apply_fmm(Moments::F, &[0.0; 3], 1e-6),
-        Err(FmmError::Periodic)
     );
 }
 

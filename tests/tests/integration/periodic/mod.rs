@@ -10,6 +10,7 @@
 //! (`slit`) and its fast product against the dense matrix (`slit_product`).
 
 mod ewald;
+mod fmm;
 mod lubrication;
 mod slit;
 mod slit_product;
