@@ -99,3 +99,54 @@ fn in_a_slit() {
     .unwrap();
     check("slit", &open, PeriodicBox::lateral(lengths));
 }
+
+/// Brownian dynamics in a triply periodic box with the option: a step's Lanczos noise and
+/// `M F` are the box's own fast product at `eps`, the same bits as the box given the
+/// tolerance `eps` without the option (the drift is zero there either way), and the option
+/// and the box move with the spheres.
+#[test]
+fn brownian_steps_take_the_boxs_product_at_the_tolerance() {
+    use stokesian::{Brownian, ExternalForces, Noise, Scheme};
+    let lengths = [12.0, 14.0, 13.0];
+    let open = System::new(
+        Confinement::Free,
+        1.0,
+        spheres(8, 40, lengths, None),
+        Overlap::Refuse,
+    )
+    .unwrap();
+    let eps = 1e-6;
+    let bx = PeriodicBox::new(lengths);
+    let fast = open.clone().periodic(bx).unwrap().with_fmm(eps).unwrap();
+    let at_eps = open
+        .periodic(PeriodicBox {
+            tolerance: eps,
+            ..bx
+        })
+        .unwrap();
+    let bd = Brownian {
+        kt: 1.0,
+        dt: 1e-3,
+        drift: true,
+        forces: ExternalForces {
+            weight: 1.0,
+            ..ExternalForces::NONE
+        },
+        noise: Noise::Lanczos { tol: 1e-4 },
+        hydrodynamics: true,
+        moments: Moments::F,
+        scheme: Scheme::EulerMaruyama,
+        lubrication: None,
+    };
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+    let w: Vec<f64> = (0..3 * fast.len())
+        .map(|_| rng.gen_range(-1.7..1.7))
+        .collect();
+    assert_eq!(
+        fast.brownian_increment(&bd, &w, 0).unwrap(),
+        at_eps.brownian_increment(&bd, &w, 0).unwrap()
+    );
+    let next = fast.brownian_step(&bd, &mut rng, 0).unwrap().system;
+    assert_eq!(next.fmm(), fast.fmm());
+    assert_eq!(next.periodic_box(), Some(bx));
+}
