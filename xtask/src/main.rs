@@ -9,8 +9,6 @@
 //! performance table of README.md and docs/performance.md ([`bench`](mod@bench)).
 
 use anyhow::{bail, Context, Result};
-use kernel_gen::catalog::GeneratedFile;
-use kernel_gen::catalog::Scene;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -50,25 +48,7 @@ fn usage() -> &'static str {
 fn gen_scene(file: &Path, out: Option<&Path>) -> Result<()> {
     let scene = read_scene(file)?;
     kernel_gen::physics::green::check_registry()?;
-    struct One<'a> {
-        scene: &'a Scene,
-        file: Option<GeneratedFile>,
-    }
-    impl kernel_gen::physics::green::Visitor for One<'_> {
-        fn visit<G: kernel_gen::physics::green::Green>(&mut self, g: &G) {
-            if g.name() == self.scene.confinement {
-                self.file = Some(kernel_gen::catalog::scene_file(g, self.scene, true));
-            }
-        }
-    }
-    let mut one = One {
-        scene: &scene,
-        file: None,
-    };
-    kernel_gen::physics::green::for_each(&mut one);
-    kernel_gen::physics::green::for_each_building_block(&mut one);
-    let f = one
-        .file
+    let f = kernel_gen::catalog::scene_file_of(&scene, true)
         .expect("the scene's confinement is registered (checked on parse)");
     print!("{}", budget::table(std::slice::from_ref(&f)));
     budget::check(std::slice::from_ref(&f), budget::FILE_BUDGET)?;

@@ -29,7 +29,7 @@ mod twin;
 
 pub use family::{family, variants, Variant, SINGLE};
 pub use scene::{Moments, Radii, Scene, SceneError};
-pub use scene_file::scene_file;
+pub use scene_file::{scene_file, scene_file_of};
 
 use crate::emit::{self, ident};
 use crate::graph::{Ex, Id, Trace};

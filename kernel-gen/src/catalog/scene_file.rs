@@ -4,10 +4,37 @@ use super::family::counts;
 use super::{blocks_type, moments_label, GeneratedFile, Radii, Scene};
 use crate::emit::{self, ident, Float, KernelFn};
 use crate::kernel::{trace, Drift, Interaction, KernelSpec, Path, Traced};
-use crate::physics::green::Green;
+use crate::physics::green::{self, Green, Visitor};
 use crate::physics::operators::{Basis, Moment, Response};
 use proc_macro2::TokenStream;
 use quote::quote;
+
+/// [`scene_file`] of the registered Green's function (a confinement or a building block)
+/// the scene names, `None` if none has that name: the registry's visit made here, where
+/// [`crate::catalog::generate`] instantiates the generator for every Green's function
+/// with this crate's optimisation, not again in each caller.
+pub fn scene_file_of(scene: &Scene, standalone: bool) -> Option<GeneratedFile> {
+    struct One<'a> {
+        scene: &'a Scene,
+        standalone: bool,
+        file: Option<GeneratedFile>,
+    }
+    impl Visitor for One<'_> {
+        fn visit<G: Green>(&mut self, g: &G) {
+            if g.name() == self.scene.confinement {
+                self.file = Some(scene_file(g, self.scene, self.standalone));
+            }
+        }
+    }
+    let mut one = One {
+        scene,
+        standalone,
+        file: None,
+    };
+    green::for_each(&mut one);
+    green::for_each_building_block(&mut one);
+    one.file
+}
 
 /// The kernels of one scene as one file (`scene_<name>.rs`). With `standalone`, the
 /// return types are defined in the file (for `cargo xtask gen --scene FILE --out`),

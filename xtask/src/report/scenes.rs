@@ -25,24 +25,11 @@ const VB: [f64; 11] = [-0.5, 0.4, 0.8, -0.1, 0.7, 0.2, -0.6, 0.3, 0.15, -0.8, 0.
 
 /// Operation counts of a scene's kernels: `(kernel, flops, far-field flops)`.
 fn op_counts(scene: &Scene) -> Vec<(String, usize, Option<usize>)> {
-    struct One<'a> {
-        scene: &'a Scene,
-        counts: Vec<(String, usize)>,
-    }
-    impl Visitor for One<'_> {
-        fn visit<G: Green>(&mut self, g: &G) {
-            if g.name() == self.scene.confinement {
-                self.counts = kernel_gen::catalog::scene_file(g, self.scene, false).op_counts;
-            }
-        }
-    }
-    let mut one = One {
-        scene,
-        counts: Vec::new(),
-    };
-    kernel_gen::physics::green::for_each(&mut one);
+    let counts = kernel_gen::catalog::scene_file_of(scene, false)
+        .map(|f| f.op_counts)
+        .unwrap_or_default();
     let mut out: Vec<(String, usize, Option<usize>)> = Vec::new();
-    for (name, n) in one.counts {
+    for (name, n) in counts {
         match name.strip_suffix(" (far field)") {
             Some(base) => {
                 if let Some(row) = out.iter_mut().find(|r| r.0 == base) {
