@@ -808,7 +808,7 @@ impl System {
     /// In a periodic box (given before or after, [`System::periodic`]) the fast product
     /// is the box's own `O(N)` product (linked cells and spectral Ewald,
     /// [`crate::periodic`]) with its lattice sums to the tolerance `eps`, which keeps the
-    /// product within `eps` in the same norm (the `fmm::periodic` tests); its dense
+    /// product within `eps` in the same norm (the `periodic::fmm` tests); its dense
     /// matrices keep the box's tolerance.
     pub fn with_fmm(self, eps: f64) -> Result<System, FmmError> {
         self.with_fast(FastProduct::new(eps)?)
