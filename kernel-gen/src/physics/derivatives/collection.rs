@@ -2,6 +2,7 @@
 //! or collected into polynomials in the unit vector evaluated by Horner's rule.
 
 use super::atoms::{Atom, Factor, Potential};
+use super::structured::Groups;
 use super::{Collection, Structured};
 use crate::number::dd::Dd;
 use crate::number::poly::{Poly, VARS};
@@ -72,22 +73,17 @@ impl<S: Scalar> Structured<S> {
     /// and at the source are the same derivatives (`d_y = -d_r`, two of them), so its
     /// terms come as `alpha L + beta L`, taken as `(alpha + beta) L` (one product
     /// fewer per entry, and `alpha + beta` is shared by all of them).
-    pub(super) fn evaluate(
-        &mut self,
-        groups: BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>>,
-        aa2: &S,
-        ab2: &S,
-    ) -> S {
+    pub(super) fn evaluate(&mut self, groups: &Groups, aa2: &S, ab2: &S) -> S {
         // the radius monomials of each distinct (factor, atoms), in the order of the
         // first group that has them
         type Atoms = Vec<(Atom, u64)>;
         let mut order: Vec<(Factor, Atoms)> = Vec::new();
         let mut monomials: HashMap<(Factor, Atoms), Vec<(u8, u8)>> = HashMap::new();
-        for ((pa, pb, f), atoms) in groups {
+        for (&(pa, pb, f), atoms) in groups {
             let key: Atoms = atoms
-                .into_iter()
-                .filter(|&(_, c)| c != 0.0)
-                .map(|(a, c)| (a, c.to_bits()))
+                .iter()
+                .filter(|&(_, &c)| c != 0.0)
+                .map(|(&a, &c)| (a, c.to_bits()))
                 .collect();
             let list = monomials.entry((f, key.clone())).or_default();
             if list.is_empty() {
@@ -136,20 +132,15 @@ impl<S: Scalar> Structured<S> {
     /// through [`Structured::evaluate`], and so, near a cancelling image, do the
     /// free-space terms with Faxen factors that [`Differences::Leading`](super::Differences::Leading) leaves at `r`,
     /// whose `alpha L + beta L` is then taken once (wall FTS pair lanes 1534 -> 1459).
-    pub(super) fn evaluate_entries(
-        &mut self,
-        groups: BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>>,
-        aa2: &S,
-        ab2: &S,
-    ) -> S {
+    pub(super) fn evaluate_entries(&mut self, groups: &Groups, aa2: &S, ab2: &S) -> S {
         // per centre, weight and power of `1/|R|`: one polynomial, or for a radial
         // potential one per radial coefficient `b_{m,j}` (its key)
         type Coefficient = Option<(u8, usize)>;
         let mut polys: BTreeMap<(usize, Option<usize>, i32), BTreeMap<Coefficient, Poly>> =
             BTreeMap::new();
-        let mut rest: BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>> = BTreeMap::new();
-        for ((pa, pb, f), atoms) in groups {
-            for (a, c) in atoms {
+        let mut rest = Groups::new();
+        for (&(pa, pb, f), atoms) in groups {
+            for (&a, &c) in atoms {
                 if c == 0.0 {
                     continue;
                 }
@@ -246,7 +237,7 @@ impl<S: Scalar> Structured<S> {
             });
         }
         if !rest.is_empty() {
-            let r = self.evaluate(rest, aa2, ab2);
+            let r = self.evaluate(&rest, aa2, ab2);
             out = Some(match out {
                 None => r,
                 Some(o) => o + r,

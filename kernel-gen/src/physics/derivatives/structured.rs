@@ -59,6 +59,62 @@ pub struct Structured<S> {
     pub(super) units: HashMap<usize, (S, S, [S; 3])>,
     /// A factor of every derivative ([`Structured::scaled`]).
     pub(super) multiplier: Option<S>,
+    /// The interned [`Symbolic`] of this instance, once [`Derivatives::combine`] asked.
+    symbolic: Option<usize>,
+}
+
+/// A block entry's atoms, grouped by the powers of `a_a^2` and `a_b^2` and the factor
+/// ([`Derivatives::combine`]).
+pub(super) type Groups = BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>>;
+
+/// Everything but the terms that [`Structured::atoms`] and [`Structured::absorb_free`]
+/// read: with a block entry's terms it fixes the entry's [`Groups`], which depend on no
+/// value of the arithmetic (positions, radii, parameters). The `f64`s by their bits.
+#[derive(PartialEq, Eq, Hash)]
+struct Symbolic {
+    phi: Potential,
+    include_free: bool,
+    explicit_height: bool,
+    planes: usize,
+    centres: usize,
+    cancel: Option<(usize, usize)>,
+    differences: Differences,
+    frames: Vec<Option<[[u64; 3]; 3]>>,
+    terms: Vec<TermBits>,
+}
+
+/// An image term by its fields `(out, coef, weight, plane, h_power, d, j)`, the
+/// coefficient by its bits.
+type TermBits = (
+    (usize, usize),
+    u64,
+    usize,
+    usize,
+    u8,
+    [u8; 3],
+    (usize, usize),
+);
+
+/// A block entry's terms: `(coef, pa, pb, d)`, the coefficient by its bits.
+type TermsKey = Vec<(u64, u8, u8, Deriv)>;
+
+/// The groups of every entry combined so far, per interned [`Symbolic`]: the same
+/// entries recur for every configuration a kernel is evaluated at (the double-double
+/// references of the tests and the report) and in the scenes that share a family's
+/// kernels. Pure memoisation: the groups, and so the arithmetic, are the same.
+struct Memo {
+    symbolic: HashMap<std::sync::Arc<Symbolic>, usize>,
+    groups: HashMap<(usize, TermsKey), std::sync::Arc<Groups>>,
+}
+
+fn memo() -> &'static std::sync::Mutex<Memo> {
+    static MEMO: std::sync::OnceLock<std::sync::Mutex<Memo>> = std::sync::OnceLock::new();
+    MEMO.get_or_init(|| {
+        std::sync::Mutex::new(Memo {
+            symbolic: HashMap::new(),
+            groups: HashMap::new(),
+        })
+    })
 }
 
 impl<S: Scalar> Structured<S> {
@@ -150,6 +206,7 @@ impl<S: Scalar> Structured<S> {
     /// an exactly evaluated difference: the reference of the stiff cases.
     pub fn direct_sum(mut self) -> Self {
         self.cancel = None;
+        self.symbolic = None;
         self
     }
 
@@ -167,7 +224,85 @@ impl<S: Scalar> Structured<S> {
     pub fn in_form(mut self, f: Form) -> Self {
         self.collect = f.collect;
         self.differences = f.differences;
+        self.symbolic = None;
         self
+    }
+
+    /// The interned id of what, besides the terms, fixes the groups ([`Symbolic`]).
+    fn symbolic_id(&mut self) -> usize {
+        if let Some(id) = self.symbolic {
+            return id;
+        }
+        let bits = |q: &Mat3<f64>| q.map(|row| row.map(f64::to_bits));
+        let key = Symbolic {
+            phi: self.phi,
+            include_free: self.include_free,
+            explicit_height: self.explicit_height,
+            planes: self.heights.len(),
+            centres: self.centres.len(),
+            cancel: self.cancel,
+            differences: self.differences,
+            frames: self.frames.iter().map(|f| f.as_ref().map(bits)).collect(),
+            terms: (self.terms.iter())
+                .map(|t| {
+                    let ImageTerm {
+                        out,
+                        coef,
+                        weight,
+                        plane,
+                        h_power,
+                        d,
+                        j,
+                    } = *t;
+                    (out, coef.to_bits(), weight, plane, h_power, d, j)
+                })
+                .collect(),
+        };
+        let mut m = memo().lock().expect("the memo's lock is not poisoned");
+        let next = m.symbolic.len();
+        let id = *m.symbolic.entry(std::sync::Arc::new(key)).or_insert(next);
+        self.symbolic = Some(id);
+        id
+    }
+
+    /// A block entry's groups, built from its terms ([`Structured::atoms`],
+    /// [`Structured::absorb_free`]) or taken from the memo.
+    fn groups(&mut self, terms: &[Term]) -> std::sync::Arc<Groups> {
+        let key = (
+            self.symbolic_id(),
+            terms
+                .iter()
+                .map(|t| (t.coef.to_bits(), t.pa, t.pb, t.d))
+                .collect::<TermsKey>(),
+        );
+        if let Some(g) = memo()
+            .lock()
+            .expect("the memo's lock is not poisoned")
+            .groups
+            .get(&key)
+        {
+            return g.clone();
+        }
+        let mut groups = Groups::new();
+        for t in terms {
+            let mut m = BTreeMap::new();
+            self.atoms(&t.d, &mut m, t.coef);
+            for ((f, a), c) in m {
+                *groups
+                    .entry((t.pa, t.pb, f))
+                    .or_default()
+                    .entry(a)
+                    .or_insert(0.0) += c;
+            }
+        }
+        self.absorb_free(&mut groups);
+        let groups = std::sync::Arc::new(groups);
+        memo()
+            .lock()
+            .expect("the memo's lock is not poisoned")
+            .groups
+            .insert(key, groups.clone());
+        groups
     }
 
     /// As [`Structured::new`], from the image terms, the mirror planes and the
@@ -223,6 +358,7 @@ impl<S: Scalar> Structured<S> {
             differences: Differences::All,
             units: HashMap::new(),
             multiplier: None,
+            symbolic: None,
         }
     }
 
@@ -600,30 +736,18 @@ impl<S: Scalar> Derivatives<S> for Structured<S> {
         }
         self.absorb_free(&mut groups);
         let one = S::cst(1.0);
-        self.evaluate(groups, &one, &one)
+        self.evaluate(&groups, &one, &one)
     }
 
     fn combine(&mut self, terms: &[Term], aa2: &S, ab2: &S) -> S {
-        let mut groups: BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>> = BTreeMap::new();
-        for t in terms {
-            let mut m = BTreeMap::new();
-            self.atoms(&t.d, &mut m, t.coef);
-            for ((f, a), c) in m {
-                *groups
-                    .entry((t.pa, t.pb, f))
-                    .or_default()
-                    .entry(a)
-                    .or_insert(0.0) += c;
-            }
-        }
-        self.absorb_free(&mut groups);
+        let groups = self.groups(terms);
         if matches!(
             self.collect,
             Collection::Entries | Collection::EntriesOnSphere
         ) {
-            self.evaluate_entries(groups, aa2, ab2)
+            self.evaluate_entries(&groups, aa2, ab2)
         } else {
-            self.evaluate(groups, aa2, ab2)
+            self.evaluate(&groups, aa2, ab2)
         }
     }
 }
