@@ -13,6 +13,7 @@ use crate::number::scalar::Scalar;
 use crate::physics::green::{rotate, Green, ImageTerm, Mat3, Plane};
 use crate::physics::operators::{Deriv, Derivatives, Term};
 use std::collections::{BTreeMap, HashMap};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// The structured path: free-space Stokeslet in `r`, image terms by Eq. 10 in `R`,
 /// every derivative of `J` reduced to derivatives of the potentials `r` and `1/r`.
@@ -103,14 +104,14 @@ type TermsKey = Vec<(u64, u8, u8, Deriv)>;
 /// references of the tests and the report) and in the scenes that share a family's
 /// kernels. Pure memoisation: the groups, and so the arithmetic, are the same.
 struct Memo {
-    symbolic: HashMap<std::sync::Arc<Symbolic>, usize>,
-    groups: HashMap<(usize, TermsKey), std::sync::Arc<Groups>>,
+    symbolic: HashMap<Symbolic, usize>,
+    groups: HashMap<(usize, TermsKey), Arc<Groups>>,
 }
 
-fn memo() -> &'static std::sync::Mutex<Memo> {
-    static MEMO: std::sync::OnceLock<std::sync::Mutex<Memo>> = std::sync::OnceLock::new();
+fn memo() -> &'static Mutex<Memo> {
+    static MEMO: OnceLock<Mutex<Memo>> = OnceLock::new();
     MEMO.get_or_init(|| {
-        std::sync::Mutex::new(Memo {
+        Mutex::new(Memo {
             symbolic: HashMap::new(),
             groups: HashMap::new(),
         })
@@ -260,14 +261,14 @@ impl<S: Scalar> Structured<S> {
         };
         let mut m = memo().lock().expect("the memo's lock is not poisoned");
         let next = m.symbolic.len();
-        let id = *m.symbolic.entry(std::sync::Arc::new(key)).or_insert(next);
+        let id = *m.symbolic.entry(key).or_insert(next);
         self.symbolic = Some(id);
         id
     }
 
     /// A block entry's groups, built from its terms ([`Structured::atoms`],
     /// [`Structured::absorb_free`]) or taken from the memo.
-    fn groups(&mut self, terms: &[Term]) -> std::sync::Arc<Groups> {
+    fn groups(&mut self, terms: &[Term]) -> Arc<Groups> {
         let key = (
             self.symbolic_id(),
             terms
@@ -296,7 +297,7 @@ impl<S: Scalar> Structured<S> {
             }
         }
         self.absorb_free(&mut groups);
-        let groups = std::sync::Arc::new(groups);
+        let groups = Arc::new(groups);
         memo()
             .lock()
             .expect("the memo's lock is not poisoned")
@@ -728,13 +729,14 @@ fn in_frame(q: &Option<Mat3<f64>>, d: &Deriv) -> Vec<(f64, Deriv)> {
 
 impl<S: Scalar> Derivatives<S> for Structured<S> {
     fn get(&mut self, d: &Deriv) -> S {
-        let mut m = BTreeMap::new();
-        self.atoms(d, &mut m, 1.0);
-        let mut groups: BTreeMap<(u8, u8, Factor), BTreeMap<Atom, f64>> = BTreeMap::new();
-        for ((f, a), c) in m {
-            *groups.entry((0, 0, f)).or_default().entry(a).or_insert(0.0) += c;
-        }
-        self.absorb_free(&mut groups);
+        // one term, without radius factors
+        let term = Term {
+            coef: 1.0,
+            pa: 0,
+            pb: 0,
+            d: *d,
+        };
+        let groups = self.groups(&[term]);
         let one = S::cst(1.0);
         self.evaluate(&groups, &one, &one)
     }
