@@ -211,36 +211,50 @@ const SHARED: &[&str] = &[
 /// module `python/` built into it by `maturin develop --release` in the workspace's own
 /// target directory and release profile (so the solver's crates compiled by the cargo
 /// tests are reused: a warning names any that is compiled again), and its pytest tests,
-/// given the command-line binary those tests compare with.
+/// given the command-line binary those tests compare with. The packages are installed
+/// while cargo compiles and runs the tests (the one waits on the network, the other on
+/// the processor).
 fn test() -> Result<()> {
     let root = root();
     let target = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| root.join("target"));
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    run(Command::new(&cargo)
-        .args(["test", "--workspace", "--release"])
-        .current_dir(&root))?;
-    let t0 = Instant::now();
     let venv = target.join("python-venv");
     let python = venv.join("bin").join("python");
-    if !python.exists() {
-        let system = std::env::var_os("PYTHON").unwrap_or_else(|| "python3".into());
-        run(Command::new(system).arg("-m").arg("venv").arg(&venv))?;
-    }
-    run(Command::new(&python).args([
-        "-m",
-        "pip",
-        "install",
-        "--quiet",
-        "--disable-pip-version-check",
-        "maturin>=1.9,<2",
-        "numpy",
-        "pytest",
-        // an array library besides NumPy (pure Python, the array API's reference): NBody's
-        // arrays of any kind through DLPack
-        "array-api-strict",
-    ]))?;
+    let packages = {
+        let (venv, python) = (venv.clone(), python.clone());
+        std::thread::spawn(move || -> Result<f64> {
+            let t0 = Instant::now();
+            if !python.exists() {
+                let system = std::env::var_os("PYTHON").unwrap_or_else(|| "python3".into());
+                run(Command::new(system).arg("-m").arg("venv").arg(&venv))?;
+            }
+            run(Command::new(&python).args([
+                "-m",
+                "pip",
+                "install",
+                "--quiet",
+                "--disable-pip-version-check",
+                "maturin>=1.9,<2",
+                "numpy",
+                "pytest",
+                // an array library besides NumPy (pure Python, the array API's
+                // reference): NBody's arrays of any kind through DLPack
+                "array-api-strict",
+            ]))?;
+            Ok(t0.elapsed().as_secs_f64())
+        })
+    };
+    let tests = run(Command::new(&cargo)
+        .args(["test", "--workspace", "--release"])
+        .current_dir(&root));
+    let packages = packages
+        .join()
+        .map_err(|_| anyhow::anyhow!("installing the Python packages panicked"))?;
+    tests?;
+    let installed = packages?;
+    let t0 = Instant::now();
     let path = std::env::join_paths(std::iter::once(venv.join("bin")).chain(
         std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),
     ))?;
@@ -281,7 +295,8 @@ fn test() -> Result<()> {
     }
     // printed before pytest, whose summary line (with its own time) closes the run
     println!(
-        "xtask test: the Python environment and module took {:.1} s",
+        "xtask test: the Python environment took {installed:.1} s (beside the cargo tests), \
+         the module {:.1} s",
         t0.elapsed().as_secs_f64()
     );
     run(Command::new(&python)
