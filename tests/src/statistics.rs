@@ -96,3 +96,30 @@ pub fn boltzmann_height_cdf(forces: &ExternalForces, a: f64) -> impl Fn(f64) -> 
         (cdf[k] + t * (cdf[k + 1] - cdf[k])) / total
     }
 }
+
+/// Heights drawn from the distribution of [`boltzmann_height_cdf`]: `n` independent
+/// draws by the inverse of the distribution function (bisection on `[a, 12 a]` to
+/// below 1e-15 a), for runs started in equilibrium.
+pub fn boltzmann_heights(
+    forces: &ExternalForces,
+    a: f64,
+    n: usize,
+    rng: &mut impl rand::Rng,
+) -> Vec<f64> {
+    let cdf = boltzmann_height_cdf(forces, a);
+    (0..n)
+        .map(|_| {
+            let u = rng.gen_range(0.0..1.0);
+            let (mut lo, mut hi) = (a, 12.0 * a);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if cdf(mid) < u {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            0.5 * (lo + hi)
+        })
+        .collect()
+}

@@ -7,14 +7,16 @@
 //! header (machine, date) and the writing of the file. The sections live in
 //! [`numerics`] (a: kernel accuracy and cost per variant), [`physics`] (b: truncation
 //! levels against exact results), [`scenes`] (d: pruned scene kernels), [`brownian`] (e:
-//! lubricated Brownian dynamics at equilibrium) and [`periodic`] (f: Brownian dynamics
-//! above a periodic wall); the shared
+//! lubricated Brownian dynamics at equilibrium), [`periodic`] (f: Brownian dynamics
+//! above a periodic wall) and [`fast`] (g: Brownian dynamics with the fast product); the
+//! shared
 //! pieces in [`sample`] (seeded configurations), [`timing`] (the timing loop),
 //! [`table`] (markdown tables and number formatting) and [`plot`] (log-log scatter
 //! plots).
 
 pub mod brownian;
 pub mod closed;
+pub mod fast;
 pub mod numerics;
 pub mod periodic;
 pub mod physics;
@@ -48,6 +50,10 @@ pub struct Config {
     pub brownian_steps: usize,
     /// Brownian steps of each run of section f (a step sums the periodic lattice).
     pub periodic_brownian_steps: usize,
+    /// Spheres along each side of section g's lattice.
+    pub fast_brownian_side: usize,
+    /// Brownian steps of each run of section g (each step several fast products).
+    pub fast_brownian_steps: usize,
     /// The confinements of the stiff cases (section c), all of them if `None`.
     pub stiff_only: Option<&'static str>,
     /// Draw a progress bar.
@@ -69,6 +75,8 @@ impl Config {
             sweep: 12,
             brownian_steps: 1_200_000,
             periodic_brownian_steps: 1_200_000,
+            fast_brownian_side: 16,
+            fast_brownian_steps: 6_000,
             stiff_only: None,
             progress: true,
             concurrent: false,
@@ -85,6 +93,8 @@ impl Config {
             sweep: 3,
             brownian_steps: 4_000,
             periodic_brownian_steps: 400,
+            fast_brownian_side: 4,
+            fast_brownian_steps: 30,
             // the wall alone: every confinement's stiff cases are the integration
             // test `generated::stiff_cases`, the same measurement
             stiff_only: Some("wall"),
@@ -129,6 +139,7 @@ pub const SECTIONS: &[SectionFn] = &[
     scenes::section,
     brownian::section,
     periodic::section,
+    fast::section,
 ];
 
 /// Run the whole report into `cfg.out` (deleted and recreated) and return the path of
