@@ -9,14 +9,14 @@
 //! tolerances (`fmm::lanczos_noise_takes_the_fast_product`) and that the direct chain
 //! samples Boltzmann (`brownian::dynamics`).
 
+use super::boltzmann::{table, with_and_without_drift};
 use super::{Ctx, Section};
 use anyhow::Result;
-use integration_tests::statistics::{boltzmann_height_cdf, boltzmann_heights, ks, sample};
+use integration_tests::statistics::{boltzmann_heights, sample};
 use integration_tests::SEDIMENTED;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::fmt::Write as _;
-use std::time::Instant;
 use stokesian::{
     Brownian, Confinement, ExternalForces, FastProduct, Moments, Noise, Overlap, Particle, Scheme,
     System,
@@ -83,28 +83,9 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
     ctx.progress
         .set_message("Brownian dynamics with the fast product (minutes)");
     let (side, steps) = (ctx.cfg.fast_brownian_side, ctx.cfg.fast_brownian_steps);
-    let t0 = Instant::now();
-    let (with, without) = std::thread::scope(|sc| {
-        let without = sc.spawn(|| heights(false, side, steps));
-        (heights(true, side, steps), without.join())
-    });
-    let ((with, redrawn_with), (without, redrawn_without)) = (
-        with?,
-        without.map_err(|_| anyhow::anyhow!("the run without the drift panicked"))??,
-    );
-    let elapsed = t0.elapsed().as_secs_f64();
+    let runs = with_and_without_drift(|drift| heights(drift, side, steps))?;
+    let elapsed = runs.seconds;
     ctx.progress.inc(1);
-    let cdf = boltzmann_height_cdf(&FORCES, 1.0);
-    let critical = 1.628 / (with.len().max(1) as f64).sqrt();
-    let (d_with, d_without) = (ks(with.clone(), &cdf), ks(without.clone(), &cdf));
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
-    let verdict = |d: f64| {
-        if d < critical {
-            "Boltzmann"
-        } else {
-            "NOT Boltzmann"
-        }
-    };
     let fast = settings();
     let mut body = String::new();
     writeln!(
@@ -128,27 +109,12 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
         n = side * side,
         e = (steps / 3).max(1),
     )?;
-    writeln!(
-        body,
-        "| run | samples | mean height | KS distance | critical (1%) | |"
-    )?;
-    writeln!(body, "|---|---|---|---|---|---|")?;
-    for (name, v, d) in [
-        ("with the drift", &with, d_with),
-        ("without the drift", &without, d_without),
-    ] {
-        writeln!(
-            body,
-            "| {name} | {} | {:.4} a | {d:.4} | {critical:.4} | {} |",
-            v.len(),
-            mean(v),
-            verdict(d)
-        )?;
-    }
+    body.push_str(&table(&runs, &FORCES)?);
     writeln!(
         body,
         "\nSteps redrawn (all spheres' step, when one would cross into the wall): \
-         {redrawn_with} with the drift, {redrawn_without} without, of {steps}."
+         {} with the drift, {} without, of {steps}.",
+        runs.with.1, runs.without.1
     )?;
     Ok(Section {
         title: "g. Brownian dynamics with the fast product".into(),

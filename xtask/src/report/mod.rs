@@ -10,10 +10,12 @@
 //! lubricated Brownian dynamics at equilibrium), [`periodic`] (f: Brownian dynamics
 //! above a periodic wall) and [`fast`] (g: Brownian dynamics with the fast product); the
 //! shared
-//! pieces in [`sample`] (seeded configurations), [`timing`] (the timing loop),
+//! pieces in [`boltzmann`] (runs with and without the drift against Boltzmann's heights,
+//! sections f and g), [`sample`] (seeded configurations), [`timing`] (the timing loop),
 //! [`table`] (markdown tables and number formatting) and [`plot`] (log-log scatter
 //! plots).
 
+pub mod boltzmann;
 pub mod brownian;
 pub mod closed;
 pub mod fast;

@@ -7,12 +7,12 @@
 //! rather than in the test suite, which checks the drift against differences of the
 //! mobility.
 
+use super::boltzmann::{table, with_and_without_drift};
 use super::{Ctx, Section};
 use anyhow::Result;
-use integration_tests::statistics::{boltzmann_height_cdf, ks, sample};
+use integration_tests::statistics::sample;
 use integration_tests::SEDIMENTED;
 use std::fmt::Write as _;
-use std::time::Instant;
 use stokesian::{
     Brownian, Confinement, ExternalForces, Moments, Noise, Overlap, Particle, PeriodicBox, Scheme,
     System,
@@ -65,28 +65,9 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
     let steps = ctx.cfg.periodic_brownian_steps;
     // 40 time units between samples, about the heights' correlation time
     let every = 2000.min(steps / 20).max(1);
-    let t0 = Instant::now();
-    let (with, without) = std::thread::scope(|sc| {
-        let without = sc.spawn(|| heights(false, steps, every, 1));
-        (heights(true, steps, every, 1), without.join())
-    });
-    let ((with, redrawn_with), (without, redrawn_without)) = (
-        with?,
-        without.map_err(|_| anyhow::anyhow!("the run without the drift panicked"))??,
-    );
-    let elapsed = t0.elapsed().as_secs_f64();
+    let runs = with_and_without_drift(|drift| heights(drift, steps, every, 1))?;
+    let elapsed = runs.seconds;
     ctx.progress.inc(1);
-    let cdf = boltzmann_height_cdf(&FORCES, 1.0);
-    let critical = 1.628 / (with.len().max(1) as f64).sqrt();
-    let (d_with, d_without) = (ks(with.clone(), &cdf), ks(without.clone(), &cdf));
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
-    let verdict = |d: f64| {
-        if d < critical {
-            "Boltzmann"
-        } else {
-            "NOT Boltzmann"
-        }
-    };
     let bx = periodic_box();
     let mut body = String::new();
     writeln!(
@@ -103,26 +84,11 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
         bx.tolerance,
         10 * every
     )?;
+    body.push_str(&table(&runs, &FORCES)?);
     writeln!(
         body,
-        "| run | samples | mean height | KS distance | critical (1%) | |"
-    )?;
-    writeln!(body, "|---|---|---|---|---|---|")?;
-    for (name, v, d) in [
-        ("with the drift", &with, d_with),
-        ("without the drift", &without, d_without),
-    ] {
-        writeln!(
-            body,
-            "| {name} | {} | {:.4} a | {d:.4} | {critical:.4} | {} |",
-            v.len(),
-            mean(v),
-            verdict(d)
-        )?;
-    }
-    writeln!(
-        body,
-        "\nSteps redrawn: {redrawn_with} with the drift, {redrawn_without} without."
+        "\nSteps redrawn: {} with the drift, {} without.",
+        runs.with.1, runs.without.1
     )?;
     Ok(Section {
         title: "f. Brownian dynamics above a wall in a periodic box".into(),
