@@ -28,6 +28,17 @@ const FORCES: ExternalForces = SEDIMENTED;
 /// Lateral spacing of the spheres' square lattice, in radii.
 const SPACING: f64 = 10.0;
 
+/// The time step (40 time units, about the height's correlation time, are 2000 steps).
+const DT: f64 = 0.02;
+
+/// Lanczos's tolerance on the noise.
+const LANCZOS: f64 = 1e-3;
+
+/// Steps between the three snapshots of a run of `steps`.
+fn every(steps: usize) -> usize {
+    (steps / 3).max(1)
+}
+
 /// The fast product's tolerance; leaves of at most 8 spheres, so that at this spacing
 /// pairs some 80 radii apart and more (a third to a half of them) go through the
 /// expansions.
@@ -56,21 +67,20 @@ fn start(side: usize) -> Result<System> {
     )
 }
 
-/// The heights of every sphere every `steps / 3` steps (three snapshots), and the
-/// redrawn steps.
+/// The heights of every sphere at three snapshots ([`every`]), and the redrawn steps.
 fn heights(drift: bool, side: usize, steps: usize) -> Result<(Vec<f64>, usize)> {
     let bd = Brownian {
-        noise: Noise::Lanczos { tol: 1e-3 },
+        noise: Noise::Lanczos { tol: LANCZOS },
         hydrodynamics: true,
         lubrication: None,
         moments: Moments::F,
         scheme: Scheme::EulerMaruyama,
         kt: 1.0,
-        dt: 0.02,
+        dt: DT,
         drift,
         forces: FORCES,
     };
-    let every = (steps / 3).max(1);
+    let every = every(steps);
     let (snapshots, redrawn) = sample(&bd, start(side)?, (steps + 1, every, every), 22, |s| {
         s.particles().iter().map(|p| p.x[2]).collect::<Vec<f64>>()
     });
@@ -84,30 +94,29 @@ pub fn section(ctx: &Ctx) -> Result<Section> {
         .set_message("Brownian dynamics with the fast product (minutes)");
     let (side, steps) = (ctx.cfg.fast_brownian_side, ctx.cfg.fast_brownian_steps);
     let runs = with_and_without_drift(|drift| heights(drift, side, steps))?;
-    let elapsed = runs.seconds;
     ctx.progress.inc(1);
-    let fast = settings();
+    let (fast, e) = (settings(), every(steps));
     let mut body = String::new();
     writeln!(
         body,
         "{n} unit spheres on a square lattice of spacing {SPACING} a above a no-slip wall (viscosity 1, \
          kT = 1), buoyant weight 1 kT/a, wall repulsion 50 kT/a with screening length 0.1 a, started \
-         at independent heights drawn from Boltzmann's distribution; dt = 0.02, {steps} steps per \
-         run, Euler-Maruyama with Lanczos noise (tolerance 1e-3) and the drift, every product the \
-         fast one (tolerance {:e}, expansion order {}, leaves of at most {} spheres, acceptance \
+         at independent heights drawn from Boltzmann's distribution; dt = {DT}, {steps} steps per \
+         run, Euler-Maruyama with Lanczos noise (tolerance {LANCZOS:e}) and the drift, every product \
+         the fast one (tolerance {:e}, expansion order {}, leaves of at most {} spheres, acceptance \
          ratio {}); the same without the drift. Steps into the wall redrawn. The heights of every \
-         sphere at steps {e}, {} and {} (each sphere's 40 time units apart, about the height's \
+         sphere at steps {e}, {} and {} (each sphere's {} time units apart, about the height's \
          correlation time); Kolmogorov-Smirnov against Boltzmann's distribution at the 1% level \
-         (critical value 1.628/sqrt(n)). Both runs took {elapsed:.0} s of wall time (in \
-         parallel).\n",
+         (critical value 1.628/sqrt(n)). Both runs took {:.0} s of wall time (in parallel).\n",
         fast.eps,
         fast.order,
         fast.leaf,
         fast.theta,
-        2 * (steps / 3).max(1),
-        3 * (steps / 3).max(1),
+        2 * e,
+        3 * e,
+        e as f64 * DT,
+        runs.seconds,
         n = side * side,
-        e = (steps / 3).max(1),
     )?;
     body.push_str(&table(&runs, &FORCES)?);
     writeln!(
