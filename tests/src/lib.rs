@@ -26,6 +26,26 @@ pub const WALL: Confinement = Confinement::Wall { height: 0.0 };
 /// No external force, torque or trap (Brownian motion alone).
 pub const NO_FORCES: stokesian::ExternalForces = stokesian::ExternalForces::NONE;
 
+/// The Brownian step of the fast product's tests (`stokesian brownian`'s defaults with
+/// gravity): F, Euler-Maruyama with `noise` and the drift, kT = 1, dt = 1e-3, buoyant
+/// weight 1 kT/a and no other force.
+pub fn falling(noise: stokesian::Noise) -> stokesian::Brownian {
+    stokesian::Brownian {
+        kt: 1.0,
+        dt: 1e-3,
+        drift: true,
+        forces: stokesian::ExternalForces {
+            weight: 1.0,
+            ..stokesian::ExternalForces::NONE
+        },
+        noise,
+        hydrodynamics: true,
+        moments: stokesian::Moments::F,
+        scheme: stokesian::Scheme::EulerMaruyama,
+        lubrication: None,
+    }
+}
+
 /// A sedimented colloid's forces: buoyant weight 1 kT/a (the gravitational length is a),
 /// a wall repulsion of 50 kT/a with screening length 0.1 a, no trap or torque (kT = 1,
 /// unit spheres). Without the drift `kT div M`, Euler-Maruyama would sample `exp(-U/kT) /

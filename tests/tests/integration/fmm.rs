@@ -3,7 +3,7 @@
 //! image structure), F and FT, in 3-D boxes and in monolayers touching a wall; the same
 //! bits on any number of threads; typed errors for what it does not cover.
 
-use integration_tests::{all_confinements, norm, random_spheres, rel_diff};
+use integration_tests::{all_confinements, falling, norm, random_spheres, rel_diff};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use stokesian::{Confinement, FastProduct, FmmError, Moments, Particle, System};
@@ -244,7 +244,7 @@ fn what_the_fast_product_does_not_cover_is_an_error() {
 /// norm bounds both with room (the drift is the direct sum in both).
 #[test]
 fn lanczos_noise_takes_the_fast_product() {
-    use stokesian::{Brownian, ExternalForces, Noise, Scheme};
+    use stokesian::Noise;
     let ps = monolayer(300, (1.0, 1.0), (0.5, 3.0), 9);
     let system = System::new(Confinement::Wall { height: 0.0 }, 1.0, ps, false).unwrap();
     let eps = 1e-8;
@@ -264,20 +264,7 @@ fn lanczos_noise_takes_the_fast_product() {
         asymmetry / (norm(&x) * norm(&dy))
     );
     assert!(asymmetry <= bound, "{asymmetry:e} > {bound:e}");
-    let bd = Brownian {
-        kt: 1.0,
-        dt: 1e-3,
-        drift: true,
-        forces: ExternalForces {
-            weight: 1.0,
-            ..ExternalForces::NONE
-        },
-        noise: Noise::Lanczos { tol: 1e-6 },
-        hydrodynamics: true,
-        moments: Moments::F,
-        scheme: Scheme::EulerMaruyama,
-        lubrication: None,
-    };
+    let bd = falling(Noise::Lanczos { tol: 1e-6 });
     let w: Vec<f64> = (0..3 * system.len())
         .map(|_| rng.gen_range(-1.7..1.7))
         .collect();

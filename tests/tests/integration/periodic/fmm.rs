@@ -6,7 +6,7 @@
 
 use super::spheres;
 use super::wall_product::laterally_periodic_spheres;
-use integration_tests::rel_diff;
+use integration_tests::{falling, rel_diff};
 use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};
 use stokesian::{Confinement, FastProduct, Moments, Overlap, PeriodicBox, System};
@@ -106,7 +106,7 @@ fn in_a_slit() {
 /// and the box move with the spheres.
 #[test]
 fn brownian_steps_take_the_boxs_product_at_the_tolerance() {
-    use stokesian::{Brownian, ExternalForces, Noise, Scheme};
+    use stokesian::Noise;
     let lengths = [12.0, 14.0, 13.0];
     let open = System::new(
         Confinement::Free,
@@ -124,20 +124,7 @@ fn brownian_steps_take_the_boxs_product_at_the_tolerance() {
             ..bx
         })
         .unwrap();
-    let bd = Brownian {
-        kt: 1.0,
-        dt: 1e-3,
-        drift: true,
-        forces: ExternalForces {
-            weight: 1.0,
-            ..ExternalForces::NONE
-        },
-        noise: Noise::Lanczos { tol: 1e-4 },
-        hydrodynamics: true,
-        moments: Moments::F,
-        scheme: Scheme::EulerMaruyama,
-        lubrication: None,
-    };
+    let bd = falling(Noise::Lanczos { tol: 1e-4 });
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
     let w: Vec<f64> = (0..3 * fast.len())
         .map(|_| rng.gen_range(-1.7..1.7))
